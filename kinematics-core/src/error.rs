@@ -1,0 +1,153 @@
+//! Errors of assembly and analysis.
+
+use core::fmt;
+
+/// What kind of input a non-finite value was found in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    /// A field of the mechanism struct (a link length, an offset).
+    Parameter,
+    /// A driver value of the starting pose.
+    Driver,
+    /// A starting guess of an unknown.
+    Guess,
+    /// A prescribed driver rate q'.
+    DriverRate,
+    /// A prescribed driver acceleration q''.
+    DriverAcceleration,
+    /// A value computed by the model (for example `sqrt` of a negative
+    /// number, or a division by zero in a user expression).
+    Computed,
+}
+
+impl fmt::Display for Input {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Input::Parameter => "parameter",
+            Input::Driver => "driver",
+            Input::Guess => "starting guess of unknown",
+            Input::DriverRate => "rate of driver",
+            Input::DriverAcceleration => "acceleration of driver",
+            Input::Computed => "computed value",
+        })
+    }
+}
+
+/// Why an assembly or an analysis failed. Every variant names the items
+/// involved, so the message says what to change.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// Newton–Raphson did not bring the loop-closure residual below the
+    /// tolerance: the mechanism probably cannot be assembled at this driver
+    /// value (a link too short, a crank past its limit position), or the
+    /// guess is too far from a solution.
+    NotConverged {
+        /// Iterations performed.
+        iterations: usize,
+        /// Largest |Φ_i| at the last iterate.
+        residual: f64,
+        /// The equation with that residual, as written in the definition.
+        equation: &'static str,
+        /// Coordinates at the last iterate, by name.
+        configuration: Vec<(&'static str, f64)>,
+    },
+    /// The Jacobian Φ_u is singular (or nearly so) at this configuration:
+    /// the unknowns are not determined by the equations. This is a dead
+    /// centre, a toggle position, or a redundant or missing constraint.
+    Singular {
+        /// The unknown whose column lost rank during elimination.
+        unknown: &'static str,
+        /// Smallest pivot relative to the largest entry of Φ_u.
+        relative_pivot: f64,
+        /// Coordinates at the configuration, by name.
+        configuration: Vec<(&'static str, f64)>,
+    },
+    /// An input, or a value computed from valid inputs, is NaN or infinite.
+    NonFinite {
+        /// What kind of value it is.
+        input: Input,
+        /// Its name in the mechanism definition.
+        name: &'static str,
+        /// The value found.
+        value: f64,
+    },
+    /// A solver option is out of its valid range.
+    InvalidOption {
+        /// The option's field name in [`Options`](crate::Options).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What the value must satisfy.
+        requirement: &'static str,
+    },
+}
+
+fn write_configuration(f: &mut fmt::Formatter<'_>, cfg: &[(&'static str, f64)]) -> fmt::Result {
+    for (i, (name, v)) in cfg.iter().enumerate() {
+        if i > 0 {
+            f.write_str(", ")?;
+        }
+        write!(f, "{name} = {v:.6}")?;
+    }
+    Ok(())
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::NotConverged {
+                iterations,
+                residual,
+                equation,
+                configuration,
+            } => {
+                write!(
+                    f,
+                    "the mechanism did not assemble: after {iterations} Newton iterations the \
+                     residual of `{equation}` is still {residual:.3e} (at "
+                )?;
+                write_configuration(f, configuration)?;
+                f.write_str(
+                    "); check that the links can close the loop at this driver value, or start \
+                     from a guess closer to the intended assembly",
+                )
+            }
+            Error::Singular {
+                unknown,
+                relative_pivot,
+                configuration,
+            } => {
+                write!(
+                    f,
+                    "the equations do not determine unknown `{unknown}` at this configuration \
+                     (singular Jacobian, relative pivot {relative_pivot:.1e}; at "
+                )?;
+                write_configuration(f, configuration)?;
+                f.write_str(
+                    "): the mechanism is at a dead-centre or toggle position, or the model has a \
+                     redundant constraint",
+                )
+            }
+            Error::NonFinite { input, name, value } => {
+                if *input == Input::Computed {
+                    write!(
+                        f,
+                        "`{name}` evaluated to {value}: an expression of the model is undefined \
+                         here (square root of a negative number, division by zero, asin/acos \
+                         outside [-1, 1])"
+                    )
+                } else {
+                    write!(f, "{input} `{name}` is {value}; it must be a finite number")
+                }
+            }
+            Error::InvalidOption {
+                name,
+                value,
+                requirement,
+            } => write!(f, "option `{name}` = {value} is invalid: it {requirement}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}

@@ -1,0 +1,69 @@
+//! Kinematic analysis of mechanisms declared as vector loop-closure equations.
+//!
+//! A mechanism is written once in [`mechanism!`]; at compile time the macro
+//! checks the model and differentiates it exactly into the velocity Jacobian
+//! and the acceleration (convective) terms, and emits straight-line Rust. At
+//! run time this crate assembles the mechanism by Newton–Raphson and solves
+//! velocities and accelerations of every coordinate and point.
+//!
+//! ```
+//! use kinematics_core::mechanism;
+//!
+//! mechanism! {
+//!     /// Crank-rocker four-bar: ground pivots A = (0, 0) and D = (d, 0).
+//!     pub struct FourBar {
+//!         params   { a, b, c, d }
+//!         drivers  { phi }
+//!         unknowns { th3, th4 }
+//!         points {
+//!             B = polar(a, phi);
+//!             C = vec2(d, 0.0) + polar(c, th4);
+//!         }
+//!         loops { B + polar(b, th3) == C; }
+//!     }
+//! }
+//!
+//! # fn main() -> Result<(), kinematics_core::Error> {
+//! let m = FourBar { a: 0.04, b: 0.12, c: 0.10, d: 0.11 };
+//! let pose = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.2, th4: 1.9 })?;
+//! let s = m.analyze(&pose, 10.0, 0.0)?;            // φ' = 10 rad/s, φ'' = 0
+//! // Point C moves on the rocker's circle: v_C ⟂ DC.
+//! let dc = s.point_c().position - nalgebra::Vector2::new(m.d, 0.0);
+//! assert!(s.point_c().velocity.dot(&dc).abs() < 1e-12);
+//! println!("ω3 = {:.4} rad/s, ω4 = {:.4} rad/s", s.qd.th3, s.qd.th4);
+//! # Ok(())
+//! # }
+//! ```
+#![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod error;
+mod mechanism;
+mod options;
+pub mod solve;
+
+pub use error::{Error, Input};
+pub use kinematics_macros::mechanism;
+pub use mechanism::{Coordinate, Coordinates, DriverValues, Kind, Mechanism, PointMotion, Role};
+pub use nalgebra;
+pub use options::Options;
+
+/// Items used by the code that `mechanism!` generates. Not a stable API:
+/// anything here may change in any release.
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::solve::{describe, newton, Failure, Lu, Names};
+    pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
+    pub use crate::{Options, PointMotion, Role};
+    pub use core::result::Result;
+    pub use nalgebra::Vector2;
+
+    /// Fails with [`Error::NonFinite`] when `value` is NaN or infinite.
+    #[inline]
+    pub fn finite(input: Input, name: &'static str, value: f64) -> Result<(), Error> {
+        if value.is_finite() {
+            Ok(())
+        } else {
+            Err(Error::NonFinite { input, name, value })
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! The interface every `mechanism!` definition implements.
+
+use nalgebra::Vector2;
+
+use crate::{Error, Options};
+
+/// Role of a coordinate in the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// Prescribed input (its value, rate and acceleration are given).
+    Driver,
+    /// Solved for from the loop-closure equations.
+    Unknown,
+}
+
+/// Whether a coordinate is an angle or a length.
+///
+/// A coordinate is an angle when it appears inside `sin`, `cos`, `tan` or as
+/// the angle of `polar`; its rate is then an angular velocity ω (rad/s, about
+/// the axis normal to the plane, counter-clockwise positive) and its second
+/// derivative an angular acceleration α (rad/s²). Otherwise it is a length
+/// (a slider position) with linear rate and acceleration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// An angle in radians.
+    Angle,
+    /// A length, in the units of the parameters.
+    Length,
+}
+
+/// Static description of one coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Coordinate {
+    /// Name as declared.
+    pub name: &'static str,
+    /// Driver or unknown.
+    pub role: Role,
+    /// Angle or length.
+    pub kind: Kind,
+}
+
+/// Position, velocity and acceleration of a point of a planar mechanism,
+/// in the fixed frame: r, v = dr/dt = r_q q', a = dv/dt = r_q q'' + (r_q q')_q q'.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointMotion {
+    /// Position r.
+    pub position: Vector2<f64>,
+    /// Velocity v = dr/dt.
+    pub velocity: Vector2<f64>,
+    /// Acceleration a = d²r/dt².
+    pub acceleration: Vector2<f64>,
+}
+
+impl PointMotion {
+    /// Speed |v|.
+    #[must_use]
+    pub fn speed(&self) -> f64 {
+        self.velocity.norm()
+    }
+
+    /// Tangential acceleration a·v/|v| (the rate of change of speed); zero
+    /// when the point is at rest.
+    #[must_use]
+    pub fn tangential_acceleration(&self) -> f64 {
+        let s = self.speed();
+        if s > 0.0 {
+            self.acceleration.dot(&self.velocity) / s
+        } else {
+            0.0
+        }
+    }
+
+    /// Normal (centripetal) acceleration |v × a| / |v| toward the centre of
+    /// curvature of the path; zero when the point is at rest.
+    #[must_use]
+    pub fn normal_acceleration(&self) -> f64 {
+        let s = self.speed();
+        if s > 0.0 {
+            (self.velocity.x * self.acceleration.y - self.velocity.y * self.acceleration.x).abs()
+                / s
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Access to a coordinates struct by index (drivers first, then unknowns,
+/// in declaration order).
+pub trait Coordinates: Copy {
+    /// Value of coordinate `j`, or `None` past the last coordinate.
+    fn get(&self, j: usize) -> Option<f64>;
+    /// Sets coordinate `j`; returns `false` (and changes nothing) past the
+    /// last coordinate.
+    fn set(&mut self, j: usize, value: f64) -> bool;
+}
+
+/// Values given for the drivers: a bare `f64` for a single driver, or an
+/// array in declaration order.
+pub trait DriverValues<const N: usize> {
+    /// The values in declaration order.
+    fn into_array(self) -> [f64; N];
+}
+
+impl<const N: usize> DriverValues<N> for [f64; N] {
+    fn into_array(self) -> [f64; N] {
+        self
+    }
+}
+
+impl<const N: usize> DriverValues<N> for &[f64; N] {
+    fn into_array(self) -> [f64; N] {
+        *self
+    }
+}
+
+impl DriverValues<1> for f64 {
+    fn into_array(self) -> [f64; 1] {
+        [self]
+    }
+}
+
+/// A mechanism declared with [`mechanism!`](crate::mechanism).
+///
+/// Coordinates q = (d, u): drivers d then unknowns u. Constraints Φ(q) = 0,
+/// as many scalar equations as unknowns. The macro generates Φ, the Jacobian
+/// Φ_u, the velocity right-hand side −Φ_d d' and the acceleration right-hand
+/// side −Φ_d d'' − γ with γ = (Φ_q q')_q q', all differentiated exactly at
+/// compile time. The generated type also has inherent methods with typed
+/// arguments (`assemble`, `analyze`, …); this trait is for code generic over
+/// mechanisms.
+pub trait Mechanism {
+    /// Named coordinates (drivers then unknowns).
+    type Coords: Coordinates + core::fmt::Debug + PartialEq + Default;
+    /// Result of [`Mechanism::analyze_slices`]: q, q', q'' and every point's motion.
+    type Motion: Copy + core::fmt::Debug;
+    /// Number of drivers (degrees of freedom prescribed).
+    const DRIVERS: usize;
+    /// Number of unknowns.
+    const UNKNOWNS: usize;
+    /// Number of scalar equations (equal to the number of unknowns).
+    const EQUATIONS: usize;
+    /// Number of points of interest.
+    const POINTS: usize;
+    /// Description of each coordinate, drivers first.
+    const COORDINATES: &'static [Coordinate];
+    /// Point names in declaration order.
+    const POINT_NAMES: &'static [&'static str];
+    /// Each scalar equation as written in the definition.
+    const EQUATION_NAMES: &'static [&'static str];
+
+    /// Solves Φ(d, u) = 0 for u by Newton–Raphson, with d and the guess of u
+    /// taken from `start`; the assembly branch is the one nearest the guess.
+    ///
+    /// # Errors
+    /// Non-finite inputs, invalid options, a singular Jacobian or no
+    /// convergence, each naming the item involved.
+    fn assemble_with(&self, start: &Self::Coords, options: &Options)
+        -> Result<Self::Coords, Error>;
+
+    /// Velocities and accelerations at an assembled `pose`: solves
+    /// Φ_u u' = −Φ_d d' and Φ_u u'' = −Φ_d d'' − γ, then every point's
+    /// velocity and acceleration. `rates` and `accelerations` hold d' and d''
+    /// in declaration order.
+    ///
+    /// # Errors
+    /// As [`Mechanism::assemble_with`]; a slice of the wrong length is an
+    /// [`Error::InvalidOption`].
+    fn analyze_slices(
+        &self,
+        pose: &Self::Coords,
+        rates: &[f64],
+        accelerations: &[f64],
+        options: &Options,
+    ) -> Result<Self::Motion, Error>;
+
+    /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
+    fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);
+}

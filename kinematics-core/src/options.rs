@@ -1,0 +1,63 @@
+//! Solver settings.
+
+use crate::Error;
+
+/// Settings of the Newton–Raphson assembly and of the linear solves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Convergence when max_i |Φ_i| ≤ `tolerance` (in the units of the
+    /// equations, e.g. metres for a loop written in metres). Default 1e-12.
+    pub tolerance: f64,
+    /// Largest number of Newton iterations. Default 50.
+    pub max_iterations: usize,
+    /// Φ_u is treated as singular when a pivot of its LU factorisation,
+    /// relative to its largest entry, is at or below this value.
+    /// Default 1e-10.
+    pub singularity_threshold: f64,
+}
+
+impl Options {
+    /// The default settings, usable in `const` context.
+    pub const DEFAULT: Options = Options {
+        tolerance: 1e-12,
+        max_iterations: 50,
+        singularity_threshold: 1e-10,
+    };
+
+    /// Checks that every setting is in range.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the first setting out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(Error::InvalidOption {
+                name: "tolerance",
+                value: self.tolerance,
+                requirement: "must be a positive finite number, e.g. 1e-12",
+            });
+        }
+        if self.max_iterations == 0 {
+            return Err(Error::InvalidOption {
+                name: "max_iterations",
+                value: 0.0,
+                requirement: "must be at least 1",
+            });
+        }
+        if !(self.singularity_threshold.is_finite()
+            && (0.0..1.0).contains(&self.singularity_threshold))
+        {
+            return Err(Error::InvalidOption {
+                name: "singularity_threshold",
+                value: self.singularity_threshold,
+                requirement: "must be in [0, 1), e.g. 1e-10",
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}

@@ -1,0 +1,308 @@
+//! Dense linear solves and Newton–Raphson on fixed-size arrays.
+//!
+//! Everything here works on `[f64; N]` and `[[f64; N]; N]` on the stack, so
+//! assembling near a known pose and analysing velocities and accelerations
+//! allocate nothing.
+
+use crate::{Error, Options};
+
+/// Why a numerical step failed, without names (those are added by
+/// [`describe`], off the hot path).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Failure {
+    /// Column `unknown` of Φ_u lost rank; `relative_pivot` = |pivot| / max|Φ_u|.
+    Singular {
+        /// Index of the unknown.
+        unknown: usize,
+        /// |pivot| / max |entry|.
+        relative_pivot: f64,
+    },
+    /// Newton stopped with residual `residual` in equation `equation`.
+    NotConverged {
+        /// Iterations performed.
+        iterations: usize,
+        /// max |Φ_i|.
+        residual: f64,
+        /// Index of the equation with the largest residual.
+        equation: usize,
+    },
+    /// Equation `equation` evaluated to a non-finite number.
+    NonFiniteResidual {
+        /// Index of the equation.
+        equation: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// LU factorisation with partial pivoting, P·A = L·U, of a square matrix.
+#[derive(Debug, Clone, Copy)]
+pub struct Lu<const N: usize> {
+    lu: [[f64; N]; N],
+    perm: [usize; N],
+}
+
+impl<const N: usize> Lu<N> {
+    /// Factors `a` (rows are equations, columns unknowns).
+    ///
+    /// # Errors
+    /// [`Failure::Singular`] when a pivot, relative to the largest entry of
+    /// `a`, is at or below `threshold`.
+    pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        let mut lu = *a;
+        let mut perm = [0usize; N];
+        for (i, p) in perm.iter_mut().enumerate() {
+            *p = i;
+        }
+        let scale = a
+            .iter()
+            .flat_map(|r| r.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        for k in 0..N {
+            let mut best = k;
+            let mut best_val = lu[k][k].abs();
+            for (i, row) in lu.iter().enumerate().skip(k + 1) {
+                if row[k].abs() > best_val {
+                    best = i;
+                    best_val = row[k].abs();
+                }
+            }
+            let rel = best_val / scale;
+            if rel <= threshold || !rel.is_finite() {
+                return Err(Failure::Singular {
+                    unknown: k,
+                    relative_pivot: if rel.is_finite() { rel } else { 0.0 },
+                });
+            }
+            lu.swap(k, best);
+            perm.swap(k, best);
+            let pivot_row = lu[k];
+            let pivot = pivot_row[k];
+            for row in lu.iter_mut().skip(k + 1) {
+                let m = row[k] / pivot;
+                row[k] = m;
+                for c in k + 1..N {
+                    row[c] -= m * pivot_row[c];
+                }
+            }
+        }
+        Ok(Self { lu, perm })
+    }
+
+    /// Solves A·x = b.
+    #[must_use]
+    pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
+        let mut x = [0.0; N];
+        for (i, p) in self.perm.iter().enumerate() {
+            x[i] = b[*p];
+        }
+        for i in 0..N {
+            let mut s = x[i];
+            for (j, xj) in x.iter().enumerate().take(i) {
+                s -= self.lu[i][j] * xj;
+            }
+            x[i] = s;
+        }
+        for i in (0..N).rev() {
+            let mut s = x[i];
+            for j in i + 1..N {
+                s -= self.lu[i][j] * x[j];
+            }
+            x[i] = s / self.lu[i][i];
+        }
+        x
+    }
+}
+
+fn max_abs<const N: usize>(v: &[f64; N]) -> (f64, usize) {
+    let mut m = 0.0;
+    let mut at = 0;
+    for (i, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return (f64::INFINITY, i);
+        }
+        if x.abs() > m {
+            m = x.abs();
+            at = i;
+        }
+    }
+    (m, at)
+}
+
+/// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`, with a
+/// backtracking line search on max|Φ_i|. `eval` writes Φ(u) and Φ_u(u).
+///
+/// Converged when max|Φ_i| ≤ `tolerance`, or when the Newton step is at the
+/// level of round-off (|Δu| ≤ 1e-14·(1 + |u|)). Returns the iterations used.
+///
+/// # Errors
+/// A [`Failure`] when Φ_u is singular, Φ is not finite, or the iteration cap
+/// is reached; `u` then holds the last iterate.
+pub fn newton<const N: usize>(
+    u: &mut [f64; N],
+    options: &Options,
+    mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+) -> Result<usize, Failure> {
+    let mut phi = [0.0; N];
+    let mut jac = [[0.0; N]; N];
+    eval(u, &mut phi, &mut jac);
+    let (mut r, mut worst) = max_abs(&phi);
+    for it in 0..options.max_iterations {
+        if !r.is_finite() {
+            return Err(Failure::NonFiniteResidual {
+                equation: worst,
+                value: phi[worst],
+            });
+        }
+        if r <= options.tolerance {
+            return Ok(it);
+        }
+        let lu = Lu::factor(&jac, options.singularity_threshold)?;
+        let mut neg = phi;
+        for v in &mut neg {
+            *v = -*v;
+        }
+        let step = lu.solve(&neg);
+        let (step_size, _) = max_abs(&step);
+        let (u_size, _) = max_abs(u);
+        if step_size <= 1e-14 * (1.0 + u_size) {
+            return Ok(it);
+        }
+        let start = *u;
+        let mut t = 1.0;
+        loop {
+            for i in 0..N {
+                u[i] = start[i] + t * step[i];
+            }
+            eval(u, &mut phi, &mut jac);
+            let (r_new, w) = max_abs(&phi);
+            if r_new < r || t < 1.0 / 64.0 {
+                r = r_new;
+                worst = w;
+                break;
+            }
+            t *= 0.5;
+        }
+    }
+    if !r.is_finite() {
+        return Err(Failure::NonFiniteResidual {
+            equation: worst,
+            value: phi[worst],
+        });
+    }
+    if r <= options.tolerance {
+        return Ok(options.max_iterations);
+    }
+    Err(Failure::NotConverged {
+        iterations: options.max_iterations,
+        residual: r,
+        equation: worst,
+    })
+}
+
+/// Names of the items of a mechanism, for error messages.
+#[derive(Debug, Clone, Copy)]
+pub struct Names {
+    /// Coordinate names, drivers first.
+    pub coordinates: &'static [&'static str],
+    /// Number of drivers.
+    pub drivers: usize,
+    /// Equations as written.
+    pub equations: &'static [&'static str],
+}
+
+/// Turns a [`Failure`] into an [`Error`] naming the items, with the
+/// configuration `q` (drivers then unknowns) where it happened.
+#[must_use]
+pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
+    let configuration: Vec<(&'static str, f64)> =
+        names.coordinates.iter().copied().zip(q.iter().copied()).collect();
+    let equation = |i: usize| names.equations.get(i).copied().unwrap_or("?");
+    match failure {
+        Failure::Singular {
+            unknown,
+            relative_pivot,
+        } => Error::Singular {
+            unknown: names
+                .coordinates
+                .get(names.drivers + unknown)
+                .copied()
+                .unwrap_or("?"),
+            relative_pivot,
+            configuration,
+        },
+        Failure::NotConverged {
+            iterations,
+            residual,
+            equation: e,
+        } => Error::NotConverged {
+            iterations,
+            residual,
+            equation: equation(e),
+            configuration,
+        },
+        Failure::NonFiniteResidual { equation: e, value } => Error::NonFinite {
+            input: crate::Input::Computed,
+            name: equation(e),
+            value,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lu_solves_a_permuted_system() {
+        let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.0], [3.0, 0.0, 1.0]];
+        let x = [1.0, -2.0, 0.5];
+        let mut b = [0.0; 3];
+        for i in 0..3 {
+            b[i] = (0..3).map(|j| a[i][j] * x[j]).sum();
+        }
+        let lu = Lu::factor(&a, 1e-12).map_err(|_| ()).expect("regular");
+        let got = lu.solve(&b);
+        for i in 0..3 {
+            assert!((got[i] - x[i]).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn lu_names_the_dependent_column() {
+        // Column 1 is twice column 0.
+        let a = [[1.0, 2.0, 0.0], [3.0, 6.0, 1.0], [0.5, 1.0, 4.0]];
+        match Lu::factor(&a, 1e-12) {
+            Err(Failure::Singular { unknown, .. }) => assert_eq!(unknown, 1),
+            other => panic!("expected singular, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn newton_finds_the_root_near_the_guess() {
+        // x² + y² = 4, y = x: roots ±(√2, √2).
+        let mut u = [1.0, 0.5];
+        let it = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
+            phi[0] = u[0] * u[0] + u[1] * u[1] - 4.0;
+            phi[1] = u[1] - u[0];
+            *jac = [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]];
+        });
+        assert!(it.is_ok());
+        assert!((u[0] - 2f64.sqrt()).abs() < 1e-12 && (u[1] - 2f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn newton_reports_no_solution() {
+        // x² + 1 = 0 has no real root.
+        let mut u = [0.3];
+        let r = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
+            phi[0] = u[0] * u[0] + 1.0;
+            jac[0][0] = 2.0 * u[0];
+        });
+        assert!(matches!(
+            r,
+            Err(Failure::NotConverged { .. } | Failure::Singular { .. })
+        ));
+    }
+}

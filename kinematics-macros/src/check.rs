@@ -1,0 +1,336 @@
+//! Checks on the declarations, before any expression is lowered.
+//!
+//! Every check pushes its errors into the shared [`Errors`] list instead of
+//! stopping, so one build reports every problem of a definition.
+
+use std::collections::HashMap;
+
+use proc_macro2::Span;
+use syn::Ident;
+
+use crate::ir::Leaf;
+use crate::parse::Definition;
+
+/// Errors collected over all passes; turned into one `compile_error!` each.
+#[derive(Default)]
+pub struct Errors {
+    list: Vec<syn::Error>,
+}
+
+impl Errors {
+    /// Records an error at `span`.
+    pub fn at(&mut self, span: Span, message: impl std::fmt::Display) {
+        self.list.push(syn::Error::new(span, message));
+    }
+
+    /// Whether nothing was reported.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// All errors combined into one, if any.
+    pub fn finish(self) -> syn::Result<()> {
+        let mut iter = self.list.into_iter();
+        match iter.next() {
+            None => Ok(()),
+            Some(mut first) => {
+                for e in iter {
+                    first.combine(e);
+                }
+                Err(first)
+            }
+        }
+    }
+}
+
+/// What a declared name stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Binding {
+    /// Parameter `i` (a field of the mechanism struct).
+    Param(u32),
+    /// Coordinate `j` (drivers first, then unknowns).
+    Coord(u32),
+    /// Point `k` of the `points` section.
+    Point(u32),
+}
+
+/// The names of the built-in functions and constants of the expression
+/// language; user names may not shadow them.
+pub const BUILTINS: &[&str] = &[
+    "sin", "cos", "tan", "asin", "acos", "atan2", "sqrt", "exp", "ln", "powi", "polar", "vec2",
+    "dot", "norm", "cross", "pi",
+];
+
+/// Name table of a definition.
+pub struct Names {
+    pub map: HashMap<String, (Binding, Span)>,
+}
+
+impl Names {
+    /// The declared name closest to `wanted`, for "did you mean" hints.
+    pub fn suggest(&self, wanted: &str) -> Option<String> {
+        let candidates = self.map.keys().map(String::as_str).chain(BUILTINS.iter().copied());
+        candidates
+            .map(|c| (edit_distance(wanted, c), c))
+            .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
+            .min()
+            .map(|(_, c)| c.to_owned())
+    }
+}
+
+/// Runs the declaration checks and builds the name table.
+pub fn check(def: &Definition, errors: &mut Errors) -> Names {
+    check_not_empty(def, errors);
+    let names = check_unique_names(def, errors);
+    check_point_accessors_distinct(def, errors);
+    names
+}
+
+/// A mechanism needs at least one driver or one unknown to be analysed.
+fn check_not_empty(def: &Definition, errors: &mut Errors) {
+    if def.drivers.is_empty() && def.unknowns.is_empty() {
+        errors.at(
+            def.name.span(),
+            format!(
+                "mechanism `{}` has no drivers and no unknowns, so there is nothing to analyse; \
+                 declare the input in `drivers {{ … }}` and the joint variables to solve for in \
+                 `unknowns {{ … }}`",
+                def.name
+            ),
+        );
+    }
+}
+
+/// Every name is declared once, in one section, and shadows no built-in.
+fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
+    let mut map: HashMap<String, (Binding, Span)> = HashMap::new();
+    let mut section_of: HashMap<String, &'static str> = HashMap::new();
+    let coords = def.drivers.iter().chain(&def.unknowns);
+    let declared = def
+        .params
+        .iter()
+        .enumerate()
+        .map(|(i, d)| (&d.name, Binding::Param(index(i)), "params"))
+        .chain(coords.enumerate().map(|(j, d)| {
+            let section = if j < def.drivers.len() { "drivers" } else { "unknowns" };
+            (&d.name, Binding::Coord(index(j)), section)
+        }))
+        .chain(
+            def.points
+                .iter()
+                .enumerate()
+                .map(|(k, p)| (&p.name, Binding::Point(index(k)), "points")),
+        );
+    for (name, binding, section) in declared {
+        let key = name.to_string();
+        if BUILTINS.contains(&key.as_str()) {
+            errors.at(
+                name.span(),
+                format!(
+                    "`{key}` is a built-in {}; choose another name for this {}",
+                    if key == "pi" { "constant" } else { "function" },
+                    singular(section)
+                ),
+            );
+            continue;
+        }
+        if let Some((_, first)) = map.get(&key) {
+            let first_section = section_of.get(&key).copied().unwrap_or(section);
+            let where_ = if first_section == section {
+                format!("twice in `{section}`")
+            } else {
+                format!("in both `{first_section}` and `{section}`")
+            };
+            let mut e = syn::Error::new(
+                name.span(),
+                format!("`{key}` is declared {where_}; each name must be declared once"),
+            );
+            e.combine(syn::Error::new(*first, format!("`{key}` first declared here")));
+            errors.list.push(e);
+            continue;
+        }
+        map.insert(key.clone(), (binding, name.span()));
+        section_of.insert(key, section);
+    }
+    Names { map }
+}
+
+/// Points are reached through `point_<name>()` methods, so two point names
+/// that differ only in case would collide.
+fn check_point_accessors_distinct(def: &Definition, errors: &mut Errors) {
+    let mut seen: HashMap<String, &Ident> = HashMap::new();
+    for p in &def.points {
+        let accessor = accessor_name(&p.name);
+        if let Some(first) = seen.get(&accessor) {
+            if **first != p.name {
+                errors.at(
+                    p.name.span(),
+                    format!(
+                        "points `{first}` and `{}` would both be read as `{accessor}()`; \
+                         rename one of them",
+                        p.name
+                    ),
+                );
+            }
+        } else {
+            seen.insert(accessor, &p.name);
+        }
+    }
+}
+
+/// Checks on the lowered model: equation count, and that every unknown and
+/// every equation takes part in the system.
+pub fn check_model(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
+    check_equation_count(def, model, errors);
+    check_each_equation_has_an_unknown(model, errors);
+    check_each_unknown_appears(def, model, errors);
+}
+
+/// The loops (2 scalar equations each) and constraints (1 each) must give as
+/// many scalar equations as there are unknowns.
+fn check_equation_count(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
+    let n_eq = 2 * def.loops.len() + def.constraints.len();
+    let n_u = def.unknowns.len();
+    if n_eq == n_u {
+        return;
+    }
+    let detail = format!(
+        "{} loop{} × 2 + {} constraint{} = {n_eq} scalar equation{}",
+        def.loops.len(),
+        if def.loops.len() == 1 { "" } else { "s" },
+        def.constraints.len(),
+        if def.constraints.len() == 1 { "" } else { "s" },
+        if n_eq == 1 { "" } else { "s" },
+    );
+    let fix = if n_eq > n_u {
+        "declare the missing joint variables in `unknowns`, or remove a redundant equation"
+    } else {
+        "add loops or constraints, or move an input from `unknowns` to `drivers`"
+    };
+    // Only report when lowering succeeded, so a type error in an equation
+    // does not also produce a misleading count.
+    if model.equations.len() == n_eq || errors.is_empty() {
+        errors.at(
+            def.unknowns_span,
+            format!("{detail} for {n_u} unknown{}; {fix}", if n_u == 1 { "" } else { "s" }),
+        );
+    }
+}
+
+/// An equation that does not involve any unknown is either always true (and
+/// redundant), always false, or a condition on the drivers alone: none of
+/// these can be solved for the unknowns.
+fn check_each_equation_has_an_unknown(model: &crate::lower::Model, errors: &mut Errors) {
+    let drivers = model.drivers;
+    for eq in &model.equations {
+        let g = &model.graph;
+        if g.depends_on(eq.residual, &|l| matches!(l, Leaf::Q(j) if j >= drivers)) {
+            continue;
+        }
+        let msg = match g.as_const(eq.residual) {
+            Some(v) if v == 0.0 => format!(
+                "`{}` holds identically (it simplifies to 0 == 0), so it is redundant; remove it",
+                eq.text
+            ),
+            Some(_) => format!(
+                "`{}` can never hold (it simplifies to a nonzero constant); check the signs and \
+                 the points used",
+                eq.text
+            ),
+            None => format!(
+                "`{}` involves no unknown, so it cannot be solved for the joint variables; \
+                 it constrains only parameters and drivers",
+                eq.text
+            ),
+        };
+        errors.at(eq.span, msg);
+    }
+}
+
+/// Every unknown must appear in at least one equation, or it is undetermined.
+fn check_each_unknown_appears(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
+    let roots: Vec<_> = model.equations.iter().map(|e| e.residual).collect();
+    for (k, decl) in def.unknowns.iter().enumerate() {
+        let j = model.drivers + index(k);
+        let used = roots
+            .iter()
+            .any(|&r| model.graph.depends_on(r, &|l| l == Leaf::Q(j)));
+        if !used {
+            errors.at(
+                decl.name.span(),
+                format!(
+                    "unknown `{}` appears in no loop or constraint, so nothing determines it; \
+                     use it in an equation or remove it",
+                    decl.name
+                ),
+            );
+        }
+    }
+}
+
+/// `point_<lowercase name>`, the accessor of a point on the motion struct.
+pub fn accessor_name(name: &Ident) -> String {
+    let raw = name.to_string();
+    format!("point_{}", raw.trim_start_matches("r#").to_lowercase())
+}
+
+fn singular(section: &str) -> &'static str {
+    match section {
+        "params" => "parameter",
+        "drivers" => "driver",
+        "unknowns" => "unknown",
+        _ => "point",
+    }
+}
+
+fn index(i: usize) -> u32 {
+    u32::try_from(i).unwrap_or(u32::MAX)
+}
+
+/// Levenshtein distance between two short names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut cur = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distance() {
+        assert_eq!(edit_distance("th3", "th4"), 1);
+        assert_eq!(edit_distance("theta", "th"), 3);
+        assert_eq!(edit_distance("", "ab"), 2);
+    }
+
+    #[test]
+    fn reports_duplicates_and_builtin_shadowing_together() {
+        let def: Definition = syn::parse_quote! {
+            struct M {
+                params { a, sin }
+                drivers { a }
+                unknowns { x }
+                constraints { x == 1.0 }
+            }
+        };
+        let mut errors = Errors::default();
+        let _ = check(&def, &mut errors);
+        let msg = errors.finish().err().map(|e| {
+            e.into_iter().map(|e| e.to_string()).collect::<Vec<_>>().join("\n")
+        });
+        let msg = msg.unwrap_or_default();
+        assert!(msg.contains("`sin` is a built-in function"), "{msg}");
+        assert!(msg.contains("in both `params` and `drivers`"), "{msg}");
+    }
+}

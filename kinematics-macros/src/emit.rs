@@ -1,0 +1,705 @@
+//! Emission: straight-line Rust for the scheduled expressions, and the
+//! generated types and impls.
+//!
+//! The generated code reaches the runtime only through absolute paths
+//! (`::kinematics_core::__private::…` and `::core::…`).
+
+use std::collections::HashMap;
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+use syn::Ident;
+
+use crate::check::accessor_name;
+use crate::cse::{schedule, Schedule};
+use crate::ir::{Graph, Id, Leaf, Node};
+use crate::kinematics::Derived;
+use crate::lower::{CoordKind, Model};
+use crate::parse::Definition;
+
+/// Turns node ids into Rust expressions.
+struct Printer<'a> {
+    g: &'a Graph,
+    names: HashMap<Id, Ident>,
+    leaf: &'a dyn Fn(Leaf) -> TokenStream,
+}
+
+impl Printer<'_> {
+    /// The expression for `id`: its binding if it has one.
+    fn expr(&self, id: Id) -> TokenStream {
+        match self.names.get(&id) {
+            Some(name) => quote!(#name),
+            None => self.body(id),
+        }
+    }
+
+    /// `id` as an operand: parenthesised unless atomic.
+    fn operand(&self, id: Id) -> TokenStream {
+        let atomic = self.names.contains_key(&id)
+            || match self.g.node(id) {
+                Node::Leaf(_) => true,
+                Node::Const(bits) => f64::from_bits(bits) >= 0.0,
+                _ => false,
+            };
+        let e = self.expr(id);
+        if atomic {
+            e
+        } else {
+            quote!((#e))
+        }
+    }
+
+    /// The defining expression of `id`, ignoring its own binding.
+    fn body(&self, id: Id) -> TokenStream {
+        match self.g.node(id) {
+            Node::Const(bits) => {
+                let v = f64::from_bits(bits);
+                let lit = Literal::f64_suffixed(v.abs());
+                if v < 0.0 {
+                    quote!(-#lit)
+                } else {
+                    quote!(#lit)
+                }
+            }
+            Node::Leaf(l) => (self.leaf)(l),
+            Node::Add(a, b) => {
+                let neg = |x: Id| match self.g.node(x) {
+                    Node::Neg(y) if !self.names.contains_key(&x) => Some(y),
+                    _ => None,
+                };
+                match (neg(a), neg(b)) {
+                    (_, Some(y)) => {
+                        let (a, y) = (self.operand(a), self.operand(y));
+                        quote!(#a - #y)
+                    }
+                    (Some(x), None) => {
+                        let (b, x) = (self.operand(b), self.operand(x));
+                        quote!(#b - #x)
+                    }
+                    (None, None) => {
+                        let (a, b) = (self.operand(a), self.operand(b));
+                        quote!(#a + #b)
+                    }
+                }
+            }
+            Node::Mul(a, b) => {
+                let (a, b) = (self.operand(a), self.operand(b));
+                quote!(#a * #b)
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (self.operand(a), self.operand(b));
+                quote!(#a / #b)
+            }
+            Node::Neg(a) => {
+                let a = self.operand(a);
+                quote!(-#a)
+            }
+            Node::Powi(a, n) => {
+                let a = self.operand(a);
+                let n = Literal::i32_unsuffixed(n);
+                quote!(#a.powi(#n))
+            }
+            Node::Call(f, a) => {
+                let a = self.operand(a);
+                let m = format_ident!("{}", f.method());
+                quote!(#a.#m())
+            }
+            Node::Atan2(y, x) => {
+                let (y, x) = (self.operand(y), self.expr(x));
+                quote!(#y.atan2(#x))
+            }
+        }
+    }
+}
+
+/// Names the bindings of a schedule `t0, t1, …` and emits each stage's
+/// `let`s.
+fn bind<'a>(
+    g: &'a Graph,
+    sched: &Schedule,
+    leaf: &'a dyn Fn(Leaf) -> TokenStream,
+) -> (Printer<'a>, Vec<TokenStream>) {
+    let _ = &sched.bound;
+    let mut p = Printer {
+        g,
+        names: HashMap::new(),
+        leaf,
+    };
+    let mut stages = Vec::new();
+    let mut n = 0usize;
+    for lets in &sched.stages {
+        let mut code = TokenStream::new();
+        for &id in lets {
+            let body = p.body(id);
+            let name = format_ident!("t{}", n);
+            n += 1;
+            code.extend(quote!(let #name = #body;));
+            p.names.insert(id, name);
+        }
+        stages.push(code);
+    }
+    (p, stages)
+}
+
+/// Names used in the generated code.
+struct Idents {
+    name: Ident,
+    coords: Ident,
+    motion: Ident,
+    params: Vec<Ident>,
+    coord: Vec<Ident>,
+    q: Vec<Ident>,
+    qd: Vec<Ident>,
+    qdd: Vec<Ident>,
+}
+
+impl Idents {
+    fn new(def: &Definition) -> Self {
+        let coord: Vec<Ident> = def
+            .drivers
+            .iter()
+            .chain(&def.unknowns)
+            .map(|d| d.name.clone())
+            .collect();
+        let pre = |p: &str| {
+            coord
+                .iter()
+                .map(|c| format_ident!("{}_{}", p, c))
+                .collect::<Vec<_>>()
+        };
+        Idents {
+            name: def.name.clone(),
+            coords: format_ident!("{}Coords", def.name),
+            motion: format_ident!("{}Motion", def.name),
+            params: def.params.iter().map(|d| d.name.clone()).collect(),
+            q: pre("q"),
+            qd: pre("qd"),
+            qdd: pre("qdd"),
+            coord,
+        }
+    }
+
+    fn leaf(&self) -> impl Fn(Leaf) -> TokenStream + '_ {
+        move |l| match l {
+            Leaf::Param(i) => {
+                let p = &self.params[i as usize];
+                quote!(self.#p)
+            }
+            Leaf::Q(j) => {
+                let v = &self.q[j as usize];
+                quote!(#v)
+            }
+            Leaf::Qd(j) => {
+                let v = &self.qd[j as usize];
+                quote!(#v)
+            }
+            Leaf::Qdd(j) => {
+                let v = &self.qdd[j as usize];
+                quote!(#v)
+            }
+        }
+    }
+}
+
+/// The type definitions, shared by the full expansion and the error fallback.
+fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStream {
+    let Idents {
+        name,
+        coords,
+        motion,
+        params,
+        coord,
+        ..
+    } = id;
+    let vis = &def.vis;
+    let docs = &def.docs;
+    let param_docs: Vec<_> = def.params.iter().map(|p| &p.docs).collect();
+    let nd = def.drivers.len();
+    let coord_docs: Vec<TokenStream> = def
+        .drivers
+        .iter()
+        .chain(&def.unknowns)
+        .enumerate()
+        .map(|(j, d)| {
+            let role = if j < nd { "Driver" } else { "Unknown" };
+            let kind = match kinds.and_then(|k| k.get(j)) {
+                Some(CoordKind::Angle) => " (an angle, rad; its rate is an angular velocity, rad/s)",
+                Some(CoordKind::Length) => " (a length, in the units of the parameters)",
+                None => "",
+            };
+            let text = format!("{role} `{}`{kind}.", d.name);
+            let user = &d.docs;
+            quote!(#[doc = #text] #(#user)*)
+        })
+        .collect();
+    let np = def.points.len();
+    let accessors = def.points.iter().enumerate().map(|(k, p)| {
+        let acc = format_ident!("{}", accessor_name(&p.name));
+        let text = format!("Position, velocity and acceleration of point `{}`.", p.name);
+        let user = &p.docs;
+        quote! {
+            #[doc = #text]
+            #(#user)*
+            #[must_use]
+            #[inline]
+            pub fn #acc(&self) -> &::kinematics_core::__private::PointMotion {
+                &self.points[#k]
+            }
+        }
+    });
+    let coords_doc = format!(
+        "Coordinates of [`{name}`]: the drivers, then the unknowns, in declaration order."
+    );
+    let motion_doc = format!(
+        "Motion of [`{name}`] at one instant: coordinates q, their rates q' and \
+         accelerations q'' (angular for angle coordinates), and every point's motion."
+    );
+    let idx: Vec<usize> = (0..coord.len()).collect();
+    quote! {
+        #(#docs)*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #name {
+            #( #(#param_docs)* pub #params: f64, )*
+        }
+
+        #[doc = #coords_doc]
+        #[derive(Debug, Clone, Copy, PartialEq, Default)]
+        #vis struct #coords {
+            #( #coord_docs pub #coord: f64, )*
+        }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::Coordinates for #coords {
+            #[inline]
+            fn get(&self, j: usize) -> ::core::option::Option<f64> {
+                match j {
+                    #( #idx => ::core::option::Option::Some(self.#coord), )*
+                    _ => ::core::option::Option::None,
+                }
+            }
+            #[inline]
+            fn set(&mut self, j: usize, value: f64) -> bool {
+                match j {
+                    #( #idx => { self.#coord = value; true } )*
+                    _ => false,
+                }
+            }
+        }
+
+        #[doc = #motion_doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #motion {
+            /// Coordinates q.
+            pub q: #coords,
+            /// Rates q' (angular velocities ω for angles).
+            pub qd: #coords,
+            /// Accelerations q'' (angular accelerations α for angles).
+            pub qdd: #coords,
+            /// Every point's motion, in declaration order.
+            pub points: [::kinematics_core::__private::PointMotion; #np],
+        }
+
+        impl #motion {
+            #(#accessors)*
+        }
+    }
+}
+
+/// Fallback expansion for a definition with errors: the types and stub
+/// methods, so the user sees the definition's errors and not knock-on errors
+/// at every use of the mechanism.
+pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
+    let id = Idents::new(def);
+    let types = types(def, &id, None);
+    let Idents {
+        name,
+        coords,
+        motion,
+        ..
+    } = &id;
+    let pp = quote!(::kinematics_core::__private);
+    quote! {
+        #errors
+        #types
+        #[allow(unused_variables, clippy::unused_self, dead_code)]
+        impl #name {
+            /// Unavailable: the definition has errors.
+            pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> {
+                ::core::unreachable!()
+            }
+            /// Unavailable: the definition has errors.
+            pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
+                ::core::unreachable!()
+            }
+            /// Unavailable: the definition has errors.
+            pub fn analyze<R, A>(&self, pose: &#coords, rates: R, accelerations: A) -> #pp::Result<#motion, #pp::Error> {
+                ::core::unreachable!()
+            }
+        }
+    }
+}
+
+/// The full expansion of a checked model.
+pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
+    let id = Idents::new(def);
+    let types = types(def, &id, Some(&model.kinds));
+    let g = &model.graph;
+    let leaf = id.leaf();
+    let pp = quote!(::kinematics_core::__private);
+    let Idents {
+        name,
+        coords,
+        motion,
+        params,
+        coord,
+        q,
+        qd,
+        qdd,
+    } = &id;
+    let nd = model.drivers as usize;
+    let nu = model.unknowns as usize;
+    let ne = model.equations.len();
+    let np = model.points.len();
+    let (qd_drivers, qd_unknowns) = qd.split_at(nd);
+    let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
+    let (q_drivers, q_unknowns) = q.split_at(nd);
+    let (c_drivers, c_unknowns) = coord.split_at(nd);
+
+    // Φ and Φ_u, for Newton.
+    let jac_flat: Vec<Id> = d.jac.iter().flatten().copied().collect();
+    let stage: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
+    let sched = schedule(g, &[stage]);
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.expr(i)).collect();
+    let jac_rows: Vec<_> = d
+        .jac
+        .iter()
+        .map(|row| {
+            let r: Vec<_> = row.iter().map(|&i| pr.expr(i)).collect();
+            quote!([#(#r),*])
+        })
+        .collect();
+    let phi_jac_fn = quote! {
+        #[doc(hidden)]
+        #[inline]
+        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        fn __phi_jac(&self, d: &[f64; #nd], u: &[f64; #nu], phi: &mut [f64; #ne], jac: &mut [[f64; #nu]; #ne]) {
+            let [#(#q_drivers),*] = *d;
+            let [#(#q_unknowns),*] = *u;
+            #(#lets)*
+            *phi = [#(#phi_e),*];
+            *jac = [#(#jac_rows),*];
+        }
+    };
+
+    // Φ alone.
+    let sched = schedule(g, std::slice::from_ref(&d.phi));
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.expr(i)).collect();
+    let phi_fn = quote! {
+        #[doc(hidden)]
+        #[inline]
+        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        fn __phi(&self, d: &[f64; #nd], u: &[f64; #nu]) -> [f64; #ne] {
+            let [#(#q_drivers),*] = *d;
+            let [#(#q_unknowns),*] = *u;
+            #(#lets)*
+            [#(#phi_e),*]
+        }
+    };
+
+    // Point positions alone.
+    let pos_flat: Vec<Id> = d.pos.iter().flatten().copied().collect();
+    let sched = schedule(g, std::slice::from_ref(&pos_flat));
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let pos_e: Vec<_> = d
+        .pos
+        .iter()
+        .map(|[x, y]| {
+            let (x, y) = (pr.expr(*x), pr.expr(*y));
+            quote!(#pp::Vector2::new(#x, #y))
+        })
+        .collect();
+    let positions_fn = quote! {
+        /// Positions of the points (in declaration order) at `pose`, which
+        /// should be assembled: r_P(q).
+        #[must_use]
+        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        pub fn point_positions(&self, pose: &#coords) -> [#pp::Vector2<f64>; #np] {
+            #( let #q = pose.#coord; )*
+            #(#lets)*
+            [#(#pos_e),*]
+        }
+    };
+
+    // Analysis: Φ_u and −Φ_d d'; solve; −Φ_d d'' − γ; solve; points.
+    let vel_stage: Vec<Id> = jac_flat.iter().chain(&d.vel_rhs).copied().collect();
+    let acc_stage = d.acc_rhs.clone();
+    let pt_stage: Vec<Id> = d
+        .pos
+        .iter()
+        .chain(&d.vel)
+        .chain(&d.acc)
+        .flatten()
+        .copied()
+        .collect();
+    let sched = schedule(g, &[vel_stage, acc_stage, pt_stage]);
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let (lets1, lets2, lets3) = (&lets[0], &lets[1], &lets[2]);
+    let jac_rows: Vec<_> = d
+        .jac
+        .iter()
+        .map(|row| {
+            let r: Vec<_> = row.iter().map(|&i| pr.expr(i)).collect();
+            quote!([#(#r),*])
+        })
+        .collect();
+    let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.expr(i)).collect();
+    let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.expr(i)).collect();
+    let v2 = |c: &[Id; 2]| {
+        let (x, y) = (pr.expr(c[0]), pr.expr(c[1]));
+        quote!(#pp::Vector2::new(#x, #y))
+    };
+    let points_e: Vec<_> = (0..np)
+        .map(|k| {
+            let (p, v, a) = (v2(&d.pos[k]), v2(&d.vel[k]), v2(&d.acc[k]));
+            quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
+        })
+        .collect();
+    let all_q = q.iter();
+    let finite_out = |vals: &[Ident]| {
+        let names: Vec<String> = coord.iter().map(ToString::to_string).collect();
+        quote!(#( #pp::finite(#pp::Input::Computed, #names, #vals)?; )*)
+    };
+    let check_qd = finite_out(qd);
+    let check_qdd = finite_out(qdd);
+    let driver_names: Vec<String> = c_drivers.iter().map(ToString::to_string).collect();
+    let unknown_names: Vec<String> = c_unknowns.iter().map(ToString::to_string).collect();
+    let param_names: Vec<String> = params.iter().map(ToString::to_string).collect();
+    let coord_names: Vec<String> = coord.iter().map(ToString::to_string).collect();
+    let eq_names: Vec<&str> = model.equations.iter().map(|e| e.text.as_str()).collect();
+    let point_names: Vec<String> = def.points.iter().map(|p| p.name.to_string()).collect();
+    let coordinate_info = model.kinds.iter().enumerate().map(|(j, k)| {
+        let n = &coord_names[j];
+        let role = if j < nd { quote!(Driver) } else { quote!(Unknown) };
+        let kind = match k {
+            CoordKind::Angle => quote!(Angle),
+            CoordKind::Length => quote!(Length),
+        };
+        quote!(#pp::Coordinate { name: #n, role: #pp::Role::#role, kind: #pp::Kind::#kind })
+    });
+    let counts = {
+        let newton: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
+        let analysis: Vec<Id> = jac_flat
+            .iter()
+            .chain(&d.vel_rhs)
+            .chain(&d.acc_rhs)
+            .chain(d.pos.iter().flatten())
+            .chain(d.vel.iter().flatten())
+            .chain(d.acc.iter().flatten())
+            .copied()
+            .collect();
+        let (n, a) = (crate::cse::op_count(g, &newton), crate::cse::op_count(g, &analysis));
+        let (nt, ns, at, as_) = (n.tree, n.shared, a.tree, a.shared);
+        quote!([("residual and Jacobian", #nt, #ns), ("velocity, acceleration and points", #at, #as_)])
+    };
+    let allow = quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]);
+
+    quote! {
+        #types
+
+        impl #name {
+            /// Number of drivers (prescribed inputs).
+            pub const DRIVERS: usize = #nd;
+            /// Number of unknowns (solved joint variables).
+            pub const UNKNOWNS: usize = #nu;
+            /// Number of scalar loop-closure equations.
+            pub const EQUATIONS: usize = #ne;
+            /// Number of points of interest.
+            pub const POINTS: usize = #np;
+            /// Floating-point operations of the generated code: for the Newton
+            /// step and for the analysis, the count if every expression were
+            /// written out as a tree, then the count after common-subexpression
+            /// elimination (what the emitted code evaluates).
+            #[doc(hidden)]
+            pub const __OPERATION_COUNTS: [(&'static str, u64, usize); 2] = #counts;
+            #[doc(hidden)]
+            const __NAMES: #pp::Names = #pp::Names {
+                coordinates: &[#(#coord_names),*],
+                drivers: #nd,
+                equations: &[#(#eq_names),*],
+            };
+
+            /// Checks that every parameter is finite.
+            ///
+            /// # Errors
+            /// [`Error::NonFinite`](::kinematics_core::Error::NonFinite) naming the parameter.
+            pub fn validate(&self) -> #pp::Result<(), #pp::Error> {
+                #( #pp::finite(#pp::Input::Parameter, #param_names, self.#params)?; )*
+                ::core::result::Result::Ok(())
+            }
+
+            /// Assembles the mechanism: solves the loop-closure equations
+            /// Φ(d, u) = 0 for the unknowns u by Newton–Raphson, with the
+            /// drivers d and the starting guess of u taken from `start`. The
+            /// result is the assembly branch nearest the guess.
+            ///
+            /// # Errors
+            /// Non-finite parameters or start values, a singular Jacobian, or
+            /// no convergence; each names the item involved.
+            pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> {
+                self.assemble_with(start, &#pp::Options::DEFAULT)
+            }
+
+            /// [`Self::assemble`] with explicit solver options.
+            ///
+            /// # Errors
+            /// As [`Self::assemble`], and invalid options.
+            pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
+                options.validate()?;
+                self.validate()?;
+                #( #pp::finite(#pp::Input::Driver, #driver_names, start.#c_drivers)?; )*
+                #( #pp::finite(#pp::Input::Guess, #unknown_names, start.#c_unknowns)?; )*
+                let d = [#(start.#c_drivers),*];
+                let mut u = [#(start.#c_unknowns),*];
+                let solved = #pp::newton(&mut u, options, |u, phi, jac| self.__phi_jac(&d, u, phi, jac));
+                let [#(#q_drivers),*] = d;
+                let [#(#q_unknowns),*] = u;
+                match solved {
+                    ::core::result::Result::Ok(_) => ::core::result::Result::Ok(#coords { #( #coord: #q ),* }),
+                    ::core::result::Result::Err(f) => ::core::result::Result::Err(
+                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
+                    ),
+                }
+            }
+
+            /// Velocities and accelerations at an assembled `pose`, for driver
+            /// rates d' and accelerations d'' (a bare `f64` for one driver,
+            /// else an array in declaration order). Solves
+            /// Φ_u u' = −Φ_d d' and Φ_u u'' = −Φ_d d'' − γ, γ = (Φ_q q')_q q',
+            /// then each point's v = r_q q' and a = r_q q'' + (r_q q')_q q'.
+            ///
+            /// # Errors
+            /// Non-finite inputs or results, or a singular Jacobian (a
+            /// dead-centre or toggle position).
+            pub fn analyze(
+                &self,
+                pose: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                self.analyze_with(pose, rates, accelerations, &#pp::Options::DEFAULT)
+            }
+
+            /// [`Self::analyze`] with explicit solver options.
+            ///
+            /// # Errors
+            /// As [`Self::analyze`], and invalid options.
+            #allow
+            pub fn analyze_with(
+                &self,
+                pose: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                options.validate()?;
+                self.validate()?;
+                let [#(#qd_drivers),*] = rates.into_array();
+                let [#(#qdd_drivers),*] = accelerations.into_array();
+                #( #pp::finite(#pp::Input::Driver, #driver_names, pose.#c_drivers)?; )*
+                #( #pp::finite(#pp::Input::Guess, #unknown_names, pose.#c_unknowns)?; )*
+                #( #pp::finite(#pp::Input::DriverRate, #driver_names, #qd_drivers)?; )*
+                #( #pp::finite(#pp::Input::DriverAcceleration, #driver_names, #qdd_drivers)?; )*
+                #( let #all_q = pose.#coord; )*
+                #lets1
+                let jac: [[f64; #nu]; #ne] = [#(#jac_rows),*];
+                let lu = match #pp::Lu::factor(&jac, options.singularity_threshold) {
+                    ::core::result::Result::Ok(lu) => lu,
+                    ::core::result::Result::Err(f) => return ::core::result::Result::Err(
+                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
+                    ),
+                };
+                let [#(#qd_unknowns),*] = lu.solve(&[#(#vel_e),*]);
+                #lets2
+                let [#(#qdd_unknowns),*] = lu.solve(&[#(#acc_e),*]);
+                #check_qd
+                #check_qdd
+                #lets3
+                let motion = #motion {
+                    q: *pose,
+                    qd: #coords { #( #coord: #qd ),* },
+                    qdd: #coords { #( #coord: #qdd ),* },
+                    points: [#(#points_e),*],
+                };
+                for p in &motion.points {
+                    for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
+                        #pp::finite(#pp::Input::Computed, "point motion", *v)?;
+                    }
+                }
+                ::core::result::Result::Ok(motion)
+            }
+
+            /// Residuals Φ_i of the loop-closure equations at `pose` (zero
+            /// when assembled), in the order of [`Self::EQUATIONS`].
+            #[must_use]
+            pub fn residual(&self, pose: &#coords) -> [f64; #ne] {
+                self.__phi(&[#(pose.#c_drivers),*], &[#(pose.#c_unknowns),*])
+            }
+
+            #positions_fn
+            #phi_jac_fn
+            #phi_fn
+        }
+
+        #[automatically_derived]
+        impl #pp::Mechanism for #name {
+            type Coords = #coords;
+            type Motion = #motion;
+            const DRIVERS: usize = #nd;
+            const UNKNOWNS: usize = #nu;
+            const EQUATIONS: usize = #ne;
+            const POINTS: usize = #np;
+            const COORDINATES: &'static [#pp::Coordinate] = &[#(#coordinate_info),*];
+            const POINT_NAMES: &'static [&'static str] = &[#(#point_names),*];
+            const EQUATION_NAMES: &'static [&'static str] = &[#(#eq_names),*];
+
+            fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
+                #name::assemble_with(self, start, options)
+            }
+
+            fn analyze_slices(
+                &self,
+                pose: &#coords,
+                rates: &[f64],
+                accelerations: &[f64],
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                let rates: [f64; #nd] = match <[f64; #nd]>::try_from(rates) {
+                    ::core::result::Result::Ok(r) => r,
+                    ::core::result::Result::Err(_) => return ::core::result::Result::Err(#pp::Error::InvalidOption {
+                        name: "rates",
+                        value: rates.len() as f64,
+                        requirement: "must have one value per driver",
+                    }),
+                };
+                let accelerations: [f64; #nd] = match <[f64; #nd]>::try_from(accelerations) {
+                    ::core::result::Result::Ok(r) => r,
+                    ::core::result::Result::Err(_) => return ::core::result::Result::Err(#pp::Error::InvalidOption {
+                        name: "accelerations",
+                        value: accelerations.len() as f64,
+                        requirement: "must have one value per driver",
+                    }),
+                };
+                #name::analyze_with(self, pose, rates, accelerations, options)
+            }
+
+            fn residual_into(&self, pose: &#coords, out: &mut [f64]) {
+                let r = #name::residual(self, pose);
+                for (o, v) in out.iter_mut().zip(r.iter()) {
+                    *o = *v;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,329 @@
+//! The expression store: a hash-consed DAG of scalar expressions.
+//!
+//! Nodes live in a flat arena; a node's children always have smaller ids than
+//! the node itself, so the arena order is a topological order. [`Graph::add`]
+//! looks every node up before inserting it, so a structurally identical
+//! subexpression exists exactly once. Differentiation therefore never blows up
+//! exponentially, and common-subexpression elimination is a matter of counting
+//! uses (see `cse.rs`).
+//!
+//! Vectors never reach this layer: lowering splits them into scalar components.
+
+use std::collections::HashMap;
+
+/// Index of a node in a [`Graph`].
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+pub struct Id(u32);
+
+impl Id {
+    /// Position of the node in the arena.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+
+    /// The id of the node at arena position `i`.
+    pub fn from_index(i: usize) -> Self {
+        Id(u32::try_from(i).unwrap_or(u32::MAX))
+    }
+}
+
+/// A symbol the generated code reads from its inputs.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+pub enum Leaf {
+    /// Parameter `i` in declaration order (a link length, an offset angle).
+    Param(u32),
+    /// Coordinate q_j: drivers first, then unknowns, in declaration order.
+    Q(u32),
+    /// Its first time derivative q'_j.
+    Qd(u32),
+    /// Its second time derivative q''_j.
+    Qdd(u32),
+}
+
+/// Elementary functions of one argument.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Func {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Sqrt,
+    Exp,
+    Ln,
+}
+
+impl Func {
+    /// The function applied to a number.
+    pub fn apply(self, x: f64) -> f64 {
+        match self {
+            Func::Sin => x.sin(),
+            Func::Cos => x.cos(),
+            Func::Tan => x.tan(),
+            Func::Asin => x.asin(),
+            Func::Acos => x.acos(),
+            Func::Sqrt => x.sqrt(),
+            Func::Exp => x.exp(),
+            Func::Ln => x.ln(),
+        }
+    }
+
+    /// Name of the `f64` method that evaluates it.
+    pub fn method(self) -> &'static str {
+        match self {
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Tan => "tan",
+            Func::Asin => "asin",
+            Func::Acos => "acos",
+            Func::Sqrt => "sqrt",
+            Func::Exp => "exp",
+            Func::Ln => "ln",
+        }
+    }
+}
+
+/// One node of the DAG. Subtraction is `Add(a, Neg(b))`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Node {
+    /// A constant, stored as the bits of an `f64` (never `-0.0`, never NaN).
+    Const(u64),
+    Leaf(Leaf),
+    Add(Id, Id),
+    Mul(Id, Id),
+    Div(Id, Id),
+    Neg(Id),
+    Powi(Id, i32),
+    Call(Func, Id),
+    Atan2(Id, Id),
+}
+
+impl Node {
+    /// Children in evaluation order.
+    pub fn children(&self) -> impl Iterator<Item = Id> {
+        let (a, b) = match *self {
+            Node::Const(_) | Node::Leaf(_) => (None, None),
+            Node::Neg(a) | Node::Powi(a, _) | Node::Call(_, a) => (Some(a), None),
+            Node::Add(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => {
+                (Some(a), Some(b))
+            }
+        };
+        a.into_iter().chain(b)
+    }
+
+    /// Whether the node costs a floating-point operation when evaluated.
+    pub fn is_operation(&self) -> bool {
+        !matches!(self, Node::Const(_) | Node::Leaf(_))
+    }
+}
+
+/// The arena with its hash-consing table.
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    table: HashMap<Node, Id>,
+    /// When false, the algebraic rewrites of `simplify.rs` are skipped (used by
+    /// tests to compare simplified against unsimplified graphs).
+    pub raw: bool,
+}
+
+impl Graph {
+    /// An empty graph with simplification enabled.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of distinct nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The node behind an id.
+    pub fn node(&self, id: Id) -> Node {
+        self.nodes[id.index()]
+    }
+
+    /// Inserts a node as it is (after the children exist), or returns the
+    /// existing identical node.
+    pub fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.table.get(&node) {
+            return id;
+        }
+        let id = Id(u32::try_from(self.nodes.len()).unwrap_or(u32::MAX));
+        self.nodes.push(node);
+        self.table.insert(node, id);
+        id
+    }
+
+    /// Adds a node after applying the simplification rules.
+    pub fn add(&mut self, node: Node) -> Id {
+        if self.raw {
+            return self.intern(node);
+        }
+        crate::simplify::rewrite(self, node)
+    }
+
+    /// The constant `value`.
+    pub fn constant(&mut self, value: f64) -> Id {
+        // Normalise -0.0 to 0.0 so that both hash to one node.
+        let value = if value == 0.0 { 0.0 } else { value };
+        self.intern(Node::Const(value.to_bits()))
+    }
+
+    /// The value of a constant node, if it is one.
+    pub fn as_const(&self, id: Id) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(bits) => Some(f64::from_bits(bits)),
+            _ => None,
+        }
+    }
+
+    /// A leaf symbol.
+    pub fn leaf(&mut self, leaf: Leaf) -> Id {
+        self.intern(Node::Leaf(leaf))
+    }
+
+    /// a + b
+    pub fn sum(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Add(a, b))
+    }
+
+    /// a − b
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        let nb = self.neg(b);
+        self.sum(a, nb)
+    }
+
+    /// a · b
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Mul(a, b))
+    }
+
+    /// a / b
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Div(a, b))
+    }
+
+    /// −a
+    pub fn neg(&mut self, a: Id) -> Id {
+        self.add(Node::Neg(a))
+    }
+
+    /// aⁿ for an integer n.
+    pub fn powi(&mut self, a: Id, n: i32) -> Id {
+        self.add(Node::Powi(a, n))
+    }
+
+    /// f(a) for an elementary function f.
+    pub fn call(&mut self, f: Func, a: Id) -> Id {
+        self.add(Node::Call(f, a))
+    }
+
+    /// atan2(y, x)
+    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
+        self.add(Node::Atan2(y, x))
+    }
+
+    /// Every node reachable from `roots`, as a mask over the arena.
+    pub fn reachable(&self, roots: &[Id]) -> Vec<bool> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.index()], true) {
+                continue;
+            }
+            stack.extend(self.node(id).children());
+        }
+        seen
+    }
+
+    /// Evaluates `roots` with the leaves given by `leaf`; all nodes are
+    /// computed once, in arena order.
+    pub fn eval(&self, roots: &[Id], leaf: &dyn Fn(Leaf) -> f64) -> Vec<f64> {
+        let live = self.reachable(roots);
+        let mut val = vec![0.0; self.nodes.len()];
+        for (i, node) in self.nodes.iter().enumerate() {
+            if !live[i] {
+                continue;
+            }
+            let v = |id: Id| val[id.index()];
+            val[i] = match *node {
+                Node::Const(bits) => f64::from_bits(bits),
+                Node::Leaf(l) => leaf(l),
+                Node::Add(a, b) => v(a) + v(b),
+                Node::Mul(a, b) => v(a) * v(b),
+                Node::Div(a, b) => v(a) / v(b),
+                Node::Neg(a) => -v(a),
+                Node::Powi(a, n) => v(a).powi(n),
+                Node::Call(f, a) => f.apply(v(a)),
+                Node::Atan2(y, x) => v(y).atan2(v(x)),
+            };
+        }
+        roots.iter().map(|r| val[r.index()]).collect()
+    }
+
+    /// Number of operations in the expressions `roots` written as trees,
+    /// without sharing (what a naive expansion would evaluate).
+    pub fn tree_operations(&self, roots: &[Id]) -> u64 {
+        let mut size = vec![0u64; self.nodes.len()];
+        for (i, node) in self.nodes.iter().enumerate() {
+            let own = u64::from(node.is_operation());
+            size[i] = node
+                .children()
+                .fold(own, |acc, c| acc.saturating_add(size[c.index()]));
+        }
+        roots
+            .iter()
+            .fold(0u64, |acc, r| acc.saturating_add(size[r.index()]))
+    }
+
+    /// Number of distinct operations needed for `roots` (with sharing).
+    pub fn dag_operations(&self, roots: &[Id]) -> usize {
+        let live = self.reachable(roots);
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter(|(i, n)| live[*i] && n.is_operation())
+            .count()
+    }
+
+    /// Whether `id` depends on `leaf`.
+    pub fn depends_on(&self, id: Id, pred: &dyn Fn(Leaf) -> bool) -> bool {
+        let live = self.reachable(&[id]);
+        self.nodes
+            .iter()
+            .enumerate()
+            .any(|(i, n)| live[i] && matches!(n, Node::Leaf(l) if pred(*l)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_subexpressions_are_stored_once() {
+        let mut g = Graph::new();
+        let x = g.leaf(Leaf::Q(0));
+        let s1 = g.call(Func::Sin, x);
+        let s2 = g.call(Func::Sin, x);
+        assert_eq!(s1, s2);
+        let n = g.len();
+        let a = g.mul(s1, x);
+        let b = g.mul(s2, x);
+        assert_eq!(a, b);
+        assert_eq!(g.len(), n + 1);
+    }
+
+    #[test]
+    fn sharing_makes_dag_smaller_than_tree() {
+        let mut g = Graph::new();
+        let x = g.leaf(Leaf::Q(0));
+        let mut e = g.call(Func::Sin, x);
+        for _ in 0..20 {
+            e = g.mul(e, e);
+        }
+        assert_eq!(g.dag_operations(&[e]), 21);
+        assert!(g.tree_operations(&[e]) > 1_000_000);
+    }
+}

@@ -1,0 +1,84 @@
+//! The kinematic quantities, built from the model by exact differentiation.
+//!
+//! With coordinates q = (d, u) (drivers, unknowns) and constraints Φ(q) = 0:
+//!
+//! * position: Φ and its Jacobian Φ_u, for Newton–Raphson;
+//! * velocity: Φ_u u' = −Φ_d d', the right-hand side being dΦ/dt with u' = 0;
+//! * acceleration: Φ_u u'' = −Φ_d d'' − γ with γ = (Φ_q q')_q q', the
+//!   right-hand side being −d²Φ/dt² with u'' = 0;
+//! * points r(q): v = r_q q' and a = r_q q'' + (r_q q')_q q'.
+
+use crate::diff::{partial, time_derivative, Memo};
+use crate::ir::{Id, Leaf};
+use crate::lower::Model;
+
+/// Every expression the generated code evaluates.
+pub struct Derived {
+    /// Φ_i.
+    pub phi: Vec<Id>,
+    /// ∂Φ_i/∂u_k, row i, column k.
+    pub jac: Vec<Vec<Id>>,
+    /// −Φ_d d'.
+    pub vel_rhs: Vec<Id>,
+    /// −Φ_d d'' − γ.
+    pub acc_rhs: Vec<Id>,
+    /// Point positions.
+    pub pos: Vec<[Id; 2]>,
+    /// Point velocities.
+    pub vel: Vec<[Id; 2]>,
+    /// Point accelerations.
+    pub acc: Vec<[Id; 2]>,
+}
+
+/// Differentiates the model.
+pub fn derive(model: &mut Model) -> Derived {
+    let nd = model.drivers;
+    let nq = model.coords();
+    let g = &mut model.graph;
+    let mut memo = Memo::new();
+    let phi: Vec<Id> = model.equations.iter().map(|e| e.residual).collect();
+    let jac = phi
+        .iter()
+        .map(|&p| {
+            (nd..nq)
+                .map(|j| partial(g, p, Leaf::Q(j), &mut memo))
+                .collect()
+        })
+        .collect();
+    let mut vel_rhs = Vec::new();
+    let mut acc_rhs = Vec::new();
+    for &p in &phi {
+        // dΦ/dt over the drivers only is Φ_d d'.
+        let mut phi_d_dd = g.constant(0.0);
+        for j in 0..nd {
+            let dp = partial(g, p, Leaf::Q(j), &mut memo);
+            let qd = g.leaf(Leaf::Qd(j));
+            let t = g.mul(dp, qd);
+            phi_d_dd = g.sum(phi_d_dd, t);
+        }
+        vel_rhs.push(g.neg(phi_d_dd));
+        // d²Φ/dt² with u'' = 0 is Φ_d d'' + γ.
+        let phi_dot = time_derivative(g, p, nq, &|_| false, &mut memo);
+        let phi_ddot = time_derivative(g, phi_dot, nq, &|j| j < nd, &mut memo);
+        acc_rhs.push(g.neg(phi_ddot));
+    }
+    let mut pos = Vec::new();
+    let mut vel = Vec::new();
+    let mut acc = Vec::new();
+    for p in &model.points {
+        pos.push(p.xy);
+        let v = p.xy.map(|c| time_derivative(g, c, nq, &|_| false, &mut memo));
+        let a = v.map(|c| time_derivative(g, c, nq, &|_| true, &mut memo));
+        vel.push(v);
+        acc.push(a);
+    }
+    Derived {
+        phi,
+        jac,
+        vel_rhs,
+        acc_rhs,
+        pos,
+        vel,
+        acc,
+    }
+}

@@ -1,0 +1,61 @@
+//! The `mechanism!` procedural macro.
+//!
+//! Use it through `kinematics-core`, which re-exports it and provides the
+//! runtime the generated code calls. The expansion is one pipeline of pure
+//! functions over `proc_macro2` tokens:
+//!
+//! ```text
+//! parse → check → lower → (simplify, on construction) → diff → cse → emit
+//! ```
+//!
+//! * `parse`: tokens to the syntax tree, spans kept;
+//! * `check`: names, counts and structure, every error reported at once;
+//! * `lower`: typed expressions to a hash-consed scalar DAG (`ir`);
+//! * `simplify`: algebraic rewrites applied as each node is built;
+//! * `diff` and `kinematics`: exact Jacobian, velocity and acceleration terms;
+//! * `cse`: which shared nodes get a `let`, in which order;
+//! * `emit`: straight-line Rust and the generated types.
+
+mod check;
+mod cse;
+mod diff;
+mod emit;
+mod ir;
+mod kinematics;
+mod lower;
+mod parse;
+mod simplify;
+
+use proc_macro2::TokenStream;
+
+/// Declares a mechanism by its vector loop-closure equations; see the
+/// `kinematics-core` crate documentation for the language and the generated
+/// API.
+#[proc_macro]
+pub fn mechanism(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
+    expand(input.into()).into()
+}
+
+/// The whole expansion: code for a valid definition, or `compile_error!`s
+/// spanned on the offending tokens (with stub types, so uses of the
+/// mechanism elsewhere do not add knock-on errors).
+fn expand(input: TokenStream) -> TokenStream {
+    let def: parse::Definition = match syn::parse2(input) {
+        Ok(def) => def,
+        Err(e) => return e.into_compile_error(),
+    };
+    let mut errors = check::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    if errors.is_empty() {
+        check::check_model(&def, &model, &mut errors);
+    }
+    if let Err(e) = errors.finish() {
+        return emit::fallback(&def, e.into_compile_error());
+    }
+    let derived = kinematics::derive(&mut model);
+    emit::expand(&def, &model, &derived)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,281 @@
+//! Parsing: tokens to the syntax tree of one mechanism definition.
+//!
+//! ```text
+//! mechanism! {
+//!     /// Documentation.
+//!     pub struct Name {
+//!         params      { a, b, … }            // constants, set at run time
+//!         drivers     { phi, … }             // prescribed inputs
+//!         unknowns    { th3, … }             // solved for
+//!         points      { B = polar(a, phi); … }
+//!         loops       { lhs == rhs; … }      // vector equations
+//!         constraints { lhs == rhs; … }      // scalar equations
+//!     }
+//! }
+//! ```
+//!
+//! Sections may come in any order; each at most once. Expressions are parsed
+//! as Rust expressions (so precedence is Rust's) and interpreted in `lower.rs`.
+//! Every item keeps its tokens, so later errors point at them.
+
+use proc_macro2::Span;
+use syn::parse::{Parse, ParseStream};
+use syn::spanned::Spanned;
+use syn::{braced, Attribute, Expr, Ident, Token, Visibility};
+
+/// DSL keywords.
+pub mod kw {
+    syn::custom_keyword!(params);
+    syn::custom_keyword!(drivers);
+    syn::custom_keyword!(unknowns);
+    syn::custom_keyword!(points);
+    syn::custom_keyword!(loops);
+    syn::custom_keyword!(constraints);
+}
+
+/// A whole `mechanism!` invocation.
+pub struct Definition {
+    pub docs: Vec<Attribute>,
+    pub vis: Visibility,
+    pub name: Ident,
+    pub params: Vec<Decl>,
+    pub drivers: Vec<Decl>,
+    pub unknowns: Vec<Decl>,
+    pub points: Vec<PointDef>,
+    pub loops: Vec<Equation>,
+    pub constraints: Vec<Equation>,
+    /// Span of the `unknowns` section (or of the name when it is missing),
+    /// where counting errors point.
+    pub unknowns_span: Span,
+}
+
+/// A declared name with its doc comments.
+pub struct Decl {
+    pub docs: Vec<Attribute>,
+    pub name: Ident,
+}
+
+/// `Name = expr;` in the `points` section.
+pub struct PointDef {
+    pub docs: Vec<Attribute>,
+    pub name: Ident,
+    pub expr: Expr,
+}
+
+/// `lhs == rhs;` in the `loops` or `constraints` section.
+pub struct Equation {
+    pub lhs: Expr,
+    pub rhs: Expr,
+    /// The whole equation, for messages and for naming it in run-time errors.
+    pub span: Span,
+    pub text: String,
+}
+
+impl Parse for Definition {
+    fn parse(input: ParseStream<'_>) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let docs = doc_attributes(attrs)?;
+        let vis: Visibility = input.parse()?;
+        input.parse::<Token![struct]>().map_err(|e| {
+            syn::Error::new(
+                e.span(),
+                "expected `struct Name { … }`: a mechanism is declared as \
+                 `pub struct FourBar { params { … } drivers { … } unknowns { … } loops { … } }`",
+            )
+        })?;
+        let name: Ident = input.parse()?;
+        let body;
+        braced!(body in input);
+        let mut def = Definition {
+            docs,
+            vis,
+            unknowns_span: name.span(),
+            name,
+            params: Vec::new(),
+            drivers: Vec::new(),
+            unknowns: Vec::new(),
+            points: Vec::new(),
+            loops: Vec::new(),
+            constraints: Vec::new(),
+        };
+        let mut seen: Vec<(String, Span)> = Vec::new();
+        while !body.is_empty() {
+            let lookahead = body.lookahead1();
+            let keyword_span = body.span();
+            let section = if lookahead.peek(kw::params) {
+                body.parse::<kw::params>()?;
+                "params"
+            } else if lookahead.peek(kw::drivers) {
+                body.parse::<kw::drivers>()?;
+                "drivers"
+            } else if lookahead.peek(kw::unknowns) {
+                body.parse::<kw::unknowns>()?;
+                "unknowns"
+            } else if lookahead.peek(kw::points) {
+                body.parse::<kw::points>()?;
+                "points"
+            } else if lookahead.peek(kw::loops) {
+                body.parse::<kw::loops>()?;
+                "loops"
+            } else if lookahead.peek(kw::constraints) {
+                body.parse::<kw::constraints>()?;
+                "constraints"
+            } else {
+                return Err(lookahead.error());
+            };
+            if let Some((_, first)) = seen.iter().find(|(s, _)| s == section) {
+                let mut err = syn::Error::new(
+                    keyword_span,
+                    format!("the `{section}` section appears twice; merge the two into one"),
+                );
+                err.combine(syn::Error::new(*first, "first written here"));
+                return Err(err);
+            }
+            seen.push((section.to_owned(), keyword_span));
+            let content;
+            braced!(content in body);
+            match section {
+                "params" => def.params = parse_decls(&content)?,
+                "drivers" => def.drivers = parse_decls(&content)?,
+                "unknowns" => {
+                    def.unknowns_span = keyword_span;
+                    def.unknowns = parse_decls(&content)?;
+                }
+                "points" => def.points = parse_items(&content, parse_point)?,
+                "loops" => def.loops = parse_items(&content, parse_equation)?,
+                _ => def.constraints = parse_items(&content, parse_equation)?,
+            }
+        }
+        Ok(def)
+    }
+}
+
+/// Keeps `///` comments; any other attribute is an error at its tokens.
+fn doc_attributes(attrs: Vec<Attribute>) -> syn::Result<Vec<Attribute>> {
+    let mut out = Vec::new();
+    for attr in attrs {
+        if attr.path().is_ident("doc") {
+            out.push(attr);
+        } else {
+            return Err(syn::Error::new(
+                attr.span(),
+                "only doc comments (`/// …`) may be attached here",
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// `a, b, c` with optional doc comments and an optional trailing comma.
+fn parse_decls(input: ParseStream<'_>) -> syn::Result<Vec<Decl>> {
+    let mut out = Vec::new();
+    while !input.is_empty() {
+        let docs = doc_attributes(input.call(Attribute::parse_outer)?)?;
+        let name: Ident = input.parse().map_err(|e| {
+            syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`")
+        })?;
+        out.push(Decl { docs, name });
+        if input.is_empty() {
+            break;
+        }
+        input.parse::<Token![,]>()?;
+    }
+    Ok(out)
+}
+
+/// Items separated by `;` (the last one may omit it).
+fn parse_items<T>(
+    input: ParseStream<'_>,
+    item: fn(ParseStream<'_>) -> syn::Result<T>,
+) -> syn::Result<Vec<T>> {
+    let mut out = Vec::new();
+    while !input.is_empty() {
+        out.push(item(input)?);
+        if input.is_empty() {
+            break;
+        }
+        input.parse::<Token![;]>()?;
+    }
+    Ok(out)
+}
+
+fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
+    let docs = doc_attributes(input.call(Attribute::parse_outer)?)?;
+    let name: Ident = input.parse()?;
+    input.parse::<Token![=]>().map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected `=`: a point is defined as `P = <vector expression>;`",
+        )
+    })?;
+    let expr: Expr = input.parse()?;
+    Ok(PointDef { docs, name, expr })
+}
+
+fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
+    let expr: Expr = input.parse()?;
+    let span = expr.span();
+    let text = quote::ToTokens::to_token_stream(&expr).to_string();
+    match expr {
+        Expr::Binary(syn::ExprBinary {
+            left,
+            op: syn::BinOp::Eq(_),
+            right,
+            ..
+        }) => Ok(Equation {
+            lhs: *left,
+            rhs: *right,
+            span,
+            text,
+        }),
+        other => Err(syn::Error::new(
+            other.span(),
+            "an equation must have the form `lhs == rhs`, e.g. `B + polar(b, th3) == C`",
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_all_sections_in_any_order() {
+        let def: Definition = syn::parse_quote! {
+            /// A four-bar.
+            pub struct FourBar {
+                loops { B + polar(b, th3) == C; }
+                params { /// crank
+                         a, b, c, d }
+                drivers { phi }
+                unknowns { th3, th4, }
+                points { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4) }
+            }
+        };
+        assert_eq!(def.name, "FourBar");
+        assert_eq!(def.params.len(), 4);
+        assert_eq!(def.params[0].docs.len(), 1);
+        assert_eq!(def.unknowns.len(), 2);
+        assert_eq!(def.points.len(), 2);
+        assert_eq!(def.loops.len(), 1);
+        assert!(def.constraints.is_empty());
+    }
+
+    #[test]
+    fn rejects_an_equation_without_double_equals() {
+        let r: syn::Result<Definition> = syn::parse2(quote::quote! {
+            struct M { loops { a + b } }
+        });
+        let msg = r.err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(msg.contains("lhs == rhs"), "{msg}");
+    }
+
+    #[test]
+    fn rejects_unknown_section_with_the_list_of_sections() {
+        let r: syn::Result<Definition> = syn::parse2(quote::quote! {
+            struct M { joints { R } }
+        });
+        let msg = r.err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(msg.contains("params") && msg.contains("loops"), "{msg}");
+    }
+}
