@@ -34,6 +34,7 @@
 //! # Ok(())
 //! # }
 //! ```
+#![forbid(unsafe_code)]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod error;
@@ -43,7 +44,9 @@ pub mod solve;
 
 pub use error::{Error, Input};
 pub use kinematics_macros::mechanism;
-pub use mechanism::{Coordinate, Coordinates, DriverValues, Kind, Mechanism, PointMotion, Role};
+pub use mechanism::{
+    Coordinate, Coordinates, DriverValues, Kind, Mechanism, MotionState, PointMotion, Role,
+};
 pub use nalgebra;
 pub use options::Options;
 
@@ -53,6 +56,7 @@ pub use options::Options;
 pub mod __private {
     pub use crate::solve::{describe, newton, Failure, Lu, Names};
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
+    pub use crate::MotionState;
     pub use crate::{Options, PointMotion, Role};
     pub use core::result::Result;
     pub use nalgebra::Vector2;

@@ -119,6 +119,21 @@ impl DriverValues<1> for f64 {
     }
 }
 
+/// Read access to the result of an analysis, for code generic over
+/// mechanisms.
+pub trait MotionState: Copy + core::fmt::Debug {
+    /// The mechanism's coordinates struct.
+    type Coords: Coordinates;
+    /// Coordinates q.
+    fn q(&self) -> &Self::Coords;
+    /// Rates q'.
+    fn qd(&self) -> &Self::Coords;
+    /// Accelerations q''.
+    fn qdd(&self) -> &Self::Coords;
+    /// Every point's motion, in declaration order.
+    fn points(&self) -> &[PointMotion];
+}
+
 /// A mechanism declared with [`mechanism!`](crate::mechanism).
 ///
 /// Coordinates q = (d, u): drivers d then unknowns u. Constraints Φ(q) = 0,
@@ -132,7 +147,7 @@ pub trait Mechanism {
     /// Named coordinates (drivers then unknowns).
     type Coords: Coordinates + core::fmt::Debug + PartialEq + Default;
     /// Result of [`Mechanism::analyze_slices`]: q, q', q'' and every point's motion.
-    type Motion: Copy + core::fmt::Debug;
+    type Motion: MotionState<Coords = Self::Coords>;
     /// Number of drivers (degrees of freedom prescribed).
     const DRIVERS: usize;
     /// Number of unknowns.
@@ -175,4 +190,12 @@ pub trait Mechanism {
 
     /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
     fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);
+
+    /// The Jacobian Φ_u = ∂Φ/∂u at `pose`, row-major (row i is equation i,
+    /// column k unknown k), written into `out` (as many entries as fit).
+    fn jacobian_into(&self, pose: &Self::Coords, out: &mut [f64]);
+
+    /// Point positions r_P(q) at `pose`, in declaration order, written into
+    /// `out` (as many as fit).
+    fn point_positions_into(&self, pose: &Self::Coords, out: &mut [Vector2<f64>]);
 }

@@ -130,15 +130,24 @@ fn max_abs<const N: usize>(v: &[f64; N]) -> (f64, usize) {
     (m, at)
 }
 
-/// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`, with a
-/// backtracking line search on max|Φ_i|. `eval` writes Φ(u) and Φ_u(u).
+fn half_sq<const N: usize>(v: &[f64; N]) -> f64 {
+    0.5 * v.iter().map(|x| x * x).sum::<f64>()
+}
+
+/// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`. `eval`
+/// writes Φ(u) and Φ_u(u).
 ///
-/// Converged when max|Φ_i| ≤ `tolerance`, or when the Newton step is at the
-/// level of round-off (|Δu| ≤ 1e-14·(1 + |u|)). Returns the iterations used.
+/// Each Newton step Δu = −Φ_u⁻¹ Φ is a descent direction of the merit
+/// f = ½‖Φ‖²; the step length t is halved until f decreases by at least the
+/// Armijo fraction, f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor
+/// guess from wandering to a far solution. Converged when max|Φ_i| ≤
+/// `tolerance`, or when the full Newton step is at the level of round-off
+/// (|Δu| ≤ 10⁻¹⁴·(1 + |u|)). Returns the iterations used.
 ///
 /// # Errors
-/// A [`Failure`] when Φ_u is singular, Φ is not finite, or the iteration cap
-/// is reached; `u` then holds the last iterate.
+/// A [`Failure`] when Φ_u is singular, Φ is not finite, no step length
+/// decreases the merit (a local minimum of ‖Φ‖ that is not a solution), or the
+/// iteration cap is reached; `u` then holds the last iterate.
 pub fn newton<const N: usize>(
     u: &mut [f64; N],
     options: &Options,
@@ -147,8 +156,9 @@ pub fn newton<const N: usize>(
     let mut phi = [0.0; N];
     let mut jac = [[0.0; N]; N];
     eval(u, &mut phi, &mut jac);
-    let (mut r, mut worst) = max_abs(&phi);
-    for it in 0..options.max_iterations {
+    let mut iterations = 0;
+    loop {
+        let (r, worst) = max_abs(&phi);
         if !r.is_finite() {
             return Err(Failure::NonFiniteResidual {
                 equation: worst,
@@ -156,8 +166,16 @@ pub fn newton<const N: usize>(
             });
         }
         if r <= options.tolerance {
-            return Ok(it);
+            return Ok(iterations);
         }
+        if iterations >= options.max_iterations {
+            return Err(Failure::NotConverged {
+                iterations,
+                residual: r,
+                equation: worst,
+            });
+        }
+        iterations += 1;
         let lu = Lu::factor(&jac, options.singularity_threshold)?;
         let mut neg = phi;
         for v in &mut neg {
@@ -167,38 +185,33 @@ pub fn newton<const N: usize>(
         let (step_size, _) = max_abs(&step);
         let (u_size, _) = max_abs(u);
         if step_size <= 1e-14 * (1.0 + u_size) {
-            return Ok(it);
+            return Ok(iterations);
         }
         let start = *u;
+        let f0 = half_sq(&phi);
         let mut t = 1.0;
         loop {
             for i in 0..N {
                 u[i] = start[i] + t * step[i];
             }
             eval(u, &mut phi, &mut jac);
-            let (r_new, w) = max_abs(&phi);
-            if r_new < r || t < 1.0 / 64.0 {
-                r = r_new;
-                worst = w;
+            let f = half_sq(&phi);
+            if f <= (1.0 - 2e-4 * t) * f0 {
                 break;
+            }
+            if t < 1e-3 {
+                // No decrease along the Newton direction: a local minimum
+                // of ‖Φ‖ that is not a solution.
+                let (r, worst) = max_abs(&phi);
+                return Err(Failure::NotConverged {
+                    iterations,
+                    residual: r,
+                    equation: worst,
+                });
             }
             t *= 0.5;
         }
     }
-    if !r.is_finite() {
-        return Err(Failure::NonFiniteResidual {
-            equation: worst,
-            value: phi[worst],
-        });
-    }
-    if r <= options.tolerance {
-        return Ok(options.max_iterations);
-    }
-    Err(Failure::NotConverged {
-        iterations: options.max_iterations,
-        residual: r,
-        equation: worst,
-    })
 }
 
 /// Names of the items of a mechanism, for error messages.

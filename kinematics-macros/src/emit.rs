@@ -11,7 +11,7 @@ use quote::{format_ident, quote};
 use syn::Ident;
 
 use crate::check::accessor_name;
-use crate::cse::{schedule, Schedule};
+use crate::cse::{op_count, schedule, OpCount, Schedule};
 use crate::ir::{Graph, Id, Leaf, Node};
 use crate::kinematics::Derived;
 use crate::lower::{CoordKind, Model};
@@ -37,7 +37,8 @@ impl Printer<'_> {
     fn operand(&self, id: Id) -> TokenStream {
         let atomic = self.names.contains_key(&id)
             || match self.g.node(id) {
-                Node::Leaf(_) => true,
+                // Method calls bind tighter than any operator.
+                Node::Leaf(_) | Node::Call(..) | Node::Powi(..) | Node::Atan2(..) => true,
                 Node::Const(bits) => f64::from_bits(bits) >= 0.0,
                 _ => false,
             };
@@ -302,6 +303,27 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
         impl #motion {
             #(#accessors)*
         }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::MotionState for #motion {
+            type Coords = #coords;
+            #[inline]
+            fn q(&self) -> &#coords {
+                &self.q
+            }
+            #[inline]
+            fn qd(&self) -> &#coords {
+                &self.qd
+            }
+            #[inline]
+            fn qdd(&self) -> &#coords {
+                &self.qdd
+            }
+            #[inline]
+            fn points(&self) -> &[::kinematics_core::__private::PointMotion] {
+                &self.points
+            }
+        }
     }
 }
 
@@ -337,6 +359,28 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             }
         }
     }
+}
+
+/// Operation counts, before and after common-subexpression elimination, of
+/// the Newton step (Φ and Φ_u) and of the analysis (Φ_u, both right-hand
+/// sides, and every point's position, velocity and acceleration).
+pub fn operation_counts(model: &Model, d: &Derived) -> [(&'static str, OpCount); 2] {
+    let g = &model.graph;
+    let jac: Vec<Id> = d.jac.iter().flatten().copied().collect();
+    let newton: Vec<Id> = d.phi.iter().chain(&jac).copied().collect();
+    let analysis: Vec<Id> = jac
+        .iter()
+        .chain(&d.vel_rhs)
+        .chain(&d.acc_rhs)
+        .chain(d.pos.iter().flatten())
+        .chain(d.vel.iter().flatten())
+        .chain(d.acc.iter().flatten())
+        .copied()
+        .collect();
+    [
+        ("residual and Jacobian", op_count(g, &newton)),
+        ("velocity, acceleration and points", op_count(g, &analysis)),
+    ]
 }
 
 /// The full expansion of a checked model.
@@ -468,11 +512,11 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .collect();
     let all_q = q.iter();
     let finite_out = |vals: &[Ident]| {
-        let names: Vec<String> = coord.iter().map(ToString::to_string).collect();
+        let names: Vec<String> = c_unknowns.iter().map(ToString::to_string).collect();
         quote!(#( #pp::finite(#pp::Input::Computed, #names, #vals)?; )*)
     };
-    let check_qd = finite_out(qd);
-    let check_qdd = finite_out(qdd);
+    let check_qd = finite_out(qd_unknowns);
+    let check_qdd = finite_out(qdd_unknowns);
     let driver_names: Vec<String> = c_drivers.iter().map(ToString::to_string).collect();
     let unknown_names: Vec<String> = c_unknowns.iter().map(ToString::to_string).collect();
     let param_names: Vec<String> = params.iter().map(ToString::to_string).collect();
@@ -489,19 +533,9 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         quote!(#pp::Coordinate { name: #n, role: #pp::Role::#role, kind: #pp::Kind::#kind })
     });
     let counts = {
-        let newton: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
-        let analysis: Vec<Id> = jac_flat
-            .iter()
-            .chain(&d.vel_rhs)
-            .chain(&d.acc_rhs)
-            .chain(d.pos.iter().flatten())
-            .chain(d.vel.iter().flatten())
-            .chain(d.acc.iter().flatten())
-            .copied()
-            .collect();
-        let (n, a) = (crate::cse::op_count(g, &newton), crate::cse::op_count(g, &analysis));
+        let [(n0, n), (a0, a)] = operation_counts(model, d);
         let (nt, ns, at, as_) = (n.tree, n.shared, a.tree, a.shared);
-        quote!([("residual and Jacobian", #nt, #ns), ("velocity, acceleration and points", #at, #as_)])
+        quote!([(#n0, #nt, #ns), (#a0, #at, #as_)])
     };
     let allow = quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]);
 
@@ -696,6 +730,22 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
 
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) {
                 let r = #name::residual(self, pose);
+                for (o, v) in out.iter_mut().zip(r.iter()) {
+                    *o = *v;
+                }
+            }
+
+            fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) {
+                let mut phi = [0.0f64; #ne];
+                let mut jac = [[0.0f64; #nu]; #ne];
+                self.__phi_jac(&[#(pose.#c_drivers),*], &[#(pose.#c_unknowns),*], &mut phi, &mut jac);
+                for (o, v) in out.iter_mut().zip(jac.iter().flatten()) {
+                    *o = *v;
+                }
+            }
+
+            fn point_positions_into(&self, pose: &#coords, out: &mut [#pp::Vector2<f64>]) {
+                let r = #name::point_positions(self, pose);
                 for (o, v) in out.iter_mut().zip(r.iter()) {
                     *o = *v;
                 }

@@ -16,6 +16,8 @@
 //! * `cse`: which shared nodes get a `let`, in which order;
 //! * `emit`: straight-line Rust and the generated types.
 
+#![forbid(unsafe_code)]
+
 mod check;
 mod cse;
 mod diff;
@@ -55,6 +57,18 @@ fn expand(input: TokenStream) -> TokenStream {
     }
     let derived = kinematics::derive(&mut model);
     emit::expand(&def, &model, &derived)
+}
+
+/// The operation counts of a definition (see [`emit::operation_counts`]).
+#[cfg(test)]
+fn op_counts(input: TokenStream) -> Option<[(&'static str, cse::OpCount); 2]> {
+    let def: parse::Definition = syn::parse2(input).ok()?;
+    let mut errors = check::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    errors.finish().ok()?;
+    let derived = kinematics::derive(&mut model);
+    Some(emit::operation_counts(&model, &derived))
 }
 
 #[cfg(test)]

@@ -168,10 +168,8 @@ mod tests {
     /// Builds the same expression with and without simplification and checks
     /// that both evaluate to the same numbers, and that simplification shrinks.
     fn compare(build: impl Fn(&mut Graph) -> Id) {
-        let mut raw = Graph {
-            raw: true,
-            ..Graph::new()
-        };
+        let mut raw = Graph::new();
+        raw.raw = true;
         let mut simp = Graph::new();
         let r = build(&mut raw);
         let s = build(&mut simp);

@@ -28,19 +28,9 @@ fn four_bar_expansion_snapshot() {
 
 #[test]
 fn four_bar_operation_count_after_cse() {
-    let tokens = super::expand(four_bar()).to_string();
-    // The expansion carries the counts as a constant; read them back.
-    let at = tokens.find("__OPERATION_COUNTS").expect("counts are emitted");
-    let tail = &tokens[at..];
-    let nums: Vec<u64> = tail
-        .split(|c: char| !c.is_ascii_digit())
-        .filter(|s| !s.is_empty())
-        .take(5)
-        .skip(1)
-        .map(|s| s.parse().expect("a count"))
-        .collect();
-    let (newton_tree, newton_shared, analysis_tree, analysis_shared) =
-        (nums[0], nums[1], nums[2], nums[3]);
+    let [(_, newton), (_, analysis)] = super::op_counts(four_bar()).expect("valid definition");
+    let (newton_tree, newton_shared) = (newton.tree, newton.shared as u64);
+    let (analysis_tree, analysis_shared) = (analysis.tree, analysis.shared as u64);
     println!("residual and Jacobian: {newton_tree} operations as trees, {newton_shared} after CSE");
     println!("analysis: {analysis_tree} operations as trees, {analysis_shared} after CSE");
     assert!(newton_shared <= newton_tree);

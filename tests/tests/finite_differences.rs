@@ -1,0 +1,234 @@
+//! Generated derivatives against finite differences, for seeded random
+//! dimensions and configurations of a four-bar, a slider-crank, a Watt six-bar
+//! (two loops) and a 5R five-bar (two drivers).
+//!
+//! Each random mechanism is built from a random configuration: the joint
+//! angles are drawn first and the closing dimensions computed from them, so
+//! every sample is assemblable. Samples too close to a singular
+//! configuration (relative pivot of Φ_u below 0.1) are redrawn, since finite
+//! differences lose accuracy there.
+
+use kinematics_core::{mechanism, solve::Lu, Mechanism};
+use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
+use kinematics_tests::{check_jacobian, check_motion, Rng};
+
+mechanism! {
+    /// Watt II six-bar: four-bar A-B-C-D driving, through the rocker
+    /// extension DE, a second four-bar D-E-F-G.
+    pub struct Watt {
+        params { a, b, c, d, e, gamma, f, g, gx, gy }
+        drivers  { phi }
+        unknowns { th3, th4, th5, th6 }
+        points {
+            B = polar(a, phi);
+            D = vec2(d, 0.0);
+            C = D + polar(c, th4);
+            E = D + polar(e, th4 + gamma);
+            F = E + polar(f, th5);
+        }
+        loops {
+            B + polar(b, th3) == C;
+            F == vec2(gx, gy) + polar(g, th6);
+        }
+    }
+}
+
+mechanism! {
+    /// 5R five-bar with two driven cranks, at A = (0, 0) and E = (ex, ey).
+    pub struct FiveBar {
+        params { a, b, c, d, ex, ey }
+        drivers  { phi1, phi2 }
+        unknowns { th2, th3 }
+        points {
+            B = polar(a, phi1);
+            D = vec2(ex, ey) + polar(d, phi2);
+            C = B + polar(b, th2);
+        }
+        loops { C == D + polar(c, th3); }
+    }
+}
+
+const SAMPLES: usize = 60;
+
+/// Whether Φ_u at `pose` is comfortably regular.
+fn regular<M: Mechanism>(m: &M, pose: &M::Coords) -> bool {
+    fn check<const N: usize>(j: &[f64]) -> bool {
+        let mut a = [[0.0; N]; N];
+        for (i, row) in a.iter_mut().enumerate() {
+            row.copy_from_slice(&j[i * N..(i + 1) * N]);
+        }
+        Lu::factor(&a, 0.1).is_ok()
+    }
+    let n = M::UNKNOWNS;
+    let mut j = vec![0.0; n * n];
+    m.jacobian_into(pose, &mut j);
+    match n {
+        2 => check::<2>(&j),
+        4 => check::<4>(&j),
+        _ => false,
+    }
+}
+
+/// Assembles from the exact configuration perturbed by up to 0.01 (rad, or
+/// 1 % of a length) and checks that Newton returns to it: the branch follows
+/// the guess. (Larger perturbations can be nearer the other branch for the
+/// samples close to a toggle position; assembly from rough guesses is tested
+/// on the textbook mechanisms.)
+fn assemble_back<M: Mechanism>(m: &M, exact: &M::Coords, rng: &mut Rng) -> M::Coords {
+    use kinematics_core::Coordinates;
+    let mut guess = *exact;
+    for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+        let v = exact.get(j).expect("coordinate");
+        guess.set(j, v + rng.range(-0.01, 0.01) * v.abs().max(1.0));
+    }
+    let pose = match m.assemble_with(&guess, &kinematics_core::Options::DEFAULT) {
+        Ok(p) => p,
+        Err(e) => {
+            let mut r = vec![0.0; M::EQUATIONS];
+            m.residual_into(&guess, &mut r);
+            panic!("guess {guess:?} exact {exact:?} residual at guess {r:?}: {e}");
+        }
+    };
+    for j in 0..M::DRIVERS + M::UNKNOWNS {
+        let (a, b) = (pose.get(j).expect("q"), exact.get(j).expect("q"));
+        assert!((a - b).abs() < 1e-9, "coordinate {j}: {a} vs {b}");
+    }
+    pose
+}
+
+#[test]
+fn four_bar() {
+    let mut rng = Rng::new(0x4BA2);
+    let mut done = 0;
+    while done < SAMPLES {
+        let (a, phi, b, th3) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.05, 0.2), rng.angle());
+        let d = rng.range(0.05, 0.2);
+        let c_pt = (a * phi.cos() + b * th3.cos() - d, a * phi.sin() + b * th3.sin());
+        let (c, th4) = (c_pt.0.hypot(c_pt.1), c_pt.1.atan2(c_pt.0));
+        let m = FourBar { a, b, c, d, p: rng.range(0.0, 0.1), beta: rng.angle() };
+        let exact = FourBarCoords { phi, th3, th4 };
+        if !regular(&m, &exact) {
+            continue;
+        }
+        let pose = assemble_back(&m, &exact, &mut rng);
+        check_jacobian(&m, &pose, 1e-6);
+        let (w, al) = (rng.range(-20.0, 20.0), rng.range(-50.0, 50.0));
+        check_motion(&m, &pose, &[w], &[al], 1e-6);
+        done += 1;
+    }
+}
+
+#[test]
+fn slider_crank() {
+    let mut rng = Rng::new(0x51DE);
+    let mut done = 0;
+    while done < SAMPLES {
+        let (a, phi, b, th) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.1, 0.4), rng.angle());
+        let e = a * phi.sin() + b * th.sin();
+        let x = a * phi.cos() + b * th.cos();
+        let m = SliderCrank { a, b, e };
+        let exact = SliderCrankCoords { phi, th, x };
+        if !regular(&m, &exact) {
+            continue;
+        }
+        let pose = assemble_back(&m, &exact, &mut rng);
+        check_jacobian(&m, &pose, 1e-6);
+        check_motion(&m, &pose, &[rng.range(-20.0, 20.0)], &[rng.range(-50.0, 50.0)], 1e-6);
+        done += 1;
+    }
+}
+
+#[test]
+fn watt_six_bar_two_loops() {
+    let mut rng = Rng::new(0x6BA2);
+    let mut done = 0;
+    while done < SAMPLES {
+        let (a, phi, b, th3, d) = (
+            rng.range(0.02, 0.1),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+        );
+        let cx = a * phi.cos() + b * th3.cos() - d;
+        let cy = a * phi.sin() + b * th3.sin();
+        let (c, th4) = (cx.hypot(cy), cy.atan2(cx));
+        let (e, gamma, f, th5, g, th6) = (
+            rng.range(0.03, 0.15),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+            rng.angle(),
+        );
+        let fx = d + e * (th4 + gamma).cos() + f * th5.cos();
+        let fy = e * (th4 + gamma).sin() + f * th5.sin();
+        let (gx, gy) = (fx - g * th6.cos(), fy - g * th6.sin());
+        let m = Watt { a, b, c, d, e, gamma, f, g, gx, gy };
+        let exact = WattCoords { phi, th3, th4, th5, th6 };
+        if !regular(&m, &exact) {
+            continue;
+        }
+        let pose = assemble_back(&m, &exact, &mut rng);
+        check_jacobian(&m, &pose, 1e-6);
+        check_motion(&m, &pose, &[rng.range(-20.0, 20.0)], &[rng.range(-50.0, 50.0)], 1e-6);
+        done += 1;
+    }
+}
+
+#[test]
+fn five_bar_two_drivers() {
+    let mut rng = Rng::new(0x5BA2);
+    let mut done = 0;
+    while done < SAMPLES {
+        let (a, phi1, b, th2) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.05, 0.2), rng.angle());
+        let (c, th3, d, phi2) = (rng.range(0.05, 0.2), rng.angle(), rng.range(0.02, 0.1), rng.angle());
+        let ex = a * phi1.cos() + b * th2.cos() - c * th3.cos() - d * phi2.cos();
+        let ey = a * phi1.sin() + b * th2.sin() - c * th3.sin() - d * phi2.sin();
+        let m = FiveBar { a, b, c, d, ex, ey };
+        let exact = FiveBarCoords { phi1, phi2, th2, th3 };
+        if !regular(&m, &exact) {
+            continue;
+        }
+        let pose = assemble_back(&m, &exact, &mut rng);
+        check_jacobian(&m, &pose, 1e-6);
+        let rates = [rng.range(-20.0, 20.0), rng.range(-20.0, 20.0)];
+        let accels = [rng.range(-50.0, 50.0), rng.range(-50.0, 50.0)];
+        check_motion(&m, &pose, &rates, &accels, 1e-6);
+        done += 1;
+    }
+}
+
+#[test]
+fn closed_form_four_bar_agrees_with_newton() {
+    // Freudenstein's closed form for θ4 (tangent half-angle substitution)
+    // gives both assembly branches; the Newton solution, continued from step
+    // to step over a full turn, must equal one of them at every step.
+    let m = FourBar { a: 0.04, b: 0.12, c: 0.10, d: 0.11, p: 0.06, beta: 30f64.to_radians() };
+    let mut pose = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.0, th4: 1.6 }).expect("assembles");
+    for k in 0..36 {
+        let phi = f64::from(k) * 10f64.to_radians();
+        pose.phi = phi;
+        pose = m.assemble(&pose).expect("assembles");
+        // k1 = d/a, k2 = d/c, k3 = (a² − b² + c² + d²)/(2ac);
+        // A cos… form: A t² + B t + C = 0 with t = tan(θ4/2), where
+        // A = cos φ − k1 − k2 cos φ + k3, B = −2 sin φ,
+        // C = k1 − (k2 + 1) cos φ + k3.
+        let (a, b, c, d) = (m.a, m.b, m.c, m.d);
+        let k1 = d / a;
+        let k2 = d / c;
+        let k3 = (a * a - b * b + c * c + d * d) / (2.0 * a * c);
+        let aa = phi.cos() - k1 - k2 * phi.cos() + k3;
+        let bb = -2.0 * phi.sin();
+        let cc = k1 - (k2 + 1.0) * phi.cos() + k3;
+        let disc = (bb * bb - 4.0 * aa * cc).sqrt();
+        let candidates = [(-bb + disc) / (2.0 * aa), (-bb - disc) / (2.0 * aa)]
+            .map(|t: f64| 2.0 * t.atan());
+        let wrap = |x: f64| (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let best = candidates
+            .iter()
+            .map(|t| wrap(t - pose.th4).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(best < 1e-10, "φ = {phi}: θ4 = {} vs closed form {candidates:?}", pose.th4);
+    }
+}

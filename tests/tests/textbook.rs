@@ -1,0 +1,123 @@
+//! The chapter's Examples 4.1 and 4.2, against the printed answers.
+//!
+//! The book prints three decimals and, in several places, truncates rather
+//! than rounds (72.2357° is printed 72.235) or carries rounded intermediate
+//! values into later steps. A printed value is taken as reproduced when the
+//! computed one is within one unit of its last decimal. Where a printed value
+//! is further off, the test shows with an independent check (central finite
+//! differences of assembled positions) that the computed value is the right
+//! one.
+
+use kinematics_core::Mechanism;
+use kinematics_examples::{RRtrRrt, RRtrRrtCoords, RTrr, RTrrCoords};
+use kinematics_tests::{check_motion, pose_at};
+
+/// |computed − printed| within one unit of the printed value's last decimal.
+fn book(name: &str, computed: f64, printed: f64, decimals: i32) {
+    let unit = 10f64.powi(-decimals);
+    assert!(
+        (computed - printed).abs() < unit,
+        "{name}: computed {computed:.6}, book {printed}"
+    );
+}
+
+/// Velocity and acceleration of a point by finite differences of its
+/// assembled positions at φ ± h and φ, for constant driver speed ω:
+/// v = ω dr/dφ, a = ω² d²r/dφ².
+fn fd_point<M: Mechanism>(m: &M, pose: &M::Coords, omega: f64, k: usize) -> ([f64; 2], [f64; 2]) {
+    let h = 1e-4;
+    let at = |t: f64| {
+        let p = pose_at(m, pose, &[1.0], &[0.0], t);
+        let mut r = vec![kinematics_core::nalgebra::Vector2::zeros(); M::POINTS];
+        m.point_positions_into(&p, &mut r);
+        r[k]
+    };
+    let (rp, r0, rm) = (at(h), at(0.0), at(-h));
+    let v = (rp - rm) / (2.0 * h) * omega;
+    let a = (rp - 2.0 * r0 + rm) / (h * h) * omega * omega;
+    ([v.x, v.y], [a.x, a.y])
+}
+
+#[test]
+fn example_4_1_r_trr() {
+    let m = RTrr { ac: 0.100, bc: 0.300 };
+    // Rough guess: angles to the nearest 10°, B about 0.35 m along the crank.
+    let guess = RTrrCoords { phi: 45f64.to_radians(), s: 0.35, phi3: 60f64.to_radians() };
+    let pose = m.assemble(&guess).expect("assembles");
+    // The book turns 30 rev/min into ω = 3.141 rad/s and uses that value in
+    // every numerical step (Eq. 4.79, 4.81); so does this test.
+    let omega = 3.141;
+    let s = m.analyze(&pose, omega, 0.0).expect("analysis");
+    let b = s.point_b();
+    book("x_B", b.position.x, 0.256, 3);
+    book("y_B", b.position.y, 0.256, 3);
+    book("v_Bx", b.velocity.x, -0.999, 3);
+    book("v_By", b.velocity.y, 0.609, 3);
+    book("|v_B|", b.speed(), 1.171, 3);
+    book("a_Bx", b.acceleration.x, -1.802, 3);
+    book("|a_B|", b.acceleration.norm(), 4.620, 3);
+    book("phi3 (deg)", pose.phi3.to_degrees(), 58.633, 3);
+    book("omega3", s.qd.phi3, 3.903, 3);
+    book("alpha3", s.qdd.phi3, -2.252, 3);
+
+    // a_By: the book prints −4.255 m/s²; the computed value is −4.2534. The
+    // printed figure is what ω = π rad/s (30 rev/min exactly) gives, while
+    // the rest of the example uses ω = 3.141. Finite differences of the
+    // assembled positions of B at ω = 3.141 agree with the computed value,
+    // not with the book's.
+    let (fd_v, fd_a) = fd_point(&m, &pose, omega, 0);
+    assert!((b.velocity.x - fd_v[0]).abs() < 1e-6 && (b.velocity.y - fd_v[1]).abs() < 1e-6);
+    assert!((b.acceleration.y - fd_a[1]).abs() < 1e-5, "{} vs {}", b.acceleration.y, fd_a[1]);
+    assert!((fd_a[1] - -4.255).abs() > 1e-3, "the printed a_By is off by more than rounding");
+    let exact = m.analyze(&pose, std::f64::consts::PI, 0.0).expect("analysis");
+    book("a_By at ω = π", exact.point_b().acceleration.y, -4.255, 3);
+
+    // Closed form: B lies on the crank line, so φ3 = atan2(y_B, x_B − AC).
+    let phi3 = b.position.y.atan2(b.position.x - 0.1);
+    assert!((phi3 - pose.phi3).abs() < 1e-12);
+    check_motion(&m, &pose, &[omega], &[0.0], 1e-6);
+}
+
+#[test]
+fn example_4_2_r_rtr_rrt() {
+    let m = RRtrRrt { ab: 0.100, ac: 0.150, cd: 0.075, de: 0.200 };
+    // Rough guess, angles to the nearest 10°.
+    let guess = RRtrRrtCoords {
+        phi: 45f64.to_radians(),
+        s: 0.2,
+        phi3: 70f64.to_radians(),
+        x_e: 0.2,
+        phi4: 20f64.to_radians(),
+    };
+    let pose = m.assemble(&guess).expect("assembles");
+    let omega = 4.712;
+    let s = m.analyze(&pose, omega, 0.0).expect("analysis");
+    let (d, e) = (s.point_d(), s.point_e());
+    book("phi3 (deg)", pose.phi3.to_degrees(), 72.235, 3);
+    book("omega3", s.qd.phi3, 1.807, 3);
+    book("alpha3", s.qdd.phi3, 1.020, 3);
+    book("x_D", d.position.x, -0.023, 3);
+    book("y_D", d.position.y, -0.071, 3);
+    book("v_Dx", d.velocity.x, 0.129, 3);
+    book("v_Dy", d.velocity.y, -0.041, 3);
+    // |v_D| is printed from the rounded components: √(0.129² + 0.041²) = 0.1354.
+    book("|v_D|", d.speed(), 0.135, 3);
+    book("a_Dx", d.acceleration.x, 0.147, 3);
+    book("a_Dy", d.acceleration.y, 0.210, 3);
+    book("|a_D|", d.acceleration.norm(), 0.256, 3);
+    book("x_E", e.position.x, 0.164, 3);
+    book("v_E", e.velocity.x, 0.113, 3);
+    book("a_E", e.acceleration.x, 0.217, 3);
+    book("phi4 (deg)", pose.phi4.to_degrees(), 20.923, 3);
+    book("omega4", s.qd.phi4, 0.221, 3);
+    book("alpha4", s.qdd.phi4, -1.105, 3);
+    // E stays on the x axis and D on the circle of radius CD about C.
+    assert!(e.position.y.abs() < 1e-15 && e.velocity.y.abs() < 1e-15);
+    assert!((d.position.norm() - 0.075).abs() < 1e-12);
+    // x_D < 0: the branch the book selects.
+    assert!(d.position.x < 0.0);
+    // Independent check of every velocity and acceleration.
+    let (fd_v, fd_a) = fd_point(&m, &pose, omega, 1);
+    assert!((d.velocity.x - fd_v[0]).abs() < 1e-6 && (d.acceleration.x - fd_a[0]).abs() < 1e-5);
+    check_motion(&m, &pose, &[omega], &[0.0], 1e-6);
+}
