@@ -5,7 +5,12 @@
 use kinematics_examples::{RRtrRrt, RRtrRrtCoords};
 
 fn main() -> Result<(), kinematics_core::Error> {
-    let m = RRtrRrt { ab: 0.100, ac: 0.150, cd: 0.075, de: 0.200 };
+    let m = RRtrRrt {
+        ab: 0.100,
+        ac: 0.150,
+        cd: 0.075,
+        de: 0.200,
+    };
     // Rough guess, angles to the nearest 10 degrees.
     let guess = RRtrRrtCoords {
         phi: 45f64.to_radians(),

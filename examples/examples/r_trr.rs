@@ -5,9 +5,16 @@
 use kinematics_examples::{rpm_to_rad_per_s, RTrr, RTrrCoords};
 
 fn main() -> Result<(), kinematics_core::Error> {
-    let m = RTrr { ac: 0.100, bc: 0.300 };
+    let m = RTrr {
+        ac: 0.100,
+        bc: 0.300,
+    };
     // Rough guess: B about 0.35 m out along the crank, link 3 at about 60°.
-    let guess = RTrrCoords { phi: 45f64.to_radians(), s: 0.35, phi3: 60f64.to_radians() };
+    let guess = RTrrCoords {
+        phi: 45f64.to_radians(),
+        s: 0.35,
+        phi3: 60f64.to_radians(),
+    };
     let pose = m.assemble(&guess)?;
     let omega = rpm_to_rad_per_s(30.0);
     let s = m.analyze(&pose, omega, 0.0)?;

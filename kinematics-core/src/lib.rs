@@ -55,8 +55,8 @@ pub use options::Options;
 #[doc(hidden)]
 pub mod __private {
     pub use crate::solve::{describe, newton, Failure, Lu, Names};
-    pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
     pub use crate::MotionState;
+    pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
     pub use crate::{Options, PointMotion, Role};
     pub use core::result::Result;
     pub use nalgebra::Vector2;

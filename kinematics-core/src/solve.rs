@@ -4,6 +4,9 @@
 //! assembling near a known pose and analysing velocities and accelerations
 //! allocate nothing.
 
+// Elimination is written with explicit indices, as in the formulas.
+#![allow(clippy::needless_range_loop)]
+
 use crate::{Error, Options};
 
 /// Why a numerical step failed, without names (those are added by
@@ -229,8 +232,12 @@ pub struct Names {
 /// configuration `q` (drivers then unknowns) where it happened.
 #[must_use]
 pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
-    let configuration: Vec<(&'static str, f64)> =
-        names.coordinates.iter().copied().zip(q.iter().copied()).collect();
+    let configuration: Vec<(&'static str, f64)> = names
+        .coordinates
+        .iter()
+        .copied()
+        .zip(q.iter().copied())
+        .collect();
     let equation = |i: usize| names.equations.get(i).copied().unwrap_or("?");
     match failure {
         Failure::Singular {

@@ -69,7 +69,11 @@ pub struct Names {
 impl Names {
     /// The declared name closest to `wanted`, for "did you mean" hints.
     pub fn suggest(&self, wanted: &str) -> Option<String> {
-        let candidates = self.map.keys().map(String::as_str).chain(BUILTINS.iter().copied());
+        let candidates = self
+            .map
+            .keys()
+            .map(String::as_str)
+            .chain(BUILTINS.iter().copied());
         candidates
             .map(|c| (edit_distance(wanted, c), c))
             .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
@@ -112,7 +116,11 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
         .enumerate()
         .map(|(i, d)| (&d.name, Binding::Param(index(i)), "params"))
         .chain(coords.enumerate().map(|(j, d)| {
-            let section = if j < def.drivers.len() { "drivers" } else { "unknowns" };
+            let section = if j < def.drivers.len() {
+                "drivers"
+            } else {
+                "unknowns"
+            };
             (&d.name, Binding::Coord(index(j)), section)
         }))
         .chain(
@@ -145,7 +153,10 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
                 name.span(),
                 format!("`{key}` is declared {where_}; each name must be declared once"),
             );
-            e.combine(syn::Error::new(*first, format!("`{key}` first declared here")));
+            e.combine(syn::Error::new(
+                *first,
+                format!("`{key}` first declared here"),
+            ));
             errors.list.push(e);
             continue;
         }
@@ -212,7 +223,10 @@ fn check_equation_count(def: &Definition, model: &crate::lower::Model, errors: &
     if model.equations.len() == n_eq || errors.is_empty() {
         errors.at(
             def.unknowns_span,
-            format!("{detail} for {n_u} unknown{}; {fix}", if n_u == 1 { "" } else { "s" }),
+            format!(
+                "{detail} for {n_u} unknown{}; {fix}",
+                if n_u == 1 { "" } else { "s" }
+            ),
         );
     }
 }
@@ -228,7 +242,7 @@ fn check_each_equation_has_an_unknown(model: &crate::lower::Model, errors: &mut 
             continue;
         }
         let msg = match g.as_const(eq.residual) {
-            Some(v) if v == 0.0 => format!(
+            Some(0.0) => format!(
                 "`{}` holds identically (it simplifies to 0 == 0), so it is redundant; remove it",
                 eq.text
             ),
@@ -327,7 +341,10 @@ mod tests {
         let mut errors = Errors::default();
         let _ = check(&def, &mut errors);
         let msg = errors.finish().err().map(|e| {
-            e.into_iter().map(|e| e.to_string()).collect::<Vec<_>>().join("\n")
+            e.into_iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("\n")
         });
         let msg = msg.unwrap_or_default();
         assert!(msg.contains("`sin` is a built-in function"), "{msg}");

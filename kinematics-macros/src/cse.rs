@@ -23,8 +23,8 @@ pub fn schedule(g: &Graph, stages: &[Vec<Id>]) -> Schedule {
     let all: Vec<Id> = stages.iter().flatten().copied().collect();
     let live = g.reachable(&all);
     let mut uses = vec![0u32; g.len()];
-    for i in 0..g.len() {
-        if live[i] {
+    for (i, _) in live.iter().enumerate().filter(|(_, l)| **l) {
+        {
             for c in g.node(Id::from_index(i)).children() {
                 uses[c.index()] += 1;
             }

@@ -21,10 +21,7 @@ pub fn partial(g: &mut Graph, root: Id, wrt: Leaf, memo: &mut Memo) -> Id {
     }
     let live = g.reachable(&[root]);
     let zero = g.constant(0.0);
-    for i in 0..=root.index() {
-        if !live[i] {
-            continue;
-        }
+    for (i, _) in live.iter().enumerate().filter(|(_, l)| **l) {
         let id = Id::from_index(i);
         if memo.contains_key(&(id, wrt)) {
             continue;
@@ -176,46 +173,112 @@ mod tests {
         let dy = partial(&mut g, e, Leaf::Q(1), &mut memo);
         for k in 0..20 {
             let (x0, y0) = (0.1 + 0.037 * f64::from(k), 0.2 + 0.021 * f64::from(k));
-            let at = |x: f64, y: f64| {
-                g.eval(&[e], &move |l| if l == Leaf::Q(0) { x } else { y })[0]
-            };
+            let at =
+                |x: f64, y: f64| g.eval(&[e], &move |l| if l == Leaf::Q(0) { x } else { y })[0];
             let exact = g.eval(&[dx, dy], &move |l| if l == Leaf::Q(0) { x0 } else { y0 });
             let h = 1e-6;
             let fx = (at(x0 + h, y0) - at(x0 - h, y0)) / (2.0 * h);
             let fy = (at(x0, y0 + h) - at(x0, y0 - h)) / (2.0 * h);
-            assert!((exact[0] - fx).abs() < 1e-7 * (1.0 + fx.abs()), "d/dx {} vs {fx}", exact[0]);
-            assert!((exact[1] - fy).abs() < 1e-7 * (1.0 + fy.abs()), "d/dy {} vs {fy}", exact[1]);
+            assert!(
+                (exact[0] - fx).abs() < 1e-7 * (1.0 + fx.abs()),
+                "d/dx {} vs {fx}",
+                exact[0]
+            );
+            assert!(
+                (exact[1] - fy).abs() < 1e-7 * (1.0 + fy.abs()),
+                "d/dy {} vs {fy}",
+                exact[1]
+            );
         }
     }
 
     #[test]
-    fn sum() { check(|g, x, y| g.sum(x, y)); }
+    fn sum() {
+        check(|g, x, y| g.sum(x, y));
+    }
     #[test]
-    fn product() { check(|g, x, y| g.mul(x, y)); }
+    fn product() {
+        check(|g, x, y| g.mul(x, y));
+    }
     #[test]
-    fn quotient() { check(|g, x, y| g.div(x, y)); }
+    fn quotient() {
+        check(|g, x, y| g.div(x, y));
+    }
     #[test]
-    fn negation() { check(|g, x, y| { let p = g.mul(x, y); g.neg(p) }); }
+    fn negation() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.neg(p)
+        });
+    }
     #[test]
-    fn power() { check(|g, x, y| { let p = g.powi(x, 3); let q = g.powi(y, -2); g.mul(p, q) }); }
+    fn power() {
+        check(|g, x, y| {
+            let p = g.powi(x, 3);
+            let q = g.powi(y, -2);
+            g.mul(p, q)
+        });
+    }
     #[test]
-    fn sine() { check(|g, x, y| { let p = g.mul(x, y); g.call(Func::Sin, p) }); }
+    fn sine() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.call(Func::Sin, p)
+        });
+    }
     #[test]
-    fn cosine() { check(|g, x, y| { let p = g.sum(x, y); g.call(Func::Cos, p) }); }
+    fn cosine() {
+        check(|g, x, y| {
+            let p = g.sum(x, y);
+            g.call(Func::Cos, p)
+        });
+    }
     #[test]
-    fn tangent() { check(|g, x, y| { let p = g.mul(x, y); g.call(Func::Tan, p) }); }
+    fn tangent() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.call(Func::Tan, p)
+        });
+    }
     #[test]
-    fn arcsine() { check(|g, x, y| { let p = g.mul(x, y); g.call(Func::Asin, p) }); }
+    fn arcsine() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.call(Func::Asin, p)
+        });
+    }
     #[test]
-    fn arccosine() { check(|g, x, y| { let p = g.mul(x, y); g.call(Func::Acos, p) }); }
+    fn arccosine() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.call(Func::Acos, p)
+        });
+    }
     #[test]
-    fn square_root() { check(|g, x, y| { let p = g.sum(x, y); g.call(Func::Sqrt, p) }); }
+    fn square_root() {
+        check(|g, x, y| {
+            let p = g.sum(x, y);
+            g.call(Func::Sqrt, p)
+        });
+    }
     #[test]
-    fn exponential() { check(|g, x, y| { let p = g.mul(x, y); g.call(Func::Exp, p) }); }
+    fn exponential() {
+        check(|g, x, y| {
+            let p = g.mul(x, y);
+            g.call(Func::Exp, p)
+        });
+    }
     #[test]
-    fn logarithm() { check(|g, x, y| { let p = g.sum(x, y); g.call(Func::Ln, p) }); }
+    fn logarithm() {
+        check(|g, x, y| {
+            let p = g.sum(x, y);
+            g.call(Func::Ln, p)
+        });
+    }
     #[test]
-    fn arctangent2() { check(|g, x, y| g.atan2(y, x)); }
+    fn arctangent2() {
+        check(|g, x, y| g.atan2(y, x));
+    }
 
     #[test]
     fn second_time_derivative_of_polar_is_centripetal_plus_tangential() {

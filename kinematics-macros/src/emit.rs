@@ -33,6 +33,12 @@ impl Printer<'_> {
         }
     }
 
+    /// `id` as an array element: parenthesised unless atomic, so that
+    /// `[a - b, -c]` cannot be misread as a missing comma.
+    fn element(&self, id: Id) -> TokenStream {
+        self.operand(id)
+    }
+
     /// `id` as an operand: parenthesised unless atomic.
     fn operand(&self, id: Id) -> TokenStream {
         let atomic = self.names.contains_key(&id)
@@ -224,7 +230,9 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
         .map(|(j, d)| {
             let role = if j < nd { "Driver" } else { "Unknown" };
             let kind = match kinds.and_then(|k| k.get(j)) {
-                Some(CoordKind::Angle) => " (an angle, rad; its rate is an angular velocity, rad/s)",
+                Some(CoordKind::Angle) => {
+                    " (an angle, rad; its rate is an angular velocity, rad/s)"
+                }
                 Some(CoordKind::Length) => " (a length, in the units of the parameters)",
                 None => "",
             };
@@ -248,9 +256,8 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
             }
         }
     });
-    let coords_doc = format!(
-        "Coordinates of [`{name}`]: the drivers, then the unknowns, in declaration order."
-    );
+    let coords_doc =
+        format!("Coordinates of [`{name}`]: the drivers, then the unknowns, in declaration order.");
     let motion_doc = format!(
         "Motion of [`{name}`] at one instant: coordinates q, their rates q' and \
          accelerations q'' (angular for angle coordinates), and every point's motion."
@@ -414,12 +421,12 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let stage: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
     let sched = schedule(g, &[stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
-    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.expr(i)).collect();
+    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
     let jac_rows: Vec<_> = d
         .jac
         .iter()
         .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| pr.expr(i)).collect();
+            let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
             quote!([#(#r),*])
         })
         .collect();
@@ -439,7 +446,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     // Φ alone.
     let sched = schedule(g, std::slice::from_ref(&d.phi));
     let (pr, lets) = bind(g, &sched, &leaf);
-    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.expr(i)).collect();
+    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
     let phi_fn = quote! {
         #[doc(hidden)]
         #[inline]
@@ -494,12 +501,12 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .jac
         .iter()
         .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| pr.expr(i)).collect();
+            let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
             quote!([#(#r),*])
         })
         .collect();
-    let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.expr(i)).collect();
-    let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.expr(i)).collect();
+    let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
+    let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
     let v2 = |c: &[Id; 2]| {
         let (x, y) = (pr.expr(c[0]), pr.expr(c[1]));
         quote!(#pp::Vector2::new(#x, #y))
@@ -525,7 +532,11 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let point_names: Vec<String> = def.points.iter().map(|p| p.name.to_string()).collect();
     let coordinate_info = model.kinds.iter().enumerate().map(|(j, k)| {
         let n = &coord_names[j];
-        let role = if j < nd { quote!(Driver) } else { quote!(Unknown) };
+        let role = if j < nd {
+            quote!(Driver)
+        } else {
+            quote!(Unknown)
+        };
         let kind = match k {
             CoordKind::Angle => quote!(Angle),
             CoordKind::Length => quote!(Length),
@@ -666,9 +677,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#points_e),*],
                 };
-                for p in &motion.points {
+                let point_names: [&'static str; #np] = [#(#point_names),*];
+                for (name, p) in point_names.iter().zip(&motion.points) {
                     for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
-                        #pp::finite(#pp::Input::Computed, "point motion", *v)?;
+                        #pp::finite(#pp::Input::Computed, name, *v)?;
                     }
                 }
                 ::core::result::Result::Ok(motion)

@@ -67,7 +67,8 @@ pub fn derive(model: &mut Model) -> Derived {
     let mut acc = Vec::new();
     for p in &model.points {
         pos.push(p.xy);
-        let v = p.xy.map(|c| time_derivative(g, c, nq, &|_| false, &mut memo));
+        let v =
+            p.xy.map(|c| time_derivative(g, c, nq, &|_| false, &mut memo));
         let a = v.map(|c| time_derivative(g, c, nq, &|_| true, &mut memo));
         vel.push(v);
         acc.push(a);

@@ -337,10 +337,18 @@ impl Lowerer<'_> {
                 span,
                 format!(
                     "cannot {} {} and {}; both sides of `{}` must have the same dimension",
-                    if matches!(b.op, BinOp::Add(_)) { "add" } else { "subtract" },
+                    if matches!(b.op, BinOp::Add(_)) {
+                        "add"
+                    } else {
+                        "subtract"
+                    },
                     a.describe(),
                     c.describe(),
-                    if matches!(b.op, BinOp::Add(_)) { "+" } else { "-" },
+                    if matches!(b.op, BinOp::Add(_)) {
+                        "+"
+                    } else {
+                        "-"
+                    },
                 ),
             ),
             (BinOp::Mul(_), Value::Scalar(a), Value::Scalar(c)) => Some(Value::Scalar(g.mul(a, c))),
@@ -359,7 +367,10 @@ impl Lowerer<'_> {
             }
             (BinOp::Div(_), _, c @ Value::Vec2(_)) => self.fail(
                 span,
-                format!("cannot divide by {}; the divisor must be a scalar", c.describe()),
+                format!(
+                    "cannot divide by {}; the divisor must be a scalar",
+                    c.describe()
+                ),
             ),
             (BinOp::Eq(_), _, _) => self.fail(
                 span,
@@ -466,7 +477,10 @@ impl Lowerer<'_> {
             v => {
                 cx.errors.at(
                     args[k].1,
-                    format!("{role} of `{name}` must be a scalar, but this is {}", v.describe()),
+                    format!(
+                        "{role} of `{name}` must be a scalar, but this is {}",
+                        v.describe()
+                    ),
                 );
                 None
             }

@@ -171,9 +171,9 @@ fn parse_decls(input: ParseStream<'_>) -> syn::Result<Vec<Decl>> {
     let mut out = Vec::new();
     while !input.is_empty() {
         let docs = doc_attributes(input.call(Attribute::parse_outer)?)?;
-        let name: Ident = input.parse().map_err(|e| {
-            syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`")
-        })?;
+        let name: Ident = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`"))?;
         out.push(Decl { docs, name });
         if input.is_empty() {
             break;

@@ -37,8 +37,8 @@ fn ordered(a: Id, b: Id) -> (Id, Id) {
 fn add(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
         (Some(x), Some(y)) => return g.constant(x + y),
-        (Some(x), None) if x == 0.0 => return b,
-        (None, Some(y)) if y == 0.0 => return a,
+        (Some(0.0), None) => return b,
+        (None, Some(0.0)) => return a,
         _ => {}
     }
     // a + (−a) = 0
@@ -57,11 +57,11 @@ fn add(g: &mut Graph, a: Id, b: Id) -> Id {
 fn mul(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
         (Some(x), Some(y)) => return g.constant(x * y),
-        (Some(x), _) | (_, Some(x)) if x == 0.0 => return g.constant(0.0),
-        (Some(x), None) if x == 1.0 => return b,
-        (None, Some(y)) if y == 1.0 => return a,
-        (Some(x), None) if x == -1.0 => return neg(g, b),
-        (None, Some(y)) if y == -1.0 => return neg(g, a),
+        (Some(0.0), _) | (_, Some(0.0)) => return g.constant(0.0),
+        (Some(1.0), None) => return b,
+        (None, Some(1.0)) => return a,
+        (Some(-1.0), None) => return neg(g, b),
+        (None, Some(-1.0)) => return neg(g, a),
         _ => {}
     }
     // Pull signs out so that (−a)·b and a·(−b) share the node a·b.
@@ -84,9 +84,9 @@ fn mul(g: &mut Graph, a: Id, b: Id) -> Id {
 fn div(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
         (Some(x), Some(y)) if y != 0.0 => return g.constant(x / y),
-        (Some(x), _) if x == 0.0 => return g.constant(0.0),
-        (None, Some(y)) if y == 1.0 => return a,
-        (None, Some(y)) if y == -1.0 => return neg(g, a),
+        (Some(0.0), _) => return g.constant(0.0),
+        (None, Some(1.0)) => return a,
+        (None, Some(-1.0)) => return neg(g, a),
         _ => {}
     }
     if a == b {
@@ -112,6 +112,18 @@ fn neg(g: &mut Graph, a: Id) -> Id {
     }
     match g.node(a) {
         Node::Neg(x) => x,
+        // −(x − y) = y − x
+        Node::Add(x, y) => match (g.node(x), g.node(y)) {
+            (_, Node::Neg(y)) => {
+                let nx = neg(g, x);
+                add(g, y, nx)
+            }
+            (Node::Neg(x), _) => {
+                let ny = neg(g, y);
+                add(g, x, ny)
+            }
+            _ => g.intern(Node::Neg(a)),
+        },
         _ => g.intern(Node::Neg(a)),
     }
 }
@@ -242,6 +254,25 @@ mod tests {
         assert_eq!(g.neg(b), a);
         let z = g.sub(x, x);
         assert_eq!(g.as_const(z), Some(0.0));
+    }
+
+    #[test]
+    fn negated_difference_is_reversed() {
+        let mut g = Graph::new();
+        let x = g.leaf(Leaf::Q(0));
+        let y = g.leaf(Leaf::Q(1));
+        let d = g.sub(x, y);
+        let n = g.neg(d);
+        assert_eq!(n, g.sub(y, x));
+        compare(|g| {
+            let x = g.leaf(Leaf::Q(0));
+            let y = g.leaf(Leaf::Param(0));
+            let s = g.call(Func::Sin, x);
+            let d = g.sub(s, y);
+            let e = g.neg(d);
+            let f = g.sub(e, x);
+            g.neg(f)
+        });
     }
 
     #[test]

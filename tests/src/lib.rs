@@ -101,7 +101,8 @@ pub fn pose_at<M: Mechanism>(
         tolerance: 1e-14,
         ..Options::DEFAULT
     };
-    m.assemble_with(&start, &options).expect("assembles near the pose")
+    m.assemble_with(&start, &options)
+        .expect("assembles near the pose")
 }
 
 /// Checks velocities against central differences of assembled positions and
@@ -128,7 +129,8 @@ pub fn check_motion<M: Mechanism>(
     let pp = pose_at(m, pose, rates, accels, h);
     let pm = pose_at(m, pose, rates, accels, -h);
     // Rates of the drivers at ±h, for the velocity-difference check.
-    let rates_at = |t: f64| -> Vec<f64> { rates.iter().zip(accels).map(|(r, a)| r + a * t).collect() };
+    let rates_at =
+        |t: f64| -> Vec<f64> { rates.iter().zip(accels).map(|(r, a)| r + a * t).collect() };
     let sp = m
         .analyze_slices(&pp, &rates_at(h), accels, &opts)
         .expect("analysis at +h");

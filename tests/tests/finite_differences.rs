@@ -7,6 +7,10 @@
 //! every sample is assemblable. Samples too close to a singular
 //! configuration (relative pivot of Φ_u below 0.1) are redrawn, since finite
 //! differences lose accuracy there.
+// Test code asserts by panicking.
+#![allow(clippy::expect_used, clippy::panic)]
+// The test mechanisms' parameters are described in the struct docs.
+#![allow(missing_docs)]
 
 use kinematics_core::{mechanism, solve::Lu, Mechanism};
 use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
@@ -101,11 +105,26 @@ fn four_bar() {
     let mut rng = Rng::new(0x4BA2);
     let mut done = 0;
     while done < SAMPLES {
-        let (a, phi, b, th3) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.05, 0.2), rng.angle());
+        let (a, phi, b, th3) = (
+            rng.range(0.02, 0.1),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+            rng.angle(),
+        );
         let d = rng.range(0.05, 0.2);
-        let c_pt = (a * phi.cos() + b * th3.cos() - d, a * phi.sin() + b * th3.sin());
+        let c_pt = (
+            a * phi.cos() + b * th3.cos() - d,
+            a * phi.sin() + b * th3.sin(),
+        );
         let (c, th4) = (c_pt.0.hypot(c_pt.1), c_pt.1.atan2(c_pt.0));
-        let m = FourBar { a, b, c, d, p: rng.range(0.0, 0.1), beta: rng.angle() };
+        let m = FourBar {
+            a,
+            b,
+            c,
+            d,
+            p: rng.range(0.0, 0.1),
+            beta: rng.angle(),
+        };
         let exact = FourBarCoords { phi, th3, th4 };
         if !regular(&m, &exact) {
             continue;
@@ -123,7 +142,12 @@ fn slider_crank() {
     let mut rng = Rng::new(0x51DE);
     let mut done = 0;
     while done < SAMPLES {
-        let (a, phi, b, th) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.1, 0.4), rng.angle());
+        let (a, phi, b, th) = (
+            rng.range(0.02, 0.1),
+            rng.angle(),
+            rng.range(0.1, 0.4),
+            rng.angle(),
+        );
         let e = a * phi.sin() + b * th.sin();
         let x = a * phi.cos() + b * th.cos();
         let m = SliderCrank { a, b, e };
@@ -133,7 +157,13 @@ fn slider_crank() {
         }
         let pose = assemble_back(&m, &exact, &mut rng);
         check_jacobian(&m, &pose, 1e-6);
-        check_motion(&m, &pose, &[rng.range(-20.0, 20.0)], &[rng.range(-50.0, 50.0)], 1e-6);
+        check_motion(
+            &m,
+            &pose,
+            &[rng.range(-20.0, 20.0)],
+            &[rng.range(-50.0, 50.0)],
+            1e-6,
+        );
         done += 1;
     }
 }
@@ -164,14 +194,37 @@ fn watt_six_bar_two_loops() {
         let fx = d + e * (th4 + gamma).cos() + f * th5.cos();
         let fy = e * (th4 + gamma).sin() + f * th5.sin();
         let (gx, gy) = (fx - g * th6.cos(), fy - g * th6.sin());
-        let m = Watt { a, b, c, d, e, gamma, f, g, gx, gy };
-        let exact = WattCoords { phi, th3, th4, th5, th6 };
+        let m = Watt {
+            a,
+            b,
+            c,
+            d,
+            e,
+            gamma,
+            f,
+            g,
+            gx,
+            gy,
+        };
+        let exact = WattCoords {
+            phi,
+            th3,
+            th4,
+            th5,
+            th6,
+        };
         if !regular(&m, &exact) {
             continue;
         }
         let pose = assemble_back(&m, &exact, &mut rng);
         check_jacobian(&m, &pose, 1e-6);
-        check_motion(&m, &pose, &[rng.range(-20.0, 20.0)], &[rng.range(-50.0, 50.0)], 1e-6);
+        check_motion(
+            &m,
+            &pose,
+            &[rng.range(-20.0, 20.0)],
+            &[rng.range(-50.0, 50.0)],
+            1e-6,
+        );
         done += 1;
     }
 }
@@ -181,12 +234,27 @@ fn five_bar_two_drivers() {
     let mut rng = Rng::new(0x5BA2);
     let mut done = 0;
     while done < SAMPLES {
-        let (a, phi1, b, th2) = (rng.range(0.02, 0.1), rng.angle(), rng.range(0.05, 0.2), rng.angle());
-        let (c, th3, d, phi2) = (rng.range(0.05, 0.2), rng.angle(), rng.range(0.02, 0.1), rng.angle());
+        let (a, phi1, b, th2) = (
+            rng.range(0.02, 0.1),
+            rng.angle(),
+            rng.range(0.05, 0.2),
+            rng.angle(),
+        );
+        let (c, th3, d, phi2) = (
+            rng.range(0.05, 0.2),
+            rng.angle(),
+            rng.range(0.02, 0.1),
+            rng.angle(),
+        );
         let ex = a * phi1.cos() + b * th2.cos() - c * th3.cos() - d * phi2.cos();
         let ey = a * phi1.sin() + b * th2.sin() - c * th3.sin() - d * phi2.sin();
         let m = FiveBar { a, b, c, d, ex, ey };
-        let exact = FiveBarCoords { phi1, phi2, th2, th3 };
+        let exact = FiveBarCoords {
+            phi1,
+            phi2,
+            th2,
+            th3,
+        };
         if !regular(&m, &exact) {
             continue;
         }
@@ -204,8 +272,21 @@ fn closed_form_four_bar_agrees_with_newton() {
     // Freudenstein's closed form for θ4 (tangent half-angle substitution)
     // gives both assembly branches; the Newton solution, continued from step
     // to step over a full turn, must equal one of them at every step.
-    let m = FourBar { a: 0.04, b: 0.12, c: 0.10, d: 0.11, p: 0.06, beta: 30f64.to_radians() };
-    let mut pose = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.0, th4: 1.6 }).expect("assembles");
+    let m = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: 30f64.to_radians(),
+    };
+    let mut pose = m
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 1.0,
+            th4: 1.6,
+        })
+        .expect("assembles");
     for k in 0..36 {
         let phi = f64::from(k) * 10f64.to_radians();
         pose.phi = phi;
@@ -222,13 +303,19 @@ fn closed_form_four_bar_agrees_with_newton() {
         let bb = -2.0 * phi.sin();
         let cc = k1 - (k2 + 1.0) * phi.cos() + k3;
         let disc = (bb * bb - 4.0 * aa * cc).sqrt();
-        let candidates = [(-bb + disc) / (2.0 * aa), (-bb - disc) / (2.0 * aa)]
-            .map(|t: f64| 2.0 * t.atan());
-        let wrap = |x: f64| (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let candidates =
+            [(-bb + disc) / (2.0 * aa), (-bb - disc) / (2.0 * aa)].map(|t: f64| 2.0 * t.atan());
+        let wrap = |x: f64| {
+            (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+        };
         let best = candidates
             .iter()
             .map(|t| wrap(t - pose.th4).abs())
             .fold(f64::INFINITY, f64::min);
-        assert!(best < 1e-10, "φ = {phi}: θ4 = {} vs closed form {candidates:?}", pose.th4);
+        assert!(
+            best < 1e-10,
+            "φ = {phi}: θ4 = {} vs closed form {candidates:?}",
+            pose.th4
+        );
     }
 }

@@ -7,6 +7,8 @@
 //! is further off, the test shows with an independent check (central finite
 //! differences of assembled positions) that the computed value is the right
 //! one.
+// Test code asserts by panicking.
+#![allow(clippy::expect_used, clippy::panic)]
 
 use kinematics_core::Mechanism;
 use kinematics_examples::{RRtrRrt, RRtrRrtCoords, RTrr, RTrrCoords};
@@ -40,12 +42,20 @@ fn fd_point<M: Mechanism>(m: &M, pose: &M::Coords, omega: f64, k: usize) -> ([f6
 
 #[test]
 fn example_4_1_r_trr() {
-    let m = RTrr { ac: 0.100, bc: 0.300 };
+    let m = RTrr {
+        ac: 0.100,
+        bc: 0.300,
+    };
     // Rough guess: angles to the nearest 10°, B about 0.35 m along the crank.
-    let guess = RTrrCoords { phi: 45f64.to_radians(), s: 0.35, phi3: 60f64.to_radians() };
+    let guess = RTrrCoords {
+        phi: 45f64.to_radians(),
+        s: 0.35,
+        phi3: 60f64.to_radians(),
+    };
     let pose = m.assemble(&guess).expect("assembles");
     // The book turns 30 rev/min into ω = 3.141 rad/s and uses that value in
     // every numerical step (Eq. 4.79, 4.81); so does this test.
+    #[allow(clippy::approx_constant)] // deliberately the book's rounded value
     let omega = 3.141;
     let s = m.analyze(&pose, omega, 0.0).expect("analysis");
     let b = s.point_b();
@@ -67,9 +77,19 @@ fn example_4_1_r_trr() {
     // not with the book's.
     let (fd_v, fd_a) = fd_point(&m, &pose, omega, 0);
     assert!((b.velocity.x - fd_v[0]).abs() < 1e-6 && (b.velocity.y - fd_v[1]).abs() < 1e-6);
-    assert!((b.acceleration.y - fd_a[1]).abs() < 1e-5, "{} vs {}", b.acceleration.y, fd_a[1]);
-    assert!((fd_a[1] - -4.255).abs() > 1e-3, "the printed a_By is off by more than rounding");
-    let exact = m.analyze(&pose, std::f64::consts::PI, 0.0).expect("analysis");
+    assert!(
+        (b.acceleration.y - fd_a[1]).abs() < 1e-5,
+        "{} vs {}",
+        b.acceleration.y,
+        fd_a[1]
+    );
+    assert!(
+        (fd_a[1] - -4.255).abs() > 1e-3,
+        "the printed a_By is off by more than rounding"
+    );
+    let exact = m
+        .analyze(&pose, std::f64::consts::PI, 0.0)
+        .expect("analysis");
     book("a_By at ω = π", exact.point_b().acceleration.y, -4.255, 3);
 
     // Closed form: B lies on the crank line, so φ3 = atan2(y_B, x_B − AC).
@@ -80,7 +100,12 @@ fn example_4_1_r_trr() {
 
 #[test]
 fn example_4_2_r_rtr_rrt() {
-    let m = RRtrRrt { ab: 0.100, ac: 0.150, cd: 0.075, de: 0.200 };
+    let m = RRtrRrt {
+        ab: 0.100,
+        ac: 0.150,
+        cd: 0.075,
+        de: 0.200,
+    };
     // Rough guess, angles to the nearest 10°.
     let guess = RRtrRrtCoords {
         phi: 45f64.to_radians(),
