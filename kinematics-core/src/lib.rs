@@ -50,6 +50,11 @@ pub use mechanism::{
 pub use nalgebra;
 pub use options::Options;
 
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 /// Items used by the code that `mechanism!` generates. Not a stable API:
 /// anything here may change in any release.
 #[doc(hidden)]

@@ -319,3 +319,44 @@ fn closed_form_four_bar_agrees_with_newton() {
         );
     }
 }
+
+#[test]
+fn slider_crank_against_closed_form_derivatives() {
+    // Zero offset, λ = a/b, constant ω. With S = √(1 − λ² sin²φ):
+    //   x   = a cos φ + b S
+    //   x'  = −aω (sin φ + λ sin 2φ / (2S))
+    //   x'' = −aω² (cos φ + λ cos 2φ / S + λ³ sin² 2φ / (4 S³))
+    // (differentiating x(φ(t)) twice by hand).
+    let (a, b, w) = (0.1, 0.2, 6.0);
+    let lam = a / b;
+    let m = SliderCrank { a, b, e: 0.0 };
+    let mut pose = m
+        .assemble(&SliderCrankCoords {
+            phi: 0.0,
+            th: 0.1,
+            x: 0.3,
+        })
+        .expect("assembles");
+    for k in 0..72 {
+        let phi = f64::from(k) * 5f64.to_radians();
+        pose.phi = phi;
+        pose = m.assemble(&pose).expect("assembles");
+        let s = m.analyze(&pose, w, 0.0).expect("analysis");
+        let sq = (1.0 - lam * lam * phi.sin().powi(2)).sqrt();
+        let x = a * phi.cos() + b * sq;
+        let v = -a * w * (phi.sin() + lam * (2.0 * phi).sin() / (2.0 * sq));
+        let acc = -a
+            * w
+            * w
+            * (phi.cos()
+                + lam * (2.0 * phi).cos() / sq
+                + lam.powi(3) * (2.0 * phi).sin().powi(2) / (4.0 * sq.powi(3)));
+        assert!((pose.x - x).abs() < 1e-12, "x at {phi}");
+        assert!((s.qd.x - v).abs() < 1e-11, "v at {phi}: {} vs {v}", s.qd.x);
+        assert!(
+            (s.qdd.x - acc).abs() < 1e-10,
+            "a at {phi}: {} vs {acc}",
+            s.qdd.x
+        );
+    }
+}
