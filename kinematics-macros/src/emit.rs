@@ -61,6 +61,11 @@ impl Printer<'_> {
         match self.g.node(id) {
             Node::Const(bits) => {
                 let v = f64::from_bits(bits);
+                if !v.is_finite() {
+                    // Never produced (the simplifier folds only finite values);
+                    // the run-time finiteness checks would report it.
+                    return quote!(::core::primitive::f64::NAN);
+                }
                 let lit = Literal::f64_suffixed(v.abs());
                 if v < 0.0 {
                     quote!(-#lit)

@@ -163,7 +163,7 @@ impl Graph {
         crate::simplify::rewrite(self, node)
     }
 
-    /// The constant `value`.
+    /// The constant `value` (finite: callers fold only finite results).
     pub fn constant(&mut self, value: f64) -> Id {
         // Normalise -0.0 to 0.0 so that both hash to one node.
         let value = if value == 0.0 { 0.0 } else { value };

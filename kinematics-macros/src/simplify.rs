@@ -19,11 +19,17 @@ pub fn rewrite(g: &mut Graph, node: Node) -> Id {
         Node::Powi(a, n) => powi(g, a, n),
         Node::Call(f, a) => call(g, f, a),
         Node::Atan2(y, x) => match (g.as_const(y), g.as_const(x)) {
-            (Some(y), Some(x)) => g.constant(y.atan2(x)),
+            (Some(y), Some(x)) => fold(g, y.atan2(x)).unwrap_or_else(|| g.intern(node)),
             _ => g.intern(node),
         },
         Node::Const(_) | Node::Leaf(_) => g.intern(node),
     }
+}
+
+/// A folded constant, or `None` when folding would overflow to a
+/// non-finite value (the operation is then kept, and evaluated at run time).
+fn fold(g: &mut Graph, v: f64) -> Option<Id> {
+    v.is_finite().then(|| g.constant(v))
 }
 
 fn ordered(a: Id, b: Id) -> (Id, Id) {
@@ -36,7 +42,7 @@ fn ordered(a: Id, b: Id) -> (Id, Id) {
 
 fn add(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
-        (Some(x), Some(y)) => return g.constant(x + y),
+        (Some(x), Some(y)) if (x + y).is_finite() => return g.constant(x + y),
         (Some(0.0), None) => return b,
         (None, Some(0.0)) => return a,
         _ => {}
@@ -56,7 +62,7 @@ fn add(g: &mut Graph, a: Id, b: Id) -> Id {
 
 fn mul(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
-        (Some(x), Some(y)) => return g.constant(x * y),
+        (Some(x), Some(y)) if (x * y).is_finite() => return g.constant(x * y),
         (Some(0.0), _) | (_, Some(0.0)) => return g.constant(0.0),
         (Some(1.0), None) => return b,
         (None, Some(1.0)) => return a,
@@ -83,7 +89,7 @@ fn mul(g: &mut Graph, a: Id, b: Id) -> Id {
 
 fn div(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
-        (Some(x), Some(y)) if y != 0.0 => return g.constant(x / y),
+        (Some(x), Some(y)) if (x / y).is_finite() => return g.constant(x / y),
         (Some(0.0), _) => return g.constant(0.0),
         (None, Some(1.0)) => return a,
         (None, Some(-1.0)) => return neg(g, a),
@@ -130,7 +136,9 @@ fn neg(g: &mut Graph, a: Id) -> Id {
 
 fn powi(g: &mut Graph, a: Id, n: i32) -> Id {
     if let Some(x) = g.as_const(a) {
-        return g.constant(x.powi(n));
+        if let Some(c) = fold(g, x.powi(n)) {
+            return c;
+        }
     }
     match n {
         0 => g.constant(1.0),

@@ -1,0 +1,259 @@
+//! Every failure is a typed error that names what is wrong; no panic, no NaN.
+// Test code asserts by panicking.
+#![allow(clippy::expect_used, clippy::panic)]
+
+use kinematics_core::{mechanism, Error, Input, Options};
+use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
+
+mechanism! {
+    /// A model whose equation is undefined for negative `r`.
+    pub struct Root {
+        params {
+            /// Must be non-negative for `sqrt`.
+            r
+        }
+        drivers  {
+            /// Input.
+            t
+        }
+        unknowns {
+            /// Output.
+            y
+        }
+        constraints { y * y == sqrt(r) + t; }
+    }
+}
+
+fn four_bar() -> FourBar {
+    FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: 0.5,
+    }
+}
+
+#[test]
+fn links_too_short_to_close_the_loop() {
+    // b + c = 0.04 < d − a = 0.16: the loop cannot close at any crank angle.
+    let m = FourBar {
+        a: 0.04,
+        b: 0.02,
+        c: 0.02,
+        d: 0.2,
+        p: 0.0,
+        beta: 0.0,
+    };
+    let err = m
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 2.0,
+        })
+        .expect_err("cannot assemble");
+    match &err {
+        Error::NotConverged {
+            residual,
+            equation,
+            configuration,
+            ..
+        } => {
+            assert!(*residual > 1e-3);
+            assert!(
+                equation.starts_with("B + polar(b, th3) == C ("),
+                "{equation}"
+            );
+            assert_eq!(configuration.len(), 3);
+            assert_eq!(configuration[0].0, "phi");
+        }
+        Error::Singular { .. } => {}
+        other => panic!("unexpected {other:?}"),
+    }
+    let text = err.to_string();
+    assert!(
+        text.contains("did not assemble") || text.contains("do not determine"),
+        "{text}"
+    );
+}
+
+#[test]
+fn dead_centre_is_reported_as_singular() {
+    // a = 0.2 > b = 0.1: at φ = −30° the rod stands vertical (θ = 90°) and
+    // the slider cannot be driven by the crank: Φ_u is singular.
+    let m = SliderCrank {
+        a: 0.2,
+        b: 0.1,
+        e: 0.0,
+    };
+    let phi = -30f64.to_radians();
+    let pose = SliderCrankCoords {
+        phi,
+        th: 90f64.to_radians(),
+        x: 0.2 * phi.cos(),
+    };
+    assert!(m.residual(&pose).iter().all(|r| r.abs() < 1e-15));
+    let err = m.analyze(&pose, 1.0, 0.0).expect_err("singular");
+    match &err {
+        Error::Singular {
+            unknown,
+            configuration,
+            relative_pivot,
+        } => {
+            assert!(["th", "x"].contains(unknown), "{unknown}");
+            assert!(*relative_pivot < 1e-10);
+            assert_eq!(configuration[1].0, "th");
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    assert!(err.to_string().contains("dead-centre"), "{err}");
+}
+
+#[test]
+fn non_finite_inputs_are_named() {
+    let mut m = four_bar();
+    m.c = f64::NAN;
+    let start = FourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    };
+    let err = m.assemble(&start).expect_err("NaN parameter");
+    assert!(
+        matches!(err, Error::NonFinite { input: Input::Parameter, name: "c", value } if value.is_nan()),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("parameter `c` is NaN"), "{err}");
+    let m = four_bar();
+    let bad = FourBarCoords {
+        th4: f64::INFINITY,
+        ..start
+    };
+    assert!(matches!(
+        m.assemble(&bad),
+        Err(Error::NonFinite {
+            input: Input::Guess,
+            name: "th4",
+            ..
+        })
+    ));
+    let pose = m.assemble(&start).expect("assembles");
+    let err = m.analyze(&pose, f64::INFINITY, 0.0).expect_err("bad rate");
+    assert!(matches!(
+        err,
+        Error::NonFinite {
+            input: Input::DriverRate,
+            name: "phi",
+            ..
+        }
+    ));
+    assert!(
+        err.to_string().contains("rate of driver `phi` is inf"),
+        "{err}"
+    );
+    let err = m
+        .analyze(&pose, 1.0, f64::NAN)
+        .expect_err("bad acceleration");
+    assert!(matches!(
+        err,
+        Error::NonFinite {
+            input: Input::DriverAcceleration,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn undefined_model_expression_is_reported_not_returned() {
+    let m = Root { r: -1.0 };
+    let err = m
+        .assemble(&RootCoords { t: 1.0, y: 1.0 })
+        .expect_err("sqrt(-1)");
+    match &err {
+        Error::NonFinite {
+            input: Input::Computed,
+            name,
+            value,
+        } => {
+            assert!(name.contains("sqrt"), "{name}");
+            assert!(value.is_nan());
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    assert!(err.to_string().contains("undefined"), "{err}");
+    // And with valid data it works: y² = 1 + 2.
+    let ok = Root { r: 1.0 }
+        .assemble(&RootCoords { t: 2.0, y: 1.5 })
+        .expect("assembles");
+    assert!((ok.y - 3f64.sqrt()).abs() < 1e-12);
+}
+
+#[test]
+fn invalid_options_are_rejected() {
+    let m = four_bar();
+    let start = FourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    };
+    for (options, name) in [
+        (
+            Options {
+                tolerance: -1.0,
+                ..Options::DEFAULT
+            },
+            "tolerance",
+        ),
+        (
+            Options {
+                tolerance: f64::NAN,
+                ..Options::DEFAULT
+            },
+            "tolerance",
+        ),
+        (
+            Options {
+                max_iterations: 0,
+                ..Options::DEFAULT
+            },
+            "max_iterations",
+        ),
+        (
+            Options {
+                singularity_threshold: 2.0,
+                ..Options::DEFAULT
+            },
+            "singularity_threshold",
+        ),
+    ] {
+        match m.assemble_with(&start, &options) {
+            Err(Error::InvalidOption { name: n, .. }) => assert_eq!(n, name),
+            other => panic!("{name}: unexpected {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn too_few_iterations_reports_the_residual() {
+    let m = four_bar();
+    let options = Options {
+        max_iterations: 1,
+        ..Options::DEFAULT
+    };
+    match m.assemble_with(
+        &FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 2.5,
+        },
+        &options,
+    ) {
+        Err(Error::NotConverged {
+            iterations: 1,
+            residual,
+            ..
+        }) => assert!(residual > 1e-12),
+        other => panic!("unexpected {other:?}"),
+    }
+}
