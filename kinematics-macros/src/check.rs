@@ -23,6 +23,12 @@ impl Errors {
         self.list.push(syn::Error::new(span, message));
     }
 
+    /// Records an error covering all of `tokens` (first to last token).
+    pub fn spanned(&mut self, tokens: &dyn quote::ToTokens, message: impl std::fmt::Display) {
+        self.list
+            .push(syn::Error::new_spanned(tokens.to_token_stream(), message));
+    }
+
     /// Whether nothing was reported.
     pub fn is_empty(&self) -> bool {
         self.list.is_empty()
@@ -257,7 +263,7 @@ fn check_each_equation_has_an_unknown(model: &crate::lower::Model, errors: &mut 
                 eq.text
             ),
         };
-        errors.at(eq.span, msg);
+        errors.spanned(&eq.tokens, msg);
     }
 }
 

@@ -36,7 +36,8 @@ pub struct ModelEquation {
     pub residual: Id,
     /// The equation as written, with the component for vector loops.
     pub text: String,
-    pub span: Span,
+    /// The equation's tokens, where errors about it point.
+    pub tokens: proc_macro2::TokenStream,
 }
 
 /// A point of interest, component by component.
@@ -86,8 +87,8 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                 points.push(ModelPoint { xy });
             }
             Some(v @ Value::Scalar(_)) => {
-                cx.errors.at(
-                    p.expr.span(),
+                cx.errors.spanned(
+                    &p.expr,
                     format!(
                         "point `{}` must be a 2-D vector, but this expression is {}; \
                          build it with `vec2(x, y)` or `polar(r, angle)`",
@@ -115,17 +116,17 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                     equations.push(ModelEquation {
                         residual,
                         text: format!("{} ({axis} component)", eq.text),
-                        span: eq.span,
+                        tokens: eq.tokens.clone(),
                     });
                 }
             }
-            (Some(Value::Scalar(_)), Some(Value::Scalar(_))) => cx.errors.at(
-                eq.span,
+            (Some(Value::Scalar(_)), Some(Value::Scalar(_))) => cx.errors.spanned(
+                &eq.tokens,
                 "this loop equation is scalar; a loop closes a chain of vectors \
                  (`B + polar(b, th3) == C`). Move scalar equations to `constraints { … }`",
             ),
-            (Some(a), Some(b)) => cx.errors.at(
-                eq.span,
+            (Some(a), Some(b)) => cx.errors.spanned(
+                &eq.tokens,
                 format!(
                     "the two sides of this loop have different dimensions: the left is {} \
                      and the right is {}",
@@ -144,16 +145,16 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                 equations.push(ModelEquation {
                     residual,
                     text: eq.text.clone(),
-                    span: eq.span,
+                    tokens: eq.tokens.clone(),
                 });
             }
-            (Some(Value::Vec2(_)), Some(Value::Vec2(_))) => cx.errors.at(
-                eq.span,
+            (Some(Value::Vec2(_)), Some(Value::Vec2(_))) => cx.errors.spanned(
+                &eq.tokens,
                 "this constraint equates two vectors; vector equations belong in \
                  `loops { … }` (each gives two scalar equations)",
             ),
-            (Some(a), Some(b)) => cx.errors.at(
-                eq.span,
+            (Some(a), Some(b)) => cx.errors.spanned(
+                &eq.tokens,
                 format!(
                     "the two sides of this constraint have different dimensions: the left is {} \
                      and the right is {}",
@@ -433,8 +434,8 @@ impl Lowerer<'_> {
         };
         if c.args.len() != arity {
             let usage = usage(&name);
-            return self.fail(
-                c.span(),
+            self.errors.spanned(
+                c,
                 format!(
                     "`{name}` takes {arity} argument{}, but {} {} given; write `{usage}`",
                     if arity == 1 { "" } else { "s" },
@@ -442,30 +443,35 @@ impl Lowerer<'_> {
                     if c.args.len() == 1 { "was" } else { "were" },
                 ),
             );
+            return None;
         }
         if name == "powi" {
             let base = self.expr(&c.args[0]);
             let n = integer_literal(&c.args[1]);
             let Some(n) = n else {
-                return self.fail(
-                    c.args[1].span(),
+                self.errors.spanned(
+                    &c.args[1],
                     "the exponent of `powi` must be an integer literal, e.g. `powi(x, 2)`; \
                      for other exponents use `exp(k * ln(x))`",
                 );
+                return None;
             };
             return match base? {
                 Value::Scalar(a) => Some(Value::Scalar(self.g.powi(a, n))),
-                v => self.fail(
-                    c.args[0].span(),
-                    format!("`powi` needs a scalar base, but this is {}", v.describe()),
-                ),
+                v => {
+                    self.errors.spanned(
+                        &c.args[0],
+                        format!("`powi` needs a scalar base, but this is {}", v.describe()),
+                    );
+                    None
+                }
             };
         }
         let mut args = Vec::with_capacity(arity);
         let mut ok = true;
         for a in &c.args {
             match self.expr(a) {
-                Some(v) => args.push((v, a.span())),
+                Some(v) => args.push((v, a)),
                 None => ok = false,
             }
         }
@@ -475,7 +481,7 @@ impl Lowerer<'_> {
         let scalar = |cx: &mut Self, k: usize, role: &str| match args[k].0 {
             Value::Scalar(id) => Some(id),
             v => {
-                cx.errors.at(
+                cx.errors.spanned(
                     args[k].1,
                     format!(
                         "{role} of `{name}` must be a scalar, but this is {}",
@@ -488,7 +494,7 @@ impl Lowerer<'_> {
         let vector = |cx: &mut Self, k: usize| match args[k].0 {
             Value::Vec2(v) => Some(v),
             v => {
-                cx.errors.at(
+                cx.errors.spanned(
                     args[k].1,
                     format!(
                         "`{name}` takes 2-D vectors, but this argument is {}; build one with \

@@ -66,8 +66,9 @@ pub struct PointDef {
 pub struct Equation {
     pub lhs: Expr,
     pub rhs: Expr,
-    /// The whole equation, for messages and for naming it in run-time errors.
-    pub span: Span,
+    /// The whole equation's tokens, where errors about it point.
+    pub tokens: proc_macro2::TokenStream,
+    /// The equation as written, for naming it in run-time errors.
     pub text: String,
 }
 
@@ -214,8 +215,8 @@ fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
 
 fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
     let expr: Expr = input.parse()?;
-    let span = expr.span();
-    let text = quote::ToTokens::to_token_stream(&expr).to_string();
+    let tokens = quote::ToTokens::to_token_stream(&expr);
+    let text = tokens.to_string();
     match expr {
         Expr::Binary(syn::ExprBinary {
             left,
@@ -225,11 +226,11 @@ fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
         }) => Ok(Equation {
             lhs: *left,
             rhs: *right,
-            span,
+            tokens,
             text,
         }),
-        other => Err(syn::Error::new(
-            other.span(),
+        other => Err(syn::Error::new_spanned(
+            other,
             "an equation must have the form `lhs == rhs`, e.g. `B + polar(b, th3) == C`",
         )),
     }

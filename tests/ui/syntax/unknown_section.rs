@@ -1,0 +1,10 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct M {
+        params { a }
+        joints { R }
+    }
+}
+
+fn main() {}
