@@ -93,7 +93,115 @@ pub fn check(def: &Definition, errors: &mut Errors) -> Names {
     check_not_empty(def, errors);
     let names = check_unique_names(def, errors);
     check_point_accessors_distinct(def, errors);
+    check_mobility(def, errors);
     names
+}
+
+/// Degrees of freedom of each joint kind the `joints` section accepts.
+const JOINT_KINDS: &[(&str, u32, &str)] = &[
+    ("R", 1, "revolute"),
+    ("P", 1, "prismatic"),
+    ("H", 1, "screw"),
+    ("C", 2, "cylindrical"),
+    ("U", 2, "universal"),
+    ("S", 3, "spherical"),
+    ("PL", 3, "planar pair"),
+];
+
+/// When joints are declared, the Kutzbach–Gruebler mobility
+/// F = λ(n − j − 1) + Σf_i − (passive freedoms) must equal the number of
+/// drivers (not counting those marked `#[allow(unused)]`, which move
+/// nothing), with λ = 3 for a planar mechanism. The number of links n is
+/// `links` when given; otherwise it follows from the independent loops,
+/// L = j − n + 1, taking each vector loop as one independent loop.
+fn check_mobility(def: &Definition, errors: &mut Errors) {
+    let Some(joints) = &def.joints else {
+        return;
+    };
+    let lambda: i64 = 3;
+    let mut links: Option<i64> = None;
+    let mut passive: i64 = 0;
+    let mut j: i64 = 0;
+    let mut sum_f: i64 = 0;
+    let mut ok = true;
+    for (key, count) in &joints.entries {
+        let Ok(n) = count.base10_parse::<i64>() else {
+            errors.spanned(count, "expected a whole number");
+            ok = false;
+            continue;
+        };
+        let k = key.to_string();
+        match k.as_str() {
+            "links" => links = Some(n),
+            "passive" => passive = n,
+            _ => match JOINT_KINDS.iter().find(|(name, _, _)| *name == k) {
+                Some((_, f, _)) => {
+                    j += n;
+                    sum_f += n * i64::from(*f);
+                }
+                None => {
+                    let kinds: Vec<String> = JOINT_KINDS
+                        .iter()
+                        .map(|(n, f, what)| format!("{n} ({what}, f = {f})"))
+                        .collect();
+                    errors.at(
+                        key.span(),
+                        format!(
+                            "unknown joint kind `{k}`; the kinds and their freedoms are {}; \
+                             `links: n` gives the number of links and `passive: k` the passive \
+                             freedoms",
+                            kinds.join(", ")
+                        ),
+                    );
+                    ok = false;
+                }
+            },
+        }
+    }
+    if !ok {
+        return;
+    }
+    let n = match links {
+        Some(n) => n,
+        None if def.constraints.is_empty() && !def.loops.is_empty() => {
+            j - i64::try_from(def.loops.len()).unwrap_or(0) + 1
+        }
+        None => {
+            errors.at(
+                joints.span,
+                "give the number of links, e.g. `joints { links: 4, R: 4 }`: it can be inferred \
+                 from the loops (n = j − L + 1) only when the model has vector loops and no \
+                 scalar constraints",
+            );
+            return;
+        }
+    };
+    let f = lambda * (n - j - 1) + sum_f - passive;
+    // A driver marked `#[allow(unused)]` moves nothing: not a freedom.
+    let drivers =
+        i64::try_from(def.drivers.iter().filter(|d| !d.allow_unused).count()).unwrap_or(0);
+    if f != drivers {
+        let passive_text = if passive > 0 {
+            format!(" − {passive} passive")
+        } else {
+            String::new()
+        };
+        let advice = if f < 1 {
+            "the joints leave the mechanism immobile (a structure); check the joint list".to_owned()
+        } else {
+            format!("a mechanism needs one driver per degree of freedom: declare {f} driver{} or check the joint list", if f == 1 { "" } else { "s" })
+        };
+        errors.at(
+            joints.span,
+            format!(
+                "the Kutzbach–Gruebler mobility is F = {lambda}(n − j − 1) + Σf{passive_text} = \
+                 {lambda}({n} − {j} − 1) + {sum_f}{passive_text} = {f}, but {drivers} driver{} \
+                 {} declared; {advice}",
+                if drivers == 1 { "" } else { "s" },
+                if drivers == 1 { "is" } else { "are" },
+            ),
+        );
+    }
 }
 
 /// A mechanism needs at least one driver or one unknown to be analysed.
@@ -136,7 +244,7 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
                 .map(|(k, p)| (&p.name, Binding::Point(index(k)), "points")),
         );
     for (name, binding, section) in declared {
-        let key = name.to_string();
+        let key = syn::ext::IdentExt::unraw(name).to_string();
         if BUILTINS.contains(&key.as_str()) {
             errors.at(
                 name.span(),
@@ -201,6 +309,168 @@ pub fn check_model(def: &Definition, model: &crate::lower::Model, errors: &mut E
     check_equation_count(def, model, errors);
     check_each_equation_has_an_unknown(model, errors);
     check_each_unknown_appears(def, model, errors);
+    check_drivers_used(def, model, errors);
+    if errors.is_empty() {
+        check_structural_rank(def, model, errors);
+    }
+}
+
+/// A driver that no equation and no point uses has no effect; that is
+/// usually a typo. `#[allow(unused)]` on the driver accepts it.
+fn check_drivers_used(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
+    let roots: Vec<_> = model
+        .equations
+        .iter()
+        .map(|e| e.residual)
+        .chain(model.points.iter().flat_map(|p| p.xy))
+        .collect();
+    for (j, decl) in def.drivers.iter().enumerate() {
+        if decl.allow_unused {
+            continue;
+        }
+        let leaf = Leaf::Q(index(j));
+        if !roots
+            .iter()
+            .any(|&r| model.graph.depends_on(r, &|l| l == leaf))
+        {
+            errors.at(
+                decl.name.span(),
+                format!(
+                    "driver `{}` is used by no loop, constraint or point, so it moves nothing; \
+                     use it, remove it, or write `#[allow(unused)] {}` if that is intended",
+                    decl.name, decl.name
+                ),
+            );
+        }
+    }
+}
+
+/// The Jacobian Φ_u must be structurally regular: there must be a perfect
+/// matching between equations and unknowns in its sparsity pattern (each
+/// equation paired with a distinct unknown it involves). Otherwise some
+/// equations over-determine a few unknowns while others are left free, and
+/// Φ_u is singular at every configuration.
+fn check_structural_rank(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
+    let nd = model.drivers;
+    let nu = model.unknowns as usize;
+    let ne = model.equations.len();
+    if ne != nu {
+        return;
+    }
+    // involves[i]: unknowns (0-based) that equation i depends on.
+    let involves: Vec<Vec<usize>> = model
+        .equations
+        .iter()
+        .map(|e| {
+            (0..nu)
+                .filter(|&k| {
+                    let leaf = Leaf::Q(nd + index(k));
+                    model.graph.depends_on(e.residual, &|l| l == leaf)
+                })
+                .collect()
+        })
+        .collect();
+    let matching = maximum_matching(&involves, nu);
+    let matched = matching.iter().filter(|m| m.is_some()).count();
+    if matched == nu {
+        return;
+    }
+    // Equations reachable from an unmatched equation by alternating paths
+    // over-determine the unknowns they reach; the unknowns they do not reach
+    // and that no equation can take are left free.
+    let mut owner: Vec<Option<usize>> = vec![None; nu];
+    for (i, m) in matching.iter().enumerate() {
+        if let Some(k) = m {
+            owner[*k] = Some(i);
+        }
+    }
+    let mut eq_seen = vec![false; ne];
+    let mut unk_seen = vec![false; nu];
+    let mut stack: Vec<usize> = (0..ne).filter(|&i| matching[i].is_none()).collect();
+    for &i in &stack {
+        eq_seen[i] = true;
+    }
+    while let Some(i) = stack.pop() {
+        for &k in &involves[i] {
+            if !unk_seen[k] {
+                unk_seen[k] = true;
+                if let Some(o) = owner[k] {
+                    if !eq_seen[o] {
+                        eq_seen[o] = true;
+                        stack.push(o);
+                    }
+                }
+            }
+        }
+    }
+    let unknown_name = |k: usize| format!("`{}`", def.unknowns[k].name);
+    let over: Vec<String> = (0..nu).filter(|&k| unk_seen[k]).map(unknown_name).collect();
+    let rest: Vec<String> = (0..nu)
+        .filter(|&k| !unk_seen[k])
+        .map(unknown_name)
+        .collect();
+    let eqs: Vec<usize> = (0..ne).filter(|&i| eq_seen[i]).collect();
+    let eq_texts: Vec<String> = eqs
+        .iter()
+        .map(|&i| format!("`{}`", model.equations[i].text))
+        .collect();
+    let plural = |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+    let message = format!(
+        "the equations {} are {} in only {} ({}): they over-determine {}, and the remaining {} \
+         cannot determine the {} {}. The Jacobian is singular in every configuration; rewrite one \
+         of these equations to involve {}",
+        eq_texts.join(", "),
+        plural(eqs.len(), "equation"),
+        plural(over.len(), "unknown"),
+        over.join(", "),
+        if over.len() == 1 { "it" } else { "them" },
+        plural(ne - eqs.len(), "equation"),
+        plural(rest.len(), "unknown"),
+        rest.join(", "),
+        rest.join(" or "),
+    );
+    if let Some(&last) = eqs.last() {
+        errors.spanned(&model.equations[last].tokens, message);
+    }
+}
+
+/// Maximum bipartite matching (augmenting paths): for each equation, the
+/// unknown it is paired with.
+fn maximum_matching(involves: &[Vec<usize>], unknowns: usize) -> Vec<Option<usize>> {
+    fn augment(
+        i: usize,
+        involves: &[Vec<usize>],
+        owner: &mut [Option<usize>],
+        seen: &mut [bool],
+    ) -> bool {
+        for &k in &involves[i] {
+            if seen[k] {
+                continue;
+            }
+            seen[k] = true;
+            let free = match owner[k] {
+                None => true,
+                Some(o) => augment(o, involves, owner, seen),
+            };
+            if free {
+                owner[k] = Some(i);
+                return true;
+            }
+        }
+        false
+    }
+    let mut owner: Vec<Option<usize>> = vec![None; unknowns];
+    for i in 0..involves.len() {
+        let mut seen = vec![false; unknowns];
+        augment(i, involves, &mut owner, &mut seen);
+    }
+    let mut matching = vec![None; involves.len()];
+    for (k, o) in owner.iter().enumerate() {
+        if let Some(i) = o {
+            matching[*i] = Some(k);
+        }
+    }
+    matching
 }
 
 /// The loops (2 scalar equations each) and constraints (1 each) must give as
@@ -290,8 +560,8 @@ fn check_each_unknown_appears(def: &Definition, model: &crate::lower::Model, err
 
 /// `point_<lowercase name>`, the accessor of a point on the motion struct.
 pub fn accessor_name(name: &Ident) -> String {
-    let raw = name.to_string();
-    format!("point_{}", raw.trim_start_matches("r#").to_lowercase())
+    use syn::ext::IdentExt;
+    format!("point_{}", name.unraw().to_string().to_lowercase())
 }
 
 fn singular(section: &str) -> &'static str {
@@ -326,6 +596,18 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn matching_finds_augmenting_paths() {
+        // e0: {u0, u1}, e1: {u0}: e0 must give u0 up to e1.
+        assert_eq!(
+            maximum_matching(&[vec![0, 1], vec![0]], 2),
+            vec![Some(1), Some(0)]
+        );
+        // e0: {u0}, e1: {u0}, e2: {u1, u2}: only two can be matched.
+        let m = maximum_matching(&[vec![0], vec![0], vec![1, 2]], 3);
+        assert_eq!(m.iter().filter(|x| x.is_some()).count(), 2);
+    }
 
     #[test]
     fn distance() {

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
+use syn::ext::IdentExt;
 use syn::Ident;
 
 use crate::check::accessor_name;
@@ -176,13 +177,13 @@ impl Idents {
         let pre = |p: &str| {
             coord
                 .iter()
-                .map(|c| format_ident!("{}_{}", p, c))
+                .map(|c| format_ident!("{}_{}", p, c.unraw()))
                 .collect::<Vec<_>>()
         };
         Idents {
             name: def.name.clone(),
-            coords: format_ident!("{}Coords", def.name),
-            motion: format_ident!("{}Motion", def.name),
+            coords: format_ident!("{}Coords", def.name.unraw()),
+            motion: format_ident!("{}Motion", def.name.unraw()),
             params: def.params.iter().map(|d| d.name.clone()).collect(),
             q: pre("q"),
             qd: pre("qd"),
@@ -524,17 +525,21 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .collect();
     let all_q = q.iter();
     let finite_out = |vals: &[Ident]| {
-        let names: Vec<String> = c_unknowns.iter().map(ToString::to_string).collect();
+        let names: Vec<String> = c_unknowns.iter().map(|c| c.unraw().to_string()).collect();
         quote!(#( #pp::finite(#pp::Input::Computed, #names, #vals)?; )*)
     };
     let check_qd = finite_out(qd_unknowns);
     let check_qdd = finite_out(qdd_unknowns);
-    let driver_names: Vec<String> = c_drivers.iter().map(ToString::to_string).collect();
-    let unknown_names: Vec<String> = c_unknowns.iter().map(ToString::to_string).collect();
-    let param_names: Vec<String> = params.iter().map(ToString::to_string).collect();
-    let coord_names: Vec<String> = coord.iter().map(ToString::to_string).collect();
+    let driver_names: Vec<String> = c_drivers.iter().map(|c| c.unraw().to_string()).collect();
+    let unknown_names: Vec<String> = c_unknowns.iter().map(|c| c.unraw().to_string()).collect();
+    let param_names: Vec<String> = params.iter().map(|c| c.unraw().to_string()).collect();
+    let coord_names: Vec<String> = coord.iter().map(|c| c.unraw().to_string()).collect();
     let eq_names: Vec<&str> = model.equations.iter().map(|e| e.text.as_str()).collect();
-    let point_names: Vec<String> = def.points.iter().map(|p| p.name.to_string()).collect();
+    let point_names: Vec<String> = def
+        .points
+        .iter()
+        .map(|p| p.name.unraw().to_string())
+        .collect();
     let coordinate_info = model.kinds.iter().enumerate().map(|(j, k)| {
         let n = &coord_names[j];
         let role = if j < nd {

@@ -71,5 +71,29 @@ fn op_counts(input: TokenStream) -> Option<[(&'static str, cse::OpCount); 2]> {
     Some(emit::operation_counts(&model, &derived))
 }
 
+/// Expands the seeded mutants of the robustness test that the macro
+/// accepts (`fuzz_accepted!(seed, count)`), so that a test crate can prove
+/// they all compile. Only with the `fuzz` feature; not part of the API.
+#[cfg(feature = "fuzz")]
+#[doc(hidden)]
+#[proc_macro]
+pub fn __fuzz_accepted(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
+    let parsed = syn::parse::Parser::parse2(
+        syn::punctuated::Punctuated::<syn::LitInt, syn::Token![,]>::parse_terminated,
+        input.into(),
+    );
+    let args: Vec<u64> = parsed
+        .map(|p| p.iter().filter_map(|l| l.base10_parse().ok()).collect())
+        .unwrap_or_default();
+    match args.as_slice() {
+        [seed, count] => {
+            fuzz::accepted_expansions(*seed, usize::try_from(*count).unwrap_or(0)).into()
+        }
+        _ => quote::quote!(::core::compile_error!("expected `seed, count`");).into(),
+    }
+}
+
+#[cfg(any(test, feature = "fuzz"))]
+mod fuzz;
 #[cfg(test)]
 mod tests;

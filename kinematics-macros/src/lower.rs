@@ -279,7 +279,7 @@ impl Lowerer<'_> {
     }
 
     fn name(&mut self, ident: &syn::Ident) -> Option<Value> {
-        let key = ident.to_string();
+        let key = syn::ext::IdentExt::unraw(ident).to_string();
         if key == "pi" {
             return Some(Value::Scalar(self.g.constant(std::f64::consts::PI)));
         }

@@ -10,6 +10,7 @@
 //!         points      { B = polar(a, phi); … }
 //!         loops       { lhs == rhs; … }      // vector equations
 //!         constraints { lhs == rhs; … }      // scalar equations
+//!         joints      { R: 4 }               // optional: mobility check
 //!     }
 //! }
 //! ```
@@ -20,7 +21,6 @@
 
 use proc_macro2::Span;
 use syn::parse::{Parse, ParseStream};
-use syn::spanned::Spanned;
 use syn::{braced, Attribute, Expr, Ident, Token, Visibility};
 
 /// DSL keywords.
@@ -31,6 +31,7 @@ pub mod kw {
     syn::custom_keyword!(points);
     syn::custom_keyword!(loops);
     syn::custom_keyword!(constraints);
+    syn::custom_keyword!(joints);
 }
 
 /// A whole `mechanism!` invocation.
@@ -47,12 +48,25 @@ pub struct Definition {
     /// Span of the `unknowns` section (or of the name when it is missing),
     /// where counting errors point.
     pub unknowns_span: Span,
+    /// The optional `joints { … }` section.
+    pub joints: Option<Joints>,
+}
+
+/// `joints { links: 4, R: 3, P: 1, passive: 0 }`: the joint kinds and their
+/// numbers, for the Kutzbach–Gruebler mobility check.
+pub struct Joints {
+    /// The `joints` keyword.
+    pub span: Span,
+    /// `key: count` entries as written.
+    pub entries: Vec<(Ident, syn::LitInt)>,
 }
 
 /// A declared name with its doc comments.
 pub struct Decl {
     pub docs: Vec<Attribute>,
     pub name: Ident,
+    /// `#[allow(unused)]` was written on it.
+    pub allow_unused: bool,
 }
 
 /// `Name = expr;` in the `points` section.
@@ -98,6 +112,7 @@ impl Parse for Definition {
             points: Vec::new(),
             loops: Vec::new(),
             constraints: Vec::new(),
+            joints: None,
         };
         let mut seen: Vec<(String, Span)> = Vec::new();
         while !body.is_empty() {
@@ -121,6 +136,9 @@ impl Parse for Definition {
             } else if lookahead.peek(kw::constraints) {
                 body.parse::<kw::constraints>()?;
                 "constraints"
+            } else if lookahead.peek(kw::joints) {
+                body.parse::<kw::joints>()?;
+                "joints"
             } else {
                 return Err(lookahead.error());
             };
@@ -144,7 +162,30 @@ impl Parse for Definition {
                 }
                 "points" => def.points = parse_items(&content, parse_point)?,
                 "loops" => def.loops = parse_items(&content, parse_equation)?,
-                _ => def.constraints = parse_items(&content, parse_equation)?,
+                "constraints" => def.constraints = parse_items(&content, parse_equation)?,
+                _ => {
+                    let entries = content
+                        .parse_terminated(
+                            |input: ParseStream<'_>| {
+                                let key: Ident = input.call(syn::ext::IdentExt::parse_any)?;
+                                input.parse::<Token![:]>()?;
+                                let count: syn::LitInt = input.parse().map_err(|e| {
+                                    syn::Error::new(
+                                        e.span(),
+                                        "expected a whole number of joints, e.g. `R: 4`",
+                                    )
+                                })?;
+                                Ok((key, count))
+                            },
+                            Token![,],
+                        )?
+                        .into_iter()
+                        .collect();
+                    def.joints = Some(Joints {
+                        span: keyword_span,
+                        entries,
+                    });
+                }
             }
         }
         Ok(def)
@@ -158,8 +199,8 @@ fn doc_attributes(attrs: Vec<Attribute>) -> syn::Result<Vec<Attribute>> {
         if attr.path().is_ident("doc") {
             out.push(attr);
         } else {
-            return Err(syn::Error::new(
-                attr.span(),
+            return Err(syn::Error::new_spanned(
+                attr,
                 "only doc comments (`/// …`) may be attached here",
             ));
         }
@@ -167,15 +208,34 @@ fn doc_attributes(attrs: Vec<Attribute>) -> syn::Result<Vec<Attribute>> {
     Ok(out)
 }
 
+/// Whether `attr` is `#[allow(unused)]`.
+fn is_allow_unused(attr: &Attribute) -> bool {
+    attr.path().is_ident("allow") && attr.parse_args::<Ident>().is_ok_and(|i| i == "unused")
+}
+
 /// `a, b, c` with optional doc comments and an optional trailing comma.
 fn parse_decls(input: ParseStream<'_>) -> syn::Result<Vec<Decl>> {
     let mut out = Vec::new();
     while !input.is_empty() {
-        let docs = doc_attributes(input.call(Attribute::parse_outer)?)?;
+        let mut attrs = input.call(Attribute::parse_outer)?;
+        let before = attrs.len();
+        attrs.retain(|a| !is_allow_unused(a));
+        let allow_unused = attrs.len() != before;
+        if let Some(other) = attrs.iter().find(|a| !a.path().is_ident("doc")) {
+            return Err(syn::Error::new_spanned(
+                other,
+                "only doc comments (`/// …`) and `#[allow(unused)]` may be attached to a name",
+            ));
+        }
+        let docs = attrs;
         let name: Ident = input
             .parse()
             .map_err(|e| syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`"))?;
-        out.push(Decl { docs, name });
+        out.push(Decl {
+            docs,
+            name,
+            allow_unused,
+        });
         if input.is_empty() {
             break;
         }
@@ -274,7 +334,7 @@ mod tests {
     #[test]
     fn rejects_unknown_section_with_the_list_of_sections() {
         let r: syn::Result<Definition> = syn::parse2(quote::quote! {
-            struct M { joints { R } }
+            struct M { bodies { R } }
         });
         let msg = r.err().map(|e| e.to_string()).unwrap_or_default();
         assert!(msg.contains("params") && msg.contains("loops"), "{msg}");

@@ -1,0 +1,154 @@
+//! Seeded mutations of valid definitions, for robustness tests: the macro
+//! must answer every one with code or a spanned error, and the code it
+//! accepts must compile.
+
+use quote::quote;
+
+/// A small seeded generator for the mutation test.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        usize::try_from(self.next() % (n.max(1) as u64)).unwrap_or(0)
+    }
+}
+
+pub fn definitions() -> Vec<proc_macro2::TokenStream> {
+    vec![
+        quote! {
+            pub struct FourBar {
+                params   { a, b, c, d, p, beta }
+                drivers  { phi }
+                unknowns { th3, th4 }
+                points {
+                    B = polar(a, phi);
+                    C = vec2(d, 0.0) + polar(c, th4);
+                    P = B + polar(p, th3 + beta);
+                }
+                loops { B + polar(b, th3) == C; }
+            }
+        },
+        quote! {
+            pub struct RRtrRrt {
+                params { ab, ac, cd, de }
+                drivers  { phi }
+                unknowns { s, phi3, x_e, phi4 }
+                points {
+                    B = vec2(0.0, ac) + polar(ab, phi);
+                    D = -polar(cd, phi3);
+                    E = vec2(x_e, 0.0);
+                }
+                loops {
+                    B == polar(s, phi3);
+                    D + polar(de, phi4) == E;
+                }
+            }
+        },
+        quote! {
+            struct Scalar {
+                params { r, k }
+                drivers { t }
+                unknowns { y }
+                constraints { powi(y, 2) + atan2(t, r) * dot(vec2(1.0, 2.0), vec2(y, t)) == sqrt(k) / ln(2.0) + norm(vec2(t, -y)).x; }
+            }
+        },
+    ]
+}
+
+/// One random edit somewhere in the token tree: delete, duplicate or swap a
+/// token, or replace it with a token from a fixed vocabulary.
+fn mutate(ts: proc_macro2::TokenStream, rng: &mut Rng) -> proc_macro2::TokenStream {
+    use proc_macro2::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenTree};
+    let mut tokens: Vec<TokenTree> = ts.into_iter().collect();
+    if tokens.is_empty() {
+        return proc_macro2::TokenStream::new();
+    }
+    let i = rng.below(tokens.len());
+    if let TokenTree::Group(g) = &tokens[i] {
+        if rng.below(3) > 0 {
+            let inner = mutate(g.stream(), rng);
+            let mut ng = Group::new(g.delimiter(), inner);
+            ng.set_span(g.span());
+            tokens[i] = TokenTree::Group(ng);
+            return tokens.into_iter().collect();
+        }
+    }
+    let vocabulary = |rng: &mut Rng| -> TokenTree {
+        let words = [
+            "polar", "vec2", "sin", "a", "phi", "th3", "B", "pi", "x", "y", "powi", "norm",
+            "loops", "params", "struct", "unknowns", "cross", "dot", "atan2", "zz",
+        ];
+        match rng.below(6) {
+            0 => TokenTree::Literal(Literal::f64_unsuffixed(1.5)),
+            1 => TokenTree::Literal(Literal::i64_unsuffixed(2)),
+            2 => TokenTree::Punct(Punct::new(
+                ['+', '-', '*', '/', '=', ';', ',', '.'][rng.below(8)],
+                Spacing::Alone,
+            )),
+            3 => TokenTree::Group(Group::new(
+                Delimiter::Parenthesis,
+                proc_macro2::TokenStream::new(),
+            )),
+            _ => TokenTree::Ident(Ident::new(words[rng.below(words.len())], Span::call_site())),
+        }
+    };
+    match rng.below(4) {
+        0 => {
+            tokens.remove(i);
+        }
+        1 => {
+            let t = tokens[i].clone();
+            tokens.insert(i, t);
+        }
+        2 if i + 1 < tokens.len() => tokens.swap(i, i + 1),
+        _ => tokens[i] = vocabulary(rng),
+    }
+    tokens.into_iter().collect()
+}
+
+/// `count` mutants (one to three random edits each) of the base
+/// definitions, reproducible from `seed`.
+pub fn mutants(seed: u64, count: usize) -> Vec<proc_macro2::TokenStream> {
+    let mut rng = Rng(seed);
+    let bases = definitions();
+    (0..count)
+        .map(|case| {
+            let mut ts = bases[case % bases.len()].clone();
+            for _ in 0..=rng.below(3) {
+                ts = mutate(ts, &mut rng);
+            }
+            ts
+        })
+        .collect()
+}
+
+/// The expansions of the accepted mutants, each in a module of its own, and
+/// their number as `ACCEPTED_MUTANTS`.
+pub fn accepted_expansions(seed: u64, count: usize) -> proc_macro2::TokenStream {
+    let mut out = proc_macro2::TokenStream::new();
+    let mut accepted = 0usize;
+    for (k, ts) in mutants(seed, count).into_iter().enumerate() {
+        let code = crate::expand(ts);
+        if code.to_string().contains("compile_error") {
+            continue;
+        }
+        accepted += 1;
+        let name = quote::format_ident!("accepted_{}", k);
+        out.extend(quote! {
+            #[allow(dead_code, unused, clippy::all, clippy::pedantic)]
+            mod #name { #code }
+        });
+    }
+    out.extend(quote! {
+        /// Number of accepted mutants expanded above.
+        pub const ACCEPTED_MUTANTS: usize = #accepted;
+    });
+    out
+}

@@ -1,0 +1,9 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct M {
+        params { a }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,13 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct M {
+        params   { a }
+        drivers  { phi }
+        unknowns { x, y }
+        points { B = a * phi; }
+        loops { polar(a, phi) == vec2(x, y); }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,13 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct FourBar {
+        params   { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+        joints { R: 3, Q: 1 }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,11 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct M {
+        params { a }
+        drivers { phi }
+        params { b }
+    }
+}
+
+fn main() {}
