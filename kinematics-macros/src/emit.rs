@@ -344,6 +344,17 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
 /// methods, so the user sees the definition's errors and not knock-on errors
 /// at every use of the mechanism.
 pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
+    // Keep only the first declaration of each name, so that a duplicated
+    // name is reported once, by the macro, and not again as a duplicate field.
+    let mut def = def.clone();
+    let mut seen = std::collections::HashSet::new();
+    def.params.retain(|d| seen.insert(d.name.unraw().to_string()));
+    let mut seen = std::collections::HashSet::new();
+    def.drivers.retain(|d| seen.insert(d.name.unraw().to_string()));
+    def.unknowns.retain(|d| seen.insert(d.name.unraw().to_string()));
+    let mut seen = std::collections::HashSet::new();
+    def.points.retain(|p| seen.insert(accessor_name(&p.name)));
+    let def = &def;
     let id = Idents::new(def);
     let types = types(def, &id, None);
     let Idents {

@@ -35,6 +35,7 @@ pub mod kw {
 }
 
 /// A whole `mechanism!` invocation.
+#[derive(Clone)]
 pub struct Definition {
     pub docs: Vec<Attribute>,
     pub vis: Visibility,
@@ -54,6 +55,7 @@ pub struct Definition {
 
 /// `joints { links: 4, R: 3, P: 1, passive: 0 }`: the joint kinds and their
 /// numbers, for the Kutzbach–Gruebler mobility check.
+#[derive(Clone)]
 pub struct Joints {
     /// The `joints` keyword.
     pub span: Span,
@@ -62,6 +64,7 @@ pub struct Joints {
 }
 
 /// A declared name with its doc comments.
+#[derive(Clone)]
 pub struct Decl {
     pub docs: Vec<Attribute>,
     pub name: Ident,
@@ -70,6 +73,7 @@ pub struct Decl {
 }
 
 /// `Name = expr;` in the `points` section.
+#[derive(Clone)]
 pub struct PointDef {
     pub docs: Vec<Attribute>,
     pub name: Ident,
@@ -77,6 +81,7 @@ pub struct PointDef {
 }
 
 /// `lhs == rhs;` in the `loops` or `constraints` section.
+#[derive(Clone)]
 pub struct Equation {
     pub lhs: Expr,
     pub rhs: Expr,
