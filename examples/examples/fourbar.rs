@@ -5,17 +5,10 @@
 //! φ' = 10 rad/s. For each crank angle the table gives the coupler and rocker
 //! angles θ3, θ4, their angular velocities ω and accelerations α, and the
 //! velocity and acceleration of the coupler point P.
-use kinematics_examples::{FourBar, FourBarCoords};
+use kinematics_examples::FourBar;
 
 fn main() -> Result<(), kinematics_core::Error> {
-    let m = FourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        p: 0.06,
-        beta: 30f64.to_radians(),
-    };
+    let m = FourBar::CRANK_ROCKER;
     let omega = 10.0;
     println!(
         "Crank-rocker four-bar: a = {} m, b = {} m, c = {} m, d = {} m, p = {} m, beta = 30 deg",
@@ -30,12 +23,7 @@ fn main() -> Result<(), kinematics_core::Error> {
         "{:>6} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8}",
         "deg", "deg", "deg", "rad/s", "rad/s", "rad/s2", "rad/s2", "m/s", "m/s", "m/s2", "m/s2"
     );
-    // Rough starting guess (open assembly, rocker pointing up).
-    let mut pose = m.assemble(&FourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS)?;
     for k in 0..=12 {
         pose.phi = f64::from(k) * 30f64.to_radians();
         // Continue from the previous pose: the branch is kept.

@@ -2,24 +2,11 @@
 //!
 //! Prints the computed velocities and accelerations beside the printed
 //! answers of the textbook.
-use kinematics_examples::{RRtrRrt, RRtrRrtCoords};
+use kinematics_examples::RRtrRrt;
 
 fn main() -> Result<(), kinematics_core::Error> {
-    let m = RRtrRrt {
-        ab: 0.100,
-        ac: 0.150,
-        cd: 0.075,
-        de: 0.200,
-    };
-    // Rough guess, angles to the nearest 10 degrees.
-    let guess = RRtrRrtCoords {
-        phi: 45f64.to_radians(),
-        s: 0.2,
-        phi3: 70f64.to_radians(),
-        x_e: 0.2,
-        phi4: 20f64.to_radians(),
-    };
-    let pose = m.assemble(&guess)?;
+    let m = RRtrRrt::EXAMPLE_4_2;
+    let pose = m.assemble(&RRtrRrt::example_4_2_guess())?;
     let s = m.analyze(&pose, 4.712, 0.0)?;
     let (d, e) = (s.point_d(), s.point_e());
     println!("Example 4.2, R-RTR-RRT mechanism: AB = 0.100, AC = 0.150, CD = 0.075, DE = 0.200 m");

@@ -2,20 +2,11 @@
 //!
 //! Prints the computed velocities and accelerations beside the printed
 //! answers of the textbook.
-use kinematics_examples::{rpm_to_rad_per_s, RTrr, RTrrCoords};
+use kinematics_examples::{rpm_to_rad_per_s, RTrr};
 
 fn main() -> Result<(), kinematics_core::Error> {
-    let m = RTrr {
-        ac: 0.100,
-        bc: 0.300,
-    };
-    // Rough guess: B about 0.35 m out along the crank, link 3 at about 60°.
-    let guess = RTrrCoords {
-        phi: 45f64.to_radians(),
-        s: 0.35,
-        phi3: 60f64.to_radians(),
-    };
-    let pose = m.assemble(&guess)?;
+    let m = RTrr::EXAMPLE_4_1;
+    let pose = m.assemble(&RTrr::example_4_1_guess())?;
     let omega = rpm_to_rad_per_s(30.0);
     let s = m.analyze(&pose, omega, 0.0)?;
     let b = s.point_b();

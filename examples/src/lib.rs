@@ -119,6 +119,70 @@ mechanism! {
     }
 }
 
+impl FourBar {
+    /// The crank-rocker used by the examples and benchmarks: a = 0.04 m,
+    /// b = 0.12 m, c = 0.10 m, d = 0.11 m, coupler point at p = 0.06 m,
+    /// β = 30° from BC.
+    pub const CRANK_ROCKER: FourBar = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: std::f64::consts::FRAC_PI_6,
+    };
+
+    /// A rough starting guess for [`FourBar::CRANK_ROCKER`] at φ = 0 (open
+    /// assembly, rocker pointing up).
+    pub const CRANK_ROCKER_GUESS: FourBarCoords = FourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    };
+}
+
+impl RTrr {
+    /// The dimensions of the chapter's Example 4.1: AC = 0.100 m, BC = 0.300 m.
+    pub const EXAMPLE_4_1: RTrr = RTrr {
+        ac: 0.100,
+        bc: 0.300,
+    };
+
+    /// A rough guess at φ = 45°: B about 0.35 m out along the crank, link 3
+    /// at about 60°.
+    #[must_use]
+    pub fn example_4_1_guess() -> RTrrCoords {
+        RTrrCoords {
+            phi: 45f64.to_radians(),
+            s: 0.35,
+            phi3: 60f64.to_radians(),
+        }
+    }
+}
+
+impl RRtrRrt {
+    /// The dimensions of the chapter's Example 4.2: AB = 0.100 m,
+    /// AC = 0.150 m, CD = 0.075 m, DE = 0.200 m.
+    pub const EXAMPLE_4_2: RRtrRrt = RRtrRrt {
+        ab: 0.100,
+        ac: 0.150,
+        cd: 0.075,
+        de: 0.200,
+    };
+
+    /// A rough guess at φ = 45°, angles to the nearest 10°.
+    #[must_use]
+    pub fn example_4_2_guess() -> RRtrRrtCoords {
+        RRtrRrtCoords {
+            phi: 45f64.to_radians(),
+            s: 0.2,
+            phi3: 70f64.to_radians(),
+            x_e: 0.2,
+            phi4: 20f64.to_radians(),
+        }
+    }
+}
+
 /// Angular speed in rad/s of a shaft turning at `rpm` revolutions per minute:
 /// ω = π n / 30.
 #[must_use]

@@ -348,10 +348,13 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
     // name is reported once, by the macro, and not again as a duplicate field.
     let mut def = def.clone();
     let mut seen = std::collections::HashSet::new();
-    def.params.retain(|d| seen.insert(d.name.unraw().to_string()));
+    def.params
+        .retain(|d| seen.insert(d.name.unraw().to_string()));
     let mut seen = std::collections::HashSet::new();
-    def.drivers.retain(|d| seen.insert(d.name.unraw().to_string()));
-    def.unknowns.retain(|d| seen.insert(d.name.unraw().to_string()));
+    def.drivers
+        .retain(|d| seen.insert(d.name.unraw().to_string()));
+    def.unknowns
+        .retain(|d| seen.insert(d.name.unraw().to_string()));
     let mut seen = std::collections::HashSet::new();
     def.points.retain(|p| seen.insert(accessor_name(&p.name)));
     let def = &def;
@@ -428,6 +431,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let nu = model.unknowns as usize;
     let ne = model.equations.len();
     let np = model.points.len();
+    // Lints the straight-line code may trip by construction: long literals
+    // of exact constants, many similar temporaries, long bodies, and
+    // coordinates a given function does not need.
+    let allow = quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]);
     let (qd_drivers, qd_unknowns) = qd.split_at(nd);
     let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
     let (q_drivers, q_unknowns) = q.split_at(nd);
@@ -450,7 +457,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let phi_jac_fn = quote! {
         #[doc(hidden)]
         #[inline]
-        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        #allow
         fn __phi_jac(&self, d: &[f64; #nd], u: &[f64; #nu], phi: &mut [f64; #ne], jac: &mut [[f64; #nu]; #ne]) {
             let [#(#q_drivers),*] = *d;
             let [#(#q_unknowns),*] = *u;
@@ -467,7 +474,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let phi_fn = quote! {
         #[doc(hidden)]
         #[inline]
-        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        #allow
         fn __phi(&self, d: &[f64; #nd], u: &[f64; #nu]) -> [f64; #ne] {
             let [#(#q_drivers),*] = *d;
             let [#(#q_unknowns),*] = *u;
@@ -492,7 +499,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         /// Positions of the points (in declaration order) at `pose`, which
         /// should be assembled: r_P(q).
         #[must_use]
-        #[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]
+        #allow
         pub fn point_positions(&self, pose: &#coords) -> [#pp::Vector2<f64>; #np] {
             #( let #q = pose.#coord; )*
             #(#lets)*
@@ -569,7 +576,6 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         let (nt, ns, at, as_) = (n.tree, n.shared, a.tree, a.shared);
         quote!([(#n0, #nt, #ns), (#a0, #at, #as_)])
     };
-    let allow = quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision)]);
 
     quote! {
         #types

@@ -20,21 +20,28 @@ impl Rng {
     }
 }
 
+/// The crank-rocker four-bar with a coupler point, as a user writes it.
+pub fn four_bar() -> proc_macro2::TokenStream {
+    quote! {
+        /// Crank-rocker four-bar with a coupler point.
+        pub struct FourBar {
+            params   { a, b, c, d, p, beta }
+            drivers  { phi }
+            unknowns { th3, th4 }
+            points {
+                B = polar(a, phi);
+                C = vec2(d, 0.0) + polar(c, th4);
+                P = B + polar(p, th3 + beta);
+            }
+            loops { B + polar(b, th3) == C; }
+        }
+    }
+}
+
+/// Valid definitions the mutations start from.
 pub fn definitions() -> Vec<proc_macro2::TokenStream> {
     vec![
-        quote! {
-            pub struct FourBar {
-                params   { a, b, c, d, p, beta }
-                drivers  { phi }
-                unknowns { th3, th4 }
-                points {
-                    B = polar(a, phi);
-                    C = vec2(d, 0.0) + polar(c, th4);
-                    P = B + polar(p, th3 + beta);
-                }
-                loops { B + polar(b, th3) == C; }
-            }
-        },
+        four_bar(),
         quote! {
             pub struct RRtrRrt {
                 params { ab, ac, cd, de }

@@ -2,22 +2,7 @@
 
 use quote::quote;
 
-fn four_bar() -> proc_macro2::TokenStream {
-    quote! {
-        /// Crank-rocker four-bar with a coupler point.
-        pub struct FourBar {
-            params   { a, b, c, d, p, beta }
-            drivers  { phi }
-            unknowns { th3, th4 }
-            points {
-                B = polar(a, phi);
-                C = vec2(d, 0.0) + polar(c, th4);
-                P = B + polar(p, th3 + beta);
-            }
-            loops { B + polar(b, th3) == C; }
-        }
-    }
-}
+use crate::fuzz::four_bar;
 
 #[test]
 fn four_bar_expansion_snapshot() {

@@ -100,6 +100,33 @@ fn assemble_back<M: Mechanism>(m: &M, exact: &M::Coords, rng: &mut Rng) -> M::Co
     pose
 }
 
+/// Checks one sample: Jacobian, velocities and accelerations against finite
+/// differences at the pose assembled near `exact`. Returns `false`, checking
+/// nothing, when the sample is too close to a singular configuration and
+/// must be redrawn.
+fn verify<M: Mechanism>(
+    m: &M,
+    exact: &M::Coords,
+    rates: &[f64],
+    accels: &[f64],
+    rng: &mut Rng,
+) -> bool {
+    if !regular(m, exact) {
+        return false;
+    }
+    let pose = assemble_back(m, exact, rng);
+    check_jacobian(m, &pose, 1e-6);
+    check_motion(m, &pose, rates, accels, 1e-6);
+    true
+}
+
+/// Driver rates in ±20 rad/s and accelerations in ±50 rad/s².
+fn driver_motion<const N: usize>(rng: &mut Rng) -> ([f64; N], [f64; N]) {
+    let rates = std::array::from_fn(|_| rng.range(-20.0, 20.0));
+    let accels = std::array::from_fn(|_| rng.range(-50.0, 50.0));
+    (rates, accels)
+}
+
 #[test]
 fn four_bar() {
     let mut rng = Rng::new(0x4BA2);
@@ -126,14 +153,10 @@ fn four_bar() {
             beta: rng.angle(),
         };
         let exact = FourBarCoords { phi, th3, th4 };
-        if !regular(&m, &exact) {
-            continue;
+        let (rates, accels) = driver_motion::<1>(&mut rng);
+        if verify(&m, &exact, &rates, &accels, &mut rng) {
+            done += 1;
         }
-        let pose = assemble_back(&m, &exact, &mut rng);
-        check_jacobian(&m, &pose, 1e-6);
-        let (w, al) = (rng.range(-20.0, 20.0), rng.range(-50.0, 50.0));
-        check_motion(&m, &pose, &[w], &[al], 1e-6);
-        done += 1;
     }
 }
 
@@ -152,19 +175,10 @@ fn slider_crank() {
         let x = a * phi.cos() + b * th.cos();
         let m = SliderCrank { a, b, e };
         let exact = SliderCrankCoords { phi, th, x };
-        if !regular(&m, &exact) {
-            continue;
+        let (rates, accels) = driver_motion::<1>(&mut rng);
+        if verify(&m, &exact, &rates, &accels, &mut rng) {
+            done += 1;
         }
-        let pose = assemble_back(&m, &exact, &mut rng);
-        check_jacobian(&m, &pose, 1e-6);
-        check_motion(
-            &m,
-            &pose,
-            &[rng.range(-20.0, 20.0)],
-            &[rng.range(-50.0, 50.0)],
-            1e-6,
-        );
-        done += 1;
     }
 }
 
@@ -213,19 +227,10 @@ fn watt_six_bar_two_loops() {
             th5,
             th6,
         };
-        if !regular(&m, &exact) {
-            continue;
+        let (rates, accels) = driver_motion::<1>(&mut rng);
+        if verify(&m, &exact, &rates, &accels, &mut rng) {
+            done += 1;
         }
-        let pose = assemble_back(&m, &exact, &mut rng);
-        check_jacobian(&m, &pose, 1e-6);
-        check_motion(
-            &m,
-            &pose,
-            &[rng.range(-20.0, 20.0)],
-            &[rng.range(-50.0, 50.0)],
-            1e-6,
-        );
-        done += 1;
     }
 }
 
@@ -255,15 +260,10 @@ fn five_bar_two_drivers() {
             th2,
             th3,
         };
-        if !regular(&m, &exact) {
-            continue;
+        let (rates, accels) = driver_motion::<2>(&mut rng);
+        if verify(&m, &exact, &rates, &accels, &mut rng) {
+            done += 1;
         }
-        let pose = assemble_back(&m, &exact, &mut rng);
-        check_jacobian(&m, &pose, 1e-6);
-        let rates = [rng.range(-20.0, 20.0), rng.range(-20.0, 20.0)];
-        let accels = [rng.range(-50.0, 50.0), rng.range(-50.0, 50.0)];
-        check_motion(&m, &pose, &rates, &accels, 1e-6);
-        done += 1;
     }
 }
 
@@ -272,21 +272,8 @@ fn closed_form_four_bar_agrees_with_newton() {
     // Freudenstein's closed form for θ4 (tangent half-angle substitution)
     // gives both assembly branches; the Newton solution, continued from step
     // to step over a full turn, must equal one of them at every step.
-    let m = FourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        p: 0.06,
-        beta: 30f64.to_radians(),
-    };
-    let mut pose = m
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 1.0,
-            th4: 1.6,
-        })
-        .expect("assembles");
+    let m = FourBar::CRANK_ROCKER;
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
     for k in 0..36 {
         let phi = f64::from(k) * 10f64.to_radians();
         pose.phi = phi;

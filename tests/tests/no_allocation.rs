@@ -12,7 +12,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use kinematics_examples::{FourBar, FourBarCoords, RRtrRrt, RRtrRrtCoords};
+use kinematics_examples::{FourBar, RRtrRrt};
 
 struct Counting;
 
@@ -42,35 +42,11 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn assemble_and_analyze_allocate_nothing() {
-    let m = FourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        p: 0.06,
-        beta: std::f64::consts::FRAC_PI_6,
-    };
-    let mut pose = m
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 1.0,
-            th4: 1.6,
-        })
-        .expect("assembles");
-    let six = RRtrRrt {
-        ab: 0.100,
-        ac: 0.150,
-        cd: 0.075,
-        de: 0.200,
-    };
+    let m = FourBar::CRANK_ROCKER;
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let six = RRtrRrt::EXAMPLE_4_2;
     let mut pose6 = six
-        .assemble(&RRtrRrtCoords {
-            phi: std::f64::consts::FRAC_PI_4,
-            s: 0.2,
-            phi3: 1.22,
-            x_e: 0.2,
-            phi4: 0.35,
-        })
+        .assemble(&RRtrRrt::example_4_2_guess())
         .expect("assembles");
     let mut checksum = 0.0;
     let before = ALLOCATIONS.load(Ordering::SeqCst);

@@ -11,7 +11,7 @@
 #![allow(clippy::expect_used, clippy::panic)]
 
 use kinematics_core::Mechanism;
-use kinematics_examples::{RRtrRrt, RRtrRrtCoords, RTrr, RTrrCoords};
+use kinematics_examples::{RRtrRrt, RTrr};
 use kinematics_tests::{check_motion, pose_at};
 
 /// |computed − printed| within one unit of the printed value's last decimal.
@@ -42,17 +42,9 @@ fn fd_point<M: Mechanism>(m: &M, pose: &M::Coords, omega: f64, k: usize) -> ([f6
 
 #[test]
 fn example_4_1_r_trr() {
-    let m = RTrr {
-        ac: 0.100,
-        bc: 0.300,
-    };
+    let m = RTrr::EXAMPLE_4_1;
     // Rough guess: angles to the nearest 10°, B about 0.35 m along the crank.
-    let guess = RTrrCoords {
-        phi: 45f64.to_radians(),
-        s: 0.35,
-        phi3: 60f64.to_radians(),
-    };
-    let pose = m.assemble(&guess).expect("assembles");
+    let pose = m.assemble(&RTrr::example_4_1_guess()).expect("assembles");
     // The book turns 30 rev/min into ω = 3.141 rad/s and uses that value in
     // every numerical step (Eq. 4.79, 4.81); so does this test.
     #[allow(clippy::approx_constant)] // deliberately the book's rounded value
@@ -100,21 +92,11 @@ fn example_4_1_r_trr() {
 
 #[test]
 fn example_4_2_r_rtr_rrt() {
-    let m = RRtrRrt {
-        ab: 0.100,
-        ac: 0.150,
-        cd: 0.075,
-        de: 0.200,
-    };
+    let m = RRtrRrt::EXAMPLE_4_2;
     // Rough guess, angles to the nearest 10°.
-    let guess = RRtrRrtCoords {
-        phi: 45f64.to_radians(),
-        s: 0.2,
-        phi3: 70f64.to_radians(),
-        x_e: 0.2,
-        phi4: 20f64.to_radians(),
-    };
-    let pose = m.assemble(&guess).expect("assembles");
+    let pose = m
+        .assemble(&RRtrRrt::example_4_2_guess())
+        .expect("assembles");
     let omega = 4.712;
     let s = m.analyze(&pose, omega, 0.0).expect("analysis");
     let (d, e) = (s.point_d(), s.point_e());
