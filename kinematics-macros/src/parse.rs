@@ -202,6 +202,7 @@ fn doc_attributes(attrs: Vec<Attribute>) -> syn::Result<Vec<Attribute>> {
     let mut out = Vec::new();
     for attr in attrs {
         if attr.path().is_ident("doc") {
+            check_doc(&attr)?;
             out.push(attr);
         } else {
             return Err(syn::Error::new_spanned(
@@ -211,6 +212,24 @@ fn doc_attributes(attrs: Vec<Attribute>) -> syn::Result<Vec<Attribute>> {
         }
     }
     Ok(out)
+}
+
+/// A doc attribute must be `#[doc = "text"]` (what `///` produces).
+fn check_doc(attr: &Attribute) -> syn::Result<()> {
+    match &attr.meta {
+        syn::Meta::NameValue(syn::MetaNameValue {
+            value:
+                Expr::Lit(syn::ExprLit {
+                    lit: syn::Lit::Str(_),
+                    ..
+                }),
+            ..
+        }) => Ok(()),
+        _ => Err(syn::Error::new_spanned(
+            attr,
+            "a doc attribute must be a string, `#[doc = \"…\"]`; write doc comments as `/// …`",
+        )),
+    }
 }
 
 /// Whether `attr` is `#[allow(unused)]`.
@@ -232,7 +251,7 @@ fn parse_decls(input: ParseStream<'_>) -> syn::Result<Vec<Decl>> {
                 "only doc comments (`/// …`) and `#[allow(unused)]` may be attached to a name",
             ));
         }
-        let docs = attrs;
+        let docs = doc_attributes(attrs)?;
         let name: Ident = input
             .parse()
             .map_err(|e| syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`"))?;
