@@ -72,6 +72,15 @@ pub enum Error {
         /// The value found.
         value: f64,
     },
+    /// A geometric input of a transformation or rigid-body helper is
+    /// degenerate or inconsistent (a zero axis, a matrix that is not a
+    /// rotation, parallel vectors).
+    InvalidGeometry {
+        /// The function or quantity concerned.
+        what: &'static str,
+        /// What is wrong and what is expected.
+        detail: String,
+    },
     /// A solver option is out of its valid range.
     InvalidOption {
         /// The option's field name in [`Options`](crate::Options).
@@ -141,6 +150,7 @@ impl fmt::Display for Error {
                     write!(f, "{input} `{name}` is {value}; it must be a finite number")
                 }
             }
+            Error::InvalidGeometry { what, detail } => write!(f, "{what}: {detail}"),
             Error::InvalidOption {
                 name,
                 value,

@@ -39,8 +39,11 @@
 
 mod error;
 mod mechanism;
+pub mod mobility;
 mod options;
+pub mod rigid;
 pub mod solve;
+pub mod transform;
 
 pub use error::{Error, Input};
 pub use kinematics_macros::mechanism;
