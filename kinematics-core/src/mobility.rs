@@ -32,6 +32,11 @@ pub enum JointKind {
 
 impl JointKind {
     /// Relative freedoms fᵢ of the pair.
+    ///
+    /// ```
+    /// use kinematics_core::mobility::JointKind;
+    /// assert_eq!((JointKind::R.freedoms(), JointKind::C.freedoms(), JointKind::S.freedoms()), (1, 2, 3));
+    /// ```
     #[must_use]
     pub fn freedoms(self) -> u32 {
         match self {
@@ -54,6 +59,11 @@ pub enum Space {
 
 impl Space {
     /// λ, the freedoms of an unconstrained body in this space.
+    ///
+    /// ```
+    /// use kinematics_core::mobility::Space;
+    /// assert_eq!((Space::Planar.lambda(), Space::Spatial.lambda()), (3, 6));
+    /// ```
     #[must_use]
     pub fn lambda(self) -> i64 {
         match self {
@@ -86,6 +96,13 @@ impl Mobility {
     /// Flags `count` passive freedoms (for example the spin of a link
     /// between two spherical joints about its own axis): they are counted in
     /// F but do not affect the input–output motion.
+    ///
+    /// ```
+    /// use kinematics_core::mobility::{mobility, JointKind::*, Space};
+    /// // RSSR: F = 6(4 − 4 − 1) + 8 = 2, one of them the coupler's spin.
+    /// let m = mobility(Space::Spatial, 4, &[R, S, S, R]).with_passive("coupler spin", 1);
+    /// assert_eq!((m.freedom, m.effective()), (2, 1));
+    /// ```
     #[must_use]
     pub fn with_passive(mut self, description: impl Into<String>, count: i64) -> Self {
         self.passive.push((description.into(), count));
@@ -93,6 +110,11 @@ impl Mobility {
     }
 
     /// The freedoms that the drivers must supply: F minus the passive ones.
+    ///
+    /// ```
+    /// use kinematics_core::mobility::{mobility, JointKind::*, Space};
+    /// assert_eq!(mobility(Space::Planar, 4, &[R, R, R, R]).effective(), 1);
+    /// ```
     #[must_use]
     pub fn effective(&self) -> i64 {
         self.freedom - self.passive.iter().map(|(_, c)| c).sum::<i64>()

@@ -24,6 +24,11 @@ pub enum Axis {
 
 impl Axis {
     /// The unit vector of the axis.
+    ///
+    /// ```
+    /// use kinematics_core::transform::Axis;
+    /// assert_eq!(Axis::Y.unit(), kinematics_core::nalgebra::Vector3::y());
+    /// ```
     #[must_use]
     pub fn unit(self) -> Vector3<f64> {
         match self {
@@ -189,6 +194,11 @@ pub fn rot_z(theta: f64) -> Matrix3<f64> {
 }
 
 /// Rotation about a coordinate axis.
+///
+/// ```
+/// use kinematics_core::transform::{rot_about, rot_y, Axis};
+/// assert_eq!(rot_about(Axis::Y, 0.2), rot_y(0.2));
+/// ```
 #[must_use]
 pub fn rot_about(axis: Axis, theta: f64) -> Matrix3<f64> {
     match axis {
@@ -363,24 +373,46 @@ impl Default for CompositeRotation {
 
 impl CompositeRotation {
     /// R = I: the mobile frame coincides with the fixed one.
+    ///
+    /// ```
+    /// use kinematics_core::transform::CompositeRotation;
+    /// assert_eq!(CompositeRotation::new().matrix(), kinematics_core::nalgebra::Matrix3::identity());
+    /// ```
     #[must_use]
     pub fn new() -> Self {
         Self(Matrix3::identity())
     }
 
     /// Rotates by φ about axis k of the fixed frame: R ← R_k(φ) R.
+    ///
+    /// ```
+    /// use kinematics_core::transform::{rot_x, rot_z, Axis, CompositeRotation};
+    /// let r = CompositeRotation::new().about_fixed(Axis::Z, 0.1).about_fixed(Axis::X, 0.2);
+    /// assert!((r.matrix() - rot_x(0.2) * rot_z(0.1)).norm() < 1e-15);
+    /// ```
     #[must_use]
     pub fn about_fixed(self, axis: Axis, phi: f64) -> Self {
         Self(rot_about(axis, phi) * self.0)
     }
 
     /// Rotates by φ about axis k of the mobile frame: R ← R R_k(φ).
+    ///
+    /// ```
+    /// use kinematics_core::transform::{rot_x, rot_z, Axis, CompositeRotation};
+    /// let r = CompositeRotation::new().about_mobile(Axis::Z, 0.1).about_mobile(Axis::X, 0.2);
+    /// assert!((r.matrix() - rot_z(0.1) * rot_x(0.2)).norm() < 1e-15);
+    /// ```
     #[must_use]
     pub fn about_mobile(self, axis: Axis, phi: f64) -> Self {
         Self(self.0 * rot_about(axis, phi))
     }
 
     /// The composite rotation matrix.
+    ///
+    /// ```
+    /// use kinematics_core::transform::{rot_y, Axis, CompositeRotation};
+    /// assert_eq!(CompositeRotation::new().about_fixed(Axis::Y, 1.0).matrix(), rot_y(1.0));
+    /// ```
     #[must_use]
     pub fn matrix(&self) -> Matrix3<f64> {
         self.0
@@ -420,6 +452,13 @@ pub fn translation(d: &Vector3<f64>) -> Matrix4<f64> {
 }
 
 /// Applies a 4×4 homogeneous matrix to a point: (p', 1)ᵀ = T (p, 1)ᵀ.
+///
+/// ```
+/// use kinematics_core::transform::{t3, transform_point};
+/// use kinematics_core::nalgebra::Vector3;
+/// let p = transform_point(&t3(1.0, 0.0, 0.0, std::f64::consts::PI), &Vector3::x());
+/// assert!(p.norm() < 1e-15);
+/// ```
 #[must_use]
 pub fn transform_point(t: &Matrix4<f64>, p: &Vector3<f64>) -> Vector3<f64> {
     let h = t * p.push(1.0);
@@ -507,6 +546,15 @@ impl Screw {
     ///
     /// # Errors
     /// [`Error::InvalidGeometry`] when the axis is parallel to the plane.
+    ///
+    /// ```
+    /// use kinematics_core::transform::{screw_about, screw_parameters, Plane};
+    /// use kinematics_core::nalgebra::Vector3;
+    /// let t = screw_about(&Vector3::new(1.0, 1.0, 0.0), &Vector3::new(0.0, 0.0, 2.0), 1.0, 0.0)?;
+    /// let p = screw_parameters(&t)?.intersection(Plane::YZ)?;
+    /// assert!((p - Vector3::new(0.0, 0.0, 2.0)).norm() < 1e-12);
+    /// # Ok::<(), kinematics_core::Error>(())
+    /// ```
     pub fn intersection(&self, plane: Plane) -> Result<Vector3<f64>, Error> {
         let k = match plane {
             Plane::YZ => 0,
@@ -599,6 +647,12 @@ pub fn t1(a: f64, b: f64, c: f64, theta_x: f64) -> Matrix4<f64> {
 
 /// Elementary matrix case 2: translation (a, b, c), then rotation θ about
 /// the translated y axis.
+///
+/// ```
+/// use kinematics_core::transform::{t2, homogeneous, rot_y};
+/// use kinematics_core::nalgebra::Vector3;
+/// assert_eq!(t2(1.0, 2.0, 3.0, 0.5), homogeneous(&rot_y(0.5), &Vector3::new(1.0, 2.0, 3.0)));
+/// ```
 #[must_use]
 pub fn t2(a: f64, b: f64, c: f64, theta_y: f64) -> Matrix4<f64> {
     homogeneous(&rot_y(theta_y), &Vector3::new(a, b, c))
@@ -606,6 +660,12 @@ pub fn t2(a: f64, b: f64, c: f64, theta_y: f64) -> Matrix4<f64> {
 
 /// Elementary matrix case 3: translation (a, b, c), then rotation θ about
 /// the translated z axis.
+///
+/// ```
+/// use kinematics_core::transform::{t3, homogeneous, rot_z};
+/// use kinematics_core::nalgebra::Vector3;
+/// assert_eq!(t3(1.0, 2.0, 3.0, 0.5), homogeneous(&rot_z(0.5), &Vector3::new(1.0, 2.0, 3.0)));
+/// ```
 #[must_use]
 pub fn t3(a: f64, b: f64, c: f64, theta_z: f64) -> Matrix4<f64> {
     homogeneous(&rot_z(theta_z), &Vector3::new(a, b, c))
@@ -613,6 +673,14 @@ pub fn t3(a: f64, b: f64, c: f64, theta_z: f64) -> Matrix4<f64> {
 
 /// Elementary matrix case 4: translation (a, b, c), then a screw motion
 /// about x with lead k: rotation θ and advance kθ/2π along x.
+///
+/// ```
+/// use kinematics_core::transform::{t4, transform_point};
+/// use kinematics_core::nalgebra::Vector3;
+/// // Half a turn of lead 2 advances by 1 along x.
+/// let p = transform_point(&t4(0.0, 0.0, 0.0, std::f64::consts::PI, 2.0), &Vector3::y());
+/// assert!((p - Vector3::new(1.0, -1.0, 0.0)).norm() < 1e-15);
+/// ```
 #[must_use]
 pub fn t4(a: f64, b: f64, c: f64, theta_x: f64, lead: f64) -> Matrix4<f64> {
     t1(a + lead * theta_x / std::f64::consts::TAU, b, c, theta_x)
@@ -620,6 +688,14 @@ pub fn t4(a: f64, b: f64, c: f64, theta_x: f64, lead: f64) -> Matrix4<f64> {
 
 /// Elementary matrix case 5: translation (a, b, c), then a screw motion
 /// about y with lead k: rotation θ and advance kθ/2π along y.
+///
+/// ```
+/// use kinematics_core::transform::{t5, transform_point};
+/// use kinematics_core::nalgebra::Vector3;
+/// // A quarter turn of lead 4 advances by 1 along y.
+/// let p = transform_point(&t5(0.0, 0.0, 0.0, std::f64::consts::FRAC_PI_2, 4.0), &Vector3::z());
+/// assert!((p - Vector3::new(1.0, 1.0, 0.0)).norm() < 1e-15);
+/// ```
 #[must_use]
 pub fn t5(a: f64, b: f64, c: f64, theta_y: f64, lead: f64) -> Matrix4<f64> {
     t2(a, b + lead * theta_y / std::f64::consts::TAU, c, theta_y)
@@ -641,6 +717,12 @@ pub fn t6(a: f64, b: f64, c: f64, theta_z: f64, lead: f64) -> Matrix4<f64> {
 }
 
 /// Elementary matrix case 7: translation (a, b, c) only.
+///
+/// ```
+/// use kinematics_core::transform::{t7, translation};
+/// use kinematics_core::nalgebra::Vector3;
+/// assert_eq!(t7(1.0, 2.0, 3.0), translation(&Vector3::new(1.0, 2.0, 3.0)));
+/// ```
 #[must_use]
 pub fn t7(a: f64, b: f64, c: f64) -> Matrix4<f64> {
     translation(&Vector3::new(a, b, c))
@@ -663,6 +745,12 @@ pub fn revolute(axis: Axis, offset: &Vector3<f64>, theta: f64) -> Matrix4<f64> {
 
 /// Prismatic joint: the link offset, then a slide s along the joint axis
 /// (elementary case 7 with the slide added).
+///
+/// ```
+/// use kinematics_core::transform::{prismatic, t7, Axis};
+/// use kinematics_core::nalgebra::Vector3;
+/// assert_eq!(prismatic(Axis::X, &Vector3::new(0.0, 1.0, 0.0), 0.5), t7(0.5, 1.0, 0.0));
+/// ```
 #[must_use]
 pub fn prismatic(axis: Axis, offset: &Vector3<f64>, s: f64) -> Matrix4<f64> {
     translation(&(offset + axis.unit() * s))
@@ -687,6 +775,13 @@ pub fn cylindrical(axis: Axis, offset: &Vector3<f64>, s: f64, theta: f64) -> Mat
 /// Screw joint: the link offset, then rotation θ about the joint axis with
 /// the advance kθ/2π along it, k being the lead (positive for a right-hand
 /// screw): elementary case 4, 5 or 6.
+///
+/// ```
+/// use kinematics_core::transform::{screw_joint, t6, Axis};
+/// use kinematics_core::nalgebra::Vector3;
+/// let m = screw_joint(Axis::Z, &Vector3::new(2.0, -3.0, 2.0), 1.0, 0.125);
+/// assert!((m - t6(2.0, -3.0, 2.0, 1.0, 0.125)).norm() < 1e-15);
+/// ```
 #[must_use]
 pub fn screw_joint(axis: Axis, offset: &Vector3<f64>, theta: f64, lead: f64) -> Matrix4<f64> {
     cylindrical(axis, offset, lead * theta / std::f64::consts::TAU, theta)

@@ -443,12 +443,12 @@ fn screw_parameters_round_trip() {
         assert!((s.axis.into_inner() - u).norm() < 1e-12);
         assert!((s.translation - delta).abs() < 1e-12);
         assert!(
-            (s.point - nearest).norm() < 1e-11 * (1.0 + nearest.norm()),
+            (s.point - nearest).norm() < 1e-12 * (1.0 + nearest.norm()),
             "{:?} vs {nearest:?}",
             s.point
         );
         let back = screw_about(&s.axis, &s.point, s.angle, s.translation).expect("axis");
-        assert!((back - t).norm() < 1e-11);
+        assert!((back - t).norm() < 1e-12);
     }
 }
 
