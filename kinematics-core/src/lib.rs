@@ -48,7 +48,8 @@ pub mod transform;
 pub use error::{Error, Input};
 pub use kinematics_macros::mechanism;
 pub use mechanism::{
-    Coordinate, Coordinates, DriverValues, Kind, Mechanism, MotionState, PointMotion, Role,
+    Coordinate, Coordinates, DriverValues, FrameState, Kind, Mechanism, MotionState, PointMotion,
+    PointState, Role,
 };
 pub use nalgebra;
 pub use options::Options;
@@ -65,9 +66,9 @@ pub mod __private {
     pub use crate::solve::{describe, newton, Failure, Lu, Names};
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
-    pub use crate::{Options, PointMotion, Role};
+    pub use crate::{FrameState, Options, PointMotion, PointState, Role};
     pub use core::result::Result;
-    pub use nalgebra::Vector2;
+    pub use nalgebra::{Matrix3, Vector2, Vector3};
 
     /// Fails with [`Error::NonFinite`] when `value` is NaN or infinite.
     #[inline]

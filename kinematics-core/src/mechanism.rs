@@ -1,6 +1,8 @@
 //! The interface every `mechanism!` definition implements.
 
-use nalgebra::Vector2;
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use crate::rigid::FrameMotion;
 
 use crate::{Error, Options};
 
@@ -39,19 +41,20 @@ pub struct Coordinate {
     pub kind: Kind,
 }
 
-/// Position, velocity and acceleration of a point of a planar mechanism,
-/// in the fixed frame: r, v = dr/dt = r_q q', a = dv/dt = r_q q'' + (r_q q')_q q'.
+/// Position, velocity and acceleration of a point in the fixed frame
+/// (D = 2 for planar mechanisms, 3 for spatial ones):
+/// r, v = dr/dt = r_q q', a = dv/dt = r_q q'' + (r_q q')_q q'.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointMotion {
+pub struct PointMotion<const D: usize = 2> {
     /// Position r.
-    pub position: Vector2<f64>,
+    pub position: SVector<f64, D>,
     /// Velocity v = dr/dt.
-    pub velocity: Vector2<f64>,
+    pub velocity: SVector<f64, D>,
     /// Acceleration a = d²r/dt².
-    pub acceleration: Vector2<f64>,
+    pub acceleration: SVector<f64, D>,
 }
 
-impl PointMotion {
+impl<const D: usize> PointMotion<D> {
     /// Speed |v|.
     #[must_use]
     pub fn speed(&self) -> f64 {
@@ -70,16 +73,91 @@ impl PointMotion {
         }
     }
 
-    /// Normal (centripetal) acceleration |v × a| / |v| toward the centre of
+    /// Normal (centripetal) acceleration √(|a|² − a_t²), toward the centre of
     /// curvature of the path; zero when the point is at rest.
     #[must_use]
     pub fn normal_acceleration(&self) -> f64 {
-        let s = self.speed();
-        if s > 0.0 {
-            (self.velocity.x * self.acceleration.y - self.velocity.y * self.acceleration.x).abs()
-                / s
+        if self.speed() > 0.0 {
+            let at = self.tangential_acceleration();
+            (self.acceleration.norm_squared() - at * at).max(0.0).sqrt()
         } else {
             0.0
+        }
+    }
+}
+
+/// Read access to a point's motion as slices, for code generic over the
+/// dimension.
+pub trait PointState: Copy + core::fmt::Debug {
+    /// Position components.
+    fn position(&self) -> &[f64];
+    /// Velocity components.
+    fn velocity(&self) -> &[f64];
+    /// Acceleration components.
+    fn acceleration(&self) -> &[f64];
+}
+
+impl<const D: usize> PointState for PointMotion<D> {
+    fn position(&self) -> &[f64] {
+        self.position.as_slice()
+    }
+    fn velocity(&self) -> &[f64] {
+        self.velocity.as_slice()
+    }
+    fn acceleration(&self) -> &[f64] {
+        self.acceleration.as_slice()
+    }
+}
+
+/// Orientation and motion of a body frame declared in `frames { … }`.
+///
+/// For a frame given by a rotation R(q) (or a 4×4 transform with rotation R
+/// and origin o): Ṙ = Σ ∂R/∂q_j q'_j, the angular velocity ω is the axial
+/// vector of the skew part of Ṙ Rᵀ, and α = dω/dt, all in the fixed frame
+/// and differentiated exactly at compile time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameState {
+    /// Rotation matrix R (frame axes in fixed coordinates).
+    pub rotation: Matrix3<f64>,
+    /// Origin o (zero for a pure rotation).
+    pub origin: Vector3<f64>,
+    /// Velocity of the origin.
+    pub velocity: Vector3<f64>,
+    /// Acceleration of the origin.
+    pub acceleration: Vector3<f64>,
+    /// Angular velocity ω.
+    pub angular_velocity: Vector3<f64>,
+    /// Angular acceleration α = dω/dt.
+    pub angular_acceleration: Vector3<f64>,
+}
+
+impl FrameState {
+    /// The frame's motion, for the rigid-body helpers of [`crate::rigid`].
+    #[must_use]
+    pub fn motion(&self) -> FrameMotion {
+        FrameMotion {
+            velocity: self.velocity,
+            acceleration: self.acceleration,
+            angular_velocity: self.angular_velocity,
+            angular_acceleration: self.angular_acceleration,
+        }
+    }
+
+    /// Position, velocity and acceleration of a point fixed in the frame at
+    /// local coordinates p: r = o + R p, v = v_o + ω × (R p),
+    /// a = a_o + α × (R p) + ω × (ω × (R p)).
+    #[must_use]
+    pub fn point(&self, local: &Vector3<f64>) -> PointMotion<3> {
+        let r = self.rotation * local;
+        PointMotion {
+            position: self.origin + r,
+            velocity: crate::rigid::body_point_velocity(&self.velocity, &self.angular_velocity, &r),
+            acceleration: crate::rigid::body_point_acceleration(
+                &self.acceleration,
+                &self.angular_acceleration,
+                &self.angular_velocity,
+                &r,
+            ),
         }
     }
 }
@@ -130,8 +208,12 @@ pub trait MotionState: Copy + core::fmt::Debug {
     fn qd(&self) -> &Self::Coords;
     /// Accelerations q''.
     fn qdd(&self) -> &Self::Coords;
+    /// The point type: `PointMotion<2>` or `PointMotion<3>`.
+    type Point: PointState;
     /// Every point's motion, in declaration order.
-    fn points(&self) -> &[PointMotion];
+    fn points(&self) -> &[Self::Point];
+    /// Every frame's state, in declaration order.
+    fn frames(&self) -> &[FrameState];
 }
 
 /// A mechanism declared with [`mechanism!`](crate::mechanism).
@@ -156,10 +238,16 @@ pub trait Mechanism {
     const EQUATIONS: usize;
     /// Number of points of interest.
     const POINTS: usize;
+    /// Dimension of the points: 2 (planar) or 3 (spatial).
+    const POINT_DIM: usize;
+    /// Number of body frames.
+    const FRAMES: usize;
     /// Description of each coordinate, drivers first.
     const COORDINATES: &'static [Coordinate];
     /// Point names in declaration order.
     const POINT_NAMES: &'static [&'static str];
+    /// Frame names in declaration order.
+    const FRAME_NAMES: &'static [&'static str];
     /// Each scalar equation as written in the definition.
     const EQUATION_NAMES: &'static [&'static str];
 
@@ -196,6 +284,11 @@ pub trait Mechanism {
     fn jacobian_into(&self, pose: &Self::Coords, out: &mut [f64]);
 
     /// Point positions r_P(q) at `pose`, in declaration order, written into
+    /// `out` as consecutive components ([`Mechanism::POINT_DIM`] per point;
+    /// as many as fit).
+    fn point_positions_into(&self, pose: &Self::Coords, out: &mut [f64]);
+
+    /// Frame rotations R(q) at `pose`, in declaration order, written into
     /// `out` (as many as fit).
-    fn point_positions_into(&self, pose: &Self::Coords, out: &mut [Vector2<f64>]);
+    fn frame_rotations_into(&self, pose: &Self::Coords, out: &mut [Matrix3<f64>]);
 }

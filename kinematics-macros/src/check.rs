@@ -58,14 +58,15 @@ pub enum Binding {
     Coord(u32),
     /// Point `k` of the `points` section.
     Point(u32),
+    /// Frame `k` of the `frames` section.
+    Frame(u32),
 }
 
-/// The names of the built-in functions and constants of the expression
-/// language; user names may not shadow them.
-pub const BUILTINS: &[&str] = &[
-    "sin", "cos", "tan", "asin", "acos", "atan2", "sqrt", "exp", "ln", "powi", "polar", "vec2",
-    "dot", "norm", "cross", "pi",
-];
+/// Whether `name` is a built-in function or constant of the expression
+/// language (user names may not shadow them).
+pub fn is_builtin(name: &str) -> bool {
+    name == "pi" || crate::lower::function_names().any(|f| f == name)
+}
 
 /// Name table of a definition.
 pub struct Names {
@@ -73,19 +74,27 @@ pub struct Names {
 }
 
 impl Names {
-    /// The declared name closest to `wanted`, for "did you mean" hints.
+    /// The declared name closest to `wanted`, for "did you mean" hints on
+    /// a name (a function cannot be meant there).
     pub fn suggest(&self, wanted: &str) -> Option<String> {
-        let candidates = self
-            .map
-            .keys()
-            .map(String::as_str)
-            .chain(BUILTINS.iter().copied());
-        candidates
-            .map(|c| (edit_distance(wanted, c), c))
-            .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
-            .min()
-            .map(|(_, c)| c.to_owned())
+        let mut candidates: Vec<&str> = self.map.keys().map(String::as_str).collect();
+        candidates.push("pi");
+        closest(wanted, candidates)
     }
+}
+
+/// The built-in function closest to `wanted`.
+pub fn suggest_function(wanted: &str) -> Option<String> {
+    closest(wanted, crate::lower::function_names().collect())
+}
+
+fn closest(wanted: &str, candidates: Vec<&str>) -> Option<String> {
+    candidates
+        .into_iter()
+        .map(|c| (edit_distance(wanted, c), c))
+        .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
+        .min()
+        .map(|(_, c)| c.to_owned())
 }
 
 /// Runs the declaration checks and builds the name table.
@@ -93,7 +102,6 @@ pub fn check(def: &Definition, errors: &mut Errors) -> Names {
     check_not_empty(def, errors);
     let names = check_unique_names(def, errors);
     check_point_accessors_distinct(def, errors);
-    check_mobility(def, errors);
     names
 }
 
@@ -111,14 +119,15 @@ const JOINT_KINDS: &[(&str, u32, &str)] = &[
 /// When joints are declared, the Kutzbach–Gruebler mobility
 /// F = λ(n − j − 1) + Σf_i − (passive freedoms) must equal the number of
 /// drivers (not counting those marked `#[allow(unused)]`, which move
-/// nothing), with λ = 3 for a planar mechanism. The number of links n is
+/// nothing), with λ = 3 for a planar mechanism and 6 for a spatial one (one
+/// with any 3-D quantity). The number of links n is
 /// `links` when given; otherwise it follows from the independent loops,
 /// L = j − n + 1, taking each vector loop as one independent loop.
-fn check_mobility(def: &Definition, errors: &mut Errors) {
+pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
     let Some(joints) = &def.joints else {
         return;
     };
-    let lambda: i64 = 3;
+    let lambda: i64 = if spatial { 6 } else { 3 };
     let mut links: Option<i64> = None;
     let mut passive: i64 = 0;
     let mut j: i64 = 0;
@@ -242,10 +251,16 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
                 .iter()
                 .enumerate()
                 .map(|(k, p)| (&p.name, Binding::Point(index(k)), "points")),
+        )
+        .chain(
+            def.frames
+                .iter()
+                .enumerate()
+                .map(|(k, p)| (&p.name, Binding::Frame(index(k)), "frames")),
         );
     for (name, binding, section) in declared {
         let key = syn::ext::IdentExt::unraw(name).to_string();
-        if BUILTINS.contains(&key.as_str()) {
+        if is_builtin(&key) {
             errors.at(
                 name.span(),
                 format!(
@@ -284,14 +299,18 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
 /// that differ only in case would collide.
 fn check_point_accessors_distinct(def: &Definition, errors: &mut Errors) {
     let mut seen: HashMap<String, &Ident> = HashMap::new();
-    for p in &def.points {
-        let accessor = accessor_name(&p.name);
+    let named = def
+        .points
+        .iter()
+        .map(|p| (p, accessor_name(&p.name)))
+        .chain(def.frames.iter().map(|f| (f, frame_accessor_name(&f.name))));
+    for (p, accessor) in named {
         if let Some(first) = seen.get(&accessor) {
             if **first != p.name {
                 errors.at(
                     p.name.span(),
                     format!(
-                        "points `{first}` and `{}` would both be read as `{accessor}()`; \
+                        "`{first}` and `{}` would both be read as `{accessor}()`; \
                          rename one of them",
                         p.name
                     ),
@@ -322,7 +341,13 @@ fn check_drivers_used(def: &Definition, model: &crate::lower::Model, errors: &mu
         .equations
         .iter()
         .map(|e| e.residual)
-        .chain(model.points.iter().flat_map(|p| p.xy))
+        .chain(model.points.iter().flat_map(|p| p.coords.iter().copied()))
+        .chain(
+            model
+                .frames
+                .iter()
+                .flat_map(|f| f.rotation.iter().flatten().chain(&f.origin).copied()),
+        )
         .collect();
     for (j, decl) in def.drivers.iter().enumerate() {
         if decl.allow_unused {
@@ -336,7 +361,7 @@ fn check_drivers_used(def: &Definition, model: &crate::lower::Model, errors: &mu
             errors.at(
                 decl.name.span(),
                 format!(
-                    "driver `{}` is used by no loop, constraint or point, so it moves nothing; \
+                    "driver `{}` is used by no loop, constraint, point or frame, so it moves nothing; \
                      use it, remove it, or write `#[allow(unused)] {}` if that is intended",
                     decl.name, decl.name
                 ),
@@ -558,6 +583,12 @@ fn check_each_unknown_appears(def: &Definition, model: &crate::lower::Model, err
     }
 }
 
+/// `frame_<lowercase name>`, the accessor of a frame on the motion struct.
+pub fn frame_accessor_name(name: &Ident) -> String {
+    use syn::ext::IdentExt;
+    format!("frame_{}", name.unraw().to_string().to_lowercase())
+}
+
 /// `point_<lowercase name>`, the accessor of a point on the motion struct.
 pub fn accessor_name(name: &Ident) -> String {
     use syn::ext::IdentExt;
@@ -569,6 +600,7 @@ fn singular(section: &str) -> &'static str {
         "params" => "parameter",
         "drivers" => "driver",
         "unknowns" => "unknown",
+        "frames" => "frame",
         _ => "point",
     }
 }

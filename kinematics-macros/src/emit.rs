@@ -11,7 +11,7 @@ use quote::{format_ident, quote};
 use syn::ext::IdentExt;
 use syn::Ident;
 
-use crate::check::accessor_name;
+use crate::check::{accessor_name, frame_accessor_name};
 use crate::cse::{op_count, schedule, OpCount, Schedule};
 use crate::ir::{Graph, Id, Leaf, Node};
 use crate::kinematics::Derived;
@@ -215,7 +215,12 @@ impl Idents {
 }
 
 /// The type definitions, shared by the full expansion and the error fallback.
-fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStream {
+fn types(
+    def: &Definition,
+    id: &Idents,
+    kinds: Option<&[CoordKind]>,
+    point_dim: usize,
+) -> TokenStream {
     let Idents {
         name,
         coords,
@@ -257,8 +262,27 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
             #(#user)*
             #[must_use]
             #[inline]
-            pub fn #acc(&self) -> &::kinematics_core::__private::PointMotion {
+            pub fn #acc(&self) -> &::kinematics_core::__private::PointMotion<#point_dim> {
                 &self.points[#k]
+            }
+        }
+    });
+    let nf = def.frames.len();
+    let frame_accessors = def.frames.iter().enumerate().map(|(k, f)| {
+        let acc = format_ident!("{}", frame_accessor_name(&f.name));
+        let text = format!(
+            "Orientation, angular velocity and acceleration of frame `{}`, and the motion of \
+             its origin.",
+            f.name
+        );
+        let user = &f.docs;
+        quote! {
+            #[doc = #text]
+            #(#user)*
+            #[must_use]
+            #[inline]
+            pub fn #acc(&self) -> &::kinematics_core::__private::FrameState {
+                &self.frames[#k]
             }
         }
     });
@@ -310,11 +334,14 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
             /// Accelerations q'' (angular accelerations α for angles).
             pub qdd: #coords,
             /// Every point's motion, in declaration order.
-            pub points: [::kinematics_core::__private::PointMotion; #np],
+            pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
+            /// Every frame's orientation and motion, in declaration order.
+            pub frames: [::kinematics_core::__private::FrameState; #nf],
         }
 
         impl #motion {
             #(#accessors)*
+            #(#frame_accessors)*
         }
 
         #[automatically_derived]
@@ -332,9 +359,14 @@ fn types(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStr
             fn qdd(&self) -> &#coords {
                 &self.qdd
             }
+            type Point = ::kinematics_core::__private::PointMotion<#point_dim>;
             #[inline]
-            fn points(&self) -> &[::kinematics_core::__private::PointMotion] {
+            fn points(&self) -> &[Self::Point] {
                 &self.points
+            }
+            #[inline]
+            fn frames(&self) -> &[::kinematics_core::__private::FrameState] {
+                &self.frames
             }
         }
     }
@@ -359,7 +391,28 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
     def.points.retain(|p| seen.insert(accessor_name(&p.name)));
     let def = &def;
     let id = Idents::new(def);
-    let types = types(def, &id, None);
+    // The dimension is unknown when lowering failed; guess it from the
+    // spelling so that uses of the stub types add no knock-on errors.
+    let spatial = def.points.iter().any(|p| {
+        let t = quote::ToTokens::to_token_stream(&p.expr).to_string();
+        [
+            "vec3",
+            "rot",
+            "t1",
+            "t2",
+            "t3",
+            "t4",
+            "t5",
+            "t6",
+            "t7",
+            "screw",
+            "translation",
+            "spherical",
+        ]
+        .iter()
+        .any(|w| t.contains(w))
+    });
+    let types = types(def, &id, None, if spatial { 3 } else { 2 });
     let Idents {
         name,
         coords,
@@ -402,6 +455,7 @@ pub fn operation_counts(model: &Model, d: &Derived) -> [(&'static str, OpCount);
         .chain(d.pos.iter().flatten())
         .chain(d.vel.iter().flatten())
         .chain(d.acc.iter().flatten())
+        .chain(d.frames.iter().flat_map(|f| f.omega.iter().chain(&f.alpha)))
         .copied()
         .collect();
     [
@@ -413,7 +467,8 @@ pub fn operation_counts(model: &Model, d: &Derived) -> [(&'static str, OpCount);
 /// The full expansion of a checked model.
 pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let id = Idents::new(def);
-    let types = types(def, &id, Some(&model.kinds));
+    let point_dim = model.point_dim;
+    let types = types(def, &id, Some(&model.kinds), point_dim);
     let g = &model.graph;
     let leaf = id.leaf();
     let pp = quote!(::kinematics_core::__private);
@@ -487,23 +542,55 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let pos_flat: Vec<Id> = d.pos.iter().flatten().copied().collect();
     let sched = schedule(g, std::slice::from_ref(&pos_flat));
     let (pr, lets) = bind(g, &sched, &leaf);
-    let pos_e: Vec<_> = d
-        .pos
-        .iter()
-        .map(|[x, y]| {
-            let (x, y) = (pr.expr(*x), pr.expr(*y));
-            quote!(#pp::Vector2::new(#x, #y))
-        })
-        .collect();
+    let vector = |pr: &Printer<'_>, c: &[Id]| {
+        let e: Vec<_> = c.iter().map(|&i| pr.expr(i)).collect();
+        if c.len() == 3 {
+            quote!(#pp::Vector3::new(#(#e),*))
+        } else {
+            quote!(#pp::Vector2::new(#(#e),*))
+        }
+    };
+    let vtype = if point_dim == 3 {
+        quote!(#pp::Vector3<f64>)
+    } else {
+        quote!(#pp::Vector2<f64>)
+    };
+    let pos_e: Vec<_> = d.pos.iter().map(|c| vector(&pr, c)).collect();
     let positions_fn = quote! {
         /// Positions of the points (in declaration order) at `pose`, which
         /// should be assembled: r_P(q).
         #[must_use]
         #allow
-        pub fn point_positions(&self, pose: &#coords) -> [#pp::Vector2<f64>; #np] {
+        pub fn point_positions(&self, pose: &#coords) -> [#vtype; #np] {
             #( let #q = pose.#coord; )*
             #(#lets)*
             [#(#pos_e),*]
+        }
+    };
+
+    // Frame rotations alone.
+    let nf = d.frames.len();
+    let rot_flat: Vec<Id> = d
+        .frames
+        .iter()
+        .flat_map(|f| f.rotation.iter().flatten().copied())
+        .collect();
+    let sched = schedule(g, std::slice::from_ref(&rot_flat));
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let matrix = |pr: &Printer<'_>, m: &[[Id; 3]; 3]| {
+        let e: Vec<_> = m.iter().flatten().map(|&i| pr.expr(i)).collect();
+        quote!(#pp::Matrix3::new(#(#e),*))
+    };
+    let rot_e: Vec<_> = d.frames.iter().map(|f| matrix(&pr, &f.rotation)).collect();
+    let rotations_fn = quote! {
+        /// Rotation matrices R(q) of the frames (in declaration order) at
+        /// `pose`.
+        #[must_use]
+        #allow
+        pub fn frame_rotations(&self, pose: &#coords) -> [#pp::Matrix3<f64>; #nf] {
+            #( let #q = pose.#coord; )*
+            #(#lets)*
+            [#(#rot_e),*]
         }
     };
 
@@ -517,6 +604,16 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .chain(&d.acc)
         .flatten()
         .copied()
+        .chain(d.frames.iter().flat_map(|f| {
+            f.rotation
+                .iter()
+                .chain(&f.origin)
+                .flatten()
+                .chain(&f.omega)
+                .chain(&f.alpha)
+                .copied()
+                .collect::<Vec<_>>()
+        }))
         .collect();
     let sched = schedule(g, &[vel_stage, acc_stage, pt_stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
@@ -531,16 +628,52 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .collect();
     let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
     let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
-    let v2 = |c: &[Id; 2]| {
-        let (x, y) = (pr.expr(c[0]), pr.expr(c[1]));
-        quote!(#pp::Vector2::new(#x, #y))
-    };
     let points_e: Vec<_> = (0..np)
         .map(|k| {
-            let (p, v, a) = (v2(&d.pos[k]), v2(&d.vel[k]), v2(&d.acc[k]));
+            let (p, v, a) = (
+                vector(&pr, &d.pos[k]),
+                vector(&pr, &d.vel[k]),
+                vector(&pr, &d.acc[k]),
+            );
             quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
         })
         .collect();
+    let frames_e: Vec<_> = d
+        .frames
+        .iter()
+        .map(|f| {
+            let r = matrix(&pr, &f.rotation);
+            let [o, od, odd] = &f.origin;
+            let (o, od, odd) = (vector(&pr, o), vector(&pr, od), vector(&pr, odd));
+            let (w, al) = (vector(&pr, &f.omega), vector(&pr, &f.alpha));
+            quote!(#pp::FrameState {
+                rotation: #r,
+                origin: #o,
+                velocity: #od,
+                acceleration: #odd,
+                angular_velocity: #w,
+                angular_acceleration: #al,
+            })
+        })
+        .collect();
+    let frame_names: Vec<String> = def
+        .frames
+        .iter()
+        .map(|f| f.name.unraw().to_string())
+        .collect();
+    let check_frames = if nf == 0 {
+        TokenStream::new()
+    } else {
+        quote! {
+            let frame_names: [&'static str; #nf] = [#(#frame_names),*];
+            for (name, f) in frame_names.iter().zip(&motion.frames) {
+                let vectors = [f.origin, f.velocity, f.acceleration, f.angular_velocity, f.angular_acceleration];
+                for v in f.rotation.iter().chain(vectors.iter().flat_map(|v| v.iter())) {
+                    #pp::finite(#pp::Input::Computed, name, *v)?;
+                }
+            }
+        }
+    };
     let all_q = q.iter();
     let finite_out = |vals: &[Ident]| {
         let names: Vec<String> = c_unknowns.iter().map(|c| c.unraw().to_string()).collect();
@@ -589,6 +722,8 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
             pub const EQUATIONS: usize = #ne;
             /// Number of points of interest.
             pub const POINTS: usize = #np;
+            /// Number of body frames.
+            pub const FRAMES: usize = #nf;
             /// Floating-point operations of the generated code: for the Newton
             /// step and for the analysis, the count if every expression were
             /// written out as a tree, then the count after common-subexpression
@@ -703,6 +838,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qd: #coords { #( #coord: #qd ),* },
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#points_e),*],
+                    frames: [#(#frames_e),*],
                 };
                 let point_names: [&'static str; #np] = [#(#point_names),*];
                 for (name, p) in point_names.iter().zip(&motion.points) {
@@ -710,6 +846,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                         #pp::finite(#pp::Input::Computed, name, *v)?;
                     }
                 }
+                #check_frames
                 ::core::result::Result::Ok(motion)
             }
 
@@ -721,6 +858,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
             }
 
             #positions_fn
+            #rotations_fn
             #phi_jac_fn
             #phi_fn
         }
@@ -733,8 +871,11 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
             const UNKNOWNS: usize = #nu;
             const EQUATIONS: usize = #ne;
             const POINTS: usize = #np;
+            const POINT_DIM: usize = #point_dim;
+            const FRAMES: usize = #nf;
             const COORDINATES: &'static [#pp::Coordinate] = &[#(#coordinate_info),*];
             const POINT_NAMES: &'static [&'static str] = &[#(#point_names),*];
+            const FRAME_NAMES: &'static [&'static str] = &[#(#frame_names),*];
             const EQUATION_NAMES: &'static [&'static str] = &[#(#eq_names),*];
 
             fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
@@ -783,8 +924,15 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 }
             }
 
-            fn point_positions_into(&self, pose: &#coords, out: &mut [#pp::Vector2<f64>]) {
+            fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) {
                 let r = #name::point_positions(self, pose);
+                for (o, v) in out.iter_mut().zip(r.iter().flat_map(|p| p.iter())) {
+                    *o = *v;
+                }
+            }
+
+            fn frame_rotations_into(&self, pose: &#coords, out: &mut [#pp::Matrix3<f64>]) {
+                let r = #name::frame_rotations(self, pose);
                 for (o, v) in out.iter_mut().zip(r.iter()) {
                     *o = *v;
                 }

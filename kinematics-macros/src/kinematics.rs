@@ -22,12 +22,27 @@ pub struct Derived {
     pub vel_rhs: Vec<Id>,
     /// −Φ_d d'' − γ.
     pub acc_rhs: Vec<Id>,
-    /// Point positions.
-    pub pos: Vec<[Id; 2]>,
+    /// Point positions (2 or 3 components each).
+    pub pos: Vec<Vec<Id>>,
     /// Point velocities.
-    pub vel: Vec<[Id; 2]>,
+    pub vel: Vec<Vec<Id>>,
     /// Point accelerations.
-    pub acc: Vec<[Id; 2]>,
+    pub acc: Vec<Vec<Id>>,
+    /// Frames.
+    pub frames: Vec<DerivedFrame>,
+}
+
+/// A frame's rotation, angular velocity and acceleration, and its origin's
+/// position, velocity and acceleration.
+pub struct DerivedFrame {
+    /// R, row by row.
+    pub rotation: [[Id; 3]; 3],
+    /// ω.
+    pub omega: [Id; 3],
+    /// α.
+    pub alpha: [Id; 3],
+    /// o, o', o''.
+    pub origin: [[Id; 3]; 3],
 }
 
 /// Differentiates the model.
@@ -66,12 +81,50 @@ pub fn derive(model: &mut Model) -> Derived {
     let mut vel = Vec::new();
     let mut acc = Vec::new();
     for p in &model.points {
-        pos.push(p.xy);
-        let v =
-            p.xy.map(|c| time_derivative(g, c, nq, &|_| false, &mut memo));
-        let a = v.map(|c| time_derivative(g, c, nq, &|_| true, &mut memo));
+        pos.push(p.coords.clone());
+        let v: Vec<Id> = p
+            .coords
+            .iter()
+            .map(|&c| time_derivative(g, c, nq, &|_| false, &mut memo))
+            .collect();
+        let a = v
+            .iter()
+            .map(|&c| time_derivative(g, c, nq, &|_| true, &mut memo))
+            .collect();
         vel.push(v);
         acc.push(a);
+    }
+    let mut frames = Vec::new();
+    for f in &model.frames {
+        let r = f.rotation;
+        let rd = r.map(|row| row.map(|e| time_derivative(g, e, nq, &|_| false, &mut memo)));
+        // W = Ṙ Rᵀ, W_ij = Σ_k Ṙ_ik R_jk.
+        let w = |i: usize, j: usize, g: &mut crate::ir::Graph| {
+            let mut s = g.constant(0.0);
+            for k in 0..3 {
+                let p = g.mul(rd[i][k], r[j][k]);
+                s = g.sum(s, p);
+            }
+            s
+        };
+        let half = g.constant(0.5);
+        let mut omega = [half; 3];
+        for (c, (i, j)) in [(2, 1), (0, 2), (1, 0)].into_iter().enumerate() {
+            let a = w(i, j, g);
+            let b = w(j, i, g);
+            let d = g.sub(a, b);
+            omega[c] = g.mul(half, d);
+        }
+        let alpha = omega.map(|e| time_derivative(g, e, nq, &|_| true, &mut memo));
+        let o = f.origin;
+        let od = o.map(|e| time_derivative(g, e, nq, &|_| false, &mut memo));
+        let odd = od.map(|e| time_derivative(g, e, nq, &|_| true, &mut memo));
+        frames.push(DerivedFrame {
+            rotation: r,
+            omega,
+            alpha,
+            origin: [o, od, odd],
+        });
     }
     Derived {
         phi,
@@ -81,5 +134,6 @@ pub fn derive(model: &mut Model) -> Derived {
         pos,
         vel,
         acc,
+        frames,
     }
 }

@@ -49,6 +49,7 @@ fn expand(input: TokenStream) -> TokenStream {
     let mut errors = check::Errors::default();
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
+    check::check_mobility(&def, model.spatial, &mut errors);
     if errors.is_empty() {
         check::check_model(&def, &model, &mut errors);
     }

@@ -7,6 +7,7 @@
 //!         params      { a, b, … }            // constants, set at run time
 //!         drivers     { phi, … }             // prescribed inputs
 //!         unknowns    { th3, … }             // solved for
+//!         frames      { crank = rot_y(phi); … } // body frames (spatial)
 //!         points      { B = polar(a, phi); … }
 //!         loops       { lhs == rhs; … }      // vector equations
 //!         constraints { lhs == rhs; … }      // scalar equations
@@ -32,6 +33,7 @@ pub mod kw {
     syn::custom_keyword!(loops);
     syn::custom_keyword!(constraints);
     syn::custom_keyword!(joints);
+    syn::custom_keyword!(frames);
 }
 
 /// A whole `mechanism!` invocation.
@@ -44,6 +46,8 @@ pub struct Definition {
     pub drivers: Vec<Decl>,
     pub unknowns: Vec<Decl>,
     pub points: Vec<PointDef>,
+    /// `frames { name = <rotation or 4×4 transform>; }`
+    pub frames: Vec<PointDef>,
     pub loops: Vec<Equation>,
     pub constraints: Vec<Equation>,
     /// Span of the `unknowns` section (or of the name when it is missing),
@@ -115,6 +119,7 @@ impl Parse for Definition {
             drivers: Vec::new(),
             unknowns: Vec::new(),
             points: Vec::new(),
+            frames: Vec::new(),
             loops: Vec::new(),
             constraints: Vec::new(),
             joints: None,
@@ -144,6 +149,9 @@ impl Parse for Definition {
             } else if lookahead.peek(kw::joints) {
                 body.parse::<kw::joints>()?;
                 "joints"
+            } else if lookahead.peek(kw::frames) {
+                body.parse::<kw::frames>()?;
+                "frames"
             } else {
                 return Err(lookahead.error());
             };
@@ -166,6 +174,7 @@ impl Parse for Definition {
                     def.unknowns = parse_decls(&content)?;
                 }
                 "points" => def.points = parse_items(&content, parse_point)?,
+                "frames" => def.frames = parse_items(&content, parse_point)?,
                 "loops" => def.loops = parse_items(&content, parse_equation)?,
                 "constraints" => def.constraints = parse_items(&content, parse_equation)?,
                 _ => {
@@ -290,7 +299,7 @@ fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
     input.parse::<Token![=]>().map_err(|e| {
         syn::Error::new(
             e.span(),
-            "expected `=`: a point is defined as `P = <vector expression>;`",
+            "expected `=`: a point or frame is defined as `Name = <expression>;`",
         )
     })?;
     let expr: Expr = input.parse()?;

@@ -4,8 +4,10 @@
 //!
 //! These helpers are test assertions: they panic on a failed check.
 #![allow(clippy::expect_used, clippy::panic)]
+// Component loops index several arrays in step.
+#![allow(clippy::needless_range_loop)]
 
-use kinematics_core::{Coordinates, Mechanism, MotionState, Options};
+use kinematics_core::{Coordinates, Mechanism, MotionState, Options, PointState};
 
 /// SplitMix64: a small, seeded, reproducible generator.
 pub struct Rng(u64);
@@ -107,7 +109,8 @@ pub fn pose_at<M: Mechanism>(
 
 /// Checks velocities against central differences of assembled positions and
 /// accelerations against central differences of computed velocities, for
-/// every coordinate and point, along d(t) = d₀ + d'·t + ½ d''·t².
+/// every coordinate, point and frame (ω against differences of R, α against
+/// differences of ω), along d(t) = d₀ + d'·t + ½ d''·t².
 ///
 /// # Panics
 /// When a value disagrees beyond relative `tol` (scaled by the largest
@@ -149,17 +152,49 @@ pub fn check_motion<M: Mechanism>(
         acc_exact.push((format!("q''[{j}]"), g(s0.qdd())));
         acc_fd.push((g(sp.qd()) - g(sm.qd())) / (2.0 * h));
     }
-    let mut rp = vec![kinematics_core::nalgebra::Vector2::zeros(); np];
-    let mut rm = vec![kinematics_core::nalgebra::Vector2::zeros(); np];
+    let dim = M::POINT_DIM;
+    let mut rp = vec![0.0; np * dim];
+    let mut rm = vec![0.0; np * dim];
     m.point_positions_into(&pp, &mut rp);
     m.point_positions_into(&pm, &mut rm);
     for k in 0..np {
         let p0 = s0.points()[k];
-        for c in 0..2 {
-            vel_exact.push((format!("v[{k}][{c}]"), p0.velocity[c]));
-            vel_fd.push((rp[k][c] - rm[k][c]) / (2.0 * h));
-            acc_exact.push((format!("a[{k}][{c}]"), p0.acceleration[c]));
-            acc_fd.push((sp.points()[k].velocity[c] - sm.points()[k].velocity[c]) / (2.0 * h));
+        for c in 0..dim {
+            vel_exact.push((format!("v[{k}][{c}]"), p0.velocity()[c]));
+            vel_fd.push((rp[k * dim + c] - rm[k * dim + c]) / (2.0 * h));
+            acc_exact.push((format!("a[{k}][{c}]"), p0.acceleration()[c]));
+            acc_fd.push((sp.points()[k].velocity()[c] - sm.points()[k].velocity()[c]) / (2.0 * h));
+        }
+    }
+    // Frames: ω against the axial vector of (R(t+h) − R(t−h))/(2h) · Rᵀ, and
+    // α against central differences of ω.
+    let nf = M::FRAMES;
+    let mut r0 = vec![kinematics_core::nalgebra::Matrix3::zeros(); nf];
+    let mut rpl = r0.clone();
+    let mut rmi = r0.clone();
+    m.frame_rotations_into(pose, &mut r0);
+    m.frame_rotations_into(&pp, &mut rpl);
+    m.frame_rotations_into(&pm, &mut rmi);
+    for k in 0..nf {
+        let w = (rpl[k] - rmi[k]) / (2.0 * h) * r0[k].transpose();
+        let axial = [
+            (w[(2, 1)] - w[(1, 2)]) / 2.0,
+            (w[(0, 2)] - w[(2, 0)]) / 2.0,
+            (w[(1, 0)] - w[(0, 1)]) / 2.0,
+        ];
+        let f0 = s0.frames()[k];
+        for c in 0..3 {
+            vel_exact.push((format!("ω[{k}][{c}]"), f0.angular_velocity[c]));
+            vel_fd.push(axial[c]);
+            acc_exact.push((format!("α[{k}][{c}]"), f0.angular_acceleration[c]));
+            acc_fd.push(
+                (sp.frames()[k].angular_velocity[c] - sm.frames()[k].angular_velocity[c])
+                    / (2.0 * h),
+            );
+            vel_exact.push((format!("v_o[{k}][{c}]"), f0.velocity[c]));
+            vel_fd.push((sp.frames()[k].origin[c] - sm.frames()[k].origin[c]) / (2.0 * h));
+            acc_exact.push((format!("a_o[{k}][{c}]"), f0.acceleration[c]));
+            acc_fd.push((sp.frames()[k].velocity[c] - sm.frames()[k].velocity[c]) / (2.0 * h));
         }
     }
     compare("velocity", &vel_exact, &vel_fd, tol);

@@ -30,9 +30,9 @@ fn fd_point<M: Mechanism>(m: &M, pose: &M::Coords, omega: f64, k: usize) -> ([f6
     let h = 1e-4;
     let at = |t: f64| {
         let p = pose_at(m, pose, &[1.0], &[0.0], t);
-        let mut r = vec![kinematics_core::nalgebra::Vector2::zeros(); M::POINTS];
+        let mut r = vec![0.0; M::POINTS * 2];
         m.point_positions_into(&p, &mut r);
-        r[k]
+        kinematics_core::nalgebra::Vector2::new(r[2 * k], r[2 * k + 1])
     };
     let (rp, r0, rm) = (at(h), at(0.0), at(-h));
     let v = (rp - rm) / (2.0 * h) * omega;
