@@ -119,6 +119,208 @@ mechanism! {
     }
 }
 
+mechanism! {
+    /// RSSR spatial four-bar (the notes' Example 7.3). The input crank
+    /// A₀A = a turns about the y axis at A₀ = (0, 0, 0), so A moves in the
+    /// x–z plane; the output B₀B = c turns about an axis parallel to z
+    /// through B₀ = (−d, 0, 0); the coupler AB = b joins two spherical joints.
+    pub struct Rssr {
+        params {
+            /// Input crank A₀A.
+            a,
+            /// Coupler AB.
+            b,
+            /// Output link B₀B.
+            c,
+            /// Distance A₀B₀.
+            d
+        }
+        drivers  {
+            /// Input angle.
+            phi
+        }
+        unknowns {
+            /// Output angle.
+            psi
+        }
+        points {
+            /// Crank pin (spherical joint).
+            A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+            /// Output pin (spherical joint).
+            B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+        }
+        constraints { norm(B - A) == b; }
+        // F = 6(4 − 4 − 1) + 8 = 2, one being the coupler's spin about AB.
+        joints { links: 4, R: 2, S: 2, passive: 1 }
+    }
+}
+
+mechanism! {
+    /// Spatial crank and slider (the notes' Example 7.2). The crank A₀A = a
+    /// turns in the x–z plane about the y axis; the link AB = b drives the
+    /// slider B along a rod parallel to y, at x = 0 and height z = h.
+    pub struct SpatialSlider {
+        params {
+            /// Crank A₀A.
+            a,
+            /// Link AB.
+            b,
+            /// Height of the rod above the crank's plane.
+            h
+        }
+        drivers  {
+            /// Crank angle, from the z axis toward x.
+            phi
+        }
+        unknowns {
+            /// Slider position along the rod.
+            y
+        }
+        points {
+            /// Crank pin.
+            A = vec3(a * sin(phi), 0.0, a * cos(phi));
+            /// Slider.
+            B = vec3(0.0, y, h);
+        }
+        constraints { norm(B - A) == b; }
+    }
+}
+
+mechanism! {
+    /// Satellite dish (the notes' Example 7.4): the mount turns about the
+    /// fixed z axis by φ, the dish tilts about the mount's x axis by θ; the
+    /// signal horn A is at distance r along the dish's y axis.
+    pub struct SatelliteDish {
+        params {
+            /// Distance OA to the horn.
+            r
+        }
+        drivers  {
+            /// Turn of the mount about z.
+            phi,
+            /// Tilt of the dish about the mount's x axis.
+            th
+        }
+        unknowns { }
+        frames {
+            /// The dish.
+            dish = rot_z(phi) * rot_x(th);
+        }
+        points {
+            /// The signal horn.
+            A = dish * vec3(0.0, r, 0.0);
+        }
+    }
+}
+
+mechanism! {
+    /// Crane (the notes' Practical Exercise 2): the cab turns about the
+    /// vertical z axis by φ; the boom of length l is raised by θ above the
+    /// horizontal, about the cab's y axis.
+    pub struct Crane {
+        params {
+            /// Boom length OP.
+            l
+        }
+        drivers  {
+            /// Turn of the cab.
+            phi,
+            /// Elevation of the boom.
+            th
+        }
+        unknowns { }
+        frames {
+            /// The boom.
+            boom = rot_z(phi) * rot_y(-th);
+        }
+        points {
+            /// Tip of the boom.
+            P = boom * vec3(l, 0.0, 0.0);
+        }
+    }
+}
+
+mechanism! {
+    /// The robot arm of the worked problem, as a serial chain of joint
+    /// transforms: the base turns by q1 about the vertical z axis; the first
+    /// link O₁O₂ = l1 rises at α in the base's y–z plane; the upper joint at
+    /// O₂ turns by −q4 about the base's x axis; the arm O₂A = l2 points along
+    /// (0, sin α, −cos α) (at 90° to O₁O₂); the arm rolls by q5 about its own
+    /// axis, carrying AB = l3 along its x axis.
+    pub struct RobotArm {
+        params {
+            /// O₁O₂.
+            l1,
+            /// O₂A.
+            l2,
+            /// AB.
+            l3,
+            /// Elevation of O₁O₂ (rad).
+            alpha
+        }
+        drivers  {
+            /// Base turn.
+            q1,
+            /// Upper joint.
+            q4,
+            /// Roll of the arm.
+            q5
+        }
+        unknowns { }
+        frames {
+            /// Base.
+            base = rot_z(q1);
+            /// Upper joint body, at O₂.
+            upper = base * t1(0.0, l1 * cos(alpha), l1 * sin(alpha), -q4);
+            /// Arm body, at A.
+            arm = upper
+                * translation(vec3(0.0, l2 * sin(alpha), -l2 * cos(alpha)))
+                * rot(vec3(0.0, sin(alpha), -cos(alpha)), q5);
+        }
+        points {
+            /// Joint A.
+            A = arm * vec3(0.0, 0.0, 0.0);
+            /// Tip B.
+            B = arm * vec3(l3, 0.0, 0.0);
+        }
+    }
+}
+
+mechanism! {
+    /// A six-joint serial arm built from elementary matrices: waist q1 about
+    /// z, shoulder q2 and elbow q3 about y, forearm roll q4 about x, wrist
+    /// pitch q5 about y and wrist roll q6 about x; upper arm a2 and forearm
+    /// a3 along x, wrist offset d5, tool point at d6 along the last x axis.
+    pub struct SixAxisArm {
+        params {
+            /// Height of the shoulder above the base.
+            d1,
+            /// Upper arm.
+            a2,
+            /// Forearm.
+            a3,
+            /// Wrist offset.
+            d5,
+            /// Tool length.
+            d6
+        }
+        drivers  { q1, q2, q3, q4, q5, q6 }
+        unknowns { }
+        frames {
+            /// Upper arm.
+            upper = t3(0.0, 0.0, d1, q1) * t2(0.0, 0.0, 0.0, q2);
+            /// Forearm.
+            fore = upper * t2(a2, 0.0, 0.0, q3) * t1(0.0, 0.0, 0.0, q4);
+            /// Tool flange.
+            tool = fore * t2(a3, 0.0, 0.0, q5) * t1(d5, 0.0, 0.0, q6);
+        }
+        points {
+            /// Tool centre point.
+            TCP = tool * vec3(d6, 0.0, 0.0);
+        }
+    }
+}
+
 impl FourBar {
     /// The crank-rocker used by the examples and benchmarks: a = 0.04 m,
     /// b = 0.12 m, c = 0.10 m, d = 0.11 m, coupler point at p = 0.06 m,

@@ -197,6 +197,14 @@ pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
         };
         let advice = if f < 1 {
             "the joints leave the mechanism immobile (a structure); check the joint list".to_owned()
+        } else if f > drivers {
+            format!(
+                "a mechanism needs one driver per degree of freedom: declare {f} driver{}, or, \
+                 if some freedoms are passive (such as a link between two spherical joints \
+                 spinning about its own axis), declare them with `passive: {}`",
+                if f == 1 { "" } else { "s" },
+                f - drivers
+            )
         } else {
             format!("a mechanism needs one driver per degree of freedom: declare {f} driver{} or check the joint list", if f == 1 { "" } else { "s" })
         };

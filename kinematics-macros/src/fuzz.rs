@@ -59,11 +59,29 @@ pub fn definitions() -> Vec<proc_macro2::TokenStream> {
             }
         },
         quote! {
+            pub struct Rssr {
+                params { a, b, c, d, l }
+                drivers { phi }
+                unknowns { psi }
+                frames {
+                    crank = rot_y(phi) * t7(0.0, 0.0, l);
+                    out = t3(-d, 0.0, 0.0, psi) * screw(vec3(0.0, 0.0, 1.0), psi, 0.0);
+                }
+                points {
+                    A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+                    B = out * vec3(-c, 0.0, 0.0);
+                    C = crank * rot(vec3(1.0, 1.0, 0.0), phi) * cross(A, B);
+                }
+                constraints { norm(B - A) == b; }
+                joints { links: 4, R: 2, S: 2, passive: 1 }
+            }
+        },
+        quote! {
             struct Scalar {
                 params { r, k }
                 drivers { t }
                 unknowns { y }
-                constraints { powi(y, 2) + atan2(t, r) * dot(vec2(1.0, 2.0), vec2(y, t)) == sqrt(k) / ln(2.0) + norm(vec2(t, -y)).x; }
+                constraints { powi(y, 2) + atan2(t, r) * dot(vec2(1.0, 2.0), vec2(y, t)) == sqrt(k) / ln(2.0) + norm(vec2(t, -y)) + vec2(t, y).x; }
             }
         },
     ]

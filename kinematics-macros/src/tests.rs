@@ -64,3 +64,11 @@ fn mutated_definitions_give_code_or_errors_never_a_panic() {
     // Both outcomes must be exercised for the test to mean anything.
     assert!(errors > 1000 && accepted > 30, "{errors} / {accepted}");
 }
+
+#[test]
+fn the_mutation_bases_are_valid_definitions() {
+    for def in crate::fuzz::definitions() {
+        let text = super::expand(def.clone()).to_string();
+        assert!(!text.contains("compile_error"), "{def}\n{text}");
+    }
+}

@@ -55,6 +55,41 @@ kinematics_core::mechanism! {
     }
 }
 
+kinematics_core::mechanism! {
+    /// A spatial linkage with frames, screws and 3-D points.
+    pub struct Spatial {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Lead of the screw.
+            k
+        }
+        drivers  {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Slider position.
+            y
+        }
+        frames {
+            /// A screw-driven body.
+            nut = t6(0.0, 0.0, 0.0, phi, k) * rot(vec3(1.0, 1.0, 0.0), pi / 4.0);
+        }
+        points {
+            /// Crank pin.
+            A = vec3(a * sin(phi), 0.0, a * cos(phi));
+            /// Slider.
+            B = vec3(0.0, y, 0.0);
+            /// A point of the nut.
+            N = nut * vec3(1.0, 0.0, 0.0);
+        }
+        constraints { norm(B - A) == b; }
+    }
+}
+
 #[test]
 fn expansion_is_usable() {
     let m = Lints {
@@ -71,4 +106,11 @@ fn expansion_is_usable() {
     let c = Scalar { r: 1.0 };
     let p = c.assemble(&ScalarCoords { t: 0.6, y: 0.7 }).map(|p| p.y);
     assert!(matches!(p, core::result::Result::Ok(y) if (y - 0.8).abs() < 1e-12));
+    let s = Spatial {
+        a: 0.05,
+        b: 0.2,
+        k: 0.01,
+    };
+    let pose = s.assemble(&SpatialCoords { phi: 0.3, y: 0.19 });
+    assert!(pose.is_ok());
 }
