@@ -156,11 +156,13 @@ pub fn mutants(seed: u64, count: usize) -> Vec<proc_macro2::TokenStream> {
 
 /// The expansions of the accepted mutants, each in a module of its own, and
 /// their number as `ACCEPTED_MUTANTS`.
+// Used by the `fuzz` feature's macro.
+#[cfg_attr(not(feature = "fuzz"), allow(dead_code))]
 pub fn accepted_expansions(seed: u64, count: usize) -> proc_macro2::TokenStream {
     let mut out = proc_macro2::TokenStream::new();
     let mut accepted = 0usize;
     for (k, ts) in mutants(seed, count).into_iter().enumerate() {
-        let code = crate::expand(ts);
+        let code = crate::expand::expand(ts);
         if code.to_string().contains("compile_error") {
             continue;
         }

@@ -20,6 +20,7 @@
 
 mod check;
 mod cse;
+mod expand;
 mod diff;
 mod emit;
 mod ir;
@@ -28,48 +29,12 @@ mod lower;
 mod parse;
 mod simplify;
 
-use proc_macro2::TokenStream;
-
 /// Declares a mechanism by its vector loop-closure equations; see the
 /// `kinematics-core` crate documentation for the language and the generated
 /// API.
 #[proc_macro]
 pub fn mechanism(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
-    expand(input.into()).into()
-}
-
-/// The whole expansion: code for a valid definition, or `compile_error!`s
-/// spanned on the offending tokens (with stub types, so uses of the
-/// mechanism elsewhere do not add knock-on errors).
-fn expand(input: TokenStream) -> TokenStream {
-    let def: parse::Definition = match syn::parse2(input) {
-        Ok(def) => def,
-        Err(e) => return e.into_compile_error(),
-    };
-    let mut errors = check::Errors::default();
-    let names = check::check(&def, &mut errors);
-    let mut model = lower::lower(&def, &names, &mut errors);
-    check::check_mobility(&def, model.spatial, &mut errors);
-    if errors.is_empty() {
-        check::check_model(&def, &model, &mut errors);
-    }
-    if let Err(e) = errors.finish() {
-        return emit::fallback(&def, e.into_compile_error());
-    }
-    let derived = kinematics::derive(&mut model);
-    emit::expand(&def, &model, &derived)
-}
-
-/// The operation counts of a definition (see [`emit::operation_counts`]).
-#[cfg(test)]
-fn op_counts(input: TokenStream) -> Option<[(&'static str, cse::OpCount); 2]> {
-    let def: parse::Definition = syn::parse2(input).ok()?;
-    let mut errors = check::Errors::default();
-    let names = check::check(&def, &mut errors);
-    let mut model = lower::lower(&def, &names, &mut errors);
-    errors.finish().ok()?;
-    let derived = kinematics::derive(&mut model);
-    Some(emit::operation_counts(&model, &derived))
+    expand::expand(input.into()).into()
 }
 
 /// Expands the seeded mutants of the robustness test that the macro

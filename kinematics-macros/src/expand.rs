@@ -1,0 +1,41 @@
+//! The whole pipeline, as pure functions over `proc_macro2` tokens.
+
+use proc_macro2::TokenStream;
+
+use crate::{check, cse, emit, kinematics, lower, parse};
+
+/// The whole expansion: code for a valid definition, or `compile_error!`s
+/// spanned on the offending tokens (with stub types, so uses of the
+/// mechanism elsewhere do not add knock-on errors).
+pub fn expand(input: TokenStream) -> TokenStream {
+    let def: parse::Definition = match syn::parse2(input) {
+        Ok(def) => def,
+        Err(e) => return e.into_compile_error(),
+    };
+    let mut errors = check::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    check::check_mobility(&def, model.spatial, &mut errors);
+    if errors.is_empty() {
+        check::check_model(&def, &model, &mut errors);
+    }
+    if let Err(e) = errors.finish() {
+        return emit::fallback(&def, e.into_compile_error());
+    }
+    let derived = kinematics::derive(&mut model);
+    emit::expand(&def, &model, &derived)
+}
+
+/// The operation counts of a definition (see [`emit::operation_counts`]), or
+/// `None` if it has errors.
+// Used by the unit tests and the benchmarks.
+#[cfg_attr(not(test), allow(dead_code))]
+pub fn op_counts(input: TokenStream) -> Option<[(&'static str, cse::OpCount); 2]> {
+    let def: parse::Definition = syn::parse2(input).ok()?;
+    let mut errors = check::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    errors.finish().ok()?;
+    let derived = kinematics::derive(&mut model);
+    Some(emit::operation_counts(&model, &derived))
+}
