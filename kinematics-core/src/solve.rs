@@ -39,9 +39,13 @@ pub enum Failure {
 }
 
 /// LU factorisation with partial pivoting, P·A = L·U, of a square matrix.
+///
+/// The reciprocals of the pivots are kept, so that [`Lu::solve`] has no
+/// division.
 #[derive(Debug, Clone, Copy)]
 pub struct Lu<const N: usize> {
     lu: [[f64; N]; N],
+    inv_pivot: [f64; N],
     perm: [usize; N],
 }
 
@@ -50,60 +54,69 @@ impl<const N: usize> Lu<N> {
     ///
     /// # Errors
     /// [`Failure::Singular`] when a pivot, relative to the largest entry of
-    /// `a`, is at or below `threshold`.
+    /// `a`, is at or below `threshold` (or is not finite).
+    #[inline]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
         let mut lu = *a;
         let mut perm = [0usize; N];
-        for (i, p) in perm.iter_mut().enumerate() {
-            *p = i;
+        let mut inv_pivot = [0.0; N];
+        let mut scale = 0.0f64;
+        for (i, row) in a.iter().enumerate() {
+            perm[i] = i;
+            for v in row {
+                scale = scale.max(v.abs());
+            }
         }
-        let scale = a
-            .iter()
-            .flat_map(|r| r.iter())
-            .fold(0.0f64, |m, v| m.max(v.abs()));
         let scale = if scale > 0.0 { scale } else { 1.0 };
         for k in 0..N {
             let mut best = k;
             let mut best_val = lu[k][k].abs();
-            for (i, row) in lu.iter().enumerate().skip(k + 1) {
-                if row[k].abs() > best_val {
+            for i in k + 1..N {
+                if lu[i][k].abs() > best_val {
                     best = i;
-                    best_val = row[k].abs();
+                    best_val = lu[i][k].abs();
                 }
             }
-            let rel = best_val / scale;
-            if rel <= threshold || !rel.is_finite() {
+            // Written so that a NaN pivot also fails.
+            let regular = best_val > threshold * scale && best_val.is_finite();
+            if !regular {
+                let rel = best_val / scale;
                 return Err(Failure::Singular {
                     unknown: k,
                     relative_pivot: if rel.is_finite() { rel } else { 0.0 },
                 });
             }
-            lu.swap(k, best);
-            perm.swap(k, best);
+            if best != k {
+                lu.swap(k, best);
+                perm.swap(k, best);
+            }
             let pivot_row = lu[k];
-            let pivot = pivot_row[k];
-            for row in lu.iter_mut().skip(k + 1) {
-                let m = row[k] / pivot;
-                row[k] = m;
+            let inv = 1.0 / pivot_row[k];
+            inv_pivot[k] = inv;
+            for i in k + 1..N {
+                let m = lu[i][k] * inv;
+                lu[i][k] = m;
                 for c in k + 1..N {
-                    row[c] -= m * pivot_row[c];
+                    lu[i][c] -= m * pivot_row[c];
                 }
             }
         }
-        Ok(Self { lu, perm })
+        Ok(Self {
+            lu,
+            inv_pivot,
+            perm,
+        })
     }
 
     /// Solves A·x = b.
+    #[inline]
     #[must_use]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
         let mut x = [0.0; N];
-        for (i, p) in self.perm.iter().enumerate() {
-            x[i] = b[*p];
-        }
         for i in 0..N {
-            let mut s = x[i];
-            for (j, xj) in x.iter().enumerate().take(i) {
-                s -= self.lu[i][j] * xj;
+            let mut s = b[self.perm[i]];
+            for j in 0..i {
+                s -= self.lu[i][j] * x[j];
             }
             x[i] = s;
         }
@@ -112,45 +125,57 @@ impl<const N: usize> Lu<N> {
             for j in i + 1..N {
                 s -= self.lu[i][j] * x[j];
             }
-            x[i] = s / self.lu[i][i];
+            x[i] = s * self.inv_pivot[i];
         }
         x
     }
 }
 
-fn max_abs<const N: usize>(v: &[f64; N]) -> (f64, usize) {
-    let mut m = 0.0;
+/// ½‖v‖² and max|v_i| (infinite when some entry is not finite) in one pass.
+#[inline]
+fn norms<const N: usize>(v: &[f64; N]) -> (f64, f64) {
+    let mut sq = 0.0;
+    let mut max = 0.0f64;
+    for x in v {
+        sq += x * x;
+        max = max.max(x.abs());
+    }
+    if sq.is_finite() {
+        (0.5 * sq, max)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    }
+}
+
+fn worst<const N: usize>(v: &[f64; N]) -> usize {
     let mut at = 0;
     for (i, x) in v.iter().enumerate() {
         if !x.is_finite() {
-            return (f64::INFINITY, i);
+            return i;
         }
-        if x.abs() > m {
-            m = x.abs();
+        if x.abs() > v[at].abs() {
             at = i;
         }
     }
-    (m, at)
-}
-
-fn half_sq<const N: usize>(v: &[f64; N]) -> f64 {
-    0.5 * v.iter().map(|x| x * x).sum::<f64>()
+    at
 }
 
 /// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`. `eval`
-/// writes Φ(u) and Φ_u(u).
+/// writes Φ(u) and Φ_u(u); when it returns `Ok`, the last call was at the
+/// returned `u`.
 ///
 /// Each Newton step Δu = −Φ_u⁻¹ Φ is a descent direction of the merit
 /// f = ½‖Φ‖²; the step length t is halved until f decreases by at least the
 /// Armijo fraction, f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor
 /// guess from wandering to a far solution. Converged when max|Φ_i| ≤
 /// `tolerance`, or when the full Newton step is at the level of round-off
-/// (|Δu| ≤ 10⁻¹⁴·(1 + |u|)). Returns the iterations used.
+/// (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|) for every i). Returns the iterations used.
 ///
 /// # Errors
 /// A [`Failure`] when Φ_u is singular, Φ is not finite, no step length
 /// decreases the merit (a local minimum of ‖Φ‖ that is not a solution), or the
 /// iteration cap is reached; `u` then holds the last iterate.
+#[inline]
 pub fn newton<const N: usize>(
     u: &mut [f64; N],
     options: &Options,
@@ -159,57 +184,62 @@ pub fn newton<const N: usize>(
     let mut phi = [0.0; N];
     let mut jac = [[0.0; N]; N];
     eval(u, &mut phi, &mut jac);
+    let (mut f0, mut max) = norms(&phi);
     let mut iterations = 0;
     loop {
-        let (r, worst) = max_abs(&phi);
-        if !r.is_finite() {
+        if !max.is_finite() {
+            let i = worst(&phi);
             return Err(Failure::NonFiniteResidual {
-                equation: worst,
-                value: phi[worst],
+                equation: i,
+                value: phi[i],
             });
         }
-        if r <= options.tolerance {
+        if max <= options.tolerance {
             return Ok(iterations);
         }
         if iterations >= options.max_iterations {
             return Err(Failure::NotConverged {
                 iterations,
-                residual: r,
-                equation: worst,
+                residual: max,
+                equation: worst(&phi),
             });
         }
         iterations += 1;
-        let lu = Lu::factor(&jac, options.singularity_threshold)?;
-        let mut neg = phi;
-        for v in &mut neg {
-            *v = -*v;
+        let step = Lu::factor(&jac, options.singularity_threshold)?.solve(&phi);
+        let mut tiny = true;
+        for i in 0..N {
+            tiny &= step[i].abs() <= 1e-14 * (1.0 + u[i].abs());
         }
-        let step = lu.solve(&neg);
-        let (step_size, _) = max_abs(&step);
-        let (u_size, _) = max_abs(u);
-        if step_size <= 1e-14 * (1.0 + u_size) {
+        if tiny {
             return Ok(iterations);
         }
         let start = *u;
-        let f0 = half_sq(&phi);
         let mut t = 1.0;
         loop {
             for i in 0..N {
-                u[i] = start[i] + t * step[i];
+                u[i] = start[i] - t * step[i];
             }
             eval(u, &mut phi, &mut jac);
-            let f = half_sq(&phi);
+            let (f, m) = norms(&phi);
             if f <= (1.0 - 2e-4 * t) * f0 {
+                f0 = f;
+                max = m;
                 break;
             }
             if t < 1e-3 {
+                if !m.is_finite() {
+                    let i = worst(&phi);
+                    return Err(Failure::NonFiniteResidual {
+                        equation: i,
+                        value: phi[i],
+                    });
+                }
                 // No decrease along the Newton direction: a local minimum
                 // of ‖Φ‖ that is not a solution.
-                let (r, worst) = max_abs(&phi);
                 return Err(Failure::NotConverged {
                     iterations,
-                    residual: r,
-                    equation: worst,
+                    residual: m,
+                    equation: worst(&phi),
                 });
             }
             t *= 0.5;

@@ -16,6 +16,9 @@ pub struct Schedule {
     pub bound: Vec<bool>,
     /// The bound nodes of each stage, in evaluation order.
     pub stages: Vec<Vec<Id>>,
+    /// The stage each live node is evaluated in (the first whose outputs
+    /// need it).
+    pub stage_of: Vec<Option<usize>>,
 }
 
 /// Schedules the evaluation of `stages` (each a list of output roots).
@@ -36,20 +39,26 @@ pub fn schedule(g: &Graph, stages: &[Vec<Id>]) -> Schedule {
     let bound: Vec<bool> = (0..g.len())
         .map(|i| live[i] && uses[i] >= 2 && g.node(Id::from_index(i)).is_operation())
         .collect();
-    let mut placed = vec![false; g.len()];
+    let mut stage_of = vec![None; g.len()];
     let mut out = Vec::new();
-    for roots in stages {
+    for (s, roots) in stages.iter().enumerate() {
         let cone = g.reachable(roots);
         let mut lets = Vec::new();
         for i in 0..g.len() {
-            if cone[i] && bound[i] && !placed[i] {
-                placed[i] = true;
-                lets.push(Id::from_index(i));
+            if cone[i] && stage_of[i].is_none() {
+                stage_of[i] = Some(s);
+                if bound[i] {
+                    lets.push(Id::from_index(i));
+                }
             }
         }
         out.push(lets);
     }
-    Schedule { bound, stages: out }
+    Schedule {
+        bound,
+        stages: out,
+        stage_of,
+    }
 }
 
 /// Operation counts of a set of outputs.

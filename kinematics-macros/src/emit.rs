@@ -482,6 +482,82 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
     }
 }
 
+/// `checks`, a list of `finite(…)?;` statements over `values`, run only when
+/// the fast test `values[0].is_finite() & …` fails: the common case costs one
+/// branch, and the error still names the offending value.
+fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStream {
+    if values.is_empty() {
+        return TokenStream::new();
+    }
+    quote! {
+        if !(#( #values.is_finite() )&*) {
+            #checks
+        }
+    }
+}
+
+/// The driver-only nodes of the Newton cone that the unknown-dependent part
+/// (or the output list itself) uses: evaluated once before the iteration.
+fn driver_frontier(g: &Graph, roots: &[Id], drivers: u32) -> Vec<Id> {
+    let live = g.reachable(roots);
+    let mut dep = vec![false; g.len()];
+    for i in 0..g.len() {
+        let node = g.node(Id::from_index(i));
+        dep[i] = match node {
+            Node::Leaf(Leaf::Q(j)) => j >= drivers,
+            _ => node.children().any(|c| dep[c.index()]),
+        };
+    }
+    let mut frontier = vec![false; g.len()];
+    for i in 0..g.len() {
+        if live[i] && dep[i] {
+            for c in g.node(Id::from_index(i)).children() {
+                frontier[c.index()] |= !dep[c.index()];
+            }
+        }
+    }
+    for r in roots {
+        frontier[r.index()] |= !dep[r.index()];
+    }
+    (0..g.len())
+        .filter(|&i| frontier[i] && g.node(Id::from_index(i)).is_operation())
+        .map(Id::from_index)
+        .collect()
+}
+
+/// The bound nodes of stage `stage` that a later stage uses (as an operand
+/// or as an output): these are carried out of the stage's evaluation.
+fn used_later(
+    g: &Graph,
+    sched: &Schedule,
+    stage: usize,
+    _own: &[Id],
+    later: &[&Vec<Id>],
+) -> Vec<Id> {
+    let mut keep = vec![false; g.len()];
+    let in_stage = |i: usize| sched.stage_of[i] == Some(stage) && sched.bound[i];
+    for i in 0..g.len() {
+        if sched.stage_of[i].is_some_and(|s| s > stage) {
+            for c in g.node(Id::from_index(i)).children() {
+                if in_stage(c.index()) {
+                    keep[c.index()] = true;
+                }
+            }
+        }
+    }
+    for roots in later {
+        for r in roots.iter() {
+            if in_stage(r.index()) {
+                keep[r.index()] = true;
+            }
+        }
+    }
+    (0..g.len())
+        .filter(|&i| keep[i])
+        .map(Id::from_index)
+        .collect()
+}
+
 /// Operation counts, before and after common-subexpression elimination, of
 /// the Newton step (Φ and Φ_u) and of the analysis (Φ_u, both right-hand
 /// sides, and every point's position, velocity and acceleration).
@@ -656,6 +732,92 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 .collect::<Vec<_>>()
         }))
         .collect();
+    // The fused step: Newton with the driver-only part of Φ and Φ_u hoisted
+    // out of the loop, and the values the analysis needs kept from the last
+    // (converged) Newton evaluation instead of recomputed.
+    let newton_roots: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
+    let frontier = driver_frontier(g, &newton_roots, model.drivers);
+    let fsched = schedule(
+        g,
+        &[
+            frontier,
+            newton_roots.clone(),
+            vel_stage.clone(),
+            acc_stage.clone(),
+            pt_stage.clone(),
+        ],
+    );
+    let cached = used_later(
+        g,
+        &fsched,
+        1,
+        &newton_roots,
+        &[&vel_stage, &acc_stage, &pt_stage],
+    );
+    let (fpr, flets) = bind(g, &fsched, &leaf);
+    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| fpr.names.get(id)).collect();
+    let nc = cached_names.len();
+    let (f0, f1, f2, f3, f4) = (&flets[0], &flets[1], &flets[2], &flets[3], &flets[4]);
+    let fphi: Vec<_> = d.phi.iter().map(|&i| fpr.element(i)).collect();
+    let fjac_rows: Vec<_> = d
+        .jac
+        .iter()
+        .map(|row| {
+            let r: Vec<_> = row.iter().map(|&i| fpr.element(i)).collect();
+            quote!([#(#r),*])
+        })
+        .collect();
+    let fvel: Vec<_> = d.vel_rhs.iter().map(|&i| fpr.element(i)).collect();
+    let facc: Vec<_> = d.acc_rhs.iter().map(|&i| fpr.element(i)).collect();
+    let fpoints: Vec<_> = (0..np)
+        .map(|k| {
+            let (p, v, a) = (
+                vector(&fpr, &d.pos[k]),
+                vector(&fpr, &d.vel[k]),
+                vector(&fpr, &d.acc[k]),
+            );
+            quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
+        })
+        .collect();
+    let fframes: Vec<_> = d
+        .frames
+        .iter()
+        .map(|f| {
+            let r = matrix(&fpr, &f.rotation);
+            let [o, od, odd] = &f.origin;
+            let (o, od, odd) = (vector(&fpr, o), vector(&fpr, od), vector(&fpr, odd));
+            let (w, al) = (vector(&fpr, &f.omega), vector(&fpr, &f.alpha));
+            quote!(#pp::FrameState {
+                rotation: #r,
+                origin: #o,
+                velocity: #od,
+                acceleration: #odd,
+                angular_velocity: #w,
+                angular_acceleration: #al,
+            })
+        })
+        .collect();
+
+    // Assembly alone, with the same hoisting.
+    let asched = schedule(
+        g,
+        &[
+            driver_frontier(g, &newton_roots, model.drivers),
+            newton_roots.clone(),
+        ],
+    );
+    let (apr, alets) = bind(g, &asched, &leaf);
+    let (a0, a1) = (&alets[0], &alets[1]);
+    let aphi: Vec<_> = d.phi.iter().map(|&i| apr.element(i)).collect();
+    let ajac_rows: Vec<_> = d
+        .jac
+        .iter()
+        .map(|row| {
+            let r: Vec<_> = row.iter().map(|&i| apr.element(i)).collect();
+            quote!([#(#r),*])
+        })
+        .collect();
+
     let sched = schedule(g, &[vel_stage, acc_stage, pt_stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
     let (lets1, lets2, lets3) = (&lets[0], &lets[1], &lets[2]);
@@ -722,6 +884,12 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     };
     let check_qd = finite_out(qd_unknowns);
     let check_qdd = finite_out(qdd_unknowns);
+    let rate_values: Vec<TokenStream> = qd_unknowns
+        .iter()
+        .chain(qdd_unknowns)
+        .map(|v| quote!(#v))
+        .collect();
+    let check_rates = guarded(&rate_values, &quote!(#check_qd #check_qdd));
     let driver_names: Vec<String> = c_drivers.iter().map(|c| c.unraw().to_string()).collect();
     let unknown_names: Vec<String> = c_unknowns.iter().map(|c| c.unraw().to_string()).collect();
     let param_names: Vec<String> = params.iter().map(|c| c.unraw().to_string()).collect();
@@ -732,6 +900,83 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .iter()
         .map(|p| p.name.unraw().to_string())
         .collect();
+    let validate_checks = guarded(
+        &params.iter().map(|p| quote!(self.#p)).collect::<Vec<_>>(),
+        &quote!(#( #pp::finite(#pp::Input::Parameter, #param_names, self.#params)?; )*),
+    );
+    let input_values: Vec<TokenStream> = c_drivers
+        .iter()
+        .chain(c_unknowns)
+        .map(|c| quote!(start.#c))
+        .chain(qd_drivers.iter().chain(qdd_drivers).map(|v| quote!(#v)))
+        .collect();
+    let step_inputs = guarded(
+        &input_values,
+        &quote! {
+            #( #pp::finite(#pp::Input::Driver, #driver_names, start.#c_drivers)?; )*
+            #( #pp::finite(#pp::Input::Guess, #unknown_names, start.#c_unknowns)?; )*
+            #( #pp::finite(#pp::Input::DriverRate, #driver_names, #qd_drivers)?; )*
+            #( #pp::finite(#pp::Input::DriverAcceleration, #driver_names, #qdd_drivers)?; )*
+        },
+    );
+    let pose_values: Vec<TokenStream> = c_drivers
+        .iter()
+        .chain(c_unknowns)
+        .map(|c| quote!(pose.#c))
+        .chain(qd_drivers.iter().chain(qdd_drivers).map(|v| quote!(#v)))
+        .collect();
+    let analyze_inputs = guarded(
+        &pose_values,
+        &quote! {
+            #( #pp::finite(#pp::Input::Driver, #driver_names, pose.#c_drivers)?; )*
+            #( #pp::finite(#pp::Input::Guess, #unknown_names, pose.#c_unknowns)?; )*
+            #( #pp::finite(#pp::Input::DriverRate, #driver_names, #qd_drivers)?; )*
+            #( #pp::finite(#pp::Input::DriverAcceleration, #driver_names, #qdd_drivers)?; )*
+        },
+    );
+    let start_values: Vec<TokenStream> = c_drivers
+        .iter()
+        .chain(c_unknowns)
+        .map(|c| quote!(start.#c))
+        .collect();
+    let assemble_inputs = guarded(
+        &start_values,
+        &quote! {
+            #( #pp::finite(#pp::Input::Driver, #driver_names, start.#c_drivers)?; )*
+            #( #pp::finite(#pp::Input::Guess, #unknown_names, start.#c_unknowns)?; )*
+        },
+    );
+    // Outputs: one sum over every point and frame component (any NaN or
+    // infinity makes it non-finite), then the named checks if it is not.
+    let mut out_terms: Vec<TokenStream> = Vec::new();
+    for k in 0..np {
+        for field in [quote!(position), quote!(velocity), quote!(acceleration)] {
+            for c in 0..point_dim {
+                out_terms.push(quote!(motion.points[#k].#field[#c]));
+            }
+        }
+    }
+    for k in 0..nf {
+        for c in 0..9usize {
+            out_terms.push(quote!(motion.frames[#k].rotation[#c]));
+        }
+        for field in [
+            quote!(origin),
+            quote!(velocity),
+            quote!(acceleration),
+            quote!(angular_velocity),
+            quote!(angular_acceleration),
+        ] {
+            for c in 0..3usize {
+                out_terms.push(quote!(motion.frames[#k].#field[#c]));
+            }
+        }
+    }
+    let output_sum = if out_terms.is_empty() {
+        quote!(0.0f64)
+    } else {
+        quote!(#(#out_terms)+*)
+    };
     let coordinate_info = model.kinds.iter().enumerate().map(|(j, k)| {
         let n = &coord_names[j];
         let role = if j < nd {
@@ -783,7 +1028,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
             /// # Errors
             /// [`Error::NonFinite`](::kinematics_core::Error::NonFinite) naming the parameter.
             pub fn validate(&self) -> #pp::Result<(), #pp::Error> {
-                #( #pp::finite(#pp::Input::Parameter, #param_names, self.#params)?; )*
+                #validate_checks
                 ::core::result::Result::Ok(())
             }
 
@@ -806,12 +1051,16 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
             pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
                 options.validate()?;
                 self.validate()?;
-                #( #pp::finite(#pp::Input::Driver, #driver_names, start.#c_drivers)?; )*
-                #( #pp::finite(#pp::Input::Guess, #unknown_names, start.#c_unknowns)?; )*
-                let d = [#(start.#c_drivers),*];
+                #assemble_inputs
+                let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+                #a0
                 let mut u = [#(start.#c_unknowns),*];
-                let solved = #pp::newton(&mut u, options, |u, phi, jac| self.__phi_jac(&d, u, phi, jac));
-                let [#(#q_drivers),*] = d;
+                let solved = #pp::newton(&mut u, options, |u, phi, jac| {
+                    let [#(#q_unknowns),*] = *u;
+                    #a1
+                    *phi = [#(#aphi),*];
+                    *jac = [#(#ajac_rows),*];
+                });
                 let [#(#q_unknowns),*] = u;
                 match solved {
                     ::core::result::Result::Ok(_) => ::core::result::Result::Ok(#coords { #( #coord: #q ),* }),
@@ -819,6 +1068,89 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                         #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
                     ),
                 }
+            }
+
+            /// Assembles at the drivers of `start` from its unknowns (as
+            /// [`Self::assemble`]) and analyses the motion there (as
+            /// [`Self::analyze`]), in one pass: the last Newton evaluation's
+            /// sines, cosines and Jacobian are reused, not recomputed. The
+            /// step of a simulation that advances the drivers.
+            ///
+            /// # Errors
+            /// As [`Self::assemble`] and [`Self::analyze`].
+            pub fn step(
+                &self,
+                start: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                self.step_with(start, rates, accelerations, &#pp::Options::DEFAULT)
+            }
+
+            /// [`Self::step`] with explicit solver options.
+            ///
+            /// # Errors
+            /// As [`Self::step`], and invalid options.
+            #allow
+            #[allow(unused_assignments)]
+            pub fn step_with(
+                &self,
+                start: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                options.validate()?;
+                self.validate()?;
+                let [#(#qd_drivers),*] = rates.into_array();
+                let [#(#qdd_drivers),*] = accelerations.into_array();
+                #step_inputs
+                let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+                #f0
+                let mut cache = [0.0f64; #nc];
+                let mut u = [#(start.#c_unknowns),*];
+                let solved = #pp::newton(&mut u, options, |u, phi, jac| {
+                    let [#(#q_unknowns),*] = *u;
+                    #f1
+                    *phi = [#(#fphi),*];
+                    *jac = [#(#fjac_rows),*];
+                    cache = [#(#cached_names),*];
+                });
+                let [#(#q_unknowns),*] = u;
+                if let ::core::result::Result::Err(f) = solved {
+                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+                }
+                let [#(#cached_names),*] = cache;
+                #f2
+                let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
+                let lu = match #pp::Lu::factor(&jac, options.singularity_threshold) {
+                    ::core::result::Result::Ok(lu) => lu,
+                    ::core::result::Result::Err(f) => return ::core::result::Result::Err(
+                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
+                    ),
+                };
+                let [#(#qd_unknowns),*] = lu.solve(&[#(#fvel),*]);
+                #f3
+                let [#(#qdd_unknowns),*] = lu.solve(&[#(#facc),*]);
+                #check_rates
+                #f4
+                let motion = #motion {
+                    q: #coords { #( #coord: #q ),* },
+                    qd: #coords { #( #coord: #qd ),* },
+                    qdd: #coords { #( #coord: #qdd ),* },
+                    points: [#(#fpoints),*],
+                    frames: [#(#fframes),*],
+                };
+                if !(#output_sum).is_finite() {
+                    let point_names: [&'static str; #np] = [#(#point_names),*];
+                    for (name, p) in point_names.iter().zip(&motion.points) {
+                        for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
+                            #pp::finite(#pp::Input::Computed, name, *v)?;
+                        }
+                    }
+                    #check_frames
+                }
+                ::core::result::Result::Ok(motion)
             }
 
             /// Velocities and accelerations at an assembled `pose`, for driver
@@ -855,10 +1187,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 self.validate()?;
                 let [#(#qd_drivers),*] = rates.into_array();
                 let [#(#qdd_drivers),*] = accelerations.into_array();
-                #( #pp::finite(#pp::Input::Driver, #driver_names, pose.#c_drivers)?; )*
-                #( #pp::finite(#pp::Input::Guess, #unknown_names, pose.#c_unknowns)?; )*
-                #( #pp::finite(#pp::Input::DriverRate, #driver_names, #qd_drivers)?; )*
-                #( #pp::finite(#pp::Input::DriverAcceleration, #driver_names, #qdd_drivers)?; )*
+                #analyze_inputs
                 #( let #all_q = pose.#coord; )*
                 #lets1
                 let jac: [[f64; #nu]; #ne] = [#(#jac_rows),*];
@@ -871,8 +1200,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 let [#(#qd_unknowns),*] = lu.solve(&[#(#vel_e),*]);
                 #lets2
                 let [#(#qdd_unknowns),*] = lu.solve(&[#(#acc_e),*]);
-                #check_qd
-                #check_qdd
+                #check_rates
                 #lets3
                 let motion = #motion {
                     q: *pose,
@@ -881,13 +1209,15 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     points: [#(#points_e),*],
                     frames: [#(#frames_e),*],
                 };
-                let point_names: [&'static str; #np] = [#(#point_names),*];
-                for (name, p) in point_names.iter().zip(&motion.points) {
-                    for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
-                        #pp::finite(#pp::Input::Computed, name, *v)?;
+                if !(#output_sum).is_finite() {
+                    let point_names: [&'static str; #np] = [#(#point_names),*];
+                    for (name, p) in point_names.iter().zip(&motion.points) {
+                        for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
+                            #pp::finite(#pp::Input::Computed, name, *v)?;
+                        }
                     }
+                    #check_frames
                 }
-                #check_frames
                 ::core::result::Result::Ok(motion)
             }
 

@@ -20,9 +20,9 @@
 
 mod check;
 mod cse;
-mod expand;
 mod diff;
 mod emit;
+mod expand;
 mod ir;
 mod kinematics;
 mod lower;

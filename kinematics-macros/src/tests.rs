@@ -13,7 +13,8 @@ fn four_bar_expansion_snapshot() {
 
 #[test]
 fn four_bar_operation_count_after_cse() {
-    let [(_, newton), (_, analysis)] = crate::expand::op_counts(four_bar()).expect("valid definition");
+    let [(_, newton), (_, analysis)] =
+        crate::expand::op_counts(four_bar()).expect("valid definition");
     let (newton_tree, newton_shared) = (newton.tree, newton.shared as u64);
     let (analysis_tree, analysis_shared) = (analysis.tree, analysis.shared as u64);
     println!("residual and Jacobian: {newton_tree} operations as trees, {newton_shared} after CSE");

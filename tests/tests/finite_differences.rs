@@ -347,3 +347,118 @@ fn slider_crank_against_closed_form_derivatives() {
         );
     }
 }
+
+#[test]
+fn fused_step_equals_assemble_then_analyze() {
+    use kinematics_core::MotionState;
+    use kinematics_examples::{Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords};
+    fn same<S: MotionState>(a: &S, b: &S) {
+        use kinematics_core::{Coordinates, PointState};
+        for j in 0.. {
+            let (Some(x), Some(y)) = (a.qdd().get(j), b.qdd().get(j)) else {
+                break;
+            };
+            let (xd, yd) = (a.qd().get(j).expect("q'"), b.qd().get(j).expect("q'"));
+            let (xq, yq) = (a.q().get(j).expect("q"), b.q().get(j).expect("q"));
+            assert!(
+                (x - y).abs() + (xd - yd).abs() + (xq - yq).abs() < 1e-9,
+                "coordinate {j}"
+            );
+        }
+        for (p, q) in a.points().iter().zip(b.points()) {
+            for (u, v) in p.acceleration().iter().zip(q.acceleration()) {
+                assert!((u - v).abs() < 1e-9);
+            }
+        }
+        for (f, g) in a.frames().iter().zip(b.frames()) {
+            assert!((f.angular_acceleration - g.angular_acceleration).norm() < 1e-9);
+        }
+    }
+    let m = FourBar::CRANK_ROCKER;
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    for k in 0..72 {
+        pose.phi = f64::from(k) * 5f64.to_radians();
+        let fused = m.step(&pose, 10.0, 2.0).expect("step");
+        pose = m.assemble(&pose).expect("assembles");
+        same(&fused, &m.analyze(&pose, 10.0, 2.0).expect("analysis"));
+    }
+    let w = Watt {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.06,
+        gamma: 0.0,
+        f: 0.10,
+        g: 0.08,
+        gx: 0.20,
+        gy: 0.10,
+    };
+    let start = WattCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+        th5: 0.3,
+        th6: 1.9,
+    };
+    let fused = w.step(&start, 10.0, 2.0).expect("step");
+    same(
+        &fused,
+        &w.analyze(&w.assemble(&start).expect("assembles"), 10.0, 2.0)
+            .expect("analysis"),
+    );
+    let r = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.315,
+    };
+    let start = RssrCoords { phi: 0.3, psi: 1.2 };
+    let fused = r.step(&start, 25.0, 3.0).expect("step");
+    same(
+        &fused,
+        &r.analyze(&r.assemble(&start).expect("assembles"), 25.0, 3.0)
+            .expect("analysis"),
+    );
+    let arm = SixAxisArm {
+        d1: 0.4,
+        a2: 0.45,
+        a3: 0.4,
+        d5: 0.08,
+        d6: 0.1,
+    };
+    let q = SixAxisArmCoords {
+        q1: 0.1,
+        q2: -0.4,
+        q3: 0.9,
+        q4: 0.2,
+        q5: -0.6,
+        q6: 0.3,
+    };
+    let (rates, accels) = (
+        [1.0, 0.5, -0.5, 1.0, 0.7, -1.0],
+        [0.3, 0.1, -0.2, 0.0, 0.4, 0.2],
+    );
+    same(
+        &arm.step(&q, rates, accels).expect("step"),
+        &arm.analyze(&q, rates, accels).expect("analysis"),
+    );
+    // Failures are reported the same way.
+    let short = FourBar {
+        a: 0.04,
+        b: 0.02,
+        c: 0.02,
+        d: 0.2,
+        p: 0.0,
+        beta: 0.0,
+    };
+    let start = FourBarCoords {
+        phi: 0.0,
+        th3: 0.5,
+        th4: 2.0,
+    };
+    assert_eq!(
+        std::mem::discriminant(&short.step(&start, 1.0, 0.0).expect_err("cannot close")),
+        std::mem::discriminant(&short.assemble(&start).expect_err("cannot close"))
+    );
+}

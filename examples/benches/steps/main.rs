@@ -1,0 +1,565 @@
+//! Cost of one simulation step, for four mechanisms and five ways of
+//! getting the derivatives, and the cost of the macro expansion.
+//!
+//! A step: set the driver to its next value (3600 steps per turn), assemble
+//! from the previous pose by Newton–Raphson to max|Φ| < 1e-12, solve
+//! velocities and accelerations, and evaluate a point's (and for the arm a
+//! frame's) position, velocity and acceleration; the outputs are summed into
+//! a checksum. The variants:
+//!
+//! 1. the code `mechanism!` generates, through its public API (`step`:
+//!    assemble and analyse in one call);
+//! 2. hand-written, hand-differentiated code (`hand.rs`);
+//! 3. forward-mode dual numbers, `num-dual` (`generic.rs`);
+//! 4. central finite differences (`generic.rs`);
+//! 5. the macro's expression DAG interpreted at run time (`interp.rs`).
+//!
+//! Before timing, every variant's checksum over a full turn is compared with
+//! the hand-written one. `cargo bench -p kinematics-examples --bench steps`
+//! prints the table; with `KINEMATICS_BENCH_README=1` it also rewrites the
+//! table in README.md.
+
+// Benchmark code: a failed setup should stop the run (panics), and the
+// numerical loops index several arrays in step, as in the formulas.
+#![allow(clippy::expect_used, clippy::panic, clippy::needless_range_loop)]
+
+// The macro's pipeline, compiled here to build the DAG for variant 5 and to
+// time the expansion. Its modules refer to each other through `crate::`,
+// so they sit at this crate's root.
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/check.rs"]
+mod check;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/cse.rs"]
+mod cse;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/diff.rs"]
+mod diff;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/emit.rs"]
+mod emit;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/expand.rs"]
+mod expand;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/ir.rs"]
+mod ir;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/kinematics.rs"]
+mod kinematics;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/lower.rs"]
+mod lower;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/parse.rs"]
+mod parse;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/simplify.rs"]
+mod simplify;
+
+mod generic;
+mod hand;
+mod interp;
+mod models;
+
+use std::f64::consts::TAU;
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::Criterion;
+
+use models::{m1, m2, m3, m4, ARM_OFFSET, ARM_SPEED, M1, M2, M3, M4};
+
+const STEPS: usize = 3600;
+
+fn angle(k: usize) -> f64 {
+    // Exact for the integers involved.
+    #[allow(clippy::cast_precision_loss)]
+    let k = k as f64;
+    k * TAU / STEPS as f64
+}
+
+/// Driver rates and accelerations of the planar and RSSR sweeps.
+const M1_RATES: (f64, f64) = (10.0, 2.0);
+const M2_RATES: (f64, f64) = (8.0 * std::f64::consts::PI, 0.0); // 240 rev/min
+const M3_RATES: (f64, f64) = (10.0, 2.0);
+
+/// Starting unknowns at φ = 0.
+const M1_START: [f64; 2] = [1.0, 1.6];
+const M2_START: [f64; 1] = [1.2];
+const M3_START: [f64; 4] = [1.0, 1.6, 0.3, 1.9];
+
+// ───────────────────────── variant 1: generated ─────────────────────────
+
+fn gen_m1() -> f64 {
+    let m = M1;
+    let mut pose = m1::FourBarCoords {
+        phi: 0.0,
+        th3: M1_START[0],
+        th4: M1_START[1],
+    };
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = m.step(&pose, M1_RATES.0, M1_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_p();
+        sum += pose.th3 + pose.th4 + s.qd.th3 + s.qd.th4 + s.qdd.th3 + s.qdd.th4;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
+fn gen_m2() -> f64 {
+    let m = M2;
+    let mut pose = m2::RssrCoords {
+        phi: 0.0,
+        psi: M2_START[0],
+    };
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = m.step(&pose, M2_RATES.0, M2_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_b();
+        sum += pose.psi + s.qd.psi + s.qdd.psi;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
+fn gen_m3() -> f64 {
+    let m = M3;
+    let [th3, th4, th5, th6] = M3_START;
+    let mut pose = m3::WattCoords {
+        phi: 0.0,
+        th3,
+        th4,
+        th5,
+        th6,
+    };
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = m.step(&pose, M3_RATES.0, M3_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_f();
+        sum += pose.th3 + pose.th4 + pose.th5 + pose.th6;
+        sum += s.qd.th3 + s.qd.th4 + s.qd.th5 + s.qd.th6;
+        sum += s.qdd.th3 + s.qdd.th4 + s.qdd.th5 + s.qdd.th6;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
+fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
+    let s = angle(k);
+    (
+        std::array::from_fn(|i| ARM_OFFSET[i] + ARM_SPEED[i] * s),
+        ARM_SPEED,
+        std::array::from_fn(|i| 0.3 * ARM_SPEED[i]),
+    )
+}
+
+fn gen_m4() -> f64 {
+    let m = M4;
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        let (q, qd, qdd) = arm_joints(k);
+        let start = m4::ArmCoords {
+            q1: q[0],
+            q2: q[1],
+            q3: q[2],
+            q4: q[3],
+            q5: q[4],
+            q6: q[5],
+        };
+        let s = m.step(&start, qd, qdd).expect("step");
+        let (p, f) = (s.point_tcp(), s.frame_tool());
+        sum += q.iter().sum::<f64>();
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+        sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
+    }
+    sum
+}
+
+// ───────────────────────── variant 2: hand-written ─────────────────────────
+
+fn hand_m1() -> f64 {
+    let mut th = M1_START;
+    (0..STEPS)
+        .map(|k| hand::m1_step(&M1, angle(k), &mut th, M1_RATES.0, M1_RATES.1))
+        .sum()
+}
+
+fn hand_m2() -> f64 {
+    let mut psi = M2_START[0];
+    (0..STEPS)
+        .map(|k| hand::m2_step(&M2, angle(k), &mut psi, M2_RATES.0, M2_RATES.1))
+        .sum()
+}
+
+fn hand_m3() -> f64 {
+    let mut th = M3_START;
+    (0..STEPS)
+        .map(|k| hand::m3_step(&M3, angle(k), &mut th, M3_RATES.0, M3_RATES.1))
+        .sum()
+}
+
+fn hand_m4() -> f64 {
+    (0..STEPS)
+        .map(|k| {
+            let (q, qd, qdd) = arm_joints(k);
+            hand::m4_step(&M4, &q, &qd, &qdd)
+        })
+        .sum()
+}
+
+// ───────────────── variants 3–5: dual numbers, differences, DAG ─────────────────
+
+/// A closed-loop sweep with one driver and NU unknowns, for a step function
+/// of the generic variants.
+fn sweep<const NQ: usize, const NU: usize>(
+    start: [f64; NU],
+    rates: (f64, f64),
+    mut step: impl FnMut(&mut [f64; NQ], &mut [f64; NQ], &mut [f64; NQ]) -> f64,
+) -> f64 {
+    let mut q = [0.0; NQ];
+    q[1..].copy_from_slice(&start);
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        q[0] = angle(k);
+        let mut qd = [0.0; NQ];
+        let mut qdd = [0.0; NQ];
+        qd[0] = rates.0;
+        qdd[0] = rates.1;
+        sum += step(&mut q, &mut qd, &mut qdd);
+    }
+    sum
+}
+
+fn arm_sweep(mut step: impl FnMut(&mut [f64; 6], &mut [f64; 6], &mut [f64; 6]) -> f64) -> f64 {
+    (0..STEPS)
+        .map(|k| {
+            let (mut q, mut qd, mut qdd) = arm_joints(k);
+            step(&mut q, &mut qd, &mut qdd)
+        })
+        .sum()
+}
+
+type Sweep = Box<dyn FnMut() -> f64>;
+
+fn interp(tokens: proc_macro2::TokenStream, params: &[f64]) -> interp::Interp {
+    interp::Interp::new(tokens, params.to_vec())
+}
+
+/// The twenty sweeps: (mechanism, variant, sweep).
+fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
+    let p1 = vec![M1.a, M1.b, M1.c, M1.d, M1.p, M1.beta];
+    let p2 = vec![M2.a, M2.b, M2.c, M2.d];
+    let p3 = vec![
+        M3.a, M3.b, M3.c, M3.d, M3.e, M3.gamma, M3.f, M3.g, M3.gx, M3.gy,
+    ];
+    let p4 = vec![M4.d1, M4.a2, M4.a3, M4.d5, M4.d6];
+    let mut i1 = interp(m1::tokens(), &p1);
+    let mut i2 = interp(m2::tokens(), &p2);
+    let mut i3 = interp(m3::tokens(), &p3);
+    let mut i4 = interp(m4::tokens(), &p4);
+    vec![
+        ("M1 four-bar", "generated", Box::new(gen_m1)),
+        ("M1 four-bar", "hand-written", Box::new(hand_m1)),
+        (
+            "M1 four-bar",
+            "dual numbers",
+            Box::new(|| {
+                sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| {
+                    generic::dual_step::<_, 3, 2>(&M1, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M1 four-bar",
+            "finite differences",
+            Box::new(|| {
+                sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| {
+                    generic::fd_step::<_, 3, 2>(&M1, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M1 four-bar",
+            "interpreted DAG",
+            Box::new(move || sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| i1.step::<3, 2>(q, d, a))),
+        ),
+        ("M2 RSSR", "generated", Box::new(gen_m2)),
+        ("M2 RSSR", "hand-written", Box::new(hand_m2)),
+        (
+            "M2 RSSR",
+            "dual numbers",
+            Box::new(|| {
+                sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| {
+                    generic::dual_step::<_, 2, 1>(&M2, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M2 RSSR",
+            "finite differences",
+            Box::new(|| {
+                sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| {
+                    generic::fd_step::<_, 2, 1>(&M2, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M2 RSSR",
+            "interpreted DAG",
+            Box::new(move || sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| i2.step::<2, 1>(q, d, a))),
+        ),
+        ("M3 Watt six-bar", "generated", Box::new(gen_m3)),
+        ("M3 Watt six-bar", "hand-written", Box::new(hand_m3)),
+        (
+            "M3 Watt six-bar",
+            "dual numbers",
+            Box::new(|| {
+                sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| {
+                    generic::dual_step::<_, 5, 4>(&M3, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M3 Watt six-bar",
+            "finite differences",
+            Box::new(|| {
+                sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| {
+                    generic::fd_step::<_, 5, 4>(&M3, q, d, a)
+                })
+            }),
+        ),
+        (
+            "M3 Watt six-bar",
+            "interpreted DAG",
+            Box::new(move || sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| i3.step::<5, 4>(q, d, a))),
+        ),
+        ("M4 six-axis arm", "generated", Box::new(gen_m4)),
+        ("M4 six-axis arm", "hand-written", Box::new(hand_m4)),
+        (
+            "M4 six-axis arm",
+            "dual numbers",
+            Box::new(|| arm_sweep(|q, d, a| generic::dual_step::<_, 6, 0>(&M4, q, d, a))),
+        ),
+        (
+            "M4 six-axis arm",
+            "finite differences",
+            Box::new(|| arm_sweep(|q, d, a| generic::fd_step::<_, 6, 0>(&M4, q, d, a))),
+        ),
+        (
+            "M4 six-axis arm",
+            "interpreted DAG",
+            Box::new(move || arm_sweep(|q, d, a| i4.step::<6, 0>(q, d, a))),
+        ),
+    ]
+}
+
+const VARIANTS: [&str; 5] = [
+    "generated",
+    "hand-written",
+    "dual numbers",
+    "finite differences",
+    "interpreted DAG",
+];
+const MECHANISMS: [&str; 4] = [
+    "M1 four-bar",
+    "M2 RSSR",
+    "M3 Watt six-bar",
+    "M4 six-axis arm",
+];
+
+/// Every variant computes the same motion: their checksums over a full turn
+/// agree with the hand-written one (finite differences to their truncation
+/// error).
+fn check_agreement(all: &mut [(&'static str, &'static str, Sweep)]) {
+    for mech in MECHANISMS {
+        let reference = all
+            .iter_mut()
+            .find(|(m, v, _)| *m == mech && *v == "hand-written")
+            .map(|(_, _, f)| f())
+            .expect("a hand-written variant");
+        for (m, v, f) in all.iter_mut().filter(|(m, _, _)| *m == mech) {
+            let got = f();
+            let tol = if *v == "finite differences" {
+                1e-3
+            } else {
+                1e-8
+            };
+            let rel = (got - reference).abs() / reference.abs().max(1.0);
+            assert!(
+                rel < tol,
+                "{m} {v}: checksum {got} vs hand-written {reference} (relative {rel:e})"
+            );
+        }
+    }
+}
+
+/// Reads criterion's median estimate (ns per sweep) of one benchmark.
+fn median_ns(group: &str, id: &str) -> Option<f64> {
+    let base = std::env::var("CARGO_TARGET_DIR").map_or_else(
+        |_| std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
+        std::path::PathBuf::from,
+    );
+    let dir = |s: &str| s.replace('/', "_");
+    let path = base
+        .join("criterion")
+        .join(dir(group))
+        .join(dir(id))
+        .join("new/estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    json["median"]["point_estimate"].as_f64()
+}
+
+/// Median wall time of `f` over `n` runs.
+fn median_time(n: usize, mut f: impl FnMut()) -> Duration {
+    let mut t: Vec<Duration> = (0..n)
+        .map(|_| {
+            let start = Instant::now();
+            f();
+            start.elapsed()
+        })
+        .collect();
+    t.sort();
+    t[n / 2]
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_owned())
+        })
+        .unwrap_or_else(|| "unknown CPU".to_owned());
+    let cores = std::thread::available_parallelism().map_or(0, std::num::NonZero::get);
+    format!("{cpu}, {cores} cores")
+}
+
+/// Today's date (UTC), from days since 1970-01-01 (civil calendar).
+fn today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let z = i64::try_from(secs / 86_400).unwrap_or(0) + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+fn expansion_table() -> String {
+    let defs = [
+        ("M1 four-bar", m1::tokens()),
+        ("M2 RSSR", m2::tokens()),
+        ("M3 Watt six-bar", m3::tokens()),
+        ("M4 six-axis arm", m4::tokens()),
+    ];
+    let mut out = String::from(
+        "| mechanism | expansion time | Newton step ops: trees → shared | analysis ops: trees → shared |\n|---|---|---|---|\n",
+    );
+    for (name, tokens) in defs {
+        let t = median_time(11, || {
+            black_box(expand::expand(black_box(tokens.clone())));
+        });
+        let counts = expand::op_counts(tokens).expect("a valid definition");
+        let [(_, n), (_, a)] = counts;
+        out += &format!(
+            "| {name} | {:.2} ms | {} → {} | {} → {} |\n",
+            t.as_secs_f64() * 1e3,
+            n.tree,
+            n.shared,
+            a.tree,
+            a.shared
+        );
+    }
+    out
+}
+
+fn main() {
+    let mut all = sweeps();
+    check_agreement(&mut all);
+    let mut c = Criterion::default()
+        .configure_from_args()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(20);
+    for (mech, variant, f) in &mut all {
+        let mut group = c.benchmark_group(*mech);
+        group.bench_function(*variant, |b| b.iter(|| black_box(f())));
+        group.finish();
+    }
+    c.final_summary();
+
+    #[allow(clippy::cast_precision_loss)]
+    let per_step = |ns: f64| ns / STEPS as f64;
+    let mut table = format!(
+        "ns per step (one step: assemble from the previous pose, velocities, accelerations, one point{}), \
+         median of criterion's samples; in brackets, the ratio to the hand-written code. \
+         Measured on {}, {}.\n\n| mechanism | {} |\n|---|---|---|---|---|---|\n",
+        " and for the arm its tool frame",
+        machine(),
+        today(),
+        VARIANTS.join(" | ")
+    );
+    let mut complete = true;
+    for mech in MECHANISMS {
+        let hand = median_ns(mech, "hand-written");
+        table += &format!("| {mech} |");
+        for v in VARIANTS {
+            match (median_ns(mech, v), hand) {
+                (Some(ns), Some(h)) => table += &format!(" {:.0} ({:.2}×) |", per_step(ns), ns / h),
+                _ => {
+                    complete = false;
+                    table += " – |";
+                }
+            }
+        }
+        table += "\n";
+    }
+    table += "\nMacro expansion (the whole `proc_macro2` pipeline, median of 11 runs) and floating-point \
+              operation counts, written out as expression trees and after common-subexpression elimination:\n\n";
+    table += &expansion_table();
+    println!("\n{table}");
+    if std::env::var_os("KINEMATICS_BENCH_README").is_some() {
+        if complete {
+            write_readme(&table);
+        } else {
+            eprintln!("not all benchmarks ran (a filter was given?); README.md left unchanged");
+        }
+    }
+}
+
+fn write_readme(table: &str) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md");
+    let (start, end) = (
+        "<!-- benchmark table: start -->",
+        "<!-- benchmark table: end -->",
+    );
+    let Ok(readme) = std::fs::read_to_string(path) else {
+        eprintln!("README.md not found at {path}");
+        return;
+    };
+    let (Some(a), Some(b)) = (readme.find(start), readme.find(end)) else {
+        eprintln!("README.md has no benchmark table markers");
+        return;
+    };
+    let new = format!("{}{start}\n{table}{}", &readme[..a], &readme[b..]);
+    if std::fs::write(path, new).is_ok() {
+        eprintln!("README.md updated");
+    }
+}
