@@ -28,6 +28,7 @@ impl Options {
     ///
     /// # Errors
     /// [`Error::InvalidOption`] naming the first setting out of range.
+    #[inline]
     pub fn validate(&self) -> Result<(), Error> {
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return Err(Error::InvalidOption {

@@ -57,6 +57,9 @@ impl<const N: usize> Lu<N> {
     /// `a`, is at or below `threshold` (or is not finite).
     #[inline]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        if N == 2 {
+            return Self::factor2(a, threshold);
+        }
         let mut lu = *a;
         let mut perm = [0usize; N];
         let mut inv_pivot = [0.0; N];
@@ -108,10 +111,64 @@ impl<const N: usize> Lu<N> {
         })
     }
 
+    /// The 2×2 case unrolled: the same partial pivoting, without loops.
+    #[inline]
+    fn factor2(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        let (a00, a01, a10, a11) = (a[0][0], a[0][1], a[1][0], a[1][1]);
+        let scale = a00.abs().max(a01.abs()).max(a10.abs()).max(a11.abs());
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let swap = a10.abs() > a00.abs();
+        let (p0, q0, p1, q1) = if swap {
+            (a10, a11, a00, a01)
+        } else {
+            (a00, a01, a10, a11)
+        };
+        let singular = |k: usize, v: f64| {
+            let rel = v / scale;
+            Failure::Singular {
+                unknown: k,
+                relative_pivot: if rel.is_finite() { rel } else { 0.0 },
+            }
+        };
+        if !(p0.abs() > threshold * scale && p0.is_finite()) {
+            return Err(singular(0, p0.abs()));
+        }
+        let inv0 = 1.0 / p0;
+        let m = p1 * inv0;
+        let u11 = q1 - m * q0;
+        if !(u11.abs() > threshold * scale && u11.is_finite()) {
+            return Err(singular(1, u11.abs()));
+        }
+        let mut lu = [[0.0; N]; N];
+        let mut inv_pivot = [0.0; N];
+        let mut perm = [0usize; N];
+        lu[0][0] = p0;
+        lu[0][1] = q0;
+        lu[1][0] = m;
+        lu[1][1] = u11;
+        inv_pivot[0] = inv0;
+        inv_pivot[1] = 1.0 / u11;
+        perm[0] = usize::from(swap);
+        perm[1] = usize::from(!swap);
+        Ok(Self {
+            lu,
+            inv_pivot,
+            perm,
+        })
+    }
+
     /// Solves A·x = b.
     #[inline]
     #[must_use]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
+        if N == 2 {
+            let mut x = [0.0; N];
+            let y0 = b[self.perm[0]];
+            let y1 = b[self.perm[1]] - self.lu[1][0] * y0;
+            x[1] = y1 * self.inv_pivot[1];
+            x[0] = (y0 - self.lu[0][1] * x[1]) * self.inv_pivot[0];
+            return x;
+        }
         let mut x = [0.0; N];
         for i in 0..N {
             let mut s = b[self.perm[i]];

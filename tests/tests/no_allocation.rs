@@ -1,8 +1,9 @@
 //! Assembling near a known pose and analysing velocities and accelerations
 //! allocate nothing on the heap.
 //!
-//! A counting global allocator records every allocation of this test
-//! binary; the hot path must leave the count unchanged.
+//! A counting global allocator records every allocation, per thread (the
+//! tests run on parallel threads); the hot path must leave the count of its
+//! own thread unchanged.
 // Test code asserts by panicking.
 #![allow(clippy::expect_used, clippy::panic)]
 // Implementing `GlobalAlloc` requires `unsafe`; it only forwards to the
@@ -10,19 +11,37 @@
 #![allow(unsafe_code)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
-use kinematics_examples::{FourBar, RRtrRrt};
+use kinematics_examples::{FourBar, RRtrRrt, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords};
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    ALLOCATIONS.with(|c| c.set(c.get() + 1));
+}
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+/// The counter sees this thread's allocations (so a zero below means
+/// something).
+fn counter_works() {
+    let before = allocations();
+    let v = std::hint::black_box(vec![1u8; 16]);
+    assert!(allocations() > before && v.len() == 16, "the counting allocator is not in use");
+}
 
 // SAFETY: every method forwards to `System` with the caller's arguments,
 // which upholds the `GlobalAlloc` contract unchanged.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         // SAFETY: same layout as requested.
         unsafe { System.alloc(layout) }
     }
@@ -31,7 +50,7 @@ unsafe impl GlobalAlloc for Counting {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         // SAFETY: forwarded unchanged.
         unsafe { System.realloc(ptr, layout, new_size) }
     }
@@ -49,7 +68,8 @@ fn assemble_and_analyze_allocate_nothing() {
         .assemble(&RRtrRrt::example_4_2_guess())
         .expect("assembles");
     let mut checksum = 0.0;
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    counter_works();
+    let before = allocations();
     for k in 0..3600 {
         let phi = f64::from(k) * std::f64::consts::TAU / 3600.0;
         pose.phi = phi;
@@ -61,7 +81,55 @@ fn assemble_and_analyze_allocate_nothing() {
         let s6 = six.analyze(&pose6, 4.712, 0.0).expect("analysis");
         checksum += s6.qdd.phi4 + s6.point_e().acceleration.x;
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocations();
+    assert!(checksum.is_finite());
+    assert_eq!(
+        after - before,
+        0,
+        "the hot path allocated {} times",
+        after - before
+    );
+}
+
+#[test]
+fn fused_step_of_spatial_mechanisms_allocates_nothing() {
+    let rssr = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.315,
+    };
+    let mut pose = rssr
+        .assemble(&RssrCoords { phi: 0.0, psi: 1.2 })
+        .expect("assembles");
+    let arm = SixAxisArm {
+        d1: 0.4,
+        a2: 0.45,
+        a3: 0.4,
+        d5: 0.08,
+        d6: 0.1,
+    };
+    let mut checksum = 0.0;
+    counter_works();
+    let before = allocations();
+    for k in 0..3600 {
+        let s = f64::from(k) * std::f64::consts::TAU / 3600.0;
+        pose.phi = s;
+        let m = rssr.step(&pose, 25.13, 0.0).expect("step");
+        pose = m.q;
+        checksum += m.qdd.psi + m.point_b().acceleration.x;
+        let q = SixAxisArmCoords {
+            q1: s,
+            q2: 0.5 * s,
+            q3: -s,
+            q4: s,
+            q5: 0.2,
+            q6: -s,
+        };
+        let a = arm.step(&q, [1.0; 6], [0.1; 6]).expect("step");
+        checksum += a.frame_tool().angular_acceleration.z + a.point_tcp().acceleration.y;
+    }
+    let after = allocations();
     assert!(checksum.is_finite());
     assert_eq!(
         after - before,
