@@ -34,7 +34,10 @@ fn allocations() -> usize {
 fn counter_works() {
     let before = allocations();
     let v = std::hint::black_box(vec![1u8; 16]);
-    assert!(allocations() > before && v.len() == 16, "the counting allocator is not in use");
+    assert!(
+        allocations() > before && v.len() == 16,
+        "the counting allocator is not in use"
+    );
 }
 
 // SAFETY: every method forwards to `System` with the caller's arguments,
