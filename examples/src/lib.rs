@@ -28,10 +28,14 @@ mechanism! {
         drivers  { phi }
         unknowns { th3, th4 }
         points {
+            /// Crank pivot (fixed).
+            A = vec2(0.0, 0.0);
             /// Crank pin.
             B = polar(a, phi);
+            /// Rocker pivot (fixed).
+            D = vec2(d, 0.0);
             /// Rocker pin.
-            C = vec2(d, 0.0) + polar(c, th4);
+            C = D + polar(c, th4);
             /// Coupler point.
             P = B + polar(p, th3 + beta);
         }
@@ -322,6 +326,10 @@ mechanism! {
 }
 
 impl FourBar {
+    /// The links of the skeleton drawing: crank, coupler triangle, rocker.
+    pub const LINKS: [(&'static str, &'static str); 5] =
+        [("A", "B"), ("B", "C"), ("B", "P"), ("C", "P"), ("C", "D")];
+
     /// The crank-rocker used by the examples and benchmarks: a = 0.04 m,
     /// b = 0.12 m, c = 0.10 m, d = 0.11 m, coupler point at p = 0.06 m,
     /// β = 30° from BC.

@@ -72,6 +72,17 @@ pub enum Error {
         /// The value found.
         value: f64,
     },
+    /// Between two samples of a sweep, det Φ_u changed sign: the mechanism
+    /// passed a dead-centre or toggle position, where two assembly branches
+    /// meet and the solution may have jumped to the other one.
+    PassedSingularity {
+        /// The swept driver (or "t").
+        variable: &'static str,
+        /// The last value before the sign change.
+        from: f64,
+        /// The first value after it.
+        to: f64,
+    },
     /// A geometric input of a transformation or rigid-body helper is
     /// degenerate or inconsistent (a zero axis, a matrix that is not a
     /// rotation, parallel vectors).
@@ -79,6 +90,13 @@ pub enum Error {
         /// The function or quantity concerned.
         what: &'static str,
         /// What is wrong and what is expected.
+        detail: String,
+    },
+    /// A file could not be written.
+    Output {
+        /// The file.
+        path: String,
+        /// What went wrong.
         detail: String,
     },
     /// A solver option is out of its valid range.
@@ -151,6 +169,14 @@ impl fmt::Display for Error {
                 }
             }
             Error::InvalidGeometry { what, detail } => write!(f, "{what}: {detail}"),
+            Error::Output { path, detail } => write!(f, "could not write `{path}`: {detail}"),
+            Error::PassedSingularity { variable, from, to } => write!(
+                f,
+                "between {variable} = {from:.6} and {to:.6} the Jacobian changes sign: the \
+                 mechanism passes a dead-centre or toggle position there (where it may \
+                 switch assembly branch, or beyond which it cannot be driven); the sweep \
+                 stops at the last position before it"
+            ),
             Error::InvalidOption {
                 name,
                 value,

@@ -276,6 +276,20 @@ pub trait Mechanism {
         options: &Options,
     ) -> Result<Self::Motion, Error>;
 
+    /// Assembles at the drivers of `start` from its unknowns and analyses
+    /// the motion there, in one pass (the generated `step`): `rates` and
+    /// `accelerations` hold d' and d''.
+    ///
+    /// # Errors
+    /// As [`Mechanism::assemble_with`] and [`Mechanism::analyze_slices`].
+    fn step_slices(
+        &self,
+        start: &Self::Coords,
+        rates: &[f64],
+        accelerations: &[f64],
+        options: &Options,
+    ) -> Result<Self::Motion, Error>;
+
     /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
     fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);
 

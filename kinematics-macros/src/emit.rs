@@ -1279,6 +1279,26 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 #name::analyze_with(self, pose, rates, accelerations, options)
             }
 
+            fn step_slices(
+                &self,
+                start: &#coords,
+                rates: &[f64],
+                accelerations: &[f64],
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                let (::core::result::Result::Ok(r), ::core::result::Result::Ok(a)) =
+                    (<[f64; #nd]>::try_from(rates), <[f64; #nd]>::try_from(accelerations))
+                else {
+                    return ::core::result::Result::Err(#pp::Error::InvalidOption {
+                        name: "rates and accelerations",
+                        #[allow(clippy::cast_precision_loss)]
+                        value: rates.len().max(accelerations.len()) as f64,
+                        requirement: "must have one value per driver",
+                    });
+                };
+                #name::step_with(self, start, r, a, options)
+            }
+
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) {
                 let r = #name::residual(self, pose);
                 for (o, v) in out.iter_mut().zip(r.iter()) {

@@ -1,0 +1,425 @@
+//! Full-cycle sweeps and time-driven simulations, and their results as
+//! tables.
+//!
+//! A sweep advances one driver in equal steps. At each step the unknowns
+//! are predicted from the previous step's rates (u + (du/dd)·Δd) and
+//! corrected by Newton–Raphson, which keeps the assembly branch. It never
+//! switches branch silently: it stops, returning the samples it has and the
+//! reason, when the mechanism cannot be assembled, when Φ_u is singular, or
+//! when det Φ_u changes sign between two steps (the mechanism passed a dead
+//! or toggle position, where the branches meet).
+
+use core::fmt::Write as _;
+
+use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
+
+/// One instant of a sweep.
+#[derive(Debug, Clone, Copy)]
+pub struct Sample<M: Mechanism> {
+    /// Value of the swept driver (or the time, for a simulation).
+    pub at: f64,
+    /// Coordinates, rates, accelerations, points and frames.
+    pub motion: M::Motion,
+    /// max|Φ_i| at the solved pose: how well the loops close.
+    pub residual: f64,
+}
+
+/// Why and where a sweep stopped before its end.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stop {
+    /// Value of the swept driver (or the time) at which it could not go on.
+    pub at: f64,
+    /// The reason.
+    pub reason: Error,
+}
+
+/// The samples of a sweep, and how it ended.
+#[derive(Debug, Clone)]
+pub struct Sweep<M: Mechanism> {
+    /// Name of the swept driver, or "t" for a simulation.
+    pub variable: &'static str,
+    /// The samples, in order.
+    pub samples: Vec<Sample<M>>,
+    /// `Some` when the sweep stopped early.
+    pub stop: Option<Stop>,
+}
+
+/// Largest |Φ_i| at `pose`.
+fn residual<M: Mechanism>(m: &M, pose: &M::Coords) -> f64 {
+    let mut r = vec![0.0; M::EQUATIONS];
+    m.residual_into(pose, &mut r);
+    r.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+}
+
+/// Sign of det Φ_u at `pose` (0 when singular), by elimination with partial
+/// pivoting.
+fn det_sign<M: Mechanism>(m: &M, pose: &M::Coords) -> f64 {
+    let n = M::UNKNOWNS;
+    let mut a = vec![0.0; n * n];
+    m.jacobian_into(pose, &mut a);
+    let mut sign = 1.0;
+    for k in 0..n {
+        let p = (k..n)
+            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+            .unwrap_or(k);
+        let pivot = a[p * n + k];
+        if pivot == 0.0 {
+            return 0.0;
+        }
+        if p != k {
+            for c in 0..n {
+                a.swap(k * n + c, p * n + c);
+            }
+            sign = -sign;
+        }
+        sign *= pivot.signum();
+        for i in k + 1..n {
+            let f = a[i * n + k] / pivot;
+            for c in k..n {
+                a[i * n + c] -= f * a[k * n + c];
+            }
+        }
+    }
+    sign
+}
+
+/// Sweeps driver `driver` (index among the drivers) from `from` to `to` in
+/// `steps` equal steps, the other drivers held at their values in `start`,
+/// with the swept driver's rate d' = `rate` and acceleration d'' =
+/// `acceleration` at every sample. `start` gives the first pose's guess.
+///
+/// ```
+/// use kinematics_core::{mechanism, sweep::sweep, Options};
+/// mechanism! {
+///     /// A slider-crank.
+///     pub struct SliderCrank {
+///         params { a, b }
+///         drivers { phi }
+///         unknowns { th, x }
+///         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+///     }
+/// }
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 10.0, 0.0, &Options::DEFAULT);
+/// assert!(s.stop.is_none() && s.samples.len() == 361);
+/// assert_eq!(s.is_periodic(1e-9), Some(true));
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn sweep<M: Mechanism>(
+    m: &M,
+    start: &M::Coords,
+    driver: usize,
+    from: f64,
+    to: f64,
+    steps: usize,
+    rate: f64,
+    acceleration: f64,
+    options: &Options,
+) -> Sweep<M> {
+    let variable = M::COORDINATES.get(driver).map_or("?", |c| c.name);
+    let steps = steps.max(1);
+    #[allow(clippy::cast_precision_loss)]
+    let value = |k: usize| from + (to - from) * (k as f64) / (steps as f64);
+    let drive = |pose: &mut M::Coords, v: f64, rates: &mut [f64], accels: &mut [f64]| {
+        pose.set(driver, v);
+        if let (Some(r), Some(a)) = (rates.get_mut(driver), accels.get_mut(driver)) {
+            *r = rate;
+            *a = acceleration;
+        }
+    };
+    run(
+        m, start, variable, steps, value, drive, driver, rate, options,
+    )
+}
+
+/// Simulates the motion at the times `times` with the drivers following a
+/// profile: `profile(t, d, d', d'')` writes every driver's value, rate and
+/// acceleration at time t (see [`constant_speed`] and
+/// [`constant_acceleration`] for the common cases).
+///
+/// ```
+/// use kinematics_core::{mechanism, sweep::{simulate, constant_acceleration}, Options};
+/// mechanism! {
+///     /// A slider-crank.
+///     pub struct SliderCrank {
+///         params { a, b }
+///         drivers { phi }
+///         unknowns { th, x }
+///         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+///     }
+/// }
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let times: Vec<f64> = (0..=100).map(|k| f64::from(k) * 0.01).collect();
+/// // The crank starts from rest with φ'' = 20 rad/s².
+/// let s = simulate(&m, &start, &times, constant_acceleration(0.0, 0.0, 20.0), &Options::DEFAULT);
+/// assert!(s.stop.is_none());
+/// let last = &s.samples[100].motion;
+/// assert!((last.qd.phi - 20.0).abs() < 1e-12 && (last.q.phi - 10.0).abs() < 1e-12);
+/// ```
+pub fn simulate<M: Mechanism>(
+    m: &M,
+    start: &M::Coords,
+    times: &[f64],
+    mut profile: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+    options: &Options,
+) -> Sweep<M> {
+    let mut d = vec![0.0; M::DRIVERS];
+    let steps = times.len().saturating_sub(1);
+    let value = |k: usize| times.get(k).copied().unwrap_or(f64::NAN);
+    if times.is_empty() {
+        return Sweep {
+            variable: "t",
+            samples: Vec::new(),
+            stop: None,
+        };
+    }
+    let drive = |pose: &mut M::Coords, t: f64, rates: &mut [f64], accels: &mut [f64]| {
+        profile(t, &mut d, rates, accels);
+        for (j, v) in d.iter().enumerate() {
+            pose.set(j, *v);
+        }
+    };
+    run(m, start, "t", steps, value, drive, usize::MAX, 0.0, options)
+}
+
+/// A driver turning at constant speed ω from d₀: d = d₀ + ω t, d' = ω, d'' = 0.
+pub fn constant_speed(d0: f64, speed: f64) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
+    constant_acceleration(d0, speed, 0.0)
+}
+
+/// A driver with constant acceleration: d = d₀ + ω₀ t + ½ α t²,
+/// d' = ω₀ + α t, d'' = α.
+pub fn constant_acceleration(
+    d0: f64,
+    speed: f64,
+    acceleration: f64,
+) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
+    move |t, d, dd, ddd| {
+        if let (Some(d), Some(dd), Some(ddd)) = (d.first_mut(), dd.first_mut(), ddd.first_mut()) {
+            *d = d0 + speed * t + 0.5 * acceleration * t * t;
+            *dd = speed + acceleration * t;
+            *ddd = acceleration;
+        }
+    }
+}
+
+/// The common loop: at sample k, `drive` sets the drivers of the guess for
+/// the value `value(k)` and returns their rates and accelerations.
+#[allow(clippy::too_many_arguments)]
+fn run<M: Mechanism>(
+    m: &M,
+    start: &M::Coords,
+    variable: &'static str,
+    steps: usize,
+    value: impl Fn(usize) -> f64,
+    mut drive: impl FnMut(&mut M::Coords, f64, &mut [f64], &mut [f64]),
+    swept: usize,
+    rate: f64,
+    options: &Options,
+) -> Sweep<M> {
+    let nd = M::DRIVERS;
+    let nq = nd + M::UNKNOWNS;
+    let mut samples: Vec<Sample<M>> = Vec::with_capacity(steps + 1);
+    let mut rates = vec![0.0; nd];
+    let mut accels = vec![0.0; nd];
+    let mut previous: Option<(M::Coords, M::Coords, f64, f64)> = None; // pose, rates, at, det sign
+    for k in 0..=steps {
+        let at = value(k);
+        let mut guess = previous.as_ref().map_or(*start, |(pose, _, _, _)| *pose);
+        drive(&mut guess, at, &mut rates, &mut accels);
+        // Predictor: u + (du/dd) Δd along the swept driver (or the time).
+        if let Some((pose, qd, prev_at, _)) = &previous {
+            let delta = at - prev_at;
+            let scale = if swept == usize::MAX {
+                delta
+            } else if rate != 0.0 {
+                delta / rate
+            } else {
+                0.0
+            };
+            for j in nd..nq {
+                if let (Some(u), Some(ud)) = (pose.get(j), qd.get(j)) {
+                    guess.set(j, u + ud * scale);
+                }
+            }
+        }
+        let motion = match m.step_slices(&guess, &rates, &accels, options) {
+            Ok(motion) => motion,
+            Err(reason) => {
+                return Sweep {
+                    variable,
+                    samples,
+                    stop: Some(Stop { at, reason }),
+                };
+            }
+        };
+        let pose = *motion.q();
+        let sign = det_sign(m, &pose);
+        if let Some((_, _, prev_at, prev_sign)) = &previous {
+            if sign * prev_sign < 0.0 {
+                return Sweep {
+                    variable,
+                    samples,
+                    stop: Some(Stop {
+                        at,
+                        reason: Error::PassedSingularity {
+                            variable,
+                            from: *prev_at,
+                            to: at,
+                        },
+                    }),
+                };
+            }
+        }
+        samples.push(Sample {
+            at,
+            motion,
+            residual: residual(m, &pose),
+        });
+        previous = Some((pose, *motion.qd(), at, sign));
+    }
+    Sweep {
+        variable,
+        samples,
+        stop: None,
+    }
+}
+
+impl<M: Mechanism> Sweep<M> {
+    /// Whether the last sample returns to the first pose: every unknown
+    /// within `tolerance`, angles compared modulo 2π. `None` for a sweep that
+    /// stopped early or has fewer than two samples.
+    #[must_use]
+    pub fn is_periodic(&self, tolerance: f64) -> Option<bool> {
+        if self.stop.is_some() || self.samples.len() < 2 {
+            return None;
+        }
+        let (first, last) = (self.samples.first()?, self.samples.last()?);
+        let ok = M::COORDINATES.iter().enumerate().all(|(j, c)| {
+            if c.role == Role::Driver {
+                return true;
+            }
+            let (a, b) = (first.motion.q().get(j), last.motion.q().get(j));
+            let (Some(a), Some(b)) = (a, b) else {
+                return false;
+            };
+            let d = if c.kind == Kind::Angle {
+                (b - a + core::f64::consts::PI).rem_euclid(core::f64::consts::TAU)
+                    - core::f64::consts::PI
+            } else {
+                b - a
+            };
+            d.abs() <= tolerance
+        });
+        Some(ok)
+    }
+
+    /// Largest closure residual over the samples.
+    #[must_use]
+    pub fn max_residual(&self) -> f64 {
+        self.samples.iter().fold(0.0f64, |a, s| a.max(s.residual))
+    }
+
+    /// Column headers: the sweep variable, every coordinate's q, q', q''
+    /// (with units for angles), every point's position, velocity and
+    /// acceleration components, every frame's ω and α.
+    #[must_use]
+    pub fn headers(&self) -> Vec<String> {
+        let unit = |k: Kind, d: &str| match k {
+            Kind::Angle => format!(" (rad{d})"),
+            Kind::Length => String::new(),
+        };
+        let mut h = vec![self.variable.to_owned()];
+        for c in M::COORDINATES {
+            h.push(format!("{}{}", c.name, unit(c.kind, "")));
+            h.push(format!("{}'{}", c.name, unit(c.kind, "/s")));
+            h.push(format!("{}''{}", c.name, unit(c.kind, "/s^2")));
+        }
+        let axes = ["x", "y", "z"];
+        for p in M::POINT_NAMES {
+            // Position, velocity (v) and acceleration (a) components.
+            for prefix in ["", "v", "a"] {
+                for axis in axes.iter().take(M::POINT_DIM) {
+                    h.push(format!("{p}.{prefix}{axis}"));
+                }
+            }
+        }
+        for f in M::FRAME_NAMES {
+            for (short, unit) in [("w", "rad/s"), ("alpha", "rad/s^2")] {
+                for axis in axes {
+                    h.push(format!("{f}.{short}{axis} ({unit})"));
+                }
+            }
+        }
+        h
+    }
+
+    /// The values of one sample, in the order of [`Sweep::headers`].
+    #[must_use]
+    pub fn row(&self, sample: &Sample<M>) -> Vec<f64> {
+        let mo = &sample.motion;
+        let mut r = vec![sample.at];
+        for j in 0..M::COORDINATES.len() {
+            for c in [mo.q(), mo.qd(), mo.qdd()] {
+                r.push(c.get(j).unwrap_or(f64::NAN));
+            }
+        }
+        for p in mo.points() {
+            r.extend_from_slice(p.position());
+            r.extend_from_slice(p.velocity());
+            r.extend_from_slice(p.acceleration());
+        }
+        for f in mo.frames() {
+            r.extend(
+                f.angular_velocity
+                    .iter()
+                    .chain(f.angular_acceleration.iter()),
+            );
+        }
+        r
+    }
+
+    /// The samples as CSV: a header line, then one line per sample.
+    #[must_use]
+    pub fn to_csv(&self) -> String {
+        let mut out = self.headers().join(",");
+        out.push('\n');
+        for s in &self.samples {
+            let row: Vec<String> = self.row(s).iter().map(|v| format!("{v:.12e}")).collect();
+            out += &row.join(",");
+            out.push('\n');
+        }
+        out
+    }
+
+    /// The samples as an aligned plain-text table, every `every`-th sample
+    /// (the last one always included).
+    #[must_use]
+    pub fn to_text(&self, every: usize) -> String {
+        let headers = self.headers();
+        let width = headers
+            .iter()
+            .map(|h| h.chars().count())
+            .max()
+            .unwrap_or(8)
+            .max(12);
+        let mut out = String::new();
+        for h in &headers {
+            let _ = write!(out, "{h:>width$} ");
+        }
+        out.push('\n');
+        let n = self.samples.len();
+        for (k, s) in self.samples.iter().enumerate() {
+            if k % every.max(1) != 0 && k + 1 != n {
+                continue;
+            }
+            for v in self.row(s) {
+                let _ = write!(out, "{v:>width$.5} ");
+            }
+            out.push('\n');
+        }
+        out
+    }
+}
