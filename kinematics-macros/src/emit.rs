@@ -732,6 +732,48 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 .collect::<Vec<_>>()
         }))
         .collect();
+    // Output expressions under a given schedule's names.
+    let jac_rows_of = |pr: &Printer<'_>| -> Vec<TokenStream> {
+        d.jac
+            .iter()
+            .map(|row| {
+                let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
+                quote!([#(#r),*])
+            })
+            .collect()
+    };
+    let points_of = |pr: &Printer<'_>| -> Vec<TokenStream> {
+        (0..np)
+            .map(|k| {
+                let (p, v, a) = (
+                    vector(pr, &d.pos[k]),
+                    vector(pr, &d.vel[k]),
+                    vector(pr, &d.acc[k]),
+                );
+                quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
+            })
+            .collect()
+    };
+    let frames_of = |pr: &Printer<'_>| -> Vec<TokenStream> {
+        d.frames
+            .iter()
+            .map(|f| {
+                let r = matrix(pr, &f.rotation);
+                let [o, od, odd] = &f.origin;
+                let (o, od, odd) = (vector(pr, o), vector(pr, od), vector(pr, odd));
+                let (w, al) = (vector(pr, &f.omega), vector(pr, &f.alpha));
+                quote!(#pp::FrameState {
+                    rotation: #r,
+                    origin: #o,
+                    velocity: #od,
+                    acceleration: #odd,
+                    angular_velocity: #w,
+                    angular_acceleration: #al,
+                })
+            })
+            .collect()
+    };
+
     // The fused step: Newton with the driver-only part of Φ and Φ_u hoisted
     // out of the loop, and the values the analysis needs kept from the last
     // (converged) Newton evaluation instead of recomputed.
@@ -759,44 +801,11 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let nc = cached_names.len();
     let (f0, f1, f2, f3, f4) = (&flets[0], &flets[1], &flets[2], &flets[3], &flets[4]);
     let fphi: Vec<_> = d.phi.iter().map(|&i| fpr.element(i)).collect();
-    let fjac_rows: Vec<_> = d
-        .jac
-        .iter()
-        .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| fpr.element(i)).collect();
-            quote!([#(#r),*])
-        })
-        .collect();
+    let fjac_rows = jac_rows_of(&fpr);
     let fvel: Vec<_> = d.vel_rhs.iter().map(|&i| fpr.element(i)).collect();
     let facc: Vec<_> = d.acc_rhs.iter().map(|&i| fpr.element(i)).collect();
-    let fpoints: Vec<_> = (0..np)
-        .map(|k| {
-            let (p, v, a) = (
-                vector(&fpr, &d.pos[k]),
-                vector(&fpr, &d.vel[k]),
-                vector(&fpr, &d.acc[k]),
-            );
-            quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
-        })
-        .collect();
-    let fframes: Vec<_> = d
-        .frames
-        .iter()
-        .map(|f| {
-            let r = matrix(&fpr, &f.rotation);
-            let [o, od, odd] = &f.origin;
-            let (o, od, odd) = (vector(&fpr, o), vector(&fpr, od), vector(&fpr, odd));
-            let (w, al) = (vector(&fpr, &f.omega), vector(&fpr, &f.alpha));
-            quote!(#pp::FrameState {
-                rotation: #r,
-                origin: #o,
-                velocity: #od,
-                acceleration: #odd,
-                angular_velocity: #w,
-                angular_acceleration: #al,
-            })
-        })
-        .collect();
+    let fpoints = points_of(&fpr);
+    let fframes = frames_of(&fpr);
 
     // Assembly alone, with the same hoisting.
     let asched = schedule(
@@ -809,56 +818,16 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let (apr, alets) = bind(g, &asched, &leaf);
     let (a0, a1) = (&alets[0], &alets[1]);
     let aphi: Vec<_> = d.phi.iter().map(|&i| apr.element(i)).collect();
-    let ajac_rows: Vec<_> = d
-        .jac
-        .iter()
-        .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| apr.element(i)).collect();
-            quote!([#(#r),*])
-        })
-        .collect();
+    let ajac_rows = jac_rows_of(&apr);
 
     let sched = schedule(g, &[vel_stage, acc_stage, pt_stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
     let (lets1, lets2, lets3) = (&lets[0], &lets[1], &lets[2]);
-    let jac_rows: Vec<_> = d
-        .jac
-        .iter()
-        .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
-            quote!([#(#r),*])
-        })
-        .collect();
+    let jac_rows = jac_rows_of(&pr);
     let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
     let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
-    let points_e: Vec<_> = (0..np)
-        .map(|k| {
-            let (p, v, a) = (
-                vector(&pr, &d.pos[k]),
-                vector(&pr, &d.vel[k]),
-                vector(&pr, &d.acc[k]),
-            );
-            quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
-        })
-        .collect();
-    let frames_e: Vec<_> = d
-        .frames
-        .iter()
-        .map(|f| {
-            let r = matrix(&pr, &f.rotation);
-            let [o, od, odd] = &f.origin;
-            let (o, od, odd) = (vector(&pr, o), vector(&pr, od), vector(&pr, odd));
-            let (w, al) = (vector(&pr, &f.omega), vector(&pr, &f.alpha));
-            quote!(#pp::FrameState {
-                rotation: #r,
-                origin: #o,
-                velocity: #od,
-                acceleration: #odd,
-                angular_velocity: #w,
-                angular_acceleration: #al,
-            })
-        })
-        .collect();
+    let points_e = points_of(&pr);
+    let frames_e = frames_of(&pr);
     let frame_names: Vec<String> = def
         .frames
         .iter()
