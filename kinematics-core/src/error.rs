@@ -92,12 +92,28 @@ pub enum Error {
         /// What is wrong and what is expected.
         detail: String,
     },
+    /// The solution found is on the assembly branch other than the one
+    /// required by [`Options::branch`](crate::Options::branch).
+    WrongBranch {
+        /// Coordinates of the solution found, by name.
+        configuration: Vec<(&'static str, f64)>,
+    },
     /// A file could not be written.
     Output {
         /// The file.
         path: String,
         /// What went wrong.
         detail: String,
+    },
+    /// A parameter is outside the range its declaration allows (a length
+    /// that is zero or negative).
+    InvalidParameter {
+        /// The parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What the value must satisfy.
+        requirement: &'static str,
     },
     /// A solver option is out of its valid range.
     InvalidOption {
@@ -170,6 +186,21 @@ impl fmt::Display for Error {
             }
             Error::InvalidGeometry { what, detail } => write!(f, "{what}: {detail}"),
             Error::Output { path, detail } => write!(f, "could not write `{path}`: {detail}"),
+            Error::WrongBranch { configuration } => {
+                f.write_str(
+                    "the mechanism assembled on the other branch than the one asked for (at ",
+                )?;
+                write_configuration(f, configuration)?;
+                f.write_str("); start from a guess on the wanted branch, e.g. with the elbow of the dyad on the other side")
+            }
+            Error::InvalidParameter {
+                name,
+                value,
+                requirement,
+            } => write!(
+                f,
+                "parameter `{name}` = {value} is invalid: it {requirement}"
+            ),
             Error::PassedSingularity { variable, from, to } => write!(
                 f,
                 "between {variable} = {from:.6} and {to:.6} the Jacobian changes sign: the \

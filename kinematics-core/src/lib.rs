@@ -55,7 +55,7 @@ pub use mechanism::{
     PointState, Role,
 };
 pub use nalgebra;
-pub use options::Options;
+pub use options::{Branch, Options};
 
 /// Evaluates `f` for every item of `items` (parameter sets, starting poses)
 /// on all cores, returning each item's result or error in order; one failing
@@ -104,6 +104,21 @@ pub mod __private {
     pub use crate::{FrameState, Options, PointMotion, PointState, Role};
     pub use core::result::Result;
     pub use nalgebra::{Matrix3, Vector2, Vector3};
+
+    /// Fails with [`Error::InvalidParameter`] unless `value` > 0 (a
+    /// parameter declared `name: length`).
+    #[inline]
+    pub fn positive(name: &'static str, value: f64) -> Result<(), Error> {
+        if value > 0.0 {
+            Ok(())
+        } else {
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                requirement: "must be positive: it is declared a length",
+            })
+        }
+    }
 
     /// Fails with [`Error::NonFinite`] when `value` is NaN or infinite.
     #[inline]

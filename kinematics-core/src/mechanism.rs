@@ -214,6 +214,14 @@ pub trait MotionState: Copy + core::fmt::Debug {
     fn points(&self) -> &[Self::Point];
     /// Every frame's state, in declaration order.
     fn frames(&self) -> &[FrameState];
+    /// Conditioning of Φ_u at this pose: the smallest pivot of its LU
+    /// factorisation relative to its largest entry, in (0, 1]. It goes to 0
+    /// at a singular configuration (a dead-centre or toggle position); away
+    /// from one its size depends on the units of the unknowns (angles and
+    /// lengths mixed), so compare it along a motion rather than across
+    /// mechanisms. [`Options::singularity_threshold`](crate::Options) refuses
+    /// solutions below a chosen value.
+    fn conditioning(&self) -> f64;
 }
 
 /// A mechanism declared with [`mechanism!`](crate::mechanism).

@@ -14,6 +14,23 @@ pub struct Options {
     /// relative to its largest entry, is at or below this value.
     /// Default 1e-10.
     pub singularity_threshold: f64,
+    /// The assembly branch required of a solution, by the sign of det Φ_u
+    /// (for a four-bar, the sign of sin(θ3 − θ4): which way its dyad's elbow
+    /// points). Default [`Branch::Any`]: the branch nearest the guess.
+    pub branch: Branch,
+}
+
+/// An assembly branch (mode), identified by the sign of det Φ_u, which
+/// changes only through a singular configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Branch {
+    /// Whichever branch Newton–Raphson reaches from the guess.
+    #[default]
+    Any,
+    /// det Φ_u > 0.
+    Positive,
+    /// det Φ_u < 0.
+    Negative,
 }
 
 impl Options {
@@ -22,6 +39,7 @@ impl Options {
         tolerance: 1e-12,
         max_iterations: 50,
         singularity_threshold: 1e-10,
+        branch: Branch::Any,
     };
 
     /// Checks that every setting is in range.

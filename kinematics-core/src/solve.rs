@@ -29,6 +29,8 @@ pub enum Failure {
         /// Index of the equation with the largest residual.
         equation: usize,
     },
+    /// Converged on the assembly branch other than the one asked for.
+    WrongBranch,
     /// Equation `equation` evaluated to a non-finite number.
     NonFiniteResidual {
         /// Index of the equation.
@@ -47,6 +49,8 @@ pub struct Lu<const N: usize> {
     lu: [[f64; N]; N],
     inv_pivot: [f64; N],
     perm: [usize; N],
+    conditioning: f64,
+    sign: f64,
 }
 
 impl<const N: usize> Lu<N> {
@@ -71,6 +75,8 @@ impl<const N: usize> Lu<N> {
             }
         }
         let scale = if scale > 0.0 { scale } else { 1.0 };
+        let mut min_pivot = f64::INFINITY;
+        let mut sign = 1.0;
         for k in 0..N {
             let mut best = k;
             let mut best_val = lu[k][k].abs();
@@ -92,8 +98,11 @@ impl<const N: usize> Lu<N> {
             if best != k {
                 lu.swap(k, best);
                 perm.swap(k, best);
+                sign = -sign;
             }
             let pivot_row = lu[k];
+            min_pivot = min_pivot.min(best_val);
+            sign *= pivot_row[k].signum();
             let inv = 1.0 / pivot_row[k];
             inv_pivot[k] = inv;
             for i in k + 1..N {
@@ -108,6 +117,8 @@ impl<const N: usize> Lu<N> {
             lu,
             inv_pivot,
             perm,
+            conditioning: if N == 0 { 1.0 } else { min_pivot / scale },
+            sign,
         })
     }
 
@@ -150,11 +161,29 @@ impl<const N: usize> Lu<N> {
         inv_pivot[1] = 1.0 / u11;
         perm[0] = usize::from(swap);
         perm[1] = usize::from(!swap);
+        let sign = (p0 * u11).signum() * if swap { -1.0 } else { 1.0 };
         Ok(Self {
             lu,
             inv_pivot,
             perm,
+            conditioning: p0.abs().min(u11.abs()) / scale,
+            sign,
         })
+    }
+
+    /// Conditioning of the factored matrix: its smallest pivot relative to
+    /// its largest entry, in (0, 1]; near 0 the matrix is nearly singular.
+    #[inline]
+    #[must_use]
+    pub fn conditioning(&self) -> f64 {
+        self.conditioning
+    }
+
+    /// Sign of the determinant, ±1.
+    #[inline]
+    #[must_use]
+    pub fn det_sign(&self) -> f64 {
+        self.sign
     }
 
     /// Solves A·x = b.
@@ -185,6 +214,21 @@ impl<const N: usize> Lu<N> {
             x[i] = s * self.inv_pivot[i];
         }
         x
+    }
+}
+
+/// Checks the requested assembly branch: the sign of det Φ_u.
+fn branch_check<const N: usize>(jac: &[[f64; N]; N], options: &Options) -> Result<(), Failure> {
+    let wanted = match options.branch {
+        crate::Branch::Any => return Ok(()),
+        crate::Branch::Positive => 1.0,
+        crate::Branch::Negative => -1.0,
+    };
+    let lu = Lu::factor(jac, options.singularity_threshold)?;
+    if lu.det_sign() == wanted {
+        Ok(())
+    } else {
+        Err(Failure::WrongBranch)
     }
 }
 
@@ -252,7 +296,7 @@ pub fn newton<const N: usize>(
             });
         }
         if max <= options.tolerance {
-            return Ok(iterations);
+            return branch_check(&jac, options).map(|()| iterations);
         }
         if iterations >= options.max_iterations {
             return Err(Failure::NotConverged {
@@ -268,7 +312,7 @@ pub fn newton<const N: usize>(
             tiny &= step[i].abs() <= 1e-14 * (1.0 + u[i].abs());
         }
         if tiny {
-            return Ok(iterations);
+            return branch_check(&jac, options).map(|()| iterations);
         }
         let start = *u;
         let mut t = 1.0;
@@ -349,6 +393,7 @@ pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
             equation: equation(e),
             configuration,
         },
+        Failure::WrongBranch => Error::WrongBranch { configuration },
         Failure::NonFiniteResidual { equation: e, value } => Error::NonFinite {
             input: crate::Input::Computed,
             name: equation(e),

@@ -378,6 +378,10 @@ fn types(
             pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
             /// Every frame's orientation and motion, in declaration order.
             pub frames: [::kinematics_core::__private::FrameState; #nf],
+            /// Conditioning of Φ_u: its smallest pivot relative to its
+            /// largest entry, in (0, 1]; near 0 the configuration is nearly
+            /// singular (a dead-centre or toggle position).
+            pub conditioning: f64,
         }
 
         impl #motion {
@@ -408,6 +412,10 @@ fn types(
             #[inline]
             fn frames(&self) -> &[::kinematics_core::__private::FrameState] {
                 &self.frames
+            }
+            #[inline]
+            fn conditioning(&self) -> f64 {
+                self.conditioning
             }
         }
     }
@@ -869,10 +877,21 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .iter()
         .map(|p| p.name.unraw().to_string())
         .collect();
+    let lengths: Vec<&Ident> = def
+        .params
+        .iter()
+        .filter(|p| p.length)
+        .map(|p| &p.name)
+        .collect();
+    let length_names: Vec<String> = lengths.iter().map(|c| c.unraw().to_string()).collect();
     let validate_checks = guarded(
         &params.iter().map(|p| quote!(self.#p)).collect::<Vec<_>>(),
         &quote!(#( #pp::finite(#pp::Input::Parameter, #param_names, self.#params)?; )*),
     );
+    let validate_checks = quote! {
+        #validate_checks
+        #( #pp::positive(#length_names, self.#lengths)?; )*
+    };
     let input_values: Vec<TokenStream> = c_drivers
         .iter()
         .chain(c_unknowns)
@@ -1109,6 +1128,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#fpoints),*],
                     frames: [#(#fframes),*],
+                    conditioning: lu.conditioning(),
                 };
                 if !(#output_sum).is_finite() {
                     let point_names: [&'static str; #np] = [#(#point_names),*];
@@ -1177,6 +1197,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#points_e),*],
                     frames: [#(#frames_e),*],
+                    conditioning: lu.conditioning(),
                 };
                 if !(#output_sum).is_finite() {
                     let point_names: [&'static str; #np] = [#(#point_names),*];

@@ -74,6 +74,8 @@ pub struct Decl {
     pub name: Ident,
     /// `#[allow(unused)]` was written on it.
     pub allow_unused: bool,
+    /// `name: length` declares a length, which must be positive.
+    pub length: bool,
 }
 
 /// `Name = expr;` in the `points` section.
@@ -264,10 +266,27 @@ fn parse_decls(input: ParseStream<'_>) -> syn::Result<Vec<Decl>> {
         let name: Ident = input
             .parse()
             .map_err(|e| syn::Error::new(e.span(), "expected a name, e.g. `a` or `theta3`"))?;
+        let mut length = false;
+        if input.peek(Token![:]) {
+            input.parse::<Token![:]>()?;
+            let kind: Ident = input.parse()?;
+            if kind == "length" {
+                length = true;
+            } else if kind != "angle" {
+                return Err(syn::Error::new(
+                    kind.span(),
+                    format!(
+                        "unknown kind `{kind}`; write `{name}: length` for a length that must be \
+                         positive, or `{name}: angle`"
+                    ),
+                ));
+            }
+        }
         out.push(Decl {
             docs,
             name,
             allow_unused,
+            length,
         });
         if input.is_empty() {
             break;

@@ -257,3 +257,136 @@ fn too_few_iterations_reports_the_residual() {
         other => panic!("unexpected {other:?}"),
     }
 }
+
+mechanism! {
+    /// A slider-crank whose links are declared lengths.
+    pub struct Declared {
+        params {
+            /// Crank.
+            a: length,
+            /// Rod.
+            b: length,
+            /// Offset (may be negative).
+            e
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Rod angle.
+            th,
+            /// Slider.
+            x
+        }
+        loops { polar(a, phi) + polar(b, th) == vec2(x, e); }
+    }
+}
+
+#[test]
+fn declared_lengths_must_be_positive() {
+    let start = DeclaredCoords {
+        phi: 0.3,
+        th: 0.0,
+        x: 0.3,
+    };
+    assert!(Declared {
+        a: 0.1,
+        b: 0.25,
+        e: -0.02
+    }
+    .assemble(&start)
+    .is_ok());
+    for (a, b) in [(0.0, 0.25), (0.1, -0.25)] {
+        let err = Declared { a, b, e: 0.0 }
+            .assemble(&start)
+            .expect_err("not a length");
+        assert!(matches!(err, Error::InvalidParameter { .. }), "{err:?}");
+        assert!(err.to_string().contains("must be positive"), "{err}");
+    }
+}
+
+#[test]
+fn the_requested_assembly_branch_is_enforced() {
+    use kinematics_core::Branch;
+    let m = four_bar();
+    // The open assembly (θ3 < θ4, det Φ_u = b c sin(θ3 − θ4) < 0) and the
+    // crossed one.
+    let open = FourBarCoords {
+        phi: 0.5,
+        th3: 0.6,
+        th4: 1.5,
+    };
+    let crossed = FourBarCoords {
+        phi: 0.5,
+        th3: -1.2,
+        th4: -1.9,
+    };
+    let wants = |branch| Options {
+        branch,
+        ..Options::DEFAULT
+    };
+    let p = m
+        .assemble_with(&open, &wants(Branch::Negative))
+        .expect("open branch");
+    assert!((p.th3 - p.th4).sin() < 0.0);
+    let q = m
+        .assemble_with(&crossed, &wants(Branch::Positive))
+        .expect("crossed branch");
+    assert!((q.th3 - q.th4).sin() > 0.0);
+    // Asking for the other branch from a guess on this one is an error, not
+    // a silent answer on the wrong branch.
+    let err = m
+        .assemble_with(&open, &wants(Branch::Positive))
+        .expect_err("wrong branch");
+    assert!(matches!(err, Error::WrongBranch { .. }), "{err:?}");
+    assert!(err.to_string().contains("other branch"), "{err}");
+}
+
+#[test]
+fn every_solution_reports_its_conditioning() {
+    // A slider-crank with a = 2b assembles only for |sin φ| ≤ ½, and at
+    // φ = −30° its rod stands normal to the slider line (a dead point): the
+    // conditioning falls toward 0 as the crank approaches it.
+    let m = SliderCrank {
+        a: 0.2,
+        b: 0.1,
+        e: 0.0,
+    };
+    let at = |deg: f64| {
+        let phi = f64::to_radians(deg);
+        let th = (-(0.2 * phi.sin()) / 0.1).asin();
+        let pose = SliderCrankCoords {
+            phi,
+            th,
+            x: 0.2 * phi.cos() + 0.1 * th.cos(),
+        };
+        m.analyze(&pose, 1.0, 0.0).map(|s| s.conditioning)
+    };
+    // Clear of zero away from it...
+    assert!(at(-5.0).expect("regular") > 0.05);
+    // ...and falling toward 0 on the last approach.
+    let mut last = f64::INFINITY;
+    for deg in [-29.9, -29.99, -29.999, -29.9999] {
+        let c = at(deg).expect("regular");
+        assert!(c > 0.0 && c < last, "{deg}: {c}");
+        last = c;
+    }
+    assert!(last < 1e-2);
+    // A user threshold refuses configurations worse than it.
+    let phi = f64::to_radians(-29.9);
+    let th = (-(0.2 * phi.sin()) / 0.1).asin();
+    let pose = SliderCrankCoords {
+        phi,
+        th,
+        x: 0.2 * phi.cos() + 0.1 * th.cos(),
+    };
+    let strict = Options {
+        singularity_threshold: 0.1,
+        ..Options::DEFAULT
+    };
+    assert!(matches!(
+        m.analyze_with(&pose, 1.0, 0.0, &strict),
+        Err(Error::Singular { .. })
+    ));
+}

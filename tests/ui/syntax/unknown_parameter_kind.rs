@@ -1,0 +1,12 @@
+use kinematics_core::mechanism;
+
+mechanism! {
+    struct M {
+        params   { a: lenght }
+        drivers  { phi }
+        unknowns { x }
+        constraints { x == a * phi; }
+    }
+}
+
+fn main() {}
