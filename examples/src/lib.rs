@@ -325,6 +325,76 @@ mechanism! {
     }
 }
 
+mechanism! {
+    /// Watt II six-bar: four-bar A-B-C-D driving, through the rocker
+    /// extension DE, a second four-bar D-E-F-G.
+    pub struct Watt {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground pivot distance AD.
+            d,
+            /// Rocker extension DE.
+            e,
+            /// Angle of DE from DC (rad).
+            gamma,
+            /// Link EF.
+            f,
+            /// Output link GF.
+            g,
+            /// Output pivot G, x.
+            gx,
+            /// Output pivot G, y.
+            gy
+        }
+        drivers  { phi }
+        unknowns { th3, th4, th5, th6 }
+        points {
+            B = polar(a, phi);
+            D = vec2(d, 0.0);
+            C = D + polar(c, th4);
+            E = D + polar(e, th4 + gamma);
+            F = E + polar(f, th5);
+        }
+        loops {
+            B + polar(b, th3) == C;
+            F == vec2(gx, gy) + polar(g, th6);
+        }
+    }
+}
+
+mechanism! {
+    /// 5R five-bar with two driven cranks, at A = (0, 0) and E = (ex, ey).
+    pub struct FiveBar {
+        params {
+            /// Crank AB.
+            a,
+            /// Link BC.
+            b,
+            /// Link DC.
+            c,
+            /// Crank ED.
+            d,
+            /// Pivot E, x.
+            ex,
+            /// Pivot E, y.
+            ey
+        }
+        drivers  { phi1, phi2 }
+        unknowns { th2, th3 }
+        points {
+            B = polar(a, phi1);
+            D = vec2(ex, ey) + polar(d, phi2);
+            C = B + polar(b, th2);
+        }
+        loops { C == D + polar(c, th3); }
+    }
+}
+
 impl FourBar {
     /// The links of the skeleton drawing: crank, coupler triangle, rocker.
     pub const LINKS: [(&'static str, &'static str); 5] =

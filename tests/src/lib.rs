@@ -7,7 +7,7 @@
 // Component loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]
 
-use kinematics_core::{Coordinates, Mechanism, MotionState, Options, PointState};
+use kinematics_core::{solve::Lu, Coordinates, Mechanism, MotionState, Options, PointState};
 
 /// SplitMix64: a small, seeded, reproducible generator.
 pub struct Rng(u64);
@@ -107,10 +107,12 @@ pub fn pose_at<M: Mechanism>(
         .expect("assembles near the pose")
 }
 
-/// Checks velocities against central differences of assembled positions and
-/// accelerations against central differences of computed velocities, for
-/// every coordinate, point and frame (ω against differences of R, α against
-/// differences of ω), along d(t) = d₀ + d'·t + ½ d''·t².
+/// Checks velocities against differences of assembled positions and
+/// accelerations against differences of computed velocities, for every
+/// coordinate, point and frame (ω against differences of R, α against
+/// differences of ω), along d(t) = d₀ + d'·t + ½ d''·t². The differences use
+/// the fourth-order five-point stencil
+/// f'(0) ≈ [8(f(h) − f(−h)) − (f(2h) − f(−2h))] / 12h, h = 10⁻⁵.
 ///
 /// # Panics
 /// When a value disagrees beyond relative `tol` (scaled by the largest
@@ -122,81 +124,103 @@ pub fn check_motion<M: Mechanism>(
     accels: &[f64],
     tol: f64,
 ) {
-    let nq = M::DRIVERS + M::UNKNOWNS;
-    let np = M::POINTS;
+    use kinematics_core::nalgebra::Matrix3;
     let opts = Options::DEFAULT;
-    let s0 = m
-        .analyze_slices(pose, rates, accels, &opts)
-        .expect("analysis at the pose");
-    let h = 1e-6;
-    let pp = pose_at(m, pose, rates, accels, h);
-    let pm = pose_at(m, pose, rates, accels, -h);
-    // Rates of the drivers at ±h, for the velocity-difference check.
-    let rates_at =
-        |t: f64| -> Vec<f64> { rates.iter().zip(accels).map(|(r, a)| r + a * t).collect() };
-    let sp = m
-        .analyze_slices(&pp, &rates_at(h), accels, &opts)
-        .expect("analysis at +h");
-    let sm = m
-        .analyze_slices(&pm, &rates_at(-h), accels, &opts)
-        .expect("analysis at -h");
-
+    let nq = M::DRIVERS + M::UNKNOWNS;
+    let dim = M::POINT_DIM;
+    // Positions, velocities and rotations at time t along the path.
+    let snap = |t: f64| -> (Vec<f64>, Vec<f64>, Vec<Matrix3<f64>>, M::Motion) {
+        let p = if t == 0.0 {
+            *pose
+        } else {
+            pose_at(m, pose, rates, accels, t)
+        };
+        let r: Vec<f64> = rates.iter().zip(accels).map(|(r, a)| r + a * t).collect();
+        let s = m
+            .analyze_slices(&p, &r, accels, &opts)
+            .expect("analysis along the path");
+        let mut pos: Vec<f64> = (0..nq).map(|j| p.get(j).expect("q")).collect();
+        let mut vel: Vec<f64> = (0..nq).map(|j| s.qd().get(j).expect("q'")).collect();
+        let mut flat = vec![0.0; M::POINTS * dim];
+        m.point_positions_into(&p, &mut flat);
+        pos.extend(flat);
+        for pt in s.points() {
+            vel.extend_from_slice(pt.velocity());
+        }
+        for f in s.frames() {
+            pos.extend(f.origin.iter());
+            vel.extend(f.velocity.iter().chain(f.angular_velocity.iter()));
+        }
+        let mut rot = vec![Matrix3::zeros(); M::FRAMES];
+        m.frame_rotations_into(&p, &mut rot);
+        (pos, vel, rot, s)
+    };
+    let h = 1e-5;
+    let (_, v0, r0, s0) = snap(0.0);
+    let (p1, v1, r1, _) = snap(h);
+    let (p2, v2, r2, _) = snap(2.0 * h);
+    let (m1, w1, q1, _) = snap(-h);
+    let (m2, w2, q2, _) = snap(-2.0 * h);
+    let d = |a1: f64, a2: f64, b1: f64, b2: f64| (8.0 * (a1 - b1) - (a2 - b2)) / (12.0 * h);
+    // Velocities: q', point velocities, frame-origin velocities, then ω.
     let mut vel_exact = Vec::new();
     let mut vel_fd = Vec::new();
-    let mut acc_exact = Vec::new();
-    let mut acc_fd = Vec::new();
+    let mut k = 0;
+    let mut v_index = 0;
     for j in 0..nq {
-        let g = |c: &M::Coords| c.get(j).expect("coordinate");
-        vel_exact.push((format!("q'[{j}]"), g(s0.qd())));
-        vel_fd.push((g(&pp) - g(&pm)) / (2.0 * h));
-        acc_exact.push((format!("q''[{j}]"), g(s0.qdd())));
-        acc_fd.push((g(sp.qd()) - g(sm.qd())) / (2.0 * h));
+        vel_exact.push((format!("q'[{j}]"), v0[j]));
+        vel_fd.push(d(p1[k], p2[k], m1[k], m2[k]));
+        k += 1;
+        v_index += 1;
     }
-    let dim = M::POINT_DIM;
-    let mut rp = vec![0.0; np * dim];
-    let mut rm = vec![0.0; np * dim];
-    m.point_positions_into(&pp, &mut rp);
-    m.point_positions_into(&pm, &mut rm);
-    for k in 0..np {
-        let p0 = s0.points()[k];
+    for n in 0..M::POINTS {
         for c in 0..dim {
-            vel_exact.push((format!("v[{k}][{c}]"), p0.velocity()[c]));
-            vel_fd.push((rp[k * dim + c] - rm[k * dim + c]) / (2.0 * h));
-            acc_exact.push((format!("a[{k}][{c}]"), p0.acceleration()[c]));
-            acc_fd.push((sp.points()[k].velocity()[c] - sm.points()[k].velocity()[c]) / (2.0 * h));
+            vel_exact.push((format!("v[{n}][{c}]"), v0[v_index]));
+            vel_fd.push(d(p1[k], p2[k], m1[k], m2[k]));
+            k += 1;
+            v_index += 1;
         }
     }
-    // Frames: ω against the axial vector of (R(t+h) − R(t−h))/(2h) · Rᵀ, and
-    // α against central differences of ω.
-    let nf = M::FRAMES;
-    let mut r0 = vec![kinematics_core::nalgebra::Matrix3::zeros(); nf];
-    let mut rpl = r0.clone();
-    let mut rmi = r0.clone();
-    m.frame_rotations_into(pose, &mut r0);
-    m.frame_rotations_into(&pp, &mut rpl);
-    m.frame_rotations_into(&pm, &mut rmi);
-    for k in 0..nf {
-        let w = (rpl[k] - rmi[k]) / (2.0 * h) * r0[k].transpose();
+    for n in 0..M::FRAMES {
+        for c in 0..3 {
+            vel_exact.push((format!("v_o[{n}][{c}]"), v0[v_index + c]));
+            vel_fd.push(d(p1[k], p2[k], m1[k], m2[k]));
+            k += 1;
+        }
+        let rd: Matrix3<f64> = (8.0 * (r1[n] - q1[n]) - (r2[n] - q2[n])) / (12.0 * h);
+        let w = rd * r0[n].transpose();
         let axial = [
             (w[(2, 1)] - w[(1, 2)]) / 2.0,
             (w[(0, 2)] - w[(2, 0)]) / 2.0,
             (w[(1, 0)] - w[(0, 1)]) / 2.0,
         ];
-        let f0 = s0.frames()[k];
         for c in 0..3 {
-            vel_exact.push((format!("ω[{k}][{c}]"), f0.angular_velocity[c]));
+            vel_exact.push((format!("ω[{n}][{c}]"), v0[v_index + 3 + c]));
             vel_fd.push(axial[c]);
-            acc_exact.push((format!("α[{k}][{c}]"), f0.angular_acceleration[c]));
-            acc_fd.push(
-                (sp.frames()[k].angular_velocity[c] - sm.frames()[k].angular_velocity[c])
-                    / (2.0 * h),
-            );
-            vel_exact.push((format!("v_o[{k}][{c}]"), f0.velocity[c]));
-            vel_fd.push((sp.frames()[k].origin[c] - sm.frames()[k].origin[c]) / (2.0 * h));
-            acc_exact.push((format!("a_o[{k}][{c}]"), f0.acceleration[c]));
-            acc_fd.push((sp.frames()[k].velocity[c] - sm.frames()[k].velocity[c]) / (2.0 * h));
+        }
+        v_index += 6;
+    }
+    // Accelerations: differences of every velocity above.
+    let mut acc_exact = Vec::new();
+    for j in 0..nq {
+        acc_exact.push((format!("q''[{j}]"), s0.qdd().get(j).expect("q''")));
+    }
+    for (n, pt) in s0.points().iter().enumerate() {
+        for c in 0..dim {
+            acc_exact.push((format!("a[{n}][{c}]"), pt.acceleration()[c]));
         }
     }
+    for (n, f) in s0.frames().iter().enumerate() {
+        for c in 0..3 {
+            acc_exact.push((format!("a_o[{n}][{c}]"), f.acceleration[c]));
+        }
+        for c in 0..3 {
+            acc_exact.push((format!("α[{n}][{c}]"), f.angular_acceleration[c]));
+        }
+    }
+    let acc_fd: Vec<f64> = (0..v0.len())
+        .map(|i| d(v1[i], v2[i], w1[i], w2[i]))
+        .collect();
     compare("velocity", &vel_exact, &vel_fd, tol);
     compare("acceleration", &acc_exact, &acc_fd, tol);
 }
@@ -209,4 +233,55 @@ fn compare(what: &str, exact: &[(String, f64)], fd: &[f64], tol: f64) {
             "{what} {name}: exact {e}, finite difference {f} (scale {scale})"
         );
     }
+}
+
+/// Whether Φ_u at `pose` is comfortably regular (relative pivots ≥ 0.1).
+#[must_use]
+pub fn regular<M: Mechanism>(m: &M, pose: &M::Coords) -> bool {
+    fn check<const N: usize>(j: &[f64]) -> bool {
+        let mut a = [[0.0; N]; N];
+        for (i, row) in a.iter_mut().enumerate() {
+            row.copy_from_slice(&j[i * N..(i + 1) * N]);
+        }
+        Lu::factor(&a, 0.1).is_ok()
+    }
+    let n = M::UNKNOWNS;
+    let mut j = vec![0.0; n * n];
+    m.jacobian_into(pose, &mut j);
+    match n {
+        0 => true,
+        1 => check::<1>(&j),
+        2 => check::<2>(&j),
+        3 => check::<3>(&j),
+        4 => check::<4>(&j),
+        5 => check::<5>(&j),
+        6 => check::<6>(&j),
+        _ => false,
+    }
+}
+
+/// Assembles from the exact configuration perturbed by up to 0.01 (rad, or
+/// 1 % of a length) and checks that Newton returns to it: the branch follows
+/// the guess. (Larger perturbations can be nearer the other branch for the
+/// samples close to a toggle position; assembly from rough guesses is tested
+/// on the textbook mechanisms.)
+pub fn assemble_back<M: Mechanism>(m: &M, exact: &M::Coords, rng: &mut Rng) -> M::Coords {
+    let mut guess = *exact;
+    for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+        let v = exact.get(j).expect("coordinate");
+        guess.set(j, v + rng.range(-0.01, 0.01) * v.abs().max(1.0));
+    }
+    let pose = match m.assemble_with(&guess, &kinematics_core::Options::DEFAULT) {
+        Ok(p) => p,
+        Err(e) => {
+            let mut r = vec![0.0; M::EQUATIONS];
+            m.residual_into(&guess, &mut r);
+            panic!("guess {guess:?} exact {exact:?} residual at guess {r:?}: {e}");
+        }
+    };
+    for j in 0..M::DRIVERS + M::UNKNOWNS {
+        let (a, b) = (pose.get(j).expect("q"), exact.get(j).expect("q"));
+        assert!((a - b).abs() < 1e-9, "coordinate {j}: {a} vs {b}");
+    }
+    pose
 }

@@ -12,93 +12,14 @@
 // The test mechanisms' parameters are described in the struct docs.
 #![allow(missing_docs)]
 
-use kinematics_core::{mechanism, solve::Lu, Mechanism};
-use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
-use kinematics_tests::{check_jacobian, check_motion, Rng};
-
-mechanism! {
-    /// Watt II six-bar: four-bar A-B-C-D driving, through the rocker
-    /// extension DE, a second four-bar D-E-F-G.
-    pub struct Watt {
-        params { a, b, c, d, e, gamma, f, g, gx, gy }
-        drivers  { phi }
-        unknowns { th3, th4, th5, th6 }
-        points {
-            B = polar(a, phi);
-            D = vec2(d, 0.0);
-            C = D + polar(c, th4);
-            E = D + polar(e, th4 + gamma);
-            F = E + polar(f, th5);
-        }
-        loops {
-            B + polar(b, th3) == C;
-            F == vec2(gx, gy) + polar(g, th6);
-        }
-    }
-}
-
-mechanism! {
-    /// 5R five-bar with two driven cranks, at A = (0, 0) and E = (ex, ey).
-    pub struct FiveBar {
-        params { a, b, c, d, ex, ey }
-        drivers  { phi1, phi2 }
-        unknowns { th2, th3 }
-        points {
-            B = polar(a, phi1);
-            D = vec2(ex, ey) + polar(d, phi2);
-            C = B + polar(b, th2);
-        }
-        loops { C == D + polar(c, th3); }
-    }
-}
+use kinematics_core::Mechanism;
+use kinematics_examples::{
+    FiveBar, FiveBarCoords, FourBar, FourBarCoords, SliderCrank, SliderCrankCoords, Watt,
+    WattCoords,
+};
+use kinematics_tests::{assemble_back, check_jacobian, check_motion, regular, Rng};
 
 const SAMPLES: usize = 60;
-
-/// Whether Φ_u at `pose` is comfortably regular.
-fn regular<M: Mechanism>(m: &M, pose: &M::Coords) -> bool {
-    fn check<const N: usize>(j: &[f64]) -> bool {
-        let mut a = [[0.0; N]; N];
-        for (i, row) in a.iter_mut().enumerate() {
-            row.copy_from_slice(&j[i * N..(i + 1) * N]);
-        }
-        Lu::factor(&a, 0.1).is_ok()
-    }
-    let n = M::UNKNOWNS;
-    let mut j = vec![0.0; n * n];
-    m.jacobian_into(pose, &mut j);
-    match n {
-        2 => check::<2>(&j),
-        4 => check::<4>(&j),
-        _ => false,
-    }
-}
-
-/// Assembles from the exact configuration perturbed by up to 0.01 (rad, or
-/// 1 % of a length) and checks that Newton returns to it: the branch follows
-/// the guess. (Larger perturbations can be nearer the other branch for the
-/// samples close to a toggle position; assembly from rough guesses is tested
-/// on the textbook mechanisms.)
-fn assemble_back<M: Mechanism>(m: &M, exact: &M::Coords, rng: &mut Rng) -> M::Coords {
-    use kinematics_core::Coordinates;
-    let mut guess = *exact;
-    for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
-        let v = exact.get(j).expect("coordinate");
-        guess.set(j, v + rng.range(-0.01, 0.01) * v.abs().max(1.0));
-    }
-    let pose = match m.assemble_with(&guess, &kinematics_core::Options::DEFAULT) {
-        Ok(p) => p,
-        Err(e) => {
-            let mut r = vec![0.0; M::EQUATIONS];
-            m.residual_into(&guess, &mut r);
-            panic!("guess {guess:?} exact {exact:?} residual at guess {r:?}: {e}");
-        }
-    };
-    for j in 0..M::DRIVERS + M::UNKNOWNS {
-        let (a, b) = (pose.get(j).expect("q"), exact.get(j).expect("q"));
-        assert!((a - b).abs() < 1e-9, "coordinate {j}: {a} vs {b}");
-    }
-    pose
-}
 
 /// Checks one sample: Jacobian, velocities and accelerations against finite
 /// differences at the pose assembled near `exact`. Returns `false`, checking
