@@ -129,4 +129,40 @@ pub mod __private {
             Err(Error::NonFinite { input, name, value })
         }
     }
+
+    /// Fails with [`Error::NonFinite`] naming the first point or frame whose
+    /// position, velocity, acceleration, rotation or angular rates hold a NaN
+    /// or an infinity. Generated code calls it only after a cheap sum of all
+    /// outputs has come out non-finite, so it stays off the hot path.
+    #[cold]
+    #[inline(never)]
+    pub fn finite_outputs<const D: usize>(
+        points: &[PointMotion<D>],
+        point_names: &[&'static str],
+        frames: &[FrameState],
+        frame_names: &[&'static str],
+    ) -> Result<(), Error> {
+        for (name, p) in point_names.iter().zip(points) {
+            for v in p.position.iter().chain(&p.velocity).chain(&p.acceleration) {
+                finite(Input::Computed, name, *v)?;
+            }
+        }
+        for (name, f) in frame_names.iter().zip(frames) {
+            let vectors = [
+                f.origin,
+                f.velocity,
+                f.acceleration,
+                f.angular_velocity,
+                f.angular_acceleration,
+            ];
+            for v in f
+                .rotation
+                .iter()
+                .chain(vectors.iter().flat_map(|v| v.iter()))
+            {
+                finite(Input::Computed, name, *v)?;
+            }
+        }
+        Ok(())
+    }
 }

@@ -841,19 +841,6 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         .iter()
         .map(|f| f.name.unraw().to_string())
         .collect();
-    let check_frames = if nf == 0 {
-        TokenStream::new()
-    } else {
-        quote! {
-            let frame_names: [&'static str; #nf] = [#(#frame_names),*];
-            for (name, f) in frame_names.iter().zip(&motion.frames) {
-                let vectors = [f.origin, f.velocity, f.acceleration, f.angular_velocity, f.angular_acceleration];
-                for v in f.rotation.iter().chain(vectors.iter().flat_map(|v| v.iter())) {
-                    #pp::finite(#pp::Input::Computed, name, *v)?;
-                }
-            }
-        }
-    };
     let all_q = q.iter();
     let finite_out = |vals: &[Ident]| {
         let names: Vec<String> = c_unknowns.iter().map(|c| c.unraw().to_string()).collect();
@@ -1131,13 +1118,12 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     conditioning: lu.conditioning(),
                 };
                 if !(#output_sum).is_finite() {
-                    let point_names: [&'static str; #np] = [#(#point_names),*];
-                    for (name, p) in point_names.iter().zip(&motion.points) {
-                        for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
-                            #pp::finite(#pp::Input::Computed, name, *v)?;
-                        }
-                    }
-                    #check_frames
+                    #pp::finite_outputs(
+                        &motion.points,
+                        <Self as #pp::Mechanism>::POINT_NAMES,
+                        &motion.frames,
+                        <Self as #pp::Mechanism>::FRAME_NAMES,
+                    )?;
                 }
                 ::core::result::Result::Ok(motion)
             }
@@ -1200,13 +1186,12 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     conditioning: lu.conditioning(),
                 };
                 if !(#output_sum).is_finite() {
-                    let point_names: [&'static str; #np] = [#(#point_names),*];
-                    for (name, p) in point_names.iter().zip(&motion.points) {
-                        for v in p.position.iter().chain(p.velocity.iter()).chain(p.acceleration.iter()) {
-                            #pp::finite(#pp::Input::Computed, name, *v)?;
-                        }
-                    }
-                    #check_frames
+                    #pp::finite_outputs(
+                        &motion.points,
+                        <Self as #pp::Mechanism>::POINT_NAMES,
+                        &motion.frames,
+                        <Self as #pp::Mechanism>::FRAME_NAMES,
+                    )?;
                 }
                 ::core::result::Result::Ok(motion)
             }

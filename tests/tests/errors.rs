@@ -24,6 +24,26 @@ mechanism! {
     }
 }
 
+mechanism! {
+    /// A slider `y = t` carrying a point at height √y: its position is finite
+    /// at y = 0, but its velocity y′/(2√y) is not.
+    pub struct RootPoint {
+        drivers  {
+            /// Input.
+            t
+        }
+        unknowns {
+            /// Slider position.
+            y
+        }
+        constraints { y == t; }
+        points {
+            /// Point whose velocity is infinite at y = 0.
+            Q = vec2(0.0, sqrt(y));
+        }
+    }
+}
+
 fn four_bar() -> FourBar {
     FourBar {
         a: 0.04,
@@ -389,4 +409,31 @@ fn every_solution_reports_its_conditioning() {
         m.analyze_with(&pose, 1.0, 0.0, &strict),
         Err(Error::Singular { .. })
     ));
+}
+
+#[test]
+fn non_finite_point_output_names_the_point() {
+    let m = RootPoint {};
+    let pose = m
+        .assemble(&RootPointCoords { t: 0.0, y: 0.5 })
+        .expect("assembles at y = 0");
+    assert!(pose.y.abs() < 1e-12);
+    let err = m.analyze(&pose, 1.0, 0.0).expect_err("v_Q = 1/(2·0)");
+    assert!(
+        matches!(
+            err,
+            Error::NonFinite {
+                input: Input::Computed,
+                name: "Q",
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    // Away from y = 0 the same model analyzes: v_Q = 1/(2√y).
+    let pose = m
+        .assemble(&RootPointCoords { t: 0.25, y: 0.3 })
+        .expect("assembles");
+    let motion = m.analyze(&pose, 1.0, 0.0).expect("finite");
+    assert!((motion.point_q().velocity.y - 1.0).abs() < 1e-12);
 }
