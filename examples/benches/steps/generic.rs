@@ -161,6 +161,28 @@ fn res_at<M: Generic, const NQ: usize, const NU: usize>(
     f
 }
 
+/// Φ_u by central differences with step `FD_H` in each unknown.
+fn fd_jacobian<M: Generic, const NQ: usize, const NU: usize>(
+    m: &M,
+    q: &[f64; NQ],
+    jac: &mut [[f64; NU]; NU],
+) {
+    for k in 0..NU {
+        let mut e = [0.0; NQ];
+        e[M::ND + k] = 1.0;
+        let (fp, fm) = (
+            res_at::<M, NQ, NU>(m, q, &e, FD_H),
+            res_at::<M, NQ, NU>(m, q, &e, -FD_H),
+        );
+        for i in 0..NU {
+            jac[i][k] = (fp[i] - fm[i]) / (2.0 * FD_H);
+        }
+    }
+}
+
+/// Difference step for first derivatives.
+const FD_H: f64 = 1e-6;
+
 /// One step with central finite differences (h = 1e-6 for first
 /// derivatives, 1e-4 for second).
 pub fn fd_step<M: Generic, const NQ: usize, const NU: usize>(
@@ -170,7 +192,7 @@ pub fn fd_step<M: Generic, const NQ: usize, const NU: usize>(
     qdd: &mut [f64; NQ],
 ) -> f64 {
     let nd = M::ND;
-    let (h1, h2) = (1e-6, 1e-4);
+    let (h1, h2) = (FD_H, 1e-4);
     let mut jac = [[0.0; NU]; NU];
     let zero = [0.0; NQ];
     for _ in 0..MAX_IT {
@@ -178,17 +200,7 @@ pub fn fd_step<M: Generic, const NQ: usize, const NU: usize>(
         if r.iter().all(|v| v.abs() < TOL) {
             break;
         }
-        for k in 0..NU {
-            let mut e = [0.0; NQ];
-            e[nd + k] = 1.0;
-            let (fp, fm) = (
-                res_at::<M, NQ, NU>(m, q, &e, h1),
-                res_at::<M, NQ, NU>(m, q, &e, -h1),
-            );
-            for i in 0..NU {
-                jac[i][k] = (fp[i] - fm[i]) / (2.0 * h1);
-            }
-        }
+        fd_jacobian(m, q, &mut jac);
         let Ok(lu) = Lu::factor(&jac, 1e-14) else {
             break;
         };
@@ -197,17 +209,7 @@ pub fn fd_step<M: Generic, const NQ: usize, const NU: usize>(
             q[nd + k] -= step[k];
         }
     }
-    for k in 0..NU {
-        let mut e = [0.0; NQ];
-        e[nd + k] = 1.0;
-        let (fp, fm) = (
-            res_at::<M, NQ, NU>(m, q, &e, h1),
-            res_at::<M, NQ, NU>(m, q, &e, -h1),
-        );
-        for i in 0..NU {
-            jac[i][k] = (fp[i] - fm[i]) / (2.0 * h1);
-        }
-    }
+    fd_jacobian(m, q, &mut jac);
     let lu = Lu::factor(&jac, 0.0).ok();
     let solve = |b: &[f64; NU]| lu.as_ref().map_or([0.0; NU], |l| l.solve(b));
     let dd: [f64; NQ] = std::array::from_fn(|j| if j < nd { qd[j] } else { 0.0 });
