@@ -29,8 +29,18 @@ fn allocations() -> usize {
     ALLOCATIONS.with(Cell::get)
 }
 
-/// The counter sees this thread's allocations (so a zero below means
-/// something).
+/// Asserts that `hot_path` leaves this thread's allocation count unchanged,
+/// after checking that the counter does see this thread's allocations (so
+/// the zero means something).
+fn assert_allocates_nothing(hot_path: impl FnOnce()) {
+    counter_works();
+    let before = allocations();
+    hot_path();
+    let allocated = allocations() - before;
+    assert_eq!(allocated, 0, "the hot path allocated {allocated} times");
+}
+
+/// The counter sees this thread's allocations.
 fn counter_works() {
     let before = allocations();
     let v = std::hint::black_box(vec![1u8; 16]);
@@ -71,27 +81,20 @@ fn assemble_and_analyze_allocate_nothing() {
         .assemble(&RRtrRrt::example_4_2_guess())
         .expect("assembles");
     let mut checksum = 0.0;
-    counter_works();
-    let before = allocations();
-    for k in 0..3600 {
-        let phi = f64::from(k) * std::f64::consts::TAU / 3600.0;
-        pose.phi = phi;
-        pose = m.assemble(&pose).expect("assembles");
-        let s = m.analyze(&pose, 10.0, 2.0).expect("analysis");
-        checksum += s.qdd.th4 + s.point_p().acceleration.x;
-        pose6.phi = std::f64::consts::FRAC_PI_4 + 0.1 * phi.sin();
-        pose6 = six.assemble(&pose6).expect("assembles");
-        let s6 = six.analyze(&pose6, 4.712, 0.0).expect("analysis");
-        checksum += s6.qdd.phi4 + s6.point_e().acceleration.x;
-    }
-    let after = allocations();
+    assert_allocates_nothing(|| {
+        for k in 0..3600 {
+            let phi = f64::from(k) * std::f64::consts::TAU / 3600.0;
+            pose.phi = phi;
+            pose = m.assemble(&pose).expect("assembles");
+            let s = m.analyze(&pose, 10.0, 2.0).expect("analysis");
+            checksum += s.qdd.th4 + s.point_p().acceleration.x;
+            pose6.phi = std::f64::consts::FRAC_PI_4 + 0.1 * phi.sin();
+            pose6 = six.assemble(&pose6).expect("assembles");
+            let s6 = six.analyze(&pose6, 4.712, 0.0).expect("analysis");
+            checksum += s6.qdd.phi4 + s6.point_e().acceleration.x;
+        }
+    });
     assert!(checksum.is_finite());
-    assert_eq!(
-        after - before,
-        0,
-        "the hot path allocated {} times",
-        after - before
-    );
 }
 
 #[test]
@@ -113,31 +116,24 @@ fn fused_step_of_spatial_mechanisms_allocates_nothing() {
         d6: 0.1,
     };
     let mut checksum = 0.0;
-    counter_works();
-    let before = allocations();
-    for k in 0..3600 {
-        let s = f64::from(k) * std::f64::consts::TAU / 3600.0;
-        pose.phi = s;
-        let m = rssr.step(&pose, 25.13, 0.0).expect("step");
-        pose = m.q;
-        checksum += m.qdd.psi + m.point_b().acceleration.x;
-        let q = SixAxisArmCoords {
-            q1: s,
-            q2: 0.5 * s,
-            q3: -s,
-            q4: s,
-            q5: 0.2,
-            q6: -s,
-        };
-        let a = arm.step(&q, [1.0; 6], [0.1; 6]).expect("step");
-        checksum += a.frame_tool().angular_acceleration.z + a.point_tcp().acceleration.y;
-    }
-    let after = allocations();
+    assert_allocates_nothing(|| {
+        for k in 0..3600 {
+            let s = f64::from(k) * std::f64::consts::TAU / 3600.0;
+            pose.phi = s;
+            let m = rssr.step(&pose, 25.13, 0.0).expect("step");
+            pose = m.q;
+            checksum += m.qdd.psi + m.point_b().acceleration.x;
+            let q = SixAxisArmCoords {
+                q1: s,
+                q2: 0.5 * s,
+                q3: -s,
+                q4: s,
+                q5: 0.2,
+                q6: -s,
+            };
+            let a = arm.step(&q, [1.0; 6], [0.1; 6]).expect("step");
+            checksum += a.frame_tool().angular_acceleration.z + a.point_tcp().acceleration.y;
+        }
+    });
     assert!(checksum.is_finite());
-    assert_eq!(
-        after - before,
-        0,
-        "the hot path allocated {} times",
-        after - before
-    );
 }
