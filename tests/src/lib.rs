@@ -41,6 +41,15 @@ impl Rng {
     pub fn angle(&mut self) -> f64 {
         self.range(-std::f64::consts::PI, std::f64::consts::PI)
     }
+
+    /// A vector with each component uniform in [lo, hi).
+    pub fn vector3(&mut self, lo: f64, hi: f64) -> kinematics_core::nalgebra::Vector3<f64> {
+        kinematics_core::nalgebra::Vector3::new(
+            self.range(lo, hi),
+            self.range(lo, hi),
+            self.range(lo, hi),
+        )
+    }
 }
 
 /// Relative difference |a − b| / (|a| + |b| + floor).

@@ -390,11 +390,7 @@ fn mobility_of_the_slider_crank_and_the_swash_plate() {
 fn axis_angle_round_trip() {
     let mut rng = Rng::new(0xA715);
     for k in 0..20_000 {
-        let axis = Vector3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
+        let axis = rng.vector3(-1.0, 1.0);
         if axis.norm() < 1e-3 {
             continue;
         }
@@ -421,20 +417,12 @@ fn axis_angle_round_trip() {
 fn screw_parameters_round_trip() {
     let mut rng = Rng::new(0x5C2E);
     for _ in 0..20_000 {
-        let axis = Vector3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
+        let axis = rng.vector3(-1.0, 1.0);
         if axis.norm() < 1e-3 {
             continue;
         }
         let u = axis.normalize();
-        let p = Vector3::new(
-            rng.range(-5.0, 5.0),
-            rng.range(-5.0, 5.0),
-            rng.range(-5.0, 5.0),
-        );
+        let p = rng.vector3(-5.0, 5.0);
         let nearest = p - u * u.dot(&p);
         let (angle, delta) = (rng.range(0.01, PI - 0.01), rng.range(-5.0, 5.0));
         let t = screw_about(&axis, &p, angle, delta).expect("axis");
