@@ -48,6 +48,22 @@ impl Options {
     /// [`Error::InvalidOption`] naming the first setting out of range.
     #[inline]
     pub fn validate(&self) -> Result<(), Error> {
+        // One branch in the common case (NaN fails every comparison).
+        let valid = (self.tolerance > 0.0)
+            & (self.tolerance < f64::INFINITY)
+            & (self.max_iterations > 0)
+            & (self.singularity_threshold >= 0.0)
+            & (self.singularity_threshold < 1.0);
+        if valid {
+            Ok(())
+        } else {
+            self.invalid()
+        }
+    }
+
+    /// The error naming the first setting out of range.
+    #[cold]
+    fn invalid(&self) -> Result<(), Error> {
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return Err(Error::InvalidOption {
                 name: "tolerance",

@@ -43,14 +43,29 @@ pub enum Failure {
 /// LU factorisation with partial pivoting, P·A = L·U, of a square matrix.
 ///
 /// The reciprocals of the pivots are kept, so that [`Lu::solve`] has no
-/// division.
+/// division. For N ≤ 2 the inverse itself is kept instead (A⁻¹ = adj A / det A,
+/// one division), and a solve is a matrix–vector product; the singularity
+/// test and [`Lu::conditioning`] are those of partial pivoting all the same:
+/// the pivots of a 2×2 matrix are p₀ = max(|a₀₀|, |a₁₀|) and |det A| / p₀.
 #[derive(Debug, Clone, Copy)]
 pub struct Lu<const N: usize> {
+    /// L and U below and above the diagonal (N > 2), or A⁻¹ (N ≤ 2).
     lu: [[f64; N]; N],
     inv_pivot: [f64; N],
     perm: [usize; N],
     conditioning: f64,
     sign: f64,
+}
+
+/// The failure for pivot `unknown` of magnitude `pivot` (|pivot| / `scale`
+/// relative), off the hot path.
+#[cold]
+fn singular(unknown: usize, pivot: f64, scale: f64) -> Failure {
+    let rel = pivot / scale;
+    Failure::Singular {
+        unknown,
+        relative_pivot: if rel.is_finite() { rel } else { 0.0 },
+    }
 }
 
 impl<const N: usize> Lu<N> {
@@ -61,6 +76,9 @@ impl<const N: usize> Lu<N> {
     /// `a`, is at or below `threshold` (or is not finite).
     #[inline]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        if N == 1 {
+            return Self::factor1(a, threshold);
+        }
         if N == 2 {
             return Self::factor2(a, threshold);
         }
@@ -89,11 +107,7 @@ impl<const N: usize> Lu<N> {
             // Written so that a NaN pivot also fails.
             let regular = best_val > threshold * scale && best_val.is_finite();
             if !regular {
-                let rel = best_val / scale;
-                return Err(Failure::Singular {
-                    unknown: k,
-                    relative_pivot: if rel.is_finite() { rel } else { 0.0 },
-                });
+                return Err(singular(k, best_val, scale));
             }
             if best != k {
                 lu.swap(k, best);
@@ -122,52 +136,62 @@ impl<const N: usize> Lu<N> {
         })
     }
 
-    /// The 2×2 case unrolled: the same partial pivoting, without loops.
+    /// The 1×1 case: A⁻¹ = 1 / a₀₀.
+    #[inline]
+    fn factor1(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        let a00 = a[0][0];
+        let p0 = a00.abs();
+        let scale = if p0 > 0.0 { p0 } else { 1.0 };
+        // Written so that a NaN or infinite entry also fails.
+        if !(p0 > threshold * scale && p0 < f64::INFINITY) {
+            return Err(singular(0, p0, scale));
+        }
+        let mut lu = [[0.0; N]; N];
+        lu[0][0] = 1.0 / a00;
+        Ok(Self {
+            lu,
+            inv_pivot: [0.0; N],
+            perm: [0; N],
+            conditioning: 1.0,
+            sign: a00.signum(),
+        })
+    }
+
+    /// The 2×2 case: A⁻¹ = [[a₁₁, −a₀₁], [−a₁₀, a₀₀]] / det A, with the
+    /// pivots of partial pivoting, p₀ = max(|a₀₀|, |a₁₀|) and |det A| / p₀,
+    /// tested without dividing.
     #[inline]
     fn factor2(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
         let (a00, a01, a10, a11) = (a[0][0], a[0][1], a[1][0], a[1][1]);
-        let scale = a00.abs().max(a01.abs()).max(a10.abs()).max(a11.abs());
+        // Plain comparisons, not `f64::max`: a NaN entry is caught by the
+        // determinant test below.
+        let larger = |x: f64, y: f64| if y > x { y } else { x };
+        let p0 = larger(a00.abs(), a10.abs());
+        let scale = larger(p0, larger(a01.abs(), a11.abs()));
         let scale = if scale > 0.0 { scale } else { 1.0 };
-        let swap = a10.abs() > a00.abs();
-        let (p0, q0, p1, q1) = if swap {
-            (a10, a11, a00, a01)
-        } else {
-            (a00, a01, a10, a11)
-        };
-        let singular = |k: usize, v: f64| {
-            let rel = v / scale;
-            Failure::Singular {
-                unknown: k,
-                relative_pivot: if rel.is_finite() { rel } else { 0.0 },
-            }
-        };
-        if !(p0.abs() > threshold * scale && p0.is_finite()) {
-            return Err(singular(0, p0.abs()));
+        let det = a00 * a11 - a01 * a10;
+        let tol = threshold * scale;
+        // A NaN or an infinity in `a` makes the tolerance or the determinant
+        // NaN or infinite, and these comparisons false.
+        let first_regular = p0 > tol;
+        if !first_regular {
+            return Err(singular(0, p0, scale));
         }
-        let inv0 = 1.0 / p0;
-        let m = p1 * inv0;
-        let u11 = q1 - m * q0;
-        if !(u11.abs() > threshold * scale && u11.is_finite()) {
-            return Err(singular(1, u11.abs()));
+        if !(det.abs() > tol * p0 && det.abs() < f64::INFINITY) {
+            return Err(singular(1, det.abs() / p0, scale));
         }
+        let inv = 1.0 / det;
         let mut lu = [[0.0; N]; N];
-        let mut inv_pivot = [0.0; N];
-        let mut perm = [0usize; N];
-        lu[0][0] = p0;
-        lu[0][1] = q0;
-        lu[1][0] = m;
-        lu[1][1] = u11;
-        inv_pivot[0] = inv0;
-        inv_pivot[1] = 1.0 / u11;
-        perm[0] = usize::from(swap);
-        perm[1] = usize::from(!swap);
-        let sign = (p0 * u11).signum() * if swap { -1.0 } else { 1.0 };
+        lu[0][0] = a11 * inv;
+        lu[0][1] = -a01 * inv;
+        lu[1][0] = -a10 * inv;
+        lu[1][1] = a00 * inv;
         Ok(Self {
             lu,
-            inv_pivot,
-            perm,
-            conditioning: p0.abs().min(u11.abs()) / scale,
-            sign,
+            inv_pivot: [0.0; N],
+            perm: [0; N],
+            conditioning: (p0 * p0).min(det.abs()) / (p0 * scale),
+            sign: det.signum(),
         })
     }
 
@@ -190,12 +214,14 @@ impl<const N: usize> Lu<N> {
     #[inline]
     #[must_use]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
-        if N == 2 {
+        if N <= 2 {
+            // x = A⁻¹ b.
             let mut x = [0.0; N];
-            let y0 = b[self.perm[0]];
-            let y1 = b[self.perm[1]] - self.lu[1][0] * y0;
-            x[1] = y1 * self.inv_pivot[1];
-            x[0] = (y0 - self.lu[0][1] * x[1]) * self.inv_pivot[0];
+            for i in 0..N {
+                for j in 0..N {
+                    x[i] += self.lu[i][j] * b[j];
+                }
+            }
             return x;
         }
         let mut x = [0.0; N];
@@ -218,6 +244,7 @@ impl<const N: usize> Lu<N> {
 }
 
 /// Checks the requested assembly branch: the sign of det Φ_u.
+#[inline]
 fn branch_check<const N: usize>(jac: &[[f64; N]; N], options: &Options) -> Result<(), Failure> {
     let wanted = match options.branch {
         crate::Branch::Any => return Ok(()),
@@ -239,7 +266,12 @@ fn norms<const N: usize>(v: &[f64; N]) -> (f64, f64) {
     let mut max = 0.0f64;
     for x in v {
         sq += x * x;
-        max = max.max(x.abs());
+        // A plain comparison (not `f64::max`, whose NaN rule costs more):
+        // a NaN shows up in `sq` instead.
+        let a = x.abs();
+        if a > max {
+            max = a;
+        }
     }
     if sq.is_finite() {
         (0.5 * sq, max)

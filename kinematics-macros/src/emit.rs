@@ -491,14 +491,17 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
 }
 
 /// `checks`, a list of `finite(…)?;` statements over `values`, run only when
-/// the fast test `values[0].is_finite() & …` fails: the common case costs one
-/// branch, and the error still names the offending value.
+/// the fast test fails: the sum of the values is finite. A NaN or an infinity
+/// among them makes the sum NaN or infinite, so the common case costs one add
+/// per value and one branch, and the error still names the offending value.
+/// (Finite values whose sum overflows only send it to the named checks, which
+/// then pass.)
 fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStream {
     if values.is_empty() {
         return TokenStream::new();
     }
     quote! {
-        if !(#( #values.is_finite() )&*) {
+        if !(#( #values )+*).is_finite() {
             #checks
         }
     }
@@ -1059,16 +1062,31 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 rates: impl #pp::DriverValues<#nd>,
                 accelerations: impl #pp::DriverValues<#nd>,
             ) -> #pp::Result<#motion, #pp::Error> {
-                self.step_with(start, rates, accelerations, &#pp::Options::DEFAULT)
+                self.__step(start, rates, accelerations, &#pp::Options::DEFAULT)
             }
 
             /// [`Self::step`] with explicit solver options.
             ///
             /// # Errors
             /// As [`Self::step`], and invalid options.
+            pub fn step_with(
+                &self,
+                start: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                self.__step(start, rates, accelerations, options)
+            }
+
+            /// The body of [`Self::step`] and [`Self::step_with`]: inlined
+            /// into each, so that with the default options their checks fold
+            /// away at compile time.
+            #[doc(hidden)]
+            #[inline(always)]
             #allow
             #[allow(unused_assignments)]
-            pub fn step_with(
+            fn __step(
                 &self,
                 start: &#coords,
                 rates: impl #pp::DriverValues<#nd>,
@@ -1143,15 +1161,30 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 rates: impl #pp::DriverValues<#nd>,
                 accelerations: impl #pp::DriverValues<#nd>,
             ) -> #pp::Result<#motion, #pp::Error> {
-                self.analyze_with(pose, rates, accelerations, &#pp::Options::DEFAULT)
+                self.__analyze(pose, rates, accelerations, &#pp::Options::DEFAULT)
             }
 
             /// [`Self::analyze`] with explicit solver options.
             ///
             /// # Errors
             /// As [`Self::analyze`], and invalid options.
-            #allow
             pub fn analyze_with(
+                &self,
+                pose: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+                options: &#pp::Options,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                self.__analyze(pose, rates, accelerations, options)
+            }
+
+            /// The body of [`Self::analyze`] and [`Self::analyze_with`]: inlined
+            /// into each, so that with the default options their checks fold
+            /// away at compile time.
+            #[doc(hidden)]
+            #[inline(always)]
+            #allow
+            fn __analyze(
                 &self,
                 pose: &#coords,
                 rates: impl #pp::DriverValues<#nd>,
