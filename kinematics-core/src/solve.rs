@@ -273,7 +273,8 @@ fn norms<const N: usize>(v: &[f64; N]) -> (f64, f64) {
             max = a;
         }
     }
-    if sq.is_finite() {
+    // A float comparison, false for NaN (cheaper than `is_finite`).
+    if sq < f64::INFINITY {
         (0.5 * sq, max)
     } else {
         (f64::INFINITY, f64::INFINITY)
@@ -301,8 +302,13 @@ fn worst<const N: usize>(v: &[f64; N]) -> usize {
 /// f = ½‖Φ‖²; the step length t is halved until f decreases by at least the
 /// Armijo fraction, f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor
 /// guess from wandering to a far solution. Converged when max|Φ_i| ≤
-/// `tolerance`, or when the full Newton step is at the level of round-off
-/// (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|) for every i). Returns the iterations used.
+/// `tolerance`, or when a full Newton step that fails to decrease f is at
+/// the level of round-off (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|) for every i): then u
+/// is left where it was. Returns the iterations used.
+///
+/// Near a solution the full step is accepted at once, and an iteration is one
+/// evaluation, one factorisation and one solve; damping and the round-off
+/// test run only when the full step fails.
 ///
 /// # Errors
 /// A [`Failure`] when Φ_u is singular, Φ is not finite, no step length
@@ -320,15 +326,12 @@ pub fn newton<const N: usize>(
     let (mut f0, mut max) = norms(&phi);
     let mut iterations = 0;
     loop {
-        if !max.is_finite() {
-            let i = worst(&phi);
-            return Err(Failure::NonFiniteResidual {
-                equation: i,
-                value: phi[i],
-            });
-        }
         if max <= options.tolerance {
             return branch_check(&jac, options).map(|()| iterations);
+        }
+        // `norms` makes both infinite when Φ is not finite.
+        if max == f64::INFINITY {
+            return Err(non_finite(&phi));
         }
         if iterations >= options.max_iterations {
             return Err(Failure::NotConverged {
@@ -339,43 +342,210 @@ pub fn newton<const N: usize>(
         }
         iterations += 1;
         let step = Lu::factor(&jac, options.singularity_threshold)?.solve(&phi);
+        let start = *u;
+        for i in 0..N {
+            u[i] = start[i] - step[i];
+        }
+        eval(u, &mut phi, &mut jac);
+        let (f, m) = norms(&phi);
+        if f <= (1.0 - 2e-4) * f0 {
+            (f0, max) = (f, m);
+            continue;
+        }
+        let search = Search {
+            start: &start,
+            step: &step,
+            f0,
+            last_max: m,
+            iterations,
+        };
+        match search.run(u, &mut phi, &mut jac, &mut eval)? {
+            Some((f, m)) => (f0, max) = (f, m),
+            None => return branch_check(&jac, options).map(|()| iterations),
+        }
+    }
+}
+
+/// What [`FastNewton::next`] found at the latest evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Next {
+    /// A full Newton step was taken: evaluate again at the new u.
+    Continue,
+    /// max|Φ_i| ≤ tolerance (and the branch is the one asked for).
+    Converged,
+    /// Anything else: solve again from the start with [`newton`], whose
+    /// common path this is, so that it damps, detects round-off or reports
+    /// the failure.
+    Fallback,
+}
+
+/// The common path of [`newton`], driven by the caller's own loop, so that
+/// generated code evaluates Φ and Φ_u inline rather than through a closure:
+/// near a solution every full Newton step passes the Armijo test, and then
+/// the iterates are those of [`newton`] (bit for bit when Φ is evaluated the
+/// same way; generated code carries sines and cosines from one iterate to the
+/// next with [`sin_cos_after`], which agrees to rounding). On the first event
+/// off that path (a full step that does not decrease f = ½‖Φ‖² enough, a
+/// singular or non-finite Φ_u, the iteration cap, the wrong branch) it
+/// answers [`Next::Fallback`], and the caller runs [`newton`] from the start,
+/// which retraces the same iterates up to that point and takes over.
+#[derive(Debug, Clone, Copy)]
+pub struct FastNewton {
+    f0: f64,
+    iterations: usize,
+}
+
+impl Default for FastNewton {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FastNewton {
+    /// Before the first evaluation.
+    #[inline(always)]
+    #[must_use]
+    pub const fn new() -> Self {
+        Self {
+            f0: f64::INFINITY,
+            iterations: 0,
+        }
+    }
+
+    /// Given Φ and Φ_u at `u`: converged, or u advanced by a full Newton
+    /// step u ← u − Φ_u⁻¹ Φ, or off the common path.
+    #[inline(always)]
+    pub fn next<const N: usize>(
+        &mut self,
+        u: &mut [f64; N],
+        phi: &[f64; N],
+        jac: &[[f64; N]; N],
+        options: &Options,
+    ) -> Next {
+        let (f, max) = norms(phi);
+        // The Armijo test of the full step that led here (vacuous at the
+        // first evaluation, where f0 is infinite and f is at most infinite).
+        let decreased = f <= (1.0 - 2e-4) * self.f0;
+        if !decreased {
+            return Next::Fallback;
+        }
+        if max <= options.tolerance {
+            return match branch_check(jac, options) {
+                Ok(()) => Next::Converged,
+                Err(_) => Next::Fallback,
+            };
+        }
+        if max == f64::INFINITY || self.iterations >= options.max_iterations {
+            return Next::Fallback;
+        }
+        let Ok(lu) = Lu::factor(jac, options.singularity_threshold) else {
+            return Next::Fallback;
+        };
+        let step = lu.solve(phi);
+        self.iterations += 1;
+        self.f0 = f;
+        for i in 0..N {
+            u[i] -= step[i];
+        }
+        Next::Continue
+    }
+}
+
+/// sin x and cos x, given `s` = sin(x − d) and `c` = cos(x − d): by the
+/// angle-addition formulas, sin x = s cos d + c sin d and
+/// cos x = c cos d − s sin d, with sin d and cos d − 1 from their Taylor
+/// series when |d| ≤ 1/32 (truncated after d⁷ and d⁶: the first term
+/// left out is below 3·10⁻¹⁷), else computed afresh. Each result is then
+/// within a few units of 10⁻¹⁶ of the exact value. Generated code uses
+/// it between Newton iterates, whose steps are small near a solution; an
+/// infinite or NaN `d` (before the first iterate) computes afresh.
+#[inline(always)]
+#[must_use]
+pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
+    if d.abs() <= 0.031_25 {
+        let d2 = d * d;
+        // sin d = d − d³/3! + d⁵/5! − d⁷/7! and cos d − 1 = −d²/2! +
+        // d⁴/4! − d⁶/6!, in Horner form with rounded coefficients.
+        let sin_d = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0)));
+        let cos_d_m1 = d2 * (-0.5 + d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
+        (
+            s + (s * cos_d_m1 + c * sin_d),
+            c + (c * cos_d_m1 - s * sin_d),
+        )
+    } else {
+        x.sin_cos()
+    }
+}
+
+/// The failure for a residual vector with a NaN or an infinite entry.
+#[cold]
+fn non_finite<const N: usize>(phi: &[f64; N]) -> Failure {
+    let i = worst(phi);
+    Failure::NonFiniteResidual {
+        equation: i,
+        value: phi[i],
+    }
+}
+
+/// A Newton step whose full length did not decrease the merit f = ½‖Φ‖²
+/// enough: the slow path of [`newton`].
+struct Search<'a, const N: usize> {
+    start: &'a [f64; N],
+    step: &'a [f64; N],
+    /// f at `start`.
+    f0: f64,
+    /// max|Φ_i| after the full step.
+    last_max: f64,
+    iterations: usize,
+}
+
+impl<const N: usize> Search<'_, N> {
+    /// `Ok(None)` when the step is at the level of round-off: u is put back
+    /// at the start (and Φ, Φ_u evaluated there). Else halves t from 1 until
+    /// the Armijo test passes, `Ok(Some((f, max|Φ_i|)))` at the new u.
+    #[cold]
+    fn run(
+        &self,
+        u: &mut [f64; N],
+        phi: &mut [f64; N],
+        jac: &mut [[f64; N]; N],
+        eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+    ) -> Result<Option<(f64, f64)>, Failure> {
+        let (start, step) = (self.start, self.step);
         let mut tiny = true;
         for i in 0..N {
-            tiny &= step[i].abs() <= 1e-14 * (1.0 + u[i].abs());
+            tiny &= step[i].abs() <= 1e-14 * (1.0 + start[i].abs());
         }
         if tiny {
-            return branch_check(&jac, options).map(|()| iterations);
+            *u = *start;
+            eval(u, phi, jac);
+            return Ok(None);
         }
-        let start = *u;
         let mut t = 1.0;
+        let mut m = self.last_max;
         loop {
-            for i in 0..N {
-                u[i] = start[i] - t * step[i];
-            }
-            eval(u, &mut phi, &mut jac);
-            let (f, m) = norms(&phi);
-            if f <= (1.0 - 2e-4 * t) * f0 {
-                f0 = f;
-                max = m;
-                break;
-            }
             if t < 1e-3 {
-                if !m.is_finite() {
-                    let i = worst(&phi);
-                    return Err(Failure::NonFiniteResidual {
-                        equation: i,
-                        value: phi[i],
-                    });
+                if m == f64::INFINITY {
+                    return Err(non_finite(phi));
                 }
                 // No decrease along the Newton direction: a local minimum
                 // of ‖Φ‖ that is not a solution.
                 return Err(Failure::NotConverged {
-                    iterations,
+                    iterations: self.iterations,
                     residual: m,
-                    equation: worst(&phi),
+                    equation: worst(phi),
                 });
             }
             t *= 0.5;
+            for i in 0..N {
+                u[i] = start[i] - t * step[i];
+            }
+            eval(u, phi, jac);
+            let (f, max) = norms(phi);
+            m = max;
+            if f <= (1.0 - 2e-4 * t) * self.f0 {
+                return Ok(Some((f, max)));
+            }
         }
     }
 }
@@ -461,6 +631,75 @@ mod tests {
             Err(Failure::Singular { unknown, .. }) => assert_eq!(unknown, 1),
             other => panic!("expected singular, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn sin_cos_after_matches_the_library_functions() {
+        // Angles over several turns and steps up to the series' limit (and
+        // beyond it, where it computes afresh), from a fixed-seed generator.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            #[allow(clippy::cast_precision_loss)]
+            let x = (state >> 11) as f64 / (1u64 << 53) as f64;
+            x
+        };
+        let mut worst = 0.0f64;
+        for _ in 0..100_000 {
+            let x0 = 40.0 * (uniform() - 0.5);
+            let d = 0.07 * (uniform() - 0.5) * if uniform() < 0.5 { 1.0 } else { 1e-6 };
+            let (s, c) = x0.sin_cos();
+            let x = x0 + d;
+            let (s1, c1) = sin_cos_after(s, c, x, x - x0);
+            let (se, ce) = x.sin_cos();
+            worst = worst.max((s1 - se).abs()).max((c1 - ce).abs());
+        }
+        assert!(worst < 4e-16, "largest error {worst:e}");
+        // No previous value: computed afresh.
+        assert_eq!(
+            sin_cos_after(0.0, 0.0, 0.7, f64::INFINITY),
+            0.7f64.sin_cos()
+        );
+        assert_eq!(sin_cos_after(0.0, 0.0, 0.7, f64::NAN), 0.7f64.sin_cos());
+    }
+
+    #[test]
+    fn fast_newton_follows_newton_and_hands_over() {
+        // x² + y² = 4, y = x, as in the test below.
+        let eval = |u: &[f64; 2]| {
+            (
+                [u[0] * u[0] + u[1] * u[1] - 4.0, u[1] - u[0]],
+                [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
+            )
+        };
+        let drive = |mut u: [f64; 2]| {
+            let mut fast = FastNewton::new();
+            loop {
+                let (phi, jac) = eval(&u);
+                match fast.next(&mut u, &phi, &jac, &Options::DEFAULT) {
+                    Next::Continue => {}
+                    end => return (end, u),
+                }
+            }
+        };
+        let mut reference = [1.0, 0.5];
+        newton(&mut reference, &Options::DEFAULT, |u, phi, jac| {
+            (*phi, *jac) = eval(u);
+        })
+        .map_err(|_| ())
+        .expect("converges");
+        let (end, u) = drive([1.0, 0.5]);
+        assert_eq!(end, Next::Converged);
+        assert_eq!(u, reference, "the same iterates, bit for bit");
+        // From (0.1, −3) the full first step overshoots and the merit grows:
+        // the fast path hands over to the damped solver.
+        let (end, _) = drive([0.1, -3.0]);
+        assert_eq!(end, Next::Fallback);
+        // A singular Jacobian also hands over: at x = y = 0 it has rank 1.
+        let (end, _) = drive([0.0, 0.0]);
+        assert_eq!(end, Next::Fallback);
     }
 
     #[test]

@@ -13,7 +13,7 @@ use syn::Ident;
 
 use crate::check::{accessor_name, frame_accessor_name};
 use crate::cse::{op_count, schedule, OpCount, Schedule};
-use crate::ir::{Graph, Id, Leaf, Node};
+use crate::ir::{Func, Graph, Id, Leaf, Node};
 use crate::kinematics::Derived;
 use crate::lower::{CoordKind, Model};
 use crate::parse::Definition;
@@ -55,6 +55,8 @@ struct Printer<'a> {
     g: &'a Graph,
     names: HashMap<Id, Ident>,
     leaf: &'a dyn Fn(Leaf) -> TokenStream,
+    /// Nodes printed as a given variable instead of their definition.
+    given: HashMap<Id, Ident>,
 }
 
 impl Printer<'_> {
@@ -75,6 +77,7 @@ impl Printer<'_> {
     /// `id` as an operand: parenthesised unless atomic.
     fn operand(&self, id: Id) -> TokenStream {
         let atomic = self.names.contains_key(&id)
+            || self.given.contains_key(&id)
             || match self.g.node(id) {
                 // Method calls bind tighter than any operator.
                 Node::Leaf(_) | Node::Call(..) | Node::Powi(..) | Node::Atan2(..) => true,
@@ -91,6 +94,9 @@ impl Printer<'_> {
 
     /// The defining expression of `id`, ignoring its own binding.
     fn body(&self, id: Id) -> TokenStream {
+        if let Some(v) = self.given.get(&id) {
+            return quote!(#v);
+        }
         match self.g.node(id) {
             Node::Const(bits) => {
                 let v = f64::from_bits(bits);
@@ -173,11 +179,22 @@ fn bind<'a>(
     sched: &Schedule,
     leaf: &'a dyn Fn(Leaf) -> TokenStream,
 ) -> (Printer<'a>, Vec<TokenStream>) {
+    bind_given(g, sched, leaf, HashMap::new())
+}
+
+/// [`bind`], with the nodes of `given` printed as the given variables.
+fn bind_given<'a>(
+    g: &'a Graph,
+    sched: &Schedule,
+    leaf: &'a dyn Fn(Leaf) -> TokenStream,
+    given: HashMap<Id, Ident>,
+) -> (Printer<'a>, Vec<TokenStream>) {
     let _ = &sched.bound;
     let mut p = Printer {
         g,
         names: HashMap::new(),
         leaf,
+        given,
     };
     let mut stages = Vec::new();
     let mut n = 0usize;
@@ -536,6 +553,41 @@ fn driver_frontier(g: &Graph, roots: &[Id], drivers: u32) -> Vec<Id> {
         .collect()
 }
 
+/// The sine and cosine nodes of bare unknowns among the nodes reachable from
+/// `roots`: for each unknown k (0-based among the unknowns) that has any,
+/// `(k, sin node, cos node)`, either possibly absent.
+fn unknown_trig(g: &Graph, roots: &[Id], drivers: u32) -> Vec<(usize, Option<Id>, Option<Id>)> {
+    let live = g.reachable(roots);
+    let mut out: Vec<(usize, Option<Id>, Option<Id>)> = Vec::new();
+    for (i, &is_live) in live.iter().enumerate() {
+        let id = Id::from_index(i);
+        let Node::Call(f @ (Func::Sin | Func::Cos), a) = g.node(id) else {
+            continue;
+        };
+        let Node::Leaf(Leaf::Q(j)) = g.node(a) else {
+            continue;
+        };
+        if !is_live || j < drivers {
+            continue;
+        }
+        let k = (j - drivers) as usize;
+        let at = match out.iter().position(|e| e.0 == k) {
+            Some(at) => at,
+            None => {
+                out.push((k, None, None));
+                out.len() - 1
+            }
+        };
+        if f == Func::Sin {
+            out[at].1 = Some(id);
+        } else {
+            out[at].2 = Some(id);
+        }
+    }
+    out.sort_by_key(|e| e.0);
+    out
+}
+
 /// The bound nodes of stage `stage` that a later stage uses (as an operand
 /// or as an output): these are carried out of the stage's evaluation.
 fn used_later(
@@ -808,6 +860,29 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         &[&vel_stage, &acc_stage, &pt_stage],
     );
     let (fpr, flets) = bind(g, &fsched, &leaf);
+    // Newton's common path in `step` carries the sine and cosine of each
+    // unknown angle from one iterate to the next (`sin_cos_after`): the
+    // same schedule, with those nodes read from variables.
+    let mut given = HashMap::new();
+    let (mut trig_setup, mut trig_eval, mut trig_step) =
+        (TokenStream::new(), TokenStream::new(), TokenStream::new());
+    for (k, sin, cos) in unknown_trig(g, &newton_roots, model.drivers) {
+        let qk = &q_unknowns[k];
+        let (sv, cv, dv) = (
+            format_ident!("__sin_{}", k),
+            format_ident!("__cos_{}", k),
+            format_ident!("__step_{}", k),
+        );
+        given.extend(sin.map(|id| (id, sv.clone())));
+        given.extend(cos.map(|id| (id, cv.clone())));
+        trig_setup.extend(quote! {
+            let (mut #sv, mut #cv, mut #dv) = (0.0f64, 0.0f64, f64::INFINITY);
+        });
+        trig_eval.extend(quote!((#sv, #cv) = #pp::sin_cos_after(#sv, #cv, #qk, #dv);));
+        trig_step.extend(quote!(#dv = u[#k] - #qk;));
+    }
+    let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
+    let f1_fast = &fast_lets[1];
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| fpr.names.get(id)).collect();
     let nc = cached_names.len();
     let (f0, f1, f2, f3, f4) = (&flets[0], &flets[1], &flets[2], &flets[3], &flets[4]);
@@ -1102,17 +1177,38 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 #f0
                 let mut cache = [0.0f64; #nc];
                 let mut u = [#(start.#c_unknowns),*];
-                let solved = #pp::newton(&mut u, options, |u, phi, jac| {
-                    let [#(#q_unknowns),*] = *u;
-                    #f1
-                    *phi = [#(#fphi),*];
-                    *jac = [#(#fjac_rows),*];
+                // Newton's common path, evaluated inline; anything off it
+                // (damping, round-off, failure) goes to the general solver.
+                let mut fast = #pp::FastNewton::new();
+                #trig_setup
+                let on_path = loop {
+                    let [#(#q_unknowns),*] = u;
+                    #trig_eval
+                    #f1_fast
                     cache = [#(#cached_names),*];
-                });
-                let [#(#q_unknowns),*] = u;
-                if let ::core::result::Result::Err(f) = solved {
-                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+                    match fast.next(&mut u, &[#(#fphi),*], &[#(#fjac_rows),*], options) {
+                        #pp::Next::Continue => {
+                            #trig_step
+                        }
+                        #pp::Next::Converged => break true,
+                        #pp::Next::Fallback => break false,
+                    }
+                };
+                if !on_path {
+                    u = [#(start.#c_unknowns),*];
+                    let solved = #pp::newton(&mut u, options, |u, phi, jac| {
+                        let [#(#q_unknowns),*] = *u;
+                        #f1
+                        *phi = [#(#fphi),*];
+                        *jac = [#(#fjac_rows),*];
+                        cache = [#(#cached_names),*];
+                    });
+                    if let ::core::result::Result::Err(f) = solved {
+                        let [#(#q_unknowns),*] = u;
+                        return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+                    }
                 }
+                let [#(#q_unknowns),*] = u;
                 let [#(#cached_names),*] = cache;
                 #f2
                 let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];

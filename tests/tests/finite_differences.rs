@@ -269,6 +269,63 @@ fn slider_crank_against_closed_form_derivatives() {
     }
 }
 
+/// A simulation's steps (3600 per turn, each from the previous pose) take
+/// Newton's common path with sines and cosines carried between iterates; the
+/// motion must agree with a separate assembly and analysis at the same
+/// driver, which evaluate every sine and cosine afresh.
+#[test]
+fn small_steps_agree_with_assemble_then_analyze() {
+    use kinematics_examples::{Rssr, RssrCoords};
+    let close = |what: &str, k: usize, x: f64, y: f64| {
+        assert!(
+            (x - y).abs() <= 1e-13 * (1.0 + y.abs()),
+            "{what} at step {k}: {x} vs {y}"
+        );
+    };
+    let turn =
+        |k: usize| f64::from(u32::try_from(k).expect("small")) * std::f64::consts::TAU / 3600.0;
+    let m = FourBar::CRANK_ROCKER;
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let fused = m.step(&pose, 10.0, 2.0).expect("step");
+        let exact = m
+            .analyze(&m.assemble(&pose).expect("assembles"), 10.0, 2.0)
+            .expect("analysis");
+        close("th3", k, fused.q.th3, exact.q.th3);
+        close("th4", k, fused.q.th4, exact.q.th4);
+        close("th3'", k, fused.qd.th3, exact.qd.th3);
+        close("th4''", k, fused.qdd.th4, exact.qdd.th4);
+        for (p, e) in fused.points.iter().zip(&exact.points) {
+            for (u, v) in p.position.iter().zip(&e.position) {
+                close("point position", k, *u, *v);
+            }
+            for (u, v) in p.acceleration.iter().zip(&e.acceleration) {
+                close("point acceleration", k, *u, *v);
+            }
+        }
+        pose = fused.q;
+    }
+    let r = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.315,
+    };
+    let mut pose = RssrCoords { phi: 0.0, psi: 1.2 };
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let fused = r.step(&pose, 25.0, 3.0).expect("step");
+        let exact = r
+            .analyze(&r.assemble(&pose).expect("assembles"), 25.0, 3.0)
+            .expect("analysis");
+        close("psi", k, fused.q.psi, exact.q.psi);
+        close("psi'", k, fused.qd.psi, exact.qd.psi);
+        close("psi''", k, fused.qdd.psi, exact.qdd.psi);
+        pose = fused.q;
+    }
+}
+
 #[test]
 fn fused_step_equals_assemble_then_analyze() {
     use kinematics_core::MotionState;
