@@ -703,6 +703,24 @@ mod tests {
     }
 
     #[test]
+    fn newton_stops_at_round_off() {
+        // Φ = 10⁶ (x² − 2): no double makes it smaller than about
+        // 10⁶ · 2√2 · ulp(√2) / 2 ≈ 3·10⁻¹⁰, far above the tolerance 10⁻¹²,
+        // so the iteration must end by the round-off test, next to √2.
+        let mut u = [1.3];
+        let it = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
+            phi[0] = 1e6 * (u[0] * u[0] - 2.0);
+            jac[0][0] = 2e6 * u[0];
+        });
+        assert!(matches!(it, Ok(n) if n < 10), "{it:?}");
+        assert!(
+            (u[0] - std::f64::consts::SQRT_2).abs() <= 2.3e-16,
+            "{}",
+            u[0]
+        );
+    }
+
+    #[test]
     fn newton_finds_the_root_near_the_guess() {
         // x² + y² = 4, y = x: roots ±(√2, √2).
         let mut u = [1.0, 0.5];
