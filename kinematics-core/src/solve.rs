@@ -74,7 +74,7 @@ impl<const N: usize> Lu<N> {
     /// # Errors
     /// [`Failure::Singular`] when a pivot, relative to the largest entry of
     /// `a`, is at or below `threshold` (or is not finite).
-    #[inline]
+    #[inline(always)]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
         if N == 1 {
             return Self::factor1(a, threshold);
@@ -211,7 +211,7 @@ impl<const N: usize> Lu<N> {
     }
 
     /// Solves A·x = b.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
         if N <= 2 {
