@@ -98,7 +98,9 @@ pub struct ReadmeDoctests;
 /// anything here may change in any release.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::solve::{describe, newton, sin_cos_after, Failure, FastNewton, Lu, Names, Next};
+    pub use crate::solve::{
+        describe, largest_entry, newton, sin_cos_after, Failure, FastNewton, Lu, Names, Next,
+    };
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
     pub use crate::{FrameState, Options, PointMotion, PointState, Role};

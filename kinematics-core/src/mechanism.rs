@@ -215,7 +215,9 @@ pub trait MotionState: Copy + core::fmt::Debug {
     /// Every frame's state, in declaration order.
     fn frames(&self) -> &[FrameState];
     /// Conditioning of Φ_u at this pose: the smallest pivot of its LU
-    /// factorisation relative to its largest entry, in (0, 1]. It goes to 0
+    /// factorisation relative to its largest entry, in (0, 1]. (When Φ_u is
+    /// block triangular, as for a six-bar solved loop by loop, the pivots are
+    /// those of its diagonal blocks, each factored on its own.) It goes to 0
     /// at a singular configuration (a dead-centre or toggle position); away
     /// from one its size depends on the units of the unknowns (angles and
     /// lengths mixed), so compare it along a motion rather than across

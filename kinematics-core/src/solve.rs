@@ -40,6 +40,26 @@ pub enum Failure {
     },
 }
 
+impl Failure {
+    /// A failure found in a diagonal block of Φ_u whose unknowns are
+    /// `columns` (indices into all unknowns): the unknown index is made
+    /// global.
+    #[cold]
+    #[must_use]
+    pub fn in_block(self, columns: &[usize]) -> Self {
+        match self {
+            Failure::Singular {
+                unknown,
+                relative_pivot,
+            } => Failure::Singular {
+                unknown: columns.get(unknown).copied().unwrap_or(unknown),
+                relative_pivot,
+            },
+            other => other,
+        }
+    }
+}
+
 /// LU factorisation with partial pivoting, P·A = L·U, of a square matrix.
 ///
 /// The reciprocals of the pivots are kept, so that [`Lu::solve`] has no
@@ -55,6 +75,23 @@ pub struct Lu<const N: usize> {
     perm: [usize; N],
     conditioning: f64,
     sign: f64,
+}
+
+/// The largest |a_ij| (plain comparisons, not `f64::max`: a NaN entry is
+/// caught by the pivot tests of the factorisation that uses this).
+#[inline(always)]
+#[must_use]
+pub fn largest_entry<const R: usize, const C: usize>(a: &[[f64; C]; R]) -> f64 {
+    let mut scale = 0.0f64;
+    for row in a {
+        for v in row {
+            let m = v.abs();
+            if m > scale {
+                scale = m;
+            }
+        }
+    }
+    scale
 }
 
 /// The failure for pivot `unknown` of magnitude `pivot` (|pivot| / `scale`
@@ -76,23 +113,33 @@ impl<const N: usize> Lu<N> {
     /// `a`, is at or below `threshold` (or is not finite).
     #[inline(always)]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+        Self::factor_in(a, threshold, largest_entry(a))
+    }
+
+    /// Factors `a` as a diagonal block of a larger matrix whose largest
+    /// entry in magnitude is `scale`: as [`Lu::factor`], with the pivots and
+    /// [`Lu::conditioning`] relative to `scale` instead of to `a`'s own
+    /// largest entry (so that a 1×1 block near zero still counts as
+    /// singular).
+    ///
+    /// # Errors
+    /// [`Failure::Singular`] when a pivot, relative to `scale`, is at or
+    /// below `threshold` (or is not finite).
+    #[inline(always)]
+    pub fn factor_in(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
+        let scale = if scale > 0.0 { scale } else { 1.0 };
         if N == 1 {
-            return Self::factor1(a, threshold);
+            return Self::factor1(a, threshold, scale);
         }
         if N == 2 {
-            return Self::factor2(a, threshold);
+            return Self::factor2(a, threshold, scale);
         }
         let mut lu = *a;
         let mut perm = [0usize; N];
         let mut inv_pivot = [0.0; N];
-        let mut scale = 0.0f64;
-        for (i, row) in a.iter().enumerate() {
-            perm[i] = i;
-            for v in row {
-                scale = scale.max(v.abs());
-            }
+        for (i, p) in perm.iter_mut().enumerate() {
+            *p = i;
         }
-        let scale = if scale > 0.0 { scale } else { 1.0 };
         let mut min_pivot = f64::INFINITY;
         let mut sign = 1.0;
         for k in 0..N {
@@ -138,10 +185,9 @@ impl<const N: usize> Lu<N> {
 
     /// The 1×1 case: A⁻¹ = 1 / a₀₀.
     #[inline]
-    fn factor1(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+    fn factor1(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
         let a00 = a[0][0];
         let p0 = a00.abs();
-        let scale = if p0 > 0.0 { p0 } else { 1.0 };
         // Written so that a NaN or infinite entry also fails.
         if !(p0 > threshold * scale && p0 < f64::INFINITY) {
             return Err(singular(0, p0, scale));
@@ -152,7 +198,7 @@ impl<const N: usize> Lu<N> {
             lu,
             inv_pivot: [0.0; N],
             perm: [0; N],
-            conditioning: 1.0,
+            conditioning: p0 / scale,
             sign: a00.signum(),
         })
     }
@@ -161,14 +207,15 @@ impl<const N: usize> Lu<N> {
     /// pivots of partial pivoting, p₀ = max(|a₀₀|, |a₁₀|) and |det A| / p₀,
     /// tested without dividing.
     #[inline]
-    fn factor2(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
+    fn factor2(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
         let (a00, a01, a10, a11) = (a[0][0], a[0][1], a[1][0], a[1][1]);
-        // Plain comparisons, not `f64::max`: a NaN entry is caught by the
+        // A plain comparison, not `f64::max`: a NaN entry is caught by the
         // determinant test below.
-        let larger = |x: f64, y: f64| if y > x { y } else { x };
-        let p0 = larger(a00.abs(), a10.abs());
-        let scale = larger(p0, larger(a01.abs(), a11.abs()));
-        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let p0 = if a10.abs() > a00.abs() {
+            a10.abs()
+        } else {
+            a00.abs()
+        };
         let det = a00 * a11 - a01 * a10;
         let tol = threshold * scale;
         // A NaN or an infinity in `a` makes the tolerance or the determinant
@@ -391,7 +438,10 @@ pub enum Next {
 /// which retraces the same iterates up to that point and takes over.
 #[derive(Debug, Clone, Copy)]
 pub struct FastNewton {
+    /// f at the current iterate's predecessor (infinite before the first).
     f0: f64,
+    /// f at the current iterate, once assessed.
+    f: f64,
     iterations: usize,
 }
 
@@ -408,16 +458,17 @@ impl FastNewton {
     pub const fn new() -> Self {
         Self {
             f0: f64::INFINITY,
+            f: f64::INFINITY,
             iterations: 0,
         }
     }
 
-    /// Given Φ and Φ_u at `u`: converged, or u advanced by a full Newton
-    /// step u ← u − Φ_u⁻¹ Φ, or off the common path.
+    /// Given Φ and Φ_u at the current iterate: converged, off the common
+    /// path, or [`Next::Continue`]: take the full Newton step
+    /// Δu = −Φ_u⁻¹ Φ with [`FastNewton::advance`].
     #[inline(always)]
-    pub fn next<const N: usize>(
+    pub fn assess<const N: usize>(
         &mut self,
-        u: &mut [f64; N],
         phi: &[f64; N],
         jac: &[[f64; N]; N],
         options: &Options,
@@ -438,15 +489,38 @@ impl FastNewton {
         if max == f64::INFINITY || self.iterations >= options.max_iterations {
             return Next::Fallback;
         }
-        let Ok(lu) = Lu::factor(jac, options.singularity_threshold) else {
-            return Next::Fallback;
-        };
-        let step = lu.solve(phi);
+        self.f = f;
+        Next::Continue
+    }
+
+    /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.
+    #[inline(always)]
+    pub fn advance<const N: usize>(&mut self, u: &mut [f64; N], step: &[f64; N]) {
         self.iterations += 1;
-        self.f0 = f;
+        self.f0 = self.f;
         for i in 0..N {
             u[i] -= step[i];
         }
+    }
+
+    /// [`FastNewton::assess`], then the step by [`Lu`] on the whole of Φ_u
+    /// and [`FastNewton::advance`]; a singular Φ_u is [`Next::Fallback`].
+    #[inline(always)]
+    pub fn next<const N: usize>(
+        &mut self,
+        u: &mut [f64; N],
+        phi: &[f64; N],
+        jac: &[[f64; N]; N],
+        options: &Options,
+    ) -> Next {
+        match self.assess(phi, jac, options) {
+            Next::Continue => {}
+            end => return end,
+        }
+        let Ok(lu) = Lu::factor(jac, options.singularity_threshold) else {
+            return Next::Fallback;
+        };
+        self.advance(u, &lu.solve(phi));
         Next::Continue
     }
 }

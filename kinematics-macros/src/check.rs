@@ -469,7 +469,7 @@ fn check_structural_rank(def: &Definition, model: &crate::lower::Model, errors: 
 
 /// Maximum bipartite matching (augmenting paths): for each equation, the
 /// unknown it is paired with.
-fn maximum_matching(involves: &[Vec<usize>], unknowns: usize) -> Vec<Option<usize>> {
+pub fn maximum_matching(involves: &[Vec<usize>], unknowns: usize) -> Vec<Option<usize>> {
     fn augment(
         i: usize,
         involves: &[Vec<usize>],

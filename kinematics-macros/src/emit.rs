@@ -11,6 +11,7 @@ use quote::{format_ident, quote};
 use syn::ext::IdentExt;
 use syn::Ident;
 
+use crate::blocks::{block_triangular, Block};
 use crate::check::{accessor_name, frame_accessor_name};
 use crate::cse::{op_count, schedule, OpCount, Schedule};
 use crate::ir::{Func, Graph, Id, Leaf, Node};
@@ -395,9 +396,10 @@ fn types(
             pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
             /// Every frame's orientation and motion, in declaration order.
             pub frames: [::kinematics_core::__private::FrameState; #nf],
-            /// Conditioning of Φ_u: its smallest pivot relative to its
-            /// largest entry, in (0, 1]; near 0 the configuration is nearly
-            /// singular (a dead-centre or toggle position).
+            /// Conditioning of Φ_u: its smallest pivot (of its diagonal
+            /// blocks, when it is block triangular) relative to its largest
+            /// entry, in (0, 1]; near 0 the configuration is nearly singular
+            /// (a dead-centre or toggle position).
             pub conditioning: f64,
         }
 
@@ -520,6 +522,111 @@ fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStream {
     quote! {
         if !(#( #values )+*).is_finite() {
             #checks
+        }
+    }
+}
+
+/// Linear solves with Φ_u through its block-triangular form ([`blocks`]):
+/// each diagonal block factored on its own, then forward substitution over
+/// the blocks. The matrix is the local `jac`; the factors are `__lu_0`, ….
+struct BlockSolve {
+    blocks: Vec<Block>,
+    nonzero: Vec<Vec<bool>>,
+    nu: usize,
+}
+
+impl BlockSolve {
+    fn new(g: &Graph, jac: &[Vec<Id>]) -> Self {
+        let nonzero: Vec<Vec<bool>> = jac
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|&id| !matches!(g.node(id), Node::Const(b) if f64::from_bits(b) == 0.0))
+                    .collect()
+            })
+            .collect();
+        BlockSolve {
+            blocks: block_triangular(&nonzero),
+            nu: jac.len(),
+            nonzero,
+        }
+    }
+
+    fn lu(b: usize) -> Ident {
+        format_ident!("__lu_{}", b)
+    }
+
+    /// Binds the factors of the diagonal blocks; `on_fail(f)` is the
+    /// statement run with `f`, the failure (its unknown made global), when
+    /// a block is singular.
+    fn factor(
+        &self,
+        pp: &TokenStream,
+        on_fail: &dyn Fn(TokenStream) -> TokenStream,
+    ) -> TokenStream {
+        let mut code = quote!(let __scale = #pp::largest_entry(&jac););
+        for (b, block) in self.blocks.iter().enumerate() {
+            let lu = Self::lu(b);
+            let n = block.rows.len();
+            let rows = block.rows.iter().map(|&r| {
+                let entries = block.cols.iter().map(move |&c| quote!(jac[#r][#c]));
+                quote!([#(#entries),*])
+            });
+            let cols = &block.cols;
+            let fail = on_fail(quote!(f.in_block(&[#(#cols),*])));
+            code.extend(quote! {
+                let #lu = match #pp::Lu::<#n>::factor_in(&[#(#rows),*], options.singularity_threshold, __scale) {
+                    ::core::result::Result::Ok(lu) => lu,
+                    ::core::result::Result::Err(f) => { #fail }
+                };
+            });
+        }
+        code
+    }
+
+    /// An expression for x with Φ_u x = `rhs`, after [`BlockSolve::factor`].
+    fn solve(&self, rhs: &TokenStream) -> TokenStream {
+        let nu = self.nu;
+        let mut done: Vec<usize> = Vec::new();
+        let mut steps = TokenStream::new();
+        for (b, block) in self.blocks.iter().enumerate() {
+            let lu = Self::lu(b);
+            let entries = block.rows.iter().map(|&r| {
+                let known: Vec<TokenStream> = done
+                    .iter()
+                    .filter(|&&c| self.nonzero[r][c])
+                    .map(|&c| quote!(jac[#r][#c] * __x[#c]))
+                    .collect();
+                if known.is_empty() {
+                    quote!(__rhs[#r])
+                } else {
+                    // Parenthesised, as every array element that is an
+                    // operation (see `Printer::element`).
+                    quote!((__rhs[#r] - (#(#known)+*)))
+                }
+            });
+            let (slots, cols): (Vec<usize>, Vec<usize>) =
+                block.cols.iter().copied().enumerate().unzip();
+            steps.extend(quote! {
+                let __y = #lu.solve(&[#(#entries),*]);
+                #( __x[#cols] = __y[#slots]; )*
+            });
+            done.extend(&block.cols);
+        }
+        quote!({
+            let __rhs: [f64; #nu] = #rhs;
+            let mut __x = [0.0f64; #nu];
+            #steps
+            __x
+        })
+    }
+
+    /// The conditioning: the smallest over the blocks.
+    fn conditioning(&self) -> TokenStream {
+        let mut it = (0..self.blocks.len()).map(Self::lu);
+        match it.next() {
+            None => quote!(1.0f64),
+            Some(first) => quote!(#first.conditioning() #( .min(#it.conditioning()) )*),
         }
     }
 }
@@ -883,6 +990,13 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
     let f1_fast = &fast_lets[1];
+    let blocks = BlockSolve::new(g, &d.jac);
+    let newton_factor = blocks.factor(&pp, &|_| quote!(break false));
+    let newton_solve = blocks.solve(&quote!(phi));
+    let analysis_factor = blocks.factor(&pp, &|f| {
+        quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
+    });
+    let conditioning = blocks.conditioning();
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| fpr.names.get(id)).collect();
     let nc = cached_names.len();
     let (f0, f1, f2, f3, f4) = (&flets[0], &flets[1], &flets[2], &flets[3], &flets[4]);
@@ -912,6 +1026,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let jac_rows = jac_rows_of(&pr);
     let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
     let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
+    let fvel_solve = blocks.solve(&quote!([#(#fvel),*]));
+    let facc_solve = blocks.solve(&quote!([#(#facc),*]));
+    let vel_solve = blocks.solve(&quote!([#(#vel_e),*]));
+    let acc_solve = blocks.solve(&quote!([#(#acc_e),*]));
     let points_e = points_of(&pr);
     let frames_e = frames_of(&pr);
     let frame_names: Vec<String> = def
@@ -1186,13 +1304,16 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     #trig_eval
                     #f1_fast
                     cache = [#(#cached_names),*];
-                    match fast.next(&mut u, &[#(#fphi),*], &[#(#fjac_rows),*], options) {
-                        #pp::Next::Continue => {
-                            #trig_step
-                        }
+                    let phi = [#(#fphi),*];
+                    let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
+                    match fast.assess(&phi, &jac, options) {
+                        #pp::Next::Continue => {}
                         #pp::Next::Converged => break true,
                         #pp::Next::Fallback => break false,
                     }
+                    #newton_factor
+                    fast.advance(&mut u, &#newton_solve);
+                    #trig_step
                 };
                 if !on_path {
                     u = [#(start.#c_unknowns),*];
@@ -1212,15 +1333,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 let [#(#cached_names),*] = cache;
                 #f2
                 let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
-                let lu = match #pp::Lu::factor(&jac, options.singularity_threshold) {
-                    ::core::result::Result::Ok(lu) => lu,
-                    ::core::result::Result::Err(f) => return ::core::result::Result::Err(
-                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
-                    ),
-                };
-                let [#(#qd_unknowns),*] = lu.solve(&[#(#fvel),*]);
+                #analysis_factor
+                let [#(#qd_unknowns),*] = #fvel_solve;
                 #f3
-                let [#(#qdd_unknowns),*] = lu.solve(&[#(#facc),*]);
+                let [#(#qdd_unknowns),*] = #facc_solve;
                 #check_rates
                 #f4
                 let motion = #motion {
@@ -1229,7 +1345,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#fpoints),*],
                     frames: [#(#fframes),*],
-                    conditioning: lu.conditioning(),
+                    conditioning: #conditioning,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(
@@ -1295,15 +1411,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 #( let #all_q = pose.#coord; )*
                 #lets1
                 let jac: [[f64; #nu]; #ne] = [#(#jac_rows),*];
-                let lu = match #pp::Lu::factor(&jac, options.singularity_threshold) {
-                    ::core::result::Result::Ok(lu) => lu,
-                    ::core::result::Result::Err(f) => return ::core::result::Result::Err(
-                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
-                    ),
-                };
-                let [#(#qd_unknowns),*] = lu.solve(&[#(#vel_e),*]);
+                #analysis_factor
+                let [#(#qd_unknowns),*] = #vel_solve;
                 #lets2
-                let [#(#qdd_unknowns),*] = lu.solve(&[#(#acc_e),*]);
+                let [#(#qdd_unknowns),*] = #acc_solve;
                 #check_rates
                 #lets3
                 let motion = #motion {
@@ -1312,7 +1423,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#points_e),*],
                     frames: [#(#frames_e),*],
-                    conditioning: lu.conditioning(),
+                    conditioning: #conditioning,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(

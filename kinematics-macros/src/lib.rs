@@ -18,6 +18,7 @@
 
 #![forbid(unsafe_code)]
 
+mod blocks;
 mod check;
 mod cse;
 mod diff;

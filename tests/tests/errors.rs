@@ -131,6 +131,92 @@ fn dead_centre_is_reported_as_singular() {
 }
 
 #[test]
+fn toggle_of_a_six_bars_second_loop_names_its_unknown() {
+    use kinematics_examples::{Watt, WattCoords};
+    // Assemble the driving four-bar, then place the output pivot G so that
+    // EF and GF are collinear and point the same way (θ5 = θ6): the second
+    // loop's own 2×2 block of Φ_u, with determinant f g sin(θ5 − θ6), is
+    // singular while the first loop's is regular.
+    let mut w = Watt {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.06,
+        gamma: 0.3,
+        f: 0.10,
+        g: 0.08,
+        gx: 0.0,
+        gy: 0.0,
+    };
+    let start = WattCoords {
+        phi: 0.4,
+        th3: 1.0,
+        th4: 1.6,
+        th5: 0.3,
+        th6: 0.3,
+    };
+    let first = FourBar {
+        a: w.a,
+        b: w.b,
+        c: w.c,
+        d: w.d,
+        p: 0.0,
+        beta: 0.0,
+    }
+    .assemble(&FourBarCoords {
+        phi: start.phi,
+        th3: start.th3,
+        th4: start.th4,
+    })
+    .expect("the driving four-bar assembles");
+    let angle = 0.3f64;
+    let (ex, ey) = (
+        w.d + w.e * (first.th4 + w.gamma).cos(),
+        w.e * (first.th4 + w.gamma).sin(),
+    );
+    w.gx = ex + (w.f - w.g) * angle.cos();
+    w.gy = ey + (w.f - w.g) * angle.sin();
+    let pose = WattCoords {
+        phi: first.phi,
+        th3: first.th3,
+        th4: first.th4,
+        th5: angle,
+        th6: angle,
+    };
+    assert!(w.residual(&pose).iter().all(|r| r.abs() < 1e-12));
+    for err in [
+        w.analyze(&pose, 1.0, 0.0).expect_err("singular"),
+        w.step(&pose, 1.0, 0.0).expect_err("singular"),
+    ] {
+        match &err {
+            Error::Singular {
+                unknown,
+                relative_pivot,
+                ..
+            } => {
+                assert!(["th5", "th6"].contains(unknown), "{unknown}");
+                assert!(*relative_pivot < 1e-10, "{relative_pivot}");
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+    // A little away from the toggle both loops are regular, and the
+    // conditioning is small but positive.
+    let near = WattCoords {
+        th5: angle + 0.01,
+        ..pose
+    };
+    let assembled = w.assemble(&near).expect("assembles");
+    let motion = w.analyze(&assembled, 1.0, 0.0).expect("regular");
+    assert!(
+        motion.conditioning > 0.0 && motion.conditioning < 0.2,
+        "{}",
+        motion.conditioning
+    );
+}
+
+#[test]
 fn non_finite_inputs_are_named() {
     let mut m = four_bar();
     m.c = f64::NAN;

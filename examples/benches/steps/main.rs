@@ -27,6 +27,9 @@
 // time the expansion. Its modules refer to each other through `crate::`,
 // so they sit at this crate's root.
 #[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/blocks.rs"]
+mod blocks;
+#[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/check.rs"]
 mod check;
 #[allow(dead_code, unused_imports)]
