@@ -8,7 +8,7 @@
 //!   right-hand side being −d²Φ/dt² with u'' = 0;
 //! * points r(q): v = r_q q' and a = r_q q'' + (r_q q')_q q'.
 
-use crate::diff::{partial, time_derivative, Memo};
+use crate::diff::{partial, time_derivative, time_derivative_by_partials, Accelerating, Memo};
 use crate::ir::{Id, Leaf};
 use crate::lower::Model;
 
@@ -45,20 +45,44 @@ pub struct DerivedFrame {
     pub origin: [[Id; 3]; 3],
 }
 
-/// Differentiates the model.
+/// How the velocities and accelerations of points and frames are formed.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Method {
+    /// From the partial derivatives ∂/∂q_j, which the loop equations share.
+    Partials,
+    /// By forward differentiation along time: one pass per derivative,
+    /// which suits long serial chains.
+    Forward,
+}
+
+/// Differentiates the model, forming the points' and frames' motion both
+/// ways and keeping the one whose analysis takes fewer operations after
+/// common-subexpression elimination.
 pub fn derive(model: &mut Model) -> Derived {
+    let mut memo = Memo::new();
+    let by_partials = derive_with(model, Method::Partials, &mut memo);
+    let forward = derive_with(model, Method::Forward, &mut memo);
+    let cost = |d: &Derived| crate::emit::operation_counts(model, d)[1].1.shared;
+    if cost(&forward) < cost(&by_partials) {
+        forward
+    } else {
+        by_partials
+    }
+}
+
+fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     let nd = model.drivers;
     let nq = model.coords();
     let g = &mut model.graph;
-    let mut memo = Memo::new();
+    // The time derivative of a point or frame quantity.
+    let dt = |g: &mut crate::ir::Graph, e: Id, acc: Accelerating, memo: &mut Memo| match method {
+        Method::Partials => time_derivative_by_partials(g, e, nq, acc, memo),
+        Method::Forward => time_derivative(g, e, acc, memo),
+    };
     let phi: Vec<Id> = model.equations.iter().map(|e| e.residual).collect();
     let jac = phi
         .iter()
-        .map(|&p| {
-            (nd..nq)
-                .map(|j| partial(g, p, Leaf::Q(j), &mut memo))
-                .collect()
-        })
+        .map(|&p| (nd..nq).map(|j| partial(g, p, Leaf::Q(j), memo)).collect())
         .collect();
     let mut vel_rhs = Vec::new();
     let mut acc_rhs = Vec::new();
@@ -66,15 +90,15 @@ pub fn derive(model: &mut Model) -> Derived {
         // dΦ/dt over the drivers only is Φ_d d'.
         let mut phi_d_dd = g.constant(0.0);
         for j in 0..nd {
-            let dp = partial(g, p, Leaf::Q(j), &mut memo);
+            let dp = partial(g, p, Leaf::Q(j), memo);
             let qd = g.leaf(Leaf::Qd(j));
             let t = g.mul(dp, qd);
             phi_d_dd = g.sum(phi_d_dd, t);
         }
         vel_rhs.push(g.neg(phi_d_dd));
         // d²Φ/dt² with u'' = 0 is Φ_d d'' + γ.
-        let phi_dot = time_derivative(g, p, nq, &|_| false, &mut memo);
-        let phi_ddot = time_derivative(g, phi_dot, nq, &|j| j < nd, &mut memo);
+        let phi_dot = time_derivative_by_partials(g, p, nq, Accelerating::None, memo);
+        let phi_ddot = time_derivative_by_partials(g, phi_dot, nq, Accelerating::First(nd), memo);
         acc_rhs.push(g.neg(phi_ddot));
     }
     let mut pos = Vec::new();
@@ -85,11 +109,11 @@ pub fn derive(model: &mut Model) -> Derived {
         let v: Vec<Id> = p
             .coords
             .iter()
-            .map(|&c| time_derivative(g, c, nq, &|_| false, &mut memo))
+            .map(|&c| dt(g, c, Accelerating::None, memo))
             .collect();
         let a = v
             .iter()
-            .map(|&c| time_derivative(g, c, nq, &|_| true, &mut memo))
+            .map(|&c| dt(g, c, Accelerating::All, memo))
             .collect();
         vel.push(v);
         acc.push(a);
@@ -97,7 +121,7 @@ pub fn derive(model: &mut Model) -> Derived {
     let mut frames = Vec::new();
     for f in &model.frames {
         let r = f.rotation;
-        let rd = r.map(|row| row.map(|e| time_derivative(g, e, nq, &|_| false, &mut memo)));
+        let rd = r.map(|row| row.map(|e| dt(g, e, Accelerating::None, memo)));
         // W = Ṙ Rᵀ, W_ij = Σ_k Ṙ_ik R_jk.
         let w = |i: usize, j: usize, g: &mut crate::ir::Graph| {
             let mut s = g.constant(0.0);
@@ -115,10 +139,10 @@ pub fn derive(model: &mut Model) -> Derived {
             let d = g.sub(a, b);
             omega[c] = g.mul(half, d);
         }
-        let alpha = omega.map(|e| time_derivative(g, e, nq, &|_| true, &mut memo));
+        let alpha = omega.map(|e| dt(g, e, Accelerating::All, memo));
         let o = f.origin;
-        let od = o.map(|e| time_derivative(g, e, nq, &|_| false, &mut memo));
-        let odd = od.map(|e| time_derivative(g, e, nq, &|_| true, &mut memo));
+        let od = o.map(|e| dt(g, e, Accelerating::None, memo));
+        let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
         frames.push(DerivedFrame {
             rotation: r,
             omega,
