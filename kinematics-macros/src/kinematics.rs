@@ -122,24 +122,31 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     for f in &model.frames {
         let r = f.rotation;
         let rd = r.map(|row| row.map(|e| dt(g, e, Accelerating::None, memo)));
-        // W = Ṙ Rᵀ, W_ij = Σ_k Ṙ_ik R_jk.
-        let w = |i: usize, j: usize, g: &mut crate::ir::Graph| {
-            let mut s = g.constant(0.0);
-            for k in 0..3 {
-                let p = g.mul(rd[i][k], r[j][k]);
-                s = g.sum(s, p);
-            }
-            s
-        };
+        // [ω]× is the skew part of Ṙ Rᵀ, and [α]× that of R̈ Rᵀ (the
+        // derivative of Ṙ Rᵀ adds Ṙ Ṙᵀ, which is symmetric).
+        let rdd = rd.map(|row| row.map(|e| dt(g, e, Accelerating::All, memo)));
         let half = g.constant(0.5);
-        let mut omega = [half; 3];
-        for (c, (i, j)) in [(2, 1), (0, 2), (1, 0)].into_iter().enumerate() {
-            let a = w(i, j, g);
-            let b = w(j, i, g);
-            let d = g.sub(a, b);
-            omega[c] = g.mul(half, d);
-        }
-        let alpha = omega.map(|e| dt(g, e, Accelerating::All, memo));
+        // ½ axial(M Rᵀ − R Mᵀ), with (M Rᵀ)_ij = Σ_k M_ik R_jk.
+        let axial = |m: &[[Id; 3]; 3], g: &mut crate::ir::Graph| {
+            let w = |i: usize, j: usize, g: &mut crate::ir::Graph| {
+                let mut s = g.constant(0.0);
+                for k in 0..3 {
+                    let p = g.mul(m[i][k], r[j][k]);
+                    s = g.sum(s, p);
+                }
+                s
+            };
+            let mut v = [half; 3];
+            for (c, (i, j)) in [(2, 1), (0, 2), (1, 0)].into_iter().enumerate() {
+                let a = w(i, j, g);
+                let b = w(j, i, g);
+                let d = g.sub(a, b);
+                v[c] = g.mul(half, d);
+            }
+            v
+        };
+        let omega = axial(&rd, g);
+        let alpha = axial(&rdd, g);
         let o = f.origin;
         let od = o.map(|e| dt(g, e, Accelerating::None, memo));
         let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
