@@ -12,7 +12,11 @@
 //! * `check`: names, counts and structure, every error reported at once;
 //! * `lower`: typed expressions to a hash-consed scalar DAG (`ir`);
 //! * `simplify`: algebraic rewrites applied as each node is built;
-//! * `diff` and `kinematics`: exact Jacobian, velocity and acceleration terms;
+//! * `diff` and `kinematics`: exact Jacobian, velocity and acceleration terms
+//!   (time derivatives of points and frames by forward differentiation or
+//!   from the partials, whichever is cheaper);
+//! * `blocks`: the block-triangular form of Φ_u, so that linear solves go
+//!   block by block (a six-bar loop by loop);
 //! * `cse`: which shared nodes get a `let`, in which order;
 //! * `emit`: straight-line Rust and the generated types.
 
