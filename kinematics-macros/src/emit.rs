@@ -983,7 +983,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
         given.extend(sin.map(|id| (id, sv.clone())));
         given.extend(cos.map(|id| (id, cv.clone())));
         trig_setup.extend(quote! {
-            let (mut #sv, mut #cv, mut #dv) = (0.0f64, 0.0f64, f64::INFINITY);
+            let (mut #sv, mut #cv, mut #dv) = (0.0f64, 0.0f64, ::core::primitive::f64::INFINITY);
         });
         trig_eval.extend(quote!((#sv, #cv) = #pp::sin_cos_after(#sv, #cv, #qk, #dv);));
         trig_step.extend(quote!(#dv = u[#k] - #qk;));

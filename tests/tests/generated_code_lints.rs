@@ -90,8 +90,92 @@ kinematics_core::mechanism! {
     }
 }
 
+kinematics_core::mechanism! {
+    /// An open chain: no unknowns, so no Newton iteration and no solve.
+    pub struct Chain {
+        params {
+            /// Upper arm.
+            l1,
+            /// Forearm.
+            l2
+        }
+        drivers {
+            /// Shoulder.
+            q1,
+            /// Elbow.
+            q2
+        }
+        unknowns { }
+        frames {
+            /// The hand.
+            hand = t3(0.0, 0.0, 0.0, q1) * t2(l1, 0.0, 0.0, q2);
+        }
+        points {
+            /// Wrist.
+            W = hand * vec3(l2, 0.0, 0.0);
+        }
+    }
+}
+
+kinematics_core::mechanism! {
+    /// Two loops solved one after the other (a block-triangular Jacobian).
+    pub struct SixBar {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d,
+            /// Second coupler.
+            f,
+            /// Output link.
+            g,
+            /// Output pivot, x.
+            gx
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns { th3, th4, th5, th6 }
+        points {
+            /// Joint between the loops.
+            C = vec2(d, 0.0) + polar(c, th4);
+        }
+        loops {
+            polar(a, phi) + polar(b, th3) == C;
+            C + polar(f, th5) == vec2(gx, 0.0) + polar(g, th6);
+        }
+    }
+}
+
 #[test]
 fn expansion_is_usable() {
+    let chain = Chain { l1: 0.4, l2: 0.3 };
+    let wrist = chain
+        .step(&ChainCoords { q1: 0.0, q2: 0.0 }, [1.0, 0.0], [0.0, 0.0])
+        .map(|m| m.point_w().velocity[1]);
+    assert!(matches!(wrist, core::result::Result::Ok(v) if (v - 0.7).abs() < 1e-12));
+    let six = SixBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        f: 0.10,
+        g: 0.08,
+        gx: 0.20,
+    };
+    let start = SixBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+        th5: 0.3,
+        th6: 1.9,
+    };
+    assert!(six.step(&start, 10.0, 0.0).is_ok());
     let m = Lints {
         a: 0.1,
         b: 0.3,
