@@ -660,38 +660,65 @@ fn driver_frontier(g: &Graph, roots: &[Id], drivers: u32) -> Vec<Id> {
         .collect()
 }
 
-/// The sine and cosine nodes of bare unknowns among the nodes reachable from
-/// `roots`: for each unknown k (0-based among the unknowns) that has any,
-/// `(k, sin node, cos node)`, either possibly absent.
-fn unknown_trig(g: &Graph, roots: &[Id], drivers: u32) -> Vec<(usize, Option<Id>, Option<Id>)> {
+/// A sine or cosine argument that moves with one unknown: the unknown u_k
+/// itself, or u_k plus an expression free of unknowns (an offset angle, a
+/// driver), so that between Newton iterates it changes by exactly u_k's
+/// step.
+struct TrigArg {
+    /// The argument node.
+    arg: Id,
+    /// k, among the unknowns.
+    unknown: usize,
+    /// Its sine and cosine nodes, either possibly absent.
+    sin: Option<Id>,
+    cos: Option<Id>,
+}
+
+/// The sines and cosines among the nodes reachable from `roots` whose
+/// arguments move with one unknown ([`TrigArg`]), in arena order.
+fn unknown_trig(g: &Graph, roots: &[Id], drivers: u32) -> Vec<TrigArg> {
+    let unknown_of = |id: Id| match g.node(id) {
+        Node::Leaf(Leaf::Q(j)) if j >= drivers => Some((j - drivers) as usize),
+        _ => None,
+    };
+    let free = |id: Id| !g.depends_on(id, &|l| matches!(l, Leaf::Q(j) if j >= drivers));
     let live = g.reachable(roots);
-    let mut out: Vec<(usize, Option<Id>, Option<Id>)> = Vec::new();
+    let mut out: Vec<TrigArg> = Vec::new();
     for (i, &is_live) in live.iter().enumerate() {
         let id = Id::from_index(i);
         let Node::Call(f @ (Func::Sin | Func::Cos), a) = g.node(id) else {
             continue;
         };
-        let Node::Leaf(Leaf::Q(j)) = g.node(a) else {
+        let unknown = match g.node(a) {
+            Node::Leaf(_) => unknown_of(a),
+            Node::Add(x, y) => match (unknown_of(x), unknown_of(y)) {
+                (Some(k), None) if free(y) => Some(k),
+                (None, Some(k)) if free(x) => Some(k),
+                _ => None,
+            },
+            _ => None,
+        };
+        let Some(unknown) = unknown.filter(|_| is_live) else {
             continue;
         };
-        if !is_live || j < drivers {
-            continue;
-        }
-        let k = (j - drivers) as usize;
-        let at = match out.iter().position(|e| e.0 == k) {
+        let at = match out.iter().position(|e| e.arg == a) {
             Some(at) => at,
             None => {
-                out.push((k, None, None));
+                out.push(TrigArg {
+                    arg: a,
+                    unknown,
+                    sin: None,
+                    cos: None,
+                });
                 out.len() - 1
             }
         };
         if f == Func::Sin {
-            out[at].1 = Some(id);
+            out[at].sin = Some(id);
         } else {
-            out[at].2 = Some(id);
+            out[at].cos = Some(id);
         }
     }
-    out.sort_by_key(|e| e.0);
     out
 }
 
@@ -973,19 +1000,25 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     let mut given = HashMap::new();
     let (mut trig_setup, mut trig_eval, mut trig_step) =
         (TokenStream::new(), TokenStream::new(), TokenStream::new());
-    for (k, sin, cos) in unknown_trig(g, &newton_roots, model.drivers) {
-        let qk = &q_unknowns[k];
+    for (n, t) in unknown_trig(g, &newton_roots, model.drivers)
+        .into_iter()
+        .enumerate()
+    {
+        let (k, qk) = (t.unknown, &q_unknowns[t.unknown]);
+        // The argument as an expression of u_k and values bound before the
+        // iteration (the part free of unknowns is driver-only or constant).
+        let arg = fpr.body(t.arg);
         let (sv, cv, dv) = (
-            format_ident!("__sin_{}", k),
-            format_ident!("__cos_{}", k),
-            format_ident!("__step_{}", k),
+            format_ident!("__sin_{}", n),
+            format_ident!("__cos_{}", n),
+            format_ident!("__step_{}", n),
         );
-        given.extend(sin.map(|id| (id, sv.clone())));
-        given.extend(cos.map(|id| (id, cv.clone())));
+        given.extend(t.sin.map(|id| (id, sv.clone())));
+        given.extend(t.cos.map(|id| (id, cv.clone())));
         trig_setup.extend(quote! {
             let (mut #sv, mut #cv, mut #dv) = (0.0f64, 0.0f64, ::core::primitive::f64::INFINITY);
         });
-        trig_eval.extend(quote!((#sv, #cv) = #pp::sin_cos_after(#sv, #cv, #qk, #dv);));
+        trig_eval.extend(quote!((#sv, #cv) = #pp::sin_cos_after(#sv, #cv, #arg, #dv);));
         trig_step.extend(quote!(#dv = u[#k] - #qk;));
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);

@@ -306,6 +306,45 @@ fn small_steps_agree_with_assemble_then_analyze() {
         }
         pose = fused.q;
     }
+    // The six-bar's second loop starts at E = D + e (cos, sin)(θ4 + γ): the
+    // sine and cosine of an offset angle are carried between iterates too.
+    let w = Watt {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.06,
+        gamma: 0.3,
+        f: 0.10,
+        g: 0.08,
+        gx: 0.20,
+        gy: 0.10,
+    };
+    let mut pose = w
+        .assemble(&WattCoords {
+            phi: 0.0,
+            th3: 1.0,
+            th4: 1.6,
+            th5: 0.3,
+            th6: 1.9,
+        })
+        .expect("assembles");
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let fused = w.step(&pose, 10.0, 2.0).expect("step");
+        let exact = w
+            .analyze(&w.assemble(&pose).expect("assembles"), 10.0, 2.0)
+            .expect("analysis");
+        close("th5", k, fused.q.th5, exact.q.th5);
+        close("th6'", k, fused.qd.th6, exact.qd.th6);
+        close("th5''", k, fused.qdd.th5, exact.qdd.th5);
+        for (p, e) in fused.points.iter().zip(&exact.points) {
+            for (u, v) in p.acceleration.iter().zip(&e.acceleration) {
+                close("point acceleration", k, *u, *v);
+            }
+        }
+        pose = fused.q;
+    }
     let r = Rssr {
         a: 0.102,
         b: 0.381,
