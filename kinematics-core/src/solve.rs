@@ -413,10 +413,13 @@ pub fn newton<const N: usize>(
     }
 }
 
-/// What [`FastNewton::next`] found at the latest evaluation.
+/// What [`FastNewton::assess`] (or [`FastNewton::next`]) found at the
+/// latest evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Next {
-    /// A full Newton step was taken: evaluate again at the new u.
+    /// Not converged, and the full Newton step is to be taken (by
+    /// [`FastNewton::advance`]; [`FastNewton::next`] has taken it): then
+    /// evaluate again at the new u.
     Continue,
     /// max|Φ_i| ≤ tolerance (and the branch is the one asked for).
     Converged,
@@ -429,9 +432,10 @@ pub enum Next {
 /// The common path of [`newton`], driven by the caller's own loop, so that
 /// generated code evaluates Φ and Φ_u inline rather than through a closure:
 /// near a solution every full Newton step passes the Armijo test, and then
-/// the iterates are those of [`newton`] (bit for bit when Φ is evaluated the
-/// same way; generated code carries sines and cosines from one iterate to the
-/// next with [`sin_cos_after`], which agrees to rounding). On the first event
+/// the iterates are those of [`newton`] (bit for bit through
+/// [`FastNewton::next`]; to rounding in generated code, which solves Φ_u
+/// block by block and carries sines and cosines from one iterate to the
+/// next with [`sin_cos_after`]). On the first event
 /// off that path (a full step that does not decrease f = ½‖Φ‖² enough, a
 /// singular or non-finite Φ_u, the iteration cap, the wrong branch) it
 /// answers [`Next::Fallback`], and the caller runs [`newton`] from the start,
