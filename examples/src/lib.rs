@@ -421,6 +421,34 @@ impl FourBar {
     };
 }
 
+impl Watt {
+    /// The six-bar used by the tests: the crank-rocker of
+    /// [`FourBar::CRANK_ROCKER`] (a = 0.04 m, b = 0.12 m, c = 0.10 m,
+    /// d = 0.11 m) extended by DE = 0.06 m along DC (γ = 0), driving EF =
+    /// 0.10 m and GF = 0.08 m with G = (0.20, 0.10) m.
+    pub const EXAMPLE: Watt = Watt {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.06,
+        gamma: 0.0,
+        f: 0.10,
+        g: 0.08,
+        gx: 0.20,
+        gy: 0.10,
+    };
+
+    /// A rough starting guess for [`Watt::EXAMPLE`] at φ = 0.
+    pub const EXAMPLE_GUESS: WattCoords = WattCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+        th5: 0.3,
+        th6: 1.9,
+    };
+}
+
 impl RTrr {
     /// The dimensions of the chapter's Example 4.1: AC = 0.100 m, BC = 0.300 m.
     pub const EXAMPLE_4_1: RTrr = RTrr {

@@ -138,23 +138,12 @@ fn toggle_of_a_six_bars_second_loop_names_its_unknown() {
     // loop's own 2×2 block of Φ_u, with determinant f g sin(θ5 − θ6), is
     // singular while the first loop's is regular.
     let mut w = Watt {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        e: 0.06,
         gamma: 0.3,
-        f: 0.10,
-        g: 0.08,
-        gx: 0.0,
-        gy: 0.0,
+        ..Watt::EXAMPLE
     };
     let start = WattCoords {
         phi: 0.4,
-        th3: 1.0,
-        th4: 1.6,
-        th5: 0.3,
-        th6: 0.3,
+        ..Watt::EXAMPLE_GUESS
     };
     let first = FourBar {
         a: w.a,

@@ -309,26 +309,10 @@ fn small_steps_agree_with_assemble_then_analyze() {
     // The six-bar's second loop starts at E = D + e (cos, sin)(θ4 + γ): the
     // sine and cosine of an offset angle are carried between iterates too.
     let w = Watt {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        e: 0.06,
         gamma: 0.3,
-        f: 0.10,
-        g: 0.08,
-        gx: 0.20,
-        gy: 0.10,
+        ..Watt::EXAMPLE
     };
-    let mut pose = w
-        .assemble(&WattCoords {
-            phi: 0.0,
-            th3: 1.0,
-            th4: 1.6,
-            th5: 0.3,
-            th6: 1.9,
-        })
-        .expect("assembles");
+    let mut pose = w.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
     for k in 0..3600 {
         pose.phi = turn(k);
         let fused = w.step(&pose, 10.0, 2.0).expect("step");
@@ -399,25 +383,7 @@ fn fused_step_equals_assemble_then_analyze() {
         pose = m.assemble(&pose).expect("assembles");
         same(&fused, &m.analyze(&pose, 10.0, 2.0).expect("analysis"));
     }
-    let w = Watt {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        e: 0.06,
-        gamma: 0.0,
-        f: 0.10,
-        g: 0.08,
-        gx: 0.20,
-        gy: 0.10,
-    };
-    let start = WattCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-        th5: 0.3,
-        th6: 1.9,
-    };
+    let (w, start) = (Watt::EXAMPLE, Watt::EXAMPLE_GUESS);
     let fused = w.step(&start, 10.0, 2.0).expect("step");
     same(
         &fused,
