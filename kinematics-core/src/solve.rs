@@ -341,6 +341,10 @@ fn worst<const N: usize>(v: &[f64; N]) -> usize {
     at
 }
 
+/// The Armijo fraction: a step of length t must decrease f = ½‖Φ‖² to at
+/// most (1 − `ARMIJO`·t) times its value.
+const ARMIJO: f64 = 2e-4;
+
 /// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`. `eval`
 /// writes Φ(u) and Φ_u(u); when it returns `Ok`, the last call was at the
 /// returned `u`.
@@ -395,7 +399,7 @@ pub fn newton<const N: usize>(
         }
         eval(u, &mut phi, &mut jac);
         let (f, m) = norms(&phi);
-        if f <= (1.0 - 2e-4) * f0 {
+        if f <= (1.0 - ARMIJO) * f0 {
             (f0, max) = (f, m);
             continue;
         }
@@ -413,13 +417,11 @@ pub fn newton<const N: usize>(
     }
 }
 
-/// What [`FastNewton::assess`] (or [`FastNewton::next`]) found at the
-/// latest evaluation.
+/// What [`FastNewton::assess`] found at the latest evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Next {
-    /// Not converged, and the full Newton step is to be taken (by
-    /// [`FastNewton::advance`]; [`FastNewton::next`] has taken it): then
-    /// evaluate again at the new u.
+    /// Not converged: take the full Newton step with
+    /// [`FastNewton::advance`], then evaluate again at the new u.
     Continue,
     /// max|Φ_i| ≤ tolerance (and the branch is the one asked for).
     Converged,
@@ -432,10 +434,10 @@ pub enum Next {
 /// The common path of [`newton`], driven by the caller's own loop, so that
 /// generated code evaluates Φ and Φ_u inline rather than through a closure:
 /// near a solution every full Newton step passes the Armijo test, and then
-/// the iterates are those of [`newton`] (bit for bit through
-/// [`FastNewton::next`]; to rounding in generated code, which solves Φ_u
-/// block by block and carries sines and cosines from one iterate to the
-/// next with [`sin_cos_after`]). On the first event
+/// the iterates are those of [`newton`] (bit for bit when the step is
+/// solved with [`Lu`] on the whole of Φ_u; to rounding in generated code,
+/// which solves Φ_u block by block and carries sines and cosines from one
+/// iterate to the next with [`sin_cos_after`]). On the first event
 /// off that path (a full step that does not decrease f = ½‖Φ‖² enough, a
 /// singular or non-finite Φ_u, the iteration cap, the wrong branch) it
 /// answers [`Next::Fallback`], and the caller runs [`newton`] from the start,
@@ -480,7 +482,7 @@ impl FastNewton {
         let (f, max) = norms(phi);
         // The Armijo test of the full step that led here (vacuous at the
         // first evaluation, where f0 is infinite and f is at most infinite).
-        let decreased = f <= (1.0 - 2e-4) * self.f0;
+        let decreased = f <= (1.0 - ARMIJO) * self.f0;
         if !decreased {
             return Next::Fallback;
         }
@@ -505,27 +507,6 @@ impl FastNewton {
         for i in 0..N {
             u[i] -= step[i];
         }
-    }
-
-    /// [`FastNewton::assess`], then the step by [`Lu`] on the whole of Φ_u
-    /// and [`FastNewton::advance`]; a singular Φ_u is [`Next::Fallback`].
-    #[inline(always)]
-    pub fn next<const N: usize>(
-        &mut self,
-        u: &mut [f64; N],
-        phi: &[f64; N],
-        jac: &[[f64; N]; N],
-        options: &Options,
-    ) -> Next {
-        match self.assess(phi, jac, options) {
-            Next::Continue => {}
-            end => return end,
-        }
-        let Ok(lu) = Lu::factor(jac, options.singularity_threshold) else {
-            return Next::Fallback;
-        };
-        self.advance(u, &lu.solve(phi));
-        Next::Continue
     }
 }
 
@@ -621,7 +602,7 @@ impl<const N: usize> Search<'_, N> {
             eval(u, phi, jac);
             let (f, max) = norms(phi);
             m = max;
-            if f <= (1.0 - 2e-4 * t) * self.f0 {
+            if f <= (1.0 - ARMIJO * t) * self.f0 {
                 return Ok(Some((f, max)));
             }
         }
@@ -752,14 +733,19 @@ mod tests {
                 [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
             )
         };
+        // The protocol generated code follows: assess, solve, advance.
         let drive = |mut u: [f64; 2]| {
             let mut fast = FastNewton::new();
             loop {
                 let (phi, jac) = eval(&u);
-                match fast.next(&mut u, &phi, &jac, &Options::DEFAULT) {
+                match fast.assess(&phi, &jac, &Options::DEFAULT) {
                     Next::Continue => {}
                     end => return (end, u),
                 }
+                let Ok(lu) = Lu::factor(&jac, Options::DEFAULT.singularity_threshold) else {
+                    return (Next::Fallback, u);
+                };
+                fast.advance(&mut u, &lu.solve(&phi));
             }
         };
         let mut reference = [1.0, 0.5];
@@ -775,9 +761,28 @@ mod tests {
         // the fast path hands over to the damped solver.
         let (end, _) = drive([0.1, -3.0]);
         assert_eq!(end, Next::Fallback);
-        // A singular Jacobian also hands over: at x = y = 0 it has rank 1.
-        let (end, _) = drive([0.0, 0.0]);
-        assert_eq!(end, Next::Fallback);
+        // A non-finite residual hands over at once, and so does the
+        // iteration cap once reached.
+        let (phi, jac) = eval(&[1.0, 0.5]);
+        let mut fast = FastNewton::new();
+        assert_eq!(
+            fast.assess(&[f64::NAN, 0.0], &jac, &Options::DEFAULT),
+            Next::Fallback
+        );
+        let one = Options {
+            max_iterations: 1,
+            ..Options::DEFAULT
+        };
+        let mut fast = FastNewton::new();
+        let mut u = [1.0, 0.5];
+        assert_eq!(fast.assess(&phi, &jac, &one), Next::Continue);
+        let step = Lu::factor(&jac, one.singularity_threshold)
+            .map_err(|_| ())
+            .expect("regular")
+            .solve(&phi);
+        fast.advance(&mut u, &step);
+        let (phi, jac) = eval(&u);
+        assert_eq!(fast.assess(&phi, &jac, &one), Next::Fallback);
     }
 
     #[test]
