@@ -45,8 +45,11 @@ pub enum Error {
     NotConverged {
         /// Iterations performed.
         iterations: usize,
-        /// Largest |Φ_i| at the last iterate.
+        /// Largest |Φ_i| at the last iterate, in the equation's units.
         residual: f64,
+        /// That residual relative to the term scale S_i of its equation
+        /// (see [`Scaling`](crate::solve::Scaling)).
+        relative: f64,
         /// The equation with that residual, as written in the definition.
         equation: &'static str,
         /// Coordinates at the last iterate, by name.
@@ -56,10 +59,12 @@ pub enum Error {
     /// the unknowns are not determined by the equations. This is a dead
     /// centre, a toggle position, or a redundant or missing constraint.
     Singular {
-        /// The unknown whose column lost rank during elimination.
+        /// The unknown the equations determine worst there.
         unknown: &'static str,
-        /// Smallest pivot relative to the largest entry of Φ_u.
-        relative_pivot: f64,
+        /// The conditioning: the distance of the scaled Jacobian to the
+        /// nearest singular matrix (see
+        /// [`MotionState::conditioning`](crate::MotionState::conditioning)).
+        conditioning: f64,
         /// Coordinates at the configuration, by name.
         configuration: Vec<(&'static str, f64)>,
     },
@@ -142,13 +147,15 @@ impl fmt::Display for Error {
             Error::NotConverged {
                 iterations,
                 residual,
+                relative,
                 equation,
                 configuration,
             } => {
                 write!(
                     f,
                     "the mechanism did not assemble: after {iterations} Newton iterations the \
-                     residual of `{equation}` is still {residual:.3e} (at "
+                     residual of `{equation}` is still {residual:.3e} ({relative:.1e} of the size \
+                     of its terms; at "
                 )?;
                 write_configuration(f, configuration)?;
                 f.write_str(
@@ -158,13 +165,13 @@ impl fmt::Display for Error {
             }
             Error::Singular {
                 unknown,
-                relative_pivot,
+                conditioning,
                 configuration,
             } => {
                 write!(
                     f,
                     "the equations do not determine unknown `{unknown}` at this configuration \
-                     (singular Jacobian, relative pivot {relative_pivot:.1e}; at "
+                     (singular Jacobian, conditioning {conditioning:.1e}; at "
                 )?;
                 write_configuration(f, configuration)?;
                 f.write_str(
@@ -173,12 +180,19 @@ impl fmt::Display for Error {
                 )
             }
             Error::NonFinite { input, name, value } => {
-                if *input == Input::Computed {
+                if *input == Input::Computed && value.is_infinite() {
+                    write!(
+                        f,
+                        "`{name}` evaluated to {value}: a value overflowed the range of f64 \
+                         (an input, parameter, rate or acceleration too large, about 1e154 or \
+                         more once squared), or the model divides by zero here"
+                    )
+                } else if *input == Input::Computed {
                     write!(
                         f,
                         "`{name}` evaluated to {value}: an expression of the model is undefined \
-                         here (square root of a negative number, division by zero, asin/acos \
-                         outside [-1, 1])"
+                         here (square root of a negative number, 0/0, asin/acos outside \
+                         [-1, 1]), or an intermediate value overflowed (an input too large)"
                     )
                 } else {
                     write!(f, "{input} `{name}` is {value}; it must be a finite number")

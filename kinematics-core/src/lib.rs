@@ -55,7 +55,7 @@ pub use mechanism::{
     PointState, Role,
 };
 pub use nalgebra;
-pub use options::{Branch, Options};
+pub use options::{Branch, Convergence, Options};
 
 /// Evaluates `f` for every item of `items` (parameter sets, starting poses)
 /// on all cores, returning each item's result or error in order; one failing
@@ -99,7 +99,8 @@ pub struct ReadmeDoctests;
 #[doc(hidden)]
 pub mod __private {
     pub use crate::solve::{
-        describe, largest_entry, newton, sin_cos_after, Failure, FastNewton, Lu, Names, Next,
+        branch_check, characteristic_length, describe, newton, sin_cos_after, Failure, FastNewton,
+        Lu, Names, Next, Scaling,
     };
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};

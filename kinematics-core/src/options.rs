@@ -5,19 +5,41 @@ use crate::Error;
 /// Settings of the Newton–Raphson assembly and of the linear solves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
-    /// Convergence when max_i |Φ_i| ≤ `tolerance` (in the units of the
-    /// equations, e.g. metres for a loop written in metres). Default 1e-12.
+    /// Newton–Raphson has converged when every residual |Φ_i| is at most
+    /// `tolerance` times the term scale S_i of its equation (the sum of the
+    /// sizes of the equation's terms, see
+    /// [`Scaling`](crate::solve::Scaling)): a relative accuracy, the same
+    /// for a mechanism drawn in millimetres, metres or kilometres. With
+    /// [`Convergence::Absolute`] it is in the units of the equations
+    /// instead. Default 1e-12.
     pub tolerance: f64,
+    /// Whether [`Options::tolerance`] is relative to each equation's term
+    /// scale (the default) or absolute.
+    pub convergence: Convergence,
     /// Largest number of Newton iterations. Default 50.
     pub max_iterations: usize,
-    /// Φ_u is treated as singular when a pivot of its LU factorisation,
-    /// relative to its largest entry, is at or below this value.
-    /// Default 1e-10.
+    /// Φ_u is treated as singular when its conditioning, the distance of
+    /// the scaled Jacobian Φ̃_u to the nearest singular matrix (see
+    /// [`MotionState::conditioning`](crate::MotionState::conditioning)), or
+    /// a pivot of its factorisation during the iteration, is at or below
+    /// this value. Default 1e-10.
     pub singularity_threshold: f64,
     /// The assembly branch required of a solution, by the sign of det Φ_u
     /// (for a four-bar, the sign of sin(θ3 − θ4): which way its dyad's elbow
     /// points). Default [`Branch::Any`]: the branch nearest the guess.
     pub branch: Branch,
+}
+
+/// What [`Options::tolerance`] is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Convergence {
+    /// max_i |Φ_i| / S_i ≤ tolerance, with S_i the term scale of equation
+    /// i: independent of the units and size of the mechanism.
+    #[default]
+    Relative,
+    /// max_i |Φ_i| ≤ tolerance, in the units of the equations (metres for
+    /// a loop written in metres).
+    Absolute,
 }
 
 /// An assembly branch (mode), identified by the sign of det Φ_u, which
@@ -37,6 +59,7 @@ impl Options {
     /// The default settings, usable in `const` context.
     pub const DEFAULT: Options = Options {
         tolerance: 1e-12,
+        convergence: Convergence::Relative,
         max_iterations: 50,
         singularity_threshold: 1e-10,
         branch: Branch::Any,

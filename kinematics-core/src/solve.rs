@@ -13,20 +13,25 @@ use crate::{Error, Options};
 /// [`describe`], off the hot path).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Failure {
-    /// Column `unknown` of Φ_u lost rank; `relative_pivot` = |pivot| / max|Φ_u|.
+    /// The scaled Φ_u is singular or nearly so: its distance to the nearest
+    /// singular matrix, `conditioning` (see [`Lu::conditioning`]), is at or
+    /// below the threshold; `unknown` is the unknown it determines worst.
     Singular {
         /// Index of the unknown.
         unknown: usize,
-        /// |pivot| / max |entry|.
-        relative_pivot: f64,
+        /// The conditioning, 1 / ‖Φ̃_u⁻¹‖_∞ of the scaled matrix (0 when a
+        /// pivot vanished).
+        conditioning: f64,
     },
     /// Newton stopped with residual `residual` in equation `equation`.
     NotConverged {
         /// Iterations performed.
         iterations: usize,
-        /// max |Φ_i|.
+        /// max |Φ_i| (in the equation's own units).
         residual: f64,
-        /// Index of the equation with the largest residual.
+        /// |Φ_i| relative to the size S_i of the equation's terms.
+        relative: f64,
+        /// Index of the equation with the largest relative residual.
         equation: usize,
     },
     /// Converged on the assembly branch other than the one asked for.
@@ -50,58 +55,152 @@ impl Failure {
         match self {
             Failure::Singular {
                 unknown,
-                relative_pivot,
+                conditioning,
             } => Failure::Singular {
                 unknown: columns.get(unknown).copied().unwrap_or(unknown),
-                relative_pivot,
+                conditioning,
             },
             other => other,
         }
     }
 }
 
+/// The scales that make Newton's tests and the singularity measure
+/// independent of the units and the size of a mechanism.
+///
+/// Row i is scaled by 1/S_i, where S_i, the *term scale* of equation i, is
+/// the sum of the magnitudes of the equation's terms with every sine and
+/// cosine bounded by 1, every unknown angle counted as 1 rad and every
+/// unknown length as the characteristic length L (for the four-bar loop
+/// a cos φ + b cos θ3 − d − c cos θ4 = 0, S = |a| + |b| + |c| + |d|).
+/// L is the largest term scale of the equations with the unknown lengths
+/// left out (1 when that is zero). Column j is scaled by the unknown's
+/// natural unit: 1 rad for an angle, L for a length. The macro derives
+/// S_i at compile time; it is evaluated from the parameters and drivers.
+///
+/// The scaled Jacobian Φ̃_u = diag(1/S) Φ_u diag(unit) has entries of order
+/// one at a generic configuration, whatever the units of the model, and a
+/// mechanism drawn in millimetres, metres or kilometres gives the same
+/// Φ̃_u, the same relative residuals and the same conditioning.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scaling<const N: usize> {
+    /// 1 / S_i for each equation.
+    pub row: [f64; N],
+    /// The natural unit of each unknown: 1 for an angle, L for a length.
+    pub col: [f64; N],
+}
+
+impl<const N: usize> Scaling<N> {
+    /// No scaling: every row and column scale 1 (the equations' own units).
+    pub const UNIT: Self = Self {
+        row: [1.0; N],
+        col: [1.0; N],
+    };
+
+    /// The scaling for term scales `terms` (S_i), the characteristic length
+    /// `length` and which unknowns are lengths.
+    ///
+    /// # Errors
+    /// [`Failure::NonFiniteResidual`] naming the first equation whose term
+    /// scale overflowed (an input too large for `f64` arithmetic).
+    #[inline(always)]
+    pub fn new(terms: &[f64; N], length: f64, is_length: [bool; N]) -> Result<Self, Failure> {
+        let mut row = [1.0; N];
+        let mut col = [1.0; N];
+        for i in 0..N {
+            let s = terms[i];
+            if s.is_nan() || s == f64::INFINITY {
+                return Err(overflow(i, s));
+            }
+            // An equation with no term of fixed size (every term zero at
+            // these parameters) keeps its own units.
+            row[i] = if s > 0.0 { 1.0 / s } else { 1.0 };
+            if is_length[i] {
+                col[i] = length;
+            }
+        }
+        Ok(Self { row, col })
+    }
+
+    /// The weights of the convergence test for `options`: 1/S_i for
+    /// [`Convergence::Relative`](crate::Convergence::Relative), 1 for
+    /// [`Convergence::Absolute`](crate::Convergence::Absolute).
+    #[inline(always)]
+    #[must_use]
+    pub fn weights(&self, options: &Options) -> [f64; N] {
+        match options.convergence {
+            crate::Convergence::Relative => self.row,
+            crate::Convergence::Absolute => [1.0; N],
+        }
+    }
+
+    /// The scaled matrix diag(row) · `a` · diag(col).
+    #[inline(always)]
+    #[must_use]
+    pub fn matrix(&self, a: &[[f64; N]; N]) -> [[f64; N]; N] {
+        let mut out = *a;
+        for i in 0..N {
+            for j in 0..N {
+                out[i][j] *= self.row[i] * self.col[j];
+            }
+        }
+        out
+    }
+}
+
+/// The characteristic length L of a mechanism from the term scales of its
+/// equations with the unknown lengths left out: the largest of them, or 1
+/// when they are all zero (a model whose every term holds an unknown
+/// length). An overflowed value is returned as it is, and reported by
+/// [`Scaling::new`].
+#[inline(always)]
+#[must_use]
+pub fn characteristic_length<const N: usize>(fixed: &[f64; N]) -> f64 {
+    let mut m = 0.0f64;
+    for &v in fixed {
+        // A plain comparison: a NaN cannot arise from finite, validated
+        // inputs, and an overflow is an infinity, which this keeps.
+        if v > m {
+            m = v;
+        }
+    }
+    if m > 0.0 {
+        m
+    } else {
+        1.0
+    }
+}
+
+/// The failure for a term scale that overflowed.
+#[cold]
+fn overflow(equation: usize, value: f64) -> Failure {
+    Failure::NonFiniteResidual { equation, value }
+}
+
 /// LU factorisation with partial pivoting, P·A = L·U, of a square matrix.
 ///
 /// The reciprocals of the pivots are kept, so that [`Lu::solve`] has no
 /// division. For N ≤ 2 the inverse itself is kept instead (A⁻¹ = adj A / det A,
-/// one division), and a solve is a matrix–vector product; the singularity
-/// test and [`Lu::conditioning`] are those of partial pivoting all the same:
-/// the pivots of a 2×2 matrix are p₀ = max(|a₀₀|, |a₁₀|) and |det A| / p₀.
+/// one division), and a solve is a matrix–vector product; the pivots are
+/// those of partial pivoting all the same: p₀ = max(|a₀₀|, |a₁₀|) and
+/// |det A| / p₀. Generated code factors the scaled Jacobian Φ̃_u (see
+/// [`Scaling`]), whose entries are of order one, so that the pivots and
+/// [`Lu::conditioning`] are absolute numbers with a meaning of their own.
 #[derive(Debug, Clone, Copy)]
 pub struct Lu<const N: usize> {
     /// L and U below and above the diagonal (N > 2), or A⁻¹ (N ≤ 2).
     lu: [[f64; N]; N],
     inv_pivot: [f64; N],
     perm: [usize; N],
-    conditioning: f64,
     sign: f64,
 }
 
-/// The largest |a_ij| (plain comparisons, not `f64::max`: a NaN entry is
-/// caught by the pivot tests of the factorisation that uses this).
-#[inline(always)]
-#[must_use]
-pub fn largest_entry<const R: usize, const C: usize>(a: &[[f64; C]; R]) -> f64 {
-    let mut scale = 0.0f64;
-    for row in a {
-        for v in row {
-            let m = v.abs();
-            if m > scale {
-                scale = m;
-            }
-        }
-    }
-    scale
-}
-
-/// The failure for pivot `unknown` of magnitude `pivot` (|pivot| / `scale`
-/// relative), off the hot path.
+/// The failure for pivot `unknown` of magnitude `pivot`, off the hot path.
 #[cold]
-fn singular(unknown: usize, pivot: f64, scale: f64) -> Failure {
-    let rel = pivot / scale;
+fn singular(unknown: usize, pivot: f64) -> Failure {
     Failure::Singular {
         unknown,
-        relative_pivot: if rel.is_finite() { rel } else { 0.0 },
+        conditioning: if pivot.is_finite() { pivot } else { 0.0 },
     }
 }
 
@@ -109,30 +208,15 @@ impl<const N: usize> Lu<N> {
     /// Factors `a` (rows are equations, columns unknowns).
     ///
     /// # Errors
-    /// [`Failure::Singular`] when a pivot, relative to the largest entry of
-    /// `a`, is at or below `threshold` (or is not finite).
+    /// [`Failure::Singular`] when a pivot is at or below `threshold` in
+    /// magnitude (or is not finite).
     #[inline(always)]
     pub fn factor(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
-        Self::factor_in(a, threshold, largest_entry(a))
-    }
-
-    /// Factors `a` as a diagonal block of a larger matrix whose largest
-    /// entry in magnitude is `scale`: as [`Lu::factor`], with the pivots and
-    /// [`Lu::conditioning`] relative to `scale` instead of to `a`'s own
-    /// largest entry (so that a 1×1 block near zero still counts as
-    /// singular).
-    ///
-    /// # Errors
-    /// [`Failure::Singular`] when a pivot, relative to `scale`, is at or
-    /// below `threshold` (or is not finite).
-    #[inline(always)]
-    pub fn factor_in(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
-        let scale = if scale > 0.0 { scale } else { 1.0 };
         if N == 1 {
-            return Self::factor1(a, threshold, scale);
+            return Self::factor1(a, threshold);
         }
         if N == 2 {
-            return Self::factor2(a, threshold, scale);
+            return Self::factor2(a, threshold);
         }
         let mut lu = *a;
         let mut perm = [0usize; N];
@@ -140,7 +224,6 @@ impl<const N: usize> Lu<N> {
         for (i, p) in perm.iter_mut().enumerate() {
             *p = i;
         }
-        let mut min_pivot = f64::INFINITY;
         let mut sign = 1.0;
         for k in 0..N {
             let mut best = k;
@@ -152,9 +235,9 @@ impl<const N: usize> Lu<N> {
                 }
             }
             // Written so that a NaN pivot also fails.
-            let regular = best_val > threshold * scale && best_val.is_finite();
+            let regular = best_val > threshold && best_val.is_finite();
             if !regular {
-                return Err(singular(k, best_val, scale));
+                return Err(singular(k, best_val));
             }
             if best != k {
                 lu.swap(k, best);
@@ -162,7 +245,6 @@ impl<const N: usize> Lu<N> {
                 sign = -sign;
             }
             let pivot_row = lu[k];
-            min_pivot = min_pivot.min(best_val);
             sign *= pivot_row[k].signum();
             let inv = 1.0 / pivot_row[k];
             inv_pivot[k] = inv;
@@ -178,19 +260,18 @@ impl<const N: usize> Lu<N> {
             lu,
             inv_pivot,
             perm,
-            conditioning: if N == 0 { 1.0 } else { min_pivot / scale },
             sign,
         })
     }
 
     /// The 1×1 case: A⁻¹ = 1 / a₀₀.
     #[inline]
-    fn factor1(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
+    fn factor1(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
         let a00 = a[0][0];
         let p0 = a00.abs();
         // Written so that a NaN or infinite entry also fails.
-        if !(p0 > threshold * scale && p0 < f64::INFINITY) {
-            return Err(singular(0, p0, scale));
+        if !(p0 > threshold && p0 < f64::INFINITY) {
+            return Err(singular(0, p0));
         }
         let mut lu = [[0.0; N]; N];
         lu[0][0] = 1.0 / a00;
@@ -198,7 +279,6 @@ impl<const N: usize> Lu<N> {
             lu,
             inv_pivot: [0.0; N],
             perm: [0; N],
-            conditioning: p0 / scale,
             sign: a00.signum(),
         })
     }
@@ -207,7 +287,7 @@ impl<const N: usize> Lu<N> {
     /// pivots of partial pivoting, p₀ = max(|a₀₀|, |a₁₀|) and |det A| / p₀,
     /// tested without dividing.
     #[inline]
-    fn factor2(a: &[[f64; N]; N], threshold: f64, scale: f64) -> Result<Self, Failure> {
+    fn factor2(a: &[[f64; N]; N], threshold: f64) -> Result<Self, Failure> {
         let (a00, a01, a10, a11) = (a[0][0], a[0][1], a[1][0], a[1][1]);
         // A plain comparison, not `f64::max`: a NaN entry is caught by the
         // determinant test below.
@@ -217,15 +297,14 @@ impl<const N: usize> Lu<N> {
             a00.abs()
         };
         let det = a00 * a11 - a01 * a10;
-        let tol = threshold * scale;
-        // A NaN or an infinity in `a` makes the tolerance or the determinant
-        // NaN or infinite, and these comparisons false.
-        let first_regular = p0 > tol;
+        // A NaN or an infinity in `a` makes the determinant NaN or
+        // infinite, and these comparisons false.
+        let first_regular = p0 > threshold;
         if !first_regular {
-            return Err(singular(0, p0, scale));
+            return Err(singular(0, p0));
         }
-        if !(det.abs() > tol * p0 && det.abs() < f64::INFINITY) {
-            return Err(singular(1, det.abs() / p0, scale));
+        if !(det.abs() > threshold * p0 && det.abs() < f64::INFINITY) {
+            return Err(singular(1, det.abs() / p0));
         }
         let inv = 1.0 / det;
         let mut lu = [[0.0; N]; N];
@@ -237,17 +316,75 @@ impl<const N: usize> Lu<N> {
             lu,
             inv_pivot: [0.0; N],
             perm: [0; N],
-            conditioning: (p0 * p0).min(det.abs()) / (p0 * scale),
             sign: det.signum(),
         })
     }
 
-    /// Conditioning of the factored matrix: its smallest pivot relative to
-    /// its largest entry, in (0, 1]; near 0 the matrix is nearly singular.
+    /// The conditioning of the factored matrix A: its distance to the
+    /// nearest singular matrix, 1 / ‖A⁻¹‖_∞ = min { ‖E‖_∞ : A + E singular }
+    /// (Gastinel–Kahan), and the row of A⁻¹ with the largest sum (the
+    /// unknown that a change of the right-hand side moves most).
+    ///
+    /// For the scaled Jacobian Φ̃_u it bounds the error of an accepted
+    /// pose: if every scaled residual |Φ_i| / S_i is at most τ, each
+    /// unknown is within τ / conditioning of the solution (in radians for
+    /// an angle, in units of the characteristic length for a length), to
+    /// first order. It tends to 0 at a dead-centre or toggle position, in
+    /// proportion to the distance from it.
     #[inline]
     #[must_use]
-    pub fn conditioning(&self) -> f64 {
-        self.conditioning
+    pub fn conditioning(&self) -> (f64, usize) {
+        let mut worst = 0.0f64;
+        let mut at = 0;
+        let mut row_sum = |i: usize, sum: f64| {
+            if sum > worst || i == 0 {
+                worst = sum;
+                at = i;
+            }
+        };
+        if N <= 2 {
+            for i in 0..N {
+                let mut sum = 0.0;
+                for j in 0..N {
+                    sum += self.lu[i][j].abs();
+                }
+                row_sum(i, sum);
+            }
+        } else {
+            // Columns of A⁻¹, one solve each.
+            let mut inv = [[0.0; N]; N];
+            for j in 0..N {
+                let mut e = [0.0; N];
+                e[j] = 1.0;
+                let x = self.solve(&e);
+                for i in 0..N {
+                    inv[i][j] = x[i];
+                }
+            }
+            for (i, r) in inv.iter().enumerate() {
+                row_sum(i, r.iter().map(|v| v.abs()).sum());
+            }
+        }
+        if N == 0 {
+            return (1.0, 0);
+        }
+        let c = 1.0 / worst;
+        (if c.is_finite() { c } else { 0.0 }, at)
+    }
+
+    /// The conditioning, or [`Failure::Singular`] when it is at or below
+    /// `threshold`.
+    ///
+    /// # Errors
+    /// [`Failure::Singular`] naming the unknown the matrix determines worst.
+    #[inline]
+    pub fn check(&self, threshold: f64) -> Result<f64, Failure> {
+        let (c, at) = self.conditioning();
+        if c > threshold {
+            Ok(c)
+        } else {
+            Err(singular(at, c))
+        }
     }
 
     /// Sign of the determinant, ±1.
@@ -290,28 +427,35 @@ impl<const N: usize> Lu<N> {
     }
 }
 
-/// Checks the requested assembly branch: the sign of det Φ_u.
-#[inline]
-fn branch_check<const N: usize>(jac: &[[f64; N]; N], options: &Options) -> Result<(), Failure> {
+/// Checks the assembly branch asked for in `options` against the sign of
+/// det Φ_u, `sign` (the product of the signs of the diagonal blocks'
+/// determinants; the row and column scales are positive and do not change
+/// it).
+///
+/// # Errors
+/// [`Failure::WrongBranch`] when the signs differ.
+#[inline(always)]
+pub fn branch_check(sign: f64, options: &Options) -> Result<(), Failure> {
     let wanted = match options.branch {
         crate::Branch::Any => return Ok(()),
         crate::Branch::Positive => 1.0,
         crate::Branch::Negative => -1.0,
     };
-    let lu = Lu::factor(jac, options.singularity_threshold)?;
-    if lu.det_sign() == wanted {
+    if sign == wanted {
         Ok(())
     } else {
         Err(Failure::WrongBranch)
     }
 }
 
-/// ½‖v‖² and max|v_i| (infinite when some entry is not finite) in one pass.
-#[inline]
-fn norms<const N: usize>(v: &[f64; N]) -> (f64, f64) {
+/// ½‖w∘v‖² and max|w_i v_i| (infinite when some entry is not finite) in one
+/// pass.
+#[inline(always)]
+fn norms<const N: usize>(v: &[f64; N], w: &[f64; N]) -> (f64, f64) {
     let mut sq = 0.0;
     let mut max = 0.0f64;
-    for x in v {
+    for i in 0..N {
+        let x = v[i] * w[i];
         sq += x * x;
         // A plain comparison (not `f64::max`, whose NaN rule costs more):
         // a NaN shows up in `sq` instead.
@@ -328,13 +472,14 @@ fn norms<const N: usize>(v: &[f64; N]) -> (f64, f64) {
     }
 }
 
-fn worst<const N: usize>(v: &[f64; N]) -> usize {
+/// The index of the largest |w_i v_i| (or of the first non-finite entry).
+fn worst<const N: usize>(v: &[f64; N], w: &[f64; N]) -> usize {
     let mut at = 0;
-    for (i, x) in v.iter().enumerate() {
-        if !x.is_finite() {
+    for i in 0..N {
+        if !v[i].is_finite() {
             return i;
         }
-        if x.abs() > v[at].abs() {
+        if (v[i] * w[i]).abs() > (v[at] * w[at]).abs() {
             at = i;
         }
     }
@@ -345,60 +490,77 @@ fn worst<const N: usize>(v: &[f64; N]) -> usize {
 /// most (1 − `ARMIJO`·t) times its value.
 const ARMIJO: f64 = 2e-4;
 
+/// In [`newton`], a converged residual above `POLISH` times the tolerance
+/// gets one more Newton step.
+pub const POLISH: f64 = 1e-3;
+
+/// The largest relative residual max_i |Φ_i| / S_i that counts as the
+/// round-off of evaluating the equations (about 450 units of round-off
+/// 2⁻⁵², a sum of some dozens of terms of the size S_i): Newton stops
+/// there, even when the tolerance asked for is smaller.
+pub const ROUND_OFF: f64 = 1e-13;
+
 /// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`. `eval`
-/// writes Φ(u) and Φ_u(u); when it returns `Ok`, the last call was at the
+/// writes Φ(u) and Φ_u(u); when it returns, `phi` and `jac` hold them at the
 /// returned `u`.
 ///
-/// Each Newton step Δu = −Φ_u⁻¹ Φ is a descent direction of the merit
-/// f = ½‖Φ‖²; the step length t is halved until f decreases by at least the
-/// Armijo fraction, f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor
-/// guess from wandering to a far solution. Converged when max|Φ_i| ≤
-/// `tolerance`, or when a full Newton step that fails to decrease f is at
-/// the level of round-off (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|) for every i): then u
-/// is left where it was. Returns the iterations used.
+/// Each Newton step Δu = −Φ_u⁻¹ Φ is solved with the scaled matrix
+/// Φ̃_u = diag(1/S) Φ_u diag(unit) of `scaling` (pivots at or below
+/// `options.singularity_threshold` fail), and is a descent direction of the
+/// merit f = ½‖w∘Φ‖² with the weights w of [`Scaling::weights`]; the step
+/// length t is halved until f decreases by at least the Armijo fraction,
+/// f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor guess from
+/// wandering to a far solution. Converged when max|w_i Φ_i| ≤
+/// `options.tolerance`. When the tolerance is below what round-off allows, a
+/// full step that fails to decrease f and is itself at the level of
+/// round-off (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|)) ends the iteration too, but only
+/// if the relative residual max|Φ_i| / S_i is at most [`ROUND_OFF`]:
+/// `Ok` always means a pose that closes. After convergence one more full
+/// step is taken and kept when it does not increase the residual, so that
+/// the result is at round-off rather than merely within the tolerance.
+/// Returns the iterations used.
 ///
-/// Near a solution the full step is accepted at once, and an iteration is one
-/// evaluation, one factorisation and one solve; damping and the round-off
-/// test run only when the full step fails.
+/// The singularity of the solution and its assembly branch are not judged
+/// here: the caller factors Φ̃_u at the returned pose (block by block) and
+/// checks both.
 ///
 /// # Errors
-/// A [`Failure`] when Φ_u is singular, Φ is not finite, no step length
-/// decreases the merit (a local minimum of ‖Φ‖ that is not a solution), or the
-/// iteration cap is reached; `u` then holds the last iterate.
+/// A [`Failure`] when Φ̃_u is singular at an iterate, Φ is not finite, no
+/// step length decreases the merit (a local minimum of ‖Φ‖ that is not a
+/// solution), or the iteration cap is reached; `u` then holds the last
+/// iterate.
 #[inline]
 pub fn newton<const N: usize>(
     u: &mut [f64; N],
+    phi: &mut [f64; N],
+    jac: &mut [[f64; N]; N],
+    scaling: &Scaling<N>,
     options: &Options,
     mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
 ) -> Result<usize, Failure> {
-    let mut phi = [0.0; N];
-    let mut jac = [[0.0; N]; N];
-    eval(u, &mut phi, &mut jac);
-    let (mut f0, mut max) = norms(&phi);
+    let w = scaling.weights(options);
+    eval(u, phi, jac);
+    let (mut f0, mut max) = norms(phi, &w);
     let mut iterations = 0;
     loop {
         if max <= options.tolerance {
-            return branch_check(&jac, options).map(|()| iterations);
+            break;
         }
         // `norms` makes both infinite when Φ is not finite.
         if max == f64::INFINITY {
-            return Err(non_finite(&phi));
+            return Err(non_finite(phi, &w));
         }
         if iterations >= options.max_iterations {
-            return Err(Failure::NotConverged {
-                iterations,
-                residual: max,
-                equation: worst(&phi),
-            });
+            return Err(not_converged(iterations, phi, scaling, &w));
         }
         iterations += 1;
-        let step = Lu::factor(&jac, options.singularity_threshold)?.solve(&phi);
+        let step = newton_step(phi, jac, scaling, options)?;
         let start = *u;
         for i in 0..N {
             u[i] = start[i] - step[i];
         }
-        eval(u, &mut phi, &mut jac);
-        let (f, m) = norms(&phi);
+        eval(u, phi, jac);
+        let (f, m) = norms(phi, &w);
         if f <= (1.0 - ARMIJO) * f0 {
             (f0, max) = (f, m);
             continue;
@@ -409,11 +571,70 @@ pub fn newton<const N: usize>(
             f0,
             last_max: m,
             iterations,
+            scaling,
+            w: &w,
         };
-        match search.run(u, &mut phi, &mut jac, &mut eval)? {
+        match search.run(u, phi, jac, &mut eval)? {
             Some((f, m)) => (f0, max) = (f, m),
-            None => return branch_check(&jac, options).map(|()| iterations),
+            None => return Ok(iterations),
         }
+    }
+    polish(u, phi, jac, scaling, options, &mut eval);
+    Ok(iterations)
+}
+
+/// Δu = Φ_u⁻¹ Φ through the scaled matrix: Φ̃_u y = diag(1/S) Φ, Δu =
+/// diag(unit) y.
+#[inline]
+fn newton_step<const N: usize>(
+    phi: &[f64; N],
+    jac: &[[f64; N]; N],
+    scaling: &Scaling<N>,
+    options: &Options,
+) -> Result<[f64; N], Failure> {
+    let lu = Lu::factor(&scaling.matrix(jac), options.singularity_threshold)?;
+    let mut rhs = *phi;
+    for i in 0..N {
+        rhs[i] *= scaling.row[i];
+    }
+    let mut step = lu.solve(&rhs);
+    for i in 0..N {
+        step[i] *= scaling.col[i];
+    }
+    Ok(step)
+}
+
+/// One more full Newton step after convergence, kept when it does not
+/// increase the largest relative residual (else `u` is put back, and Φ and
+/// Φ_u evaluated there again, so that the caller's last evaluation is at
+/// the returned `u`).
+#[cold]
+fn polish<const N: usize>(
+    u: &mut [f64; N],
+    phi: &mut [f64; N],
+    jac: &mut [[f64; N]; N],
+    scaling: &Scaling<N>,
+    options: &Options,
+    eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+) {
+    let (_, before) = norms(phi, &scaling.row);
+    let (_, weighted) = norms(phi, &scaling.weights(options));
+    if before == 0.0 || weighted <= POLISH * options.tolerance {
+        return;
+    }
+    let Ok(step) = newton_step(phi, jac, scaling, options) else {
+        return;
+    };
+    let start = *u;
+    for i in 0..N {
+        u[i] -= step[i];
+    }
+    eval(u, phi, jac);
+    let (_, after) = norms(phi, &scaling.row);
+    let kept = after <= before;
+    if !kept {
+        *u = start;
+        eval(u, phi, jac);
     }
 }
 
@@ -423,7 +644,7 @@ pub enum Next {
     /// Not converged: take the full Newton step with
     /// [`FastNewton::advance`], then evaluate again at the new u.
     Continue,
-    /// max|Φ_i| ≤ tolerance (and the branch is the one asked for).
+    /// max|w_i Φ_i| ≤ tolerance.
     Converged,
     /// Anything else: solve again from the start with [`newton`], whose
     /// common path this is, so that it damps, detects round-off or reports
@@ -434,14 +655,15 @@ pub enum Next {
 /// The common path of [`newton`], driven by the caller's own loop, so that
 /// generated code evaluates Φ and Φ_u inline rather than through a closure:
 /// near a solution every full Newton step passes the Armijo test, and then
-/// the iterates are those of [`newton`] (bit for bit when the step is
-/// solved with [`Lu`] on the whole of Φ_u; to rounding in generated code,
-/// which solves Φ_u block by block and carries sines and cosines from one
-/// iterate to the next with [`sin_cos_after`]). On the first event
-/// off that path (a full step that does not decrease f = ½‖Φ‖² enough, a
-/// singular or non-finite Φ_u, the iteration cap, the wrong branch) it
-/// answers [`Next::Fallback`], and the caller runs [`newton`] from the start,
-/// which retraces the same iterates up to that point and takes over.
+/// the iterates are those of [`newton`] (to rounding: generated code
+/// solves Φ̃_u block by block and carries sines and cosines from one
+/// iterate to the next with [`sin_cos_after`]). On the first event off
+/// that path (a full step that does not decrease f = ½‖w∘Φ‖² enough, a
+/// singular or non-finite Φ_u, the iteration cap) it answers
+/// [`Next::Fallback`], and the caller runs [`newton`] from the start,
+/// which retraces the same iterates up to that point and takes over. The
+/// caller judges the singularity and the branch of the converged pose, as
+/// after [`newton`].
 #[derive(Debug, Clone, Copy)]
 pub struct FastNewton {
     /// f at the current iterate's predecessor (infinite before the first).
@@ -469,17 +691,18 @@ impl FastNewton {
         }
     }
 
-    /// Given Φ and Φ_u at the current iterate: converged, off the common
+    /// Given Φ at the current iterate and the weights `w` of the
+    /// convergence test ([`Scaling::weights`]): converged, off the common
     /// path, or [`Next::Continue`]: take the full Newton step
     /// Δu = −Φ_u⁻¹ Φ with [`FastNewton::advance`].
     #[inline(always)]
     pub fn assess<const N: usize>(
         &mut self,
         phi: &[f64; N],
-        jac: &[[f64; N]; N],
+        w: &[f64; N],
         options: &Options,
     ) -> Next {
-        let (f, max) = norms(phi);
+        let (f, max) = norms(phi, w);
         // The Armijo test of the full step that led here (vacuous at the
         // first evaluation, where f0 is infinite and f is at most infinite).
         let decreased = f <= (1.0 - ARMIJO) * self.f0;
@@ -487,10 +710,7 @@ impl FastNewton {
             return Next::Fallback;
         }
         if max <= options.tolerance {
-            return match branch_check(jac, options) {
-                Ok(()) => Next::Converged,
-                Err(_) => Next::Fallback,
-            };
+            return Next::Converged;
         }
         if max == f64::INFINITY || self.iterations >= options.max_iterations {
             return Next::Fallback;
@@ -538,30 +758,50 @@ pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
 
 /// The failure for a residual vector with a NaN or an infinite entry.
 #[cold]
-fn non_finite<const N: usize>(phi: &[f64; N]) -> Failure {
-    let i = worst(phi);
+fn non_finite<const N: usize>(phi: &[f64; N], w: &[f64; N]) -> Failure {
+    let i = worst(phi, w);
     Failure::NonFiniteResidual {
         equation: i,
         value: phi[i],
     }
 }
 
-/// A Newton step whose full length did not decrease the merit f = ½‖Φ‖²
+/// The failure of an iteration that ended away from a solution.
+#[cold]
+fn not_converged<const N: usize>(
+    iterations: usize,
+    phi: &[f64; N],
+    scaling: &Scaling<N>,
+    w: &[f64; N],
+) -> Failure {
+    let i = worst(phi, w);
+    Failure::NotConverged {
+        iterations,
+        residual: phi[i].abs(),
+        relative: (phi[i] * scaling.row[i]).abs(),
+        equation: i,
+    }
+}
+
+/// A Newton step whose full length did not decrease the merit f = ½‖w∘Φ‖²
 /// enough: the slow path of [`newton`].
 struct Search<'a, const N: usize> {
     start: &'a [f64; N],
     step: &'a [f64; N],
     /// f at `start`.
     f0: f64,
-    /// max|Φ_i| after the full step.
+    /// max|w_i Φ_i| after the full step.
     last_max: f64,
     iterations: usize,
+    scaling: &'a Scaling<N>,
+    w: &'a [f64; N],
 }
 
 impl<const N: usize> Search<'_, N> {
-    /// `Ok(None)` when the step is at the level of round-off: u is put back
-    /// at the start (and Φ, Φ_u evaluated there). Else halves t from 1 until
-    /// the Armijo test passes, `Ok(Some((f, max|Φ_i|)))` at the new u.
+    /// `Ok(None)` when the step is at the level of round-off and so is the
+    /// residual at the start: u is put back at the start (and Φ, Φ_u
+    /// evaluated there). Else halves t from 1 until the Armijo test
+    /// passes, `Ok(Some((f, max|w_i Φ_i|)))` at the new u.
     #[cold]
     fn run(
         &self,
@@ -578,29 +818,32 @@ impl<const N: usize> Search<'_, N> {
         if tiny {
             *u = *start;
             eval(u, phi, jac);
-            return Ok(None);
+            let (_, relative) = norms(phi, &self.scaling.row);
+            if relative <= ROUND_OFF {
+                return Ok(None);
+            }
+            // A step that cannot move u (an unknown so large that its
+            // floating-point spacing exceeds the step) while the equations
+            // are far from closed: no solution is reachable from here.
+            return Err(not_converged(self.iterations, phi, self.scaling, self.w));
         }
         let mut t = 1.0;
         let mut m = self.last_max;
         loop {
             if t < 1e-3 {
                 if m == f64::INFINITY {
-                    return Err(non_finite(phi));
+                    return Err(non_finite(phi, self.w));
                 }
                 // No decrease along the Newton direction: a local minimum
                 // of ‖Φ‖ that is not a solution.
-                return Err(Failure::NotConverged {
-                    iterations: self.iterations,
-                    residual: m,
-                    equation: worst(phi),
-                });
+                return Err(not_converged(self.iterations, phi, self.scaling, self.w));
             }
             t *= 0.5;
             for i in 0..N {
                 u[i] = start[i] - t * step[i];
             }
             eval(u, phi, jac);
-            let (f, max) = norms(phi);
+            let (f, max) = norms(phi, self.w);
             m = max;
             if f <= (1.0 - ARMIJO * t) * self.f0 {
                 return Ok(Some((f, max)));
@@ -634,23 +877,25 @@ pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
     match failure {
         Failure::Singular {
             unknown,
-            relative_pivot,
+            conditioning,
         } => Error::Singular {
             unknown: names
                 .coordinates
                 .get(names.drivers + unknown)
                 .copied()
                 .unwrap_or("?"),
-            relative_pivot,
+            conditioning,
             configuration,
         },
         Failure::NotConverged {
             iterations,
             residual,
+            relative,
             equation: e,
         } => Error::NotConverged {
             iterations,
             residual,
+            relative,
             equation: equation(e),
             configuration,
         },
@@ -724,6 +969,19 @@ mod tests {
         assert_eq!(sin_cos_after(0.0, 0.0, 0.7, f64::NAN), 0.7f64.sin_cos());
     }
 
+    /// Newton on `eval` from `u` with the given scaling and options.
+    fn solve2(
+        u: &mut [f64; 2],
+        scaling: &Scaling<2>,
+        options: &Options,
+        eval: impl Fn(&[f64; 2]) -> ([f64; 2], [[f64; 2]; 2]),
+    ) -> Result<usize, Failure> {
+        let (mut phi, mut jac) = ([0.0; 2], [[0.0; 2]; 2]);
+        newton(u, &mut phi, &mut jac, scaling, options, |u, p, j| {
+            (*p, *j) = eval(u);
+        })
+    }
+
     #[test]
     fn fast_newton_follows_newton_and_hands_over() {
         // x² + y² = 4, y = x, as in the test below.
@@ -733,40 +991,51 @@ mod tests {
                 [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
             )
         };
+        let scaling = Scaling::<2>::UNIT;
+        let w = scaling.weights(&Options::DEFAULT);
         // The protocol generated code follows: assess, solve, advance.
         let drive = |mut u: [f64; 2]| {
             let mut fast = FastNewton::new();
+            let mut steps = 0;
             loop {
                 let (phi, jac) = eval(&u);
-                match fast.assess(&phi, &jac, &Options::DEFAULT) {
+                match fast.assess(&phi, &w, &Options::DEFAULT) {
                     Next::Continue => {}
-                    end => return (end, u),
+                    end => return (end, u, steps),
                 }
                 let Ok(lu) = Lu::factor(&jac, Options::DEFAULT.singularity_threshold) else {
-                    return (Next::Fallback, u);
+                    return (Next::Fallback, u, steps);
                 };
                 fast.advance(&mut u, &lu.solve(&phi));
+                steps += 1;
             }
         };
+        // Newton's iterates without its final polishing step.
         let mut reference = [1.0, 0.5];
-        newton(&mut reference, &Options::DEFAULT, |u, phi, jac| {
-            (*phi, *jac) = eval(u);
-        })
-        .map_err(|_| ())
-        .expect("converges");
-        let (end, u) = drive([1.0, 0.5]);
+        let (end, u, steps) = drive([1.0, 0.5]);
         assert_eq!(end, Next::Converged);
+        for _ in 0..steps {
+            let (phi, jac) = eval(&reference);
+            let step = Lu::factor(&jac, 1e-10)
+                .map_err(|_| ())
+                .expect("regular")
+                .solve(&phi);
+            reference = [reference[0] - step[0], reference[1] - step[1]];
+        }
         assert_eq!(u, reference, "the same iterates, bit for bit");
+        let mut full = [1.0, 0.5];
+        let it = solve2(&mut full, &scaling, &Options::DEFAULT, eval);
+        assert_eq!(it, Ok(steps));
         // From (0.1, −3) the full first step overshoots and the merit grows:
         // the fast path hands over to the damped solver.
-        let (end, _) = drive([0.1, -3.0]);
+        let (end, _, _) = drive([0.1, -3.0]);
         assert_eq!(end, Next::Fallback);
         // A non-finite residual hands over at once, and so does the
         // iteration cap once reached.
         let (phi, jac) = eval(&[1.0, 0.5]);
         let mut fast = FastNewton::new();
         assert_eq!(
-            fast.assess(&[f64::NAN, 0.0], &jac, &Options::DEFAULT),
+            fast.assess(&[f64::NAN, 0.0], &w, &Options::DEFAULT),
             Next::Fallback
         );
         let one = Options {
@@ -775,26 +1044,41 @@ mod tests {
         };
         let mut fast = FastNewton::new();
         let mut u = [1.0, 0.5];
-        assert_eq!(fast.assess(&phi, &jac, &one), Next::Continue);
+        assert_eq!(fast.assess(&phi, &w, &one), Next::Continue);
         let step = Lu::factor(&jac, one.singularity_threshold)
             .map_err(|_| ())
             .expect("regular")
             .solve(&phi);
         fast.advance(&mut u, &step);
-        let (phi, jac) = eval(&u);
-        assert_eq!(fast.assess(&phi, &jac, &one), Next::Fallback);
+        let (phi, _) = eval(&u);
+        assert_eq!(fast.assess(&phi, &w, &one), Next::Fallback);
     }
 
     #[test]
     fn newton_stops_at_round_off() {
-        // Φ = 10⁶ (x² − 2): no double makes it smaller than about
-        // 10⁶ · 2√2 · ulp(√2) / 2 ≈ 3·10⁻¹⁰, far above the tolerance 10⁻¹²,
-        // so the iteration must end by the round-off test, next to √2.
+        // Φ = 10⁶ (x² − 2), with the absolute test max|Φ| ≤ 10⁻¹²: no double
+        // makes |Φ| smaller than about 10⁶ · 2√2 · ulp(√2) / 2 ≈ 3·10⁻¹⁰,
+        // so the iteration must end by the round-off test, next to √2. The
+        // term scale is S = 10⁶ (x² + 2) ≈ 4·10⁶, and 3·10⁻¹⁰ / S is far
+        // below ROUND_OFF.
+        let absolute = Options {
+            convergence: crate::Convergence::Absolute,
+            ..Options::DEFAULT
+        };
+        let scaling = Scaling::new(&[4e6], 1.0, [false]).expect("finite");
         let mut u = [1.3];
-        let it = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
-            phi[0] = 1e6 * (u[0] * u[0] - 2.0);
-            jac[0][0] = 2e6 * u[0];
-        });
+        let (mut phi, mut jac) = ([0.0], [[0.0]]);
+        let it = newton(
+            &mut u,
+            &mut phi,
+            &mut jac,
+            &scaling,
+            &absolute,
+            |u, phi, jac| {
+                phi[0] = 1e6 * (u[0] * u[0] - 2.0);
+                jac[0][0] = 2e6 * u[0];
+            },
+        );
         assert!(matches!(it, Ok(n) if n < 10), "{it:?}");
         assert!(
             (u[0] - std::f64::consts::SQRT_2).abs() <= 2.3e-16,
@@ -804,13 +1088,127 @@ mod tests {
     }
 
     #[test]
+    fn a_step_that_cannot_move_u_is_not_a_solution() {
+        // cos u = 0.5 from u = 10²⁰: the spacing of doubles there is 16384,
+        // every Newton step is "at round-off" relative to u, but the
+        // residual is not: this must fail, not return the guess as a root.
+        // (It returned Ok before the round-off exit looked at the residual.)
+        let scaling = Scaling::new(&[1.5], 1.0, [false]).expect("finite");
+        let mut u = [1e20];
+        let (mut phi, mut jac) = ([0.0], [[0.0]]);
+        let r = newton(
+            &mut u,
+            &mut phi,
+            &mut jac,
+            &scaling,
+            &Options::DEFAULT,
+            |u, phi, jac| {
+                phi[0] = u[0].cos() - 0.5;
+                jac[0][0] = -u[0].sin();
+            },
+        );
+        match r {
+            Ok(_) => assert!(
+                (u[0].cos() - 0.5).abs() <= 1.5e-12,
+                "Ok at {u:?}, Φ = {phi:?}"
+            ),
+            Err(f) => assert!(
+                matches!(f, Failure::NotConverged { .. } | Failure::Singular { .. }),
+                "{f:?}"
+            ),
+        }
+    }
+
+    #[test]
+    fn the_convergence_test_is_relative_to_the_term_scale() {
+        // x² + y² = r², y = x for r from 1 nm to 1000 km: the same relative
+        // accuracy, and the absolute option still available.
+        for r in [1e-9, 1e-3, 1.0, 1e3, 1e6] {
+            let scaling = Scaling::new(&[3.0 * r * r, 2.0 * r], r, [true, true]).expect("finite");
+            let eval = move |u: &[f64; 2]| {
+                (
+                    [u[0] * u[0] + u[1] * u[1] - r * r, u[1] - u[0]],
+                    [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
+                )
+            };
+            let mut u = [0.9 * r, 0.5 * r];
+            solve2(&mut u, &scaling, &Options::DEFAULT, eval).expect("converges");
+            let exact = r * std::f64::consts::FRAC_1_SQRT_2;
+            assert!((u[0] / exact - 1.0).abs() < 1e-14, "r = {r}: {u:?}");
+        }
+        // With the absolute test at 10⁻¹², a nanometre-sized problem is
+        // "converged" after one step, still far from the root: the reason
+        // the default is relative.
+        let r = 1e-9;
+        let scaling = Scaling::new(&[3.0 * r * r, 2.0 * r], r, [true, true]).expect("finite");
+        let absolute = Options {
+            convergence: crate::Convergence::Absolute,
+            ..Options::DEFAULT
+        };
+        let mut u = [0.9 * r, 0.5 * r];
+        let it = solve2(&mut u, &scaling, &absolute, |u| {
+            (
+                [u[0] * u[0] + u[1] * u[1] - r * r, u[1] - u[0]],
+                [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
+            )
+        });
+        assert_eq!(it, Ok(1));
+        let exact = r * std::f64::consts::FRAC_1_SQRT_2;
+        assert!((u[0] / exact - 1.0).abs() > 1e-4, "{u:?}");
+    }
+
+    #[test]
+    fn conditioning_is_the_distance_to_singularity_of_the_scaled_matrix() {
+        // 1×1: |a|, not 1 (a 1×1 matrix used to have conditioning 1 always).
+        let lu = Lu::factor(&[[1e-7]], 1e-10)
+            .map_err(|_| ())
+            .expect("regular");
+        assert!((lu.conditioning().0 - 1e-7).abs() < 1e-22);
+        // diag(1, ε): the nearest singular matrix is ε away in any norm.
+        for eps in [1e-2, 1e-5, 1e-9] {
+            let lu = Lu::factor(&[[1.0, 0.0], [0.0, eps]], 1e-12)
+                .map_err(|_| ())
+                .expect("regular");
+            let (c, at) = lu.conditioning();
+            assert!((c / eps - 1.0).abs() < 1e-12 && at == 1, "{c} {at}");
+            let lu3 = Lu::factor(&[[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, eps]], 1e-12)
+                .map_err(|_| ())
+                .expect("regular");
+            let (c, at) = lu3.conditioning();
+            assert!((c / eps - 1.0).abs() < 1e-12 && at == 2, "{c} {at}");
+        }
+        // A + E singular with ‖E‖_∞ = 1 / ‖A⁻¹‖_∞ (Gastinel–Kahan), checked
+        // on a full matrix: E = −(y zᵀ)/‖A⁻¹‖ for the maximising row.
+        let a = [[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]];
+        let lu = Lu::factor(&a, 1e-12).map_err(|_| ()).expect("regular");
+        let (c, _) = lu.conditioning();
+        let mut inv = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let mut e = [0.0; 3];
+            e[j] = 1.0;
+            let x = lu.solve(&e);
+            for i in 0..3 {
+                inv[i][j] = x[i];
+            }
+        }
+        let norm = inv
+            .iter()
+            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        assert!((c * norm - 1.0).abs() < 1e-14);
+        assert!(matches!(lu.check(c * 1.01), Err(Failure::Singular { .. })));
+        assert_eq!(lu.check(c * 0.99), Ok(c));
+    }
+
+    #[test]
     fn newton_finds_the_root_near_the_guess() {
         // x² + y² = 4, y = x: roots ±(√2, √2).
         let mut u = [1.0, 0.5];
-        let it = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
-            phi[0] = u[0] * u[0] + u[1] * u[1] - 4.0;
-            phi[1] = u[1] - u[0];
-            *jac = [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]];
+        let it = solve2(&mut u, &Scaling::UNIT, &Options::DEFAULT, |u| {
+            (
+                [u[0] * u[0] + u[1] * u[1] - 4.0, u[1] - u[0]],
+                [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]],
+            )
         });
         assert!(it.is_ok());
         assert!((u[0] - 2f64.sqrt()).abs() < 1e-12 && (u[1] - 2f64.sqrt()).abs() < 1e-12);
@@ -820,10 +1218,18 @@ mod tests {
     fn newton_reports_no_solution() {
         // x² + 1 = 0 has no real root.
         let mut u = [0.3];
-        let r = newton(&mut u, &Options::DEFAULT, |u, phi, jac| {
-            phi[0] = u[0] * u[0] + 1.0;
-            jac[0][0] = 2.0 * u[0];
-        });
+        let (mut phi, mut jac) = ([0.0], [[0.0]]);
+        let r = newton(
+            &mut u,
+            &mut phi,
+            &mut jac,
+            &Scaling::UNIT,
+            &Options::DEFAULT,
+            |u, phi, jac| {
+                phi[0] = u[0] * u[0] + 1.0;
+                jac[0][0] = 2.0 * u[0];
+            },
+        );
         assert!(matches!(
             r,
             Err(Failure::NotConverged { .. } | Failure::Singular { .. })

@@ -212,6 +212,8 @@ fn call_derivative(g: &mut Graph, f: Func, a: Id, value: Id) -> Id {
             let one = g.constant(1.0);
             g.div(one, a)
         }
+        // d|a|/da = a/|a| (away from 0).
+        Func::Abs => g.div(a, value),
     }
 }
 

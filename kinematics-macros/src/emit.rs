@@ -18,6 +18,7 @@ use crate::ir::{Func, Graph, Id, Leaf, Node};
 use crate::kinematics::Derived;
 use crate::lower::{CoordKind, Model};
 use crate::parse::Definition;
+use crate::scale::Scales;
 
 /// The name in `core::f64::consts` of a constant equal to `v`, so that the
 /// generated code reads `TAU` rather than its digits (and does not trip
@@ -527,16 +528,20 @@ fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStream {
 }
 
 /// Linear solves with Φ_u through its block-triangular form ([`blocks`]):
-/// each diagonal block factored on its own, then forward substitution over
-/// the blocks. The matrix is the local `jac`; the factors are `__lu_0`, ….
+/// each diagonal block of the scaled matrix Φ̃_u = diag(1/S) Φ_u diag(unit)
+/// (the local `__scaling`, see `kinematics_core::solve::Scaling`) factored
+/// on its own, then forward substitution over the blocks. The matrix is the
+/// local `jac`; the factors are `__lu_0`, ….
 struct BlockSolve {
     blocks: Vec<Block>,
     nonzero: Vec<Vec<bool>>,
+    /// Whether each unknown is a length (its column scale is L, not 1).
+    is_length: Vec<bool>,
     nu: usize,
 }
 
 impl BlockSolve {
-    fn new(g: &Graph, jac: &[Vec<Id>]) -> Self {
+    fn new(g: &Graph, jac: &[Vec<Id>], is_length: &[bool]) -> Self {
         let nonzero: Vec<Vec<bool>> = jac
             .iter()
             .map(|row| {
@@ -548,6 +553,7 @@ impl BlockSolve {
         BlockSolve {
             blocks: block_triangular(&nonzero),
             nu: jac.len(),
+            is_length: is_length.to_vec(),
             nonzero,
         }
     }
@@ -556,26 +562,36 @@ impl BlockSolve {
         format_ident!("__lu_{}", b)
     }
 
+    /// The scaled entry Φ̃_u[r][c] (the column scale only for lengths: an
+    /// angle's is 1).
+    fn scaled(&self, r: usize, c: usize) -> TokenStream {
+        if self.is_length[c] {
+            quote!((jac[#r][#c] * (__scaling.row[#r] * __scaling.col[#c])))
+        } else {
+            quote!((jac[#r][#c] * __scaling.row[#r]))
+        }
+    }
+
     /// Binds the factors of the diagonal blocks; `on_fail(f)` is the
     /// statement run with `f`, the failure (its unknown made global), when
-    /// a block is singular.
+    /// a pivot of a block is at or below the singularity threshold.
     fn factor(
         &self,
         pp: &TokenStream,
         on_fail: &dyn Fn(TokenStream) -> TokenStream,
     ) -> TokenStream {
-        let mut code = quote!(let __scale = #pp::largest_entry(&jac););
+        let mut code = TokenStream::new();
         for (b, block) in self.blocks.iter().enumerate() {
             let lu = Self::lu(b);
             let n = block.rows.len();
             let rows = block.rows.iter().map(|&r| {
-                let entries = block.cols.iter().map(move |&c| quote!(jac[#r][#c]));
+                let entries = block.cols.iter().map(|&c| self.scaled(r, c));
                 quote!([#(#entries),*])
             });
             let cols = &block.cols;
             let fail = on_fail(quote!(f.in_block(&[#(#cols),*])));
             code.extend(quote! {
-                let #lu = match #pp::Lu::<#n>::factor_in(&[#(#rows),*], options.singularity_threshold, __scale) {
+                let #lu = match #pp::Lu::<#n>::factor(&[#(#rows),*], options.singularity_threshold) {
                     ::core::result::Result::Ok(lu) => lu,
                     ::core::result::Result::Err(f) => { #fail }
                 };
@@ -584,7 +600,43 @@ impl BlockSolve {
         code
     }
 
-    /// An expression for x with Φ_u x = `rhs`, after [`BlockSolve::factor`].
+    /// After [`BlockSolve::factor`] at a solution: binds `__conditioning`,
+    /// the smallest conditioning of the blocks, running `on_fail(f)` when
+    /// one is at or below the singularity threshold or when the sign of
+    /// det Φ_u is not the branch asked for.
+    fn check(&self, pp: &TokenStream, on_fail: &dyn Fn(TokenStream) -> TokenStream) -> TokenStream {
+        let mut code = quote!(let mut __conditioning = 1.0f64;);
+        let mut signs = Vec::new();
+        for (b, block) in self.blocks.iter().enumerate() {
+            let lu = Self::lu(b);
+            let cols = &block.cols;
+            let fail = on_fail(quote!(f.in_block(&[#(#cols),*])));
+            code.extend(quote! {
+                match #lu.check(options.singularity_threshold) {
+                    ::core::result::Result::Ok(c) => {
+                        if c < __conditioning {
+                            __conditioning = c;
+                        }
+                    }
+                    ::core::result::Result::Err(f) => { #fail }
+                }
+            });
+            signs.push(quote!(#lu.det_sign()));
+        }
+        if let Some((first, rest)) = signs.split_first() {
+            let fail = on_fail(quote!(f));
+            code.extend(quote! {
+                if let ::core::result::Result::Err(f) = #pp::branch_check(#first #(* #rest)*, options) {
+                    #fail
+                }
+            });
+        }
+        code
+    }
+
+    /// An expression for x with Φ_u x = `rhs`, after [`BlockSolve::factor`]:
+    /// block by block, Φ̃_bb y = diag(1/S_b)(rhs_b − Φ_u,b,done x_done),
+    /// x_b = diag(unit_b) y.
     fn solve(&self, rhs: &TokenStream) -> TokenStream {
         let nu = self.nu;
         let mut done: Vec<usize> = Vec::new();
@@ -598,18 +650,23 @@ impl BlockSolve {
                     .map(|&c| quote!(jac[#r][#c] * __x[#c]))
                     .collect();
                 if known.is_empty() {
-                    quote!(__rhs[#r])
+                    quote!((__rhs[#r] * __scaling.row[#r]))
                 } else {
                     // Parenthesised, as every array element that is an
                     // operation (see `Printer::element`).
-                    quote!((__rhs[#r] - (#(#known)+*)))
+                    quote!(((__rhs[#r] - (#(#known)+*)) * __scaling.row[#r]))
                 }
             });
-            let (slots, cols): (Vec<usize>, Vec<usize>) =
-                block.cols.iter().copied().enumerate().unzip();
+            let store = block.cols.iter().enumerate().map(|(slot, &c)| {
+                if self.is_length[c] {
+                    quote!(__x[#c] = __y[#slot] * __scaling.col[#c];)
+                } else {
+                    quote!(__x[#c] = __y[#slot];)
+                }
+            });
             steps.extend(quote! {
                 let __y = #lu.solve(&[#(#entries),*]);
-                #( __x[#cols] = __y[#slots]; )*
+                #( #store )*
             });
             done.extend(&block.cols);
         }
@@ -620,14 +677,57 @@ impl BlockSolve {
             __x
         })
     }
+}
 
-    /// The conditioning: the smallest over the blocks.
-    fn conditioning(&self) -> TokenStream {
-        let mut it = (0..self.blocks.len()).map(Self::lu);
-        match it.next() {
-            None => quote!(1.0f64),
-            Some(first) => quote!(#first.conditioning() #( .min(#it.conditioning()) )*),
+/// The binding of `__scaling` (`kinematics_core::solve::Scaling`) from the
+/// term scales of `scale.rs`, evaluated from the parameters and the bound
+/// drivers `q_…`; `on_fail(f)` runs when a scale overflows.
+fn scaling_code(
+    g: &Graph,
+    scales: &Scales,
+    leaf: &dyn Fn(Leaf) -> TokenStream,
+    params: usize,
+    pp: &TokenStream,
+    on_fail: &TokenStream,
+) -> TokenStream {
+    let length_leaf = crate::scale::length_leaf(params);
+    let leaf = move |l: Leaf| {
+        if l == length_leaf {
+            quote!(__length)
+        } else {
+            leaf(l)
         }
+    };
+    let has_lengths = scales.is_length.iter().any(|&l| l);
+    let stages = if has_lengths {
+        vec![scales.fixed.clone(), scales.full.clone()]
+    } else {
+        vec![scales.fixed.clone()]
+    };
+    let sched = schedule(g, &stages);
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let fixed: Vec<_> = scales.fixed.iter().map(|&i| pr.element(i)).collect();
+    let full = if has_lengths {
+        let full = scales.full.iter().map(|&i| pr.element(i));
+        quote!(&[#(#full),*])
+    } else {
+        quote!(&__fixed)
+    };
+    let is_length = &scales.is_length;
+    let ne = scales.fixed.len();
+    let lets0 = &lets[0];
+    let lets1 = lets.get(1);
+    quote! {
+        let __scaling = {
+            #lets0
+            let __fixed: [f64; #ne] = [#(#fixed),*];
+            let __length = #pp::characteristic_length(&__fixed);
+            #lets1
+            match #pp::Scaling::new(#full, __length, [#(#is_length),*]) {
+                ::core::result::Result::Ok(s) => s,
+                ::core::result::Result::Err(f) => { #on_fail }
+            }
+        };
     }
 }
 
@@ -779,7 +879,7 @@ pub fn operation_counts(model: &Model, d: &Derived) -> [(&'static str, OpCount);
 }
 
 /// The full expansion of a checked model.
-pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
+pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> TokenStream {
     let id = Idents::new(def);
     let point_dim = model.point_dim;
     let types = types(def, &id, Some(&model.kinds), point_dim);
@@ -1023,13 +1123,24 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
     let f1_fast = &fast_lets[1];
-    let blocks = BlockSolve::new(g, &d.jac);
+    let blocks = BlockSolve::new(g, &d.jac, &scales.is_length);
     let newton_factor = blocks.factor(&pp, &|_| quote!(break false));
     let newton_solve = blocks.solve(&quote!(phi));
-    let analysis_factor = blocks.factor(&pp, &|f| {
-        quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
-    });
-    let conditioning = blocks.conditioning();
+    let fail_here = |f: TokenStream| quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*])););
+    let analysis_factor = blocks.factor(&pp, &fail_here);
+    let analysis_check = blocks.check(&pp, &fail_here);
+    let analysis_factor = quote!(#analysis_factor #analysis_check);
+    let scaling = {
+        let leaf = id.leaf();
+        scaling_code(
+            g,
+            scales,
+            &leaf,
+            params.len(),
+            &pp,
+            &quote!(return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q_drivers),*]));),
+        )
+    };
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| fpr.names.get(id)).collect();
     let nc = cached_names.len();
     let (f0, f1, f2, f3, f4) = (&flets[0], &flets[1], &flets[2], &flets[3], &flets[4]);
@@ -1257,21 +1368,25 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 self.validate()?;
                 #assemble_inputs
                 let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+                #scaling
                 #a0
                 let mut u = [#(start.#c_unknowns),*];
-                let solved = #pp::newton(&mut u, options, |u, phi, jac| {
+                let mut phi = [0.0f64; #ne];
+                let mut jac = [[0.0f64; #nu]; #ne];
+                let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
                     let [#(#q_unknowns),*] = *u;
                     #a1
                     *phi = [#(#aphi),*];
                     *jac = [#(#ajac_rows),*];
                 });
                 let [#(#q_unknowns),*] = u;
-                match solved {
-                    ::core::result::Result::Ok(_) => ::core::result::Result::Ok(#coords { #( #coord: #q ),* }),
-                    ::core::result::Result::Err(f) => ::core::result::Result::Err(
-                        #pp::describe(f, &Self::__NAMES, &[#(#q),*]),
-                    ),
+                if let ::core::result::Result::Err(f) = solved {
+                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
                 }
+                // The singularity and the branch are judged at the solution.
+                #analysis_factor
+                let _ = __conditioning;
+                ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
             }
 
             /// Assembles at the drivers of `start` from its unknowns (as
@@ -1325,6 +1440,8 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 let [#(#qdd_drivers),*] = accelerations.into_array();
                 #step_inputs
                 let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+                #scaling
+                let __weights = __scaling.weights(options);
                 #f0
                 let mut cache = [0.0f64; #nc];
                 let mut u = [#(start.#c_unknowns),*];
@@ -1339,7 +1456,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     cache = [#(#cached_names),*];
                     let phi = [#(#fphi),*];
                     let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
-                    match fast.assess(&phi, &jac, options) {
+                    match fast.assess(&phi, &__weights, options) {
                         #pp::Next::Continue => {}
                         #pp::Next::Converged => break true,
                         #pp::Next::Fallback => break false,
@@ -1350,7 +1467,9 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 };
                 if !on_path {
                     u = [#(start.#c_unknowns),*];
-                    let solved = #pp::newton(&mut u, options, |u, phi, jac| {
+                    let mut phi = [0.0f64; #ne];
+                    let mut jac = [[0.0f64; #nu]; #ne];
+                    let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
                         let [#(#q_unknowns),*] = *u;
                         #f1
                         *phi = [#(#fphi),*];
@@ -1378,7 +1497,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#fpoints),*],
                     frames: [#(#fframes),*],
-                    conditioning: #conditioning,
+                    conditioning: __conditioning,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(
@@ -1442,6 +1561,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                 let [#(#qdd_drivers),*] = accelerations.into_array();
                 #analyze_inputs
                 #( let #all_q = pose.#coord; )*
+                #scaling
                 #lets1
                 let jac: [[f64; #nu]; #ne] = [#(#jac_rows),*];
                 #analysis_factor
@@ -1456,7 +1576,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived) -> TokenStream {
                     qdd: #coords { #( #coord: #qdd ),* },
                     points: [#(#points_e),*],
                     frames: [#(#frames_e),*],
-                    conditioning: #conditioning,
+                    conditioning: __conditioning,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(

@@ -2,7 +2,7 @@
 
 use proc_macro2::TokenStream;
 
-use crate::{check, cse, emit, kinematics, lower, parse};
+use crate::{check, cse, emit, kinematics, lower, parse, scale};
 
 /// The whole expansion: code for a valid definition, or `compile_error!`s
 /// spanned on the offending tokens (with stub types, so uses of the
@@ -23,7 +23,8 @@ pub fn expand(input: TokenStream) -> TokenStream {
         return emit::fallback(&def, e.into_compile_error());
     }
     let derived = kinematics::derive(&mut model);
-    emit::expand(&def, &model, &derived)
+    let scales = scale::scales(&mut model, def.params.len());
+    emit::expand(&def, &model, &derived, &scales)
 }
 
 /// The operation counts of a definition (see [`emit::operation_counts`]), or

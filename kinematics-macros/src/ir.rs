@@ -51,6 +51,9 @@ pub enum Func {
     Sqrt,
     Exp,
     Ln,
+    /// |x|: used only for the term scales of the equations (`scale.rs`),
+    /// which are evaluated, never differentiated.
+    Abs,
 }
 
 impl Func {
@@ -65,6 +68,7 @@ impl Func {
             Func::Sqrt => x.sqrt(),
             Func::Exp => x.exp(),
             Func::Ln => x.ln(),
+            Func::Abs => x.abs(),
         }
     }
 
@@ -79,6 +83,7 @@ impl Func {
             Func::Sqrt => "sqrt",
             Func::Exp => "exp",
             Func::Ln => "ln",
+            Func::Abs => "abs",
         }
     }
 }

@@ -32,6 +32,7 @@ mod ir;
 mod kinematics;
 mod lower;
 mod parse;
+mod scale;
 mod simplify;
 
 /// Declares a mechanism by its vector loop-closure equations; see the

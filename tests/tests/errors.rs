@@ -119,10 +119,10 @@ fn dead_centre_is_reported_as_singular() {
         Error::Singular {
             unknown,
             configuration,
-            relative_pivot,
+            conditioning,
         } => {
             assert!(["th", "x"].contains(unknown), "{unknown}");
-            assert!(*relative_pivot < 1e-10);
+            assert!(*conditioning < 1e-10);
             assert_eq!(configuration[1].0, "th");
         }
         other => panic!("unexpected {other:?}"),
@@ -181,11 +181,11 @@ fn toggle_of_a_six_bars_second_loop_names_its_unknown() {
         match &err {
             Error::Singular {
                 unknown,
-                relative_pivot,
+                conditioning,
                 ..
             } => {
                 assert!(["th5", "th6"].contains(unknown), "{unknown}");
-                assert!(*relative_pivot < 1e-10, "{relative_pivot}");
+                assert!(*conditioning < 1e-10, "{conditioning}");
             }
             other => panic!("unexpected {other:?}"),
         }

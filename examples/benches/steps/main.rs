@@ -57,6 +57,9 @@ mod lower;
 #[path = "../../../kinematics-macros/src/parse.rs"]
 mod parse;
 #[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/scale.rs"]
+mod scale;
+#[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/simplify.rs"]
 mod simplify;
 
