@@ -515,9 +515,10 @@ pub const ROUND_OFF: f64 = 1e-13;
 /// full step that fails to decrease f and is itself at the level of
 /// round-off (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|)) ends the iteration too, but only
 /// if the relative residual max|Φ_i| / S_i is at most [`ROUND_OFF`]:
-/// `Ok` always means a pose that closes. After convergence one more full
-/// step is taken and kept when it does not increase the residual, so that
-/// the result is at round-off rather than merely within the tolerance.
+/// `Ok` always means a pose that closes. After convergence, full steps are
+/// taken while they decrease the residual, until it is below [`POLISH`]
+/// times the tolerance, so that the result is at round-off rather than
+/// merely within the tolerance.
 /// Returns the iterations used.
 ///
 /// The singularity of the solution and its assembly branch are not judged
@@ -604,10 +605,14 @@ fn newton_step<const N: usize>(
     Ok(step)
 }
 
-/// One more full Newton step after convergence, kept when it does not
-/// increase the largest relative residual (else `u` is put back, and Φ and
-/// Φ_u evaluated there again, so that the caller's last evaluation is at
-/// the returned `u`).
+/// Full Newton steps after convergence, while the residual is above
+/// [`POLISH`] times the tolerance and each step decreases the largest
+/// relative residual (a step that does not is undone, `u` put back and Φ
+/// and Φ_u evaluated there again, so that the caller's last evaluation is
+/// at the returned `u`). Near a regular solution one step reaches
+/// round-off; near a dead-centre position, where Newton converges only
+/// linearly, a few more bring the pose as close to the solution as
+/// double precision resolves it.
 #[cold]
 fn polish<const N: usize>(
     u: &mut [f64; N],
@@ -617,24 +622,28 @@ fn polish<const N: usize>(
     options: &Options,
     eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
 ) {
-    let (_, before) = norms(phi, &scaling.row);
-    let (_, weighted) = norms(phi, &scaling.weights(options));
-    if before == 0.0 || weighted <= POLISH * options.tolerance {
-        return;
-    }
-    let Ok(step) = newton_step(phi, jac, scaling, options) else {
-        return;
-    };
-    let start = *u;
-    for i in 0..N {
-        u[i] -= step[i];
-    }
-    eval(u, phi, jac);
-    let (_, after) = norms(phi, &scaling.row);
-    let kept = after <= before;
-    if !kept {
-        *u = start;
+    let w = scaling.weights(options);
+    for _ in 0..options.max_iterations {
+        let (_, before) = norms(phi, &scaling.row);
+        let (_, weighted) = norms(phi, &w);
+        if before == 0.0 || weighted <= POLISH * options.tolerance {
+            return;
+        }
+        let Ok(step) = newton_step(phi, jac, scaling, options) else {
+            return;
+        };
+        let start = *u;
+        for i in 0..N {
+            u[i] -= step[i];
+        }
         eval(u, phi, jac);
+        let (_, after) = norms(phi, &scaling.row);
+        let kept = after < before;
+        if !kept {
+            *u = start;
+            eval(u, phi, jac);
+            return;
+        }
     }
 }
 
