@@ -506,21 +506,41 @@ pub fn maximum_matching(involves: &[Vec<usize>], unknowns: usize) -> Vec<Option<
     matching
 }
 
-/// The loops (2 scalar equations each) and constraints (1 each) must give as
-/// many scalar equations as there are unknowns.
+/// The loops (one scalar equation per component: 2 for a planar loop, 3
+/// for a spatial one) and the constraints (1 each) must give as many scalar
+/// equations as there are unknowns.
 fn check_equation_count(def: &Definition, model: &crate::lower::Model, errors: &mut Errors) {
-    let n_eq = 2 * def.loops.len() + def.constraints.len();
+    // A loop that failed to lower has been reported already; its count
+    // would only mislead.
+    if model.loop_dims.contains(&0) {
+        return;
+    }
+    let planar = model.loop_dims.iter().filter(|&&d| d == 2).count();
+    let spatial = model.loop_dims.iter().filter(|&&d| d == 3).count();
+    let n_eq = 2 * planar + 3 * spatial + def.constraints.len();
     let n_u = def.unknowns.len();
     if n_eq == n_u {
         return;
     }
-    let detail = format!(
-        "{} loop{} × 2 + {} constraint{} = {n_eq} scalar equation{}",
-        def.loops.len(),
-        if def.loops.len() == 1 { "" } else { "s" },
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    let mut parts = Vec::new();
+    if spatial == 0 {
+        parts.push(format!("{planar} loop{} × 2", plural(planar)));
+    } else {
+        if planar > 0 {
+            parts.push(format!("{planar} planar loop{} × 2", plural(planar)));
+        }
+        parts.push(format!("{spatial} spatial loop{} × 3", plural(spatial)));
+    }
+    parts.push(format!(
+        "{} constraint{}",
         def.constraints.len(),
-        if def.constraints.len() == 1 { "" } else { "s" },
-        if n_eq == 1 { "" } else { "s" },
+        plural(def.constraints.len())
+    ));
+    let detail = format!(
+        "{} = {n_eq} scalar equation{}",
+        parts.join(" + "),
+        plural(n_eq)
     );
     let fix = if n_eq > n_u {
         "declare the missing joint variables in `unknowns`, or remove a redundant equation"
@@ -532,10 +552,7 @@ fn check_equation_count(def: &Definition, model: &crate::lower::Model, errors: &
     if model.equations.len() == n_eq || errors.is_empty() {
         errors.at(
             def.unknowns_span,
-            format!(
-                "{detail} for {n_u} unknown{}; {fix}",
-                if n_u == 1 { "" } else { "s" }
-            ),
+            format!("{detail} for {n_u} unknown{}; {fix}", plural(n_u)),
         );
     }
 }

@@ -481,7 +481,8 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         .iter()
         .any(|w| t.contains(w))
     });
-    let types = types(def, &id, None, if spatial { 3 } else { 2 });
+    let point_dim: usize = if spatial { 3 } else { 2 };
+    let types = types(def, &id, None, point_dim);
     let Idents {
         name,
         coords,
@@ -489,23 +490,79 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         ..
     } = &id;
     let pp = quote!(::kinematics_core::__private);
+    let (nd, nu, np, nf) = (
+        def.drivers.len(),
+        def.unknowns.len(),
+        def.points.len(),
+        def.frames.len(),
+    );
+    let vtype = if spatial {
+        quote!(#pp::Vector3<f64>)
+    } else {
+        quote!(#pp::Vector2<f64>)
+    };
+    let unavailable = quote!(::core::unreachable!("the mechanism definition has errors"));
     quote! {
         #errors
         #types
-        #[allow(unused_variables, clippy::unused_self, dead_code)]
+        #[allow(unused_variables, clippy::unused_self, dead_code, clippy::missing_errors_doc, clippy::missing_panics_doc)]
         impl #name {
+            /// Number of drivers.
+            pub const DRIVERS: usize = #nd;
+            /// Number of unknowns.
+            pub const UNKNOWNS: usize = #nu;
+            /// Number of scalar equations.
+            pub const EQUATIONS: usize = #nu;
+            /// Number of points.
+            pub const POINTS: usize = #np;
+            /// Number of frames.
+            pub const FRAMES: usize = #nf;
             /// Unavailable: the definition has errors.
-            pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> {
-                ::core::unreachable!()
-            }
+            pub fn validate(&self) -> #pp::Result<(), #pp::Error> { #unavailable }
             /// Unavailable: the definition has errors.
-            pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
-                ::core::unreachable!()
-            }
+            pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> { #unavailable }
             /// Unavailable: the definition has errors.
-            pub fn analyze<R, A>(&self, pose: &#coords, rates: R, accelerations: A) -> #pp::Result<#motion, #pp::Error> {
-                ::core::unreachable!()
-            }
+            pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn step(&self, start: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn step_with(&self, start: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>, options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn analyze(&self, pose: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn analyze_with(&self, pose: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>, options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            #[must_use]
+            pub fn residual(&self, pose: &#coords) -> [f64; #nu] { #unavailable }
+            /// Unavailable: the definition has errors.
+            #[must_use]
+            pub fn point_positions(&self, pose: &#coords) -> [#vtype; #np] { #unavailable }
+            /// Unavailable: the definition has errors.
+            #[must_use]
+            pub fn frame_rotations(&self, pose: &#coords) -> [#pp::Matrix3<f64>; #nf] { #unavailable }
+        }
+        #[automatically_derived]
+        #[allow(unused_variables)]
+        impl #pp::Mechanism for #name {
+            type Coords = #coords;
+            type Motion = #motion;
+            const DRIVERS: usize = #nd;
+            const UNKNOWNS: usize = #nu;
+            const EQUATIONS: usize = #nu;
+            const POINTS: usize = #np;
+            const POINT_DIM: usize = #point_dim;
+            const FRAMES: usize = #nf;
+            const COORDINATES: &'static [#pp::Coordinate] = &[];
+            const POINT_NAMES: &'static [&'static str] = &[];
+            const FRAME_NAMES: &'static [&'static str] = &[];
+            const EQUATION_NAMES: &'static [&'static str] = &[];
+            fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> { #unavailable }
+            fn analyze_slices(&self, pose: &#coords, rates: &[f64], accelerations: &[f64], options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            fn step_slices(&self, start: &#coords, rates: &[f64], accelerations: &[f64], options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            fn residual_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
+            fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
+            fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
+            fn frame_rotations_into(&self, pose: &#coords, out: &mut [#pp::Matrix3<f64>]) { #unavailable }
         }
     }
 }

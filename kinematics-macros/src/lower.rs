@@ -87,6 +87,9 @@ pub struct Model {
     pub point_dim: usize,
     pub frames: Vec<ModelFrame>,
     pub kinds: Vec<CoordKind>,
+    /// The number of scalar equations of each loop, in declaration order:
+    /// 2 for a planar loop, 3 for a spatial one, 0 when it failed to lower.
+    pub loop_dims: Vec<usize>,
     /// Whether any 3-D quantity appears (λ = 6 for the mobility count).
     pub spatial: bool,
 }
@@ -201,6 +204,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         points.push(ModelPoint { coords });
     }
     let mut equations = Vec::new();
+    let mut loop_dims = Vec::new();
     for eq in &def.loops {
         let (l, r) = (cx.expr(&eq.lhs), cx.expr(&eq.rhs));
         let sides: Option<(Vec<Id>, Vec<Id>)> = match (l, r) {
@@ -228,6 +232,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
             }
             _ => None,
         };
+        loop_dims.push(sides.as_ref().map_or(0, |(a, _)| a.len()));
         if let Some((a, b)) = sides {
             for (c, axis) in ["x", "y", "z"].iter().enumerate().take(a.len()) {
                 let residual = cx.g.sub(a[c], b[c]);
@@ -272,6 +277,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
     let graph = cx.g;
     let model = Model {
         kinds: Vec::new(),
+        loop_dims,
         drivers: count(def.drivers.len()),
         unknowns: count(def.unknowns.len()),
         equations,

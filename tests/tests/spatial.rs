@@ -498,3 +498,40 @@ fn random_rssr_linkages_against_finite_differences() {
         done += 1;
     }
 }
+
+mechanism! {
+    /// A pan–tilt head with a telescoping arm that follows a target moving
+    /// along a line: one spatial loop, three scalar equations, three
+    /// unknowns (pan ψ about z, tilt θ about the panned x axis, reach s).
+    pub struct PanTilt {
+        params   { d, h }
+        drivers  { y }
+        unknowns { psi, th, s }
+        frames   { arm = rot_z(psi) * rot_x(th); }
+        points   { T = arm * vec3(0.0, s, 0.0); }
+        loops    { arm * vec3(0.0, s, 0.0) == vec3(d, y, h); }
+    }
+}
+
+#[test]
+fn a_spatial_loop_is_three_equations() {
+    // Counted as two before: this model was rejected with "2 scalar
+    // equations for 3 unknowns".
+    let m = PanTilt { d: 0.4, h: 0.3 };
+    let y = 0.5;
+    let pose = m
+        .assemble(&PanTiltCoords {
+            y,
+            psi: -0.5,
+            th: 0.4,
+            s: 0.6,
+        })
+        .expect("assembles");
+    // The closed form: s = |target|, the arm's direction (−sin ψ cos θ,
+    // cos ψ cos θ, sin θ) along the target.
+    let r = (0.4f64 * 0.4 + y * y + 0.3 * 0.3).sqrt();
+    assert!((pose.s - r).abs() < 1e-14);
+    assert!((pose.th - (0.3 / r).asin()).abs() < 1e-14);
+    assert!((pose.psi - (-0.4f64).atan2(y)).abs() < 1e-14);
+    check_motion(&m, &pose, &[0.7], &[-0.2], 1e-6);
+}
