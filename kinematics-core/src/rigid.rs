@@ -149,6 +149,9 @@ pub fn angular_velocity_from_vectors(
     a_dot: &Vector3<f64>,
     b_dot: &Vector3<f64>,
 ) -> Result<Vector3<f64>, Error> {
+    for (name, v) in [("ȧ", a_dot), ("ḃ", b_dot), ("a", a), ("b", b)] {
+        crate::transform::finite("angular_velocity_from_vectors", name, v.as_slice())?;
+    }
     let scale = a.norm() * b.norm();
     // Written so that NaN inputs fail the test.
     let independent = a.cross(b).norm() > 1e-12 * scale;
@@ -237,6 +240,11 @@ pub fn no_spin_angular_velocity(
     b: &Vector3<f64>,
     v_ba: &Vector3<f64>,
 ) -> Result<Vector3<f64>, Error> {
+    crate::transform::finite(
+        "no_spin_angular_velocity",
+        "the relative motion of B and A",
+        v_ba.as_slice(),
+    )?;
     let b2 = b.norm_squared();
     if !(b2 > 0.0 && b2.is_finite()) {
         return Err(Error::InvalidGeometry {

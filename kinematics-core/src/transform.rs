@@ -67,6 +67,7 @@ pub fn rotation_operator(theta: f64) -> Complex<f64> {
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 pub fn rotation_between(a1: Complex<f64>, a2: Complex<f64>) -> Result<Complex<f64>, Error> {
+    finite("rotation_between", "the final vector A₂", &[a2.re, a2.im])?;
     if a1.norm() == 0.0 || !a1.norm().is_finite() {
         return Err(Error::InvalidGeometry {
             what: "rotation_between",
@@ -208,10 +209,25 @@ pub fn rot_about(axis: Axis, theta: f64) -> Matrix3<f64> {
     }
 }
 
+/// Fails with [`Error::InvalidGeometry`] naming `name` in `what` unless
+/// every value is finite.
+pub(crate) fn finite(what: &'static str, name: &str, values: &[f64]) -> Result<(), Error> {
+    match values.iter().find(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(v) => Err(Error::InvalidGeometry {
+            what,
+            detail: format!("{name} holds {v}; every input must be a finite number"),
+        }),
+    }
+}
+
+/// The unit vector along `axis`, scaled by its largest component first so
+/// that the norm neither underflows (1e-200) nor overflows (1e200).
 fn unit_axis(axis: &Vector3<f64>, what: &'static str) -> Result<Unit<Vector3<f64>>, Error> {
-    let n = axis.norm();
-    if n > 0.0 && n.is_finite() {
-        Ok(Unit::new_unchecked(axis / n))
+    let m = axis.amax();
+    if m > 0.0 && axis.iter().all(|v| v.is_finite()) {
+        let v = axis / m;
+        Ok(Unit::new_unchecked(v / v.norm()))
     } else {
         Err(Error::InvalidGeometry {
             what,
@@ -244,6 +260,7 @@ fn unit_axis(axis: &Vector3<f64>, what: &'static str) -> Result<Unit<Vector3<f64
 /// ```
 pub fn rot(axis: &Vector3<f64>, theta: f64) -> Result<Matrix3<f64>, Error> {
     let u = unit_axis(axis, "rot")?;
+    finite("rot", "the angle θ", &[theta])?;
     Ok(rotation_matrix(&u, theta))
 }
 
@@ -297,6 +314,7 @@ pub struct AxisAngle {
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 pub fn axis_angle(r: &Matrix3<f64>) -> Result<AxisAngle, Error> {
+    finite("rotation matrix", "the matrix R", r.as_slice())?;
     check_rotation(r)?;
     let c = ((r.trace() - 1.0) / 2.0).clamp(-1.0, 1.0);
     let w = Vector3::new(
@@ -482,6 +500,8 @@ pub fn transform_point(t: &Matrix4<f64>, p: &Vector3<f64>) -> Vector3<f64> {
 /// ```
 pub fn screw(axis: &Vector3<f64>, theta: f64, delta: f64) -> Result<Matrix4<f64>, Error> {
     let u = unit_axis(axis, "screw")?;
+    finite("screw", "the angle θ", &[theta])?;
+    finite("screw", "the slide Δ", &[delta])?;
     Ok(homogeneous(
         &rotation_matrix(&u, theta),
         &(u.into_inner() * delta),
@@ -511,6 +531,9 @@ pub fn screw_about(
     delta: f64,
 ) -> Result<Matrix4<f64>, Error> {
     let u = unit_axis(axis, "screw_about")?;
+    finite("screw_about", "the point P of the axis", point.as_slice())?;
+    finite("screw_about", "the angle θ", &[theta])?;
+    finite("screw_about", "the slide Δ", &[delta])?;
     let r = rotation_matrix(&u, theta);
     let d = u.into_inner() * delta + point - r * point;
     Ok(homogeneous(&r, &d))
@@ -556,6 +579,8 @@ impl Screw {
     /// # Ok::<(), kinematics_core::Error>(())
     /// ```
     pub fn intersection(&self, plane: Plane) -> Result<Vector3<f64>, Error> {
+        finite("screw axis", "the axis point", self.point.as_slice())?;
+        finite("screw axis", "the axis direction", self.axis.as_slice())?;
         let k = match plane {
             Plane::YZ => 0,
             Plane::XZ => 1,
@@ -591,6 +616,7 @@ impl Screw {
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 pub fn screw_parameters(t: &Matrix4<f64>) -> Result<Screw, Error> {
+    finite("screw matrix", "the transform T", t.as_slice())?;
     let bottom = [t[(3, 0)], t[(3, 1)], t[(3, 2)], t[(3, 3)] - 1.0];
     if bottom.iter().any(|v| v.is_nan() || v.abs() > 1e-9) {
         return Err(Error::InvalidGeometry {

@@ -454,3 +454,109 @@ fn degenerate_inputs_are_errors() {
     assert!(s.intersection(Plane::XZ).is_ok() && s.intersection(Plane::YZ).is_err());
     let _ = FRAC_PI_2;
 }
+
+/// Every toolkit function that returns a `Result` rejects a NaN or an
+/// infinity in any of its inputs with a clear error, and never returns a
+/// value holding one. (Before, `screw_parameters` of a NaN or infinite
+/// translation, and `rot`, `screw`, `screw_about`, `rotation_between`,
+/// `no_spin_angular_velocity` with a NaN argument returned `Ok` with NaN.)
+#[test]
+fn every_result_function_rejects_non_finite_inputs() {
+    use kinematics_core::nalgebra::Complex;
+    use kinematics_core::rigid::{
+        angular_velocity_from_vectors, no_spin_angular_acceleration, no_spin_angular_velocity,
+    };
+    use kinematics_core::transform::{rotation_between, screw_about, Screw};
+    use kinematics_core::Error;
+    fn rejected<T: std::fmt::Debug>(what: &str, r: Result<T, Error>) {
+        match r {
+            Err(Error::InvalidGeometry { detail, .. }) => assert!(!detail.is_empty(), "{what}"),
+            other => panic!("{what}: {other:?}"),
+        }
+    }
+    let axis = Vector3::new(1.0, 2.0, 2.0);
+    let p = Vector3::new(0.0, 6.0, 6.0);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let v = Vector3::new(0.3, bad, 1.0);
+        rejected("rot θ", rot(&axis, bad));
+        rejected("rot axis", rot(&v, 1.0));
+        rejected("screw θ", screw(&axis, bad, 1.0));
+        rejected("screw Δ", screw(&axis, 1.0, bad));
+        rejected("screw axis", screw(&v, 1.0, 1.0));
+        rejected("screw_about point", screw_about(&axis, &v, 1.0, 1.0));
+        rejected("screw_about θ", screw_about(&axis, &p, bad, 1.0));
+        rejected("screw_about Δ", screw_about(&axis, &p, 1.0, bad));
+        rejected("screw_about axis", screw_about(&v, &p, 1.0, 1.0));
+        rejected(
+            "screw_parameters translation",
+            screw_parameters(&translation(&v)),
+        );
+        rejected(
+            "screw_parameters translation(∞, 0, 0)",
+            screw_parameters(&translation(&Vector3::new(bad, 0.0, 0.0))),
+        );
+        let mut r = Matrix3::identity();
+        r[(1, 2)] = bad;
+        rejected("axis_angle", axis_angle(&r));
+        let s = Screw {
+            axis: Vector3::z_axis(),
+            angle: 1.0,
+            translation: 0.0,
+            point: v,
+        };
+        rejected("Screw::intersection", s.intersection(Plane::XY));
+        rejected(
+            "rotation_between A₂",
+            rotation_between(Complex::new(1.0, 0.0), Complex::new(bad, 0.0)),
+        );
+        rejected(
+            "rotation_between A₁",
+            rotation_between(Complex::new(bad, 0.0), Complex::new(1.0, 0.0)),
+        );
+        let b = Vector3::new(0.0, 0.0, 2.0);
+        rejected(
+            "no_spin_angular_velocity v",
+            no_spin_angular_velocity(&b, &v),
+        );
+        rejected(
+            "no_spin_angular_velocity b",
+            no_spin_angular_velocity(&v, &b),
+        );
+        rejected(
+            "no_spin_angular_acceleration a",
+            no_spin_angular_acceleration(&b, &v),
+        );
+        let (a1, b1) = (Vector3::x(), Vector3::y());
+        for (i, args) in [
+            [v, b1, a1, a1],
+            [a1, v, a1, a1],
+            [a1, b1, v, a1],
+            [a1, b1, a1, v],
+        ]
+        .iter()
+        .enumerate()
+        {
+            rejected(
+                &format!("angular_velocity_from_vectors argument {i}"),
+                angular_velocity_from_vectors(&args[0], &args[1], &args[2], &args[3]),
+            );
+        }
+    }
+}
+
+/// An axis is normalised after scaling by its largest component: tiny and
+/// huge axes are valid (their norm underflowed or overflowed before).
+#[test]
+fn axes_of_any_finite_size_are_normalised() {
+    for k in [1e-200, 1e-300, 1e200, 1e300] {
+        let r = rot(&Vector3::new(k, 0.0, 0.0), 0.7).expect("a valid axis");
+        assert!(
+            (r - kinematics_core::transform::rot_x(0.7)).norm() < 1e-15,
+            "{k:e}"
+        );
+        let s = screw(&Vector3::new(0.0, k, k), 0.7, 1.0).expect("a valid axis");
+        let d = s.fixed_view::<3, 1>(0, 3).into_owned();
+        let u = Vector3::new(0.0, 1.0, 1.0) / 2f64.sqrt();
+        assert!((d - u).norm() < 1e-15, "{k:e}");
+    }
+}
