@@ -84,9 +84,11 @@ fn det_sign<M: Mechanism>(m: &M, pose: &M::Coords) -> f64 {
 }
 
 /// Sweeps driver `driver` (index among the drivers) from `from` to `to` in
-/// `steps` equal steps, the other drivers held at their values in `start`,
-/// with the swept driver's rate d' = `rate` and acceleration d'' =
-/// `acceleration` at every sample. `start` gives the first pose's guess.
+/// `steps` equal steps, the other drivers held at their values in `start`
+/// (at rest), with the swept driver's rate d' = `rate` and acceleration
+/// d'' = `acceleration` at every sample. `start` gives the first pose's
+/// guess. A `driver` that is not the index of a driver gives no samples and
+/// a [`Stop`] with [`Error::InvalidOption`].
 ///
 /// ```
 /// use kinematics_core::{mechanism, sweep::sweep, Options};
@@ -117,6 +119,22 @@ pub fn sweep<M: Mechanism>(
     acceleration: f64,
     options: &Options,
 ) -> Sweep<M> {
+    if driver >= M::DRIVERS {
+        return Sweep {
+            variable: "?",
+            samples: Vec::new(),
+            stop: Some(Stop {
+                at: from,
+                reason: Error::InvalidOption {
+                    name: "driver",
+                    #[allow(clippy::cast_precision_loss)]
+                    value: driver as f64,
+                    requirement: "must be the index of a driver, from 0 to DRIVERS − 1 in \
+                                  declaration order",
+                },
+            }),
+        };
+    }
     let variable = M::COORDINATES.get(driver).map_or("?", |c| c.name);
     let steps = steps.max(1);
     #[allow(clippy::cast_precision_loss)]
@@ -134,9 +152,11 @@ pub fn sweep<M: Mechanism>(
 }
 
 /// Simulates the motion at the times `times` with the drivers following a
-/// profile: `profile(t, d, d', d'')` writes every driver's value, rate and
-/// acceleration at time t (see [`constant_speed`] and
-/// [`constant_acceleration`] for the common cases).
+/// profile: `profile(t, d, d', d'')` writes the drivers' values, rates and
+/// accelerations at time t (see [`constant_speed`] and
+/// [`constant_acceleration`] for the common cases, which drive the first
+/// driver). A driver the profile does not write keeps its value in `start`,
+/// at rest (d' = d'' = 0).
 ///
 /// ```
 /// use kinematics_core::{mechanism, sweep::{simulate, constant_acceleration}, Options};
@@ -165,7 +185,9 @@ pub fn simulate<M: Mechanism>(
     mut profile: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
     options: &Options,
 ) -> Sweep<M> {
-    let mut d = vec![0.0; M::DRIVERS];
+    let mut d: Vec<f64> = (0..M::DRIVERS)
+        .map(|j| start.get(j).unwrap_or(0.0))
+        .collect();
     let steps = times.len().saturating_sub(1);
     let value = |k: usize| times.get(k).copied().unwrap_or(f64::NAN);
     if times.is_empty() {
@@ -184,13 +206,14 @@ pub fn simulate<M: Mechanism>(
     run(m, start, "t", steps, value, drive, usize::MAX, 0.0, options)
 }
 
-/// A driver turning at constant speed ω from d₀: d = d₀ + ω t, d' = ω, d'' = 0.
+/// The first driver turning at constant speed ω from d₀: d = d₀ + ω t,
+/// d' = ω, d'' = 0 (the others keep their start values).
 pub fn constant_speed(d0: f64, speed: f64) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
     constant_acceleration(d0, speed, 0.0)
 }
 
-/// A driver with constant acceleration: d = d₀ + ω₀ t + ½ α t²,
-/// d' = ω₀ + α t, d'' = α.
+/// The first driver with constant acceleration: d = d₀ + ω₀ t + ½ α t²,
+/// d' = ω₀ + α t, d'' = α (the others keep their start values).
 pub fn constant_acceleration(
     d0: f64,
     speed: f64,

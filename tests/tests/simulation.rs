@@ -253,3 +253,54 @@ fn batch_reports_every_design() {
         }
     }
 }
+
+#[test]
+fn a_sweep_of_a_driver_that_does_not_exist_is_refused() {
+    // Driver 1 of a one-driver four-bar is the unknown θ3: this swept θ3
+    // and returned 11 samples with φ never moving.
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let s = sweep(&m, &start, 1, 0.0, 1.0, 10, 1.0, 0.0, &Options::DEFAULT);
+    assert!(s.samples.is_empty());
+    match s.stop {
+        Some(stop) => assert!(
+            matches!(stop.reason, Error::InvalidOption { name: "driver", .. }),
+            "{:?}",
+            stop.reason
+        ),
+        None => panic!("no stop"),
+    }
+}
+
+#[test]
+fn a_profile_of_one_driver_holds_the_others_at_their_start_values() {
+    use kinematics_examples::{FiveBar, FiveBarCoords};
+    // A five-bar whose second crank stands at φ2 = 2.0: driving the first
+    // at constant speed must leave φ2 there (it was set to 0, and the
+    // simulation failed with a misleading NotConverged).
+    let (a, b, c, d) = (0.05, 0.12, 0.12, 0.05);
+    let (phi1, phi2, th2, th3) = (1.0, 2.0, 0.9, 2.2);
+    let ex = a * f64::cos(phi1) + b * f64::cos(th2) - c * f64::cos(th3) - d * f64::cos(phi2);
+    let ey = a * f64::sin(phi1) + b * f64::sin(th2) - c * f64::sin(th3) - d * f64::sin(phi2);
+    let m = FiveBar { a, b, c, d, ex, ey };
+    let start = FiveBarCoords {
+        phi1,
+        phi2,
+        th2,
+        th3,
+    };
+    let times: Vec<f64> = (0..=50).map(|k| f64::from(k) * 0.002).collect();
+    let s = simulate(
+        &m,
+        &start,
+        &times,
+        constant_speed(phi1, 1.0),
+        &Options::DEFAULT,
+    );
+    assert!(s.stop.is_none(), "{:?}", s.stop);
+    for sample in &s.samples {
+        assert_eq!(sample.motion.q.phi2, phi2);
+        assert_eq!((sample.motion.qd.phi2, sample.motion.qdd.phi2), (0.0, 0.0));
+        assert!((sample.motion.q.phi1 - (phi1 + sample.at)).abs() < 1e-15);
+    }
+}
