@@ -99,8 +99,8 @@ pub struct ReadmeDoctests;
 #[doc(hidden)]
 pub mod __private {
     pub use crate::solve::{
-        branch_check, characteristic_length, describe, newton, sin_cos_after, Failure, FastNewton,
-        Lu, Names, Next, Scaling,
+        branch_check, characteristic_length, dense_solve, describe, newton, sin_cos_after, Failure,
+        FastNewton, Lu, Names, Next, Scaling,
     };
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};

@@ -531,13 +531,14 @@ pub const ROUND_OFF: f64 = 1e-13;
 /// solution), or the iteration cap is reached; `u` then holds the last
 /// iterate.
 #[inline]
-pub fn newton<const N: usize>(
+pub fn newton<const N: usize, J>(
     u: &mut [f64; N],
     phi: &mut [f64; N],
-    jac: &mut [[f64; N]; N],
+    jac: &mut J,
     scaling: &Scaling<N>,
     options: &Options,
-    mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+    mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    solve: impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
 ) -> Result<usize, Failure> {
     let w = scaling.weights(options);
     eval(u, phi, jac);
@@ -555,7 +556,7 @@ pub fn newton<const N: usize>(
             return Err(not_converged(iterations, phi, scaling, &w));
         }
         iterations += 1;
-        let step = newton_step(phi, jac, scaling, options)?;
+        let step = solve(jac, phi)?;
         let start = *u;
         for i in 0..N {
             u[i] = start[i] - step[i];
@@ -580,29 +581,35 @@ pub fn newton<const N: usize>(
             None => return Ok(iterations),
         }
     }
-    polish(u, phi, jac, scaling, options, &mut eval);
+    polish(u, phi, jac, scaling, options, &mut eval, &solve);
     Ok(iterations)
 }
 
-/// Δu = Φ_u⁻¹ Φ through the scaled matrix: Φ̃_u y = diag(1/S) Φ, Δu =
-/// diag(unit) y.
+/// x = Φ_u⁻¹ `rhs` for a dense Φ_u (`jac`, rows are equations) through the
+/// scaled matrix: Φ̃_u y = diag(1/S) rhs, x = diag(unit) y. The linear
+/// solve for [`newton`] when Φ_u is stored whole; generated code passes its
+/// own, which factors the diagonal blocks of Φ_u and stores only its
+/// nonzero entries.
+///
+/// # Errors
+/// [`Failure::Singular`] when a pivot of Φ̃_u is at or below `threshold`.
 #[inline]
-fn newton_step<const N: usize>(
-    phi: &[f64; N],
+pub fn dense_solve<const N: usize>(
     jac: &[[f64; N]; N],
+    rhs: &[f64; N],
     scaling: &Scaling<N>,
-    options: &Options,
+    threshold: f64,
 ) -> Result<[f64; N], Failure> {
-    let lu = Lu::factor(&scaling.matrix(jac), options.singularity_threshold)?;
-    let mut rhs = *phi;
+    let lu = Lu::factor(&scaling.matrix(jac), threshold)?;
+    let mut b = *rhs;
     for i in 0..N {
-        rhs[i] *= scaling.row[i];
+        b[i] *= scaling.row[i];
     }
-    let mut step = lu.solve(&rhs);
+    let mut x = lu.solve(&b);
     for i in 0..N {
-        step[i] *= scaling.col[i];
+        x[i] *= scaling.col[i];
     }
-    Ok(step)
+    Ok(x)
 }
 
 /// Full Newton steps after convergence, while the residual is above
@@ -614,13 +621,14 @@ fn newton_step<const N: usize>(
 /// linearly, a few more bring the pose as close to the solution as
 /// double precision resolves it.
 #[cold]
-fn polish<const N: usize>(
+fn polish<const N: usize, J>(
     u: &mut [f64; N],
     phi: &mut [f64; N],
-    jac: &mut [[f64; N]; N],
+    jac: &mut J,
     scaling: &Scaling<N>,
     options: &Options,
-    eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+    eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    solve: &impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
 ) {
     let w = scaling.weights(options);
     for _ in 0..options.max_iterations {
@@ -629,7 +637,7 @@ fn polish<const N: usize>(
         if before == 0.0 || weighted <= POLISH * options.tolerance {
             return;
         }
-        let Ok(step) = newton_step(phi, jac, scaling, options) else {
+        let Ok(step) = solve(jac, phi) else {
             return;
         };
         let start = *u;
@@ -812,12 +820,12 @@ impl<const N: usize> Search<'_, N> {
     /// evaluated there). Else halves t from 1 until the Armijo test
     /// passes, `Ok(Some((f, max|w_i Φ_i|)))` at the new u.
     #[cold]
-    fn run(
+    fn run<J>(
         &self,
         u: &mut [f64; N],
         phi: &mut [f64; N],
-        jac: &mut [[f64; N]; N],
-        eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut [[f64; N]; N]),
+        jac: &mut J,
+        eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
     ) -> Result<Option<(f64, f64)>, Failure> {
         let (start, step) = (self.start, self.step);
         let mut tiny = true;
@@ -986,9 +994,17 @@ mod tests {
         eval: impl Fn(&[f64; 2]) -> ([f64; 2], [[f64; 2]; 2]),
     ) -> Result<usize, Failure> {
         let (mut phi, mut jac) = ([0.0; 2], [[0.0; 2]; 2]);
-        newton(u, &mut phi, &mut jac, scaling, options, |u, p, j| {
-            (*p, *j) = eval(u);
-        })
+        newton(
+            u,
+            &mut phi,
+            &mut jac,
+            scaling,
+            options,
+            |u, p, j| {
+                (*p, *j) = eval(u);
+            },
+            |j, r| dense_solve(j, r, scaling, options.singularity_threshold),
+        )
     }
 
     #[test]
@@ -1087,6 +1103,7 @@ mod tests {
                 phi[0] = 1e6 * (u[0] * u[0] - 2.0);
                 jac[0][0] = 2e6 * u[0];
             },
+            |j, r| dense_solve(j, r, &scaling, 1e-10),
         );
         assert!(matches!(it, Ok(n) if n < 10), "{it:?}");
         assert!(
@@ -1115,6 +1132,7 @@ mod tests {
                 phi[0] = u[0].cos() - 0.5;
                 jac[0][0] = -u[0].sin();
             },
+            |j, r| dense_solve(j, r, &scaling, 1e-10),
         );
         match r {
             Ok(_) => assert!(
@@ -1238,6 +1256,7 @@ mod tests {
                 phi[0] = u[0] * u[0] + 1.0;
                 jac[0][0] = 2.0 * u[0];
             },
+            |j, r| dense_solve(j, r, &Scaling::UNIT, 1e-10),
         );
         assert!(matches!(
             r,

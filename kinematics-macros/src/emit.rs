@@ -588,10 +588,15 @@ fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStream {
 /// each diagonal block of the scaled matrix Φ̃_u = diag(1/S) Φ_u diag(unit)
 /// (the local `__scaling`, see `kinematics_core::solve::Scaling`) factored
 /// on its own, then forward substitution over the blocks. The matrix is the
-/// local `jac`; the factors are `__lu_0`, ….
+/// local `jac`, which holds only the structurally nonzero entries of Φ_u,
+/// row by row (so that a large sparse mechanism keeps no N×N array); the
+/// factors are `__lu_0`, ….
 struct BlockSolve {
     blocks: Vec<Block>,
-    nonzero: Vec<Vec<bool>>,
+    /// The index in `jac` of each nonzero entry (r, c).
+    slot: Vec<Vec<Option<usize>>>,
+    /// (r, c) of each entry of `jac`, in order.
+    entries: Vec<(usize, usize)>,
     /// Whether each unknown is a length (its column scale is L, not 1).
     is_length: Vec<bool>,
     nu: usize,
@@ -607,12 +612,41 @@ impl BlockSolve {
                     .collect()
             })
             .collect();
+        let mut entries = Vec::new();
+        let slot = nonzero
+            .iter()
+            .enumerate()
+            .map(|(r, row)| {
+                row.iter()
+                    .enumerate()
+                    .map(|(c, &nz)| {
+                        nz.then(|| {
+                            entries.push((r, c));
+                            entries.len() - 1
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
         BlockSolve {
             blocks: block_triangular(&nonzero),
             nu: jac.len(),
             is_length: is_length.to_vec(),
-            nonzero,
+            slot,
+            entries,
         }
+    }
+
+    /// The number of entries of `jac`.
+    fn nnz(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// The array expression of the nonzero entries of Φ_u, from the full
+    /// matrix of printed entries `full`.
+    fn array(&self, full: &[Vec<TokenStream>]) -> TokenStream {
+        let e = self.entries.iter().map(|&(r, c)| &full[r][c]);
+        quote!([#(#e),*])
     }
 
     fn lu(b: usize) -> Ident {
@@ -622,10 +656,13 @@ impl BlockSolve {
     /// The scaled entry Φ̃_u[r][c] (the column scale only for lengths: an
     /// angle's is 1).
     fn scaled(&self, r: usize, c: usize) -> TokenStream {
+        let Some(k) = self.slot[r][c] else {
+            return quote!(0.0f64);
+        };
         if self.is_length[c] {
-            quote!((jac[#r][#c] * (__scaling.row[#r] * __scaling.col[#c])))
+            quote!((jac[#k] * (__scaling.row[#r] * __scaling.col[#c])))
         } else {
-            quote!((jac[#r][#c] * __scaling.row[#r]))
+            quote!((jac[#k] * __scaling.row[#r]))
         }
     }
 
@@ -703,8 +740,7 @@ impl BlockSolve {
             let entries = block.rows.iter().map(|&r| {
                 let known: Vec<TokenStream> = done
                     .iter()
-                    .filter(|&&c| self.nonzero[r][c])
-                    .map(|&c| quote!(jac[#r][#c] * __x[#c]))
+                    .filter_map(|&c| self.slot[r][c].map(|k| quote!(jac[#k] * __x[#c])))
                     .collect();
                 if known.is_empty() {
                     quote!((__rhs[#r] * __scaling.row[#r]))
@@ -968,28 +1004,30 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
 
     // Φ and Φ_u, for Newton.
     let jac_flat: Vec<Id> = d.jac.iter().flatten().copied().collect();
-    let stage: Vec<Id> = d.phi.iter().chain(&jac_flat).copied().collect();
-    let sched = schedule(g, &[stage]);
+    let sched = schedule(g, std::slice::from_ref(&jac_flat));
     let (pr, lets) = bind(g, &sched, &leaf);
-    let phi_e: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
-    let jac_rows: Vec<_> = d
-        .jac
-        .iter()
-        .map(|row| {
-            let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
-            quote!([#(#r),*])
+    // Φ_u into a row-major slice, nonzero entries only (the caller zeroes
+    // it), with no N×N array of its own.
+    let jac_stores = d.jac.iter().enumerate().flat_map(|(r, row)| {
+        let pr = &pr;
+        row.iter().enumerate().filter_map(move |(c, &i)| {
+            let zero = matches!(g.node(i), Node::Const(b) if f64::from_bits(b) == 0.0);
+            let k = r * nu + c;
+            let e = pr.expr(i);
+            (!zero).then(
+                || quote!(if let ::core::option::Option::Some(o) = out.get_mut(#k) { *o = #e; }),
+            )
         })
-        .collect();
+    });
     let phi_jac_fn = quote! {
         #[doc(hidden)]
         #[inline]
         #allow
-        fn __phi_jac(&self, d: &[f64; #nd], u: &[f64; #nu], phi: &mut [f64; #ne], jac: &mut [[f64; #nu]; #ne]) {
+        fn __jacobian_into(&self, d: &[f64; #nd], u: &[f64; #nu], out: &mut [f64]) {
             let [#(#q_drivers),*] = *d;
             let [#(#q_unknowns),*] = *u;
             #(#lets)*
-            *phi = [#(#phi_e),*];
-            *jac = [#(#jac_rows),*];
+            #(#jac_stores)*
         }
     };
 
@@ -1087,14 +1125,15 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
         }))
         .collect();
     // Output expressions under a given schedule's names.
-    let jac_rows_of = |pr: &Printer<'_>| -> Vec<TokenStream> {
-        d.jac
+    let blocks = BlockSolve::new(g, &d.jac, &scales.is_length);
+    let nnz = blocks.nnz();
+    let jac_rows_of = |pr: &Printer<'_>| -> TokenStream {
+        let full: Vec<Vec<TokenStream>> = d
+            .jac
             .iter()
-            .map(|row| {
-                let r: Vec<_> = row.iter().map(|&i| pr.element(i)).collect();
-                quote!([#(#r),*])
-            })
-            .collect()
+            .map(|row| row.iter().map(|&i| pr.element(i)).collect())
+            .collect();
+        blocks.array(&full)
     };
     let points_of = |pr: &Printer<'_>| -> Vec<TokenStream> {
         (0..np)
@@ -1180,11 +1219,22 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
     let f1_fast = &fast_lets[1];
-    let blocks = BlockSolve::new(g, &d.jac, &scales.is_length);
     let newton_factor = blocks.factor(&pp, &|_| quote!(break false));
     let newton_solve = blocks.solve(&quote!(phi));
     let fail_here = |f: TokenStream| quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*])););
     let analysis_factor = blocks.factor(&pp, &fail_here);
+    // The linear solve of the general Newton solver: Φ_u x = rhs through
+    // the factored blocks, at the last evaluation's `jac`.
+    let solver = {
+        let factor = blocks.factor(&pp, &|f| quote!(return ::core::result::Result::Err(#f);));
+        let solve = blocks.solve(&quote!(*rhs));
+        quote! {
+            |jac: &[f64; #nnz], rhs: &[f64; #nu]| -> ::core::result::Result<[f64; #nu], #pp::Failure> {
+                #factor
+                ::core::result::Result::Ok(#solve)
+            }
+        }
+    };
     let analysis_check = blocks.check(&pp, &fail_here);
     let analysis_factor = quote!(#analysis_factor #analysis_check);
     let scaling = {
@@ -1429,13 +1479,13 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 #a0
                 let mut u = [#(start.#c_unknowns),*];
                 let mut phi = [0.0f64; #ne];
-                let mut jac = [[0.0f64; #nu]; #ne];
+                let mut jac = [0.0f64; #nnz];
                 let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
                     let [#(#q_unknowns),*] = *u;
                     #a1
                     *phi = [#(#aphi),*];
-                    *jac = [#(#ajac_rows),*];
-                });
+                    *jac = #ajac_rows;
+                }, #solver);
                 let [#(#q_unknowns),*] = u;
                 if let ::core::result::Result::Err(f) = solved {
                     return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
@@ -1512,7 +1562,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                     #f1_fast
                     cache = [#(#cached_names),*];
                     let phi = [#(#fphi),*];
-                    let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
+                    let jac: [f64; #nnz] = #fjac_rows;
                     match fast.assess(&phi, &__weights, options) {
                         #pp::Next::Continue => {}
                         #pp::Next::Converged => break true,
@@ -1525,14 +1575,14 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 if !on_path {
                     u = [#(start.#c_unknowns),*];
                     let mut phi = [0.0f64; #ne];
-                    let mut jac = [[0.0f64; #nu]; #ne];
+                    let mut jac = [0.0f64; #nnz];
                     let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
                         let [#(#q_unknowns),*] = *u;
                         #f1
                         *phi = [#(#fphi),*];
-                        *jac = [#(#fjac_rows),*];
+                        *jac = #fjac_rows;
                         cache = [#(#cached_names),*];
-                    });
+                    }, #solver);
                     if let ::core::result::Result::Err(f) = solved {
                         let [#(#q_unknowns),*] = u;
                         return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
@@ -1541,7 +1591,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 let [#(#q_unknowns),*] = u;
                 let [#(#cached_names),*] = cache;
                 #f2
-                let jac: [[f64; #nu]; #ne] = [#(#fjac_rows),*];
+                let jac: [f64; #nnz] = #fjac_rows;
                 #analysis_factor
                 let [#(#qd_unknowns),*] = #fvel_solve;
                 #f3
@@ -1620,7 +1670,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 #( let #all_q = pose.#coord; )*
                 #scaling
                 #lets1
-                let jac: [[f64; #nu]; #ne] = [#(#jac_rows),*];
+                let jac: [f64; #nnz] = #jac_rows;
                 #analysis_factor
                 let [#(#qd_unknowns),*] = #vel_solve;
                 #lets2
@@ -1732,12 +1782,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
             }
 
             fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) {
-                let mut phi = [0.0f64; #ne];
-                let mut jac = [[0.0f64; #nu]; #ne];
-                self.__phi_jac(&[#(pose.#c_drivers),*], &[#(pose.#c_unknowns),*], &mut phi, &mut jac);
-                for (o, v) in out.iter_mut().zip(jac.iter().flatten()) {
-                    *o = *v;
+                for o in out.iter_mut() {
+                    *o = 0.0;
                 }
+                self.__jacobian_into(&[#(pose.#c_drivers),*], &[#(pose.#c_unknowns),*], out);
             }
 
             fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) {
