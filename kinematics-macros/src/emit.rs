@@ -654,12 +654,14 @@ impl BlockSolve {
     }
 
     /// The scaled entry Φ̃_u[r][c] (the column scale only for lengths: an
-    /// angle's is 1).
-    fn scaled(&self, r: usize, c: usize) -> TokenStream {
+    /// angle's is 1), or the entry itself when not `scaled`.
+    fn entry(&self, r: usize, c: usize, scaled: bool) -> TokenStream {
         let Some(k) = self.slot[r][c] else {
             return quote!(0.0f64);
         };
-        if self.is_length[c] {
+        if !scaled {
+            quote!(jac[#k])
+        } else if self.is_length[c] {
             quote!((jac[#k] * (__scaling.row[#r] * __scaling.col[#c])))
         } else {
             quote!((jac[#k] * __scaling.row[#r]))
@@ -668,24 +670,34 @@ impl BlockSolve {
 
     /// Binds the factors of the diagonal blocks; `on_fail(f)` is the
     /// statement run with `f`, the failure (its unknown made global), when
-    /// a pivot of a block is at or below the singularity threshold.
+    /// a pivot of a block is at or below the singularity threshold. With
+    /// `scaled` false (Newton's inline iteration, whose step does not
+    /// depend on the scaling) the blocks of Φ_u itself are factored, and
+    /// only a zero or non-finite pivot fails: the singularity of the
+    /// solution is judged once, at the end, on the scaled matrix.
     fn factor(
         &self,
         pp: &TokenStream,
+        scaled: bool,
         on_fail: &dyn Fn(TokenStream) -> TokenStream,
     ) -> TokenStream {
+        let threshold = if scaled {
+            quote!(options.singularity_threshold)
+        } else {
+            quote!(0.0)
+        };
         let mut code = TokenStream::new();
         for (b, block) in self.blocks.iter().enumerate() {
             let lu = Self::lu(b);
             let n = block.rows.len();
             let rows = block.rows.iter().map(|&r| {
-                let entries = block.cols.iter().map(|&c| self.scaled(r, c));
+                let entries = block.cols.iter().map(|&c| self.entry(r, c, scaled));
                 quote!([#(#entries),*])
             });
             let cols = &block.cols;
             let fail = on_fail(quote!(f.in_block(&[#(#cols),*])));
             code.extend(quote! {
-                let #lu = match #pp::Lu::<#n>::factor(&[#(#rows),*], options.singularity_threshold) {
+                let #lu = match #pp::Lu::<#n>::factor(&[#(#rows),*], #threshold) {
                     ::core::result::Result::Ok(lu) => lu,
                     ::core::result::Result::Err(f) => { #fail }
                 };
@@ -728,10 +740,10 @@ impl BlockSolve {
         code
     }
 
-    /// An expression for x with Φ_u x = `rhs`, after [`BlockSolve::factor`]:
-    /// block by block, Φ̃_bb y = diag(1/S_b)(rhs_b − Φ_u,b,done x_done),
-    /// x_b = diag(unit_b) y.
-    fn solve(&self, rhs: &TokenStream) -> TokenStream {
+    /// An expression for x with Φ_u x = `rhs`, after [`BlockSolve::factor`]
+    /// with the same `scaled`: block by block, Φ̃_bb y = diag(1/S_b)(rhs_b −
+    /// Φ_u,b,done x_done), x_b = diag(unit_b) y (or without the scales).
+    fn solve(&self, rhs: &TokenStream, scaled: bool) -> TokenStream {
         let nu = self.nu;
         let mut done: Vec<usize> = Vec::new();
         let mut steps = TokenStream::new();
@@ -742,8 +754,12 @@ impl BlockSolve {
                     .iter()
                     .filter_map(|&c| self.slot[r][c].map(|k| quote!(jac[#k] * __x[#c])))
                     .collect();
-                if known.is_empty() {
+                if known.is_empty() && !scaled {
+                    quote!(__rhs[#r])
+                } else if known.is_empty() {
                     quote!((__rhs[#r] * __scaling.row[#r]))
+                } else if !scaled {
+                    quote!((__rhs[#r] - (#(#known)+*)))
                 } else {
                     // Parenthesised, as every array element that is an
                     // operation (see `Printer::element`).
@@ -751,7 +767,7 @@ impl BlockSolve {
                 }
             });
             let store = block.cols.iter().enumerate().map(|(slot, &c)| {
-                if self.is_length[c] {
+                if scaled && self.is_length[c] {
                     quote!(__x[#c] = __y[#slot] * __scaling.col[#c];)
                 } else {
                     quote!(__x[#c] = __y[#slot];)
@@ -1219,15 +1235,19 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
     let f1_fast = &fast_lets[1];
-    let newton_factor = blocks.factor(&pp, &|_| quote!(break false));
-    let newton_solve = blocks.solve(&quote!(phi));
+    let newton_factor = blocks.factor(&pp, false, &|_| quote!(break false));
+    let newton_solve = blocks.solve(&quote!(phi), false);
     let fail_here = |f: TokenStream| quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*])););
-    let analysis_factor = blocks.factor(&pp, &fail_here);
+    let analysis_factor = blocks.factor(&pp, true, &fail_here);
     // The linear solve of the general Newton solver: Φ_u x = rhs through
     // the factored blocks, at the last evaluation's `jac`.
     let solver = {
-        let factor = blocks.factor(&pp, &|f| quote!(return ::core::result::Result::Err(#f);));
-        let solve = blocks.solve(&quote!(*rhs));
+        let factor = blocks.factor(
+            &pp,
+            true,
+            &|f| quote!(return ::core::result::Result::Err(#f);),
+        );
+        let solve = blocks.solve(&quote!(*rhs), true);
         quote! {
             |jac: &[f64; #nnz], rhs: &[f64; #nu]| -> ::core::result::Result<[f64; #nu], #pp::Failure> {
                 #factor
@@ -1277,10 +1297,10 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     let jac_rows = jac_rows_of(&pr);
     let vel_e: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
     let acc_e: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
-    let fvel_solve = blocks.solve(&quote!([#(#fvel),*]));
-    let facc_solve = blocks.solve(&quote!([#(#facc),*]));
-    let vel_solve = blocks.solve(&quote!([#(#vel_e),*]));
-    let acc_solve = blocks.solve(&quote!([#(#acc_e),*]));
+    let fvel_solve = blocks.solve(&quote!([#(#fvel),*]), true);
+    let facc_solve = blocks.solve(&quote!([#(#facc),*]), true);
+    let vel_solve = blocks.solve(&quote!([#(#vel_e),*]), true);
+    let acc_solve = blocks.solve(&quote!([#(#acc_e),*]), true);
     let points_e = points_of(&pr);
     let frames_e = frames_of(&pr);
     let frame_names: Vec<String> = def
