@@ -512,3 +512,39 @@ fn non_finite_point_output_names_the_point() {
     let motion = m.analyze(&pose, 1.0, 0.0).expect("finite");
     assert!((motion.point_q().velocity.y - 1.0).abs() < 1e-12);
 }
+
+#[test]
+fn an_overflow_is_reported_as_an_overflow() {
+    // A rate of 1e300 squares to infinity in the convective terms (and ∞ − ∞
+    // to NaN): the message said only "square root of a negative number,
+    // division by zero…"; it must name the overflow.
+    let m = four_bar();
+    let pose = m
+        .assemble(&FourBarCoords {
+            phi: 0.3,
+            th3: 1.0,
+            th4: 1.6,
+        })
+        .expect("assembles");
+    let e = m.analyze(&pose, 1e300, 0.0).expect_err("overflows");
+    assert!(
+        matches!(e, Error::NonFinite { input: Input::Computed, value, .. } if !value.is_finite()),
+        "{e:?}"
+    );
+    let text = e.to_string();
+    assert!(text.contains("overflowed"), "{text}");
+    // A parameter so large that the size of the loop's terms overflows.
+    let huge = FourBar {
+        a: 1e308,
+        b: 1e308,
+        ..four_bar()
+    };
+    let e = huge
+        .assemble(&FourBarCoords {
+            phi: 0.3,
+            th3: 1.0,
+            th4: 1.6,
+        })
+        .expect_err("overflows");
+    assert!(e.to_string().contains("overflowed"), "{e}");
+}
