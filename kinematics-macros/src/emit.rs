@@ -871,13 +871,10 @@ fn driver_frontier(g: &Graph, roots: &[Id], drivers: u32) -> Vec<Id> {
 
 /// A sine or cosine argument that moves with one unknown: the unknown u_k
 /// itself, or u_k plus an expression free of unknowns (an offset angle, a
-/// driver), so that between Newton iterates it changes by exactly u_k's
-/// step.
+/// driver), evaluated before the iteration's other values.
 struct TrigArg {
     /// The argument node.
     arg: Id,
-    /// k, among the unknowns.
-    unknown: usize,
     /// Its sine and cosine nodes, either possibly absent.
     sin: Option<Id>,
     cos: Option<Id>,
@@ -898,7 +895,7 @@ fn unknown_trig(g: &Graph, roots: &[Id], drivers: u32) -> Vec<TrigArg> {
         let Node::Call(f @ (Func::Sin | Func::Cos), a) = g.node(id) else {
             continue;
         };
-        let unknown = match g.node(a) {
+        let moves = match g.node(a) {
             Node::Leaf(_) => unknown_of(a),
             Node::Add(x, y) => match (unknown_of(x), unknown_of(y)) {
                 (Some(k), None) if free(y) => Some(k),
@@ -907,15 +904,14 @@ fn unknown_trig(g: &Graph, roots: &[Id], drivers: u32) -> Vec<TrigArg> {
             },
             _ => None,
         };
-        let Some(unknown) = unknown.filter(|_| is_live) else {
+        if moves.is_none() || !is_live {
             continue;
-        };
+        }
         let at = match out.iter().position(|e| e.arg == a) {
             Some(at) => at,
             None => {
                 out.push(TrigArg {
                     arg: a,
-                    unknown,
                     sin: None,
                     cos: None,
                 });
@@ -1208,30 +1204,34 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     let (fpr, flets) = bind(g, &fsched, &leaf);
     // Newton's common path in `step` carries the sine and cosine of each
     // unknown angle from one iterate to the next (`sin_cos_after`): the
-    // same schedule, with those nodes read from variables.
+    // same schedule, with those nodes read from variables. The step of the
+    // argument is the difference of its evaluated values, so that the
+    // carried values follow the argument as evaluated in floating point
+    // (an offset of 1e20 rad leaves u + γ unchanged by a small step in u).
     let mut given = HashMap::new();
-    let (mut trig_setup, mut trig_eval, mut trig_step) =
-        (TokenStream::new(), TokenStream::new(), TokenStream::new());
+    let (mut trig_setup, mut trig_eval) = (TokenStream::new(), TokenStream::new());
     for (n, t) in unknown_trig(g, &newton_roots, model.drivers)
         .into_iter()
         .enumerate()
     {
-        let (k, qk) = (t.unknown, &q_unknowns[t.unknown]);
         // The argument as an expression of u_k and values bound before the
         // iteration (the part free of unknowns is driver-only or constant).
         let arg = fpr.body(t.arg);
-        let (sv, cv, dv) = (
+        let (sv, cv, av) = (
             format_ident!("__sin_{}", n),
             format_ident!("__cos_{}", n),
-            format_ident!("__step_{}", n),
+            format_ident!("__arg_{}", n),
         );
         given.extend(t.sin.map(|id| (id, sv.clone())));
         given.extend(t.cos.map(|id| (id, cv.clone())));
         trig_setup.extend(quote! {
-            let (mut #sv, mut #cv, mut #dv) = (0.0f64, 0.0f64, ::core::primitive::f64::INFINITY);
+            let (mut #sv, mut #cv, mut #av) = (0.0f64, 0.0f64, ::core::primitive::f64::NAN);
         });
-        trig_eval.extend(quote!((#sv, #cv) = #pp::sin_cos_after(#sv, #cv, #arg, #dv);));
-        trig_step.extend(quote!(#dv = u[#k] - #qk;));
+        trig_eval.extend(quote! {
+            let __x = #arg;
+            (#sv, #cv) = #pp::sin_cos_after(#sv, #cv, __x, __x - #av);
+            #av = __x;
+        });
     }
     let (_, fast_lets) = bind_given(g, &fsched, &leaf, given);
     let f1_fast = &fast_lets[1];
@@ -1590,7 +1590,6 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                     }
                     #newton_factor
                     fast.advance(&mut u, &#newton_solve);
-                    #trig_step
                 };
                 if !on_path {
                     u = [#(start.#c_unknowns),*];
