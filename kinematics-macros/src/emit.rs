@@ -397,10 +397,13 @@ fn types(
             pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
             /// Every frame's orientation and motion, in declaration order.
             pub frames: [::kinematics_core::__private::FrameState; #nf],
-            /// Conditioning of Φ_u: its smallest pivot (of its diagonal
-            /// blocks, when it is block triangular) relative to its largest
-            /// entry, in (0, 1]; near 0 the configuration is nearly singular
-            /// (a dead-centre or toggle position).
+            /// Conditioning of Φ_u: the distance of the scaled Jacobian
+            /// (equations divided by the size of their terms, unknowns by
+            /// their natural units) to the nearest singular matrix, of
+            /// order one at a regular pose and tending to 0 at a
+            /// dead-centre or toggle position; each unknown is within
+            /// tolerance / conditioning of the exact pose. See
+            /// `kinematics_core::MotionState::conditioning`.
             pub conditioning: f64,
         }
 
