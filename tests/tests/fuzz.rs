@@ -319,8 +319,12 @@ fn check_ok<M: Model>(m: &M, motion: &M::Motion, rate: f64, tally: &mut Tally, w
     // Φ̃_u themselves evaluated to the round-off of their terms, which are
     // of order one after scaling even where an entry nearly cancels), and ỹ
     // is within ‖Ã⁻¹‖ (‖δÃ‖ ‖ỹ‖ + ‖δb̃‖) = (…) / conditioning of an
-    // independent solve. The floor 1e-290 is the underflow of the scaled
-    // system (rates some 1e300 times smaller than the mechanism).
+    // independent solve. Likewise the right-hand side b̃ = −Φ_d d' / S is
+    // evaluated to the round-off of its terms, of order |d'| (the driver
+    // angle's unit is 1 rad), even where they cancel to a tiny b̃ (a link
+    // 1e20 long beside one of 0.2). The floor 1e-290 is the underflow of
+    // the scaled system (rates some 1e300 times smaller than the
+    // mechanism).
     let (ju, jd) = m.jacobians(q);
     let (rows, cols) = m.scales();
     let n = M::UNKNOWNS;
@@ -335,7 +339,7 @@ fn check_ok<M: Model>(m: &M, motion: &M::Motion, rate: f64, tally: &mut Tally, w
         .map(|i| (0..n).map(|k| scaled[(i, k)].abs()).sum::<f64>())
         .fold(0.0, f64::max);
     let residual = (&scaled * &y - &b).amax();
-    let terms = norm_a.max(1.0) * y.amax() + b.amax();
+    let terms = norm_a.max(1.0) * y.amax() + b.amax() + rate.abs();
     if !(residual <= 1e-9 * terms + 1e-290) {
         tally.violations.push(format!(
             "{what}: velocity residual {residual:e} against terms {terms:e}"
@@ -343,7 +347,7 @@ fn check_ok<M: Model>(m: &M, motion: &M::Motion, rate: f64, tally: &mut Tally, w
     }
     if let Some(reference) = scaled.clone().lu().solve(&b) {
         let err = (&y - &reference).amax();
-        let bound = (1e-8 * (norm_a.max(1.0) * reference.amax() + b.amax()) + 1e-290)
+        let bound = (1e-8 * (norm_a.max(1.0) * reference.amax() + b.amax() + rate.abs()) + 1e-290)
             / motion.conditioning();
         if !(err <= bound) {
             tally.violations.push(format!(
