@@ -15,7 +15,7 @@
 //! 5. the macro's expression DAG interpreted at run time (`interp.rs`).
 //!
 //! Before timing, every variant's checksum over a full turn is compared with
-//! the hand-written one. `cargo bench -p kinematics-examples --bench steps`
+//! the hand-written one. `cargo bench -p kinematics-bench --bench steps`
 //! prints the table; with `KINEMATICS_BENCH_README=1` it also rewrites the
 //! table in README.md.
 
