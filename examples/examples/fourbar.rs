@@ -94,16 +94,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // A design study: 10 000 random variants of the linkage, assembled at
     // φ = 0 serially and on all cores; some cannot close and are reported.
-    let mut seed = 0x2545_F491_4F6C_DD1D_u64;
-    let mut rand = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        // 53 random bits in [0, 1).
-        #[allow(clippy::cast_precision_loss)]
-        let unit = (seed >> 11) as f64 / (1u64 << 53) as f64;
-        unit
-    };
+    let mut rng = fastrand::Rng::with_seed(0x2545_F491_4F6C_DD1D);
+    let mut rand = move || rng.f64();
     let designs: Vec<FourBar> = (0..10_000)
         .map(|_| FourBar {
             a: 0.02 + 0.04 * rand(),

@@ -4,19 +4,12 @@
 
 use quote::quote;
 
-/// A small seeded generator for the mutation test.
-struct Rng(u64);
+/// The seeded generator of the mutations.
+struct Rng(fastrand::Rng);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     fn below(&mut self, n: usize) -> usize {
-        usize::try_from(self.next() % (n.max(1) as u64)).unwrap_or(0)
+        self.0.usize(..n.max(1))
     }
 }
 
@@ -141,7 +134,7 @@ fn mutate(ts: proc_macro2::TokenStream, rng: &mut Rng) -> proc_macro2::TokenStre
 /// `count` mutants (one to three random edits each) of the base
 /// definitions, reproducible from `seed`.
 pub fn mutants(seed: u64, count: usize) -> Vec<proc_macro2::TokenStream> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng(fastrand::Rng::with_seed(seed));
     let bases = definitions();
     (0..count)
         .map(|case| {

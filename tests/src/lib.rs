@@ -9,27 +9,20 @@
 
 use kinematics_core::{solve::Lu, Coordinates, Mechanism, MotionState, Options, PointState};
 
-/// SplitMix64: a small, seeded, reproducible generator.
-pub struct Rng(u64);
+/// The project's one seeded random generator for tests (`fastrand`'s
+/// wyrand, reproducible from its seed), with the draws the tests need.
+pub struct Rng(fastrand::Rng);
 
 impl Rng {
     /// A generator from a fixed seed.
     #[must_use]
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(fastrand::Rng::with_seed(seed))
     }
 
     /// Uniform in [0, 1).
     pub fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        // 53 random bits into [0, 1); the shift leaves an exact integer.
-        #[allow(clippy::cast_precision_loss)]
-        let v = (z >> 11) as f64;
-        v / (1u64 << 53) as f64
+        self.0.f64()
     }
 
     /// Uniform in [lo, hi).
