@@ -239,6 +239,10 @@ pub trait MotionState: Copy + core::fmt::Debug {
     /// [`Options::singularity_threshold`](crate::Options) refuses poses at or
     /// below a chosen value (`Error::Singular`).
     fn conditioning(&self) -> f64;
+    /// Sign of det Φ_u at this pose, ±1 (1 when there are no unknowns): the
+    /// assembly branch, which changes only through a singular
+    /// configuration (see [`Options::branch`](crate::Options)).
+    fn det_sign(&self) -> f64;
 }
 
 /// A mechanism declared with [`mechanism!`](crate::mechanism).

@@ -44,43 +44,11 @@ pub struct Sweep<M: Mechanism> {
     pub stop: Option<Stop>,
 }
 
-/// Largest |Φ_i| at `pose`.
-fn residual<M: Mechanism>(m: &M, pose: &M::Coords) -> f64 {
-    let mut r = vec![0.0; M::EQUATIONS];
-    m.residual_into(pose, &mut r);
-    r.iter().fold(0.0f64, |a, v| a.max(v.abs()))
-}
-
-/// Sign of det Φ_u at `pose` (0 when singular), by elimination with partial
-/// pivoting.
-fn det_sign<M: Mechanism>(m: &M, pose: &M::Coords) -> f64 {
-    let n = M::UNKNOWNS;
-    let mut a = vec![0.0; n * n];
-    m.jacobian_into(pose, &mut a);
-    let mut sign = 1.0;
-    for k in 0..n {
-        let p = (k..n)
-            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
-            .unwrap_or(k);
-        let pivot = a[p * n + k];
-        if pivot == 0.0 {
-            return 0.0;
-        }
-        if p != k {
-            for c in 0..n {
-                a.swap(k * n + c, p * n + c);
-            }
-            sign = -sign;
-        }
-        sign *= pivot.signum();
-        for i in k + 1..n {
-            let f = a[i * n + k] / pivot;
-            for c in k..n {
-                a[i * n + c] -= f * a[k * n + c];
-            }
-        }
-    }
-    sign
+/// Largest |Φ_i| at `pose`, with `buffer` (one entry per equation) to
+/// evaluate into.
+fn residual<M: Mechanism>(m: &M, pose: &M::Coords, buffer: &mut [f64]) -> f64 {
+    m.residual_into(pose, buffer);
+    buffer.iter().fold(0.0f64, |a, v| a.max(v.abs()))
 }
 
 /// Sweeps driver `driver` (index among the drivers) from `from` to `to` in
@@ -247,6 +215,7 @@ fn run<M: Mechanism>(
     let mut samples: Vec<Sample<M>> = Vec::with_capacity(steps + 1);
     let mut rates = vec![0.0; nd];
     let mut accels = vec![0.0; nd];
+    let mut buffer = vec![0.0; M::EQUATIONS];
     let mut previous: Option<(M::Coords, M::Coords, f64, f64)> = None; // pose, rates, at, det sign
     for k in 0..=steps {
         let at = value(k);
@@ -279,7 +248,7 @@ fn run<M: Mechanism>(
             }
         };
         let pose = *motion.q();
-        let sign = det_sign(m, &pose);
+        let sign = motion.det_sign();
         if let Some((_, _, prev_at, prev_sign)) = &previous {
             if sign * prev_sign < 0.0 {
                 return Sweep {
@@ -299,7 +268,7 @@ fn run<M: Mechanism>(
         samples.push(Sample {
             at,
             motion,
-            residual: residual(m, &pose),
+            residual: residual(m, &pose, &mut buffer),
         });
         previous = Some((pose, *motion.qd(), at, sign));
     }

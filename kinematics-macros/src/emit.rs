@@ -405,6 +405,9 @@ fn types(
             /// tolerance / conditioning of the exact pose. See
             /// `kinematics_core::MotionState::conditioning`.
             pub conditioning: f64,
+            /// Sign of det Φ_u, ±1: the assembly branch (it changes only
+            /// through a singular configuration).
+            pub det_sign: f64,
         }
 
         impl #motion {
@@ -439,6 +442,10 @@ fn types(
             #[inline]
             fn conditioning(&self) -> f64 {
                 self.conditioning
+            }
+            #[inline]
+            fn det_sign(&self) -> f64 {
+                self.det_sign
             }
         }
     }
@@ -710,9 +717,10 @@ impl BlockSolve {
     }
 
     /// After [`BlockSolve::factor`] at a solution: binds `__conditioning`,
-    /// the smallest conditioning of the blocks, running `on_fail(f)` when
-    /// one is at or below the singularity threshold or when the sign of
-    /// det Φ_u is not the branch asked for.
+    /// the smallest conditioning of the blocks, and `__det_sign`, the sign
+    /// of det Φ_u, running `on_fail(f)` when a conditioning is at or below
+    /// the singularity threshold or when the sign is not the branch asked
+    /// for.
     fn check(&self, pp: &TokenStream, on_fail: &dyn Fn(TokenStream) -> TokenStream) -> TokenStream {
         let mut code = quote!(let mut __conditioning = 1.0f64;);
         let mut signs = Vec::new();
@@ -732,14 +740,17 @@ impl BlockSolve {
             });
             signs.push(quote!(#lu.det_sign()));
         }
-        if let Some((first, rest)) = signs.split_first() {
-            let fail = on_fail(quote!(f));
-            code.extend(quote! {
-                if let ::core::result::Result::Err(f) = #pp::branch_check(#first #(* #rest)*, options) {
-                    #fail
-                }
-            });
-        }
+        let fail = on_fail(quote!(f));
+        let sign = match signs.split_first() {
+            Some((first, rest)) => quote!(#first #(* #rest)*),
+            None => quote!(1.0f64),
+        };
+        code.extend(quote! {
+            let __det_sign: f64 = #sign;
+            if let ::core::result::Result::Err(f) = #pp::branch_check(__det_sign, options) {
+                #fail
+            }
+        });
         code
     }
 
@@ -1515,7 +1526,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 }
                 // The singularity and the branch are judged at the solution.
                 #analysis_factor
-                let _ = __conditioning;
+                let _ = (__conditioning, __det_sign);
                 ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
             }
 
@@ -1627,6 +1638,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                     points: [#(#fpoints),*],
                     frames: [#(#fframes),*],
                     conditioning: __conditioning,
+                    det_sign: __det_sign,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(
@@ -1706,6 +1718,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                     points: [#(#points_e),*],
                     frames: [#(#frames_e),*],
                     conditioning: __conditioning,
+                    det_sign: __det_sign,
                 };
                 if !(#output_sum).is_finite() {
                     #pp::finite_outputs(

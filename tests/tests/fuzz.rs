@@ -345,6 +345,15 @@ fn check_ok<M: Model>(m: &M, motion: &M::Motion, rate: f64, tally: &mut Tally, w
             "{what}: velocity residual {residual:e} against terms {terms:e}"
         ));
     }
+    // The reported branch is the sign of the independent det Φ_u (where
+    // the pose is not so near a toggle that round-off could flip it).
+    let det = ju.clone().lu().determinant();
+    if motion.conditioning() > 1e-6 && det.signum() != motion.det_sign() {
+        tally.violations.push(format!(
+            "{what}: det Φ_u = {det:e} but det_sign {}",
+            motion.det_sign()
+        ));
+    }
     if let Some(reference) = scaled.clone().lu().solve(&b) {
         let err = (&y - &reference).amax();
         let bound = (1e-8 * (norm_a.max(1.0) * reference.amax() + b.amax() + rate.abs()) + 1e-290)
