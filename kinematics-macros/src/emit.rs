@@ -741,8 +741,17 @@ impl BlockSolve {
             signs.push(quote!(#lu.det_sign()));
         }
         let fail = on_fail(quote!(f));
+        // det Φ_u = sign(row order) sign(column order) Π det(block): the
+        // blocks list the rows and columns in a permuted order.
+        let rows: Vec<usize> = self.blocks.iter().flat_map(|b| b.rows.clone()).collect();
+        let cols: Vec<usize> = self.blocks.iter().flat_map(|b| b.cols.clone()).collect();
+        let permutation = if parity(&rows) == parity(&cols) {
+            quote!(1.0f64)
+        } else {
+            quote!((-1.0f64))
+        };
         let sign = match signs.split_first() {
-            Some((first, rest)) => quote!(#first #(* #rest)*),
+            Some((first, rest)) => quote!(#permutation * #first #(* #rest)*),
             None => quote!(1.0f64),
         };
         code.extend(quote! {
@@ -800,6 +809,26 @@ impl BlockSolve {
             __x
         })
     }
+}
+
+/// Whether the permutation `p` (of 0..n) is odd.
+fn parity(p: &[usize]) -> bool {
+    let mut seen = vec![false; p.len()];
+    let mut odd = false;
+    for start in 0..p.len() {
+        let mut k = start;
+        let mut length = 0;
+        while !seen[k] {
+            seen[k] = true;
+            k = p[k];
+            length += 1;
+        }
+        // A cycle of length m is m − 1 transpositions.
+        if length > 0 && length % 2 == 0 {
+            odd = !odd;
+        }
+    }
+    odd
 }
 
 /// The binding of `__scaling` (`kinematics_core::solve::Scaling`) from the

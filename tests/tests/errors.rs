@@ -548,3 +548,36 @@ fn an_overflow_is_reported_as_an_overflow() {
         .expect_err("overflows");
     assert!(e.to_string().contains("overflowed"), "{e}");
 }
+
+#[test]
+fn the_branch_is_the_sign_of_the_whole_determinant_when_blocks_are_permuted() {
+    use kinematics_core::{Branch, MotionState};
+    // Slider-crank: Φ_u = [[−b sin θ, −1], [b cos θ, 0]], det Φ_u = b cos θ.
+    // Its block form solves the y equation for θ first, then x: the rows
+    // are permuted, and the product of the blocks' determinants alone has
+    // the opposite sign.
+    let m = SliderCrank {
+        a: 0.1,
+        b: 0.25,
+        e: 0.02,
+    };
+    let start = SliderCrankCoords {
+        phi: 0.7,
+        th: -0.2,
+        x: 0.3,
+    };
+    let wants = |branch| Options {
+        branch,
+        ..Options::DEFAULT
+    };
+    let q = m
+        .assemble_with(&start, &wants(Branch::Positive))
+        .expect("rod pointing forward: cos θ > 0");
+    assert!(q.th.cos() > 0.0);
+    let s = m.analyze(&q, 1.0, 0.0).expect("analysis");
+    assert_eq!(s.det_sign(), 1.0);
+    assert!(matches!(
+        m.assemble_with(&start, &wants(Branch::Negative)),
+        Err(Error::WrongBranch { .. })
+    ));
+}
