@@ -745,13 +745,10 @@ impl BlockSolve {
         // blocks list the rows and columns in a permuted order.
         let rows: Vec<usize> = self.blocks.iter().flat_map(|b| b.rows.clone()).collect();
         let cols: Vec<usize> = self.blocks.iter().flat_map(|b| b.cols.clone()).collect();
-        let permutation = if parity(&rows) == parity(&cols) {
-            quote!(1.0f64)
-        } else {
-            quote!((-1.0f64))
-        };
+        let odd = parity(&rows) != parity(&cols);
         let sign = match signs.split_first() {
-            Some((first, rest)) => quote!(#permutation * #first #(* #rest)*),
+            Some((first, rest)) if odd => quote!(-(#first #(* #rest)*)),
+            Some((first, rest)) => quote!(#first #(* #rest)*),
             None => quote!(1.0f64),
         };
         code.extend(quote! {
