@@ -30,7 +30,7 @@ pub fn block_triangular(nonzero: &[Vec<bool>]) -> Vec<Block> {
         .iter()
         .map(|row| (0..n).filter(|&j| row.get(j) == Some(&true)).collect())
         .collect();
-    let matching = crate::check::maximum_matching(&involves, n);
+    let matching = maximum_matching(&involves, n);
     let Some(matched) = matching.iter().copied().collect::<Option<Vec<usize>>>() else {
         return vec![Block {
             rows: (0..n).collect(),
@@ -117,9 +117,60 @@ fn strongly_connected(edges: &[Vec<usize>]) -> Vec<Vec<usize>> {
     s.out
 }
 
+/// Maximum bipartite matching (augmenting paths): for each equation, the
+/// unknown it is paired with.
+pub fn maximum_matching(involves: &[Vec<usize>], unknowns: usize) -> Vec<Option<usize>> {
+    fn augment(
+        i: usize,
+        involves: &[Vec<usize>],
+        owner: &mut [Option<usize>],
+        seen: &mut [bool],
+    ) -> bool {
+        for &k in &involves[i] {
+            if seen[k] {
+                continue;
+            }
+            seen[k] = true;
+            let free = match owner[k] {
+                None => true,
+                Some(o) => augment(o, involves, owner, seen),
+            };
+            if free {
+                owner[k] = Some(i);
+                return true;
+            }
+        }
+        false
+    }
+    let mut owner: Vec<Option<usize>> = vec![None; unknowns];
+    for i in 0..involves.len() {
+        let mut seen = vec![false; unknowns];
+        augment(i, involves, &mut owner, &mut seen);
+    }
+    let mut matching = vec![None; involves.len()];
+    for (k, o) in owner.iter().enumerate() {
+        if let Some(i) = o {
+            matching[*i] = Some(k);
+        }
+    }
+    matching
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn matching_finds_augmenting_paths() {
+        // e0: {u0, u1}, e1: {u0}: e0 must give u0 up to e1.
+        assert_eq!(
+            maximum_matching(&[vec![0, 1], vec![0]], 2),
+            vec![Some(1), Some(0)]
+        );
+        // e0: {u0}, e1: {u0}, e2: {u1, u2}: only two can be matched.
+        let m = maximum_matching(&[vec![0], vec![0], vec![1, 2]], 3);
+        assert_eq!(m.iter().filter(|x| x.is_some()).count(), 2);
+    }
 
     fn pattern(rows: &[&[usize]], n: usize) -> Vec<Vec<bool>> {
         rows.iter()

@@ -61,23 +61,6 @@ pub fn schedule(g: &Graph, stages: &[Vec<Id>]) -> Schedule {
     }
 }
 
-/// Operation counts of a set of outputs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct OpCount {
-    /// Operations if every output were written as an expression tree.
-    pub tree: u64,
-    /// Operations after sharing (each distinct node evaluated once).
-    pub shared: usize,
-}
-
-/// Counts operations of `roots` before and after elimination.
-pub fn op_count(g: &Graph, roots: &[Id]) -> OpCount {
-    OpCount {
-        tree: g.tree_operations(roots),
-        shared: g.dag_operations(roots),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,7 +2,7 @@
 
 use proc_macro2::TokenStream;
 
-use crate::{check, cse, emit, kinematics, lower, parse, scale};
+use crate::{check, emit, ir, kinematics, lower, names, parse, scale, validate};
 
 /// The whole expansion: code for a valid definition, or `compile_error!`s
 /// spanned on the offending tokens (with stub types, so uses of the
@@ -12,12 +12,12 @@ pub fn expand(input: TokenStream) -> TokenStream {
         Ok(def) => def,
         Err(e) => return e.into_compile_error(),
     };
-    let mut errors = check::Errors::default();
+    let mut errors = names::Errors::default();
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
     check::check_mobility(&def, model.spatial, &mut errors);
     if errors.is_empty() {
-        check::check_model(&def, &model, &mut errors);
+        validate::validate(&def, &model, &mut errors);
     }
     if let Err(e) = errors.finish() {
         return emit::fallback(&def, e.into_compile_error());
@@ -31,12 +31,12 @@ pub fn expand(input: TokenStream) -> TokenStream {
 /// `None` if it has errors.
 // Used by the unit tests and the benchmarks.
 #[cfg_attr(not(test), allow(dead_code))]
-pub fn op_counts(input: TokenStream) -> Option<[(&'static str, cse::OpCount); 2]> {
+pub fn op_counts(input: TokenStream) -> Option<[(&'static str, ir::OpCount); 2]> {
     let def: parse::Definition = syn::parse2(input).ok()?;
-    let mut errors = check::Errors::default();
+    let mut errors = names::Errors::default();
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
     errors.finish().ok()?;
     let derived = kinematics::derive(&mut model);
-    Some(emit::operation_counts(&model, &derived))
+    Some(kinematics::operation_counts(&model, &derived))
 }

@@ -160,14 +160,6 @@ impl Graph {
         id
     }
 
-    /// Adds a node after applying the simplification rules.
-    pub fn add(&mut self, node: Node) -> Id {
-        if self.raw {
-            return self.intern(node);
-        }
-        crate::simplify::rewrite(self, node)
-    }
-
     /// The constant `value` (finite: callers fold only finite results).
     pub fn constant(&mut self, value: f64) -> Id {
         // Normalise -0.0 to 0.0 so that both hash to one node.
@@ -186,47 +178,6 @@ impl Graph {
     /// A leaf symbol.
     pub fn leaf(&mut self, leaf: Leaf) -> Id {
         self.intern(Node::Leaf(leaf))
-    }
-
-    /// a + b
-    pub fn sum(&mut self, a: Id, b: Id) -> Id {
-        self.add(Node::Add(a, b))
-    }
-
-    /// a − b
-    pub fn sub(&mut self, a: Id, b: Id) -> Id {
-        let nb = self.neg(b);
-        self.sum(a, nb)
-    }
-
-    /// a · b
-    pub fn mul(&mut self, a: Id, b: Id) -> Id {
-        self.add(Node::Mul(a, b))
-    }
-
-    /// a / b
-    pub fn div(&mut self, a: Id, b: Id) -> Id {
-        self.add(Node::Div(a, b))
-    }
-
-    /// −a
-    pub fn neg(&mut self, a: Id) -> Id {
-        self.add(Node::Neg(a))
-    }
-
-    /// aⁿ for an integer n.
-    pub fn powi(&mut self, a: Id, n: i32) -> Id {
-        self.add(Node::Powi(a, n))
-    }
-
-    /// f(a) for an elementary function f.
-    pub fn call(&mut self, f: Func, a: Id) -> Id {
-        self.add(Node::Call(f, a))
-    }
-
-    /// atan2(y, x)
-    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
-        self.add(Node::Atan2(y, x))
     }
 
     /// Every node reachable from `roots`, as a mask over the arena.
@@ -300,6 +251,23 @@ impl Graph {
             .iter()
             .enumerate()
             .any(|(i, n)| live[i] && matches!(n, Node::Leaf(l) if pred(*l)))
+    }
+}
+
+/// Operation counts of a set of outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OpCount {
+    /// Operations if every output were written as an expression tree.
+    pub tree: u64,
+    /// Operations after sharing (each distinct node evaluated once).
+    pub shared: usize,
+}
+
+/// Counts operations of `roots` before and after elimination.
+pub fn op_count(g: &Graph, roots: &[Id]) -> OpCount {
+    OpCount {
+        tree: g.tree_operations(roots),
+        shared: g.dag_operations(roots),
     }
 }
 

@@ -9,7 +9,7 @@
 //! * points r(q): v = r_q q' and a = r_q q'' + (r_q q')_q q'.
 
 use crate::diff::{partial, time_derivative, time_derivative_by_partials, Accelerating, Memo};
-use crate::ir::{Id, Leaf};
+use crate::ir::{op_count, Id, Leaf, OpCount};
 use crate::lower::Model;
 
 /// Every expression the generated code evaluates.
@@ -62,7 +62,7 @@ pub fn derive(model: &mut Model) -> Derived {
     let mut memo = Memo::new();
     let by_partials = derive_with(model, Method::Partials, &mut memo);
     let forward = derive_with(model, Method::Forward, &mut memo);
-    let cost = |d: &Derived| crate::emit::operation_counts(model, d)[1].1.shared;
+    let cost = |d: &Derived| operation_counts(model, d)[1].1.shared;
     if cost(&forward) < cost(&by_partials) {
         forward
     } else {
@@ -167,4 +167,27 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
         acc,
         frames,
     }
+}
+
+/// Operation counts, before and after common-subexpression elimination, of
+/// the Newton step (Φ and Φ_u) and of the analysis (Φ_u, both right-hand
+/// sides, and every point's position, velocity and acceleration).
+pub fn operation_counts(model: &Model, d: &Derived) -> [(&'static str, OpCount); 2] {
+    let g = &model.graph;
+    let jac: Vec<Id> = d.jac.iter().flatten().copied().collect();
+    let newton: Vec<Id> = d.phi.iter().chain(&jac).copied().collect();
+    let analysis: Vec<Id> = jac
+        .iter()
+        .chain(&d.vel_rhs)
+        .chain(&d.acc_rhs)
+        .chain(d.pos.iter().flatten())
+        .chain(d.vel.iter().flatten())
+        .chain(d.acc.iter().flatten())
+        .chain(d.frames.iter().flat_map(|f| f.omega.iter().chain(&f.alpha)))
+        .copied()
+        .collect();
+    [
+        ("residual and Jacobian", op_count(g, &newton)),
+        ("velocity, acceleration and points", op_count(g, &analysis)),
+    ]
 }

@@ -31,9 +31,11 @@ mod expand;
 mod ir;
 mod kinematics;
 mod lower;
+mod names;
 mod parse;
 mod scale;
 mod simplify;
+mod validate;
 
 /// Declares a mechanism by its vector loop-closure equations; see the
 /// `kinematics-core` crate documentation for the language and the generated

@@ -14,8 +14,8 @@ use proc_macro2::Span;
 use syn::spanned::Spanned;
 use syn::{BinOp, Expr, Lit, UnOp};
 
-use crate::check::{Binding, Errors, Names};
 use crate::ir::{Func, Graph, Id, Leaf, Node};
+use crate::names::{function_names, Binding, Errors, Names, FUNCTIONS};
 use crate::parse::Definition;
 
 type Mat = [[Id; 3]; 3];
@@ -313,50 +313,6 @@ fn coordinate_kinds(model: &Model) -> Vec<CoordKind> {
         }
     }
     kinds
-}
-
-/// The built-in functions: name, number of arguments, usage.
-const FUNCTIONS: &[(&str, usize, &str)] = &[
-    ("sin", 1, "sin(x)"),
-    ("cos", 1, "cos(x)"),
-    ("tan", 1, "tan(x)"),
-    ("asin", 1, "asin(x)"),
-    ("acos", 1, "acos(x)"),
-    ("sqrt", 1, "sqrt(x)"),
-    ("exp", 1, "exp(x)"),
-    ("ln", 1, "ln(x)"),
-    ("atan2", 2, "atan2(y, x)"),
-    ("powi", 2, "powi(x, n)"),
-    ("polar", 2, "polar(length, angle)"),
-    ("vec2", 2, "vec2(x, y)"),
-    ("vec3", 3, "vec3(x, y, z)"),
-    ("dot", 2, "dot(u, v)"),
-    ("cross", 2, "cross(u, v)"),
-    ("norm", 1, "norm(v)"),
-    ("rot_x", 1, "rot_x(angle)"),
-    ("rot_y", 1, "rot_y(angle)"),
-    ("rot_z", 1, "rot_z(angle)"),
-    ("rot", 2, "rot(axis, angle)"),
-    ("translation", 1, "translation(vec3(x, y, z))"),
-    ("t1", 4, "t1(a, b, c, angle_x)"),
-    ("t2", 4, "t2(a, b, c, angle_y)"),
-    ("t3", 4, "t3(a, b, c, angle_z)"),
-    ("t4", 5, "t4(a, b, c, angle_x, lead)"),
-    ("t5", 5, "t5(a, b, c, angle_y, lead)"),
-    ("t6", 5, "t6(a, b, c, angle_z, lead)"),
-    ("t7", 3, "t7(a, b, c)"),
-    ("screw", 3, "screw(axis, angle, slide)"),
-    ("screw_about", 4, "screw_about(axis, point, angle, slide)"),
-    (
-        "spherical",
-        4,
-        "spherical(offset, angle_z, angle_x, angle_z2)",
-    ),
-];
-
-/// The names of the built-in functions, for "did you mean" hints.
-pub fn function_names() -> impl Iterator<Item = &'static str> {
-    FUNCTIONS.iter().map(|(n, _, _)| *n)
 }
 
 struct Lowerer<'a> {
@@ -758,7 +714,7 @@ impl Lowerer<'_> {
         let name = fname.to_string();
         let span = fname.span();
         let Some(&(_, arity, usage)) = FUNCTIONS.iter().find(|(n, _, _)| *n == name) else {
-            let hint = crate::check::suggest_function(&name)
+            let hint = crate::names::suggest_function(&name)
                 .map(|s| format!("; did you mean `{s}`?"))
                 .unwrap_or_default();
             let all: Vec<&str> = function_names().collect();

@@ -9,6 +9,60 @@
 
 use crate::ir::{Func, Graph, Id, Node};
 
+/// The constructors of the expression store, each applying the rewrites of
+/// [`rewrite`] (unless the graph is `raw`), so that every node is built
+/// simplified.
+impl Graph {
+    /// Adds a node after applying the simplification rules.
+    pub fn add(&mut self, node: Node) -> Id {
+        if self.raw {
+            return self.intern(node);
+        }
+        rewrite(self, node)
+    }
+
+    /// a + b
+    pub fn sum(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Add(a, b))
+    }
+
+    /// a − b
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        let nb = self.neg(b);
+        self.sum(a, nb)
+    }
+
+    /// a · b
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Mul(a, b))
+    }
+
+    /// a / b
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        self.add(Node::Div(a, b))
+    }
+
+    /// −a
+    pub fn neg(&mut self, a: Id) -> Id {
+        self.add(Node::Neg(a))
+    }
+
+    /// aⁿ for an integer n.
+    pub fn powi(&mut self, a: Id, n: i32) -> Id {
+        self.add(Node::Powi(a, n))
+    }
+
+    /// f(a) for an elementary function f.
+    pub fn call(&mut self, f: Func, a: Id) -> Id {
+        self.add(Node::Call(f, a))
+    }
+
+    /// atan2(y, x)
+    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
+        self.add(Node::Atan2(y, x))
+    }
+}
+
 /// Builds `node` in `g`, simplified.
 pub fn rewrite(g: &mut Graph, node: Node) -> Id {
     match node {

@@ -48,7 +48,7 @@ impl Interp {
     /// If the definition has errors.
     pub fn new(tokens: proc_macro2::TokenStream, params: Vec<f64>) -> Self {
         let def: parse::Definition = syn::parse2(tokens).expect("a valid definition");
-        let mut errors = check::Errors::default();
+        let mut errors = crate::names::Errors::default();
         let names = check::check(&def, &mut errors);
         let mut model = lower::lower(&def, &names, &mut errors);
         assert!(errors.finish().is_ok(), "definition has errors");

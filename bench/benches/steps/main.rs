@@ -39,7 +39,7 @@ mod cse;
 #[path = "../../../kinematics-macros/src/diff.rs"]
 mod diff;
 #[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/emit.rs"]
+#[path = "../../../kinematics-macros/src/emit/mod.rs"]
 mod emit;
 #[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/expand.rs"]
@@ -54,6 +54,9 @@ mod kinematics;
 #[path = "../../../kinematics-macros/src/lower.rs"]
 mod lower;
 #[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/names.rs"]
+mod names;
+#[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/parse.rs"]
 mod parse;
 #[allow(dead_code, unused_imports)]
@@ -62,6 +65,9 @@ mod scale;
 #[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/simplify.rs"]
 mod simplify;
+#[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/validate.rs"]
+mod validate;
 
 mod generic;
 mod hand;

@@ -1,0 +1,111 @@
+//! `analyze` and `analyze_with`: velocities and accelerations at an
+//! assembled pose, Φ_u u' = −Φ_d d' and Φ_u u'' = −Φ_d d'' − γ, then every
+//! point's and frame's motion.
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use super::print::bind;
+use super::{guards, Ctx};
+use crate::cse::schedule;
+
+/// The analysis methods.
+pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
+    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (nd, nnz) = (cx.nd, cx.blocks.nnz());
+    let id = &cx.id;
+    let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
+    let (q, qd, qdd) = (&id.q, &id.qd, &id.qdd);
+    let (qd_drivers, qd_unknowns) = qd.split_at(nd);
+    let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
+    let leaf = cx.leaf();
+    let sched = schedule(g, &cx.analysis_stages());
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let (velocity, acceleration, points) = (&lets[0], &lets[1], &lets[2]);
+    let jac = cx.jac_array(&pr);
+    let vel_rhs: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
+    let acc_rhs: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
+    let vel_solve = cx.blocks.solve(&quote!([#(#vel_rhs),*]), true);
+    let acc_solve = cx.blocks.solve(&quote!([#(#acc_rhs),*]), true);
+    let point_states = cx.points_of(&pr);
+    let frame_states = cx.frames_of(&pr);
+    let inputs = guards::inputs(cx, "pose", true);
+    let check_rates = guards::solved_rates(cx);
+    let check_outputs = guards::outputs(cx);
+    let scaling = cx.scaling();
+    let at_solution = cx.factor_at_solution();
+    quote! {
+        /// Velocities and accelerations at an assembled `pose`, for driver
+        /// rates d' and accelerations d'' (a bare `f64` for one driver,
+        /// else an array in declaration order). Solves
+        /// Φ_u u' = −Φ_d d' and Φ_u u'' = −Φ_d d'' − γ, γ = (Φ_q q')_q q',
+        /// then each point's v = r_q q' and a = r_q q'' + (r_q q')_q q'.
+        ///
+        /// # Errors
+        /// Non-finite inputs or results, or a singular Jacobian (a
+        /// dead-centre or toggle position).
+        pub fn analyze(
+            &self,
+            pose: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            self.__analyze(pose, rates, accelerations, &#pp::Options::DEFAULT)
+        }
+
+        /// [`Self::analyze`] with explicit solver options.
+        ///
+        /// # Errors
+        /// As [`Self::analyze`], and invalid options.
+        pub fn analyze_with(
+            &self,
+            pose: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            self.__analyze(pose, rates, accelerations, options)
+        }
+
+        /// The body of [`Self::analyze`] and [`Self::analyze_with`]: inlined
+        /// into each, so that with the default options their checks fold
+        /// away at compile time.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        fn __analyze(
+            &self,
+            pose: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            options.validate()?;
+            self.validate()?;
+            let [#(#qd_drivers),*] = rates.into_array();
+            let [#(#qdd_drivers),*] = accelerations.into_array();
+            #inputs
+            #( let #q = pose.#coord; )*
+            #scaling
+            #velocity
+            let jac: [f64; #nnz] = #jac;
+            #at_solution
+            let [#(#qd_unknowns),*] = #vel_solve;
+            #acceleration
+            let [#(#qdd_unknowns),*] = #acc_solve;
+            #check_rates
+            #points
+            let motion = #motion {
+                q: *pose,
+                qd: #coords { #( #coord: #qd ),* },
+                qdd: #coords { #( #coord: #qdd ),* },
+                points: [#(#point_states),*],
+                frames: [#(#frame_states),*],
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+            };
+            #check_outputs
+            ::core::result::Result::Ok(motion)
+        }
+    }
+}

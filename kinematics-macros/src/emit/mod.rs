@@ -1,0 +1,311 @@
+//! Emission: straight-line Rust for the scheduled expressions, and the
+//! generated types and impls, one file per generated item:
+//!
+//! * `types`: the parameters struct, the coordinates, the motion;
+//! * `assemble`: `assemble`, `assemble_with`;
+//! * `step`: `step`, `step_with` and their inlined body;
+//! * `analyze`: `analyze`, `analyze_with` and their inlined body;
+//! * `evaluate`: `residual`, `point_positions`, `frame_rotations` and the
+//!   helpers behind the `Mechanism` impl;
+//! * `mechanism_impl`: the `Mechanism` impl;
+//! * `fallback`: the types and stubs emitted beside a definition's errors;
+//!
+//! and the pieces they share: `print` (expressions and `let`s), `solve`
+//! (block solves, checks at a solution, scaling), `newton` (what the
+//! iteration hoists and carries), `guards` (input and output checks).
+//!
+//! The generated code reaches the runtime only through absolute paths
+//! (`::kinematics_core::__private::…` and `::core::…`).
+
+mod analyze;
+mod assemble;
+mod evaluate;
+mod fallback;
+mod guards;
+mod mechanism_impl;
+mod newton;
+mod print;
+mod solve;
+mod step;
+mod types;
+
+pub use fallback::fallback;
+
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::ext::IdentExt;
+
+use crate::ir::{Graph, Id, Leaf};
+use crate::kinematics::{operation_counts, Derived};
+use crate::lower::Model;
+use crate::parse::Definition;
+use crate::scale::Scales;
+use print::Printer;
+use solve::BlockSolve;
+use types::{types, Idents};
+
+/// Everything the emitters of the generated items share.
+struct Ctx<'a> {
+    def: &'a Definition,
+    model: &'a Model,
+    d: &'a Derived,
+    scales: &'a Scales,
+    id: Idents,
+    /// `::kinematics_core::__private`.
+    pp: TokenStream,
+    /// The lints straight-line code may trip by construction: long literals
+    /// of exact constants, many similar temporaries, long bodies, and
+    /// coordinates a given function does not need.
+    allow: TokenStream,
+    nd: usize,
+    nu: usize,
+    ne: usize,
+    np: usize,
+    nf: usize,
+    blocks: BlockSolve,
+}
+
+impl<'a> Ctx<'a> {
+    fn new(def: &'a Definition, model: &'a Model, d: &'a Derived, scales: &'a Scales) -> Self {
+        Ctx {
+            def,
+            model,
+            d,
+            scales,
+            id: Idents::new(def),
+            pp: quote!(::kinematics_core::__private),
+            allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
+            nd: model.drivers as usize,
+            nu: model.unknowns as usize,
+            ne: model.equations.len(),
+            np: model.points.len(),
+            nf: d.frames.len(),
+            blocks: BlockSolve::new(&model.graph, &d.jac, &scales.is_length),
+        }
+    }
+
+    fn g(&self) -> &'a Graph {
+        &self.model.graph
+    }
+
+    /// Φ_u's entries, all of them.
+    fn jac_flat(&self) -> Vec<Id> {
+        self.d.jac.iter().flatten().copied().collect()
+    }
+
+    /// Φ and Φ_u: what a Newton iteration evaluates.
+    fn newton_roots(&self) -> Vec<Id> {
+        self.d.phi.iter().chain(&self.jac_flat()).copied().collect()
+    }
+
+    /// The analysis in three stages: Φ_u and −Φ_d d'; −Φ_d d'' − γ; every
+    /// point's and frame's motion.
+    fn analysis_stages(&self) -> [Vec<Id>; 3] {
+        let d = self.d;
+        let vel: Vec<Id> = self
+            .jac_flat()
+            .into_iter()
+            .chain(d.vel_rhs.iter().copied())
+            .collect();
+        let points: Vec<Id> = d
+            .pos
+            .iter()
+            .chain(&d.vel)
+            .chain(&d.acc)
+            .flatten()
+            .copied()
+            .chain(d.frames.iter().flat_map(|f| {
+                f.rotation
+                    .iter()
+                    .chain(&f.origin)
+                    .flatten()
+                    .chain(&f.omega)
+                    .chain(&f.alpha)
+                    .copied()
+                    .collect::<Vec<_>>()
+            }))
+            .collect();
+        [vel, d.acc_rhs.clone(), points]
+    }
+
+    /// A 2-D or 3-D vector of expressions.
+    fn vector(&self, pr: &Printer<'_>, c: &[Id]) -> TokenStream {
+        let pp = &self.pp;
+        let e: Vec<_> = c.iter().map(|&i| pr.expr(i)).collect();
+        if c.len() == 3 {
+            quote!(#pp::Vector3::new(#(#e),*))
+        } else {
+            quote!(#pp::Vector2::new(#(#e),*))
+        }
+    }
+
+    /// A 3×3 matrix of expressions.
+    fn matrix(&self, pr: &Printer<'_>, m: &[[Id; 3]; 3]) -> TokenStream {
+        let pp = &self.pp;
+        let e: Vec<_> = m.iter().flatten().map(|&i| pr.expr(i)).collect();
+        quote!(#pp::Matrix3::new(#(#e),*))
+    }
+
+    /// The array of Φ_u's nonzero entries under `pr`'s names.
+    fn jac_array(&self, pr: &Printer<'_>) -> TokenStream {
+        let full: Vec<Vec<TokenStream>> = self
+            .d
+            .jac
+            .iter()
+            .map(|row| row.iter().map(|&i| pr.element(i)).collect())
+            .collect();
+        self.blocks.array(&full)
+    }
+
+    /// Every point's `PointMotion` under `pr`'s names.
+    fn points_of(&self, pr: &Printer<'_>) -> Vec<TokenStream> {
+        let (d, pp) = (self.d, &self.pp);
+        (0..self.np)
+            .map(|k| {
+                let (p, v, a) = (
+                    self.vector(pr, &d.pos[k]),
+                    self.vector(pr, &d.vel[k]),
+                    self.vector(pr, &d.acc[k]),
+                );
+                quote!(#pp::PointMotion { position: #p, velocity: #v, acceleration: #a })
+            })
+            .collect()
+    }
+
+    /// Every frame's `FrameState` under `pr`'s names.
+    fn frames_of(&self, pr: &Printer<'_>) -> Vec<TokenStream> {
+        let pp = &self.pp;
+        self.d
+            .frames
+            .iter()
+            .map(|f| {
+                let r = self.matrix(pr, &f.rotation);
+                let [o, od, odd] = &f.origin;
+                let (o, od, odd) = (
+                    self.vector(pr, o),
+                    self.vector(pr, od),
+                    self.vector(pr, odd),
+                );
+                let (w, al) = (self.vector(pr, &f.omega), self.vector(pr, &f.alpha));
+                quote!(#pp::FrameState {
+                    rotation: #r,
+                    origin: #o,
+                    velocity: #od,
+                    acceleration: #odd,
+                    angular_velocity: #w,
+                    angular_acceleration: #al,
+                })
+            })
+            .collect()
+    }
+
+    /// `return Err(describe(f, …))` at the current coordinates `q_…`.
+    fn fail_here(&self, f: &TokenStream) -> TokenStream {
+        let (pp, q) = (&self.pp, &self.id.q);
+        quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
+    }
+
+    /// The factorisation of Φ_u's blocks at a solution, with the
+    /// conditioning and branch checks (binding `__conditioning` and
+    /// `__det_sign`), returning the error from the enclosing function.
+    fn factor_at_solution(&self) -> TokenStream {
+        let fail = |f: TokenStream| self.fail_here(&f);
+        let factor = self.blocks.factor(&self.pp, true, &fail);
+        let check = self.blocks.check(&self.pp, &fail);
+        quote!(#factor #check)
+    }
+
+    /// The binding of `__scaling` from the parameters and the bound
+    /// drivers, returning an overflow from the enclosing function.
+    fn scaling(&self) -> TokenStream {
+        let (pp, q_drivers) = (&self.pp, &self.id.q[..self.nd]);
+        let leaf = self.id.leaf();
+        solve::scaling_code(
+            self.g(),
+            self.scales,
+            &leaf,
+            self.id.params.len(),
+            pp,
+            &quote!(return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q_drivers),*]));),
+        )
+    }
+
+    /// The linear solve handed to the general Newton solver: Φ_u x = rhs
+    /// through the factored blocks, at the last evaluation's `jac`.
+    fn solver(&self) -> TokenStream {
+        let (pp, nu, nnz) = (&self.pp, self.nu, self.blocks.nnz());
+        let factor = self.blocks.factor(
+            pp,
+            true,
+            &|f| quote!(return ::core::result::Result::Err(#f);),
+        );
+        let solve = self.blocks.solve(&quote!(*rhs), true);
+        quote! {
+            |jac: &[f64; #nnz], rhs: &[f64; #nu]| -> ::core::result::Result<[f64; #nu], #pp::Failure> {
+                #factor
+                ::core::result::Result::Ok(#solve)
+            }
+        }
+    }
+
+    /// The leaf printer of the generated code (`self.a`, `q_phi`, …).
+    fn leaf(&self) -> impl Fn(Leaf) -> TokenStream + '_ {
+        self.id.leaf()
+    }
+}
+
+/// The full expansion of a checked model.
+pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> TokenStream {
+    let cx = Ctx::new(def, model, d, scales);
+    let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
+    let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
+    let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();
+    let eq_names: Vec<&str> = model.equations.iter().map(|e| e.text.as_str()).collect();
+    let counts = {
+        let [(n0, n), (a0, a)] = operation_counts(model, d);
+        let (nt, ns, at, as_) = (n.tree, n.shared, a.tree, a.shared);
+        quote!([(#n0, #nt, #ns), (#a0, #at, #as_)])
+    };
+    let validate = guards::validate(&cx);
+    let assemble = assemble::assemble(&cx);
+    let step = step::step(&cx);
+    let analyze = analyze::analyze(&cx);
+    let evaluate = evaluate::evaluate(&cx);
+    let mechanism_impl = mechanism_impl::mechanism_impl(&cx);
+    quote! {
+        #types
+
+        impl #name {
+            /// Number of drivers (prescribed inputs).
+            pub const DRIVERS: usize = #nd;
+            /// Number of unknowns (solved joint variables).
+            pub const UNKNOWNS: usize = #nu;
+            /// Number of scalar loop-closure equations.
+            pub const EQUATIONS: usize = #ne;
+            /// Number of points of interest.
+            pub const POINTS: usize = #np;
+            /// Number of body frames.
+            pub const FRAMES: usize = #nf;
+            /// Floating-point operations of the generated code: for the Newton
+            /// step and for the analysis, the count if every expression were
+            /// written out as a tree, then the count after common-subexpression
+            /// elimination (what the emitted code evaluates).
+            #[doc(hidden)]
+            pub const __OPERATION_COUNTS: [(&'static str, u64, usize); 2] = #counts;
+            #[doc(hidden)]
+            const __NAMES: #pp::Names = #pp::Names {
+                coordinates: &[#(#coord_names),*],
+                drivers: #nd,
+                equations: &[#(#eq_names),*],
+            };
+
+            #validate
+            #assemble
+            #step
+            #analyze
+            #evaluate
+        }
+
+        #mechanism_impl
+    }
+}

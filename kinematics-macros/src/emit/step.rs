@@ -1,0 +1,219 @@
+//! `step` and `step_with`: assembly from the previous pose and analysis in
+//! one pass. Newton's common path runs inline, with the driver-only part of
+//! Φ and Φ_u hoisted out of the loop and the sines and cosines of the
+//! unknown angles carried between iterates; the values the analysis needs
+//! are kept from the last (converged) evaluation instead of recomputed.
+
+use std::collections::HashMap;
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::Ident;
+
+use super::newton::{driver_frontier, unknown_trig, used_later};
+use super::print::{bind, bind_given};
+use super::{guards, Ctx};
+use crate::cse::schedule;
+use crate::ir::Id;
+
+/// The stepping methods.
+pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
+    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
+    let id = &cx.id;
+    let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
+    let (q, qd, qdd) = (&id.q, &id.qd, &id.qdd);
+    let (q_drivers, q_unknowns) = q.split_at(nd);
+    let (qd_drivers, qd_unknowns) = qd.split_at(nd);
+    let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
+    let (c_drivers, c_unknowns) = coord.split_at(nd);
+    let leaf = cx.leaf();
+    let newton_roots = cx.newton_roots();
+    let [vel_stage, acc_stage, pt_stage] = cx.analysis_stages();
+    let sched = schedule(
+        g,
+        &[
+            driver_frontier(g, &newton_roots, cx.model.drivers),
+            newton_roots.clone(),
+            vel_stage.clone(),
+            acc_stage.clone(),
+            pt_stage.clone(),
+        ],
+    );
+    let cached = used_later(
+        g,
+        &sched,
+        1,
+        &newton_roots,
+        &[&vel_stage, &acc_stage, &pt_stage],
+    );
+    let (pr, lets) = bind(g, &sched, &leaf);
+    // The sine and cosine of each unknown angle carried from one iterate to
+    // the next (`sin_cos_after`): the same schedule, with those nodes read
+    // from variables. The change of the argument is the difference of its
+    // evaluated values, so that the carried values follow the argument as
+    // evaluated in floating point (an offset of 1e20 rad leaves u + γ
+    // unchanged by a small step in u).
+    let mut given: HashMap<Id, Ident> = HashMap::new();
+    let (mut trig_setup, mut trig_eval) = (TokenStream::new(), TokenStream::new());
+    for (n, t) in unknown_trig(g, &newton_roots, cx.model.drivers)
+        .into_iter()
+        .enumerate()
+    {
+        // The argument as an expression of u_k and values bound before the
+        // iteration (the part free of unknowns is driver-only or constant).
+        let arg = pr.body(t.arg);
+        let (sv, cv, av) = (
+            format_ident!("__sin_{}", n),
+            format_ident!("__cos_{}", n),
+            format_ident!("__arg_{}", n),
+        );
+        given.extend(t.sin.map(|id| (id, sv.clone())));
+        given.extend(t.cos.map(|id| (id, cv.clone())));
+        trig_setup.extend(quote! {
+            let (mut #sv, mut #cv, mut #av) = (0.0f64, 0.0f64, ::core::primitive::f64::NAN);
+        });
+        trig_eval.extend(quote! {
+            let __x = #arg;
+            (#sv, #cv) = #pp::sin_cos_after(#sv, #cv, __x, __x - #av);
+            #av = __x;
+        });
+    }
+    let (_, fast_lets) = bind_given(g, &sched, &leaf, given);
+    let iterated_fast = &fast_lets[1];
+    let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
+    let newton_solve = cx.blocks.solve(&quote!(phi), false);
+    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
+    let nc = cached_names.len();
+    let (hoisted, iterated, velocity, acceleration, points) =
+        (&lets[0], &lets[1], &lets[2], &lets[3], &lets[4]);
+    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
+    let jac = cx.jac_array(&pr);
+    let vel_rhs: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
+    let acc_rhs: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
+    let vel_solve = cx.blocks.solve(&quote!([#(#vel_rhs),*]), true);
+    let acc_solve = cx.blocks.solve(&quote!([#(#acc_rhs),*]), true);
+    let point_states = cx.points_of(&pr);
+    let frame_states = cx.frames_of(&pr);
+    let inputs = guards::inputs(cx, "start", true);
+    let check_rates = guards::solved_rates(cx);
+    let check_outputs = guards::outputs(cx);
+    let scaling = cx.scaling();
+    let solver = cx.solver();
+    let at_solution = cx.factor_at_solution();
+    quote! {
+        /// Assembles at the drivers of `start` from its unknowns (as
+        /// [`Self::assemble`]) and analyses the motion there (as
+        /// [`Self::analyze`]), in one pass: the last Newton evaluation's
+        /// sines, cosines and Jacobian are reused, not recomputed. The
+        /// step of a simulation that advances the drivers.
+        ///
+        /// # Errors
+        /// As [`Self::assemble`] and [`Self::analyze`].
+        pub fn step(
+            &self,
+            start: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            self.__step(start, rates, accelerations, &#pp::Options::DEFAULT)
+        }
+
+        /// [`Self::step`] with explicit solver options.
+        ///
+        /// # Errors
+        /// As [`Self::step`], and invalid options.
+        pub fn step_with(
+            &self,
+            start: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            self.__step(start, rates, accelerations, options)
+        }
+
+        /// The body of [`Self::step`] and [`Self::step_with`]: inlined
+        /// into each, so that with the default options their checks fold
+        /// away at compile time.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        #[allow(unused_assignments)]
+        fn __step(
+            &self,
+            start: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            options.validate()?;
+            self.validate()?;
+            let [#(#qd_drivers),*] = rates.into_array();
+            let [#(#qdd_drivers),*] = accelerations.into_array();
+            #inputs
+            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #scaling
+            let __weights = __scaling.weights(options);
+            #hoisted
+            let mut cache = [0.0f64; #nc];
+            let mut u = [#(start.#c_unknowns),*];
+            // Newton's common path, evaluated inline; anything off it
+            // (damping, round-off, failure) goes to the general solver.
+            let mut fast = #pp::FastNewton::new();
+            #trig_setup
+            let on_path = loop {
+                let [#(#q_unknowns),*] = u;
+                #trig_eval
+                #iterated_fast
+                cache = [#(#cached_names),*];
+                let phi = [#(#phi),*];
+                let jac: [f64; #nnz] = #jac;
+                match fast.assess(&phi, &__weights, options) {
+                    #pp::Next::Continue => {}
+                    #pp::Next::Converged => break true,
+                    #pp::Next::Fallback => break false,
+                }
+                #newton_factor
+                fast.advance(&mut u, &#newton_solve);
+            };
+            if !on_path {
+                u = [#(start.#c_unknowns),*];
+                let mut phi = [0.0f64; #ne];
+                let mut jac = [0.0f64; #nnz];
+                let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
+                    let [#(#q_unknowns),*] = *u;
+                    #iterated
+                    *phi = [#(#phi),*];
+                    *jac = #jac;
+                    cache = [#(#cached_names),*];
+                }, #solver);
+                if let ::core::result::Result::Err(f) = solved {
+                    let [#(#q_unknowns),*] = u;
+                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+                }
+            }
+            let [#(#q_unknowns),*] = u;
+            let [#(#cached_names),*] = cache;
+            #velocity
+            let jac: [f64; #nnz] = #jac;
+            #at_solution
+            let [#(#qd_unknowns),*] = #vel_solve;
+            #acceleration
+            let [#(#qdd_unknowns),*] = #acc_solve;
+            #check_rates
+            #points
+            let motion = #motion {
+                q: #coords { #( #coord: #q ),* },
+                qd: #coords { #( #coord: #qd ),* },
+                qdd: #coords { #( #coord: #qdd ),* },
+                points: [#(#point_states),*],
+                frames: [#(#frame_states),*],
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+            };
+            #check_outputs
+            ::core::result::Result::Ok(motion)
+        }
+    }
+}

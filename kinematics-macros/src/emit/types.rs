@@ -1,0 +1,249 @@
+//! The generated types: the parameters struct, the coordinates, the motion
+//! with its accessors, and the names the rest of the expansion uses.
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::ext::IdentExt;
+use syn::Ident;
+
+use crate::ir::Leaf;
+use crate::lower::CoordKind;
+use crate::names::{accessor_name, frame_accessor_name};
+use crate::parse::Definition;
+
+/// Names used in the generated code.
+pub(super) struct Idents {
+    pub(super) name: Ident,
+    pub(super) coords: Ident,
+    pub(super) motion: Ident,
+    pub(super) params: Vec<Ident>,
+    pub(super) coord: Vec<Ident>,
+    pub(super) q: Vec<Ident>,
+    pub(super) qd: Vec<Ident>,
+    pub(super) qdd: Vec<Ident>,
+}
+
+impl Idents {
+    pub(super) fn new(def: &Definition) -> Self {
+        let coord: Vec<Ident> = def
+            .drivers
+            .iter()
+            .chain(&def.unknowns)
+            .map(|d| d.name.clone())
+            .collect();
+        let pre = |p: &str| {
+            coord
+                .iter()
+                .map(|c| format_ident!("{}_{}", p, c.unraw()))
+                .collect::<Vec<_>>()
+        };
+        Idents {
+            name: def.name.clone(),
+            coords: format_ident!("{}Coords", def.name.unraw()),
+            motion: format_ident!("{}Motion", def.name.unraw()),
+            params: def.params.iter().map(|d| d.name.clone()).collect(),
+            q: pre("q"),
+            qd: pre("qd"),
+            qdd: pre("qdd"),
+            coord,
+        }
+    }
+
+    pub(super) fn leaf(&self) -> impl Fn(Leaf) -> TokenStream + '_ {
+        move |l| match l {
+            Leaf::Param(i) => {
+                let p = &self.params[i as usize];
+                quote!(self.#p)
+            }
+            Leaf::Q(j) => {
+                let v = &self.q[j as usize];
+                quote!(#v)
+            }
+            Leaf::Qd(j) => {
+                let v = &self.qd[j as usize];
+                quote!(#v)
+            }
+            Leaf::Qdd(j) => {
+                let v = &self.qdd[j as usize];
+                quote!(#v)
+            }
+        }
+    }
+}
+
+/// The type definitions, shared by the full expansion and the error fallback.
+pub(super) fn types(
+    def: &Definition,
+    id: &Idents,
+    kinds: Option<&[CoordKind]>,
+    point_dim: usize,
+) -> TokenStream {
+    let Idents {
+        name,
+        coords,
+        motion,
+        params,
+        coord,
+        ..
+    } = id;
+    let vis = &def.vis;
+    let docs = &def.docs;
+    let param_docs: Vec<_> = def.params.iter().map(|p| &p.docs).collect();
+    let nd = def.drivers.len();
+    let coord_docs: Vec<TokenStream> = def
+        .drivers
+        .iter()
+        .chain(&def.unknowns)
+        .enumerate()
+        .map(|(j, d)| {
+            let role = if j < nd { "Driver" } else { "Unknown" };
+            let kind = match kinds.and_then(|k| k.get(j)) {
+                Some(CoordKind::Angle) => {
+                    " (an angle, rad; its rate is an angular velocity, rad/s)"
+                }
+                Some(CoordKind::Length) => " (a length, in the units of the parameters)",
+                None => "",
+            };
+            let text = format!("{role} `{}`{kind}.", d.name);
+            let user = &d.docs;
+            quote!(#[doc = #text] #(#user)*)
+        })
+        .collect();
+    let np = def.points.len();
+    let accessors = def.points.iter().enumerate().map(|(k, p)| {
+        let acc = format_ident!("{}", accessor_name(&p.name));
+        let text = format!("Position, velocity and acceleration of point `{}`.", p.name);
+        let user = &p.docs;
+        quote! {
+            #[doc = #text]
+            #(#user)*
+            #[must_use]
+            #[inline]
+            pub fn #acc(&self) -> &::kinematics_core::__private::PointMotion<#point_dim> {
+                &self.points[#k]
+            }
+        }
+    });
+    let nf = def.frames.len();
+    let frame_accessors = def.frames.iter().enumerate().map(|(k, f)| {
+        let acc = format_ident!("{}", frame_accessor_name(&f.name));
+        let text = format!(
+            "Orientation, angular velocity and acceleration of frame `{}`, and the motion of \
+             its origin.",
+            f.name
+        );
+        let user = &f.docs;
+        quote! {
+            #[doc = #text]
+            #(#user)*
+            #[must_use]
+            #[inline]
+            pub fn #acc(&self) -> &::kinematics_core::__private::FrameState {
+                &self.frames[#k]
+            }
+        }
+    });
+    let coords_doc =
+        format!("Coordinates of [`{name}`]: the drivers, then the unknowns, in declaration order.");
+    let motion_doc = format!(
+        "Motion of [`{name}`] at one instant: coordinates q, their rates q' and \
+         accelerations q'' (angular for angle coordinates), and every point's motion."
+    );
+    let idx: Vec<usize> = (0..coord.len()).collect();
+    quote! {
+        #(#docs)*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #name {
+            #( #(#param_docs)* pub #params: f64, )*
+        }
+
+        #[doc = #coords_doc]
+        #[derive(Debug, Clone, Copy, PartialEq, Default)]
+        #vis struct #coords {
+            #( #coord_docs pub #coord: f64, )*
+        }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::Coordinates for #coords {
+            #[inline]
+            fn get(&self, j: usize) -> ::core::option::Option<f64> {
+                match j {
+                    #( #idx => ::core::option::Option::Some(self.#coord), )*
+                    _ => ::core::option::Option::None,
+                }
+            }
+            #[inline]
+            fn set(&mut self, j: usize, value: f64) -> bool {
+                match j {
+                    #( #idx => { self.#coord = value; true } )*
+                    _ => false,
+                }
+            }
+        }
+
+        #[doc = #motion_doc]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #vis struct #motion {
+            /// Coordinates q.
+            pub q: #coords,
+            /// Rates q' (angular velocities ω for angles).
+            pub qd: #coords,
+            /// Accelerations q'' (angular accelerations α for angles).
+            pub qdd: #coords,
+            /// Every point's motion, in declaration order.
+            pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
+            /// Every frame's orientation and motion, in declaration order.
+            pub frames: [::kinematics_core::__private::FrameState; #nf],
+            /// Conditioning of Φ_u: the distance of the scaled Jacobian
+            /// (equations divided by the size of their terms, unknowns by
+            /// their natural units) to the nearest singular matrix, of
+            /// order one at a regular pose and tending to 0 at a
+            /// dead-centre or toggle position; each unknown is within
+            /// tolerance / conditioning of the exact pose. See
+            /// `kinematics_core::MotionState::conditioning`.
+            pub conditioning: f64,
+            /// Sign of det Φ_u, ±1: the assembly branch (it changes only
+            /// through a singular configuration).
+            pub det_sign: f64,
+        }
+
+        impl #motion {
+            #(#accessors)*
+            #(#frame_accessors)*
+        }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::MotionState for #motion {
+            type Coords = #coords;
+            #[inline]
+            fn q(&self) -> &#coords {
+                &self.q
+            }
+            #[inline]
+            fn qd(&self) -> &#coords {
+                &self.qd
+            }
+            #[inline]
+            fn qdd(&self) -> &#coords {
+                &self.qdd
+            }
+            type Point = ::kinematics_core::__private::PointMotion<#point_dim>;
+            #[inline]
+            fn points(&self) -> &[Self::Point] {
+                &self.points
+            }
+            #[inline]
+            fn frames(&self) -> &[::kinematics_core::__private::FrameState] {
+                &self.frames
+            }
+            #[inline]
+            fn conditioning(&self) -> f64 {
+                self.conditioning
+            }
+            #[inline]
+            fn det_sign(&self) -> f64 {
+                self.det_sign
+            }
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! The vocabulary the pipeline's stages share: the error list, the name
+//! table, the built-in functions, and the accessor names of the generated
+//! code.
+
+use std::collections::HashMap;
+
+use proc_macro2::Span;
+use syn::Ident;
+
+/// Errors collected over all passes; turned into one `compile_error!` each.
+#[derive(Default)]
+pub struct Errors {
+    list: Vec<syn::Error>,
+}
+
+impl Errors {
+    /// Records an error at `span`.
+    pub fn at(&mut self, span: Span, message: impl std::fmt::Display) {
+        self.list.push(syn::Error::new(span, message));
+    }
+
+    /// Records an error covering all of `tokens` (first to last token).
+    pub fn spanned(&mut self, tokens: &dyn quote::ToTokens, message: impl std::fmt::Display) {
+        self.list
+            .push(syn::Error::new_spanned(tokens.to_token_stream(), message));
+    }
+
+    /// Records an error built by the caller (one with several spans).
+    pub fn push(&mut self, error: syn::Error) {
+        self.list.push(error);
+    }
+
+    /// Whether nothing was reported.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// All errors combined into one, if any.
+    pub fn finish(self) -> syn::Result<()> {
+        let mut iter = self.list.into_iter();
+        match iter.next() {
+            None => Ok(()),
+            Some(mut first) => {
+                for e in iter {
+                    first.combine(e);
+                }
+                Err(first)
+            }
+        }
+    }
+}
+
+/// What a declared name stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Binding {
+    /// Parameter `i` (a field of the mechanism struct).
+    Param(u32),
+    /// Coordinate `j` (drivers first, then unknowns).
+    Coord(u32),
+    /// Point `k` of the `points` section.
+    Point(u32),
+    /// Frame `k` of the `frames` section.
+    Frame(u32),
+}
+
+/// Whether `name` is a built-in function or constant of the expression
+/// language (user names may not shadow them).
+pub fn is_builtin(name: &str) -> bool {
+    name == "pi" || function_names().any(|f| f == name)
+}
+
+/// Name table of a definition.
+pub struct Names {
+    pub map: HashMap<String, (Binding, Span)>,
+}
+
+impl Names {
+    /// The declared name closest to `wanted`, for "did you mean" hints on
+    /// a name (a function cannot be meant there).
+    pub fn suggest(&self, wanted: &str) -> Option<String> {
+        let mut candidates: Vec<&str> = self.map.keys().map(String::as_str).collect();
+        candidates.push("pi");
+        closest(wanted, candidates)
+    }
+}
+
+/// The built-in function closest to `wanted`.
+pub fn suggest_function(wanted: &str) -> Option<String> {
+    closest(wanted, function_names().collect())
+}
+
+fn closest(wanted: &str, candidates: Vec<&str>) -> Option<String> {
+    candidates
+        .into_iter()
+        .map(|c| (edit_distance(wanted, c), c))
+        .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
+        .min()
+        .map(|(_, c)| c.to_owned())
+}
+
+/// The built-in functions: name, number of arguments, usage.
+pub const FUNCTIONS: &[(&str, usize, &str)] = &[
+    ("sin", 1, "sin(x)"),
+    ("cos", 1, "cos(x)"),
+    ("tan", 1, "tan(x)"),
+    ("asin", 1, "asin(x)"),
+    ("acos", 1, "acos(x)"),
+    ("sqrt", 1, "sqrt(x)"),
+    ("exp", 1, "exp(x)"),
+    ("ln", 1, "ln(x)"),
+    ("atan2", 2, "atan2(y, x)"),
+    ("powi", 2, "powi(x, n)"),
+    ("polar", 2, "polar(length, angle)"),
+    ("vec2", 2, "vec2(x, y)"),
+    ("vec3", 3, "vec3(x, y, z)"),
+    ("dot", 2, "dot(u, v)"),
+    ("cross", 2, "cross(u, v)"),
+    ("norm", 1, "norm(v)"),
+    ("rot_x", 1, "rot_x(angle)"),
+    ("rot_y", 1, "rot_y(angle)"),
+    ("rot_z", 1, "rot_z(angle)"),
+    ("rot", 2, "rot(axis, angle)"),
+    ("translation", 1, "translation(vec3(x, y, z))"),
+    ("t1", 4, "t1(a, b, c, angle_x)"),
+    ("t2", 4, "t2(a, b, c, angle_y)"),
+    ("t3", 4, "t3(a, b, c, angle_z)"),
+    ("t4", 5, "t4(a, b, c, angle_x, lead)"),
+    ("t5", 5, "t5(a, b, c, angle_y, lead)"),
+    ("t6", 5, "t6(a, b, c, angle_z, lead)"),
+    ("t7", 3, "t7(a, b, c)"),
+    ("screw", 3, "screw(axis, angle, slide)"),
+    ("screw_about", 4, "screw_about(axis, point, angle, slide)"),
+    (
+        "spherical",
+        4,
+        "spherical(offset, angle_z, angle_x, angle_z2)",
+    ),
+];
+
+/// The names of the built-in functions, for "did you mean" hints.
+pub fn function_names() -> impl Iterator<Item = &'static str> {
+    FUNCTIONS.iter().map(|(n, _, _)| *n)
+}
+
+/// `frame_<lowercase name>`, the accessor of a frame on the motion struct.
+pub fn frame_accessor_name(name: &Ident) -> String {
+    use syn::ext::IdentExt;
+    format!("frame_{}", name.unraw().to_string().to_lowercase())
+}
+
+/// `point_<lowercase name>`, the accessor of a point on the motion struct.
+pub fn accessor_name(name: &Ident) -> String {
+    use syn::ext::IdentExt;
+    format!("point_{}", name.unraw().to_string().to_lowercase())
+}
+
+/// Levenshtein distance between two short names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut cur = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distance() {
+        assert_eq!(edit_distance("th3", "th4"), 1);
+        assert_eq!(edit_distance("theta", "th"), 3);
+        assert_eq!(edit_distance("", "ab"), 2);
+    }
+}
