@@ -51,7 +51,7 @@ mod ir;
 #[path = "../../../kinematics-macros/src/kinematics.rs"]
 mod kinematics;
 #[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/lower.rs"]
+#[path = "../../../kinematics-macros/src/lower/mod.rs"]
 mod lower;
 #[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/names.rs"]

@@ -1,0 +1,326 @@
+//! Lowering: the syntax tree to scalar expressions in the DAG.
+//!
+//! Each expression is typed as it is lowered: a scalar, a 2-D or 3-D
+//! vector, a 3×3 rotation or a 4×4 homogeneous transform (kept as its
+//! rotation and translation parts, the bottom row being (0, 0, 0, 1)).
+//! Vectors and matrices are split into their scalar components. Type errors
+//! point at the operator or call that is wrong. Equations become residuals
+//! `lhs − rhs`, one per scalar component, and are counted against the
+//! unknowns.
+
+use std::collections::HashMap;
+
+use crate::ir::{Func, Graph, Id, Leaf, Node};
+use crate::names::{Errors, Names};
+use crate::parse::Definition;
+
+mod builtins;
+mod expr;
+
+type Mat = [[Id; 3]; 3];
+
+/// A lowered value.
+#[derive(Clone, Copy, Debug)]
+enum Value {
+    Scalar(Id),
+    Vec2([Id; 2]),
+    Vec3([Id; 3]),
+    /// A 3×3 rotation matrix.
+    Rot(Mat),
+    /// A 4×4 homogeneous transform [[R, t], [0, 1]].
+    Tf(Mat, [Id; 3]),
+}
+
+impl Value {
+    fn describe(self) -> &'static str {
+        match self {
+            Value::Scalar(_) => "a scalar",
+            Value::Vec2(_) => "a 2-D vector",
+            Value::Vec3(_) => "a 3-D vector",
+            Value::Rot(_) => "a 3×3 rotation matrix",
+            Value::Tf(..) => "a 4×4 transform",
+        }
+    }
+
+    fn is_spatial(self) -> bool {
+        matches!(self, Value::Vec3(_) | Value::Rot(_) | Value::Tf(..))
+    }
+}
+
+/// One scalar equation Φ_i = 0.
+pub struct ModelEquation {
+    pub residual: Id,
+    /// The equation as written, with the component for vector loops.
+    pub text: String,
+    /// The equation's tokens, where errors about it point.
+    pub tokens: proc_macro2::TokenStream,
+}
+
+/// A point of interest, component by component (2 or 3 of them).
+pub struct ModelPoint {
+    pub coords: Vec<Id>,
+}
+
+/// A body frame: rotation and origin.
+pub struct ModelFrame {
+    pub rotation: Mat,
+    pub origin: [Id; 3],
+}
+
+/// Whether a coordinate is an angle (appears inside a trigonometric function)
+/// or a length.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoordKind {
+    Angle,
+    Length,
+}
+
+/// The checked, lowered mechanism.
+pub struct Model {
+    pub graph: Graph,
+    pub drivers: u32,
+    pub unknowns: u32,
+    pub equations: Vec<ModelEquation>,
+    pub points: Vec<ModelPoint>,
+    /// 2 for planar points, 3 for spatial ones.
+    pub point_dim: usize,
+    pub frames: Vec<ModelFrame>,
+    pub kinds: Vec<CoordKind>,
+    /// The number of scalar equations of each loop, in declaration order:
+    /// 2 for a planar loop, 3 for a spatial one, 0 when it failed to lower.
+    pub loop_dims: Vec<usize>,
+    /// Whether any 3-D quantity appears (λ = 6 for the mobility count).
+    pub spatial: bool,
+}
+
+impl Model {
+    /// Number of coordinates (drivers and unknowns).
+    pub fn coords(&self) -> u32 {
+        self.drivers + self.unknowns
+    }
+}
+
+/// Lowers every frame, point and equation of `def`, reporting type and
+/// counting errors into `errors`. Frames come first (points may use them),
+/// then points in order (each may use the ones above it).
+pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
+    let mut cx = Lowerer {
+        g: Graph::new(),
+        names,
+        points: HashMap::new(),
+        frames: HashMap::new(),
+        spatial: false,
+        errors,
+    };
+    let mut frames = Vec::new();
+    for (k, f) in def.frames.iter().enumerate() {
+        let frame = match cx.expr(&f.expr) {
+            Some(Value::Rot(r)) => {
+                let zero = cx.g.constant(0.0);
+                ModelFrame {
+                    rotation: r,
+                    origin: [zero; 3],
+                }
+            }
+            Some(Value::Tf(r, t)) => ModelFrame {
+                rotation: r,
+                origin: t,
+            },
+            other => {
+                if let Some(v) = other {
+                    cx.errors.spanned(
+                        &f.expr,
+                        format!(
+                            "frame `{}` must be a rotation or a 4×4 transform, but this \
+                             expression is {}; build it with `rot_z(θ)`, `rot(axis, θ)`, \
+                             `t1(…)` … `t7(…)` or products of them",
+                            f.name,
+                            v.describe()
+                        ),
+                    );
+                }
+                let (zero, one) = (cx.g.constant(0.0), cx.g.constant(1.0));
+                ModelFrame {
+                    rotation: [[one, zero, zero], [zero, one, zero], [zero, zero, one]],
+                    origin: [zero; 3],
+                }
+            }
+        };
+        cx.frames.insert(k, (frame.rotation, frame.origin));
+        frames.push(frame);
+    }
+    let mut points = Vec::new();
+    let mut point_dim: Option<(usize, &syn::Ident)> = None;
+    for (k, p) in def.points.iter().enumerate() {
+        let coords = match cx.expr(&p.expr) {
+            Some(Value::Vec2(xy)) => Some(xy.to_vec()),
+            Some(Value::Vec3(xyz)) => Some(xyz.to_vec()),
+            Some(v) => {
+                cx.errors.spanned(
+                    &p.expr,
+                    format!(
+                        "point `{}` must be a vector, but this expression is {}; build it \
+                         with `vec2(x, y)`, `polar(r, angle)`, `vec3(x, y, z)` or a \
+                         transform times a point",
+                        p.name,
+                        v.describe()
+                    ),
+                );
+                None
+            }
+            None => None,
+        };
+        let coords = match (coords, point_dim) {
+            (Some(c), Some((dim, first))) if c.len() != dim => {
+                cx.errors.spanned(
+                    &p.expr,
+                    format!(
+                        "point `{}` is {}-D but point `{first}` is {dim}-D; all points of a \
+                         mechanism have the same dimension (write planar points of a spatial \
+                         mechanism with `vec3(x, y, 0.0)`)",
+                        p.name,
+                        c.len()
+                    ),
+                );
+                None
+            }
+            (c, _) => c,
+        };
+        let coords = match coords {
+            Some(c) => {
+                if point_dim.is_none() {
+                    point_dim = Some((c.len(), &p.name));
+                }
+                c
+            }
+            None => {
+                // Keep later uses from cascading into more errors.
+                let zero = cx.g.constant(0.0);
+                vec![zero; point_dim.map_or(2, |(d, _)| d)]
+            }
+        };
+        cx.points.insert(k, coords.clone());
+        points.push(ModelPoint { coords });
+    }
+    let mut equations = Vec::new();
+    let mut loop_dims = Vec::new();
+    for eq in &def.loops {
+        let (l, r) = (cx.expr(&eq.lhs), cx.expr(&eq.rhs));
+        let sides: Option<(Vec<Id>, Vec<Id>)> = match (l, r) {
+            (Some(Value::Vec2(a)), Some(Value::Vec2(b))) => Some((a.to_vec(), b.to_vec())),
+            (Some(Value::Vec3(a)), Some(Value::Vec3(b))) => Some((a.to_vec(), b.to_vec())),
+            (Some(Value::Scalar(_)), Some(Value::Scalar(_))) => {
+                cx.errors.spanned(
+                    &eq.tokens,
+                    "this loop equation is scalar; a loop closes a chain of vectors \
+                     (`B + polar(b, th3) == C`). Move scalar equations to `constraints { … }`",
+                );
+                None
+            }
+            (Some(a), Some(b)) => {
+                cx.errors.spanned(
+                    &eq.tokens,
+                    format!(
+                        "the two sides of this loop must be vectors of the same dimension, but \
+                         the left is {} and the right is {}",
+                        a.describe(),
+                        b.describe()
+                    ),
+                );
+                None
+            }
+            _ => None,
+        };
+        loop_dims.push(sides.as_ref().map_or(0, |(a, _)| a.len()));
+        if let Some((a, b)) = sides {
+            for (c, axis) in ["x", "y", "z"].iter().enumerate().take(a.len()) {
+                let residual = cx.g.sub(a[c], b[c]);
+                equations.push(ModelEquation {
+                    residual,
+                    text: format!("{} ({axis} component)", eq.text),
+                    tokens: eq.tokens.clone(),
+                });
+            }
+        }
+    }
+    for eq in &def.constraints {
+        let (l, r) = (cx.expr(&eq.lhs), cx.expr(&eq.rhs));
+        match (l, r) {
+            (Some(Value::Scalar(a)), Some(Value::Scalar(b))) => {
+                let residual = cx.g.sub(a, b);
+                equations.push(ModelEquation {
+                    residual,
+                    text: eq.text.clone(),
+                    tokens: eq.tokens.clone(),
+                });
+            }
+            (Some(Value::Vec2(_)), Some(Value::Vec2(_)))
+            | (Some(Value::Vec3(_)), Some(Value::Vec3(_))) => cx.errors.spanned(
+                &eq.tokens,
+                "this constraint equates two vectors; vector equations belong in \
+                 `loops { … }` (each gives one scalar equation per component)",
+            ),
+            (Some(a), Some(b)) => cx.errors.spanned(
+                &eq.tokens,
+                format!(
+                    "the two sides of this constraint have different dimensions: the left is {} \
+                     and the right is {}",
+                    a.describe(),
+                    b.describe()
+                ),
+            ),
+            _ => {}
+        }
+    }
+    let spatial = cx.spatial;
+    let graph = cx.g;
+    let model = Model {
+        kinds: Vec::new(),
+        loop_dims,
+        drivers: count(def.drivers.len()),
+        unknowns: count(def.unknowns.len()),
+        equations,
+        points,
+        point_dim: point_dim.map_or(2, |(d, _)| d),
+        frames,
+        spatial,
+        graph,
+    };
+    let kinds = coordinate_kinds(&model);
+    Model { kinds, ..model }
+}
+
+fn count(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
+}
+
+/// A coordinate is an angle when some sin, cos or tan has it in its argument.
+fn coordinate_kinds(model: &Model) -> Vec<CoordKind> {
+    let g = &model.graph;
+    let mut kinds = vec![CoordKind::Length; model.coords() as usize];
+    let leaves: Vec<Option<usize>> = (0..model.coords())
+        .map(|j| (0..g.len()).find(|&i| g.node(Id::from_index(i)) == Node::Leaf(Leaf::Q(j))))
+        .collect();
+    for i in 0..g.len() {
+        if let Node::Call(Func::Sin | Func::Cos | Func::Tan, arg) = g.node(Id::from_index(i)) {
+            let live = g.reachable(&[arg]);
+            for (kind, leaf) in kinds.iter_mut().zip(&leaves) {
+                if leaf.is_some_and(|l| live[l]) {
+                    *kind = CoordKind::Angle;
+                }
+            }
+        }
+    }
+    kinds
+}
+
+struct Lowerer<'a> {
+    g: Graph,
+    names: &'a Names,
+    /// Points lowered so far, by index.
+    points: HashMap<usize, Vec<Id>>,
+    /// Frames lowered so far, by index.
+    frames: HashMap<usize, (Mat, [Id; 3])>,
+    spatial: bool,
+    errors: &'a mut Errors,
+}
