@@ -6,6 +6,24 @@
 //! run time this crate assembles the mechanism by Newton–Raphson and solves
 //! velocities and accelerations of every coordinate and point.
 //!
+//! Start with the [`guide`]: its [`language`](guide::language) reference
+//! lists every section and built-in of `mechanism!` and what it generates,
+//! [`failures`](guide::failures) what each bad input gives and what `Ok`
+//! guarantees, [`compile_errors`](guide::compile_errors) how a wrong
+//! definition is reported.
+//!
+//! | module | contents |
+//! |---|---|
+//! | [`sweep`] | full cycles and time-driven simulations, CSV and text tables |
+//! | `plot` | SVG figures of a sweep (feature `plot`) |
+//! | [`transform`] | planar and spatial transforms, screws, joint matrices |
+//! | [`rigid`] | rigid-body velocities and accelerations, relative motion |
+//! | [`mobility`] | the Kutzbach–Gruebler count |
+//! | [`solve`] | the Newton–Raphson solver and the linear algebra behind it |
+//!
+//! Features: `plot` (SVG figures, with plotters) and `parallel` (`batch`, on
+//! all cores with rayon), both off by default.
+//!
 //! ```
 //! use kinematics_core::mechanism;
 //!
@@ -36,12 +54,17 @@
 //! ```
 #![forbid(unsafe_code)]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+// docs.rs builds with nightly and `--cfg docsrs_nightly` (see Cargo.toml),
+// and marks the feature-gated items; a stable `cargo doc`, with or without
+// `--cfg docsrs`, does not need the unstable attribute.
+#![cfg_attr(docsrs_nightly, feature(doc_cfg))]
 
 mod error;
 mod mechanism;
 pub mod mobility;
 mod options;
 #[cfg(feature = "plot")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "plot")))]
 pub mod plot;
 pub mod rigid;
 pub mod solve;
@@ -49,7 +72,22 @@ pub mod sweep;
 pub mod transform;
 
 pub use error::{Error, Input};
+/// The language is described in [`guide::language`], with every section and
+/// built-in and what is generated for a definition.
+#[doc(inline)]
 pub use kinematics_macros::mechanism;
+
+/// The guide: the `mechanism!` language, the failure modes, the compile
+/// errors.
+#[doc = include_str!("../docs/guide.md")]
+pub mod guide {
+    #[doc = include_str!("../docs/language.md")]
+    pub mod language {}
+    #[doc = include_str!("../docs/failures.md")]
+    pub mod failures {}
+    #[doc = include_str!("../docs/compile-errors.md")]
+    pub mod compile_errors {}
+}
 pub use mechanism::{
     Coordinate, Coordinates, DriverValues, FrameState, Kind, Mechanism, MotionState, PointMotion,
     PointState, Role,
@@ -79,6 +117,7 @@ pub use options::{Branch, Convergence, Options};
 /// assert!(results[0].is_err() && results[3].is_ok());
 /// ```
 #[cfg(feature = "parallel")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "parallel")))]
 pub fn batch<T, R, F>(items: &[T], f: F) -> Vec<Result<R, Error>>
 where
     T: Sync,

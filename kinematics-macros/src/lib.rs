@@ -9,16 +9,21 @@
 //! ```
 //!
 //! * `parse`: tokens to the syntax tree, spans kept;
-//! * `check`: names, counts and structure, every error reported at once;
+//! * `check`: declarations (names, mobility), every error reported at once;
 //! * `lower`: typed expressions to a hash-consed scalar DAG (`ir`);
 //! * `simplify`: algebraic rewrites applied as each node is built;
+//! * `validate`: the lowered model (equation count, structural rank);
 //! * `diff` and `kinematics`: exact Jacobian, velocity and acceleration terms
 //!   (time derivatives of points and frames by forward differentiation or
 //!   from the partials, whichever is cheaper);
+//! * `scale`: each equation's term scale, for scale-aware numerics;
 //! * `blocks`: the block-triangular form of Φ_u, so that linear solves go
 //!   block by block (a six-bar loop by loop);
 //! * `cse`: which shared nodes get a `let`, in which order;
-//! * `emit`: straight-line Rust and the generated types.
+//! * `emit`: straight-line Rust and the generated types, one file per item.
+//!
+//! `names` holds the vocabulary the stages share (errors, the name table,
+//! the built-ins); a stage uses only the stages before it.
 
 #![forbid(unsafe_code)]
 
@@ -37,9 +42,24 @@ mod scale;
 mod simplify;
 mod validate;
 
-/// Declares a mechanism by its vector loop-closure equations; see the
-/// `kinematics-core` crate documentation for the language and the generated
-/// API.
+/// Declares a mechanism by its vector loop-closure equations: parameters,
+/// drivers, unknowns, points, loops, constraints, frames and joints.
+///
+/// ```ignore
+/// mechanism! {
+///     /// Crank-rocker four-bar.
+///     pub struct FourBar {
+///         params   { a, b, c, d }
+///         drivers  { phi }
+///         unknowns { th3, th4 }
+///         loops    { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+///     }
+/// }
+/// ```
+///
+/// Use it through `kinematics-core`, which re-exports it with the runtime
+/// the generated code calls; its `guide::language` module is the reference
+/// of the language and of what is generated.
 #[proc_macro]
 pub fn mechanism(input: proc_macro::TokenStream) -> proc_macro::TokenStream {
     expand::expand(input.into()).into()
