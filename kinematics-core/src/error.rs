@@ -3,6 +3,27 @@
 use core::fmt;
 
 /// What kind of input a non-finite value was found in.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::{Error, Input};
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let start = SliderCrankCoords { phi: f64::NAN, th: 0.0, x: 0.4 };
+/// match m.assemble(&start) {
+///     Err(Error::NonFinite { input, name, .. }) => assert_eq!((input, name), (Input::Driver, "phi")),
+///     other => panic!("{other:?}"),
+/// }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Input {
     /// A field of the mechanism struct (a link length, an offset).
@@ -35,6 +56,26 @@ impl fmt::Display for Input {
 
 /// Why an assembly or an analysis failed. Every variant names the items
 /// involved, so the message says what to change.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::Error;
+/// // A rod too short to reach the slider line at φ = 90°.
+/// let m = SliderCrank { a: 0.3, b: 0.1 };
+/// let e = m.assemble(&SliderCrankCoords { phi: 1.5708, th: 0.0, x: 0.1 }).unwrap_err();
+/// assert!(matches!(e, Error::NotConverged { .. } | Error::Singular { .. }));
+/// println!("{e}"); // names the equation, its residual and the configuration
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum Error {

@@ -7,6 +7,23 @@ use crate::rigid::FrameMotion;
 use crate::{Error, Options};
 
 /// Role of a coordinate in the model.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::{Mechanism, Role};
+/// let roles: Vec<Role> = SliderCrank::COORDINATES.iter().map(|c| c.role).collect();
+/// assert_eq!(roles, [Role::Driver, Role::Unknown, Role::Unknown]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
     /// Prescribed input (its value, rate and acceleration are given).
@@ -22,6 +39,23 @@ pub enum Role {
 /// the axis normal to the plane, counter-clockwise positive) and its second
 /// derivative an angular acceleration α (rad/s²). Otherwise it is a length
 /// (a slider position) with linear rate and acceleration.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::{Kind, Mechanism};
+/// let kinds: Vec<Kind> = SliderCrank::COORDINATES.iter().map(|c| c.kind).collect();
+/// assert_eq!(kinds, [Kind::Angle, Kind::Angle, Kind::Length]); // φ, θ, x
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
     /// An angle in radians.
@@ -31,6 +65,23 @@ pub enum Kind {
 }
 
 /// Static description of one coordinate.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::{Kind, Mechanism, Role};
+/// let x = &SliderCrank::COORDINATES[2];
+/// assert_eq!((x.name, x.role, x.kind), ("x", Role::Unknown, Kind::Length));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Coordinate {
     /// Name as declared.
@@ -44,6 +95,30 @@ pub struct Coordinate {
 /// Position, velocity and acceleration of a point in the fixed frame
 /// (D = 2 for planar mechanisms, 3 for spatial ones):
 /// r, v = dr/dt = r_q q', a = dv/dt = r_q q'' + (r_q q')_q q'.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let pose = m.assemble(&SliderCrankCoords { phi: 0.5, th: 0.0, x: 0.4 })?;
+/// let b = *m.analyze(&pose, 10.0, 0.0)?.point_b();
+/// // The crank pin at constant speed: |v| = aω, |a| = aω², all normal.
+/// assert!((b.speed() - 1.0).abs() < 1e-12);
+/// assert!((b.normal_acceleration() - 10.0).abs() < 1e-12);
+/// assert!(b.tangential_acceleration().abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointMotion<const D: usize = 2> {
     /// Position r.
@@ -56,6 +131,12 @@ pub struct PointMotion<const D: usize = 2> {
 
 impl<const D: usize> PointMotion<D> {
     /// Speed |v|.
+    ///
+    /// ```
+    /// use kinematics_core::{nalgebra::Vector2, PointMotion};
+    /// let p = PointMotion { position: Vector2::zeros(), velocity: Vector2::new(3.0, 4.0), acceleration: Vector2::zeros() };
+    /// assert_eq!(p.speed(), 5.0);
+    /// ```
     #[must_use]
     pub fn speed(&self) -> f64 {
         self.velocity.norm()
@@ -63,6 +144,13 @@ impl<const D: usize> PointMotion<D> {
 
     /// Tangential acceleration a·v/|v| (the rate of change of speed); zero
     /// when the point is at rest.
+    ///
+    /// ```
+    /// use kinematics_core::{nalgebra::Vector2, PointMotion};
+    /// // Moving along x and speeding up at 2 m/s² while turning at 3 m/s².
+    /// let p = PointMotion { position: Vector2::zeros(), velocity: Vector2::new(1.0, 0.0), acceleration: Vector2::new(2.0, 3.0) };
+    /// assert_eq!(p.tangential_acceleration(), 2.0);
+    /// ```
     #[must_use]
     pub fn tangential_acceleration(&self) -> f64 {
         let s = self.speed();
@@ -75,6 +163,12 @@ impl<const D: usize> PointMotion<D> {
 
     /// Normal (centripetal) acceleration √(|a|² − a_t²), toward the centre of
     /// curvature of the path; zero when the point is at rest.
+    ///
+    /// ```
+    /// use kinematics_core::{nalgebra::Vector2, PointMotion};
+    /// let p = PointMotion { position: Vector2::zeros(), velocity: Vector2::new(1.0, 0.0), acceleration: Vector2::new(2.0, 3.0) };
+    /// assert!((p.normal_acceleration() - 3.0).abs() < 1e-15);
+    /// ```
     #[must_use]
     pub fn normal_acceleration(&self) -> f64 {
         if self.speed() > 0.0 {
@@ -88,6 +182,15 @@ impl<const D: usize> PointMotion<D> {
 
 /// Read access to a point's motion as slices, for code generic over the
 /// dimension.
+///
+/// ```
+/// use kinematics_core::{nalgebra::Vector3, PointMotion, PointState};
+/// fn height(p: &impl PointState) -> f64 {
+///     p.position().last().copied().unwrap_or(0.0)
+/// }
+/// let p = PointMotion { position: Vector3::new(1.0, 2.0, 3.0), velocity: Vector3::zeros(), acceleration: Vector3::zeros() };
+/// assert_eq!(height(&p), 3.0);
+/// ```
 pub trait PointState: Copy + core::fmt::Debug {
     /// Position components.
     fn position(&self) -> &[f64];
@@ -115,6 +218,29 @@ impl<const D: usize> PointState for PointMotion<D> {
 /// and origin o): Ṙ = Σ ∂R/∂q_j q'_j, the angular velocity ω is the axial
 /// vector of the skew part of Ṙ Rᵀ, and α = dω/dt, all in the fixed frame
 /// and differentiated exactly at compile time.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// A crane: the cab turns about z, the boom is raised about its y axis.
+/// #     pub struct Crane {
+/// #         params   { l }
+/// #         drivers  { phi, th }
+/// #         unknowns { }
+/// #         frames   { boom = rot_z(phi) * rot_y(-th); }
+/// #         points   { P = boom * vec3(l, 0.0, 0.0); }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// let crane = Crane { l: 12.0 };
+/// let pose = crane.assemble(&CraneCoords { phi: 0.0, th: 0.5 })?;
+/// let s = crane.analyze(&pose, [0.3, 0.0], [0.0, 0.0])?;
+/// let boom = s.frame_boom();
+/// // Turning the cab at 0.3 rad/s turns the boom about z.
+/// assert!((boom.angular_velocity - kinematics_core::nalgebra::Vector3::new(0.0, 0.0, 0.3)).norm() < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameState {
     /// Rotation matrix R (frame axes in fixed coordinates).
@@ -133,6 +259,28 @@ pub struct FrameState {
 
 impl FrameState {
     /// The frame's motion, for the rigid-body helpers of [`crate::rigid`].
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #         /// A crane: the cab turns about z, the boom is raised about its y axis.
+    /// #     pub struct Crane {
+    /// #         params   { l }
+    /// #         drivers  { phi, th }
+    /// #         unknowns { }
+    /// #         frames   { boom = rot_z(phi) * rot_y(-th); }
+    /// #         points   { P = boom * vec3(l, 0.0, 0.0); }
+    /// #     }
+    /// # }
+    /// # fn main() -> Result<(), kinematics_core::Error> {
+    /// let crane = Crane { l: 12.0 };
+    /// let pose = crane.assemble(&CraneCoords { phi: 0.0, th: 0.5 })?;
+    /// let s = crane.analyze(&pose, [0.3, 0.5], [0.0, 0.0])?;
+    /// let m = s.frame_boom().motion();
+    /// assert_eq!(m.angular_velocity, s.frame_boom().angular_velocity);
+    /// # Ok(())
+    /// # }
+    /// ```
     #[must_use]
     pub fn motion(&self) -> FrameMotion {
         FrameMotion {
@@ -146,6 +294,30 @@ impl FrameState {
     /// Position, velocity and acceleration of a point fixed in the frame at
     /// local coordinates p: r = o + R p, v = v_o + ω × (R p),
     /// a = a_o + α × (R p) + ω × (ω × (R p)).
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #         /// A crane: the cab turns about z, the boom is raised about its y axis.
+    /// #     pub struct Crane {
+    /// #         params   { l }
+    /// #         drivers  { phi, th }
+    /// #         unknowns { }
+    /// #         frames   { boom = rot_z(phi) * rot_y(-th); }
+    /// #         points   { P = boom * vec3(l, 0.0, 0.0); }
+    /// #     }
+    /// # }
+    /// # fn main() -> Result<(), kinematics_core::Error> {
+    /// use kinematics_core::nalgebra::Vector3;
+    /// let crane = Crane { l: 12.0 };
+    /// let pose = crane.assemble(&CraneCoords { phi: 0.2, th: 0.5 })?;
+    /// let s = crane.analyze(&pose, [0.3, 0.5], [0.1, 0.0])?;
+    /// // The tip, computed from the frame, is the declared point P.
+    /// let tip = s.frame_boom().point(&Vector3::new(12.0, 0.0, 0.0));
+    /// assert!((tip.acceleration - s.point_p().acceleration).norm() < 1e-12);
+    /// # Ok(())
+    /// # }
+    /// ```
     #[must_use]
     pub fn point(&self, local: &Vector3<f64>) -> PointMotion<3> {
         let r = self.rotation * local;
@@ -164,6 +336,25 @@ impl FrameState {
 
 /// Access to a coordinates struct by index (drivers first, then unknowns,
 /// in declaration order).
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::Coordinates;
+/// let mut q = SliderCrankCoords { phi: 0.5, th: 0.1, x: 0.4 };
+/// assert_eq!(q.get(2), Some(0.4));
+/// assert!(q.set(0, 0.7) && q.phi == 0.7);
+/// assert!(!q.set(3, 1.0) && q.get(3).is_none());
+/// ```
 pub trait Coordinates: Copy {
     /// Value of coordinate `j`, or `None` past the last coordinate.
     fn get(&self, j: usize) -> Option<f64>;
@@ -174,6 +365,12 @@ pub trait Coordinates: Copy {
 
 /// Values given for the drivers: a bare `f64` for a single driver, or an
 /// array in declaration order.
+///
+/// ```
+/// use kinematics_core::DriverValues;
+/// assert_eq!(10.0.into_array(), [10.0]);
+/// assert_eq!([0.3, 0.5].into_array(), [0.3, 0.5]);
+/// ```
 pub trait DriverValues<const N: usize> {
     /// The values in declaration order.
     fn into_array(self) -> [f64; N];
@@ -199,6 +396,33 @@ impl DriverValues<1> for f64 {
 
 /// Read access to the result of an analysis, for code generic over
 /// mechanisms.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// use kinematics_core::{Coordinates, MotionState};
+/// /// The largest rate among the unknowns, for any mechanism.
+/// fn fastest<S: MotionState>(s: &S, drivers: usize) -> f64 {
+///     (drivers..).map_while(|j| s.qd().get(j)).fold(0.0, |a: f64, v| a.max(v.abs()))
+/// }
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let pose = m.assemble(&SliderCrankCoords { phi: 1.0, th: 0.0, x: 0.3 })?;
+/// let s = m.analyze(&pose, 10.0, 0.0)?;
+/// assert_eq!(fastest(&s, 1), s.qd.th.abs().max(s.qd.x.abs()));
+/// assert!(s.conditioning() > 0.0 && s.det_sign().abs() == 1.0);
+/// # Ok(())
+/// # }
+/// ```
 pub trait MotionState: Copy + core::fmt::Debug {
     /// The mechanism's coordinates struct.
     type Coords: Coordinates;
@@ -254,6 +478,34 @@ pub trait MotionState: Copy + core::fmt::Debug {
 /// compile time. The generated type also has inherent methods with typed
 /// arguments (`assemble`, `analyze`, …); this trait is for code generic over
 /// mechanisms.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// use kinematics_core::{Mechanism, Options};
+/// /// The largest loop residual after assembling any mechanism.
+/// fn closure<M: Mechanism>(m: &M, start: &M::Coords) -> Result<f64, kinematics_core::Error> {
+///     let pose = m.assemble_with(start, &Options::DEFAULT)?;
+///     let mut r = vec![0.0; M::EQUATIONS];
+///     m.residual_into(&pose, &mut r);
+///     Ok(r.iter().fold(0.0, |a: f64, v| a.max(v.abs())))
+/// }
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// assert!(closure(&m, &SliderCrankCoords { phi: 1.0, th: 0.0, x: 0.3 })? < 1e-15);
+/// assert_eq!(SliderCrank::POINT_NAMES, ["B", "C"]);
+/// # Ok(())
+/// # }
+/// ```
 pub trait Mechanism {
     /// Named coordinates (drivers then unknowns).
     type Coords: Coordinates + core::fmt::Debug + PartialEq + Default;

@@ -9,6 +9,11 @@
 use core::fmt;
 
 /// A kind of kinematic pair and its relative freedoms fᵢ.
+///
+/// ```
+/// use kinematics_core::mobility::JointKind;
+/// assert_eq!((JointKind::R.freedoms(), JointKind::C.freedoms(), JointKind::S.freedoms()), (1, 2, 3));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JointKind {
     /// Revolute (pin), f = 1.
@@ -49,6 +54,11 @@ impl JointKind {
 }
 
 /// The space a mechanism moves in, which fixes λ.
+///
+/// ```
+/// use kinematics_core::mobility::Space;
+/// assert_eq!((Space::Planar.lambda(), Space::Spatial.lambda()), (3, 6));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Space {
     /// Plane motion (or motion on a sphere): λ = 3.
@@ -74,6 +84,13 @@ impl Space {
 }
 
 /// The result of a mobility count.
+///
+/// ```
+/// use kinematics_core::mobility::{mobility, JointKind::*, Space};
+/// // Slider-crank: 4 links, 3 revolutes and a prismatic pair.
+/// let m = mobility(Space::Planar, 4, &[R, R, R, P]);
+/// assert_eq!((m.freedom, m.loops), (1, 1));
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Mobility {
     /// λ.

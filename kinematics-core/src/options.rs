@@ -3,6 +3,29 @@
 use crate::Error;
 
 /// Settings of the Newton–Raphson assembly and of the linear solves.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// use kinematics_core::{Branch, Options};
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// // A tighter tolerance, and the rod required to point forward (det Φ_u > 0).
+/// let options = Options { tolerance: 1e-14, branch: Branch::Positive, ..Options::DEFAULT };
+/// let pose = m.assemble_with(&SliderCrankCoords { phi: 1.0, th: 0.0, x: 0.3 }, &options)?;
+/// assert!(pose.th.cos() > 0.0);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
     /// Newton–Raphson has converged when every residual |Φ_i| is at most
@@ -31,6 +54,14 @@ pub struct Options {
 }
 
 /// What [`Options::tolerance`] is measured against.
+///
+/// ```
+/// use kinematics_core::{Convergence, Options};
+/// assert_eq!(Options::DEFAULT.convergence, Convergence::Relative);
+/// // The residuals in the model's units (metres for a loop in metres).
+/// let absolute = Options { convergence: Convergence::Absolute, tolerance: 1e-9, ..Options::DEFAULT };
+/// assert!(absolute.validate().is_ok());
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Convergence {
     /// max_i |Φ_i| / S_i ≤ tolerance, with S_i the term scale of equation
@@ -44,6 +75,29 @@ pub enum Convergence {
 
 /// An assembly branch (mode), identified by the sign of det Φ_u, which
 /// changes only through a singular configuration.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// use kinematics_core::{Branch, Error, Options};
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let forward = SliderCrankCoords { phi: 1.0, th: 0.0, x: 0.3 };
+/// let wants = |branch| Options { branch, ..Options::DEFAULT };
+/// assert!(m.assemble_with(&forward, &wants(Branch::Positive)).is_ok());
+/// assert!(matches!(m.assemble_with(&forward, &wants(Branch::Negative)), Err(Error::WrongBranch { .. })));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Branch {
     /// Whichever branch Newton–Raphson reaches from the guess.
@@ -56,7 +110,14 @@ pub enum Branch {
 }
 
 impl Options {
-    /// The default settings, usable in `const` context.
+    /// The default settings, usable in `const` context: tolerance 1e-12
+    /// relative, 50 iterations, singularity threshold 1e-10, any branch.
+    ///
+    /// ```
+    /// use kinematics_core::Options;
+    /// const TIGHT: Options = Options { tolerance: 1e-14, ..Options::DEFAULT };
+    /// assert_eq!(TIGHT.max_iterations, 50);
+    /// ```
     pub const DEFAULT: Options = Options {
         tolerance: 1e-12,
         convergence: Convergence::Relative,
@@ -66,6 +127,12 @@ impl Options {
     };
 
     /// Checks that every setting is in range.
+    ///
+    /// ```
+    /// use kinematics_core::{Error, Options};
+    /// let bad = Options { tolerance: -1.0, ..Options::DEFAULT };
+    /// assert!(matches!(bad.validate(), Err(Error::InvalidOption { name: "tolerance", .. })));
+    /// ```
     ///
     /// # Errors
     /// [`Error::InvalidOption`] naming the first setting out of range.

@@ -11,6 +11,28 @@ use crate::{Coordinates, Error, Mechanism, MotionState, PointState, Role};
 
 /// The plane a spatial mechanism is projected on (planar mechanisms are
 /// drawn in their plane).
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let dir = std::env::temp_dir();
+/// use kinematics_core::plot::{plot_path, Projection};
+/// plot_path(&s, "B", Projection::XY, &dir.join("slider-crank-path.svg"))?;
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Projection {
     /// Looking down z: (x, y).
@@ -62,6 +84,29 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 
 /// Plots q, q' and q'' of every unknown against the swept variable, one
 /// panel each, one curve per unknown, into an SVG file at `path`.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let dir = std::env::temp_dir();
+/// let file = dir.join("slider-crank-motion.svg");
+/// kinematics_core::plot::plot_motion(&s, &file)?;
+/// assert!(std::fs::read_to_string(&file).is_ok_and(|svg| svg.contains("<svg")));
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 ///
 /// # Errors
 /// [`Error::Output`] when the file cannot be written.
@@ -143,6 +188,30 @@ fn point_index<M: Mechanism>(name: &str) -> Result<usize, Error> {
 
 /// Plots the path of point `point` over the sweep (projected for spatial
 /// mechanisms) into an SVG file at `path`, with equal scales on both axes.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let dir = std::env::temp_dir();
+/// use kinematics_core::plot::{plot_path, Projection};
+/// plot_path(&s, "C", Projection::XY, &dir.join("slider-crank-slider.svg"))?;
+/// // An unknown point is an error, not a panic.
+/// assert!(plot_path(&s, "Q", Projection::XY, &dir.join("none.svg")).is_err());
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 ///
 /// # Errors
 /// [`Error::InvalidGeometry`] for an unknown point, [`Error::Output`] when

@@ -11,6 +11,14 @@ use crate::Error;
 
 /// Motion of a reference frame (or body) at an instant: its origin's
 /// velocity and acceleration, its angular velocity ω and acceleration α.
+///
+/// ```
+/// use kinematics_core::rigid::{body_point_velocity, FrameMotion};
+/// use kinematics_core::nalgebra::Vector3;
+/// let disc = FrameMotion { angular_velocity: Vector3::new(0.0, 0.0, 2.0), ..Default::default() };
+/// let v = body_point_velocity(&disc.velocity, &disc.angular_velocity, &Vector3::new(0.5, 0.0, 0.0));
+/// assert_eq!(v, Vector3::new(0.0, 1.0, 0.0));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FrameMotion {
     /// Velocity of the frame's origin O.
@@ -63,6 +71,15 @@ pub fn body_point_acceleration(
 }
 
 /// Motion of a point that moves relative to a body, term by term.
+///
+/// ```
+/// use kinematics_core::rigid::{relative_motion, FrameMotion};
+/// use kinematics_core::nalgebra::Vector3;
+/// let rod = FrameMotion { angular_velocity: Vector3::new(0.0, 0.0, 3.0), ..Default::default() };
+/// let m = relative_motion(&rod, &Vector3::new(0.5, 0.0, 0.0), &Vector3::new(1.0, 0.0, 0.0), &Vector3::zeros());
+/// // The parts add up to the absolute acceleration.
+/// assert_eq!(m.transport_acceleration + m.coriolis + m.relative_acceleration, m.acceleration);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RelativeMotion {
     /// Absolute velocity v = v_O + v_rel + ω × r.

@@ -9,8 +9,17 @@
 
 use crate::{Error, Options};
 
-/// Why a numerical step failed, without names (those are added by
-/// [`describe`], off the hot path).
+/// Why a numerical step failed, without names (generated code turns it
+/// into an [`Error`] naming the equation or unknown, off the hot path).
+///
+/// ```
+/// use kinematics_core::solve::{Failure, Lu};
+/// // Column 1 is twice column 0: the matrix is singular.
+/// match Lu::factor(&[[1.0, 2.0], [3.0, 6.0]], 1e-12) {
+///     Err(Failure::Singular { unknown, .. }) => assert_eq!(unknown, 1),
+///     other => panic!("{other:?}"),
+/// }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Failure {
     /// The scaled Φ_u is singular or nearly so: its distance to the nearest
@@ -48,7 +57,8 @@ pub enum Failure {
 impl Failure {
     /// A failure found in a diagonal block of Φ_u whose unknowns are
     /// `columns` (indices into all unknowns): the unknown index is made
-    /// global.
+    /// global. Used by generated code.
+    #[doc(hidden)]
     #[cold]
     #[must_use]
     pub fn in_block(self, columns: &[usize]) -> Self {
@@ -82,6 +92,19 @@ impl Failure {
 /// one at a generic configuration, whatever the units of the model, and a
 /// mechanism drawn in millimetres, metres or kilometres gives the same
 /// Φ̃_u, the same relative residuals and the same conditioning.
+///
+/// ```
+/// use kinematics_core::solve::{characteristic_length, Scaling};
+/// // A slider-crank with a = 0.1, b = 0.3: its x loop a cos φ + b cos θ − x
+/// // and y loop a sin φ + b sin θ have, with x left out, the term scales
+/// // 0.4 and 0.4, so L = 0.4 and x counts as 0.4 in the x loop.
+/// let fixed = [0.4, 0.4];
+/// let l = characteristic_length(&fixed);
+/// let s = Scaling::new(&[0.4 + l, 0.4], l, [false, true])?;
+/// assert_eq!(s.row, [1.0 / 0.8, 1.0 / 0.4]);
+/// assert_eq!(s.col, [1.0, 0.4]); // θ in radians, x in units of L
+/// # Ok::<(), kinematics_core::solve::Failure>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scaling<const N: usize> {
     /// 1 / S_i for each equation.
@@ -99,6 +122,15 @@ impl<const N: usize> Scaling<N> {
 
     /// The scaling for term scales `terms` (S_i), the characteristic length
     /// `length` and which unknowns are lengths.
+    ///
+    /// ```
+    /// use kinematics_core::solve::Scaling;
+    /// let s = Scaling::new(&[2.0], 1.0, [false])?;
+    /// assert_eq!(s.row, [0.5]);
+    /// // An overflowed scale is an error, not a zero weight.
+    /// assert!(Scaling::new(&[f64::INFINITY], 1.0, [false]).is_err());
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     ///
     /// # Errors
     /// [`Failure::NonFiniteResidual`] naming the first equation whose term
@@ -125,6 +157,15 @@ impl<const N: usize> Scaling<N> {
     /// The weights of the convergence test for `options`: 1/S_i for
     /// [`Convergence::Relative`](crate::Convergence::Relative), 1 for
     /// [`Convergence::Absolute`](crate::Convergence::Absolute).
+    ///
+    /// ```
+    /// use kinematics_core::{solve::Scaling, Convergence, Options};
+    /// let s = Scaling::new(&[4.0], 1.0, [false])?;
+    /// assert_eq!(s.weights(&Options::DEFAULT), [0.25]);
+    /// let absolute = Options { convergence: Convergence::Absolute, ..Options::DEFAULT };
+    /// assert_eq!(s.weights(&absolute), [1.0]);
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     #[inline(always)]
     #[must_use]
     pub fn weights(&self, options: &Options) -> [f64; N] {
@@ -135,6 +176,13 @@ impl<const N: usize> Scaling<N> {
     }
 
     /// The scaled matrix diag(row) · `a` · diag(col).
+    ///
+    /// ```
+    /// use kinematics_core::solve::Scaling;
+    /// let s = Scaling::new(&[2.0, 4.0], 10.0, [false, true])?;
+    /// assert_eq!(s.matrix(&[[1.0, 1.0], [1.0, 1.0]]), [[0.5, 5.0], [0.25, 2.5]]);
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     #[inline(always)]
     #[must_use]
     pub fn matrix(&self, a: &[[f64; N]; N]) -> [[f64; N]; N] {
@@ -153,6 +201,12 @@ impl<const N: usize> Scaling<N> {
 /// when they are all zero (a model whose every term holds an unknown
 /// length). An overflowed value is returned as it is, and reported by
 /// [`Scaling::new`].
+///
+/// ```
+/// use kinematics_core::solve::characteristic_length;
+/// assert_eq!(characteristic_length(&[0.37, 0.26]), 0.37);
+/// assert_eq!(characteristic_length(&[0.0, 0.0]), 1.0);
+/// ```
 #[inline(always)]
 #[must_use]
 pub fn characteristic_length<const N: usize>(fixed: &[f64; N]) -> f64 {
@@ -186,6 +240,17 @@ fn overflow(equation: usize, value: f64) -> Failure {
 /// |det A| / p₀. Generated code factors the scaled Jacobian Φ̃_u (see
 /// [`Scaling`]), whose entries are of order one, so that the pivots and
 /// [`Lu::conditioning`] are absolute numbers with a meaning of their own.
+///
+/// ```
+/// use kinematics_core::solve::Lu;
+/// let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.0], [3.0, 0.0, 1.0]];
+/// let lu = Lu::factor(&a, 1e-12)?;
+/// let x = lu.solve(&[-3.5, 3.0, 3.5]);
+/// for (xi, ei) in x.iter().zip([1.0, -2.0, 0.5]) {
+///     assert!((xi - ei).abs() < 1e-14);
+/// }
+/// # Ok::<(), kinematics_core::solve::Failure>(())
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct Lu<const N: usize> {
     /// L and U below and above the diagonal (N > 2), or A⁻¹ (N ≤ 2).
@@ -206,6 +271,12 @@ fn singular(unknown: usize, pivot: f64) -> Failure {
 
 impl<const N: usize> Lu<N> {
     /// Factors `a` (rows are equations, columns unknowns).
+    ///
+    /// ```
+    /// use kinematics_core::solve::Lu;
+    /// assert!(Lu::factor(&[[2.0, 0.0], [0.0, 1e-14]], 1e-10).is_err());
+    /// assert!(Lu::factor(&[[2.0, 0.0], [0.0, 1e-3]], 1e-10).is_ok());
+    /// ```
     ///
     /// # Errors
     /// [`Failure::Singular`] when a pivot is at or below `threshold` in
@@ -331,6 +402,15 @@ impl<const N: usize> Lu<N> {
     /// an angle, in units of the characteristic length for a length), to
     /// first order. It tends to 0 at a dead-centre or toggle position, in
     /// proportion to the distance from it.
+    ///
+    /// ```
+    /// use kinematics_core::solve::Lu;
+    /// // diag(1, ε) is ε from the singular diag(1, 0); unknown 1 is the weak one.
+    /// let lu = Lu::factor(&[[1.0, 0.0], [0.0, 1e-6]], 0.0)?;
+    /// let (c, unknown) = lu.conditioning();
+    /// assert!((c - 1e-6).abs() < 1e-18 && unknown == 1);
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn conditioning(&self) -> (f64, usize) {
@@ -375,6 +455,13 @@ impl<const N: usize> Lu<N> {
     /// The conditioning, or [`Failure::Singular`] when it is at or below
     /// `threshold`.
     ///
+    /// ```
+    /// use kinematics_core::solve::Lu;
+    /// let lu = Lu::factor(&[[1.0, 0.0], [0.0, 1e-6]], 0.0)?;
+    /// assert!(lu.check(1e-10).is_ok() && lu.check(1e-5).is_err());
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
+    ///
     /// # Errors
     /// [`Failure::Singular`] naming the unknown the matrix determines worst.
     #[inline]
@@ -388,6 +475,12 @@ impl<const N: usize> Lu<N> {
     }
 
     /// Sign of the determinant, ±1.
+    ///
+    /// ```
+    /// use kinematics_core::solve::Lu;
+    /// assert_eq!(Lu::factor(&[[0.0, 1.0], [1.0, 0.0]], 0.0)?.det_sign(), -1.0);
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     #[inline]
     #[must_use]
     pub fn det_sign(&self) -> f64 {
@@ -395,6 +488,13 @@ impl<const N: usize> Lu<N> {
     }
 
     /// Solves A·x = b.
+    ///
+    /// ```
+    /// use kinematics_core::solve::Lu;
+    /// let x = Lu::factor(&[[2.0, 1.0], [1.0, 3.0]], 0.0)?.solve(&[3.0, 4.0]);
+    /// assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
+    /// # Ok::<(), kinematics_core::solve::Failure>(())
+    /// ```
     #[inline(always)]
     #[must_use]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
@@ -434,6 +534,7 @@ impl<const N: usize> Lu<N> {
 ///
 /// # Errors
 /// [`Failure::WrongBranch`] when the signs differ.
+#[doc(hidden)]
 #[inline(always)]
 pub fn branch_check(sign: f64, options: &Options) -> Result<(), Failure> {
     let wanted = match options.branch {
@@ -530,6 +631,24 @@ pub const ROUND_OFF: f64 = 1e-13;
 /// step length decreases the merit (a local minimum of ‖Φ‖ that is not a
 /// solution), or the iteration cap is reached; `u` then holds the last
 /// iterate.
+///
+/// ```
+/// use kinematics_core::solve::{dense_solve, newton, Scaling};
+/// use kinematics_core::Options;
+/// // x² + y² = 4, y = x, from (1, 0.5): the root (√2, √2).
+/// let scaling = Scaling::new(&[8.0, 2.0], 1.0, [false, false])?;
+/// let (mut u, mut phi, mut jac) = ([1.0, 0.5], [0.0; 2], [[0.0; 2]; 2]);
+/// newton(
+///     &mut u, &mut phi, &mut jac, &scaling, &Options::DEFAULT,
+///     |u, phi, jac| {
+///         *phi = [u[0] * u[0] + u[1] * u[1] - 4.0, u[1] - u[0]];
+///         *jac = [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]];
+///     },
+///     |jac, rhs| dense_solve(jac, rhs, &scaling, 1e-10),
+/// )?;
+/// assert!((u[0] - 2f64.sqrt()).abs() < 1e-15 && (u[1] - 2f64.sqrt()).abs() < 1e-15);
+/// # Ok::<(), kinematics_core::solve::Failure>(())
+/// ```
 #[inline]
 pub fn newton<const N: usize, J>(
     u: &mut [f64; N],
@@ -593,6 +712,13 @@ pub fn newton<const N: usize, J>(
 ///
 /// # Errors
 /// [`Failure::Singular`] when a pivot of Φ̃_u is at or below `threshold`.
+///
+/// ```
+/// use kinematics_core::solve::{dense_solve, Scaling};
+/// let x = dense_solve(&[[2.0, 1.0], [1.0, 3.0]], &[3.0, 4.0], &Scaling::UNIT, 1e-10)?;
+/// assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
+/// # Ok::<(), kinematics_core::solve::Failure>(())
+/// ```
 #[inline]
 pub fn dense_solve<const N: usize>(
     jac: &[[f64; N]; N],
@@ -655,7 +781,9 @@ fn polish<const N: usize, J>(
     }
 }
 
-/// What [`FastNewton::assess`] found at the latest evaluation.
+/// What [`FastNewton::assess`] found at the latest evaluation. Used by
+/// generated code.
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Next {
     /// Not converged: take the full Newton step with
@@ -680,7 +808,8 @@ pub enum Next {
 /// [`Next::Fallback`], and the caller runs [`newton`] from the start,
 /// which retraces the same iterates up to that point and takes over. The
 /// caller judges the singularity and the branch of the converged pose, as
-/// after [`newton`].
+/// after [`newton`]. Used by generated code.
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy)]
 pub struct FastNewton {
     /// f at the current iterate's predecessor (infinite before the first).
@@ -754,7 +883,9 @@ impl FastNewton {
 /// left out is below 3·10⁻¹⁷), else computed afresh. Each result is then
 /// within a few units of 10⁻¹⁶ of the exact value. Generated code uses
 /// it between Newton iterates, whose steps are small near a solution; an
-/// infinite or NaN `d` (before the first iterate) computes afresh.
+/// infinite or NaN `d` (before the first iterate) computes afresh. Used by
+/// generated code.
+#[doc(hidden)]
 #[inline(always)]
 #[must_use]
 pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
@@ -869,7 +1000,9 @@ impl<const N: usize> Search<'_, N> {
     }
 }
 
-/// Names of the items of a mechanism, for error messages.
+/// Names of the items of a mechanism, for error messages. Used by generated
+/// code.
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy)]
 pub struct Names {
     /// Coordinate names, drivers first.
@@ -881,7 +1014,9 @@ pub struct Names {
 }
 
 /// Turns a [`Failure`] into an [`Error`] naming the items, with the
-/// configuration `q` (drivers then unknowns) where it happened.
+/// configuration `q` (drivers then unknowns) where it happened. Used by
+/// generated code.
+#[doc(hidden)]
 #[must_use]
 pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
     let configuration: Vec<(&'static str, f64)> = names

@@ -14,6 +14,27 @@ use core::fmt::Write as _;
 use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
 
 /// One instant of a sweep.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+/// let last = &s.samples[10];
+/// assert_eq!((last.at, last.motion.q.phi), (1.0, 1.0));
+/// assert!(last.residual < 1e-12);
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct Sample<M: Mechanism> {
     /// Value of the swept driver (or the time, for a simulation).
@@ -25,6 +46,27 @@ pub struct Sample<M: Mechanism> {
 }
 
 /// Why and where a sweep stopped before its end.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// use kinematics_core::{sweep::sweep, Options};
+/// // a > b: the rod cannot follow the crank past sin φ = b / a.
+/// let m = SliderCrank { a: 0.3, b: 0.2 };
+/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.5 };
+/// let s = sweep(&m, &start, 0, 0.0, 1.5, 150, 1.0, 0.0, &Options::DEFAULT);
+/// let stop = s.stop.expect("stops before 1.5 rad");
+/// assert!(stop.at > 0.6 && stop.at < 0.8); // asin(2/3) = 0.73
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stop {
     /// Value of the swept driver (or the time) at which it could not go on.
@@ -34,6 +76,26 @@ pub struct Stop {
 }
 
 /// The samples of a sweep, and how it ended.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 6.0, 0.0, &Options::DEFAULT);
+/// assert_eq!((s.variable, s.samples.len()), ("phi", 361));
+/// assert!(s.stop.is_none());
+/// ```
 #[derive(Debug, Clone)]
 pub struct Sweep<M: Mechanism> {
     /// Name of the swept driver, or "t" for a simulation.
@@ -176,12 +238,41 @@ pub fn simulate<M: Mechanism>(
 
 /// The first driver turning at constant speed ω from d₀: d = d₀ + ω t,
 /// d' = ω, d'' = 0 (the others keep their start values).
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # use kinematics_core::{sweep::sweep, Options};
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// use kinematics_core::sweep::{constant_speed, simulate};
+/// let times: Vec<f64> = (0..=10).map(|k| f64::from(k) * 0.01).collect();
+/// let s = simulate(&m, &start, &times, constant_speed(0.0, 6.0), &Options::DEFAULT);
+/// assert!((s.samples[10].motion.q.phi - 0.6).abs() < 1e-15);
+/// ```
 pub fn constant_speed(d0: f64, speed: f64) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
     constant_acceleration(d0, speed, 0.0)
 }
 
 /// The first driver with constant acceleration: d = d₀ + ω₀ t + ½ α t²,
 /// d' = ω₀ + α t, d'' = α (the others keep their start values).
+///
+/// ```
+/// use kinematics_core::sweep::constant_acceleration;
+/// let mut profile = constant_acceleration(0.0, 1.0, 2.0);
+/// let (mut d, mut dd, mut ddd) = ([0.0], [0.0], [0.0]);
+/// profile(3.0, &mut d, &mut dd, &mut ddd);
+/// assert_eq!((d[0], dd[0], ddd[0]), (12.0, 7.0, 2.0));
+/// ```
 pub fn constant_acceleration(
     d0: f64,
     speed: f64,
@@ -283,6 +374,25 @@ impl<M: Mechanism> Sweep<M> {
     /// Whether the last sample returns to the first pose: every unknown
     /// within `tolerance`, angles compared modulo 2π. `None` for a sweep that
     /// stopped early or has fewer than two samples.
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 6.0, 0.0, &Options::DEFAULT);
+    /// assert_eq!(s.is_periodic(1e-9), Some(true));
+    /// ```
     #[must_use]
     pub fn is_periodic(&self, tolerance: f64) -> Option<bool> {
         if self.stop.is_some() || self.samples.len() < 2 {
@@ -309,6 +419,25 @@ impl<M: Mechanism> Sweep<M> {
     }
 
     /// Largest closure residual over the samples.
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 100, 6.0, 0.0, &Options::DEFAULT);
+    /// assert!(s.max_residual() < 1e-12);
+    /// ```
     #[must_use]
     pub fn max_residual(&self) -> f64 {
         self.samples.iter().fold(0.0f64, |a, s| a.max(s.residual))
@@ -317,6 +446,27 @@ impl<M: Mechanism> Sweep<M> {
     /// Column headers: the sweep variable, every coordinate's q, q', q''
     /// (with units for angles), every point's position, velocity and
     /// acceleration components, every frame's ω and α.
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// let h = s.headers();
+    /// assert_eq!(h.len(), s.row(&s.samples[0]).len());
+    /// assert!(h.iter().any(|c| c.contains("phi")));
+    /// ```
     #[must_use]
     pub fn headers(&self) -> Vec<String> {
         let unit = |k: Kind, d: &str| match k {
@@ -349,6 +499,25 @@ impl<M: Mechanism> Sweep<M> {
     }
 
     /// The values of one sample, in the order of [`Sweep::headers`].
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// assert_eq!(s.row(&s.samples[10])[0], 1.0); // the swept value first
+    /// ```
     #[must_use]
     pub fn row(&self, sample: &Sample<M>) -> Vec<f64> {
         let mo = &sample.motion;
@@ -374,6 +543,25 @@ impl<M: Mechanism> Sweep<M> {
     }
 
     /// The samples as CSV: a header line, then one line per sample.
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// assert_eq!(s.to_csv().lines().count(), 1 + 11); // a header, then a line per sample
+    /// ```
     #[must_use]
     pub fn to_csv(&self) -> String {
         let mut out = self.headers().join(",");
@@ -388,6 +576,25 @@ impl<M: Mechanism> Sweep<M> {
 
     /// The samples as an aligned plain-text table, every `every`-th sample
     /// (the last one always included).
+    ///
+    /// ```
+    /// # use kinematics_core::mechanism;
+    /// # mechanism! {
+    /// #     /// Slider-crank.
+    /// #     pub struct SliderCrank {
+    /// #         params   { a, b }
+    /// #         drivers  { phi }
+    /// #         unknowns { th, x }
+    /// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    /// #         loops    { B + polar(b, th) == C; }
+    /// #     }
+    /// # }
+    /// # use kinematics_core::{sweep::sweep, Options};
+    /// # let m = SliderCrank { a: 0.1, b: 0.3 };
+    /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// print!("{}", s.to_text(5)); // every fifth sample, in aligned columns
+    /// ```
     #[must_use]
     pub fn to_text(&self, every: usize) -> String {
         let headers = self.headers();

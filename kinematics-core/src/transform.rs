@@ -12,6 +12,12 @@ use nalgebra::{Complex, Matrix3, Matrix4, Unit, Vector2, Vector3};
 use crate::Error;
 
 /// A coordinate axis of a frame.
+///
+/// ```
+/// use kinematics_core::transform::{rot_z, Axis, CompositeRotation};
+/// let r = CompositeRotation::new().about_fixed(Axis::Z, 0.3).matrix();
+/// assert!((r - rot_z(0.3)).norm() < 1e-15);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
     /// The x axis.
@@ -282,6 +288,13 @@ fn rotation_matrix(u: &Unit<Vector3<f64>>, theta: f64) -> Matrix3<f64> {
 }
 
 /// Axis and angle of a rotation.
+///
+/// ```
+/// use kinematics_core::transform::{axis_angle, rot_y};
+/// let aa = axis_angle(&rot_y(0.8))?;
+/// assert!((aa.angle - 0.8).abs() < 1e-15 && (aa.axis.y - 1.0).abs() < 1e-15);
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisAngle {
     /// Unit axis û (right-hand rule).
@@ -540,6 +553,15 @@ pub fn screw_about(
 }
 
 /// Parameters of a screw displacement.
+///
+/// ```
+/// use kinematics_core::transform::{screw, screw_parameters};
+/// use kinematics_core::nalgebra::Vector3;
+/// let s = screw_parameters(&screw(&Vector3::z(), 0.5, 2.0)?)?;
+/// assert!((s.angle - 0.5).abs() < 1e-15 && (s.translation - 2.0).abs() < 1e-15);
+/// assert!(s.point.norm() < 1e-15); // the axis passes through the origin
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Screw {
     /// Unit direction of the screw axis û.
@@ -553,6 +575,15 @@ pub struct Screw {
 }
 
 /// A coordinate plane.
+///
+/// ```
+/// use kinematics_core::transform::{screw_about, screw_parameters, Plane};
+/// use kinematics_core::nalgebra::Vector3;
+/// let t = screw_about(&Vector3::x(), &Vector3::new(0.0, 1.0, 2.0), 1.0, 0.0)?;
+/// let p = screw_parameters(&t)?.intersection(Plane::YZ)?;
+/// assert!((p - Vector3::new(0.0, 1.0, 2.0)).norm() < 1e-12);
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Plane {
     /// x = 0.
