@@ -1,5 +1,7 @@
 //! Errors of assembly and analysis.
 
+use alloc::string::String;
+use alloc::vec::Vec;
 use core::fmt;
 
 /// What kind of input a non-finite value was found in.
@@ -272,4 +274,4 @@ impl fmt::Display for Error {
     }
 }
 
-impl std::error::Error for Error {}
+impl core::error::Error for Error {}

@@ -21,8 +21,11 @@
 //! | [`mobility`] | the Kutzbach–Gruebler count |
 //! | [`solve`] | the Newton–Raphson solver and the linear algebra behind it |
 //!
-//! Features: `plot` (SVG figures, with plotters) and `parallel` (`batch`, on
-//! all cores with rayon), both off by default.
+//! Features: `std` (on by default; without it the crate is `no_std` with
+//! `alloc`, takes its floating-point functions from libm, and the code
+//! `mechanism!` generates compiles for embedded targets), `plot` (SVG
+//! figures, with plotters) and `parallel` (`batch`, on all cores with
+//! rayon), both off by default and both needing `std`.
 //!
 //! ```
 //! use kinematics_core::mechanism;
@@ -52,6 +55,7 @@
 //! # Ok(())
 //! # }
 //! ```
+#![cfg_attr(not(feature = "std"), no_std)]
 #![forbid(unsafe_code)]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 // docs.rs builds with nightly and `--cfg docsrs_nightly` (see Cargo.toml),
@@ -59,7 +63,14 @@
 // `--cfg docsrs`, does not need the unstable attribute.
 #![cfg_attr(docsrs_nightly, feature(doc_cfg))]
 
+extern crate alloc;
+// The unit tests use the standard library's harness and constants, also
+// when the crate itself is built without it.
+#[cfg(all(test, not(feature = "std")))]
+extern crate std;
+
 mod error;
+pub mod math;
 mod mechanism;
 pub mod mobility;
 mod options;
@@ -137,6 +148,7 @@ pub struct ReadmeDoctests;
 /// anything here may change in any release.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::math;
     pub use crate::solve::{
         branch_check, characteristic_length, dense_solve, describe, newton, sin_cos_after, Failure,
         FastNewton, Lu, Names, Next, Scaling,

@@ -173,7 +173,7 @@ impl<const D: usize> PointMotion<D> {
     pub fn normal_acceleration(&self) -> f64 {
         if self.speed() > 0.0 {
             let at = self.tangential_acceleration();
-            (self.acceleration.norm_squared() - at * at).max(0.0).sqrt()
+            crate::math::sqrt((self.acceleration.norm_squared() - at * at).max(0.0))
         } else {
             0.0
         }

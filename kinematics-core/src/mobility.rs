@@ -6,6 +6,8 @@
 //! links counts as k − 1 joints. The joint letters are those of the
 //! `joints { … }` section of `mechanism!`.
 
+use alloc::string::String;
+use alloc::vec::Vec;
 use core::fmt;
 
 /// A kind of kinematic pair and its relative freedoms fᵢ.

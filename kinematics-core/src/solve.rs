@@ -8,6 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::{Error, Options};
+use alloc::vec::Vec;
 
 /// Why a numerical step failed, without names (generated code turns it
 /// into an [`Error`] naming the equation or unknown, off the hot path).
@@ -900,7 +901,7 @@ pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
             c + (c * cos_d_m1 - s * sin_d),
         )
     } else {
-        x.sin_cos()
+        crate::math::sin_cos(x)
     }
 }
 

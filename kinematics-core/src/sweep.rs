@@ -9,6 +9,11 @@
 //! when det Φ_u changes sign between two steps (the mechanism passed a dead
 //! or toggle position, where the branches meet).
 
+use alloc::borrow::ToOwned;
+use alloc::format;
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 use core::fmt::Write as _;
 
 use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
@@ -408,7 +413,7 @@ impl<M: Mechanism> Sweep<M> {
                 return false;
             };
             let d = if c.kind == Kind::Angle {
-                (b - a + core::f64::consts::PI).rem_euclid(core::f64::consts::TAU)
+                crate::math::rem_euclid(b - a + core::f64::consts::PI, core::f64::consts::TAU)
                     - core::f64::consts::PI
             } else {
                 b - a

@@ -7,6 +7,7 @@
 //! Pⁱ = T_ij Pʲ. These are the same names and conventions as the built-in
 //! functions of the spatial `mechanism!` language.
 
+use alloc::format;
 use nalgebra::{Complex, Matrix3, Matrix4, Unit, Vector2, Vector3};
 
 use crate::Error;
@@ -57,7 +58,7 @@ impl Axis {
 /// ```
 #[must_use]
 pub fn rotation_operator(theta: f64) -> Complex<f64> {
-    Complex::new(theta.cos(), theta.sin())
+    Complex::new(crate::math::cos(theta), crate::math::sin(theta))
 }
 
 /// The operator that carries A₁ to A₂, R₁₂ = A₂ / A₁ (for |A₁| = |A₂| a pure
@@ -74,7 +75,10 @@ pub fn rotation_operator(theta: f64) -> Complex<f64> {
 /// ```
 pub fn rotation_between(a1: Complex<f64>, a2: Complex<f64>) -> Result<Complex<f64>, Error> {
     finite("rotation_between", "the final vector A₂", &[a2.re, a2.im])?;
-    if a1.norm() == 0.0 || !a1.norm().is_finite() {
+    // |A₁|, scaled so that it neither overflows nor underflows.
+    let m = a1.re.abs().max(a1.im.abs());
+    let n1 = m * crate::math::sqrt((a1 / m).norm_sqr());
+    if !(n1 > 0.0 && n1.is_finite()) {
         return Err(Error::InvalidGeometry {
             what: "rotation_between",
             detail: "the initial vector A₁ must be finite and non-zero".into(),
@@ -94,7 +98,7 @@ pub fn rotation_between(a1: Complex<f64>, a2: Complex<f64>) -> Result<Complex<f6
 /// ```
 #[must_use]
 pub fn rotation2(theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::math::sin_cos(theta);
     Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
 }
 
@@ -168,7 +172,7 @@ pub fn apply2(m: &Matrix3<f64>, p: &Vector2<f64>) -> Vector2<f64> {
 /// ```
 #[must_use]
 pub fn rot_x(theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::math::sin_cos(theta);
     Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
 }
 
@@ -182,7 +186,7 @@ pub fn rot_x(theta: f64) -> Matrix3<f64> {
 /// ```
 #[must_use]
 pub fn rot_y(theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::math::sin_cos(theta);
     Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 
@@ -196,7 +200,7 @@ pub fn rot_y(theta: f64) -> Matrix3<f64> {
 /// ```
 #[must_use]
 pub fn rot_z(theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::math::sin_cos(theta);
     Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
 }
 
@@ -271,7 +275,7 @@ pub fn rot(axis: &Vector3<f64>, theta: f64) -> Result<Matrix3<f64>, Error> {
 }
 
 fn rotation_matrix(u: &Unit<Vector3<f64>>, theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::math::sin_cos(theta);
     let v = 1.0 - c;
     let (x, y, z) = (u.x, u.y, u.z);
     Matrix3::new(
@@ -336,7 +340,7 @@ pub fn axis_angle(r: &Matrix3<f64>) -> Result<AxisAngle, Error> {
         r[(1, 0)] - r[(0, 1)],
     ) / 2.0;
     let s = w.norm();
-    let angle = s.atan2(c);
+    let angle = crate::math::atan2(s, c);
     if s < 1e-300 && c > 0.0 {
         return Ok(AxisAngle {
             axis: Vector3::z_axis(),
@@ -675,7 +679,7 @@ pub fn screw_parameters(t: &Matrix4<f64>) -> Result<Screw, Error> {
     let u = aa.axis.into_inner();
     let delta = u.dot(&d);
     let perp = d - u * delta;
-    let cot_half = 1.0 / (aa.angle / 2.0).tan();
+    let cot_half = 1.0 / crate::math::tan(aa.angle / 2.0);
     let point = (perp + u.cross(&perp) * cot_half) / 2.0;
     // Remove any component along û left by rounding in the data.
     let point = point - u * u.dot(&point);
@@ -740,7 +744,7 @@ pub fn t3(a: f64, b: f64, c: f64, theta_z: f64) -> Matrix4<f64> {
 /// ```
 #[must_use]
 pub fn t4(a: f64, b: f64, c: f64, theta_x: f64, lead: f64) -> Matrix4<f64> {
-    t1(a + lead * theta_x / std::f64::consts::TAU, b, c, theta_x)
+    t1(a + lead * theta_x / core::f64::consts::TAU, b, c, theta_x)
 }
 
 /// Elementary matrix case 5: translation (a, b, c), then a screw motion
@@ -755,7 +759,7 @@ pub fn t4(a: f64, b: f64, c: f64, theta_x: f64, lead: f64) -> Matrix4<f64> {
 /// ```
 #[must_use]
 pub fn t5(a: f64, b: f64, c: f64, theta_y: f64, lead: f64) -> Matrix4<f64> {
-    t2(a, b + lead * theta_y / std::f64::consts::TAU, c, theta_y)
+    t2(a, b + lead * theta_y / core::f64::consts::TAU, c, theta_y)
 }
 
 /// Elementary matrix case 6: translation (a, b, c), then a screw motion
@@ -770,7 +774,7 @@ pub fn t5(a: f64, b: f64, c: f64, theta_y: f64, lead: f64) -> Matrix4<f64> {
 /// ```
 #[must_use]
 pub fn t6(a: f64, b: f64, c: f64, theta_z: f64, lead: f64) -> Matrix4<f64> {
-    t3(a, b, c + lead * theta_z / std::f64::consts::TAU, theta_z)
+    t3(a, b, c + lead * theta_z / core::f64::consts::TAU, theta_z)
 }
 
 /// Elementary matrix case 7: translation (a, b, c) only.
@@ -841,7 +845,7 @@ pub fn cylindrical(axis: Axis, offset: &Vector3<f64>, s: f64, theta: f64) -> Mat
 /// ```
 #[must_use]
 pub fn screw_joint(axis: Axis, offset: &Vector3<f64>, theta: f64, lead: f64) -> Matrix4<f64> {
-    cylindrical(axis, offset, lead * theta / std::f64::consts::TAU, theta)
+    cylindrical(axis, offset, lead * theta / core::f64::consts::TAU, theta)
 }
 
 /// Spherical joint as three rotations about intersecting axes (z–x–z Euler

@@ -146,19 +146,21 @@ impl Printer<'_> {
                 let a = self.operand(a);
                 quote!(-#a)
             }
+            // The functions of `kinematics_core::math`: the standard
+            // library's, or libm's in a `no_std` build.
             Node::Powi(a, n) => {
-                let a = self.operand(a);
+                let a = self.expr(a);
                 let n = Literal::i32_unsuffixed(n);
-                quote!(#a.powi(#n))
+                quote!(::kinematics_core::__private::math::powi(#a, #n))
             }
             Node::Call(f, a) => {
-                let a = self.operand(a);
+                let a = self.expr(a);
                 let m = format_ident!("{}", f.method());
-                quote!(#a.#m())
+                quote!(::kinematics_core::__private::math::#m(#a))
             }
             Node::Atan2(y, x) => {
-                let (y, x) = (self.operand(y), self.expr(x));
-                quote!(#y.atan2(#x))
+                let (y, x) = (self.expr(y), self.expr(x));
+                quote!(::kinematics_core::__private::math::atan2(#y, #x))
             }
         }
     }

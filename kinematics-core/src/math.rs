@@ -1,0 +1,169 @@
+//! The floating-point functions the library and the generated code use:
+//! those of the standard library with the `std` feature (the default), and
+//! those of `libm` without it, so that the crate and the code `mechanism!`
+//! generates build for `#![no_std]` targets.
+//!
+//! Generated code calls these (through `__private::math`) rather than the
+//! `f64` methods, which exist only with `std`.
+
+// `x.sin()` and friends are the standard library's; `libm` gives the same
+// functions to `no_std` builds.
+#![allow(clippy::inline_always)]
+
+/// sin x.
+#[inline(always)]
+#[must_use]
+pub fn sin(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.sin();
+    #[cfg(not(feature = "std"))]
+    return libm::sin(x);
+}
+
+/// cos x.
+#[inline(always)]
+#[must_use]
+pub fn cos(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.cos();
+    #[cfg(not(feature = "std"))]
+    return libm::cos(x);
+}
+
+/// (sin x, cos x).
+#[inline(always)]
+#[must_use]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    #[cfg(feature = "std")]
+    return x.sin_cos();
+    #[cfg(not(feature = "std"))]
+    return libm::sincos(x);
+}
+
+/// tan x.
+#[inline(always)]
+#[must_use]
+pub fn tan(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.tan();
+    #[cfg(not(feature = "std"))]
+    return libm::tan(x);
+}
+
+/// asin x.
+#[inline(always)]
+#[must_use]
+pub fn asin(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.asin();
+    #[cfg(not(feature = "std"))]
+    return libm::asin(x);
+}
+
+/// acos x.
+#[inline(always)]
+#[must_use]
+pub fn acos(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.acos();
+    #[cfg(not(feature = "std"))]
+    return libm::acos(x);
+}
+
+/// atan2(y, x), the angle of (x, y).
+#[inline(always)]
+#[must_use]
+pub fn atan2(y: f64, x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return y.atan2(x);
+    #[cfg(not(feature = "std"))]
+    return libm::atan2(y, x);
+}
+
+/// √x.
+#[inline(always)]
+#[must_use]
+pub fn sqrt(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.sqrt();
+    #[cfg(not(feature = "std"))]
+    return libm::sqrt(x);
+}
+
+/// eˣ.
+#[inline(always)]
+#[must_use]
+pub fn exp(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.exp();
+    #[cfg(not(feature = "std"))]
+    return libm::exp(x);
+}
+
+/// ln x.
+#[inline(always)]
+#[must_use]
+pub fn ln(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.ln();
+    #[cfg(not(feature = "std"))]
+    return libm::log(x);
+}
+
+/// |x|.
+#[inline(always)]
+#[must_use]
+pub fn abs(x: f64) -> f64 {
+    x.abs()
+}
+
+/// xⁿ for an integer n.
+#[inline(always)]
+#[must_use]
+pub fn powi(x: f64, n: i32) -> f64 {
+    #[cfg(feature = "std")]
+    return x.powi(n);
+    #[cfg(not(feature = "std"))]
+    return libm::pow(x, f64::from(n));
+}
+
+/// The least non-negative remainder of x modulo m (m > 0).
+#[inline(always)]
+#[must_use]
+pub fn rem_euclid(x: f64, m: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return x.rem_euclid(m);
+    #[cfg(not(feature = "std"))]
+    {
+        let r = libm::fmod(x, m);
+        if r < 0.0 {
+            r + m.abs()
+        } else {
+            r
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// With `std` these are the `f64` methods themselves; with libm they
+    /// agree with them to a few units of round-off.
+    #[test]
+    fn the_functions_are_those_of_f64() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 4e-16 * (1.0 + b.abs());
+        for x in [-2.5, -0.3, 0.0, 0.7, 1.9] {
+            let (s, c) = super::sin_cos(x);
+            assert!(close(s, x.sin()) && close(c, x.cos()), "{x}");
+            assert!(close(super::sin(x), x.sin()) && close(super::cos(x), x.cos()));
+            assert!(close(super::tan(x), x.tan()) && close(super::exp(x), x.exp()));
+            assert!(close(super::atan2(x, 0.4), x.atan2(0.4)));
+            assert!(close(super::asin(x / 3.0), (x / 3.0).asin()));
+            assert!(close(super::acos(x / 3.0), (x / 3.0).acos()));
+            assert!(close(super::sqrt(x.abs()), x.abs().sqrt()));
+            assert!(close(super::ln(x.abs() + 1.0), (x.abs() + 1.0).ln()));
+            assert!(close(super::powi(x, 3), x.powi(3)));
+            assert!(close(super::rem_euclid(x, 1.0), x.rem_euclid(1.0)));
+            assert_eq!(super::abs(x), x.abs());
+        }
+    }
+}
