@@ -19,6 +19,8 @@ fn main() -> Result<(), kinematics_core::Error> {
     row("v_By (m/s)", b.velocity.y, 0.609);
     row("|v_B| (m/s)", b.speed(), 1.171);
     row("a_Bx (m/s^2)", b.acceleration.x, -1.802);
+    // The book's −4.255 is the value for ω = π (30 rev/min exactly); with its
+    // rounded ω = 3.141, used here as in the rest of the example, −4.2534.
     row("a_By (m/s^2)", b.acceleration.y, -4.255);
     row("|a_B| (m/s^2)", b.acceleration.norm(), 4.620);
     row("phi3 (deg)", pose.phi3.to_degrees(), 58.633);

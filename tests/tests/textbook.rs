@@ -62,11 +62,10 @@ fn example_4_1_r_trr() {
     book("omega3", s.qd.phi3, 3.903, 3);
     book("alpha3", s.qdd.phi3, -2.252, 3);
 
-    // a_By: the book prints −4.255 m/s²; the computed value is −4.2534. The
-    // printed figure is what ω = π rad/s (30 rev/min exactly) gives, while
-    // the rest of the example uses ω = 3.141. Finite differences of the
-    // assembled positions of B at ω = 3.141 agree with the computed value,
-    // not with the book's.
+    // a_By: the book prints −4.255 m/s², the value for the stated 30 rev/min
+    // (ω = π exactly); the rest of the example computes with the rounded
+    // ω = 3.141, which gives −4.2534. Finite differences of the assembled
+    // positions of B confirm both: −4.2534 at ω = 3.141, −4.255 at ω = π.
     let (fd_v, fd_a) = fd_point(&m, &pose, omega, 0);
     assert!((b.velocity.x - fd_v[0]).abs() < 1e-6 && (b.velocity.y - fd_v[1]).abs() < 1e-6);
     assert!(
@@ -127,4 +126,116 @@ fn example_4_2_r_rtr_rrt() {
     let (fd_v, fd_a) = fd_point(&m, &pose, omega, 1);
     assert!((d.velocity.x - fd_v[0]).abs() < 1e-6 && (d.acceleration.x - fd_a[0]).abs() < 1e-5);
     check_motion(&m, &pose, &[omega], &[0.0], 1e-6);
+}
+
+/// A planar vector as the toolkit's 3-D one.
+fn v3(x: f64, y: f64) -> kinematics_core::nalgebra::Vector3<f64> {
+    kinematics_core::nalgebra::Vector3::new(x, y, 0.0)
+}
+
+#[test]
+fn example_4_1_relative_motion_of_the_slider() {
+    use kinematics_core::rigid::{relative_motion, FrameMotion};
+    // Block 2 slides along link 1 (the crank through A) at B: its motion is
+    // that of the point B₁ of link 1 under it (transport), plus the slide
+    // s' and s'' along the crank (relative), plus Coriolis 2ω₁ × v_rel.
+    let m = RTrr::EXAMPLE_4_1;
+    let pose = m.assemble(&RTrr::example_4_1_guess()).expect("assembles");
+    #[allow(clippy::approx_constant)] // the book's rounded ω
+    let omega = 3.141;
+    let s = m.analyze(&pose, omega, 0.0).expect("analysis");
+    let e = v3(pose.phi.cos(), pose.phi.sin());
+    let link1 = FrameMotion {
+        angular_velocity: kinematics_core::nalgebra::Vector3::z() * omega,
+        ..FrameMotion::default()
+    };
+    let b = s.point_b();
+    let r = relative_motion(
+        &link1,
+        &v3(b.position.x, b.position.y),
+        &(e * s.qd.s),
+        &(e * s.qdd.s),
+    );
+    book("v_B1x", r.transport_velocity.x, -0.804, 3);
+    book("v_B1y", r.transport_velocity.y, 0.804, 3);
+    book("v_B21x", r.relative_velocity.x, -0.195, 3);
+    book("v_B21y", r.relative_velocity.y, -0.195, 3);
+    book("a_B1x", r.transport_acceleration.x, -2.528, 3);
+    book("a_B1y", r.transport_acceleration.y, -2.528, 3);
+    book("a_B21 Coriolis x", r.coriolis.x, 1.226, 3);
+    book("a_B21 Coriolis y", r.coriolis.y, -1.226, 3);
+    // Printed to one decimal, −0.5 i − 0.5 j (with a_By = −4.255, the value
+    // for ω = π; with ω = 3.141 the y component is −0.4994).
+    book("a_B21 relative x", r.relative_acceleration.x, -0.5, 1);
+    book("a_B21 relative y", r.relative_acceleration.y, -0.5, 1);
+    // ω₂ = ω₁ (the block turns with the crank): ω₂₃ = ω₁ − ω₃, α₂₃ = −α₃.
+    book("omega23", omega - s.qd.phi3, -0.762, 3);
+    book("alpha23", -s.qdd.phi3, 2.252, 3);
+    // The parts add up to the motion of B found by the analysis.
+    assert!((r.velocity - v3(b.velocity.x, b.velocity.y)).norm() < 1e-12);
+    assert!((r.acceleration - v3(b.acceleration.x, b.acceleration.y)).norm() < 1e-12);
+}
+
+#[test]
+fn example_4_2_relative_motion_of_the_slider() {
+    use kinematics_core::nalgebra::Vector3;
+    use kinematics_core::rigid::{relative_motion, FrameMotion};
+    // Block 2, pinned to the crank at B, slides along link 3 (turning about
+    // C at the origin): B₂ = B₃ (the point of link 3 under it) + the slide
+    // s', s'' along CB + Coriolis 2ω₃ × v_rel.
+    let m = RRtrRrt::EXAMPLE_4_2;
+    let pose = m
+        .assemble(&RRtrRrt::example_4_2_guess())
+        .expect("assembles");
+    let omega = 4.712;
+    let s = m.analyze(&pose, omega, 0.0).expect("analysis");
+    let b = s.point_b();
+    book("v_B2x", b.velocity.x, -0.333, 3);
+    book("v_B2y", b.velocity.y, 0.333, 3);
+    book("a_B2x", b.acceleration.x, -1.569, 3);
+    book("a_B2y", b.acceleration.y, -1.569, 3);
+    let e = v3(pose.phi3.cos(), pose.phi3.sin());
+    let link3 = FrameMotion {
+        angular_velocity: Vector3::z() * s.qd.phi3,
+        angular_acceleration: Vector3::z() * s.qdd.phi3,
+        ..FrameMotion::default()
+    };
+    let r = relative_motion(
+        &link3,
+        &v3(b.position.x, b.position.y),
+        &(e * s.qd.s),
+        &(e * s.qdd.s),
+    );
+    // ω₂ = ω₃: relative to the crank, ω₂₁ = ω₃ − ω₁ and α₂₁ = α₃.
+    book("omega21", s.qd.phi3 - omega, -2.905, 3);
+    book("alpha21", s.qdd.phi3, 1.020, 3);
+    book("v_B3x", r.transport_velocity.x, -0.398, 3);
+    book("v_B3y", r.transport_velocity.y, 0.127, 3);
+    book("a_B3x", r.transport_acceleration.x, -0.456, 3);
+    book("a_B3y", r.transport_acceleration.y, -0.649, 3);
+    book("v_B23x", r.relative_velocity.x, 0.065, 3);
+    book("v_B23y", r.relative_velocity.y, 0.205, 3);
+    book("a_B23 Coriolis x", r.coriolis.x, -0.742, 3);
+    book("a_B23 Coriolis y", r.coriolis.y, 0.237, 3);
+    assert!((r.acceleration - v3(b.acceleration.x, b.acceleration.y)).norm() < 1e-12);
+    // The relative acceleration is printed −0.5 i − 0.5 j: a copy of Example
+    // 4.1's. The book's own numbers give a_B2 − a_B3 − a^c =
+    // (−1.569 + 0.456 + 0.742) i + (−1.569 + 0.649 − 0.237) j
+    // = −0.371 i − 1.157 j, and a slide along link 3 must be parallel to CB,
+    // at φ3 = 72.2°, which (−0.5, −0.5), at 225°, is not.
+    let from_printed = (-1.569f64 + 0.456 + 0.742, -1.569f64 + 0.649 - 0.237);
+    book(
+        "a_B23 relative x",
+        r.relative_acceleration.x,
+        from_printed.0,
+        2,
+    );
+    book(
+        "a_B23 relative y",
+        r.relative_acceleration.y,
+        from_printed.1,
+        2,
+    );
+    assert!(r.relative_acceleration.cross(&e).norm() < 1e-12, "along CB");
+    assert!((r.relative_acceleration - v3(-0.5, -0.5)).norm() > 0.5);
 }
