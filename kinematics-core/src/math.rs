@@ -10,24 +10,39 @@
 // functions to `no_std` builds.
 #![allow(clippy::inline_always)]
 
-/// sin x.
-#[inline(always)]
-#[must_use]
-pub fn sin(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.sin();
-    #[cfg(not(feature = "std"))]
-    return libm::sin(x);
+/// One-argument functions: the `f64` method with `std`, the libm function
+/// without.
+macro_rules! unary {
+    ($($(#[$doc:meta])* $name:ident: $method:ident, $libm:ident;)*) => {$(
+        $(#[$doc])*
+        #[inline(always)]
+        #[must_use]
+        pub fn $name(x: f64) -> f64 {
+            #[cfg(feature = "std")]
+            return x.$method();
+            #[cfg(not(feature = "std"))]
+            return libm::$libm(x);
+        }
+    )*};
 }
 
-/// cos x.
-#[inline(always)]
-#[must_use]
-pub fn cos(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.cos();
-    #[cfg(not(feature = "std"))]
-    return libm::cos(x);
+unary! {
+    /// sin x.
+    sin: sin, sin;
+    /// cos x.
+    cos: cos, cos;
+    /// tan x.
+    tan: tan, tan;
+    /// asin x.
+    asin: asin, asin;
+    /// acos x.
+    acos: acos, acos;
+    /// √x.
+    sqrt: sqrt, sqrt;
+    /// eˣ.
+    exp: exp, exp;
+    /// ln x.
+    ln: ln, log;
 }
 
 /// (sin x, cos x).
@@ -40,36 +55,6 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     return libm::sincos(x);
 }
 
-/// tan x.
-#[inline(always)]
-#[must_use]
-pub fn tan(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.tan();
-    #[cfg(not(feature = "std"))]
-    return libm::tan(x);
-}
-
-/// asin x.
-#[inline(always)]
-#[must_use]
-pub fn asin(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.asin();
-    #[cfg(not(feature = "std"))]
-    return libm::asin(x);
-}
-
-/// acos x.
-#[inline(always)]
-#[must_use]
-pub fn acos(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.acos();
-    #[cfg(not(feature = "std"))]
-    return libm::acos(x);
-}
-
 /// atan2(y, x), the angle of (x, y).
 #[inline(always)]
 #[must_use]
@@ -78,36 +63,6 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     return y.atan2(x);
     #[cfg(not(feature = "std"))]
     return libm::atan2(y, x);
-}
-
-/// √x.
-#[inline(always)]
-#[must_use]
-pub fn sqrt(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.sqrt();
-    #[cfg(not(feature = "std"))]
-    return libm::sqrt(x);
-}
-
-/// eˣ.
-#[inline(always)]
-#[must_use]
-pub fn exp(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.exp();
-    #[cfg(not(feature = "std"))]
-    return libm::exp(x);
-}
-
-/// ln x.
-#[inline(always)]
-#[must_use]
-pub fn ln(x: f64) -> f64 {
-    #[cfg(feature = "std")]
-    return x.ln();
-    #[cfg(not(feature = "std"))]
-    return libm::log(x);
 }
 
 /// |x|.

@@ -606,14 +606,7 @@ fn six_axis_arm_under_random_and_extreme_inputs() {
         let q: [f64; 6] = std::array::from_fn(|_| value(&mut rng, -4.0, 4.0));
         let rates: [f64; 6] = std::array::from_fn(|_| value(&mut rng, -5.0, 5.0));
         let accs: [f64; 6] = std::array::from_fn(|_| value(&mut rng, -50.0, 50.0));
-        let pose = SixAxisArmCoords {
-            q1: q[0],
-            q2: q[1],
-            q3: q[2],
-            q4: q[3],
-            q5: q[4],
-            q6: q[5],
-        };
+        let pose = SixAxisArmCoords::from(q);
         let run = catch_unwind(AssertUnwindSafe(|| {
             m.analyze_with(&pose, rates, accs, &options)
         }));

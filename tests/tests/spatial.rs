@@ -443,14 +443,7 @@ fn random_six_axis_arms_against_finite_differences() {
             d6: rng.range(0.05, 0.2),
         };
         let q: [f64; 6] = std::array::from_fn(|_| rng.angle());
-        let start = SixAxisArmCoords {
-            q1: q[0],
-            q2: q[1],
-            q3: q[2],
-            q4: q[3],
-            q5: q[4],
-            q6: q[5],
-        };
+        let start = SixAxisArmCoords::from(q);
         let pose = m.assemble(&start).expect("an open chain always assembles");
         let rates: [f64; 6] = std::array::from_fn(|_| rng.range(-3.0, 3.0));
         let accels: [f64; 6] = std::array::from_fn(|_| rng.range(-5.0, 5.0));

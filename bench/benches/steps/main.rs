@@ -178,14 +178,7 @@ fn gen_m4() -> f64 {
     let mut sum = 0.0;
     for k in 0..STEPS {
         let (q, qd, qdd) = arm_joints(k);
-        let start = m4::ArmCoords {
-            q1: q[0],
-            q2: q[1],
-            q3: q[2],
-            q4: q[3],
-            q5: q[4],
-            q6: q[5],
-        };
+        let start = m4::ArmCoords::from(q);
         let s = m.step(&start, qd, qdd).expect("step");
         let (p, f) = (s.point_tcp(), s.frame_tool());
         sum += q.iter().sum::<f64>();

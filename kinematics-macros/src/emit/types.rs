@@ -150,6 +150,7 @@ pub(super) fn types(
          accelerations q'' (angular for angle coordinates), and every point's motion."
     );
     let idx: Vec<usize> = (0..coord.len()).collect();
+    let n = coord.len();
     quote! {
         #(#docs)*
         #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,6 +162,27 @@ pub(super) fn types(
         #[derive(Debug, Clone, Copy, PartialEq, Default)]
         #vis struct #coords {
             #( #coord_docs pub #coord: f64, )*
+        }
+
+        #[automatically_derived]
+        impl ::core::convert::From<[f64; #n]> for #coords {
+            /// The coordinates from an array in declaration order: the
+            /// drivers, then the unknowns.
+            #[inline]
+            fn from(q: [f64; #n]) -> Self {
+                let [#(#coord),*] = q;
+                Self { #(#coord),* }
+            }
+        }
+
+        #[automatically_derived]
+        impl ::core::convert::From<#coords> for [f64; #n] {
+            /// The coordinates as an array in declaration order: the
+            /// drivers, then the unknowns.
+            #[inline]
+            fn from(q: #coords) -> Self {
+                [#(q.#coord),*]
+            }
         }
 
         #[automatically_derived]

@@ -69,14 +69,7 @@ pub fn tool_acceleration(q: [f64; 6], qd: [f64; 6]) -> Result<f64, Error> {
         d5: 0.08,
         d6: 0.1,
     };
-    let pose = ArmCoords {
-        q1: q[0],
-        q2: q[1],
-        q3: q[2],
-        q4: q[3],
-        q5: q[4],
-        q6: q[5],
-    };
+    let pose = ArmCoords::from(q);
     let s = m.analyze(&pose, qd, [0.0; 6])?;
     Ok(s.point_tcp().acceleration.norm())
 }
