@@ -3,7 +3,9 @@
 //! the residual, the Jacobian, the velocity and acceleration equations and
 //! the point; 2×2 systems are solved by Cramer's rule; the six-bar is solved
 //! dyad by dyad (its Jacobian is block triangular); the arm's velocities and
-//! accelerations are propagated outward joint by joint.
+//! accelerations are propagated outward joint by joint. M1 and M2 also carry
+//! the converged sines and cosines to the next step and hoist the
+//! driver-only parts of the residual (5 and 3 `sin_cos` per step).
 
 use crate::models::{m1, m2, m3, m4};
 
@@ -49,18 +51,68 @@ fn dyad_rates(b: f64, c: f64, t: [f64; 4], rd: [f64; 2], rdd: [f64; 2]) -> ([f64
     (w, al)
 }
 
-/// M1: returns the checksum of one step.
-pub fn m1_step(m: &m1::FourBar, phi: f64, th: &mut [f64; 2], w: f64, al: f64) -> f64 {
+/// The unknown angles carried from one step to the next with their sines
+/// and cosines: the converged iterate of a step is the first iterate of the
+/// next, whose sines and cosines are therefore known.
+pub struct Carried<const N: usize> {
+    /// The angles.
+    pub angles: [f64; N],
+    /// sin and cos of each, valid for `angles`.
+    trig: [(f64, f64); N],
+}
+
+impl<const N: usize> Carried<N> {
+    /// Starts from `angles` (their sines and cosines computed once).
+    pub fn new(angles: [f64; N]) -> Self {
+        Self {
+            angles,
+            trig: angles.map(f64::sin_cos),
+        }
+    }
+}
+
+/// M1, as an expert writes it: sin/cos of the driver once per position and
+/// of each unknown angle once per Newton iterate after the first (the first
+/// is the previous position's converged pose, carried over); the converged
+/// iterate's sines and cosines serve the Jacobian, the velocities, the
+/// accelerations and the coupler point, whose offset angle θ3 + β is formed
+/// by the addition theorem with sin β, cos β given; 2×2 solves by Cramer's
+/// rule; only max|Φ| < tol tested in the loop. Five `sin_cos` per step
+/// when Newton takes two iterations. Returns the checksum of one step.
+pub fn m1_step(
+    m: &m1::FourBar,
+    (sin_beta, cos_beta): (f64, f64),
+    phi: f64,
+    st: &mut Carried<2>,
+    w: f64,
+    al: f64,
+) -> f64 {
+    let (b, c) = (m.b, m.c);
     let (s1, c1) = phi.sin_cos();
     let (ax, ay) = (m.a * c1, m.a * s1);
-    let [mut t3, mut t4] = *th;
-    let t = dyad(ax - m.d, ay, m.b, m.c, &mut t3, &mut t4);
-    *th = [t3, t4];
+    let (rx, ry) = (ax - m.d, ay);
+    let [mut t3, mut t4] = st.angles;
+    let [(mut sb, mut cb), (mut sc, mut cc)] = st.trig;
+    for _ in 0..MAX_IT {
+        let f0 = rx + b * cb - c * cc;
+        let f1 = ry + b * sb - c * sc;
+        if f0.abs().max(f1.abs()) < TOL {
+            break;
+        }
+        // J = [[−b sb, c sc], [b cb, −c cc]], det = b c sin(θ3 − θ4).
+        let det = b * c * (sb * cc - cb * sc);
+        t3 -= (-c * cc * f0 - c * sc * f1) / det;
+        t4 -= (-b * cb * f0 - b * sb * f1) / det;
+        (sb, cb) = t3.sin_cos();
+        (sc, cc) = t4.sin_cos();
+    }
+    st.angles = [t3, t4];
+    st.trig = [(sb, cb), (sc, cc)];
     let rd = [-ay * w, ax * w];
     let rdd = [-ax * w * w - ay * al, -ay * w * w + ax * al];
-    let (om, alpha) = dyad_rates(m.b, m.c, t, rd, rdd);
-    // Coupler point P = B + p e(θ3 + β).
-    let (sp, cp) = (th[0] + m.beta).sin_cos();
+    let (om, alpha) = dyad_rates(b, c, [sb, cb, sc, cc], rd, rdd);
+    // Coupler point P = B + p e(θ3 + β), by the addition theorem.
+    let (sp, cp) = (sb * cos_beta + cb * sin_beta, cb * cos_beta - sb * sin_beta);
     let (px, py) = (m.p * cp, m.p * sp);
     let p = [ax + px, ay + py];
     let v = [rd[0] - py * om[0], rd[1] + px * om[0]];
@@ -68,45 +120,54 @@ pub fn m1_step(m: &m1::FourBar, phi: f64, th: &mut [f64; 2], w: f64, al: f64) ->
         rdd[0] - px * om[0] * om[0] - py * alpha[0],
         rdd[1] - py * om[0] * om[0] + px * alpha[0],
     ];
-    th[0] + th[1] + om[0] + om[1] + alpha[0] + alpha[1] + p[0] + p[1] + v[0] + v[1] + a[0] + a[1]
+    t3 + t4 + om[0] + om[1] + alpha[0] + alpha[1] + p[0] + p[1] + v[0] + v[1] + a[0] + a[1]
 }
 
-/// M2: Φ = |B − A|² − b² = 0 for ψ.
-pub fn m2_step(m: &m2::Rssr, phi: f64, psi: &mut f64, w: f64, al: f64) -> f64 {
+/// M2, as an expert writes it. With k = a cos φ − d, the residual
+/// Φ = |B − A|² − b² = f₀(φ) + g(φ) cos ψ, f₀ = k² + c² + a² sin²φ − b²,
+/// g = −2kc, is hoisted out of the Newton loop, whose iterate costs one
+/// `sin_cos` (none for the first, carried over): three per step when Newton
+/// takes two iterations. Velocities and accelerations from the derivatives
+/// of Φ: Φ_φ = 2a sin φ (d + c cos ψ), Φ_ψ = 2kc sin ψ,
+/// Φ_φφ = 2a cos φ (d + c cos ψ), Φ_φψ = −2ac sin φ sin ψ, Φ_ψψ = 2kc cos ψ.
+pub fn m2_step(m: &m2::Rssr, phi: f64, st: &mut Carried<1>, w: f64, al: f64) -> f64 {
     let (sf, cf) = phi.sin_cos();
-    let (ax, az) = (-m.a * cf, m.a * sf);
-    let (mut sp, mut cp) = psi.sin_cos();
+    let k = m.a * cf - m.d;
+    let f0 = k * k + m.c * m.c + m.a * m.a * sf * sf - m.b * m.b;
+    let g = -2.0 * k * m.c;
+    let [mut psi] = st.angles;
+    let [(mut sp, mut cp)] = st.trig;
     for _ in 0..MAX_IT {
-        let (dx, dy, dz) = (-m.d - m.c * cp - ax, m.c * sp, -az);
-        let f = dx * dx + dy * dy + dz * dz - m.b * m.b;
+        let f = f0 + g * cp;
         if f.abs() < TOL {
             break;
         }
-        // ∂Φ/∂ψ = 2 D·∂B/∂ψ, ∂B/∂ψ = c (sin ψ, cos ψ, 0).
-        let j = 2.0 * m.c * (dx * sp + dy * cp);
-        *psi -= f / j;
+        psi -= f / (-g * sp);
         (sp, cp) = psi.sin_cos();
     }
-    let (dx, dy, dz) = (-m.d - m.c * cp - ax, m.c * sp, -az);
-    let (bx, by) = (m.c * sp, m.c * cp); // ∂B/∂ψ
-    let j = 2.0 * (dx * bx + dy * by);
-    // Ȧ = a (sin φ, 0, cos φ) φ'.
-    let (adx, adz) = (m.a * sf * w, m.a * cf * w);
-    let psid = 2.0 * (dx * adx + dz * adz) / j;
-    let (bdx, bdy) = (bx * psid, by * psid);
-    // Φ̈ = 2(Ḋ·Ḋ + D·D̈) = 0 with D̈ = B̈ − Ä.
-    let (ddx, ddy, ddz) = (bdx - adx, bdy, -adz);
-    let (aax, aaz) = (
-        m.a * cf * w * w + m.a * sf * al,
-        -m.a * sf * w * w + m.a * cf * al,
-    );
-    let (b0x, b0y) = (m.c * cp * psid * psid, -m.c * sp * psid * psid);
-    let rest = ddx * ddx + ddy * ddy + ddz * ddz + dx * (b0x - aax) + dy * b0y - dz * aaz;
-    let psidd = -2.0 * rest / j;
+    st.angles = [psi];
+    st.trig = [(sp, cp)];
+    let phi_psi = -g * sp;
+    let e = m.d + m.c * cp;
+    let phi_phi = 2.0 * m.a * sf * e;
+    let psid = -phi_phi * w / phi_psi;
+    let phi_phiphi = 2.0 * m.a * cf * e;
+    let phi_phipsi = -2.0 * m.a * m.c * sf * sp;
+    let phi_psipsi = -g * cp;
+    let psidd = -(phi_phiphi * w * w
+        + 2.0 * phi_phipsi * w * psid
+        + phi_psipsi * psid * psid
+        + phi_phi * al)
+        / phi_psi;
+    // B = (−d − c cos ψ, c sin ψ, 0) and its velocity and acceleration.
     let b = [-m.d - m.c * cp, m.c * sp, 0.0];
-    let v = [bdx, bdy, 0.0];
-    let a = [b0x + bx * psidd, b0y + by * psidd, 0.0];
-    *psi + psid + psidd + b[0] + b[1] + b[2] + v[0] + v[1] + v[2] + a[0] + a[1] + a[2]
+    let v = [m.c * sp * psid, m.c * cp * psid, 0.0];
+    let a = [
+        m.c * (cp * psid * psid + sp * psidd),
+        m.c * (-sp * psid * psid + cp * psidd),
+        0.0,
+    ];
+    psi + psid + psidd + b[0] + b[1] + b[2] + v[0] + v[1] + v[2] + a[0] + a[1] + a[2]
 }
 
 /// M3: the four-bar dyad, then the output dyad driven by the rocker.

@@ -191,16 +191,17 @@ fn gen_m4() -> f64 {
 // ───────────────────────── variant 2: hand-written ─────────────────────────
 
 fn hand_m1() -> f64 {
-    let mut th = M1_START;
+    let mut st = hand::Carried::new(M1_START);
+    let beta = M1.beta.sin_cos();
     (0..STEPS)
-        .map(|k| hand::m1_step(&M1, angle(k), &mut th, M1_RATES.0, M1_RATES.1))
+        .map(|k| hand::m1_step(&M1, beta, angle(k), &mut st, M1_RATES.0, M1_RATES.1))
         .sum()
 }
 
 fn hand_m2() -> f64 {
-    let mut psi = M2_START[0];
+    let mut st = hand::Carried::new(M2_START);
     (0..STEPS)
-        .map(|k| hand::m2_step(&M2, angle(k), &mut psi, M2_RATES.0, M2_RATES.1))
+        .map(|k| hand::m2_step(&M2, angle(k), &mut st, M2_RATES.0, M2_RATES.1))
         .sum()
 }
 
