@@ -11,29 +11,18 @@ use crate::cse::schedule;
 
 /// The analysis methods.
 pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
-    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
-    let (nd, nnz) = (cx.nd, cx.blocks.nnz());
+    let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let nd = cx.nd;
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
-    let (q, qd, qdd) = (&id.q, &id.qd, &id.qdd);
-    let (qd_drivers, qd_unknowns) = qd.split_at(nd);
-    let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
+    let q = &id.q;
+    let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
     let leaf = cx.leaf();
     let sched = schedule(g, &cx.analysis_stages());
     let (pr, lets) = bind(g, &sched, &leaf);
-    let (velocity, acceleration, points) = (&lets[0], &lets[1], &lets[2]);
-    let jac = cx.jac_array(&pr);
-    let vel_rhs: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
-    let acc_rhs: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
-    let vel_solve = cx.blocks.solve(&quote!([#(#vel_rhs),*]), true);
-    let acc_solve = cx.blocks.solve(&quote!([#(#acc_rhs),*]), true);
-    let point_states = cx.points_of(&pr);
-    let frame_states = cx.frames_of(&pr);
+    let tail = cx.analysis_tail(&pr, [&lets[0], &lets[1], &lets[2]], &quote!(*pose));
     let inputs = guards::inputs(cx, "pose", true);
-    let check_rates = guards::solved_rates(cx);
-    let check_outputs = guards::outputs(cx);
     let scaling = cx.scaling();
-    let at_solution = cx.factor_at_solution();
     quote! {
         /// Velocities and accelerations at an assembled `pose`, for driver
         /// rates d' and accelerations d'' (a bare `f64` for one driver,
@@ -87,25 +76,7 @@ pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
             #inputs
             #( let #q = pose.#coord; )*
             #scaling
-            #velocity
-            let jac: [f64; #nnz] = #jac;
-            #at_solution
-            let [#(#qd_unknowns),*] = #vel_solve;
-            #acceleration
-            let [#(#qdd_unknowns),*] = #acc_solve;
-            #check_rates
-            #points
-            let motion = #motion {
-                q: *pose,
-                qd: #coords { #( #coord: #qd ),* },
-                qdd: #coords { #( #coord: #qdd ),* },
-                points: [#(#point_states),*],
-                frames: [#(#frame_states),*],
-                conditioning: __conditioning,
-                det_sign: __det_sign,
-            };
-            #check_outputs
-            ::core::result::Result::Ok(motion)
+            #tail
         }
     }
 }

@@ -248,6 +248,56 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// The analysis once the coordinates are bound, under `pr`'s names and
+    /// with its three stages' `lets` (velocity, acceleration, points): Φ_u
+    /// factored and checked at the solution, u' and u'' solved block by
+    /// block, every point's and frame's motion, and the motion (its `q`
+    /// field given) checked and returned.
+    fn analysis_tail(
+        &self,
+        pr: &Printer<'_>,
+        lets: [&TokenStream; 3],
+        q_field: &TokenStream,
+    ) -> TokenStream {
+        let (d, nd, nnz) = (self.d, self.nd, self.blocks.nnz());
+        let id = &self.id;
+        let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
+        let (qd, qdd) = (&id.qd, &id.qdd);
+        let (qd_unknowns, qdd_unknowns) = (&qd[nd..], &qdd[nd..]);
+        let [velocity, acceleration, points] = lets;
+        let jac = self.jac_array(pr);
+        let vel_rhs: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
+        let acc_rhs: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
+        let vel_solve = self.blocks.solve(&quote!([#(#vel_rhs),*]), true);
+        let acc_solve = self.blocks.solve(&quote!([#(#acc_rhs),*]), true);
+        let point_states = self.points_of(pr);
+        let frame_states = self.frames_of(pr);
+        let check_rates = guards::solved_rates(self);
+        let check_outputs = guards::outputs(self);
+        let at_solution = self.factor_at_solution();
+        quote! {
+            #velocity
+            let jac: [f64; #nnz] = #jac;
+            #at_solution
+            let [#(#qd_unknowns),*] = #vel_solve;
+            #acceleration
+            let [#(#qdd_unknowns),*] = #acc_solve;
+            #check_rates
+            #points
+            let motion = #motion {
+                q: #q_field,
+                qd: #coords { #( #coord: #qd ),* },
+                qdd: #coords { #( #coord: #qdd ),* },
+                points: [#(#point_states),*],
+                frames: [#(#frame_states),*],
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+            };
+            #check_outputs
+            ::core::result::Result::Ok(motion)
+        }
+    }
+
     /// The leaf printer of the generated code (`self.a`, `q_phi`, …).
     fn leaf(&self) -> impl Fn(Leaf) -> TokenStream + '_ {
         self.id.leaf()

@@ -22,10 +22,9 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
-    let (q, qd, qdd) = (&id.q, &id.qd, &id.qdd);
+    let q = &id.q;
     let (q_drivers, q_unknowns) = q.split_at(nd);
-    let (qd_drivers, qd_unknowns) = qd.split_at(nd);
-    let (qdd_drivers, qdd_unknowns) = qdd.split_at(nd);
+    let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
     let (c_drivers, c_unknowns) = coord.split_at(nd);
     let leaf = cx.leaf();
     let newton_roots = cx.newton_roots();
@@ -85,22 +84,17 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let newton_solve = cx.blocks.solve(&quote!(phi), false);
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
     let nc = cached_names.len();
-    let (hoisted, iterated, velocity, acceleration, points) =
-        (&lets[0], &lets[1], &lets[2], &lets[3], &lets[4]);
+    let (hoisted, iterated) = (&lets[0], &lets[1]);
     let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
     let jac = cx.jac_array(&pr);
-    let vel_rhs: Vec<_> = d.vel_rhs.iter().map(|&i| pr.element(i)).collect();
-    let acc_rhs: Vec<_> = d.acc_rhs.iter().map(|&i| pr.element(i)).collect();
-    let vel_solve = cx.blocks.solve(&quote!([#(#vel_rhs),*]), true);
-    let acc_solve = cx.blocks.solve(&quote!([#(#acc_rhs),*]), true);
-    let point_states = cx.points_of(&pr);
-    let frame_states = cx.frames_of(&pr);
+    let tail = cx.analysis_tail(
+        &pr,
+        [&lets[2], &lets[3], &lets[4]],
+        &quote!(#coords { #( #coord: #q ),* }),
+    );
     let inputs = guards::inputs(cx, "start", true);
-    let check_rates = guards::solved_rates(cx);
-    let check_outputs = guards::outputs(cx);
     let scaling = cx.scaling();
     let solver = cx.solver();
-    let at_solution = cx.factor_at_solution();
     quote! {
         /// Assembles at the drivers of `start` from its unknowns (as
         /// [`Self::assemble`]) and analyses the motion there (as
@@ -195,25 +189,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             }
             let [#(#q_unknowns),*] = u;
             let [#(#cached_names),*] = cache;
-            #velocity
-            let jac: [f64; #nnz] = #jac;
-            #at_solution
-            let [#(#qd_unknowns),*] = #vel_solve;
-            #acceleration
-            let [#(#qdd_unknowns),*] = #acc_solve;
-            #check_rates
-            #points
-            let motion = #motion {
-                q: #coords { #( #coord: #q ),* },
-                qd: #coords { #( #coord: #qd ),* },
-                qdd: #coords { #( #coord: #qdd ),* },
-                points: [#(#point_states),*],
-                frames: [#(#frame_states),*],
-                conditioning: __conditioning,
-                det_sign: __det_sign,
-            };
-            #check_outputs
-            ::core::result::Result::Ok(motion)
+            #tail
         }
     }
 }
