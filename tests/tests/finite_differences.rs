@@ -451,3 +451,91 @@ fn fused_step_equals_assemble_then_analyze() {
         std::mem::discriminant(&short.assemble(&start).expect_err("cannot close"))
     );
 }
+
+/// A stepping handle carries the sines and cosines of each solved pose to
+/// the next step (refreshed every 64): over a full turn its poses are those
+/// of `step` within the tolerance's bound, and its motion is that of a
+/// separate analysis at the same pose, which evaluates every sine and cosine
+/// afresh, to 1e-13: the carried values do not drift.
+#[test]
+fn a_stepper_follows_step_over_a_turn() {
+    use kinematics_core::Options;
+    use kinematics_examples::{Rssr, RssrCoords};
+    let close = |what: &str, k: usize, x: f64, y: f64, tol: f64| {
+        assert!(
+            (x - y).abs() <= tol * (1.0 + y.abs()),
+            "{what} at step {k}: {x} vs {y}"
+        );
+    };
+    let turn =
+        |k: usize| f64::from(u32::try_from(k).expect("small")) * std::f64::consts::TAU / 3600.0;
+    let m = FourBar::CRANK_ROCKER;
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let s = stepper.step(&pose, 10.0, 2.0).expect("steps");
+        let plain = m.step(&pose, 10.0, 2.0).expect("steps");
+        close("th3", k, s.q.th3, plain.q.th3, 2e-12 / s.conditioning);
+        let exact = m.analyze(&s.q, 10.0, 2.0).expect("analysis");
+        close("th3'", k, s.qd.th3, exact.qd.th3, 1e-13);
+        close("th4''", k, s.qdd.th4, exact.qdd.th4, 1e-13);
+        for (p, e) in s.points.iter().zip(&exact.points) {
+            for (u, v) in p.acceleration.iter().zip(&e.acceleration) {
+                close("point acceleration", k, *u, *v, 1e-13);
+            }
+        }
+        pose = s.q;
+    }
+    // The six-bar's offset angle θ4 + γ is carried too; the RSSR has one
+    // unknown; the slider-crank a length.
+    let w = Watt {
+        gamma: 0.3,
+        ..Watt::EXAMPLE
+    };
+    let mut stepper = w.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose = w.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let s = stepper.step(&pose, 10.0, 2.0).expect("steps");
+        let exact = w.analyze(&s.q, 10.0, 2.0).expect("analysis");
+        close("th5''", k, s.qdd.th5, exact.qdd.th5, 1e-13);
+        close("th6'", k, s.qd.th6, exact.qd.th6, 1e-13);
+        pose = s.q;
+    }
+    let r = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.315,
+    };
+    let mut stepper = r.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose = RssrCoords { phi: 0.0, psi: 1.2 };
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let s = stepper.step(&pose, 25.0, 3.0).expect("steps");
+        let exact = r.analyze(&s.q, 25.0, 3.0).expect("analysis");
+        close("psi''", k, s.qdd.psi, exact.qdd.psi, 1e-13);
+        pose = s.q;
+    }
+    let sc = SliderCrank {
+        a: 0.1,
+        b: 0.25,
+        e: 0.01,
+    };
+    let mut stepper = sc.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose = sc
+        .assemble(&SliderCrankCoords {
+            phi: 0.0,
+            th: 0.0,
+            x: 0.35,
+        })
+        .expect("assembles");
+    for k in 0..3600 {
+        pose.phi = turn(k);
+        let s = stepper.step(&pose, 6.0, 0.0).expect("steps");
+        let exact = sc.analyze(&s.q, 6.0, 0.0).expect("analysis");
+        close("x''", k, s.qdd.x, exact.qdd.x, 1e-13);
+        pose = s.q;
+    }
+}

@@ -137,3 +137,20 @@ fn fused_step_of_spatial_mechanisms_allocates_nothing() {
     });
     assert!(checksum.is_finite());
 }
+
+#[test]
+fn a_stepper_allocates_nothing() {
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    assert_allocates_nothing(|| {
+        let mut pose = start;
+        for k in 0..360 {
+            pose.phi = f64::from(k) * 0.0175;
+            pose = stepper.step(&pose, 10.0, 0.0).expect("steps").q;
+        }
+        std::hint::black_box(pose);
+    });
+}

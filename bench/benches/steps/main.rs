@@ -8,7 +8,9 @@
 //! a checksum. The variants:
 //!
 //! 1. the code `mechanism!` generates, through its public API (`step`:
-//!    assemble and analyse in one call);
+//!    assemble and analyse in one call), and through the stepping handle
+//!    (`stepper().step`, which checks the options, parameters and scales
+//!    once and carries sines and cosines from step to step);
 //! 2. hand-written, hand-differentiated code (`hand.rs`);
 //! 3. forward-mode dual numbers, `num-dual` (`generic.rs`);
 //! 4. central finite differences (`generic.rs`);
@@ -122,6 +124,29 @@ fn gen_m1() -> f64 {
     sum
 }
 
+/// As the generated variant, through the stepping handle.
+fn gen_m1s() -> f64 {
+    let m = M1;
+    let mut pose = m1::FourBarCoords {
+        phi: 0.0,
+        th3: M1_START[0],
+        th4: M1_START[1],
+    };
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = stepper.step(&pose, M1_RATES.0, M1_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_p();
+        sum += pose.th3 + pose.th4 + s.qd.th3 + s.qd.th4 + s.qdd.th3 + s.qdd.th4;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
 fn gen_m2() -> f64 {
     let m = M2;
     let mut pose = m2::RssrCoords {
@@ -132,6 +157,28 @@ fn gen_m2() -> f64 {
     for k in 0..STEPS {
         pose.phi = angle(k);
         let s = m.step(&pose, M2_RATES.0, M2_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_b();
+        sum += pose.psi + s.qd.psi + s.qdd.psi;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
+/// As the generated variant, through the stepping handle.
+fn gen_m2s() -> f64 {
+    let m = M2;
+    let mut pose = m2::RssrCoords {
+        phi: 0.0,
+        psi: M2_START[0],
+    };
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = stepper.step(&pose, M2_RATES.0, M2_RATES.1).expect("step");
         pose = s.q;
         let p = s.point_b();
         sum += pose.psi + s.qd.psi + s.qdd.psi;
@@ -164,6 +211,34 @@ fn gen_m3() -> f64 {
     sum
 }
 
+/// As the generated variant, through the stepping handle.
+fn gen_m3s() -> f64 {
+    let m = M3;
+    let [th3, th4, th5, th6] = M3_START;
+    let mut pose = m3::WattCoords {
+        phi: 0.0,
+        th3,
+        th4,
+        th5,
+        th6,
+    };
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose.phi = angle(k);
+        let s = stepper.step(&pose, M3_RATES.0, M3_RATES.1).expect("step");
+        pose = s.q;
+        let p = s.point_f();
+        sum += pose.th3 + pose.th4 + pose.th5 + pose.th6;
+        sum += s.qd.th3 + s.qd.th4 + s.qd.th5 + s.qd.th6;
+        sum += s.qdd.th3 + s.qdd.th4 + s.qdd.th5 + s.qdd.th6;
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+    }
+    sum
+}
+
 fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
     let s = angle(k);
     (
@@ -180,6 +255,25 @@ fn gen_m4() -> f64 {
         let (q, qd, qdd) = arm_joints(k);
         let start = m4::ArmCoords::from(q);
         let s = m.step(&start, qd, qdd).expect("step");
+        let (p, f) = (s.point_tcp(), s.frame_tool());
+        sum += q.iter().sum::<f64>();
+        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
+        sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
+    }
+    sum
+}
+
+/// As the generated variant, through the stepping handle.
+fn gen_m4s() -> f64 {
+    let m = M4;
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        let (q, qd, qdd) = arm_joints(k);
+        let start = m4::ArmCoords::from(q);
+        let s = stepper.step(&start, qd, qdd).expect("step");
         let (p, f) = (s.point_tcp(), s.frame_tool());
         sum += q.iter().sum::<f64>();
         sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
@@ -273,6 +367,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     let mut i4 = interp(m4::tokens(), &p4);
     vec![
         ("M1 four-bar", "generated", Box::new(gen_m1)),
+        ("M1 four-bar", "stepper", Box::new(gen_m1s)),
         ("M1 four-bar", "hand-written", Box::new(hand_m1)),
         (
             "M1 four-bar",
@@ -298,6 +393,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             Box::new(move || sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| i1.step::<3, 2>(q, d, a))),
         ),
         ("M2 RSSR", "generated", Box::new(gen_m2)),
+        ("M2 RSSR", "stepper", Box::new(gen_m2s)),
         ("M2 RSSR", "hand-written", Box::new(hand_m2)),
         (
             "M2 RSSR",
@@ -323,6 +419,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             Box::new(move || sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| i2.step::<2, 1>(q, d, a))),
         ),
         ("M3 Watt six-bar", "generated", Box::new(gen_m3)),
+        ("M3 Watt six-bar", "stepper", Box::new(gen_m3s)),
         ("M3 Watt six-bar", "hand-written", Box::new(hand_m3)),
         (
             "M3 Watt six-bar",
@@ -348,6 +445,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             Box::new(move || sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| i3.step::<5, 4>(q, d, a))),
         ),
         ("M4 six-axis arm", "generated", Box::new(gen_m4)),
+        ("M4 six-axis arm", "stepper", Box::new(gen_m4s)),
         ("M4 six-axis arm", "hand-written", Box::new(hand_m4)),
         (
             "M4 six-axis arm",
@@ -367,8 +465,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     ]
 }
 
-const VARIANTS: [&str; 5] = [
+const VARIANTS: [&str; 6] = [
     "generated",
+    "stepper",
     "hand-written",
     "dual numbers",
     "finite differences",
@@ -516,7 +615,7 @@ fn main() {
     let mut table = format!(
         "ns per step (one step: assemble from the previous pose, velocities, accelerations, one point{}), \
          median of criterion's samples; in brackets, the ratio to the hand-written code. \
-         Measured on {}, {}.\n\n| mechanism | {} |\n|---|---|---|---|---|---|\n",
+         Measured on {}, {}.\n\n| mechanism | {} |\n|---|---|---|---|---|---|---|\n",
         " and for the arm its tool frame",
         machine(),
         today(),

@@ -7,7 +7,8 @@
 //! valgrind --tool=callgrind target/release/count_steps m1
 //! ```
 //!
-//! `m1a` and `m2a` run M1 and M2 with the absolute convergence test. A
+//! `m1a` and `m2a` run M1 and M2 with the absolute convergence test, `m1s`,
+//! `m2s` and `m3s` through the stepping handle (`stepper().step`). A
 //! second argument repeats the turn and prints the wall time per step.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::panic, clippy::cast_precision_loss)]
@@ -69,6 +70,44 @@ fn turn(which: &str) -> f64 {
                 sum += s.qdd.psi;
             }
         }
+        "m1s" => {
+            let m = black_box(FourBar::CRANK_ROCKER);
+            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+            let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
+            for k in 0..STEPS {
+                pose.phi = angle(k);
+                let s = stepper.step(black_box(&pose), 10.0, 0.0).unwrap();
+                pose = s.q;
+                sum += s.qdd.th4 + s.points[2].acceleration.x;
+            }
+        }
+        "m2s" => {
+            let m = black_box(Rssr {
+                a: 0.102,
+                b: 0.381,
+                c: 0.254,
+                d: 0.314,
+            });
+            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+            let mut pose = m.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
+            for k in 0..STEPS {
+                pose.phi = angle(k);
+                let s = stepper.step(black_box(&pose), 25.0, 0.0).unwrap();
+                pose = s.q;
+                sum += s.qdd.psi;
+            }
+        }
+        "m3s" => {
+            let m = black_box(Watt::EXAMPLE);
+            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+            let mut pose = m.assemble(&Watt::EXAMPLE_GUESS).unwrap();
+            for k in 0..STEPS {
+                pose.phi = angle(k);
+                let s = stepper.step(black_box(&pose), 10.0, 0.0).unwrap();
+                pose = s.q;
+                sum += s.qdd.th6 + s.points[0].acceleration.x;
+            }
+        }
         "m3" => {
             let m = black_box(Watt::EXAMPLE);
             let mut pose = m.assemble(&Watt::EXAMPLE_GUESS).unwrap();
@@ -94,7 +133,7 @@ fn turn(which: &str) -> f64 {
                 sum += s.points[0].acceleration.x + s.frames[2].angular_acceleration.z;
             }
         }
-        other => panic!("unknown mechanism `{other}`: m1, m1a, m2, m2a, m3 or m4"),
+        other => panic!("unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s or m4"),
     }
     sum
 }

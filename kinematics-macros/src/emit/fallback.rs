@@ -56,8 +56,10 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         name,
         coords,
         motion,
+        stepper,
         ..
     } = &id;
+    let vis = &def.vis;
     let pp = quote!(::kinematics_core::__private);
     let (nd, nu, np, nf) = (
         def.drivers.len(),
@@ -109,6 +111,15 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             /// Unavailable: the definition has errors.
             #[must_use]
             pub fn frame_rotations(&self, pose: &#coords) -> [#pp::Matrix3<f64>; #nf] { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn stepper(&self, options: &#pp::Options) -> #pp::Result<#stepper<'_>, #pp::Error> { #unavailable }
+        }
+        /// Unavailable: the definition has errors.
+        #vis struct #stepper<'m>(&'m #name);
+        #[allow(unused_variables, clippy::unused_self, dead_code, clippy::missing_errors_doc)]
+        impl #stepper<'_> {
+            /// Unavailable: the definition has errors.
+            pub fn step(&mut self, start: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>) -> #pp::Result<#motion, #pp::Error> { #unavailable }
         }
         #[automatically_derived]
         #[allow(unused_variables)]

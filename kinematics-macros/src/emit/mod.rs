@@ -319,6 +319,7 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     let validate = guards::validate(&cx);
     let assemble = assemble::assemble(&cx);
     let step = step::step(&cx);
+    let stepper = step::stepper_items(&cx);
     let analyze = analyze::analyze(&cx);
     let evaluate = evaluate::evaluate(&cx);
     let mechanism_impl = mechanism_impl::mechanism_impl(&cx);
@@ -355,6 +356,8 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
             #analyze
             #evaluate
         }
+
+        #stepper
 
         #mechanism_impl
     }

@@ -19,7 +19,7 @@ use crate::ir::Id;
 /// The stepping methods.
 pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
-    let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
+    let (nd, nnz) = (cx.nd, cx.blocks.nnz());
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
     let q = &id.q;
@@ -54,11 +54,11 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     // evaluated in floating point (an offset of 1e20 rad leaves u + γ
     // unchanged by a small step in u).
     let mut given: HashMap<Id, Ident> = HashMap::new();
-    let (mut trig_setup, mut trig_eval) = (TokenStream::new(), TokenStream::new());
-    for (n, t) in unknown_trig(g, &newton_roots, cx.model.drivers)
-        .into_iter()
-        .enumerate()
-    {
+    let (mut trig_setup, mut trig_eval, mut trig_keep) =
+        (TokenStream::new(), TokenStream::new(), Vec::new());
+    let trig = unknown_trig(g, &newton_roots, cx.model.drivers);
+    let nt = trig.len();
+    for (n, t) in trig.into_iter().enumerate() {
         // The argument as an expression of u_k and values bound before the
         // iteration (the part free of unknowns is driver-only or constant).
         let arg = pr.body(t.arg);
@@ -69,9 +69,12 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         );
         given.extend(t.sin.map(|id| (id, sv.clone())));
         given.extend(t.cos.map(|id| (id, cv.clone())));
+        // From the values carried in: the previous pose's (a stepper's), or
+        // an argument of NaN, which computes afresh.
         trig_setup.extend(quote! {
-            let (mut #sv, mut #cv, mut #av) = (0.0f64, 0.0f64, ::core::primitive::f64::NAN);
+            let [mut #sv, mut #cv, mut #av] = carry[#n];
         });
+        trig_keep.push(quote!([#sv, #cv, #av]));
         trig_eval.extend(quote! {
             let __x = #arg;
             (#sv, #cv) = #pp::sin_cos_after(#sv, #cv, __x, __x - #av);
@@ -95,6 +98,22 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let inputs = guards::inputs(cx, "start", true);
     let scaling = cx.scaling();
     let solver = cx.solver();
+    let ne = cx.ne;
+    let stepper = &id.stepper;
+    let stepper_doc = format!(
+        "A stepping handle: checks `options` and the parameters once, evaluates the scaling \
+         of the equations once (unless it depends on the drivers), and carries the sines and \
+         cosines of the solved pose from one [`{stepper}::step`] to the next, refreshed every \
+         64 steps. The way to run a simulation."
+    );
+    // Whether the scaling must be evaluated at each step: a term scale that
+    // holds a driver (a slider driver outside a sine or cosine).
+    let driver_scaled = cx.scales.full.iter().any(|&r| {
+        g.depends_on(
+            r,
+            &|l| matches!(l, crate::ir::Leaf::Q(j) if j < cx.model.drivers),
+        )
+    });
     quote! {
         /// Assembles at the drivers of `start` from its unknowns (as
         /// [`Self::assemble`]) and analyses the motion there (as
@@ -132,8 +151,6 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         /// away at compile time.
         #[doc(hidden)]
         #[inline(always)]
-        #allow
-        #[allow(unused_assignments)]
         fn __step(
             &self,
             start: &#coords,
@@ -143,11 +160,46 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         ) -> #pp::Result<#motion, #pp::Error> {
             options.validate()?;
             self.validate()?;
+            let scaling = self.__scaling(&[#(start.#c_drivers),*])?;
+            let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+            self.__step_core(start, rates, accelerations, options, &scaling, &mut carry)
+        }
+
+        /// The scaling of the equations (`kinematics_core::solve::Scaling`)
+        /// at the drivers `d`.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        fn __scaling(
+            &self,
+            d: &[f64; #nd],
+        ) -> #pp::Result<#pp::Scaling<#ne>, #pp::Error> {
+            let [#(#q_drivers),*] = *d;
+            #scaling
+            ::core::result::Result::Ok(__scaling)
+        }
+
+        /// A step from `start` with options, parameters and scaling
+        /// already checked, and the sines and cosines of the unknown
+        /// angles carried in `carry` as (sin, cos, argument): on return,
+        /// those of the solution (or a NaN argument, to compute afresh).
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        #[allow(unused_assignments)]
+        fn __step_core(
+            &self,
+            start: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+            __scaling: &#pp::Scaling<#ne>,
+            carry: &mut [[f64; 3]; #nt],
+        ) -> #pp::Result<#motion, #pp::Error> {
             let [#(#qd_drivers),*] = rates.into_array();
             let [#(#qdd_drivers),*] = accelerations.into_array();
             #inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
-            #scaling
             let __weights = __scaling.weights(options);
             #hoisted
             let mut cache = [0.0f64; #nc];
@@ -171,11 +223,14 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 #newton_factor
                 fast.advance(&mut u, &#newton_solve);
             };
-            if !on_path {
+            if on_path {
+                *carry = [#(#trig_keep),*];
+            } else {
+                *carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
                 u = [#(start.#c_unknowns),*];
                 let mut phi = [0.0f64; #ne];
                 let mut jac = [0.0f64; #nnz];
-                let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
+                let solved = #pp::newton(&mut u, &mut phi, &mut jac, __scaling, options, |u, phi, jac| {
                     let [#(#q_unknowns),*] = *u;
                     #iterated
                     *phi = [#(#phi),*];
@@ -190,6 +245,91 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             let [#(#q_unknowns),*] = u;
             let [#(#cached_names),*] = cache;
             #tail
+        }
+
+        #[doc = #stepper_doc]
+        ///
+        /// # Errors
+        /// Invalid options or parameters.
+        pub fn stepper(&self, options: &#pp::Options) -> #pp::Result<#stepper<'_>, #pp::Error> {
+            options.validate()?;
+            self.validate()?;
+            let scaling = if #driver_scaled {
+                ::core::option::Option::None
+            } else {
+                ::core::option::Option::Some(self.__scaling(&[0.0f64; #nd])?)
+            };
+            ::core::result::Result::Ok(#stepper {
+                mechanism: self,
+                options: *options,
+                scaling,
+                carry: [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt],
+                since_refresh: 0,
+            })
+        }
+    }
+}
+
+/// The stepping handle's type and its `step` (items beside the mechanism's
+/// impl).
+pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
+    let (pp, nd, ne) = (&cx.pp, cx.nd, cx.ne);
+    let id = &cx.id;
+    let (name, coords, motion, stepper) = (&id.name, &id.coords, &id.motion, &id.stepper);
+    let c_drivers = &id.coord[..nd];
+    let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
+    let vis = &cx.def.vis;
+    let doc = format!(
+        "A stepping handle of [`{name}`], made by [`{name}::stepper`]: options, parameters and \
+         the scaling of the equations checked once, and the sines and cosines of each solved \
+         pose carried to the next step."
+    );
+    let step_doc = format!(
+        "As [`{name}::step`] from `start` (the drivers and a guess of the unknowns, usually the \
+         previous step's pose with the drivers advanced), without checking the options and the \
+         parameters again, and starting Newton–Raphson from the sines and cosines of the \
+         previous solution."
+    );
+    quote! {
+        #[doc = #doc]
+        #[derive(Debug, Clone)]
+        #vis struct #stepper<'m> {
+            mechanism: &'m #name,
+            options: #pp::Options,
+            scaling: ::core::option::Option<#pp::Scaling<#ne>>,
+            carry: [[f64; 3]; #nt],
+            since_refresh: u32,
+        }
+
+        impl #stepper<'_> {
+            #[doc = #step_doc]
+            ///
+            /// # Errors
+            /// As the mechanism's `step`.
+            #[inline]
+            pub fn step(
+                &mut self,
+                start: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                // Fresh sines and cosines now and then bound the drift of
+                // the carried ones.
+                self.since_refresh += 1;
+                if self.since_refresh >= 64 {
+                    self.since_refresh = 0;
+                    for c in &mut self.carry {
+                        c[2] = ::core::primitive::f64::NAN;
+                    }
+                }
+                let scaling = match self.scaling {
+                    ::core::option::Option::Some(s) => s,
+                    ::core::option::Option::None => {
+                        self.mechanism.__scaling(&[#(start.#c_drivers),*])?
+                    }
+                };
+                self.mechanism.__step_core(start, rates, accelerations, &self.options, &scaling, &mut self.carry)
+            }
         }
     }
 }

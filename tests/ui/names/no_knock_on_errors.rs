@@ -31,5 +31,7 @@ fn main() {
     let _ = m.point_positions(&start)[0].x;
     let _ = m.frame_rotations(&start);
     let _ = FourBar::DRIVERS + FourBar::UNKNOWNS + FourBar::EQUATIONS + FourBar::POINTS;
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    let _ = stepper.step(&start, 10.0, 0.0);
     let _ = (s, generic(&m, &start));
 }
