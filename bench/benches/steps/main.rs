@@ -81,6 +81,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
+use kinematics_core::Options;
 
 use models::{m1, m2, m3, m4, ARM_OFFSET, ARM_SPEED, M1, M2, M3, M4};
 
@@ -105,17 +106,15 @@ const M3_START: [f64; 4] = [1.0, 1.6, 0.3, 1.9];
 
 // ───────────────────────── variant 1: generated ─────────────────────────
 
-fn gen_m1() -> f64 {
-    let m = M1;
-    let mut pose = m1::FourBarCoords {
-        phi: 0.0,
-        th3: M1_START[0],
-        th4: M1_START[1],
-    };
+/// A full turn of M1 through `step` (the public `step`, or a stepper's).
+fn turn_m1(
+    mut step: impl FnMut(&m1::FourBarCoords) -> Result<m1::FourBarMotion, kinematics_core::Error>,
+) -> f64 {
+    let mut pose = m1::FourBarCoords::from([0.0, M1_START[0], M1_START[1]]);
     let mut sum = 0.0;
     for k in 0..STEPS {
         pose.phi = angle(k);
-        let s = m.step(&pose, M1_RATES.0, M1_RATES.1).expect("step");
+        let s = step(&pose).expect("step");
         pose = s.q;
         let p = s.point_p();
         sum += pose.th3 + pose.th4 + s.qd.th3 + s.qd.th4 + s.qdd.th3 + s.qdd.th4;
@@ -124,119 +123,71 @@ fn gen_m1() -> f64 {
     sum
 }
 
+fn gen_m1() -> f64 {
+    turn_m1(|pose| M1.step(pose, M1_RATES.0, M1_RATES.1))
+}
+
 /// As the generated variant, through the stepping handle.
 fn gen_m1s() -> f64 {
-    let m = M1;
-    let mut pose = m1::FourBarCoords {
-        phi: 0.0,
-        th3: M1_START[0],
-        th4: M1_START[1],
-    };
-    let mut stepper = m
-        .stepper(&kinematics_core::Options::DEFAULT)
-        .expect("a stepper");
+    let mut stepper = M1.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m1(|pose| stepper.step(pose, M1_RATES.0, M1_RATES.1))
+}
+
+/// A full turn of M2 through `step`.
+fn turn_m2(
+    mut step: impl FnMut(&m2::RssrCoords) -> Result<m2::RssrMotion, kinematics_core::Error>,
+) -> f64 {
+    let mut pose = m2::RssrCoords::from([0.0, M2_START[0]]);
     let mut sum = 0.0;
     for k in 0..STEPS {
         pose.phi = angle(k);
-        let s = stepper.step(&pose, M1_RATES.0, M1_RATES.1).expect("step");
+        let s = step(&pose).expect("step");
         pose = s.q;
-        let p = s.point_p();
-        sum += pose.th3 + pose.th4 + s.qd.th3 + s.qd.th4 + s.qdd.th3 + s.qdd.th4;
+        let p = s.point_b();
+        sum += pose.psi + s.qd.psi + s.qdd.psi;
         sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
     }
     sum
 }
 
 fn gen_m2() -> f64 {
-    let m = M2;
-    let mut pose = m2::RssrCoords {
-        phi: 0.0,
-        psi: M2_START[0],
-    };
-    let mut sum = 0.0;
-    for k in 0..STEPS {
-        pose.phi = angle(k);
-        let s = m.step(&pose, M2_RATES.0, M2_RATES.1).expect("step");
-        pose = s.q;
-        let p = s.point_b();
-        sum += pose.psi + s.qd.psi + s.qdd.psi;
-        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
-    }
-    sum
+    turn_m2(|pose| M2.step(pose, M2_RATES.0, M2_RATES.1))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m2s() -> f64 {
-    let m = M2;
-    let mut pose = m2::RssrCoords {
-        phi: 0.0,
-        psi: M2_START[0],
-    };
-    let mut stepper = m
-        .stepper(&kinematics_core::Options::DEFAULT)
-        .expect("a stepper");
+    let mut stepper = M2.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m2(|pose| stepper.step(pose, M2_RATES.0, M2_RATES.1))
+}
+
+/// A full turn of M3 through `step`.
+fn turn_m3(
+    mut step: impl FnMut(&m3::WattCoords) -> Result<m3::WattMotion, kinematics_core::Error>,
+) -> f64 {
+    let [th3, th4, th5, th6] = M3_START;
+    let mut pose = m3::WattCoords::from([0.0, th3, th4, th5, th6]);
     let mut sum = 0.0;
     for k in 0..STEPS {
         pose.phi = angle(k);
-        let s = stepper.step(&pose, M2_RATES.0, M2_RATES.1).expect("step");
+        let s = step(&pose).expect("step");
         pose = s.q;
-        let p = s.point_b();
-        sum += pose.psi + s.qd.psi + s.qdd.psi;
+        let p = s.point_f();
+        sum += pose.th3 + pose.th4 + pose.th5 + pose.th6;
+        sum += s.qd.th3 + s.qd.th4 + s.qd.th5 + s.qd.th6;
+        sum += s.qdd.th3 + s.qdd.th4 + s.qdd.th5 + s.qdd.th6;
         sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
     }
     sum
 }
 
 fn gen_m3() -> f64 {
-    let m = M3;
-    let [th3, th4, th5, th6] = M3_START;
-    let mut pose = m3::WattCoords {
-        phi: 0.0,
-        th3,
-        th4,
-        th5,
-        th6,
-    };
-    let mut sum = 0.0;
-    for k in 0..STEPS {
-        pose.phi = angle(k);
-        let s = m.step(&pose, M3_RATES.0, M3_RATES.1).expect("step");
-        pose = s.q;
-        let p = s.point_f();
-        sum += pose.th3 + pose.th4 + pose.th5 + pose.th6;
-        sum += s.qd.th3 + s.qd.th4 + s.qd.th5 + s.qd.th6;
-        sum += s.qdd.th3 + s.qdd.th4 + s.qdd.th5 + s.qdd.th6;
-        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
-    }
-    sum
+    turn_m3(|pose| M3.step(pose, M3_RATES.0, M3_RATES.1))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m3s() -> f64 {
-    let m = M3;
-    let [th3, th4, th5, th6] = M3_START;
-    let mut pose = m3::WattCoords {
-        phi: 0.0,
-        th3,
-        th4,
-        th5,
-        th6,
-    };
-    let mut stepper = m
-        .stepper(&kinematics_core::Options::DEFAULT)
-        .expect("a stepper");
-    let mut sum = 0.0;
-    for k in 0..STEPS {
-        pose.phi = angle(k);
-        let s = stepper.step(&pose, M3_RATES.0, M3_RATES.1).expect("step");
-        pose = s.q;
-        let p = s.point_f();
-        sum += pose.th3 + pose.th4 + pose.th5 + pose.th6;
-        sum += s.qd.th3 + s.qd.th4 + s.qd.th5 + s.qd.th6;
-        sum += s.qdd.th3 + s.qdd.th4 + s.qdd.th5 + s.qdd.th6;
-        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
-    }
-    sum
+    let mut stepper = M3.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m3(|pose| stepper.step(pose, M3_RATES.0, M3_RATES.1))
 }
 
 fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
@@ -248,13 +199,18 @@ fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
     )
 }
 
-fn gen_m4() -> f64 {
-    let m = M4;
+/// A full turn of M4 through `step`.
+fn turn_m4(
+    mut step: impl FnMut(
+        &m4::ArmCoords,
+        [f64; 6],
+        [f64; 6],
+    ) -> Result<m4::ArmMotion, kinematics_core::Error>,
+) -> f64 {
     let mut sum = 0.0;
     for k in 0..STEPS {
         let (q, qd, qdd) = arm_joints(k);
-        let start = m4::ArmCoords::from(q);
-        let s = m.step(&start, qd, qdd).expect("step");
+        let s = step(&m4::ArmCoords::from(q), qd, qdd).expect("step");
         let (p, f) = (s.point_tcp(), s.frame_tool());
         sum += q.iter().sum::<f64>();
         sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
@@ -263,23 +219,14 @@ fn gen_m4() -> f64 {
     sum
 }
 
+fn gen_m4() -> f64 {
+    turn_m4(|q, qd, qdd| M4.step(q, qd, qdd))
+}
+
 /// As the generated variant, through the stepping handle.
 fn gen_m4s() -> f64 {
-    let m = M4;
-    let mut stepper = m
-        .stepper(&kinematics_core::Options::DEFAULT)
-        .expect("a stepper");
-    let mut sum = 0.0;
-    for k in 0..STEPS {
-        let (q, qd, qdd) = arm_joints(k);
-        let start = m4::ArmCoords::from(q);
-        let s = stepper.step(&start, qd, qdd).expect("step");
-        let (p, f) = (s.point_tcp(), s.frame_tool());
-        sum += q.iter().sum::<f64>();
-        sum += p.position.sum() + p.velocity.sum() + p.acceleration.sum();
-        sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
-    }
-    sum
+    let mut stepper = M4.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m4(|q, qd, qdd| stepper.step(q, qd, qdd))
 }
 
 // ───────────────────────── variant 2: hand-written ─────────────────────────

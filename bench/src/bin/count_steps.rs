@@ -25,97 +25,84 @@ fn angle(k: usize) -> f64 {
     k as f64 * TAU / STEPS as f64
 }
 
+/// A turn of a one-driver mechanism from `start`, each step from the
+/// previous pose with the driver advanced; `out` picks the checksum's terms.
+fn turn_from<C: Copy, S>(
+    mut start: C,
+    set_driver: impl Fn(&mut C, f64),
+    mut step: impl FnMut(&C) -> Result<S, kinematics_core::Error>,
+    pose_of: impl Fn(&S) -> C,
+    out: impl Fn(&S) -> f64,
+) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        set_driver(&mut start, angle(k));
+        let s = step(black_box(&start)).unwrap();
+        start = pose_of(&s);
+        sum += out(&s);
+    }
+    sum
+}
+
 /// One turn of mechanism `which`; returns a checksum of the outputs.
 fn turn(which: &str) -> f64 {
     let absolute = Options {
         convergence: Convergence::Absolute,
         ..Options::DEFAULT
     };
-    let mut sum = 0.0;
+    let four_bar = black_box(FourBar::CRANK_ROCKER);
+    let rssr = black_box(Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.314,
+    });
+    let watt = black_box(Watt::EXAMPLE);
+    // `step` itself (default options, folded at compile time), `step_with`
+    // the absolute test, or a stepper.
+    macro_rules! run {
+        ($m:expr, $start:expr, $out:expr, |$pose:ident| $step:expr) => {{
+            let m = &$m;
+            let start = m.assemble(&$start).unwrap();
+            turn_from(start, |p, phi| p.phi = phi, |$pose| $step, |s| s.q, $out)
+        }};
+    }
     match which {
-        "m1" | "m1a" => {
-            let m = black_box(FourBar::CRANK_ROCKER);
-            let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                // `step` itself (default options, folded at compile time),
-                // or `step_with` the absolute test.
-                let s = if which == "m1" {
-                    m.step(black_box(&pose), 10.0, 0.0)
-                } else {
-                    m.step_with(black_box(&pose), 10.0, 0.0, &absolute)
-                }
-                .unwrap();
-                pose = s.q;
-                sum += s.qdd.th4 + s.points[2].acceleration.x;
+        "m1" | "m1a" | "m1s" => {
+            let out =
+                |s: &kinematics_examples::FourBarMotion| s.qdd.th4 + s.points[2].acceleration.x;
+            let mut stepper = four_bar.stepper(&Options::DEFAULT).unwrap();
+            match which {
+                "m1" => run!(four_bar, FourBar::CRANK_ROCKER_GUESS, out, |p| {
+                    four_bar.step(p, 10.0, 0.0)
+                }),
+                "m1a" => run!(four_bar, FourBar::CRANK_ROCKER_GUESS, out, |p| {
+                    four_bar.step_with(p, 10.0, 0.0, &absolute)
+                }),
+                _ => run!(four_bar, FourBar::CRANK_ROCKER_GUESS, out, |p| {
+                    stepper.step(p, 10.0, 0.0)
+                }),
             }
         }
-        "m2" | "m2a" => {
-            let m = black_box(Rssr {
-                a: 0.102,
-                b: 0.381,
-                c: 0.254,
-                d: 0.314,
-            });
-            let mut pose = m.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                let s = if which == "m2" {
-                    m.step(black_box(&pose), 25.0, 0.0)
-                } else {
-                    m.step_with(black_box(&pose), 25.0, 0.0, &absolute)
-                }
-                .unwrap();
-                pose = s.q;
-                sum += s.qdd.psi;
+        "m2" | "m2a" | "m2s" => {
+            let out = |s: &kinematics_examples::RssrMotion| s.qdd.psi;
+            let start = RssrCoords { phi: 0.0, psi: 1.2 };
+            let mut stepper = rssr.stepper(&Options::DEFAULT).unwrap();
+            match which {
+                "m2" => run!(rssr, start, out, |p| rssr.step(p, 25.0, 0.0)),
+                "m2a" => run!(rssr, start, out, |p| rssr
+                    .step_with(p, 25.0, 0.0, &absolute)),
+                _ => run!(rssr, start, out, |p| stepper.step(p, 25.0, 0.0)),
             }
         }
-        "m1s" => {
-            let m = black_box(FourBar::CRANK_ROCKER);
-            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
-            let mut pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                let s = stepper.step(black_box(&pose), 10.0, 0.0).unwrap();
-                pose = s.q;
-                sum += s.qdd.th4 + s.points[2].acceleration.x;
-            }
-        }
-        "m2s" => {
-            let m = black_box(Rssr {
-                a: 0.102,
-                b: 0.381,
-                c: 0.254,
-                d: 0.314,
-            });
-            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
-            let mut pose = m.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                let s = stepper.step(black_box(&pose), 25.0, 0.0).unwrap();
-                pose = s.q;
-                sum += s.qdd.psi;
-            }
-        }
-        "m3s" => {
-            let m = black_box(Watt::EXAMPLE);
-            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
-            let mut pose = m.assemble(&Watt::EXAMPLE_GUESS).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                let s = stepper.step(black_box(&pose), 10.0, 0.0).unwrap();
-                pose = s.q;
-                sum += s.qdd.th6 + s.points[0].acceleration.x;
-            }
-        }
-        "m3" => {
-            let m = black_box(Watt::EXAMPLE);
-            let mut pose = m.assemble(&Watt::EXAMPLE_GUESS).unwrap();
-            for k in 0..STEPS {
-                pose.phi = angle(k);
-                let s = m.step(black_box(&pose), 10.0, 0.0).unwrap();
-                pose = s.q;
-                sum += s.qdd.th6 + s.points[0].acceleration.x;
+        "m3" | "m3s" => {
+            let out = |s: &kinematics_examples::WattMotion| s.qdd.th6 + s.points[0].acceleration.x;
+            let mut stepper = watt.stepper(&Options::DEFAULT).unwrap();
+            if which == "m3" {
+                run!(watt, Watt::EXAMPLE_GUESS, out, |p| watt.step(p, 10.0, 0.0))
+            } else {
+                run!(watt, Watt::EXAMPLE_GUESS, out, |p| stepper
+                    .step(p, 10.0, 0.0))
             }
         }
         "m4" => {
@@ -127,15 +114,16 @@ fn turn(which: &str) -> f64 {
                 d6: 0.1,
             });
             let rates = [1.0, 0.3, -0.2, 0.5, 1.0, -1.0];
+            let mut sum = 0.0;
             for k in 0..STEPS {
                 let q = SixAxisArmCoords::from(rates.map(|r| r * angle(k)));
                 let s = m.step(black_box(&q), rates, [0.0; 6]).unwrap();
                 sum += s.points[0].acceleration.x + s.frames[2].angular_acceleration.z;
             }
+            sum
         }
         other => panic!("unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s or m4"),
     }
-    sum
 }
 
 fn main() {
