@@ -69,6 +69,7 @@ extern crate alloc;
 #[cfg(all(test, not(feature = "std")))]
 extern crate std;
 
+pub mod closed;
 mod error;
 pub mod math;
 mod mechanism;

@@ -43,6 +43,8 @@ unary! {
     exp: exp, exp;
     /// ln x.
     ln: ln, log;
+    /// x rounded to the nearest integer, halves away from zero.
+    round: round, round;
 }
 
 /// (sin x, cos x).

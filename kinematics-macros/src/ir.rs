@@ -193,7 +193,6 @@ impl Graph {
         seen
     }
 
-    #[cfg(test)]
     /// Evaluates `roots` with the leaves given by `leaf`; all nodes are
     /// computed once, in arena order.
     pub fn eval(&self, roots: &[Id], leaf: &dyn Fn(Leaf) -> f64) -> Vec<f64> {

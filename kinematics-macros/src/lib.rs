@@ -29,6 +29,7 @@
 
 mod blocks;
 mod check;
+mod closed;
 mod cse;
 mod diff;
 mod emit;

@@ -1,0 +1,361 @@
+//! Closed-form solutions of the blocks of loop equations that have one.
+//!
+//! `mechanism!` splits the loop equations into diagonal blocks (each a group
+//! of equations that fixes a group of unknowns once the earlier groups are
+//! known) and recognises the blocks whose solution is exact: a planar dyad,
+//! or one angle in an equation `a cos u + b sin u + c = 0`. For those it
+//! calls the functions of this module instead of iterating, and needs no
+//! guess: each such block has at most two real solutions, its two
+//! [assembly modes](Mode). The block is written in the form the function
+//! takes, with its coefficients (expressions of the parameters, the drivers
+//! and the unknowns of earlier blocks) evaluated at run time:
+//!
+//! | function | block | form (e = (cos θ, sin θ)) |
+//! |---|---|---|
+//! | [`angle`] | one angle | a cos θ + b sin θ + c = 0 |
+//! | [`circle_circle`] | RRR dyad: two angles | k + P e₀ + Q e₁ = 0 |
+//! | [`circle_line`] | RRT dyad: an angle and a slider length | k + P e + λ v = 0 |
+//! | [`slide`] | RTR dyad: a slider on a turning link | k + (P + λ W) e = 0 |
+//! | [`line_line`] | TRT dyad: two slider lengths | k + λ₀ v₀ + λ₁ v₁ = 0 |
+//! | [`linear`] | one length | a λ + c = 0 |
+//!
+//! The 2×2 matrices are row-major, one row per equation; column 0
+//! multiplies cos θ and column 1 sin θ. P, Q and W must be similarities
+//! (a rotation or reflection times a length, as for a link drawn as
+//! `polar(l, θ + β)`), which the macro checks; then |P e| is the same for
+//! every θ.
+//!
+//! Each function returns `Err(discriminant)` when the block has no real
+//! solution: a negative discriminant means the links cannot close the loop
+//! at these driver values (the mechanism is past a limit position); NaN or
+//! zero means the block is degenerate there (coincident joints, parallel
+//! sliders).
+//!
+//! ```
+//! use kinematics_core::closed::{angle, Mode};
+//! // cos θ + sin θ − 1 = 0: θ = 0 or θ = π/2.
+//! let mut mode = Mode::Plus.sign();
+//! let [c, s] = angle(1.0, 1.0, -1.0, &mut mode, || [1.0, 0.0]).unwrap();
+//! assert!((s.atan2(c) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+//! let mut mode = Mode::Minus.sign();
+//! let [c, s] = angle(1.0, 1.0, -1.0, &mut mode, || [1.0, 0.0]).unwrap();
+//! assert!(s.atan2(c).abs() < 1e-15);
+//! ```
+
+use core::f64::consts::{PI, TAU};
+
+/// One of the two solutions of a closed-form block.
+///
+/// For a block with an angle solved from a cos θ + b sin θ + c = 0 (every
+/// block but [`slide`] and the single-solution ones), with
+/// R = √(a² + b²) and φ = atan2(b, a):
+///
+/// θ = φ ± acos(−c / R),
+///
+/// `Plus` taking the `+`: θ lies counter-clockwise of the direction φ,
+/// sin(θ − φ) ≥ 0. For a dyad, φ is the direction of the line through the
+/// dyad's two end joints as the block's equations see it, so the two modes
+/// put the middle joint on either side of that line: the dyad's "elbow"
+/// bends one way or the other. Which mode is the open and which the
+/// crossed four-bar depends on how the loop is written; `assemble_all`
+/// returns both. For [`slide`], `Plus` takes the larger root λ of the
+/// slider length's quadratic.
+///
+/// The mode of a continuous motion does not change except through a
+/// limit position, where the two solutions meet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Mode {
+    /// The `+` solution.
+    #[default]
+    Plus,
+    /// The `−` solution.
+    Minus,
+}
+
+impl Mode {
+    /// +1 for [`Mode::Plus`], −1 for [`Mode::Minus`].
+    #[must_use]
+    pub const fn sign(self) -> f64 {
+        match self {
+            Mode::Plus => 1.0,
+            Mode::Minus => -1.0,
+        }
+    }
+
+    /// The mode of a sign: `Minus` for a negative number, else `Plus`.
+    #[must_use]
+    pub fn from_sign(sign: f64) -> Self {
+        if sign < 0.0 {
+            Mode::Minus
+        } else {
+            Mode::Plus
+        }
+    }
+}
+
+/// The sign of `x` as ±1 (+1 for zero and NaN).
+#[inline(always)]
+fn sign(x: f64) -> f64 {
+    if x < 0.0 {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+/// (cos θ, sin θ) of the solution of a cos θ + b sin θ + c = 0 in the mode
+/// `*mode` (±1; see [`Mode`]):
+///
+/// cos θ = (−a c − σ b √Δ) / R², sin θ = (−b c + σ a √Δ) / R²,
+///
+/// with R² = a² + b², Δ = R² − c² and σ = `*mode`, which is exactly
+/// θ = atan2(b, a) + σ acos(−c / R) without a trigonometric call. When
+/// `*mode` is NaN, the mode is taken from the guess's (cos θ, sin θ) that
+/// `guess` returns, as sign(a sin θ − b cos θ), and stored in `*mode`.
+///
+/// # Errors
+/// `Err(Δ)` when Δ < 0 (no real solution: |c| > R); `Err(NaN)` when
+/// R = 0 (the equation does not involve θ) or an input is not finite.
+///
+/// ```
+/// use kinematics_core::closed::angle;
+/// // 3 cos θ + 4 sin θ = 5 has one solution, at the edge of both modes.
+/// let mut mode = 1.0;
+/// let [c, s] = angle(3.0, 4.0, -5.0, &mut mode, || [1.0, 0.0]).unwrap();
+/// assert!((c - 0.6).abs() < 1e-15 && (s - 0.8).abs() < 1e-15);
+/// assert!(angle(3.0, 4.0, -5.1, &mut mode, || [1.0, 0.0]).is_err());
+/// ```
+#[inline(always)]
+pub fn angle(
+    a: f64,
+    b: f64,
+    c: f64,
+    mode: &mut f64,
+    guess: impl FnOnce() -> [f64; 2],
+) -> Result<[f64; 2], f64> {
+    let r2 = a * a + b * b;
+    let disc = r2 - c * c;
+    if !(disc >= 0.0 && r2 > 0.0 && r2.is_finite()) {
+        return Err(if disc < 0.0 { disc } else { f64::NAN });
+    }
+    if mode.is_nan() {
+        let [cg, sg] = guess();
+        *mode = sign(a * sg - b * cg);
+    }
+    let root = *mode * crate::math::sqrt(disc);
+    Ok([(-a * c - b * root) / r2, (-b * c + a * root) / r2])
+}
+
+/// The RRR dyad: (cos θ₀, sin θ₀, cos θ₁, sin θ₁) solving
+/// k + P e₀ + Q e₁ = 0 for similarities P and Q (PᵀP = p² I, QᵀQ = q² I).
+///
+/// Eliminating θ₁ by |Q e₁| = q gives |k + P e₀|² = q², that is
+/// 2 (Pᵀk)·e₀ + |k|² + p² − q² = 0, an [`angle`] equation for θ₀ (whose
+/// mode is `*mode`); then e₁ = −Qᵀ (k + P e₀) / q².
+///
+/// # Errors
+/// As [`angle`]; `Err(NaN)` also when q = 0.
+///
+/// ```
+/// use kinematics_core::closed::circle_circle;
+/// // A four-bar a = 1, b = 2, c = 2.5, d = 3 at φ = 90°: with
+/// // k = (a cos φ − d, a sin φ), the loop k + b e₃ − c e₄ = 0.
+/// let (a, b, c, d, phi) = (1.0, 2.0, 2.5, 3.0, std::f64::consts::FRAC_PI_2);
+/// let k = [a * phi.cos() - d, a * phi.sin()];
+/// for mode in [1.0, -1.0] {
+///     let mut mode = mode;
+///     let [c3, s3, c4, s4] =
+///         circle_circle(k, [[b, 0.0], [0.0, b]], [[-c, 0.0], [0.0, -c]], &mut mode, || [1.0, 0.0])
+///             .unwrap();
+///     assert!((k[0] + b * c3 - c * c4).abs() < 1e-15 && (k[1] + b * s3 - c * s4).abs() < 1e-15);
+///     assert!((c3 * c3 + s3 * s3 - 1.0).abs() < 1e-15 && (c4 * c4 + s4 * s4 - 1.0).abs() < 1e-15);
+/// }
+/// ```
+#[inline(always)]
+pub fn circle_circle(
+    k: [f64; 2],
+    p: [[f64; 2]; 2],
+    q: [[f64; 2]; 2],
+    mode: &mut f64,
+    guess: impl FnOnce() -> [f64; 2],
+) -> Result<[f64; 4], f64> {
+    let p2 = p[0][0] * p[0][0] + p[1][0] * p[1][0];
+    let q2 = q[0][0] * q[0][0] + q[1][0] * q[1][0];
+    let a = 2.0 * (p[0][0] * k[0] + p[1][0] * k[1]);
+    let b = 2.0 * (p[0][1] * k[0] + p[1][1] * k[1]);
+    let c = k[0] * k[0] + k[1] * k[1] + p2 - q2;
+    let [c0, s0] = angle(a, b, c, mode, guess)?;
+    if !(q2 > 0.0) {
+        return Err(f64::NAN);
+    }
+    let w = [
+        k[0] + p[0][0] * c0 + p[0][1] * s0,
+        k[1] + p[1][0] * c0 + p[1][1] * s0,
+    ];
+    let c1 = -(q[0][0] * w[0] + q[1][0] * w[1]) / q2;
+    let s1 = -(q[0][1] * w[0] + q[1][1] * w[1]) / q2;
+    Ok([c0, s0, c1, s1])
+}
+
+/// The RRT dyad: (cos θ, sin θ, λ) solving k + P e + λ v = 0 (any P).
+///
+/// Projecting on v⊥ = (−v₁, v₀) eliminates λ: (Pᵀv⊥)·e + v⊥·k = 0, an
+/// [`angle`] equation for θ (whose mode is `*mode`); then
+/// λ = −v·(k + P e) / |v|².
+///
+/// # Errors
+/// As [`angle`]; `Err(NaN)` also when v = 0.
+///
+/// ```
+/// use kinematics_core::closed::circle_line;
+/// // A slider-crank: crank end (0, 1), rod b = 2, slider on the x axis:
+/// // k + b e − x (1, 0) = 0 with k = (0, 1).
+/// let mut mode = 1.0;
+/// let [c, s, x] = circle_line([0.0, 1.0], [[2.0, 0.0], [0.0, 2.0]], [-1.0, 0.0], &mut mode, || [1.0, -0.5])
+///     .unwrap();
+/// assert!((s + 0.5).abs() < 1e-15 && (x - 3f64.sqrt()).abs() < 1e-15);
+/// # let _ = c;
+/// ```
+#[inline(always)]
+pub fn circle_line(
+    k: [f64; 2],
+    p: [[f64; 2]; 2],
+    v: [f64; 2],
+    mode: &mut f64,
+    guess: impl FnOnce() -> [f64; 2],
+) -> Result<[f64; 3], f64> {
+    let v2 = v[0] * v[0] + v[1] * v[1];
+    if !(v2 > 0.0) {
+        return Err(f64::NAN);
+    }
+    let a = -v[1] * p[0][0] + v[0] * p[1][0];
+    let b = -v[1] * p[0][1] + v[0] * p[1][1];
+    let c = -v[1] * k[0] + v[0] * k[1];
+    let [c0, s0] = angle(a, b, c, mode, guess)?;
+    let w = [
+        k[0] + p[0][0] * c0 + p[0][1] * s0,
+        k[1] + p[1][0] * c0 + p[1][1] * s0,
+    ];
+    Ok([c0, s0, -(v[0] * w[0] + v[1] * w[1]) / v2])
+}
+
+/// The RTR dyad: (cos θ, sin θ, λ) solving k + (P + λ W) e = 0 for
+/// similarities P and W of the same kind (both rotations or both
+/// reflections times a length, P possibly zero).
+///
+/// Then (P + λW)ᵀ(P + λW) = (p² + 2λ p·w + λ² w²) I with p·w the dot
+/// product of their first columns, and |k| = |(P + λW) e| gives
+/// w² λ² + 2 (p·w) λ + p² − |k|² = 0:
+///
+/// λ = (−p·w + σ √Δ) / w², Δ = (p·w)² − w² (p² − |k|²),
+///
+/// σ = `*mode` (when NaN, taken from the guess λ that `guess()[0]` returns
+/// as sign(w² λ + p·w), and stored); then e = −(P + λW)ᵀ k / |P + λW|².
+///
+/// # Errors
+/// `Err(Δ)` when Δ < 0 (the slider cannot reach); `Err(NaN)` when W = 0
+/// or P + λW = 0 (the slider's pivot on the line of the link).
+///
+/// ```
+/// use kinematics_core::closed::slide;
+/// // An inverted slider-crank: crank end (1, 1) seen from the rocker's
+/// // pivot; k − λ e = 0 with k = (1, 1): λ = ±√2, θ = 45°.
+/// let mut mode = 1.0;
+/// let [c, s, l] = slide([1.0, 1.0], [[0.0; 2]; 2], [[-1.0, 0.0], [0.0, -1.0]], &mut mode, || [1.0, 0.0])
+///     .unwrap();
+/// assert!((l - 2f64.sqrt()).abs() < 1e-15 && (c - s).abs() < 1e-15 && c > 0.0);
+/// ```
+#[inline(always)]
+pub fn slide(
+    k: [f64; 2],
+    p: [[f64; 2]; 2],
+    w: [[f64; 2]; 2],
+    mode: &mut f64,
+    guess: impl FnOnce() -> [f64; 2],
+) -> Result<[f64; 3], f64> {
+    let w2 = w[0][0] * w[0][0] + w[1][0] * w[1][0];
+    let pw = p[0][0] * w[0][0] + p[1][0] * w[1][0];
+    let p2 = p[0][0] * p[0][0] + p[1][0] * p[1][0];
+    let k2 = k[0] * k[0] + k[1] * k[1];
+    let disc = pw * pw - w2 * (p2 - k2);
+    if !(disc >= 0.0 && w2 > 0.0 && w2.is_finite()) {
+        return Err(if disc < 0.0 { disc } else { f64::NAN });
+    }
+    if mode.is_nan() {
+        let [lg, _] = guess();
+        *mode = sign(w2 * lg + pw);
+    }
+    let lambda = (-pw + *mode * crate::math::sqrt(disc)) / w2;
+    let m = [
+        [p[0][0] + lambda * w[0][0], p[0][1] + lambda * w[0][1]],
+        [p[1][0] + lambda * w[1][0], p[1][1] + lambda * w[1][1]],
+    ];
+    let m2 = m[0][0] * m[0][0] + m[1][0] * m[1][0];
+    if !(m2 > 0.0) {
+        return Err(f64::NAN);
+    }
+    let c0 = -(m[0][0] * k[0] + m[1][0] * k[1]) / m2;
+    let s0 = -(m[0][1] * k[0] + m[1][1] * k[1]) / m2;
+    Ok([c0, s0, lambda])
+}
+
+/// The TRT dyad: (λ₀, λ₁) solving k + λ₀ v₀ + λ₁ v₁ = 0 by Cramer's rule.
+/// One solution.
+///
+/// # Errors
+/// `Err(NaN)` when v₀ and v₁ are parallel.
+///
+/// ```
+/// use kinematics_core::closed::line_line;
+/// let [l0, l1] = line_line([-1.0, -2.0], [1.0, 0.0], [0.0, 1.0]).unwrap();
+/// assert_eq!((l0, l1), (1.0, 2.0));
+/// ```
+#[inline(always)]
+pub fn line_line(k: [f64; 2], v0: [f64; 2], v1: [f64; 2]) -> Result<[f64; 2], f64> {
+    let det = v0[0] * v1[1] - v0[1] * v1[0];
+    if det == 0.0 || !det.is_finite() {
+        return Err(f64::NAN);
+    }
+    Ok([
+        (-k[0] * v1[1] + k[1] * v1[0]) / det,
+        (-v0[0] * k[1] + v0[1] * k[0]) / det,
+    ])
+}
+
+/// λ solving a λ + c = 0. One solution.
+///
+/// # Errors
+/// `Err(NaN)` when a = 0.
+///
+/// ```
+/// assert_eq!(kinematics_core::closed::linear(2.0, -3.0), Ok(1.5));
+/// ```
+#[inline(always)]
+pub fn linear(a: f64, c: f64) -> Result<f64, f64> {
+    if a == 0.0 || !a.is_finite() {
+        return Err(f64::NAN);
+    }
+    Ok(-c / a)
+}
+
+/// The angle atan2(`s`, `c`) + 2πn nearest `reference` (the guess, or the
+/// previous pose), so that a joint angle stays continuous over a sweep of
+/// several turns. A non-finite `reference` gives the angle in (−π, π].
+///
+/// ```
+/// use kinematics_core::closed::near;
+/// let turn = std::f64::consts::TAU;
+/// assert!((near(1.0, 0.0, turn + 0.1) - turn).abs() < 1e-15);
+/// assert_eq!(near(1.0, 0.0, f64::NAN), 0.0);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn near(c: f64, s: f64, reference: f64) -> f64 {
+    let theta = crate::math::atan2(s, c);
+    let d = reference - theta;
+    if d.abs() <= PI || !d.is_finite() {
+        theta
+    } else {
+        theta + TAU * crate::math::round(d / TAU)
+    }
+}
