@@ -43,6 +43,41 @@
 //! ```
 
 use core::f64::consts::{PI, TAU};
+use core::fmt;
+
+use crate::{Error, Options};
+
+/// How one diagonal block of a mechanism's loop equations is solved: the
+/// entries of a mechanism's generated `BLOCKS` constant, in solve order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Block {
+    /// The block's unknowns.
+    pub unknowns: &'static [&'static str],
+    /// "closed form: …" with the form, or "Newton–Raphson".
+    pub method: &'static str,
+    /// Whether it has two assembly modes ([`Mode`]) to choose from.
+    pub modes: bool,
+}
+
+impl Block {
+    /// Whether the block is solved in closed form.
+    #[must_use]
+    pub fn is_closed_form(&self) -> bool {
+        self.method.starts_with("closed form")
+    }
+}
+
+impl fmt::Display for Block {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, u) in self.unknowns.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            f.write_str(u)?;
+        }
+        write!(f, ": {}", self.method)
+    }
+}
 
 /// One of the two solutions of a closed-form block.
 ///
@@ -103,6 +138,18 @@ fn sign(x: f64) -> f64 {
     }
 }
 
+/// A discriminant `d` computed from terms of size `size`: a negative value
+/// within its rounding error (8 ε · size) is taken as 0, a double root (the
+/// mechanism exactly at a limit position).
+#[inline(always)]
+fn clamp(d: f64, size: f64) -> f64 {
+    if d < 0.0 && d >= -8.0 * f64::EPSILON * size {
+        0.0
+    } else {
+        d
+    }
+}
+
 /// (cos θ, sin θ) of the solution of a cos θ + b sin θ + c = 0 in the mode
 /// `*mode` (±1; see [`Mode`]):
 ///
@@ -134,7 +181,7 @@ pub fn angle(
     guess: impl FnOnce() -> [f64; 2],
 ) -> Result<[f64; 2], f64> {
     let r2 = a * a + b * b;
-    let disc = r2 - c * c;
+    let disc = clamp(r2 - c * c, r2 + c * c);
     if !(disc >= 0.0 && r2 > 0.0 && r2.is_finite()) {
         return Err(if disc < 0.0 { disc } else { f64::NAN });
     }
@@ -151,7 +198,8 @@ pub fn angle(
 ///
 /// Eliminating θ₁ by |Q e₁| = q gives |k + P e₀|² = q², that is
 /// 2 (Pᵀk)·e₀ + |k|² + p² − q² = 0, an [`angle`] equation for θ₀ (whose
-/// mode is `*mode`); then e₁ = −Qᵀ (k + P e₀) / q².
+/// mode is `*mode`); then e₁ = −Qᵀ (k + P e₀) / q², computed as that
+/// vector normalised.
 ///
 /// # Errors
 /// As [`angle`]; `Err(NaN)` also when q = 0.
@@ -192,9 +240,16 @@ pub fn circle_circle(
         k[0] + p[0][0] * c0 + p[0][1] * s0,
         k[1] + p[1][0] * c0 + p[1][1] * s0,
     ];
-    let c1 = -(q[0][0] * w[0] + q[1][0] * w[1]) / q2;
-    let s1 = -(q[0][1] * w[0] + q[1][1] * w[1]) / q2;
-    Ok([c0, s0, c1, s1])
+    // −Qᵀw, a vector of length q (to rounding, when θ₀ is accurate):
+    // normalised, so that (cos θ₁, sin θ₁) is a unit vector even where
+    // cancellation made θ₀ inaccurate (the residual check catches that).
+    let x = -(q[0][0] * w[0] + q[1][0] * w[1]);
+    let y = -(q[0][1] * w[0] + q[1][1] * w[1]);
+    let n = crate::math::sqrt(x * x + y * y);
+    if !(n > 0.0) {
+        return Err(f64::NAN);
+    }
+    Ok([c0, s0, x / n, y / n])
 }
 
 /// The RRT dyad: (cos θ, sin θ, λ) solving k + P e + λ v = 0 (any P).
@@ -277,7 +332,7 @@ pub fn slide(
     let pw = p[0][0] * w[0][0] + p[1][0] * w[1][0];
     let p2 = p[0][0] * p[0][0] + p[1][0] * p[1][0];
     let k2 = k[0] * k[0] + k[1] * k[1];
-    let disc = pw * pw - w2 * (p2 - k2);
+    let disc = clamp(pw * pw - w2 * (p2 - k2), pw * pw + w2 * (p2 + k2));
     if !(disc >= 0.0 && w2 > 0.0 && w2.is_finite()) {
         return Err(if disc < 0.0 { disc } else { f64::NAN });
     }
@@ -290,13 +345,13 @@ pub fn slide(
         [p[0][0] + lambda * w[0][0], p[0][1] + lambda * w[0][1]],
         [p[1][0] + lambda * w[1][0], p[1][1] + lambda * w[1][1]],
     ];
-    let m2 = m[0][0] * m[0][0] + m[1][0] * m[1][0];
-    if !(m2 > 0.0) {
+    let x = -(m[0][0] * k[0] + m[1][0] * k[1]);
+    let y = -(m[0][1] * k[0] + m[1][1] * k[1]);
+    let n = crate::math::sqrt(x * x + y * y);
+    if !(n > 0.0) {
         return Err(f64::NAN);
     }
-    let c0 = -(m[0][0] * k[0] + m[1][0] * k[1]) / m2;
-    let s0 = -(m[0][1] * k[0] + m[1][1] * k[1]) / m2;
-    Ok([c0, s0, lambda])
+    Ok([x / n, y / n, lambda])
 }
 
 /// The TRT dyad: (λ₀, λ₁) solving k + λ₀ v₀ + λ₁ v₁ = 0 by Cramer's rule.
@@ -341,21 +396,67 @@ pub fn linear(a: f64, c: f64) -> Result<f64, f64> {
 /// The angle atan2(`s`, `c`) + 2πn nearest `reference` (the guess, or the
 /// previous pose), so that a joint angle stays continuous over a sweep of
 /// several turns. A non-finite `reference` gives the angle in (−π, π].
+/// Beyond 4096 rad, where the angle's own rounding (10⁻¹² rad) would no
+/// longer match `c` and `s`, they are recomputed from the returned angle.
 ///
 /// ```
 /// use kinematics_core::closed::near;
 /// let turn = std::f64::consts::TAU;
-/// assert!((near(1.0, 0.0, turn + 0.1) - turn).abs() < 1e-15);
-/// assert_eq!(near(1.0, 0.0, f64::NAN), 0.0);
+/// let (mut c, mut s) = (1.0, 0.0);
+/// assert!((near(&mut c, &mut s, turn + 0.1) - turn).abs() < 1e-15);
+/// assert_eq!(near(&mut c, &mut s, f64::NAN), 0.0);
 /// ```
 #[inline(always)]
 #[must_use]
-pub fn near(c: f64, s: f64, reference: f64) -> f64 {
-    let theta = crate::math::atan2(s, c);
+pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
+    let theta = crate::math::atan2(*s, *c);
     let d = reference - theta;
     if d.abs() <= PI || !d.is_finite() {
-        theta
-    } else {
-        theta + TAU * crate::math::round(d / TAU)
+        return theta;
+    }
+    let shifted = theta + TAU * crate::math::round(d / TAU);
+    if shifted.abs() > 4096.0 {
+        (*s, *c) = crate::math::sin_cos(shifted);
+    }
+    shifted
+}
+
+/// Whether max |Φ_i| w_i is within the tolerance of `options` and within
+/// 10⁻¹²: the check of a closed-form solution before it is returned (a
+/// larger residual, from cancellation in the closed form, is polished by
+/// Newton–Raphson). Used by generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn at_round_off<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
+    let mut max = 0.0f64;
+    for i in 0..N {
+        let r = (phi[i] * w[i]).abs();
+        // A NaN fails the test below.
+        max = if r > max || r.is_nan() { r } else { max };
+    }
+    max <= options.tolerance.min(1e-12)
+}
+
+/// [`Error::CannotAssemble`] for the block of `unknowns` at the drivers
+/// `d` (named by `names`). Used by generated code.
+#[doc(hidden)]
+#[cold]
+#[must_use]
+pub fn cannot_assemble(
+    unknowns: &'static str,
+    discriminant: f64,
+    names: &crate::solve::Names,
+    d: &[f64],
+) -> Error {
+    Error::CannotAssemble {
+        unknowns,
+        discriminant,
+        drivers: names
+            .coordinates
+            .iter()
+            .copied()
+            .zip(d.iter().copied())
+            .collect(),
     }
 }

@@ -75,8 +75,9 @@ impl fmt::Display for Input {
 /// // A rod too short to reach the slider line at φ = 90°.
 /// let m = SliderCrank { a: 0.3, b: 0.1 };
 /// let e = m.assemble(&SliderCrankCoords { phi: 1.5708, th: 0.0, x: 0.1 }).unwrap_err();
-/// assert!(matches!(e, Error::NotConverged { .. } | Error::Singular { .. }));
-/// println!("{e}"); // names the equation, its residual and the configuration
+/// // The loop is solved in closed form: no real solution is an exact answer.
+/// assert!(matches!(e, Error::CannotAssemble { unknowns: "th", .. }));
+/// println!("{e}"); // names the drivers and the unknowns that cannot close
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -145,6 +146,30 @@ pub enum Error {
     WrongBranch {
         /// Coordinates of the solution found, by name.
         configuration: Vec<(&'static str, f64)>,
+    },
+    /// A block of loop equations solved in closed form has no real solution
+    /// at these driver values: its links are too short or too long to close
+    /// the loop (see [`closed`](crate::closed)). The driver is past a limit
+    /// position; an exact statement, not a failure to converge.
+    CannotAssemble {
+        /// The block's unknowns, joined by ", ".
+        unknowns: &'static str,
+        /// The block's discriminant (negative).
+        discriminant: f64,
+        /// The drivers, by name.
+        drivers: Vec<(&'static str, f64)>,
+    },
+    /// A sweep reached a limit position of its driver: past `at`, the
+    /// block of `unknowns` has no real solution. `at` is located by
+    /// bisection on that exact condition, to within 1e-12 (relative to the
+    /// sweep's step) of the limit.
+    LimitPosition {
+        /// The swept driver.
+        variable: &'static str,
+        /// The driver value of the limit position.
+        at: f64,
+        /// The block's unknowns, joined by ", ".
+        unknowns: &'static str,
     },
     /// A file could not be written.
     Output {
@@ -243,6 +268,30 @@ impl fmt::Display for Error {
             }
             Error::InvalidGeometry { what, detail } => write!(f, "{what}: {detail}"),
             Error::Output { path, detail } => write!(f, "could not write `{path}`: {detail}"),
+            Error::CannotAssemble {
+                unknowns,
+                discriminant,
+                drivers,
+            } => {
+                f.write_str("the mechanism cannot be assembled at ")?;
+                write_configuration(f, drivers)?;
+                write!(
+                    f,
+                    ": the loop equations of {unknowns} have no real solution (discriminant \
+                     {discriminant:.3e} < 0), the links cannot reach to close the loop; the \
+                     driver is past a limit position"
+                )
+            }
+            Error::LimitPosition {
+                variable,
+                at,
+                unknowns,
+            } => write!(
+                f,
+                "the sweep reached a limit position at {variable} = {at:.12}: beyond it the \
+                 loop equations of {unknowns} have no real solution; sweep back, or drive \
+                 another link"
+            ),
             Error::WrongBranch { configuration } => {
                 f.write_str(
                     "the mechanism assembled on the other branch than the one asked for (at ",

@@ -149,6 +149,7 @@ pub struct ReadmeDoctests;
 /// anything here may change in any release.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::closed;
     pub use crate::math;
     pub use crate::solve::{
         branch_check, characteristic_length, dense_solve, describe, newton, sin_cos_after, Failure,

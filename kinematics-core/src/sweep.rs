@@ -336,10 +336,24 @@ fn run<M: Mechanism>(
         let motion = match m.step_slices(&guess, &rates, &accels, options) {
             Ok(motion) => motion,
             Err(reason) => {
+                let stop = match (&reason, &previous) {
+                    (Error::CannotAssemble { unknowns, .. }, Some((pose, _, prev_at, _))) => {
+                        let limit = limit_position(m, pose, *prev_at, at, &mut drive, options);
+                        Stop {
+                            at: limit,
+                            reason: Error::LimitPosition {
+                                variable,
+                                at: limit,
+                                unknowns,
+                            },
+                        }
+                    }
+                    _ => Stop { at, reason },
+                };
                 return Sweep {
                     variable,
                     samples,
-                    stop: Some(Stop { at, reason }),
+                    stop: Some(stop),
                 };
             }
         };
@@ -373,6 +387,36 @@ fn run<M: Mechanism>(
         samples,
         stop: None,
     }
+}
+
+/// The limit position between `good` (where the mechanism assembled, at
+/// `pose`) and `bad` (where a closed-form block has no real solution): the
+/// last value that assembles, by bisection to the resolution of `f64`.
+fn limit_position<M: Mechanism>(
+    m: &M,
+    pose: &M::Coords,
+    mut good: f64,
+    mut bad: f64,
+    drive: &mut impl FnMut(&mut M::Coords, f64, &mut [f64], &mut [f64]),
+    options: &Options,
+) -> f64 {
+    let nd = M::DRIVERS;
+    let (mut rates, mut accels) = (vec![0.0; nd], vec![0.0; nd]);
+    for _ in 0..200 {
+        let mid = good + 0.5 * (bad - good);
+        if mid == good || mid == bad {
+            break;
+        }
+        let mut guess = *pose;
+        drive(&mut guess, mid, &mut rates, &mut accels);
+        match m.step_slices(&guess, &rates, &accels, options) {
+            Err(Error::CannotAssemble { .. }) => bad = mid,
+            // Assembled, or assembled at a pose too near the limit for its
+            // velocities (a singular Jacobian): this side of the limit.
+            _ => good = mid,
+        }
+    }
+    good
 }
 
 impl<M: Mechanism> Sweep<M> {

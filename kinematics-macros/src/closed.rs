@@ -77,8 +77,6 @@ impl Pattern {
 /// One diagonal block of Φ_u and how it is solved.
 #[derive(Debug, Clone)]
 pub struct Closed {
-    /// Its equations.
-    pub rows: Vec<usize>,
     /// Its unknowns (0-based among the unknowns), in the order of the
     /// pattern's symbols (the angle first for the RRT and RTR dyads).
     pub cols: Vec<usize>,
@@ -121,13 +119,11 @@ pub fn closed_blocks(model: &mut Model, jac: &[Vec<Id>]) -> Vec<Closed> {
                         cols.reverse();
                     }
                     Closed {
-                        rows: b.rows,
                         cols,
                         pattern: Some(pattern),
                     }
                 }
                 None => Closed {
-                    rows: b.rows,
                     cols: b.cols,
                     pattern: None,
                 },
@@ -219,14 +215,7 @@ fn recognise(
             }
             let (k, p) = (vec2(ONE), mat(c, s));
             if !has(lc) && !has(ls) && has(lam) {
-                return Some((
-                    Pattern::CircleLine {
-                        k,
-                        p,
-                        v: vec2(lam),
-                    },
-                    swap,
-                ));
+                return Some((Pattern::CircleLine { k, p, v: vec2(lam) }, swap));
             }
             if has(lam) {
                 return None;
@@ -300,9 +289,7 @@ fn expand(
                 }
                 Some(out)
             }),
-            Node::Call(f @ (Func::Sin | Func::Cos), arg) => {
-                trig(g, f, arg, &dep, slots)
-            }
+            Node::Call(f @ (Func::Sin | Func::Cos), arg) => trig(g, f, arg, &dep, slots),
             _ => None,
         };
     }
@@ -525,7 +512,11 @@ impl Values {
 
     /// The structure of `m`, if it is a similarity (or zero).
     fn similarity(&self, m: &Mat2) -> Option<Similarity> {
-        let v: Vec<[f64; 3]> = m.iter().flatten().map(|&id| self.get(id).unwrap_or([0.0; 3])).collect();
+        let v: Vec<[f64; 3]> = m
+            .iter()
+            .flatten()
+            .map(|&id| self.get(id).unwrap_or([0.0; 3]))
+            .collect();
         let scale: [f64; 3] =
             std::array::from_fn(|k| v.iter().map(|x| x[k].abs()).fold(0.0, f64::max));
         let holds = |f: &dyn Fn(usize) -> f64| (0..3).all(|k| f(k).abs() <= 1e-9 * scale[k]);
@@ -577,7 +568,11 @@ mod tests {
         let derived = crate::kinematics::derive(&mut model);
         super::closed_blocks(&mut model, &derived.jac)
             .iter()
-            .map(|b| b.pattern.as_ref().map_or("newton", super::Pattern::describe))
+            .map(|b| {
+                b.pattern
+                    .as_ref()
+                    .map_or("newton", super::Pattern::describe)
+            })
             .collect()
     }
 
@@ -596,7 +591,10 @@ mod tests {
         // The vertical equation fixes θ alone, then the horizontal one x.
         assert_eq!(
             slider_crank,
-            ["closed form: a cos θ + b sin θ + c = 0", "closed form: linear in one length"]
+            [
+                "closed form: a cos θ + b sin θ + c = 0",
+                "closed form: linear in one length"
+            ]
         );
         let inclined = methods(quote! { struct M {
             params { a, b, e, gamma } drivers { phi } unknowns { th, x }
@@ -607,7 +605,10 @@ mod tests {
             params { a, d } drivers { phi } unknowns { th, s }
             loops { polar(a, phi) == vec2(d, 0.0) + polar(s, th); }
         }});
-        assert_eq!(inverted, ["closed form: RTR dyad (slider on a turning link)"]);
+        assert_eq!(
+            inverted,
+            ["closed form: RTR dyad (slider on a turning link)"]
+        );
         let trt = methods(quote! { struct M {
             params { a, h, gamma } drivers { phi } unknowns { x, y }
             loops { polar(a, phi) + polar(x, gamma) == vec2(0.0, h) + y * vec2(0.5, 0.8); }

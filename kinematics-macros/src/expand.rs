@@ -2,7 +2,7 @@
 
 use proc_macro2::TokenStream;
 
-use crate::{check, emit, ir, kinematics, lower, names, parse, scale, validate};
+use crate::{check, closed, emit, ir, kinematics, lower, names, parse, scale, validate};
 
 /// The whole expansion: code for a valid definition, or `compile_error!`s
 /// spanned on the offending tokens (with stub types, so uses of the
@@ -24,7 +24,8 @@ pub fn expand(input: TokenStream) -> TokenStream {
     }
     let derived = kinematics::derive(&mut model);
     let scales = scale::scales(&mut model, def.params.len());
-    emit::expand(&def, &model, &derived, &scales)
+    let closed = closed::closed_blocks(&mut model, &derived.jac);
+    emit::expand(&def, &model, &derived, &scales, &closed)
 }
 
 /// The operation counts of a definition (see [`emit::operation_counts`]), or

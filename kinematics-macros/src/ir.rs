@@ -160,6 +160,11 @@ impl Graph {
         id
     }
 
+    /// The id of `node` if the graph holds it.
+    pub fn find(&self, node: &Node) -> Option<Id> {
+        self.table.get(node).copied()
+    }
+
     /// The constant `value` (finite: callers fold only finite results).
     pub fn constant(&mut self, value: f64) -> Id {
         // Normalise -0.0 to 0.0 so that both hash to one node.

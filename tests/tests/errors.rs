@@ -73,29 +73,74 @@ fn links_too_short_to_close_the_loop() {
             th4: 2.0,
         })
         .expect_err("cannot assemble");
+    // The four-bar's loop is one RRR dyad, solved in closed form: its
+    // discriminant is negative, an exact statement that it cannot close.
     match &err {
-        Error::NotConverged {
-            residual,
-            equation,
-            configuration,
-            ..
+        Error::CannotAssemble {
+            unknowns,
+            discriminant,
+            drivers,
         } => {
-            assert!(*residual > 1e-3);
-            assert!(
-                equation.starts_with("B + polar(b, th3) == C ("),
-                "{equation}"
-            );
-            assert_eq!(configuration.len(), 3);
-            assert_eq!(configuration[0].0, "phi");
+            assert_eq!(*unknowns, "th3, th4");
+            assert!(*discriminant < 0.0);
+            assert_eq!(drivers.as_slice(), &[("phi", 0.0)]);
         }
-        Error::Singular { .. } => {}
         other => panic!("unexpected {other:?}"),
     }
     let text = err.to_string();
     assert!(
-        text.contains("did not assemble") || text.contains("do not determine"),
+        text.contains("cannot be assembled at phi = 0.000000") && text.contains("th3, th4"),
         "{text}"
     );
+    // Solved by Newton–Raphson, the same loop does not converge.
+    let newton = DistanceFourBar {
+        a: 0.04,
+        b: 0.02,
+        c: 0.02,
+        d: 0.2,
+    };
+    match newton.assemble(&DistanceFourBarCoords { phi: 0.0, th4: 2.0 }) {
+        Err(Error::NotConverged {
+            residual,
+            equation,
+            configuration,
+            ..
+        }) => {
+            assert!(residual > 1e-3);
+            assert!(equation.starts_with("norm("), "{equation}");
+            assert_eq!(configuration.len(), 2);
+        }
+        Err(Error::Singular { .. }) => {}
+        other => panic!("unexpected {other:?}"),
+    }
+}
+
+mechanism! {
+    /// A four-bar written with its coupler as a distance (a square root),
+    /// which no closed form covers: solved by Newton–Raphson.
+    pub struct DistanceFourBar {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Rocker angle.
+            th4
+        }
+        constraints {
+            norm(polar(a, phi) - vec2(d, 0.0) - polar(c, th4)) == b;
+        }
+    }
 }
 
 #[test]
@@ -190,13 +235,25 @@ fn toggle_of_a_six_bars_second_loop_names_its_unknown() {
             other => panic!("unexpected {other:?}"),
         }
     }
-    // A little away from the toggle both loops are regular, and the
-    // conditioning is small but positive.
-    let near = WattCoords {
+    // The guess does not move the pose: the second loop, solved in closed
+    // form, is at its toggle whatever the guess.
+    let off = WattCoords {
         th5: angle + 0.01,
         ..pose
     };
-    let assembled = w.assemble(&near).expect("assembles");
+    assert!(matches!(w.assemble(&off), Err(Error::Singular { .. })));
+    // A little away from the toggle (on the side where the loop closes)
+    // both loops are regular, and the conditioning is small but positive.
+    let assembled = [0.01, -0.01]
+        .iter()
+        .find_map(|dphi| {
+            w.assemble(&WattCoords {
+                phi: pose.phi + dphi,
+                ..off
+            })
+            .ok()
+        })
+        .expect("assembles on one side of the toggle");
     let motion = w.analyze(&assembled, 1.0, 0.0).expect("regular");
     assert!(
         motion.conditioning > 0.0 && motion.conditioning < 0.2,
@@ -331,19 +388,18 @@ fn invalid_options_are_rejected() {
 
 #[test]
 fn too_few_iterations_reports_the_residual() {
-    let m = four_bar();
+    let m = DistanceFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    assert_eq!(DistanceFourBar::BLOCKS[0].method, "Newton–Raphson");
     let options = Options {
         max_iterations: 1,
         ..Options::DEFAULT
     };
-    match m.assemble_with(
-        &FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 2.5,
-        },
-        &options,
-    ) {
+    match m.assemble_with(&DistanceFourBarCoords { phi: 0.0, th4: 2.5 }, &options) {
         Err(Error::NotConverged {
             iterations: 1,
             residual,

@@ -35,28 +35,7 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
     let scaling = cx.scaling();
     let solver = cx.solver();
     let at_solution = cx.factor_at_solution();
-    quote! {
-        /// Assembles the mechanism: solves the loop-closure equations
-        /// Φ(d, u) = 0 for the unknowns u by Newton–Raphson, with the
-        /// drivers d and the starting guess of u taken from `start`. The
-        /// result is the assembly branch nearest the guess.
-        ///
-        /// # Errors
-        /// Non-finite parameters or start values, a singular Jacobian, or
-        /// no convergence; each names the item involved.
-        pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> {
-            self.assemble_with(start, &#pp::Options::DEFAULT)
-        }
-
-        /// [`Self::assemble`] with explicit solver options.
-        ///
-        /// # Errors
-        /// As [`Self::assemble`], and invalid options.
-        pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
-            options.validate()?;
-            self.validate()?;
-            #inputs
-            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+    let newton = quote! {
             #scaling
             #hoisted
             let mut u = [#(start.#c_unknowns),*];
@@ -76,6 +55,58 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
             #at_solution
             let _ = (__conditioning, __det_sign);
             ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
+    };
+    let (body, off_path) = if cx.all_closed() {
+        // Every block in closed form, each in the mode of the guess; Newton
+        // off that path.
+        let nm = cx.nm();
+        let body = quote! {
+            let __scaling = self.__scaling(&[#(#q_drivers),*])?;
+            let mut modes = [::core::primitive::f64::NAN; #nm];
+            self.__assemble_closed(start, options, &__scaling, &mut modes)
+        };
+        let off_path = quote! {
+            /// Newton–Raphson from `start`, off the closed-form path.
+            #[doc(hidden)]
+            #[cold]
+            #[inline(never)]
+            fn __assemble_newton(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
+                let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+                #newton
+            }
+        };
+        (body, off_path)
+    } else {
+        (newton, TokenStream::new())
+    };
+    quote! {
+        /// Assembles the mechanism: solves the loop-closure equations
+        /// Φ(d, u) = 0 for the unknowns u, with the drivers d and a guess
+        /// of u taken from `start`. When every block of the equations has
+        /// a closed form ([`Self::BLOCKS`]), each block is solved exactly
+        /// in the assembly mode the guess lies in; otherwise by
+        /// Newton–Raphson from the guess, which finds the assembly branch
+        /// nearest it.
+        ///
+        /// # Errors
+        /// Non-finite parameters or start values, a singular Jacobian, or
+        /// no convergence; each names the item involved.
+        pub fn assemble(&self, start: &#coords) -> #pp::Result<#coords, #pp::Error> {
+            self.assemble_with(start, &#pp::Options::DEFAULT)
         }
+
+        /// [`Self::assemble`] with explicit solver options.
+        ///
+        /// # Errors
+        /// As [`Self::assemble`], and invalid options.
+        pub fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
+            options.validate()?;
+            self.validate()?;
+            #inputs
+            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #body
+        }
+
+        #off_path
     }
 }

@@ -19,6 +19,7 @@
 
 mod analyze;
 mod assemble;
+mod closed;
 mod evaluate;
 mod fallback;
 mod guards;
@@ -50,6 +51,8 @@ struct Ctx<'a> {
     model: &'a Model,
     d: &'a Derived,
     scales: &'a Scales,
+    /// The blocks of Φ_u in solve order, with their closed forms.
+    closed: &'a [crate::closed::Closed],
     id: Idents,
     /// `::kinematics_core::__private`.
     pp: TokenStream,
@@ -66,12 +69,19 @@ struct Ctx<'a> {
 }
 
 impl<'a> Ctx<'a> {
-    fn new(def: &'a Definition, model: &'a Model, d: &'a Derived, scales: &'a Scales) -> Self {
+    fn new(
+        def: &'a Definition,
+        model: &'a Model,
+        d: &'a Derived,
+        scales: &'a Scales,
+        closed: &'a [crate::closed::Closed],
+    ) -> Self {
         Ctx {
             def,
             model,
             d,
             scales,
+            closed,
             id: Idents::new(def),
             pp: quote!(::kinematics_core::__private),
             allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
@@ -305,8 +315,14 @@ impl<'a> Ctx<'a> {
 }
 
 /// The full expansion of a checked model.
-pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> TokenStream {
-    let cx = Ctx::new(def, model, d, scales);
+pub fn expand(
+    def: &Definition,
+    model: &Model,
+    d: &Derived,
+    scales: &Scales,
+    closed: &[crate::closed::Closed],
+) -> TokenStream {
+    let cx = Ctx::new(def, model, d, scales, closed);
     let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
     let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();
@@ -323,8 +339,13 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
     let analyze = analyze::analyze(&cx);
     let evaluate = evaluate::evaluate(&cx);
     let mechanism_impl = mechanism_impl::mechanism_impl(&cx);
+    let blocks = closed::blocks_const(&cx);
+    let modes = closed::modes_type(&cx);
+    let closed_methods = closed::closed_methods(&cx);
     quote! {
         #types
+
+        #modes
 
         impl #name {
             /// Number of drivers (prescribed inputs).
@@ -350,8 +371,11 @@ pub fn expand(def: &Definition, model: &Model, d: &Derived, scales: &Scales) -> 
                 equations: &[#(#eq_names),*],
             };
 
+            #blocks
+
             #validate
             #assemble
+            #closed_methods
             #step
             #analyze
             #evaluate

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
+use syn::ext::IdentExt;
 use syn::Ident;
 
 use super::newton::{driver_frontier, unknown_trig, used_later};
@@ -99,6 +100,18 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let scaling = cx.scaling();
     let solver = cx.solver();
     let ne = cx.ne;
+    let nm = cx.nm();
+    let step_body = if cx.all_closed() {
+        quote! {
+            let mut modes = [::core::primitive::f64::NAN; #nm];
+            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes)
+        }
+    } else {
+        quote! {
+            let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+            self.__step_core(start, rates, accelerations, options, &scaling, &mut carry)
+        }
+    };
     let stepper = &id.stepper;
     let stepper_doc = format!(
         "A stepping handle: checks `options` and the parameters once, evaluates the scaling \
@@ -161,8 +174,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             options.validate()?;
             self.validate()?;
             let scaling = self.__scaling(&[#(start.#c_drivers),*])?;
-            let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
-            self.__step_core(start, rates, accelerations, options, &scaling, &mut carry)
+            #step_body
         }
 
         /// The scaling of the equations (`kinematics_core::solve::Scaling`)
@@ -264,6 +276,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 options: *options,
                 scaling,
                 carry: [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt],
+                modes: [::core::primitive::f64::NAN; #nm],
                 since_refresh: 0,
             })
         }
@@ -278,7 +291,52 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let (name, coords, motion, stepper) = (&id.name, &id.coords, &id.motion, &id.stepper);
     let c_drivers = &id.coord[..nd];
     let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
+    let nm = cx.nm();
     let vis = &cx.def.vis;
+    let call = if cx.all_closed() {
+        quote!(self.mechanism.__step_closed(
+            start,
+            rates,
+            accelerations,
+            &self.options,
+            &scaling,
+            &mut self.modes
+        ))
+    } else {
+        quote!(self.mechanism.__step_core(
+            start,
+            rates,
+            accelerations,
+            &self.options,
+            &scaling,
+            &mut self.carry
+        ))
+    };
+    let modes_fn = if cx.all_closed() {
+        let modes = format_ident!("{}Modes", name.unraw());
+        quote! {
+            /// The assembly modes the steps follow: those of the first
+            /// step's guess, kept from step to step (a closed-form block
+            /// changes mode only through a limit position). `None` before
+            /// the first step.
+            #[must_use]
+            pub fn modes(&self) -> ::core::option::Option<#modes> {
+                if self.modes.iter().any(|m| m.is_nan()) {
+                    ::core::option::Option::None
+                } else {
+                    ::core::option::Option::Some(#modes::__from_signs(&self.modes))
+                }
+            }
+
+            /// Makes the following steps assemble in `modes` instead of
+            /// the modes of the guess.
+            pub fn set_modes(&mut self, modes: &#modes) {
+                self.modes = modes.__signs();
+            }
+        }
+    } else {
+        TokenStream::new()
+    };
     let doc = format!(
         "A stepping handle of [`{name}`], made by [`{name}::stepper`]: options, parameters and \
          the scaling of the equations checked once, and the sines and cosines of each solved \
@@ -298,6 +356,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             options: #pp::Options,
             scaling: ::core::option::Option<#pp::Scaling<#ne>>,
             carry: [[f64; 3]; #nt],
+            modes: [f64; #nm],
             since_refresh: u32,
         }
 
@@ -328,8 +387,10 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                         self.mechanism.__scaling(&[#(start.#c_drivers),*])?
                     }
                 };
-                self.mechanism.__step_core(start, rates, accelerations, &self.options, &scaling, &mut self.carry)
+                #call
             }
+
+            #modes_fn
         }
     }
 }
