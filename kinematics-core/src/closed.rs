@@ -421,6 +421,42 @@ pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
     shifted
 }
 
+/// [`near`], from the previous solution of the same angle: `carried` holds
+/// its (cos θ, sin θ, θ), and when θ is `reference` (the caller passed the
+/// previous pose back, as a stepper does) the angle is θ + Δ with
+/// sin Δ = cos θ · `s` − sin θ · `c` and Δ = asin(sin Δ) by its series
+/// (to 1e-17 for |sin Δ| ≤ 1/32 and cos Δ > 0), with no atan2; otherwise as
+/// [`near`]. On return `carried` holds the new (cos, sin, angle).
+///
+/// ```
+/// use kinematics_core::closed::near_carried;
+/// let mut carried = [f64::NAN; 3];
+/// let (mut c, mut s) = (0.3f64.cos(), 0.3f64.sin());
+/// let a = near_carried(&mut c, &mut s, 0.0, &mut carried);
+/// let (mut c, mut s) = (0.31f64.cos(), 0.31f64.sin());
+/// let b = near_carried(&mut c, &mut s, a, &mut carried);
+/// assert!((a - 0.3).abs() < 1e-16 && (b - 0.31).abs() < 1e-16);
+/// ```
+#[inline(always)]
+pub fn near_carried(c: &mut f64, s: &mut f64, reference: f64, carried: &mut [f64; 3]) -> f64 {
+    let [cp, sp, tp] = *carried;
+    let x = cp * *s - sp * *c;
+    let y = cp * *c + sp * *s;
+    let theta = if tp == reference && y > 0.0 && x.abs() <= 0.031_25 {
+        let x2 = x * x;
+        // asin x = x + x³/6 + 3x⁵/40 + 5x⁷/112 + 35x⁹/1152 + 63x¹¹/2816 (the
+        // next term, 231x¹³/13312, is below 1e-21 x for |x| ≤ 1/32).
+        let series = x2
+            * (1.0 / 6.0
+                + x2 * (3.0 / 40.0 + x2 * (5.0 / 112.0 + x2 * (35.0 / 1152.0 + x2 * (63.0 / 2816.0)))));
+        tp + (x + x * series)
+    } else {
+        near(c, s, reference)
+    };
+    *carried = [*c, *s, theta];
+    theta
+}
+
 /// Whether max |Φ_i| w_i is within the tolerance of `options` and within
 /// 10⁻¹²: the check of a closed-form solution before it is returned (a
 /// larger residual, from cancellation in the closed form, is polished by

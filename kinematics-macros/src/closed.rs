@@ -147,7 +147,11 @@ fn recognise(
         .enumerate()
         .map(|(t, (&c, &k))| (u32::try_from(nd + c).unwrap_or(u32::MAX), (t, k)))
         .collect();
-    let mut polys = expand(g, residuals, &slots)?;
+    let residuals: Vec<Id> = residuals
+        .iter()
+        .map(|&r| squared(g, r, &slots))
+        .collect();
+    let mut polys = expand(g, &residuals, &slots)?;
     let values = Values::new(g, &polys);
     for (p, v) in polys.iter_mut().zip(&values.scales) {
         reduce(g, p, kinds, &values, *v);
@@ -227,6 +231,26 @@ fn recognise(
         }
         _ => None,
     }
+}
+
+/// A residual √x + c (a distance `norm(v) == b`, with c free of the
+/// block's unknowns) as the equivalent x − c², which is polynomial in the
+/// symbols where √x is not (the same zeros where −c ≥ 0; a solution with
+/// −c < 0 fails the residual check of the generated code); any other
+/// residual unchanged.
+fn squared(g: &mut Graph, r: Id, slots: &HashMap<u32, (usize, CoordKind)>) -> Id {
+    let involves = |g: &Graph, id: Id| g.depends_on(id, &|l| matches!(l, Leaf::Q(j) if slots.contains_key(&j)));
+    if let Node::Add(a, b) = g.node(r) {
+        for (root, c) in [(a, b), (b, a)] {
+            if let Node::Call(Func::Sqrt, x) = g.node(root) {
+                if !involves(g, c) {
+                    let c2 = g.mul(c, c);
+                    return g.sub(x, c2);
+                }
+            }
+        }
+    }
+    r
 }
 
 /// The polynomials of `roots` in the block's symbols (`slots`: coordinate
@@ -621,6 +645,16 @@ mod tests {
                 dot(B - vec3(-a * cos(phi), 0.0, a * sin(phi)), B - vec3(-a * cos(phi), 0.0, a * sin(phi)))
                     == b * b;
             }
+        }});
+        assert_eq!(rssr, ["closed form: a cos θ + b sin θ + c = 0"]);
+        // The same written as a distance: √(v·v) = b taken as v·v = b².
+        let rssr = methods(quote! { struct M {
+            params { a, b, c, d } drivers { phi } unknowns { psi }
+            points {
+                A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+                B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+            }
+            constraints { norm(B - A) == b; }
         }});
         assert_eq!(rssr, ["closed form: a cos θ + b sin θ + c = 0"]);
         let watt = methods(quote! { struct M {

@@ -35,6 +35,14 @@ impl Ctx<'_> {
             .collect()
     }
 
+    /// Number of unknown angles (carried by the closed-form path from one
+    /// step to the next).
+    pub(super) fn na(&self) -> usize {
+        (self.nd..self.nd + self.nu)
+            .filter(|&j| self.model.kinds[j] == crate::lower::CoordKind::Angle)
+            .count()
+    }
+
     /// Number of modes (0 unless every block is closed-form).
     pub(super) fn nm(&self) -> usize {
         if self.all_closed() {
@@ -156,6 +164,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let modes = format_ident!("{}Modes", id.name.unraw());
     let combos = 1usize << nm;
     let ne = cx.ne;
+    let na = cx.na();
     let nt = super::newton::unknown_trig(g, &cx.newton_roots(), cx.model.drivers).len();
 
     // The sines and cosines of the unknown angles, as the closed forms give
@@ -224,7 +233,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let asm_inputs = guards::inputs(cx, "start", false);
     quote! {
         /// A step in closed form: the blocks solved in order in the modes
-        /// `modes` (±1; NaN: from the guess in `start`, then stored), the
+        /// `modes` (±1; NaN: from the guess in `start`, then stored), each
+        /// unknown angle from the previous solution in `angles` (see
+        /// `closed::near_carried`), the
         /// residual checked, the motion analysed. Falls back to
         /// Newton–Raphson (resetting `modes`) where a block is degenerate
         /// or the residual is not at round-off.
@@ -239,6 +250,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             options: &#pp::Options,
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
+            angles: &mut [[f64; 3]; #na],
         ) -> #pp::Result<#motion, #pp::Error> {
             let [#(#qd_drivers),*] = rates.into_array();
             let [#(#qdd_drivers),*] = accelerations.into_array();
@@ -262,6 +274,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
         ) -> #pp::Result<#coords, #pp::Error> {
+            let angles = &mut [[::core::primitive::f64::NAN; 3]; #na];
             #asm_inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             #asm_solve
@@ -344,6 +357,7 @@ fn solve_blocks(
     let q_drivers = &q[..nd];
     let mut solve = TokenStream::new();
     let mut m = 0usize;
+    let mut angle = 0usize;
     for (b, block_lets) in cx.closed.iter().zip(lets) {
         let Some(p) = &b.pattern else { continue };
         let names = cx.block_names(b).join(", ");
@@ -377,8 +391,9 @@ fn solve_blocks(
                 solve.extend(quote! {
                     let mut #cv = #cv;
                     let mut #sv = #sv;
-                    let #qv = #pp::closed::near(&mut #cv, &mut #sv, start.#field);
+                    let #qv = #pp::closed::near_carried(&mut #cv, &mut #sv, start.#field, &mut angles[#angle]);
                 });
+                angle += 1;
             }
         }
     }

@@ -101,10 +101,12 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let solver = cx.solver();
     let ne = cx.ne;
     let nm = cx.nm();
+    let na = cx.na();
     let step_body = if cx.all_closed() {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
-            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes)
+            let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
+            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes, &mut angles)
         }
     } else {
         quote! {
@@ -277,6 +279,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 scaling,
                 carry: [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt],
                 modes: [::core::primitive::f64::NAN; #nm],
+                angles: [[::core::primitive::f64::NAN; 3]; #na],
                 since_refresh: 0,
             })
         }
@@ -292,6 +295,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let c_drivers = &id.coord[..nd];
     let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
     let nm = cx.nm();
+    let na = cx.na();
     let vis = &cx.def.vis;
     let call = if cx.all_closed() {
         quote!(self.mechanism.__step_closed(
@@ -300,7 +304,8 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             accelerations,
             &self.options,
             &scaling,
-            &mut self.modes
+            &mut self.modes,
+            &mut self.angles
         ))
     } else {
         quote!(self.mechanism.__step_core(
@@ -357,6 +362,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             scaling: ::core::option::Option<#pp::Scaling<#ne>>,
             carry: [[f64; 3]; #nt],
             modes: [f64; #nm],
+            angles: [[f64; 3]; #na],
             since_refresh: u32,
         }
 
@@ -379,6 +385,9 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                     self.since_refresh = 0;
                     for c in &mut self.carry {
                         c[2] = ::core::primitive::f64::NAN;
+                    }
+                    for a in &mut self.angles {
+                        a[2] = ::core::primitive::f64::NAN;
                     }
                 }
                 let scaling = match self.scaling {
