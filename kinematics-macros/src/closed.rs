@@ -84,6 +84,60 @@ pub struct Closed {
     pub pattern: Option<Pattern>,
 }
 
+/// sin(θ + k) or cos(θ + k) of an unknown angle θ and an offset k that
+/// depends on the parameters only (a coupler point at `polar(p, th3 +
+/// beta)`): the closed-form path evaluates it by the addition theorem from
+/// θ's sine and cosine and k's, computed once per stepper.
+#[derive(Debug, Clone)]
+pub struct Offset {
+    /// The node sin(θ + k) or cos(θ + k).
+    pub node: Id,
+    /// `Sin` or `Cos`.
+    pub func: Func,
+    /// θ's coordinate index.
+    pub coord: usize,
+    /// cos k and sin k.
+    pub cos_k: Id,
+    pub sin_k: Id,
+}
+
+/// Every sine and cosine of an unknown angle plus a parameter-only offset
+/// in the model's graph (adding the offsets' sines and cosines to it).
+pub fn offsets(model: &mut Model) -> Vec<Offset> {
+    let nd = model.drivers;
+    let g = &mut model.graph;
+    let n = g.len();
+    let mut out = Vec::new();
+    for i in 0..n {
+        let id = Id::from_index(i);
+        let Node::Call(func @ (Func::Sin | Func::Cos), arg) = g.node(id) else {
+            continue;
+        };
+        let Node::Add(a, b) = g.node(arg) else {
+            continue;
+        };
+        for (x, k) in [(a, b), (b, a)] {
+            let Node::Leaf(Leaf::Q(j)) = g.node(x) else {
+                continue;
+            };
+            let angle = j >= nd && model.kinds[j as usize] == CoordKind::Angle;
+            if !angle || g.depends_on(k, &|l| !matches!(l, Leaf::Param(_))) {
+                continue;
+            }
+            let (cos_k, sin_k) = (g.call(Func::Cos, k), g.call(Func::Sin, k));
+            out.push(Offset {
+                node: id,
+                func,
+                coord: j as usize,
+                cos_k,
+                sin_k,
+            });
+            break;
+        }
+    }
+    out
+}
+
 /// The blocks of the model's Φ_u (the jacobian `jac`), in solve order (as
 /// `blocks::block_triangular` orders them), each with its closed form if it
 /// has one. Adds the coefficients' nodes to the model's graph.

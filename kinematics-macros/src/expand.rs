@@ -25,7 +25,8 @@ pub fn expand(input: TokenStream) -> TokenStream {
     let derived = kinematics::derive(&mut model);
     let scales = scale::scales(&mut model, def.params.len());
     let closed = closed::closed_blocks(&mut model, &derived.jac);
-    emit::expand(&def, &model, &derived, &scales, &closed)
+    let offsets = closed::offsets(&mut model);
+    emit::expand(&def, &model, &derived, &scales, &closed, &offsets)
 }
 
 /// The operation counts of a definition (see [`emit::operation_counts`]), or

@@ -63,7 +63,7 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
         let body = quote! {
             let __scaling = self.__scaling(&[#(#q_drivers),*])?;
             let mut modes = [::core::primitive::f64::NAN; #nm];
-            self.__assemble_closed(start, options, &__scaling, &mut modes)
+            self.__assemble_closed(start, options, &__scaling, &mut modes, &self.__param_trig())
         };
         let off_path = quote! {
             /// Newton–Raphson from `start`, off the closed-form path.

@@ -52,6 +52,36 @@ impl Ctx<'_> {
         }
     }
 
+    /// The sines and cosines of parameter-only arguments that the
+    /// closed-form path uses (evaluated once per stepper by
+    /// `__param_trig`), in arena order; none unless every block is
+    /// closed-form.
+    pub(super) fn param_trig(&self) -> Vec<Id> {
+        if !self.all_closed() {
+            return Vec::new();
+        }
+        let g = self.g();
+        let mut roots: Vec<Id> = self.newton_roots();
+        roots.extend(self.analysis_stages().into_iter().flatten());
+        roots.extend(self.offsets.iter().flat_map(|o| [o.cos_k, o.sin_k]));
+        let live = g.reachable(&roots);
+        let mut param_only = vec![false; g.len()];
+        let mut out = Vec::new();
+        for i in 0..g.len() {
+            let node = g.node(Id::from_index(i));
+            param_only[i] = match node {
+                Node::Leaf(l) => matches!(l, Leaf::Param(_)),
+                _ => node.children().all(|c| param_only[c.index()]),
+            };
+            if let Node::Call(Func::Sin | Func::Cos, x) = node {
+                if live[i] && param_only[x.index()] && g.as_const(x).is_none() {
+                    out.push(Id::from_index(i));
+                }
+            }
+        }
+        out
+    }
+
     /// The unknowns of a block, by name.
     fn block_names(&self, b: &Closed) -> Vec<String> {
         b.cols
@@ -184,7 +214,31 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             }
         }
     }
+    for (i, o) in cx.offsets.iter().enumerate() {
+        given.insert(o.node, format_ident!("__off_{}", i));
+    }
+    let pt = cx.param_trig();
+    let npt = pt.len();
+    let pt_names: Vec<Ident> = (0..npt).map(|i| format_ident!("__pt_{}", i)).collect();
+    given.extend(pt.iter().copied().zip(pt_names.iter().cloned()));
     let leaf = cx.leaf();
+    let param_trig = {
+        let sched = schedule(g, &[pt.clone()]);
+        let (pr, lets) = super::print::bind(g, &sched, &leaf);
+        let values: Vec<_> = pt.iter().map(|&i| pr.expr(i)).collect();
+        let lets = &lets[0];
+        quote! {
+            /// The sines and cosines of parameter-only angles (offsets),
+            /// evaluated once per stepper.
+            #[doc(hidden)]
+            #[inline(always)]
+            #allow
+            fn __param_trig(&self) -> [f64; #npt] {
+                #lets
+                [#(#values),*]
+            }
+        }
+    };
     let nb = cx.closed.len();
     let coefs: Vec<Vec<Id>> = cx
         .closed
@@ -251,7 +305,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
             angles: &mut [[f64; 3]; #na],
+            __pt: &[f64; #npt],
         ) -> #pp::Result<#motion, #pp::Error> {
+            let [#(#pt_names),*] = *__pt;
             let [#(#qd_drivers),*] = rates.into_array();
             let [#(#qdd_drivers),*] = accelerations.into_array();
             #inputs
@@ -273,7 +329,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             options: &#pp::Options,
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
+            __pt: &[f64; #npt],
         ) -> #pp::Result<#coords, #pp::Error> {
+            let [#(#pt_names),*] = *__pt;
             let angles = &mut [[::core::primitive::f64::NAN; 3]; #na];
             #asm_inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
@@ -286,6 +344,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             let _ = (__conditioning, __det_sign);
             ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
         }
+
+        #param_trig
 
         /// The Newton–Raphson step from `start`, off the closed-form path.
         #[doc(hidden)]
@@ -325,7 +385,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             let start = #coords { #( #c_drivers: #q_drivers, )* #( #c_unknowns: 0.0, )* };
             let scaling = self.__scaling(&d)?;
             let mut signs = modes.__signs();
-            self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs)
+            self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig())
         }
 
         /// Every assembly at the drivers `drivers`: one per combination of
@@ -394,6 +454,20 @@ fn solve_blocks(
                     let #qv = #pp::closed::near_carried(&mut #cv, &mut #sv, start.#field, &mut angles[#angle]);
                 });
                 angle += 1;
+                for (i, o) in cx.offsets.iter().enumerate() {
+                    if o.coord != nd + c {
+                        continue;
+                    }
+                    let (ck, sk) = (pr.operand(o.cos_k), pr.operand(o.sin_k));
+                    let off = format_ident!("__off_{}", i);
+                    // sin(θ + k) = sin θ cos k + cos θ sin k;
+                    // cos(θ + k) = cos θ cos k − sin θ sin k.
+                    solve.extend(if o.func == Func::Sin {
+                        quote!(let #off = #sv * #ck + #cv * #sk;)
+                    } else {
+                        quote!(let #off = #cv * #ck - #sv * #sk;)
+                    });
+                }
             }
         }
     }

@@ -53,6 +53,8 @@ struct Ctx<'a> {
     scales: &'a Scales,
     /// The blocks of Φ_u in solve order, with their closed forms.
     closed: &'a [crate::closed::Closed],
+    /// sin and cos of unknown angles plus parameter-only offsets.
+    offsets: &'a [crate::closed::Offset],
     id: Idents,
     /// `::kinematics_core::__private`.
     pp: TokenStream,
@@ -75,6 +77,7 @@ impl<'a> Ctx<'a> {
         d: &'a Derived,
         scales: &'a Scales,
         closed: &'a [crate::closed::Closed],
+        offsets: &'a [crate::closed::Offset],
     ) -> Self {
         Ctx {
             def,
@@ -82,6 +85,7 @@ impl<'a> Ctx<'a> {
             d,
             scales,
             closed,
+            offsets,
             id: Idents::new(def),
             pp: quote!(::kinematics_core::__private),
             allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
@@ -321,8 +325,9 @@ pub fn expand(
     d: &Derived,
     scales: &Scales,
     closed: &[crate::closed::Closed],
+    offsets: &[crate::closed::Offset],
 ) -> TokenStream {
-    let cx = Ctx::new(def, model, d, scales, closed);
+    let cx = Ctx::new(def, model, d, scales, closed, offsets);
     let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
     let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();

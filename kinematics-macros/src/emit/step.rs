@@ -102,11 +102,16 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let ne = cx.ne;
     let nm = cx.nm();
     let na = cx.na();
+    let param_trig_init = if cx.all_closed() {
+        quote!(self.__param_trig())
+    } else {
+        quote!([])
+    };
     let step_body = if cx.all_closed() {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
-            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes, &mut angles)
+            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes, &mut angles, &self.__param_trig())
         }
     } else {
         quote! {
@@ -280,6 +285,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 carry: [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt],
                 modes: [::core::primitive::f64::NAN; #nm],
                 angles: [[::core::primitive::f64::NAN; 3]; #na],
+                param_trig: #param_trig_init,
                 since_refresh: 0,
             })
         }
@@ -296,6 +302,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
     let nm = cx.nm();
     let na = cx.na();
+    let npt = cx.param_trig().len();
     let vis = &cx.def.vis;
     let call = if cx.all_closed() {
         quote!(self.mechanism.__step_closed(
@@ -305,7 +312,8 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             &self.options,
             &scaling,
             &mut self.modes,
-            &mut self.angles
+            &mut self.angles,
+            &self.param_trig
         ))
     } else {
         quote!(self.mechanism.__step_core(
@@ -363,6 +371,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             carry: [[f64; 3]; #nt],
             modes: [f64; #nm],
             angles: [[f64; 3]; #na],
+            param_trig: [f64; #npt],
             since_refresh: u32,
         }
 
