@@ -198,7 +198,9 @@ pub fn angle(
 ///
 /// Eliminating θ₁ by |Q e₁| = q gives |k + P e₀|² = q², that is
 /// 2 (Pᵀk)·e₀ + |k|² + p² − q² = 0, an [`angle`] equation for θ₀ (whose
-/// mode is `*mode`); then e₁ = −Qᵀ (k + P e₀) / q², computed as that
+/// mode is `*mode`; when NaN, the mode whose solution is nearest the
+/// guess's (cos θ₀, sin θ₀, cos θ₁, sin θ₁) that `guess` returns, in
+/// (1 − cos Δθ₀) + (1 − cos Δθ₁), then stored); then e₁ = −Qᵀ (k + P e₀) / q², computed as that
 /// vector normalised.
 ///
 /// # Errors
@@ -213,7 +215,7 @@ pub fn angle(
 /// for mode in [1.0, -1.0] {
 ///     let mut mode = mode;
 ///     let [c3, s3, c4, s4] =
-///         circle_circle(k, [[b, 0.0], [0.0, b]], [[-c, 0.0], [0.0, -c]], &mut mode, || [1.0, 0.0])
+///         circle_circle(k, [[b, 0.0], [0.0, b]], [[-c, 0.0], [0.0, -c]], &mut mode, || [1.0, 0.0, 1.0, 0.0])
 ///             .unwrap();
 ///     assert!((k[0] + b * c3 - c * c4).abs() < 1e-15 && (k[1] + b * s3 - c * s4).abs() < 1e-15);
 ///     assert!((c3 * c3 + s3 * s3 - 1.0).abs() < 1e-15 && (c4 * c4 + s4 * s4 - 1.0).abs() < 1e-15);
@@ -225,14 +227,40 @@ pub fn circle_circle(
     p: [[f64; 2]; 2],
     q: [[f64; 2]; 2],
     mode: &mut f64,
-    guess: impl FnOnce() -> [f64; 2],
+    guess: impl FnOnce() -> [f64; 4],
+) -> Result<[f64; 4], f64> {
+    if mode.is_nan() {
+        // The mode whose solution is nearest the guess in both angles:
+        // least (1 − cos Δθ₀) + (1 − cos Δθ₁).
+        let g = guess();
+        let mut best = (f64::INFINITY, 1.0);
+        for sigma in [1.0, -1.0] {
+            let mut m = sigma;
+            let [c0, s0, c1, s1] = circle_circle_in(k, p, q, &mut m)?;
+            let d = 2.0 - (c0 * g[0] + s0 * g[1]) - (c1 * g[2] + s1 * g[3]);
+            if d < best.0 {
+                best = (d, sigma);
+            }
+        }
+        *mode = best.1;
+    }
+    circle_circle_in(k, p, q, mode)
+}
+
+/// [`circle_circle`] in the mode `*mode` (±1).
+#[inline(always)]
+fn circle_circle_in(
+    k: [f64; 2],
+    p: [[f64; 2]; 2],
+    q: [[f64; 2]; 2],
+    mode: &mut f64,
 ) -> Result<[f64; 4], f64> {
     let p2 = p[0][0] * p[0][0] + p[1][0] * p[1][0];
     let q2 = q[0][0] * q[0][0] + q[1][0] * q[1][0];
     let a = 2.0 * (p[0][0] * k[0] + p[1][0] * k[1]);
     let b = 2.0 * (p[0][1] * k[0] + p[1][1] * k[1]);
     let c = k[0] * k[0] + k[1] * k[1] + p2 - q2;
-    let [c0, s0] = angle(a, b, c, mode, guess)?;
+    let [c0, s0] = angle(a, b, c, mode, || [1.0, 0.0])?;
     if !(q2 > 0.0) {
         return Err(f64::NAN);
     }

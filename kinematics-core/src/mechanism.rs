@@ -532,8 +532,10 @@ pub trait Mechanism {
     /// Each scalar equation as written in the definition.
     const EQUATION_NAMES: &'static [&'static str];
 
-    /// Solves Φ(d, u) = 0 for u by Newton–Raphson, with d and the guess of u
-    /// taken from `start`; the assembly branch is the one nearest the guess.
+    /// Solves Φ(d, u) = 0 for u, with d and a guess of u taken from
+    /// `start`: in closed form when every block has one (each block in the
+    /// mode the guess lies in), else by Newton–Raphson, which finds the
+    /// assembly branch nearest the guess.
     ///
     /// # Errors
     /// Non-finite inputs, invalid options, a singular Jacobian or no

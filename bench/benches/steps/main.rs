@@ -35,6 +35,9 @@ mod blocks;
 #[path = "../../../kinematics-macros/src/check.rs"]
 mod check;
 #[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/closed.rs"]
+mod closed;
+#[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/cse.rs"]
 mod cse;
 #[allow(dead_code, unused_imports)]

@@ -523,7 +523,12 @@ fn solve_call(
         }
         Pattern::CircleCircle { k, p, q } => {
             let (k, p, q) = (v(k), m(p), m(q));
-            quote!(#pp::closed::circle_circle(#k, #p, #q, #mode #angle_guess))
+            let second = &cx.id.coord[cx.nd + b.cols[1]];
+            quote!(#pp::closed::circle_circle(#k, #p, #q, #mode || {
+                let (s0, c0) = #pp::math::sin_cos(start.#first);
+                let (s1, c1) = #pp::math::sin_cos(start.#second);
+                [c0, s0, c1, s1]
+            }))
         }
         Pattern::CircleLine { k, p, v: dir } => {
             let (k, p, dir) = (v(k), m(p), v(dir));
