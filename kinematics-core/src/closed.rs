@@ -476,7 +476,8 @@ pub fn near_carried(c: &mut f64, s: &mut f64, reference: f64, carried: &mut [f64
         // next term, 231x¹³/13312, is below 1e-21 x for |x| ≤ 1/32).
         let series = x2
             * (1.0 / 6.0
-                + x2 * (3.0 / 40.0 + x2 * (5.0 / 112.0 + x2 * (35.0 / 1152.0 + x2 * (63.0 / 2816.0)))));
+                + x2 * (3.0 / 40.0
+                    + x2 * (5.0 / 112.0 + x2 * (35.0 / 1152.0 + x2 * (63.0 / 2816.0)))));
         tp + (x + x * series)
     } else {
         near(c, s, reference)
@@ -500,6 +501,19 @@ pub fn at_round_off<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Opti
         max = if r > max || r.is_nan() { r } else { max };
     }
     max <= options.tolerance.min(1e-12)
+}
+
+/// max |x_i|, NaN if any x_i is NaN. Used by generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn max_abs<const N: usize>(x: &[f64; N]) -> f64 {
+    let mut max = 0.0f64;
+    for v in x {
+        let r = v.abs();
+        max = if r > max || r.is_nan() { r } else { max };
+    }
+    max
 }
 
 /// [`Error::CannotAssemble`] for the block of `unknowns` at the drivers

@@ -467,6 +467,9 @@ pub trait MotionState: Copy + core::fmt::Debug {
     /// assembly branch, which changes only through a singular
     /// configuration (see [`Options::branch`](crate::Options)).
     fn det_sign(&self) -> f64;
+    /// max |Φ_i| at this pose, in the equations' units (metres for a
+    /// planar loop): how well the loops close.
+    fn residual(&self) -> f64;
 }
 
 /// A mechanism declared with [`mechanism!`](crate::mechanism).

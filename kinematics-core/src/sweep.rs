@@ -111,13 +111,6 @@ pub struct Sweep<M: Mechanism> {
     pub stop: Option<Stop>,
 }
 
-/// Largest |Φ_i| at `pose`, with `buffer` (one entry per equation) to
-/// evaluate into.
-fn residual<M: Mechanism>(m: &M, pose: &M::Coords, buffer: &mut [f64]) -> f64 {
-    m.residual_into(pose, buffer);
-    buffer.iter().fold(0.0f64, |a, v| a.max(v.abs()))
-}
-
 /// Sweeps driver `driver` (index among the drivers) from `from` to `to` in
 /// `steps` equal steps, the other drivers held at their values in `start`
 /// (at rest), with the swept driver's rate d' = `rate` and acceleration
@@ -311,7 +304,6 @@ fn run<M: Mechanism>(
     let mut samples: Vec<Sample<M>> = Vec::with_capacity(steps + 1);
     let mut rates = vec![0.0; nd];
     let mut accels = vec![0.0; nd];
-    let mut buffer = vec![0.0; M::EQUATIONS];
     let mut previous: Option<(M::Coords, M::Coords, f64, f64)> = None; // pose, rates, at, det sign
     for k in 0..=steps {
         let at = value(k);
@@ -378,7 +370,7 @@ fn run<M: Mechanism>(
         samples.push(Sample {
             at,
             motion,
-            residual: residual(m, &pose, &mut buffer),
+            residual: motion.residual(),
         });
         previous = Some((pose, *motion.qd(), at, sign));
     }

@@ -201,10 +201,7 @@ fn recognise(
         .enumerate()
         .map(|(t, (&c, &k))| (u32::try_from(nd + c).unwrap_or(u32::MAX), (t, k)))
         .collect();
-    let residuals: Vec<Id> = residuals
-        .iter()
-        .map(|&r| squared(g, r, &slots))
-        .collect();
+    let residuals: Vec<Id> = residuals.iter().map(|&r| squared(g, r, &slots)).collect();
     let mut polys = expand(g, &residuals, &slots)?;
     let values = Values::new(g, &polys);
     for (p, v) in polys.iter_mut().zip(&values.scales) {
@@ -293,7 +290,9 @@ fn recognise(
 /// −c < 0 fails the residual check of the generated code); any other
 /// residual unchanged.
 fn squared(g: &mut Graph, r: Id, slots: &HashMap<u32, (usize, CoordKind)>) -> Id {
-    let involves = |g: &Graph, id: Id| g.depends_on(id, &|l| matches!(l, Leaf::Q(j) if slots.contains_key(&j)));
+    let involves = |g: &Graph, id: Id| {
+        g.depends_on(id, &|l| matches!(l, Leaf::Q(j) if slots.contains_key(&j)))
+    };
     if let Node::Add(a, b) = g.node(r) {
         for (root, c) in [(a, b), (b, a)] {
             if let Node::Call(Func::Sqrt, x) = g.node(root) {

@@ -18,9 +18,18 @@ pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
     let q = &id.q;
     let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
     let leaf = cx.leaf();
-    let sched = schedule(g, &cx.analysis_stages());
+    // Φ with the velocity stage, whose sines and cosines it shares.
+    let mut stages = cx.analysis_stages();
+    stages[0].extend(cx.d.phi.iter().copied());
+    let sched = schedule(g, &stages);
     let (pr, lets) = bind(g, &sched, &leaf);
-    let tail = cx.analysis_tail(&pr, [&lets[0], &lets[1], &lets[2]], &quote!(*pose));
+    let phi: Vec<_> = cx.d.phi.iter().map(|&i| pr.element(i)).collect();
+    let tail = cx.analysis_tail(
+        &pr,
+        [&lets[0], &lets[1], &lets[2]],
+        &quote!(*pose),
+        &quote!(#pp::closed::max_abs(&[#(#phi),*])),
+    );
     let inputs = guards::inputs(cx, "pose", true);
     let scaling = cx.scaling();
     quote! {

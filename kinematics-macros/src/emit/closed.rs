@@ -223,19 +223,50 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     given.extend(pt.iter().copied().zip(pt_names.iter().cloned()));
     let leaf = cx.leaf();
     let param_trig = {
-        let sched = schedule(g, &[pt.clone()]);
+        // The offsets k of sin(θ + k): beyond 2²⁰ rad, θ + k rounds away
+        // most of θ, so the addition theorem would not match the equations
+        // as evaluated; then every value is NaN and the closed-form path
+        // hands over to Newton–Raphson.
+        let ks: Vec<Id> = cx
+            .offsets
+            .iter()
+            .filter_map(|o| match g.node(o.cos_k) {
+                Node::Call(_, k) => Some(k),
+                _ => None,
+            })
+            .collect();
+        let mut roots = pt.clone();
+        roots.extend(&ks);
+        let sched = schedule(g, &[roots]);
         let (pr, lets) = super::print::bind(g, &sched, &leaf);
         let values: Vec<_> = pt.iter().map(|&i| pr.expr(i)).collect();
+        let far: Vec<_> = ks.iter().map(|&k| pr.operand(k)).collect();
         let lets = &lets[0];
         quote! {
             /// The sines and cosines of parameter-only angles (offsets),
-            /// evaluated once per stepper.
+            /// evaluated once per stepper; NaN where an offset is beyond
+            /// 2²⁰ rad.
             #[doc(hidden)]
             #[inline(always)]
             #allow
             fn __param_trig(&self) -> [f64; #npt] {
                 #lets
+                if false #( || #far.abs() > 1048576.0 )* {
+                    return [::core::primitive::f64::NAN; #npt];
+                }
                 [#(#values),*]
+            }
+        }
+    };
+    let far_check = |fallback: &TokenStream| {
+        if npt == 0 {
+            TokenStream::new()
+        } else {
+            quote! {
+                if __pt_0.is_nan() {
+                    *modes = [::core::primitive::f64::NAN; #nm];
+                    #fallback
+                }
             }
         }
     };
@@ -248,7 +279,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let phi_check = |pr: &Printer<'_>, fallback: &TokenStream| {
         let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
         quote! {
-            if !#pp::closed::at_round_off(&[#(#phi),*], &__scaling.weights(options), options) {
+            let __phi = [#(#phi),*];
+            if !#pp::closed::at_round_off(&__phi, &__scaling.weights(options), options) {
                 *modes = [::core::primitive::f64::NAN; #nm];
                 let start = &#coords { #( #coord: #q ),* };
                 #fallback
@@ -264,11 +296,13 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let (pr, lets) = bind_given(g, &sched, &leaf, given.clone());
     let step_solve = solve_blocks(cx, &pr, &lets, &step_newton);
     let step_check = phi_check(&pr, &step_newton);
+    let step_far = far_check(&step_newton);
     let phi_lets = &lets[nb];
     let tail = cx.analysis_tail(
         &pr,
         [&lets[nb + 1], &lets[nb + 2], &lets[nb + 3]],
         &quote!(#coords { #( #coord: #q ),* }),
+        &quote!(#pp::closed::max_abs(&__phi)),
     );
     // The assembly: the blocks, Φ, then Φ_u.
     let asm_newton = quote!(return self.__assemble_newton(start, options););
@@ -279,6 +313,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let (apr, alets) = bind_given(g, &sched, &leaf, given);
     let asm_solve = solve_blocks(cx, &apr, &alets, &asm_newton);
     let asm_check = phi_check(&apr, &asm_newton);
+    let asm_far = far_check(&asm_newton);
     let (asm_phi_lets, asm_jac_lets) = (&alets[nb], &alets[nb + 1]);
     let asm_jac = cx.jac_array(&apr);
     let at_solution = cx.factor_at_solution();
@@ -310,6 +345,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             let [#(#pt_names),*] = *__pt;
             let [#(#qd_drivers),*] = rates.into_array();
             let [#(#qdd_drivers),*] = accelerations.into_array();
+            #step_far
             #inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             #step_solve
@@ -332,6 +368,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             __pt: &[f64; #npt],
         ) -> #pp::Result<#coords, #pp::Error> {
             let [#(#pt_names),*] = *__pt;
+            #asm_far
             let angles = &mut [[::core::primitive::f64::NAN; 3]; #na];
             #asm_inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];

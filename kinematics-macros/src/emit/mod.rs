@@ -272,6 +272,7 @@ impl<'a> Ctx<'a> {
         pr: &Printer<'_>,
         lets: [&TokenStream; 3],
         q_field: &TokenStream,
+        residual: &TokenStream,
     ) -> TokenStream {
         let (d, nd, nnz) = (self.d, self.nd, self.blocks.nnz());
         let id = &self.id;
@@ -306,6 +307,7 @@ impl<'a> Ctx<'a> {
                 frames: [#(#frame_states),*],
                 conditioning: __conditioning,
                 det_sign: __det_sign,
+                residual: #residual,
             };
             #check_outputs
             ::core::result::Result::Ok(motion)

@@ -95,6 +95,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         &pr,
         [&lets[2], &lets[3], &lets[4]],
         &quote!(#coords { #( #coord: #q ),* }),
+        &quote!(#pp::closed::max_abs(&__phi)),
     );
     let inputs = guards::inputs(cx, "start", true);
     let scaling = cx.scaling();
@@ -226,6 +227,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             // Newton's common path, evaluated inline; anything off it
             // (damping, round-off, failure) goes to the general solver.
             let mut fast = #pp::FastNewton::new();
+            let mut __phi = [0.0f64; #ne];
             #trig_setup
             let on_path = loop {
                 let [#(#q_unknowns),*] = u;
@@ -233,6 +235,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 #iterated_fast
                 cache = [#(#cached_names),*];
                 let phi = [#(#phi),*];
+                __phi = phi;
                 let jac: [f64; #nnz] = #jac;
                 match fast.assess(&phi, &__weights, options) {
                     #pp::Next::Continue => {}
@@ -260,6 +263,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                     let [#(#q_unknowns),*] = u;
                     return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
                 }
+                __phi = phi;
             }
             let [#(#q_unknowns),*] = u;
             let [#(#cached_names),*] = cache;

@@ -229,6 +229,9 @@ pub(super) fn types(
             /// Sign of det Φ_u, ±1: the assembly branch (it changes only
             /// through a singular configuration).
             pub det_sign: f64,
+            /// max |Φ_i| at the pose, in the equations' units: how well
+            /// the loops close.
+            pub residual: f64,
         }
 
         impl #motion {
@@ -267,6 +270,10 @@ pub(super) fn types(
             #[inline]
             fn det_sign(&self) -> f64 {
                 self.det_sign
+            }
+            #[inline]
+            fn residual(&self) -> f64 {
+                self.residual
             }
         }
     }
