@@ -42,6 +42,9 @@
 //! assert!(s.atan2(c).abs() < 1e-15);
 //! ```
 
+// `!(x > 0.0)` is meant: it also catches a NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use core::f64::consts::{PI, TAU};
 use core::fmt;
 
@@ -450,11 +453,11 @@ pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
 }
 
 /// [`near`], from the previous solution of the same angle: `carried` holds
-/// its (cos θ, sin θ, θ), and when θ is `reference` (the caller passed the
-/// previous pose back, as a stepper does) the angle is θ + Δ with
+/// its (cos θ, sin θ, θ), and the angle is θ + Δ with
 /// sin Δ = cos θ · `s` − sin θ · `c` and Δ = asin(sin Δ) by its series
-/// (to 1e-17 for |sin Δ| ≤ 1/32 and cos Δ > 0), with no atan2; otherwise as
-/// [`near`]. On return `carried` holds the new (cos, sin, angle).
+/// (to 1e-17 for |sin Δ| ≤ 1/32 and cos Δ > 0), with no atan2, when that
+/// is within π of `reference`; otherwise as [`near`]. On return `carried`
+/// holds the new (cos, sin, angle).
 ///
 /// ```
 /// use kinematics_core::closed::near_carried;
@@ -470,7 +473,8 @@ pub fn near_carried(c: &mut f64, s: &mut f64, reference: f64, carried: &mut [f64
     let [cp, sp, tp] = *carried;
     let x = cp * *s - sp * *c;
     let y = cp * *c + sp * *s;
-    let theta = if tp == reference && y > 0.0 && x.abs() <= 0.031_25 {
+    let mut theta = f64::NAN;
+    if y > 0.0 && x.abs() <= 0.031_25 {
         let x2 = x * x;
         // asin x = x + x³/6 + 3x⁵/40 + 5x⁷/112 + 35x⁹/1152 + 63x¹¹/2816 (the
         // next term, 231x¹³/13312, is below 1e-21 x for |x| ≤ 1/32).
@@ -478,10 +482,13 @@ pub fn near_carried(c: &mut f64, s: &mut f64, reference: f64, carried: &mut [f64
             * (1.0 / 6.0
                 + x2 * (3.0 / 40.0
                     + x2 * (5.0 / 112.0 + x2 * (35.0 / 1152.0 + x2 * (63.0 / 2816.0)))));
-        tp + (x + x * series)
-    } else {
-        near(c, s, reference)
-    };
+        theta = tp + (x + x * series);
+    }
+    // The representative nearest the reference (a NaN carried angle fails
+    // the test too).
+    if !((theta - reference).abs() <= PI) {
+        theta = near(c, s, reference);
+    }
     *carried = [*c, *s, theta];
     theta
 }

@@ -576,6 +576,30 @@ pub trait Mechanism {
         options: &Options,
     ) -> Result<Self::Motion, Error>;
 
+    /// What a sweep carries from one step to the next: the state of the
+    /// generated stepper (options, parameters and scaling checked once;
+    /// the assembly modes; the sines and cosines of the last pose).
+    type StepState: Clone + core::fmt::Debug;
+
+    /// A fresh step state for `options`, checking them and the parameters.
+    ///
+    /// # Errors
+    /// Invalid options or parameters.
+    fn step_state(&self, options: &Options) -> Result<Self::StepState, Error>;
+
+    /// A step as the mechanism's stepper takes it, carrying `state` to the
+    /// next step: `rates` and `accelerations` hold d' and d''.
+    ///
+    /// # Errors
+    /// As [`Mechanism::step_slices`].
+    fn step_carried(
+        &self,
+        start: &Self::Coords,
+        rates: &[f64],
+        accelerations: &[f64],
+        state: &mut Self::StepState,
+    ) -> Result<Self::Motion, Error>;
+
     /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
     fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);
 

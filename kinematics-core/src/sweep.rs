@@ -305,6 +305,21 @@ fn run<M: Mechanism>(
     let mut rates = vec![0.0; nd];
     let mut accels = vec![0.0; nd];
     let mut previous: Option<(M::Coords, M::Coords, f64, f64)> = None; // pose, rates, at, det sign
+                                                                       // The stepper's state: options and parameters checked once, the modes
+                                                                       // and the sines and cosines of each pose carried to the next.
+    let mut state = match m.step_state(options) {
+        Ok(state) => state,
+        Err(reason) => {
+            return Sweep {
+                variable,
+                samples,
+                stop: Some(Stop {
+                    at: value(0),
+                    reason,
+                }),
+            }
+        }
+    };
     for k in 0..=steps {
         let at = value(k);
         let mut guess = previous.as_ref().map_or(*start, |(pose, _, _, _)| *pose);
@@ -325,7 +340,7 @@ fn run<M: Mechanism>(
                 }
             }
         }
-        let motion = match m.step_slices(&guess, &rates, &accels, options) {
+        let motion = match m.step_carried(&guess, &rates, &accels, &mut state) {
             Ok(motion) => motion,
             Err(reason) => {
                 let stop = match (&reason, &previous) {

@@ -234,6 +234,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                 Node::Call(_, k) => Some(k),
                 _ => None,
             })
+            .collect::<std::collections::BTreeSet<Id>>()
+            .into_iter()
             .collect();
         let mut roots = pt.clone();
         roots.extend(&ks);
@@ -535,7 +537,7 @@ fn solve_call(
     mode: TokenStream,
 ) -> TokenStream {
     let pp = &cx.pp;
-    let e = |id: &Id| pr.expr(*id);
+    let e = |id: &Id| pr.element(*id);
     let v = |x: &[Id; 2]| {
         let (a, b) = (e(&x[0]), e(&x[1]));
         quote!([#a, #b])

@@ -60,6 +60,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         ..
     } = &id;
     let vis = &def.vis;
+    let state = quote::format_ident!("{}StepState", syn::ext::IdentExt::unraw(name));
     let pp = quote!(::kinematics_core::__private);
     let (nd, nu, np, nf) = (
         def.drivers.len(),
@@ -116,6 +117,9 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         }
         /// Unavailable: the definition has errors.
         #vis struct #stepper<'m>(&'m #name);
+        /// Unavailable: the definition has errors.
+        #[derive(Debug, Clone)]
+        #vis struct #state;
         #[allow(unused_variables, clippy::unused_self, dead_code, clippy::missing_errors_doc)]
         impl #stepper<'_> {
             /// Unavailable: the definition has errors.
@@ -126,6 +130,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         impl #pp::Mechanism for #name {
             type Coords = #coords;
             type Motion = #motion;
+            type StepState = #state;
             const DRIVERS: usize = #nd;
             const UNKNOWNS: usize = #nu;
             const EQUATIONS: usize = #nu;
@@ -139,6 +144,8 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> { #unavailable }
             fn analyze_slices(&self, pose: &#coords, rates: &[f64], accelerations: &[f64], options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
             fn step_slices(&self, start: &#coords, rates: &[f64], accelerations: &[f64], options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            fn step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> { #unavailable }
+            fn step_carried(&self, start: &#coords, rates: &[f64], accelerations: &[f64], state: &mut #state) -> #pp::Result<#motion, #pp::Error> { #unavailable }
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }

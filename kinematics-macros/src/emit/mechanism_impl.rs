@@ -15,6 +15,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
     let point_dim = cx.model.point_dim;
     let id = &cx.id;
     let (name, coords, motion, coord) = (&id.name, &id.coords, &id.motion, &id.coord);
+    let state = quote::format_ident!("{}StepState", name.unraw());
     let (c_drivers, c_unknowns) = coord.split_at(nd);
     let coord_names: Vec<String> = coord.iter().map(|c| c.unraw().to_string()).collect();
     let eq_names: Vec<&str> = cx.model.equations.iter().map(|e| e.text.as_str()).collect();
@@ -48,6 +49,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
         impl #pp::Mechanism for #name {
             type Coords = #coords;
             type Motion = #motion;
+            type StepState = #state;
             const DRIVERS: usize = #nd;
             const UNKNOWNS: usize = #nu;
             const EQUATIONS: usize = #ne;
@@ -107,6 +109,31 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                     });
                 };
                 #name::step_with(self, start, r, a, options)
+            }
+
+            fn step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> {
+                self.__step_state(options)
+            }
+
+            #[inline]
+            fn step_carried(
+                &self,
+                start: &#coords,
+                rates: &[f64],
+                accelerations: &[f64],
+                state: &mut #state,
+            ) -> #pp::Result<#motion, #pp::Error> {
+                let (::core::result::Result::Ok(r), ::core::result::Result::Ok(a)) =
+                    (<[f64; #nd]>::try_from(rates), <[f64; #nd]>::try_from(accelerations))
+                else {
+                    return ::core::result::Result::Err(#pp::Error::InvalidOption {
+                        name: "rates and accelerations",
+                        #[allow(clippy::cast_precision_loss)]
+                        value: rates.len().max(accelerations.len()) as f64,
+                        requirement: "must have one value per driver",
+                    });
+                };
+                state.__step(self, start, r, a)
             }
 
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) {

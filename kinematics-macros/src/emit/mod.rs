@@ -88,7 +88,7 @@ impl<'a> Ctx<'a> {
             offsets,
             id: Idents::new(def),
             pp: quote!(::kinematics_core::__private),
-            allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
+            allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::too_many_arguments, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
             nd: model.drivers as usize,
             nu: model.unknowns as usize,
             ne: model.equations.len(),

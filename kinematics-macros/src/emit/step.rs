@@ -121,6 +121,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         }
     };
     let stepper = &id.stepper;
+    let state = format_ident!("{}StepState", id.name.unraw());
     let stepper_doc = format!(
         "A stepping handle: checks `options` and the parameters once, evaluates the scaling \
          of the equations once (unless it depends on the drivers), and carries the sines and \
@@ -275,6 +276,15 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         /// # Errors
         /// Invalid options or parameters.
         pub fn stepper(&self, options: &#pp::Options) -> #pp::Result<#stepper<'_>, #pp::Error> {
+            ::core::result::Result::Ok(#stepper {
+                mechanism: self,
+                state: self.__step_state(options)?,
+            })
+        }
+
+        /// A fresh stepping state (`options` and the parameters checked).
+        #[doc(hidden)]
+        pub fn __step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> {
             options.validate()?;
             self.validate()?;
             let scaling = if #driver_scaled {
@@ -282,8 +292,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             } else {
                 ::core::option::Option::Some(self.__scaling(&[0.0f64; #nd])?)
             };
-            ::core::result::Result::Ok(#stepper {
-                mechanism: self,
+            ::core::result::Result::Ok(#state {
                 options: *options,
                 scaling,
                 carry: [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt],
@@ -308,8 +317,9 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let na = cx.na();
     let npt = cx.param_trig().len();
     let vis = &cx.def.vis;
+    let state = format_ident!("{}StepState", name.unraw());
     let call = if cx.all_closed() {
-        quote!(self.mechanism.__step_closed(
+        quote!(mechanism.__step_closed(
             start,
             rates,
             accelerations,
@@ -320,7 +330,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             &self.param_trig
         ))
     } else {
-        quote!(self.mechanism.__step_core(
+        quote!(mechanism.__step_core(
             start,
             rates,
             accelerations,
@@ -338,17 +348,17 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             /// the first step.
             #[must_use]
             pub fn modes(&self) -> ::core::option::Option<#modes> {
-                if self.modes.iter().any(|m| m.is_nan()) {
+                if self.state.modes.iter().any(|m| m.is_nan()) {
                     ::core::option::Option::None
                 } else {
-                    ::core::option::Option::Some(#modes::__from_signs(&self.modes))
+                    ::core::option::Option::Some(#modes::__from_signs(&self.state.modes))
                 }
             }
 
             /// Makes the following steps assemble in `modes` instead of
             /// the modes of the guess.
             pub fn set_modes(&mut self, modes: &#modes) {
-                self.modes = modes.__signs();
+                self.state.modes = modes.__signs();
             }
         }
     } else {
@@ -370,6 +380,14 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
         #[derive(Debug, Clone)]
         #vis struct #stepper<'m> {
             mechanism: &'m #name,
+            state: #state,
+        }
+
+        /// What a stepper carries from one step to the next (the
+        /// `Mechanism::StepState` of a sweep).
+        #[doc(hidden)]
+        #[derive(Debug, Clone)]
+        #vis struct #state {
             options: #pp::Options,
             scaling: ::core::option::Option<#pp::Scaling<#ne>>,
             carry: [[f64; 3]; #nt],
@@ -391,6 +409,23 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 rates: impl #pp::DriverValues<#nd>,
                 accelerations: impl #pp::DriverValues<#nd>,
             ) -> #pp::Result<#motion, #pp::Error> {
+                self.state.__step(self.mechanism, start, rates, accelerations)
+            }
+
+            #modes_fn
+        }
+
+        impl #state {
+            /// The stepper's step, for `mechanism`.
+            #[doc(hidden)]
+            #[inline(always)]
+            pub fn __step(
+                &mut self,
+                mechanism: &#name,
+                start: &#coords,
+                rates: impl #pp::DriverValues<#nd>,
+                accelerations: impl #pp::DriverValues<#nd>,
+            ) -> #pp::Result<#motion, #pp::Error> {
                 // Fresh sines and cosines now and then bound the drift of
                 // the carried ones.
                 self.since_refresh += 1;
@@ -406,13 +441,11 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 let scaling = match self.scaling {
                     ::core::option::Option::Some(s) => s,
                     ::core::option::Option::None => {
-                        self.mechanism.__scaling(&[#(start.#c_drivers),*])?
+                        mechanism.__scaling(&[#(start.#c_drivers),*])?
                     }
                 };
                 #call
             }
-
-            #modes_fn
         }
     }
 }
