@@ -73,22 +73,3 @@ fn the_mutation_bases_are_valid_definitions() {
         assert!(!text.contains("compile_error"), "{def}\n{text}");
     }
 }
-
-#[test]
-#[ignore]
-fn print_rssr() {
-    let tokens = crate::expand::expand(quote! {
-        pub struct Rssr {
-            params   { a, b, c, d }
-            drivers  { phi }
-            unknowns { psi }
-            points { B = vec3(-d - c * cos(psi), c * sin(psi), 0.0); }
-            constraints {
-                dot(B - vec3(-a * cos(phi), 0.0, a * sin(phi)), B - vec3(-a * cos(phi), 0.0, a * sin(phi)))
-                    == b * b;
-            }
-        }
-    });
-    let file: syn::File = syn::parse2(tokens).expect("valid");
-    println!("{}", prettyplease::unparse(&file));
-}

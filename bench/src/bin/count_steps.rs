@@ -8,7 +8,8 @@
 //! ```
 //!
 //! `m1a` and `m2a` run M1 and M2 with the absolute convergence test, `m1s`,
-//! `m2s` and `m3s` through the stepping handle (`stepper().step`). A
+//! `m2s` and `m3s` through the stepping handle (`stepper().step`), `m1w`
+//! and `m2w` through `kinematics_core::sweep::sweep`. A
 //! second argument repeats the turn and prints the wall time per step.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::panic, clippy::cast_precision_loss)]
@@ -16,6 +17,7 @@
 use std::f64::consts::TAU;
 use std::hint::black_box;
 
+use kinematics_core::sweep::sweep;
 use kinematics_core::{Convergence, Options};
 use kinematics_examples::{FourBar, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords, Watt};
 
@@ -105,6 +107,42 @@ fn turn(which: &str) -> f64 {
                     .step(p, 10.0, 0.0))
             }
         }
+        "m1w" | "m2w" => {
+            // The same turns through `sweep` (3600 samples into its Vec).
+            let s = if which == "m1w" {
+                let start = four_bar.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
+                let s = sweep(
+                    &four_bar,
+                    &start,
+                    0,
+                    0.0,
+                    angle(STEPS - 1),
+                    STEPS - 1,
+                    10.0,
+                    0.0,
+                    &Options::DEFAULT,
+                );
+                s.samples
+                    .iter()
+                    .map(|x| x.motion.qdd.th4 + x.motion.points[2].acceleration.x)
+                    .sum()
+            } else {
+                let start = rssr.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
+                let s = sweep(
+                    &rssr,
+                    &start,
+                    0,
+                    0.0,
+                    angle(STEPS - 1),
+                    STEPS - 1,
+                    25.0,
+                    0.0,
+                    &Options::DEFAULT,
+                );
+                s.samples.iter().map(|x| x.motion.qdd.psi).sum()
+            };
+            s
+        }
         "m4" => {
             let m = black_box(SixAxisArm {
                 d1: 0.4,
@@ -122,7 +160,9 @@ fn turn(which: &str) -> f64 {
             }
             sum
         }
-        other => panic!("unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s or m4"),
+        other => panic!(
+            "unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s, m1w, m2w or m4"
+        ),
     }
 }
 
