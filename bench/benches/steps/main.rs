@@ -637,6 +637,8 @@ fn main() {
         }
         table += "\n";
     }
+    table += "\n";
+    table += &interleaved(&mut all);
     table += "\nMacro expansion (the whole `proc_macro2` pipeline, median of 11 runs) and floating-point \
               operation counts, written out as expression trees and after common-subexpression elimination:\n\n";
     table += &expansion_table();
@@ -648,6 +650,70 @@ fn main() {
             eprintln!("not all benchmarks ran (a filter was given?); README.md left unchanged");
         }
     }
+}
+
+/// CPU time of the calling thread, in nanoseconds (the one `unsafe` call of
+/// the project, a foreign function with a valid out-pointer).
+#[allow(unsafe_code)]
+fn thread_cpu_ns() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid timespec for the call to write into.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
+    #[allow(clippy::cast_precision_loss)]
+    let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
+    ns
+}
+
+/// The ratios of `variants` to the hand-written code, measured interleaved:
+/// 41 rounds, each timing one turn of every variant in turn (thread CPU
+/// time), the ratio taken within each round; per variant the median ratio
+/// and the range of the middle 80 % of rounds.
+fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
+    const ROUNDS: usize = 41;
+    const SHOWN: [&str; 4] = ["generated", "stepper", "sweep", "hand-written"];
+    let mut out = String::from(
+        "Interleaved (41 rounds; in each, one turn of every variant in turn, thread CPU time; \
+         the ratio to the hand-written turn of the same round): median ratio, and the range \
+         of the middle 80 % of rounds.\n\n| mechanism | generated | stepper | sweep | \
+         sweep / stepper |\n|---|---|---|---|---|\n",
+    );
+    for mech in &MECHANISMS[..3] {
+        let mut times: Vec<Vec<f64>> = vec![Vec::new(); SHOWN.len()];
+        let mut sweep_over_stepper = Vec::new();
+        for _ in 0..ROUNDS {
+            let mut round = [0.0; SHOWN.len()];
+            for (i, v) in SHOWN.iter().enumerate() {
+                let (_, _, f) = all
+                    .iter_mut()
+                    .find(|(m, w, _)| m == mech && w == v)
+                    .expect("a variant");
+                let t0 = thread_cpu_ns();
+                black_box(f());
+                round[i] = thread_cpu_ns() - t0;
+            }
+            for i in 0..SHOWN.len() {
+                times[i].push(round[i] / round[3]);
+            }
+            sweep_over_stepper.push(round[2] / round[1]);
+        }
+        let summary = |mut r: Vec<f64>| {
+            r.sort_by(f64::total_cmp);
+            let (lo, mid, hi) = (r[ROUNDS / 10], r[ROUNDS / 2], r[ROUNDS - 1 - ROUNDS / 10]);
+            format!("{mid:.2}× ({lo:.2}–{hi:.2})")
+        };
+        out += &format!(
+            "| {mech} | {} | {} | {} | {} |\n",
+            summary(times[0].clone()),
+            summary(times[1].clone()),
+            summary(times[2].clone()),
+            summary(sweep_over_stepper)
+        );
+    }
+    out
 }
 
 fn write_readme(table: &str) {
