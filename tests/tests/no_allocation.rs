@@ -154,3 +154,33 @@ fn a_stepper_allocates_nothing() {
         std::hint::black_box(pose);
     });
 }
+
+#[test]
+fn a_sweeps_samples_allocate_nothing_each() {
+    // A sweep allocates its sample vector (once, with its capacity) and its
+    // rate buffers; the number of allocations does not grow with the number
+    // of samples, so the per-sample work allocates nothing.
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let count_for = |steps: usize| {
+        let before = allocations();
+        let s = kinematics_core::sweep::sweep(
+            &m,
+            &start,
+            0,
+            0.0,
+            1.0,
+            steps,
+            10.0,
+            0.0,
+            &kinematics_core::Options::DEFAULT,
+        );
+        assert!(s.stop.is_none() && s.samples.len() == steps + 1);
+        allocations() - before
+    };
+    let (few, many) = (count_for(10), count_for(1000));
+    assert_eq!(
+        few, many,
+        "allocations grow with the samples: {few} for 11, {many} for 1001"
+    );
+}
