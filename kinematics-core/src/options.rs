@@ -49,7 +49,10 @@ pub struct Options {
     pub singularity_threshold: f64,
     /// The assembly branch required of a solution, by the sign of det Φ_u
     /// (for a four-bar, the sign of sin(θ3 − θ4): which way its dyad's elbow
-    /// points). Default [`Branch::Any`]: the branch nearest the guess.
+    /// points). Default [`Branch::Any`]: the branch nearest the guess. For a
+    /// mechanism solved in closed form it is a choice (the modes that give
+    /// it are taken); solved by Newton–Raphson, a check
+    /// ([`Error::WrongBranch`](crate::Error::WrongBranch)).
     pub branch: Branch,
 }
 
@@ -93,8 +96,11 @@ pub enum Convergence {
 /// let m = SliderCrank { a: 0.1, b: 0.3 };
 /// let forward = SliderCrankCoords { phi: 1.0, th: 0.0, x: 0.3 };
 /// let wants = |branch| Options { branch, ..Options::DEFAULT };
-/// assert!(m.assemble_with(&forward, &wants(Branch::Positive)).is_ok());
-/// assert!(matches!(m.assemble_with(&forward, &wants(Branch::Negative)), Err(Error::WrongBranch { .. })));
+/// assert!(m.assemble_with(&forward, &wants(Branch::Positive))?.x > 0.0);
+/// // Solved in closed form, the branch is a choice: the other assembly,
+/// // the rod reaching back past the crank's pivot.
+/// assert!(m.assemble_with(&forward, &wants(Branch::Negative))?.x < 0.0);
+/// # let _ = Error::WrongBranch { configuration: vec![] };
 /// # Ok(())
 /// # }
 /// ```

@@ -485,10 +485,37 @@ fn the_requested_assembly_branch_is_enforced() {
         .assemble_with(&crossed, &wants(Branch::Positive))
         .expect("crossed branch");
     assert!((q.th3 - q.th4).sin() > 0.0);
-    // Asking for the other branch from a guess on this one is an error, not
-    // a silent answer on the wrong branch.
-    let err = m
+    // Solved in closed form, asking for the other branch from a guess on
+    // this one chooses the other assembly mode.
+    let other = m
         .assemble_with(&open, &wants(Branch::Positive))
+        .expect("the crossed assembly");
+    assert!((other.th3 - other.th4).sin() > 0.0);
+    // The same pose as from the crossed guess, modulo 2π.
+    let same = |x: f64, y: f64| (x - y).sin().abs() < 1e-12 && (x - y).cos() > 0.0;
+    assert!(same(other.th3, q.th3) && same(other.th4, q.th4));
+    let stepped = m
+        .step_with(&open, 1.0, 0.0, &wants(Branch::Positive))
+        .expect("the crossed assembly");
+    assert!(same(stepped.q.th4, q.th4));
+    // Solved by Newton–Raphson, it is a check: an error, not a silent
+    // answer on the wrong branch.
+    let n = DistanceFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let guess = DistanceFourBarCoords { phi: 0.5, th4: 1.5 };
+    let found = n.assemble(&guess).expect("assembles");
+    let sign = n.analyze(&found, 1.0, 0.0).expect("regular").det_sign;
+    let other_branch = if sign > 0.0 {
+        Branch::Negative
+    } else {
+        Branch::Positive
+    };
+    let err = n
+        .assemble_with(&guess, &wants(other_branch))
         .expect_err("wrong branch");
     assert!(matches!(err, Error::WrongBranch { .. }), "{err:?}");
     assert!(err.to_string().contains("other branch"), "{err}");
@@ -632,8 +659,13 @@ fn the_branch_is_the_sign_of_the_whole_determinant_when_blocks_are_permuted() {
     assert!(q.th.cos() > 0.0);
     let s = m.analyze(&q, 1.0, 0.0).expect("analysis");
     assert_eq!(s.det_sign(), 1.0);
-    assert!(matches!(
-        m.assemble_with(&start, &wants(Branch::Negative)),
-        Err(Error::WrongBranch { .. })
-    ));
+    // The other branch, chosen in closed form: the rod pointing back.
+    let back = m
+        .assemble_with(&start, &wants(Branch::Negative))
+        .expect("rod pointing back: cos θ < 0");
+    assert!(back.th.cos() < 0.0);
+    assert_eq!(
+        m.analyze(&back, 1.0, 0.0).expect("analysis").det_sign(),
+        -1.0
+    );
 }

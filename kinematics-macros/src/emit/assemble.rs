@@ -63,7 +63,8 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
         let body = quote! {
             let __scaling = self.__scaling(&[#(#q_drivers),*])?;
             let mut modes = [::core::primitive::f64::NAN; #nm];
-            self.__assemble_closed(start, options, &__scaling, &mut modes, &self.__param_trig())
+            let pt = self.__param_trig();
+            self.__in_branch(&mut modes, |m| self.__assemble_closed(start, options, &__scaling, m, &pt))
         };
         let off_path = quote! {
             /// Newton–Raphson from `start`, off the closed-form path.

@@ -386,6 +386,35 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
 
         #param_trig
 
+        /// Runs `f` in `modes`; where it fails only because the solution
+        /// is on the other branch than `Options::branch` asks, tries the
+        /// other combinations of modes, so that for closed-form blocks the
+        /// branch is a choice, not a check.
+        #[doc(hidden)]
+        #[inline(always)]
+        fn __in_branch<T>(
+            &self,
+            modes: &mut [f64; #nm],
+            mut f: impl FnMut(&mut [f64; #nm]) -> #pp::Result<T, #pp::Error>,
+        ) -> #pp::Result<T, #pp::Error> {
+            let first = f(modes);
+            if !::core::matches!(first, ::core::result::Result::Err(#pp::Error::WrongBranch { .. })) {
+                return first;
+            }
+            for i in 0..#combos {
+                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
+                if m == *modes {
+                    continue;
+                }
+                let r = f(&mut m);
+                if r.is_ok() {
+                    *modes = m;
+                    return r;
+                }
+            }
+            first
+        }
+
         /// The Newton–Raphson step from `start`, off the closed-form path.
         #[doc(hidden)]
         #[cold]

@@ -112,7 +112,11 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
-            self.__step_closed(start, rates, accelerations, options, &scaling, &mut modes, &mut angles, &self.__param_trig())
+            let pt = self.__param_trig();
+            let (r, a) = (rates.into_array(), accelerations.into_array());
+            self.__in_branch(&mut modes, |m| {
+                self.__step_closed(start, r, a, options, &scaling, m, &mut angles, &pt)
+            })
         }
     } else {
         quote! {
@@ -319,16 +323,13 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let vis = &cx.def.vis;
     let state = format_ident!("{}StepState", name.unraw());
     let call = if cx.all_closed() {
-        quote!(mechanism.__step_closed(
-            start,
-            rates,
-            accelerations,
-            &self.options,
-            &scaling,
-            &mut self.modes,
-            &mut self.angles,
-            &self.param_trig
-        ))
+        quote! {
+            let (r, a) = (rates.into_array(), accelerations.into_array());
+            let (options, angles, pt) = (&self.options, &mut self.angles, &self.param_trig);
+            mechanism.__in_branch(&mut self.modes, |m| {
+                mechanism.__step_closed(start, r, a, options, &scaling, m, angles, pt)
+            })
+        }
     } else {
         quote!(mechanism.__step_core(
             start,
