@@ -403,7 +403,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             }
             for i in 0..#combos {
                 let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
-                if m == *modes {
+                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
                     continue;
                 }
                 let r = f(&mut m);
