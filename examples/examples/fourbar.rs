@@ -15,7 +15,7 @@ use std::time::Instant;
 use kinematics_core::plot::{plot_motion, plot_path, plot_skeleton, Projection};
 use kinematics_core::sweep::sweep;
 use kinematics_core::{batch, Options};
-use kinematics_examples::{FourBar, FourBarCoords};
+use kinematics_examples::{FourBar, FourBarCoords, FourBarModes};
 
 fn output_dir() -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(
@@ -32,7 +32,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "Crank-rocker four-bar: a = {} m, b = {} m, c = {} m, d = {} m, p = {} m, beta = 30 deg",
         m.a, m.b, m.c, m.d, m.p
     );
-    println!("crank speed phi' = {omega} rad/s (constant), full turn in 3600 steps\n");
+    println!("crank speed phi' = {omega} rad/s (constant), full turn in 3600 steps");
+    for block in FourBar::BLOCKS {
+        println!("solved: {block}");
+    }
+    // Both assemblies at phi = 0, with no guess: the rough guess below picks
+    // the open one.
+    let all = m.assemble_all(0.0);
+    for (modes, pose) in FourBarModes::ALL.iter().zip(&all) {
+        let pose = pose.as_ref().map_err(|e| e.to_string())?;
+        println!(
+            "  assembly {:?}: th3 = {:.3} deg, th4 = {:.3} deg",
+            modes.th3_th4,
+            pose.th3.to_degrees(),
+            pose.th4.to_degrees()
+        );
+    }
+    println!();
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS)?;
     let cycle = sweep(&m, &start, 0, 0.0, TAU, 3600, omega, 0.0, &Options::DEFAULT);
     if let Some(stop) = &cycle.stop {
