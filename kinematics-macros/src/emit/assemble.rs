@@ -64,7 +64,12 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
             let __scaling = self.__scaling(&[#(#q_drivers),*])?;
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let pt = self.__param_trig();
-            self.__in_branch(&mut modes, |m| self.__assemble_closed(start, options, &__scaling, m, &pt))
+            match self.__assemble_closed(start, options, &__scaling, &mut modes, &pt) {
+                ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => {
+                    self.__assemble_other_branch(e, start, options, &__scaling, &mut modes, &pt)
+                }
+                r => r,
+            }
         };
         let off_path = quote! {
             /// Newton–Raphson from `start`, off the closed-form path.

@@ -386,33 +386,67 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
 
         #param_trig
 
-        /// Runs `f` in `modes`; where it fails only because the solution
-        /// is on the other branch than `Options::branch` asks, tries the
-        /// other combinations of modes, so that for closed-form blocks the
-        /// branch is a choice, not a check.
+        /// The step again in the other combinations of modes, after the
+        /// step in `modes` found its solution on the other branch than
+        /// `Options::branch` asks: for closed-form blocks the branch is a
+        /// choice, not a check. The first combination that succeeds is
+        /// kept in `modes`; if none does, the error of the first.
         #[doc(hidden)]
-        #[inline(always)]
-        fn __in_branch<T>(
+        #[cold]
+        #[inline(never)]
+        #allow
+        fn __step_other_branch(
             &self,
+            first: #pp::Error,
+            start: &#coords,
+            rates: [f64; #nd],
+            accelerations: [f64; #nd],
+            options: &#pp::Options,
+            scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
-            mut f: impl FnMut(&mut [f64; #nm]) -> #pp::Result<T, #pp::Error>,
-        ) -> #pp::Result<T, #pp::Error> {
-            let first = f(modes);
-            if !::core::matches!(first, ::core::result::Result::Err(#pp::Error::WrongBranch { .. })) {
-                return first;
-            }
+            angles: &mut [[f64; 3]; #na],
+            pt: &[f64; #npt],
+        ) -> #pp::Result<#motion, #pp::Error> {
             for i in 0..#combos {
                 let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
                 if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
                     continue;
                 }
-                let r = f(&mut m);
+                let r = self.__step_closed(start, rates, accelerations, options, scaling, &mut m, angles, pt);
                 if r.is_ok() {
                     *modes = m;
                     return r;
                 }
             }
-            first
+            ::core::result::Result::Err(first)
+        }
+
+        /// `__step_other_branch` for `__assemble_closed`.
+        #[doc(hidden)]
+        #[cold]
+        #[inline(never)]
+        #allow
+        fn __assemble_other_branch(
+            &self,
+            first: #pp::Error,
+            start: &#coords,
+            options: &#pp::Options,
+            scaling: &#pp::Scaling<#ne>,
+            modes: &mut [f64; #nm],
+            pt: &[f64; #npt],
+        ) -> #pp::Result<#coords, #pp::Error> {
+            for i in 0..#combos {
+                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
+                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
+                    continue;
+                }
+                let r = self.__assemble_closed(start, options, scaling, &mut m, pt);
+                if r.is_ok() {
+                    *modes = m;
+                    return r;
+                }
+            }
+            ::core::result::Result::Err(first)
         }
 
         /// The Newton–Raphson step from `start`, off the closed-form path.

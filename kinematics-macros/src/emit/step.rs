@@ -114,9 +114,12 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
             let pt = self.__param_trig();
             let (r, a) = (rates.into_array(), accelerations.into_array());
-            self.__in_branch(&mut modes, |m| {
-                self.__step_closed(start, r, a, options, &scaling, m, &mut angles, &pt)
-            })
+            match self.__step_closed(start, r, a, options, &scaling, &mut modes, &mut angles, &pt) {
+                ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => self.__step_other_branch(
+                    e, start, r, a, options, &scaling, &mut modes, &mut angles, &pt,
+                ),
+                r => r,
+            }
         }
     } else {
         quote! {
@@ -326,9 +329,12 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
         quote! {
             let (r, a) = (rates.into_array(), accelerations.into_array());
             let (options, angles, pt) = (&self.options, &mut self.angles, &self.param_trig);
-            mechanism.__in_branch(&mut self.modes, |m| {
-                mechanism.__step_closed(start, r, a, options, &scaling, m, angles, pt)
-            })
+            match mechanism.__step_closed(start, r, a, options, &scaling, &mut self.modes, angles, pt) {
+                ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => mechanism.__step_other_branch(
+                    e, start, r, a, options, &scaling, &mut self.modes, angles, pt,
+                ),
+                r => r,
+            }
         }
     } else {
         quote!(mechanism.__step_core(
