@@ -35,7 +35,7 @@ mod blocks;
 #[path = "../../../kinematics-macros/src/check.rs"]
 mod check;
 #[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/closed.rs"]
+#[path = "../../../kinematics-macros/src/closed/mod.rs"]
 mod closed;
 #[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/cse.rs"]

@@ -8,6 +8,8 @@
 //! * `evaluate`: `residual`, `point_positions`, `frame_rotations` and the
 //!   helpers behind the `Mechanism` impl;
 //! * `mechanism_impl`: the `Mechanism` impl;
+//! * `closed`, `closed_step`, `closed_solve`: `BLOCKS`, the modes type, and
+//!   the closed-form assembly and step (`assemble_in`, `assemble_all`);
 //! * `fallback`: the types and stubs emitted beside a definition's errors;
 //!
 //! and the pieces they share: `print` (expressions and `let`s), `solve`
@@ -20,6 +22,8 @@
 mod analyze;
 mod assemble;
 mod closed;
+mod closed_solve;
+mod closed_step;
 mod evaluate;
 mod fallback;
 mod guards;
@@ -348,7 +352,7 @@ pub fn expand(
     let mechanism_impl = mechanism_impl::mechanism_impl(&cx);
     let blocks = closed::blocks_const(&cx);
     let modes = closed::modes_type(&cx);
-    let closed_methods = closed::closed_methods(&cx);
+    let closed_methods = closed_step::closed_methods(&cx);
     quote! {
         #types
 

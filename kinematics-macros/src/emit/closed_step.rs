@@ -1,0 +1,346 @@
+//! The closed-form methods: `__step_closed` solves the blocks in order with
+//! `kinematics_core::closed`, each from coefficients evaluated with the
+//! unknowns of the blocks before it, checks the residual, and analyses the
+//! motion with the sines and cosines the closed forms produced (no
+//! trigonometric call for an unknown angle but its atan2);
+//! `__assemble_closed` does the same for positions only; `assemble_in` and
+//! `assemble_all` assemble with no guess; the retries in other modes where
+//! `Options::branch` asks for the other branch.
+
+use std::collections::HashMap;
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::ext::IdentExt;
+use syn::Ident;
+
+use super::closed_solve::{coefficients, solve_blocks};
+use super::print::{bind_given, Printer};
+use super::{guards, Ctx};
+use crate::cse::schedule;
+use crate::ir::{Func, Id, Leaf, Node};
+
+/// The closed-form step and the assembly without a guess.
+pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
+    if !cx.all_closed() {
+        return TokenStream::new();
+    }
+    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (nd, nm) = (cx.nd, cx.nm());
+    let id = &cx.id;
+    let (coords, motion, coord, q) = (&id.coords, &id.motion, &id.coord, &id.q);
+    let (c_drivers, c_unknowns) = coord.split_at(nd);
+    let q_drivers = &q[..nd];
+    let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
+    let modes = format_ident!("{}Modes", id.name.unraw());
+    let combos = 1usize << nm;
+    let ne = cx.ne;
+    let na = cx.na();
+    let nt = super::newton::unknown_trig(g, &cx.newton_roots(), cx.model.drivers).len();
+
+    // The sines and cosines of the unknown angles, as the closed forms give
+    // them.
+    let mut given: HashMap<Id, Ident> = HashMap::new();
+    for b in cx.closed {
+        for &c in &b.cols {
+            let Some(leaf) = g.find(&Node::Leaf(Leaf::Q(u32::try_from(nd + c).unwrap_or(0))))
+            else {
+                continue;
+            };
+            let name = id.coord[nd + c].unraw();
+            for (f, prefix) in [(Func::Cos, "__c"), (Func::Sin, "__s")] {
+                if let Some(t) = g.find(&Node::Call(f, leaf)) {
+                    given.insert(t, format_ident!("{}_{}", prefix, name));
+                }
+            }
+        }
+    }
+    for (i, o) in cx.offsets.iter().enumerate() {
+        given.insert(o.node, format_ident!("__off_{}", i));
+    }
+    let pt = cx.param_trig();
+    let npt = pt.len();
+    let pt_names: Vec<Ident> = (0..npt).map(|i| format_ident!("__pt_{}", i)).collect();
+    given.extend(pt.iter().copied().zip(pt_names.iter().cloned()));
+    let leaf = cx.leaf();
+    let param_trig = {
+        // The offsets k of sin(θ + k): beyond 2²⁰ rad, θ + k rounds away
+        // most of θ, so the addition theorem would not match the equations
+        // as evaluated; then every value is NaN and the closed-form path
+        // hands over to Newton–Raphson.
+        let ks: Vec<Id> = cx
+            .offsets
+            .iter()
+            .filter_map(|o| match g.node(o.cos_k) {
+                Node::Call(_, k) => Some(k),
+                _ => None,
+            })
+            .collect::<std::collections::BTreeSet<Id>>()
+            .into_iter()
+            .collect();
+        let mut roots = pt.clone();
+        roots.extend(&ks);
+        let sched = schedule(g, &[roots]);
+        let (pr, lets) = super::print::bind(g, &sched, &leaf);
+        let values: Vec<_> = pt.iter().map(|&i| pr.expr(i)).collect();
+        let far: Vec<_> = ks.iter().map(|&k| pr.operand(k)).collect();
+        let lets = &lets[0];
+        quote! {
+            /// The sines and cosines of parameter-only angles (offsets),
+            /// evaluated once per stepper; NaN where an offset is beyond
+            /// 2²⁰ rad.
+            #[doc(hidden)]
+            #[inline(always)]
+            #allow
+            fn __param_trig(&self) -> [f64; #npt] {
+                #lets
+                if false #( || #far.abs() > 1048576.0 )* {
+                    return [::core::primitive::f64::NAN; #npt];
+                }
+                [#(#values),*]
+            }
+        }
+    };
+    let far_check = |fallback: &TokenStream| {
+        if npt == 0 {
+            TokenStream::new()
+        } else {
+            quote! {
+                if __pt_0.is_nan() {
+                    *modes = [::core::primitive::f64::NAN; #nm];
+                    #fallback
+                }
+            }
+        }
+    };
+    let nb = cx.closed.len();
+    let coefs: Vec<Vec<Id>> = cx
+        .closed
+        .iter()
+        .map(|b| coefficients(b.pattern.as_ref()))
+        .collect();
+    let phi_check = |pr: &Printer<'_>, fallback: &TokenStream| {
+        let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
+        quote! {
+            let __phi = [#(#phi),*];
+            if !#pp::closed::at_round_off(&__phi, &__scaling.weights(options), options) {
+                *modes = [::core::primitive::f64::NAN; #nm];
+                let start = &#coords { #( #coord: #q ),* };
+                #fallback
+            }
+        }
+    };
+    // The step: the blocks, Φ, then the analysis.
+    let step_newton = quote!(return self.__step_newton(start, [#(#qd_drivers),*], [#(#qdd_drivers),*], options, __scaling););
+    let mut stages = coefs.clone();
+    stages.push(d.phi.clone());
+    stages.extend(cx.analysis_stages());
+    let sched = schedule(g, &stages);
+    let (pr, lets) = bind_given(g, &sched, &leaf, given.clone());
+    let step_solve = solve_blocks(cx, &pr, &lets, &step_newton);
+    let step_check = phi_check(&pr, &step_newton);
+    let step_far = far_check(&step_newton);
+    let phi_lets = &lets[nb];
+    let tail = cx.analysis_tail(
+        &pr,
+        [&lets[nb + 1], &lets[nb + 2], &lets[nb + 3]],
+        &quote!(#coords { #( #coord: #q ),* }),
+        &quote!(#pp::closed::max_abs(&__phi)),
+    );
+    // The assembly: the blocks, Φ, then Φ_u.
+    let asm_newton = quote!(return self.__assemble_newton(start, options););
+    let mut stages = coefs;
+    stages.push(d.phi.clone());
+    stages.push(cx.jac_flat());
+    let sched = schedule(g, &stages);
+    let (apr, alets) = bind_given(g, &sched, &leaf, given);
+    let asm_solve = solve_blocks(cx, &apr, &alets, &asm_newton);
+    let asm_check = phi_check(&apr, &asm_newton);
+    let asm_far = far_check(&asm_newton);
+    let (asm_phi_lets, asm_jac_lets) = (&alets[nb], &alets[nb + 1]);
+    let asm_jac = cx.jac_array(&apr);
+    let at_solution = cx.factor_at_solution();
+    let nnz = cx.blocks.nnz();
+    let inputs = guards::inputs(cx, "start", true);
+    let asm_inputs = guards::inputs(cx, "start", false);
+    quote! {
+        /// A step in closed form: the blocks solved in order in the modes
+        /// `modes` (±1; NaN: from the guess in `start`, then stored), each
+        /// unknown angle from the previous solution in `angles` (see
+        /// `closed::near_carried`), the
+        /// residual checked, the motion analysed. Falls back to
+        /// Newton–Raphson (resetting `modes`) where a block is degenerate
+        /// or the residual is not at round-off.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        fn __step_closed(
+            &self,
+            start: &#coords,
+            rates: impl #pp::DriverValues<#nd>,
+            accelerations: impl #pp::DriverValues<#nd>,
+            options: &#pp::Options,
+            __scaling: &#pp::Scaling<#ne>,
+            modes: &mut [f64; #nm],
+            angles: &mut [[f64; 3]; #na],
+            __pt: &[f64; #npt],
+        ) -> #pp::Result<#motion, #pp::Error> {
+            let [#(#pt_names),*] = *__pt;
+            let [#(#qd_drivers),*] = rates.into_array();
+            let [#(#qdd_drivers),*] = accelerations.into_array();
+            #step_far
+            #inputs
+            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #step_solve
+            #phi_lets
+            #step_check
+            #tail
+        }
+
+        /// An assembly in closed form: as `__step_closed`, positions only,
+        /// with the conditioning and branch checks at the solution.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        fn __assemble_closed(
+            &self,
+            start: &#coords,
+            options: &#pp::Options,
+            __scaling: &#pp::Scaling<#ne>,
+            modes: &mut [f64; #nm],
+            __pt: &[f64; #npt],
+        ) -> #pp::Result<#coords, #pp::Error> {
+            let [#(#pt_names),*] = *__pt;
+            #asm_far
+            let angles = &mut [[::core::primitive::f64::NAN; 3]; #na];
+            #asm_inputs
+            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #asm_solve
+            #asm_phi_lets
+            #asm_check
+            #asm_jac_lets
+            let jac: [f64; #nnz] = #asm_jac;
+            #at_solution
+            let _ = (__conditioning, __det_sign);
+            ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
+        }
+
+        #param_trig
+
+        /// The step again in the other combinations of modes, after the
+        /// step in `modes` found its solution on the other branch than
+        /// `Options::branch` asks: for closed-form blocks the branch is a
+        /// choice, not a check. The first combination that succeeds is
+        /// kept in `modes`; if none does, the error of the first.
+        #[doc(hidden)]
+        #[cold]
+        #[inline(never)]
+        #allow
+        fn __step_other_branch(
+            &self,
+            first: #pp::Error,
+            start: &#coords,
+            rates: [f64; #nd],
+            accelerations: [f64; #nd],
+            options: &#pp::Options,
+            scaling: &#pp::Scaling<#ne>,
+            modes: &mut [f64; #nm],
+            angles: &mut [[f64; 3]; #na],
+            pt: &[f64; #npt],
+        ) -> #pp::Result<#motion, #pp::Error> {
+            for i in 0..#combos {
+                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
+                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
+                    continue;
+                }
+                let r = self.__step_closed(start, rates, accelerations, options, scaling, &mut m, angles, pt);
+                if r.is_ok() {
+                    *modes = m;
+                    return r;
+                }
+            }
+            ::core::result::Result::Err(first)
+        }
+
+        /// `__step_other_branch` for `__assemble_closed`.
+        #[doc(hidden)]
+        #[cold]
+        #[inline(never)]
+        #allow
+        fn __assemble_other_branch(
+            &self,
+            first: #pp::Error,
+            start: &#coords,
+            options: &#pp::Options,
+            scaling: &#pp::Scaling<#ne>,
+            modes: &mut [f64; #nm],
+            pt: &[f64; #npt],
+        ) -> #pp::Result<#coords, #pp::Error> {
+            for i in 0..#combos {
+                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
+                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
+                    continue;
+                }
+                let r = self.__assemble_closed(start, options, scaling, &mut m, pt);
+                if r.is_ok() {
+                    *modes = m;
+                    return r;
+                }
+            }
+            ::core::result::Result::Err(first)
+        }
+
+        /// The Newton–Raphson step from `start`, off the closed-form path.
+        #[doc(hidden)]
+        #[cold]
+        #[inline(never)]
+        fn __step_newton(
+            &self,
+            start: &#coords,
+            rates: [f64; #nd],
+            accelerations: [f64; #nd],
+            options: &#pp::Options,
+            scaling: &#pp::Scaling<#ne>,
+        ) -> #pp::Result<#motion, #pp::Error> {
+            let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+            self.__step_core(start, rates, accelerations, options, scaling, &mut carry)
+        }
+
+        /// Assembles at the drivers `drivers` (a bare `f64` for one driver,
+        /// else an array in declaration order) in the assembly modes
+        /// `modes`, with no guess: every block of the loop equations is
+        /// solved in closed form (see [`Self::BLOCKS`]). Unknown angles are
+        /// returned in (−π, π].
+        ///
+        /// # Errors
+        /// [`Error::CannotAssemble`](#pp::Error::CannotAssemble) when the
+        /// links cannot close a loop at these drivers (past a limit
+        /// position), invalid parameters, non-finite drivers, and a
+        /// singular Jacobian at the solution.
+        pub fn assemble_in(
+            &self,
+            drivers: impl #pp::DriverValues<#nd>,
+            modes: &#modes,
+        ) -> #pp::Result<#coords, #pp::Error> {
+            self.validate()?;
+            let d = drivers.into_array();
+            let [#(#q_drivers),*] = d;
+            let start = #coords { #( #c_drivers: #q_drivers, )* #( #c_unknowns: 0.0, )* };
+            let scaling = self.__scaling(&d)?;
+            let mut signs = modes.__signs();
+            self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig())
+        }
+
+        /// Every assembly at the drivers `drivers`: one per combination of
+        /// modes, in the order of
+        #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
+        /// (each as [`Self::assemble_in`]).
+        pub fn assemble_all(
+            &self,
+            drivers: impl #pp::DriverValues<#nd>,
+        ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
+            let d = drivers.into_array();
+            ::core::array::from_fn(|i| self.assemble_in(d, &#modes::ALL[i]))
+        }
+    }
+}
