@@ -510,6 +510,20 @@ pub fn at_round_off<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Opti
     max <= options.tolerance.min(1e-12)
 }
 
+/// Every combination of N modes (±1; bit j of its index set: the j-th
+/// `Minus`) other than `tried` (compared bit for bit, so a NaN entry
+/// matches none). Used by generated code.
+#[doc(hidden)]
+pub fn other_modes<const N: usize>(tried: [f64; N]) -> impl Iterator<Item = [f64; N]> {
+    (0..1usize << N)
+        .map(|i| core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 }))
+        .filter(move |m: &[f64; N]| {
+            m.iter()
+                .zip(&tried)
+                .any(|(a, b)| a.to_bits() != b.to_bits())
+        })
+}
+
 /// max |x_i|, NaN if any x_i is NaN. Used by generated code.
 #[doc(hidden)]
 #[inline(always)]

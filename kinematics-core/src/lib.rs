@@ -161,6 +161,27 @@ pub mod __private {
     pub use core::result::Result;
     pub use nalgebra::{Matrix3, Vector2, Vector3};
 
+    /// `rates` and `accelerations` as arrays of one value per driver, or
+    /// [`Error::InvalidOption`] when a slice has another length.
+    #[inline]
+    pub fn driver_arrays<const N: usize>(
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<([f64; N], [f64; N]), Error> {
+        match (
+            <[f64; N]>::try_from(rates),
+            <[f64; N]>::try_from(accelerations),
+        ) {
+            (Ok(r), Ok(a)) => Ok((r, a)),
+            _ => Err(Error::InvalidOption {
+                name: "rates and accelerations",
+                #[allow(clippy::cast_precision_loss)]
+                value: rates.len().max(accelerations.len()) as f64,
+                requirement: "must have one value per driver",
+            }),
+        }
+    }
+
     /// Fails with [`Error::InvalidParameter`] unless `value` > 0 (a
     /// parameter declared `name: length`).
     #[inline]

@@ -13,6 +13,17 @@
 //! of a perfect matching between equations and unknowns, in an order where
 //! each block comes after every block it depends on.
 
+/// Which entries of Φ_u (`jac`, row by row) are not the constant 0.
+pub fn nonzero(g: &crate::ir::Graph, jac: &[Vec<crate::ir::Id>]) -> Vec<Vec<bool>> {
+    jac.iter()
+        .map(|row| {
+            row.iter()
+                .map(|&id| !matches!(g.node(id), crate::ir::Node::Const(b) if f64::from_bits(b) == 0.0))
+                .collect()
+        })
+        .collect()
+}
+
 /// One diagonal block: its equations (rows of Φ_u) and unknowns (columns),
 /// each in ascending order.
 #[derive(Debug, Clone, PartialEq, Eq)]

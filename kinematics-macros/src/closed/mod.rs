@@ -137,15 +137,7 @@ pub fn offsets(model: &mut Model) -> Vec<Offset> {
 /// `blocks::block_triangular` orders them), each with its closed form if it
 /// has one. Adds the coefficients' nodes to the model's graph.
 pub fn closed_blocks(model: &mut Model, jac: &[Vec<Id>]) -> Vec<Closed> {
-    let g = &model.graph;
-    let nonzero: Vec<Vec<bool>> = jac
-        .iter()
-        .map(|row| {
-            row.iter()
-                .map(|&id| !matches!(g.node(id), Node::Const(b) if f64::from_bits(b) == 0.0))
-                .collect()
-        })
-        .collect();
+    let nonzero = crate::blocks::nonzero(&model.graph, jac);
     let nd = model.drivers as usize;
     block_triangular(&nonzero)
         .into_iter()

@@ -248,11 +248,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             angles: &mut [[f64; 3]; #na],
             pt: &[f64; #npt],
         ) -> #pp::Result<#motion, #pp::Error> {
-            for i in 0..#combos {
-                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
-                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
-                    continue;
-                }
+            for mut m in #pp::closed::other_modes(*modes) {
                 let r = self.__step_closed(start, rates, accelerations, options, scaling, &mut m, angles, pt);
                 if r.is_ok() {
                     *modes = m;
@@ -276,11 +272,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             modes: &mut [f64; #nm],
             pt: &[f64; #npt],
         ) -> #pp::Result<#coords, #pp::Error> {
-            for i in 0..#combos {
-                let mut m: [f64; #nm] = ::core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
-                if m.iter().zip(modes.iter()).all(|(a, b)| a.to_bits() == b.to_bits()) {
-                    continue;
-                }
+            for mut m in #pp::closed::other_modes(*modes) {
                 let r = self.__assemble_closed(start, options, scaling, &mut m, pt);
                 if r.is_ok() {
                     *modes = m;

@@ -98,16 +98,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                 accelerations: &[f64],
                 options: &#pp::Options,
             ) -> #pp::Result<#motion, #pp::Error> {
-                let (::core::result::Result::Ok(r), ::core::result::Result::Ok(a)) =
-                    (<[f64; #nd]>::try_from(rates), <[f64; #nd]>::try_from(accelerations))
-                else {
-                    return ::core::result::Result::Err(#pp::Error::InvalidOption {
-                        name: "rates and accelerations",
-                        #[allow(clippy::cast_precision_loss)]
-                        value: rates.len().max(accelerations.len()) as f64,
-                        requirement: "must have one value per driver",
-                    });
-                };
+                let (r, a) = #pp::driver_arrays::<#nd>(rates, accelerations)?;
                 #name::step_with(self, start, r, a, options)
             }
 
@@ -123,16 +114,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                 accelerations: &[f64],
                 state: &mut #state,
             ) -> #pp::Result<#motion, #pp::Error> {
-                let (::core::result::Result::Ok(r), ::core::result::Result::Ok(a)) =
-                    (<[f64; #nd]>::try_from(rates), <[f64; #nd]>::try_from(accelerations))
-                else {
-                    return ::core::result::Result::Err(#pp::Error::InvalidOption {
-                        name: "rates and accelerations",
-                        #[allow(clippy::cast_precision_loss)]
-                        value: rates.len().max(accelerations.len()) as f64,
-                        requirement: "must have one value per driver",
-                    });
-                };
+                let (r, a) = #pp::driver_arrays::<#nd>(rates, accelerations)?;
                 state.__step(self, start, r, a)
             }
 

@@ -9,7 +9,7 @@ use syn::Ident;
 use super::print::bind;
 use crate::blocks::{block_triangular, Block};
 use crate::cse::schedule;
-use crate::ir::{Graph, Id, Leaf, Node};
+use crate::ir::{Graph, Id, Leaf};
 use crate::scale::Scales;
 
 /// Linear solves with Φ_u through its block-triangular form ([`blocks`]):
@@ -32,14 +32,7 @@ pub(super) struct BlockSolve {
 
 impl BlockSolve {
     pub(super) fn new(g: &Graph, jac: &[Vec<Id>], is_length: &[bool]) -> Self {
-        let nonzero: Vec<Vec<bool>> = jac
-            .iter()
-            .map(|row| {
-                row.iter()
-                    .map(|&id| !matches!(g.node(id), Node::Const(b) if f64::from_bits(b) == 0.0))
-                    .collect()
-            })
-            .collect();
+        let nonzero = crate::blocks::nonzero(g, jac);
         let mut entries = Vec::new();
         let slot = nonzero
             .iter()
