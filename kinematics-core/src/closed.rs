@@ -236,16 +236,17 @@ pub fn circle_circle(
         // The mode whose solution is nearest the guess in both angles:
         // least (1 − cos Δθ₀) + (1 − cos Δθ₁).
         let g = guess();
-        let mut best = (f64::INFINITY, 1.0);
-        for sigma in [1.0, -1.0] {
-            let mut m = sigma;
-            let [c0, s0, c1, s1] = circle_circle_in(k, p, q, &mut m)?;
-            let d = 2.0 - (c0 * g[0] + s0 * g[1]) - (c1 * g[2] + s1 * g[3]);
-            if d < best.0 {
-                best = (d, sigma);
-            }
-        }
-        *mode = best.1;
+        let distance =
+            |x: &[f64; 4]| 2.0 - (x[0] * g[0] + x[1] * g[1]) - (x[2] * g[2] + x[3] * g[3]);
+        let plus = circle_circle_in(k, p, q, &mut 1.0)?;
+        let minus = circle_circle_in(k, p, q, &mut -1.0)?;
+        let (sigma, x) = if distance(&minus) < distance(&plus) {
+            (-1.0, minus)
+        } else {
+            (1.0, plus)
+        };
+        *mode = sigma;
+        return Ok(x);
     }
     circle_circle_in(k, p, q, mode)
 }

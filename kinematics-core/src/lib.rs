@@ -156,8 +156,8 @@ pub mod __private {
         FastNewton, Lu, Names, Next, Scaling,
     };
     pub use crate::MotionState;
-    pub use crate::{Branch, FrameState, Options, PointMotion, PointState, Role};
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
+    pub use crate::{FrameState, Options, PointMotion, PointState, Role};
     pub use core::result::Result;
     pub use nalgebra::{Matrix3, Vector2, Vector3};
 
