@@ -453,6 +453,52 @@ pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
     shifted
 }
 
+/// The cosine and sine of a driver angle φ, from those of the previous
+/// step's value φ₀ held in `carried` = (cos φ₀, sin φ₀, φ₀): with
+/// Δ = φ − φ₀,
+///
+/// cos φ = cos φ₀ − (cos φ₀ (1 − cos Δ) + sin φ₀ sin Δ),
+/// sin φ = sin φ₀ − (sin φ₀ (1 − cos Δ) − cos φ₀ sin Δ),
+///
+/// with sin Δ and 1 − cos Δ by their series (truncation below 1e-19 for
+/// |Δ| ≤ 1/32), so no trigonometric function is called. Each rotation adds
+/// at most about one unit in the last place; a stepper sets φ₀ to NaN every
+/// 16 steps, and then, as for |Δ| > 1/32, (cos φ, sin φ) are computed
+/// afresh. On return `carried` holds (cos φ, sin φ, φ).
+///
+/// ```
+/// use kinematics_core::closed::carried_sin_cos;
+/// let mut carried = [f64::NAN; 3];
+/// let mut worst = 0.0f64;
+/// for k in 0..16 {
+///     let phi = 1.0 + 0.01 * f64::from(k);
+///     let [c, s] = carried_sin_cos(phi, &mut carried);
+///     worst = worst.max((c - phi.cos()).abs()).max((s - phi.sin()).abs());
+/// }
+/// assert!(worst < 4e-15);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn carried_sin_cos(phi: f64, carried: &mut [f64; 3]) -> [f64; 2] {
+    let [c0, s0, phi0] = *carried;
+    let d = phi - phi0;
+    // Written so that a NaN φ₀ (or φ) takes the fresh computation.
+    let (c, s) = if d.abs() <= 0.031_25 {
+        let d2 = d * d;
+        // sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7! (next term below 1e-19);
+        // 1 − cos Δ = Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8! (next below 3e-22).
+        let sin = d - d * d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0)));
+        let vers =
+            d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))));
+        (c0 - (c0 * vers + s0 * sin), s0 - (s0 * vers - c0 * sin))
+    } else {
+        let (s, c) = crate::math::sin_cos(phi);
+        (c, s)
+    };
+    *carried = [c, s, phi];
+    [c, s]
+}
+
 /// [`near`], from the previous solution of the same angle: `carried` holds
 /// its (cos θ, sin θ, θ), and the angle is θ + Δ with
 /// sin Δ = cos θ · `s` − sin θ · `c` and Δ = asin(sin Δ) by its series

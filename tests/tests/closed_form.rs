@@ -365,8 +365,11 @@ fn mechanisms_without_closed_forms_say_so() {
 #[test]
 fn the_carried_angles_do_not_drift() {
     // 10 000 steps of 0.01 rad (16 turns): each angle is the previous one
-    // plus an arcsine series, refreshed by atan2 every 64 steps. Against a
-    // fresh closed-form assembly at every step, modulo 2π.
+    // plus an arcsine series, refreshed by atan2 every 64 steps, and the
+    // driver's sine and cosine the previous ones rotated by the increment,
+    // refreshed every 16 steps. Against a fresh closed-form assembly at
+    // every step, modulo 2π, and against the coupler point computed from
+    // it (relative to the crank length).
     let m = FourBar {
         a: 0.04,
         b: 0.12,
@@ -392,6 +395,8 @@ fn the_carried_angles_do_not_drift() {
             let d = d.min(std::f64::consts::TAU - d);
             worst = worst.max(d / x.abs().max(1.0));
         }
+        let [p] = m.point_positions(&exact);
+        worst = worst.max((motion.point_p().position - p).amax() / m.a);
         // Continuous: no jump of 2π between steps.
         assert!((motion.q.th3 - pose.th3).abs() < 0.1 && (motion.q.th4 - pose.th4).abs() < 0.1);
         pose = motion.q;

@@ -74,6 +74,33 @@ impl Ctx<'_> {
         out
     }
 
+    /// The drivers whose cosine or sine the closed-form step uses, with
+    /// those nodes ([cos, sin]): a stepper carries them from step to step
+    /// (`closed::carried_sin_cos`). None unless every block is closed-form.
+    pub(super) fn driver_trig(&self) -> Vec<(usize, [Option<Id>; 2])> {
+        if !self.all_closed() {
+            return Vec::new();
+        }
+        let g = self.g();
+        let mut roots: Vec<Id> = self.newton_roots();
+        roots.extend(self.analysis_stages().into_iter().flatten());
+        for b in self.closed {
+            roots.extend(super::closed_solve::coefficients(b.pattern.as_ref()));
+        }
+        let live = g.reachable(&roots);
+        let used = |f: Func, leaf: Id| {
+            g.find(&Node::Call(f, leaf))
+                .filter(|t| live[t.index()])
+        };
+        (0..self.nd)
+            .filter_map(|j| {
+                let leaf = g.find(&Node::Leaf(Leaf::Q(u32::try_from(j).ok()?)))?;
+                let pair = [used(Func::Cos, leaf), used(Func::Sin, leaf)];
+                pair.iter().any(Option::is_some).then_some((j, pair))
+            })
+            .collect()
+    }
+
     /// The unknowns of a block, by name.
     pub(super) fn block_names(&self, b: &Closed) -> Vec<String> {
         b.cols

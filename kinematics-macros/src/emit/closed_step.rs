@@ -113,6 +113,22 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             }
         }
     };
+    // The drivers' sines and cosines, carried by a stepper from one step
+    // to the next.
+    let dtrig = cx.driver_trig();
+    let ndt = dtrig.len();
+    let mut step_given = given.clone();
+    let mut dtrig_lets = Vec::new();
+    for (k, (j, [cos, sin])) in dtrig.iter().enumerate() {
+        let name = id.coord[*j].unraw();
+        let (cv, sv) = (format_ident!("__cd_{}", name), format_ident!("__sd_{}", name));
+        let qv = &q[*j];
+        dtrig_lets.push(quote! {
+            let [#cv, #sv] = #pp::closed::carried_sin_cos(#qv, &mut __dtrig[#k]);
+        });
+        step_given.extend(cos.map(|t| (t, cv.clone())));
+        step_given.extend(sin.map(|t| (t, sv.clone())));
+    }
     let nb = cx.closed.len();
     let coefs: Vec<Vec<Id>> = cx
         .closed
@@ -136,7 +152,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     stages.push(d.phi.clone());
     stages.extend(cx.analysis_stages());
     let sched = schedule(g, &stages);
-    let (pr, lets) = bind_given(g, &sched, &leaf, given.clone());
+    let (pr, lets) = bind_given(g, &sched, &leaf, step_given);
     let step_solve = solve_blocks(cx, &pr, &lets, &step_newton);
     let step_check = phi_check(&pr, &step_newton);
     let step_far = far_check(&step_newton);
@@ -167,7 +183,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         /// A step in closed form: the blocks solved in order in the modes
         /// `modes` (±1; NaN: from the guess in `start`, then stored), each
         /// unknown angle from the previous solution in `angles` (see
-        /// `closed::near_carried`), the
+        /// `closed::near_carried`) and each driver's sine and cosine from
+        /// the previous step's in `__dtrig` (`closed::carried_sin_cos`), the
         /// residual checked, the motion analysed. Falls back to
         /// Newton–Raphson (resetting `modes`) where a block is degenerate
         /// or the residual is not at round-off.
@@ -184,6 +201,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             modes: &mut [f64; #nm],
             angles: &mut [[f64; 3]; #na],
             __pt: &[f64; #npt],
+            __dtrig: &mut [[f64; 3]; #ndt],
         ) -> #pp::Result<#motion, #pp::Error> {
             let [#(#pt_names),*] = *__pt;
             let [#(#qd_drivers),*] = rates.into_array();
@@ -191,6 +209,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             #step_far
             #inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #(#dtrig_lets)*
             #step_solve
             #phi_lets
             #step_check
@@ -247,9 +266,10 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             modes: &mut [f64; #nm],
             angles: &mut [[f64; 3]; #na],
             pt: &[f64; #npt],
+            dtrig: &mut [[f64; 3]; #ndt],
         ) -> #pp::Result<#motion, #pp::Error> {
             for mut m in #pp::closed::other_modes(*modes) {
-                let r = self.__step_closed(start, rates, accelerations, options, scaling, &mut m, angles, pt);
+                let r = self.__step_closed(start, rates, accelerations, options, scaling, &mut m, angles, pt, dtrig);
                 if r.is_ok() {
                     *modes = m;
                     return r;

@@ -103,6 +103,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let ne = cx.ne;
     let nm = cx.nm();
     let na = cx.na();
+    let ndt = cx.driver_trig().len();
     let param_trig_init = if cx.all_closed() {
         quote!(self.__param_trig())
     } else {
@@ -112,11 +113,12 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
+            let mut dtrig = [[::core::primitive::f64::NAN; 3]; #ndt];
             let pt = self.__param_trig();
             let (r, a) = (rates.into_array(), accelerations.into_array());
-            match self.__step_closed(start, r, a, options, &scaling, &mut modes, &mut angles, &pt) {
+            match self.__step_closed(start, r, a, options, &scaling, &mut modes, &mut angles, &pt, &mut dtrig) {
                 ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => self.__step_other_branch(
-                    e, start, r, a, options, &scaling, &mut modes, &mut angles, &pt,
+                    e, start, r, a, options, &scaling, &mut modes, &mut angles, &pt, &mut dtrig,
                 ),
                 r => r,
             }
@@ -132,8 +134,9 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let stepper_doc = format!(
         "A stepping handle: checks `options` and the parameters once, evaluates the scaling \
          of the equations once (unless it depends on the drivers), and carries the sines and \
-         cosines of the solved pose from one [`{stepper}::step`] to the next, refreshed every \
-         64 steps. The way to run a simulation."
+         cosines of the solved pose from one [`{stepper}::step`] to the next (those of the \
+         drivers rotated by each step's increment, refreshed every 16 steps; those of the \
+         unknowns every 64). The way to run a simulation."
     );
     // Whether the scaling must be evaluated at each step: a term scale that
     // holds a driver (a slider driver outside a sine or cosine).
@@ -306,6 +309,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
                 modes: [::core::primitive::f64::NAN; #nm],
                 angles: [[::core::primitive::f64::NAN; 3]; #na],
                 param_trig: #param_trig_init,
+                dtrig: [[::core::primitive::f64::NAN; 3]; #ndt],
                 since_refresh: 0,
             })
         }
@@ -323,15 +327,17 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let nm = cx.nm();
     let na = cx.na();
     let npt = cx.param_trig().len();
+    let ndt = cx.driver_trig().len();
     let vis = &cx.def.vis;
     let state = format_ident!("{}StepState", name.unraw());
     let call = if cx.all_closed() {
         quote! {
             let (r, a) = (rates.into_array(), accelerations.into_array());
             let (options, angles, pt) = (&self.options, &mut self.angles, &self.param_trig);
-            match mechanism.__step_closed(start, r, a, options, &scaling, &mut self.modes, angles, pt) {
+            let dtrig = &mut self.dtrig;
+            match mechanism.__step_closed(start, r, a, options, &scaling, &mut self.modes, angles, pt, dtrig) {
                 ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => mechanism.__step_other_branch(
-                    e, start, r, a, options, &scaling, &mut self.modes, angles, pt,
+                    e, start, r, a, options, &scaling, &mut self.modes, angles, pt, dtrig,
                 ),
                 r => r,
             }
@@ -401,6 +407,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             modes: [f64; #nm],
             angles: [[f64; 3]; #na],
             param_trig: [f64; #npt],
+            dtrig: [[f64; 3]; #ndt],
             since_refresh: u32,
         }
 
@@ -436,6 +443,11 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 // Fresh sines and cosines now and then bound the drift of
                 // the carried ones.
                 self.since_refresh += 1;
+                if self.since_refresh % 16 == 0 {
+                    for d in &mut self.dtrig {
+                        d[2] = ::core::primitive::f64::NAN;
+                    }
+                }
                 if self.since_refresh >= 64 {
                     self.since_refresh = 0;
                     for c in &mut self.carry {
