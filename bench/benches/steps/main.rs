@@ -596,6 +596,11 @@ fn expansion_table() -> String {
 fn main() {
     let mut all = sweeps();
     check_agreement(&mut all);
+    if std::env::var_os("KINEMATICS_BENCH_INTERLEAVED").is_some() {
+        // The interleaved ratios only (about a minute).
+        println!("{}", interleaved(&mut all));
+        return;
+    }
     let mut c = Criterion::default()
         .configure_from_args()
         .warm_up_time(Duration::from_millis(500))

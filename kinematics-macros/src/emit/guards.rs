@@ -106,46 +106,29 @@ pub(super) fn solved_rates(cx: &Ctx<'_>) -> TokenStream {
     )
 }
 
-/// The check of the local `motion` before it is returned: one sum over
-/// every point and frame component (any NaN or infinity makes it
-/// non-finite), then the named checks if it is not.
-pub(super) fn outputs(cx: &Ctx<'_>) -> TokenStream {
+/// The check that every output is finite, from the expressions `terms` of
+/// every point's and frame's components (summed: one test on the hot
+/// path); where one is not, `points` and `frames` (the arrays of the
+/// motion) are built to name it.
+pub(super) fn outputs(
+    cx: &Ctx<'_>,
+    terms: &[TokenStream],
+    points: &[TokenStream],
+    frames: &[TokenStream],
+) -> TokenStream {
     let pp = &cx.pp;
-    let mut terms: Vec<TokenStream> = Vec::new();
-    for k in 0..cx.np {
-        for field in [quote!(position), quote!(velocity), quote!(acceleration)] {
-            for c in 0..cx.model.point_dim {
-                terms.push(quote!(motion.points[#k].#field[#c]));
-            }
-        }
+    if terms.is_empty() {
+        return TokenStream::new();
     }
-    for k in 0..cx.nf {
-        for c in 0..9usize {
-            terms.push(quote!(motion.frames[#k].rotation[#c]));
-        }
-        for field in [
-            quote!(origin),
-            quote!(velocity),
-            quote!(acceleration),
-            quote!(angular_velocity),
-            quote!(angular_acceleration),
-        ] {
-            for c in 0..3usize {
-                terms.push(quote!(motion.frames[#k].#field[#c]));
-            }
-        }
-    }
-    let sum = if terms.is_empty() {
-        quote!(0.0f64)
-    } else {
-        quote!(#(#terms)+*)
-    };
+    let (dim, np, nf) = (cx.model.point_dim, cx.np, cx.nf);
     quote! {
-        if !(#sum).is_finite() {
+        if !(#(#terms)+*).is_finite() {
+            let points: [#pp::PointMotion<#dim>; #np] = [#(#points),*];
+            let frames: [#pp::FrameState; #nf] = [#(#frames),*];
             #pp::finite_outputs(
-                &motion.points,
+                &points,
                 <Self as #pp::Mechanism>::POINT_NAMES,
-                &motion.frames,
+                &frames,
                 <Self as #pp::Mechanism>::FRAME_NAMES,
             )?;
         }

@@ -292,7 +292,24 @@ impl<'a> Ctx<'a> {
         let point_states = self.points_of(pr);
         let frame_states = self.frames_of(pr);
         let check_rates = guards::solved_rates(self);
-        let check_outputs = guards::outputs(self);
+        // Every output component, for the check that all are finite.
+        let terms: Vec<TokenStream> = d
+            .pos
+            .iter()
+            .zip(&d.vel)
+            .zip(&d.acc)
+            .flat_map(|((p, v), a)| p.iter().chain(v).chain(a))
+            .chain(d.frames.iter().flat_map(|f| {
+                f.rotation
+                    .iter()
+                    .flatten()
+                    .chain(f.origin.iter().flatten())
+                    .chain(&f.omega)
+                    .chain(&f.alpha)
+            }))
+            .map(|&i| pr.expr(i))
+            .collect();
+        let check_outputs = guards::outputs(self, &terms, &point_states, &frame_states);
         let at_solution = self.factor_at_solution();
         quote! {
             #velocity
@@ -303,7 +320,8 @@ impl<'a> Ctx<'a> {
             let [#(#qdd_unknowns),*] = #acc_solve;
             #check_rates
             #points
-            let motion = #motion {
+            #check_outputs
+            ::core::result::Result::Ok(#motion {
                 q: #q_field,
                 qd: #coords { #( #coord: #qd ),* },
                 qdd: #coords { #( #coord: #qdd ),* },
@@ -312,9 +330,7 @@ impl<'a> Ctx<'a> {
                 conditioning: __conditioning,
                 det_sign: __det_sign,
                 residual: #residual,
-            };
-            #check_outputs
-            ::core::result::Result::Ok(motion)
+            })
         }
     }
 
