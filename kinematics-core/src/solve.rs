@@ -256,6 +256,7 @@ fn overflow(equation: usize, value: f64) -> Failure {
 pub struct Lu<const N: usize> {
     /// L and U below and above the diagonal (N > 2), or A⁻¹ (N ≤ 2).
     lu: [[f64; N]; N],
+    /// The reciprocals of the pivots (N > 2), |a₀₀| (N = 1), unused (N = 2).
     inv_pivot: [f64; N],
     perm: [usize; N],
     sign: f64,
@@ -347,9 +348,12 @@ impl<const N: usize> Lu<N> {
         }
         let mut lu = [[0.0; N]; N];
         lu[0][0] = 1.0 / a00;
+        // |a₀₀| itself: the conditioning, with no second division.
+        let mut inv_pivot = [0.0; N];
+        inv_pivot[0] = p0;
         Ok(Self {
             lu,
-            inv_pivot: [0.0; N],
+            inv_pivot,
             perm: [0; N],
             sign: a00.signum(),
         })
@@ -415,6 +419,10 @@ impl<const N: usize> Lu<N> {
     #[inline]
     #[must_use]
     pub fn conditioning(&self) -> (f64, usize) {
+        if N == 1 {
+            // 1 / |1 / a₀₀| = |a₀₀|, kept by the factorisation.
+            return (self.inv_pivot[0], 0);
+        }
         let mut worst = 0.0f64;
         let mut at = 0;
         let mut row_sum = |i: usize, sum: f64| {
