@@ -488,8 +488,7 @@ pub fn carried_sin_cos(phi: f64, carried: &mut [f64; 3]) -> [f64; 2] {
         // sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7! (next term below 1e-19);
         // 1 − cos Δ = Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8! (next below 3e-22).
         let sin = d - d * d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0)));
-        let vers =
-            d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))));
+        let vers = d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))));
         (c0 - (c0 * vers + s0 * sin), s0 - (s0 * vers - c0 * sin))
     } else {
         let (s, c) = crate::math::sin_cos(phi);

@@ -121,17 +121,6 @@ pub enum Error {
         /// The value found.
         value: f64,
     },
-    /// Between two samples of a sweep, det Φ_u changed sign: the mechanism
-    /// passed a dead-centre or toggle position, where two assembly branches
-    /// meet and the solution may have jumped to the other one.
-    PassedSingularity {
-        /// The swept driver (or "t").
-        variable: &'static str,
-        /// The last value before the sign change.
-        from: f64,
-        /// The first value after it.
-        to: f64,
-    },
     /// A geometric input of a transformation or rigid-body helper is
     /// degenerate or inconsistent (a zero axis, a matrix that is not a
     /// rotation, parallel vectors).
@@ -158,18 +147,6 @@ pub enum Error {
         discriminant: f64,
         /// The drivers, by name.
         drivers: Vec<(&'static str, f64)>,
-    },
-    /// A sweep reached a limit position of its driver: past `at`, the
-    /// block of `unknowns` has no real solution. `at` is located by
-    /// bisection on that exact condition, to within 1e-12 (relative to the
-    /// sweep's step) of the limit.
-    LimitPosition {
-        /// The swept driver.
-        variable: &'static str,
-        /// The driver value of the limit position.
-        at: f64,
-        /// The block's unknowns, joined by ", ".
-        unknowns: &'static str,
     },
     /// A file could not be written.
     Output {
@@ -282,16 +259,6 @@ impl fmt::Display for Error {
                      driver is past a limit position"
                 )
             }
-            Error::LimitPosition {
-                variable,
-                at,
-                unknowns,
-            } => write!(
-                f,
-                "the sweep reached a limit position at {variable} = {at:.12}: beyond it the \
-                 loop equations of {unknowns} have no real solution; sweep back, or drive \
-                 another link"
-            ),
             Error::WrongBranch { configuration } => {
                 f.write_str(
                     "the mechanism assembled on the other branch than the one asked for (at ",
@@ -306,13 +273,6 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "parameter `{name}` = {value} is invalid: it {requirement}"
-            ),
-            Error::PassedSingularity { variable, from, to } => write!(
-                f,
-                "between {variable} = {from:.6} and {to:.6} the Jacobian changes sign: the \
-                 mechanism passes a dead-centre or toggle position there (where it may \
-                 switch assembly branch, or beyond which it cannot be driven); the sweep \
-                 stops at the last position before it"
             ),
             Error::InvalidOption {
                 name,

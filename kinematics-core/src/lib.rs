@@ -155,6 +155,7 @@ pub mod __private {
         branch_check, characteristic_length, dense_solve, describe, newton, sin_cos_after, Failure,
         FastNewton, Lu, Names, Next, Scaling,
     };
+    pub use crate::sweep;
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
     pub use crate::{FrameState, Options, PointMotion, PointState, Role};

@@ -432,6 +432,8 @@ pub trait MotionState: Copy + core::fmt::Debug {
     fn qd(&self) -> &Self::Coords;
     /// Accelerations q''.
     fn qdd(&self) -> &Self::Coords;
+    /// The coordinates q, to change (a sweep wraps the angles it reports).
+    fn q_mut(&mut self) -> &mut Self::Coords;
     /// The point type: `PointMotion<2>` or `PointMotion<3>`.
     type Point: PointState;
     /// Every point's motion, in declaration order.
@@ -586,6 +588,13 @@ pub trait Mechanism {
     /// # Errors
     /// Invalid options or parameters.
     fn step_state(&self, options: &Options) -> Result<Self::StepState, Error>;
+
+    /// The assembly modes a step state follows, one ±1 per block with two
+    /// closed-form solutions (NaN: from the next guess); empty unless every
+    /// block is solved in closed form. For sweeps that choose a branch at a
+    /// change point.
+    #[doc(hidden)]
+    fn step_modes(state: &mut Self::StepState) -> &mut [f64];
 
     /// A step as the mechanism's stepper takes it, carrying `state` to the
     /// next step: `rates` and `accelerations` hold d' and d''.

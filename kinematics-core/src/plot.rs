@@ -24,10 +24,9 @@ use crate::{Coordinates, Error, Mechanism, MotionState, PointState, Role};
 /// #         loops    { B + polar(b, th) == C; }
 /// #     }
 /// # }
-/// # use kinematics_core::{sweep::sweep, Options};
 /// # let m = SliderCrank { a: 0.1, b: 0.3 };
 /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rate(6.0).run();
 /// let dir = std::env::temp_dir();
 /// use kinematics_core::plot::{plot_path, Projection};
 /// plot_path(&s, "B", Projection::XY, &dir.join("slider-crank-path.svg"))?;
@@ -97,10 +96,9 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// #         loops    { B + polar(b, th) == C; }
 /// #     }
 /// # }
-/// # use kinematics_core::{sweep::sweep, Options};
 /// # let m = SliderCrank { a: 0.1, b: 0.3 };
 /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rate(6.0).run();
 /// let dir = std::env::temp_dir();
 /// let file = dir.join("slider-crank-motion.svg");
 /// kinematics_core::plot::plot_motion(&s, &file)?;
@@ -201,10 +199,9 @@ fn point_index<M: Mechanism>(name: &str) -> Result<usize, Error> {
 /// #         loops    { B + polar(b, th) == C; }
 /// #     }
 /// # }
-/// # use kinematics_core::{sweep::sweep, Options};
 /// # let m = SliderCrank { a: 0.1, b: 0.3 };
 /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 72, 6.0, 0.0, &Options::DEFAULT);
+/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rate(6.0).run();
 /// let dir = std::env::temp_dir();
 /// use kinematics_core::plot::{plot_path, Projection};
 /// plot_path(&s, "C", Projection::XY, &dir.join("slider-crank-slider.svg"))?;

@@ -1,22 +1,211 @@
-//! Full-cycle sweeps and time-driven simulations, and their results as
-//! tables.
+//! Sweeps over a driver's range and time-driven simulations, and their
+//! results as tables.
 //!
-//! A sweep advances one driver in equal steps. At each step the unknowns
-//! are predicted from the previous step's rates (u + (du/dd)·Δd) and
-//! corrected by Newton–Raphson, which keeps the assembly branch. It never
-//! switches branch silently: it stops, returning the samples it has and the
-//! reason, when the mechanism cannot be assembled, when Φ_u is singular, or
-//! when det Φ_u changes sign between two steps (the mechanism passed a dead
-//! or toggle position, where the branches meet).
+//! A sweep is built from the mechanism, a driver chosen by its typed handle
+//! (generated for every driver, `FourBar::PHI`) and the starting pose; the
+//! range, the number of steps, the driver's rate and acceleration and the
+//! options are named, with defaults:
+//!
+//! ```
+//! use kinematics_core::mechanism;
+//! mechanism! {
+//!     /// A slider-crank.
+//!     pub struct SliderCrank {
+//!         params   { a, b }
+//!         drivers  { phi }
+//!         unknowns { th, x }
+//!         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+//!         loops    { B + polar(b, th) == C; }
+//!     }
+//! }
+//! let m = SliderCrank { a: 0.1, b: 0.3 };
+//! let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+//! // A full turn in 3600 steps (the end, equal to the start, not repeated)
+//! // at 600 rev/min.
+//! let cycle = m.sweep(SliderCrank::PHI, &start).turn().steps(3600).rpm(600.0).run();
+//! assert!(cycle.stop.is_none());
+//! assert_eq!(cycle.samples.len(), 3600);
+//! // From 30° to 90° in 60 steps (61 samples, both ends), streamed one
+//! // sample at a time instead of collected.
+//! let mut fastest = 0.0f64;
+//! for sample in m.sweep(SliderCrank::PHI, &start).from_deg(30.0).to_deg(90.0).steps(60) {
+//!     let sample = sample.expect("the slider-crank assembles everywhere");
+//!     fastest = fastest.max(sample.motion.point_c().speed());
+//! }
+//! assert!(fastest > 0.0);
+//! ```
+//!
+//! At each step the unknowns are predicted from the previous step's rates
+//! and solved from there (in closed form where the macro found one, else by
+//! Newton–Raphson), on the assembly branch of the start. A sweep never
+//! switches branch silently. It ends early, with the samples it has and a
+//! typed [`Stop`], when
+//!
+//! * the driver reaches a **limit position** (the links cannot close the
+//!   loop past it): located by bisection on the exact condition, to the
+//!   resolution of `f64`, for blocks solved in closed form;
+//! * it reaches a **change point**, where two assembly branches meet (det
+//!   Φ_u changes sign, or Φ_u's conditioning falls to zero and rises again
+//!   between samples, as at a parallelogram four-bar's folded position):
+//!   unless [`ChangePoints::Smooth`] or [`ChangePoints::Switch`] says which
+//!   branch to continue on;
+//! * Φ_u is singular at a sample, or the mechanism does not assemble.
 
 use alloc::borrow::ToOwned;
+use alloc::collections::VecDeque;
 use alloc::format;
 use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
+use core::f64::consts::{PI, TAU};
+use core::fmt;
 use core::fmt::Write as _;
+use core::marker::PhantomData;
 
 use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
+
+/// The unit of a driver that is an angle (radians; degrees and rev/min at
+/// the API's boundary): the type parameter of [`Driver`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Angle {}
+
+/// The unit of a driver that is a length (a slider's position, in the
+/// mechanism's length unit): the type parameter of [`Driver`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Length {}
+
+/// A typed handle of one driver of mechanism `M`, generated for each
+/// driver as an associated constant named after it in upper case
+/// (`FourBar::PHI` for driver `phi`). `U` is [`Angle`] or [`Length`], so
+/// that degree and rev/min helpers exist only for angles, and a handle of
+/// one mechanism does not compile with another.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+/// #     }
+/// # }
+/// assert_eq!((SliderCrank::PHI.index(), SliderCrank::PHI.name()), (0, "phi"));
+/// ```
+pub struct Driver<M, U> {
+    index: usize,
+    name: &'static str,
+    marker: PhantomData<fn() -> (M, U)>,
+}
+
+impl<M, U> Driver<M, U> {
+    /// The handle of driver `index` (in declaration order) named `name`:
+    /// for the generated constants.
+    #[doc(hidden)]
+    #[must_use]
+    pub const fn __new(index: usize, name: &'static str) -> Self {
+        Self {
+            index,
+            name,
+            marker: PhantomData,
+        }
+    }
+
+    /// The driver's index among the drivers, in declaration order.
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self.index
+    }
+
+    /// The driver's name in the definition.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        self.name
+    }
+}
+
+impl<M, U> Clone for Driver<M, U> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<M, U> Copy for Driver<M, U> {}
+
+impl<M, U> fmt::Debug for Driver<M, U> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Driver({})", self.name)
+    }
+}
+
+impl<M, U> PartialEq for Driver<M, U> {
+    fn eq(&self, other: &Self) -> bool {
+        self.index == other.index
+    }
+}
+
+/// How the angles of the samples' poses are reported (the sweep itself
+/// follows them continuously).
+///
+/// ```
+/// use kinematics_core::sweep::Wrap;
+/// use std::f64::consts::TAU;
+/// assert!((Wrap::Signed.apply(4.0) - (4.0 - TAU)).abs() < 1e-15);
+/// assert!((Wrap::Positive.apply(-1.0) - (TAU - 1.0)).abs() < 1e-15);
+/// assert_eq!(Wrap::Continuous.apply(7.0), 7.0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Wrap {
+    /// As followed: continuous through full turns (a crank at 370° reads
+    /// 6.46 rad).
+    #[default]
+    Continuous,
+    /// In (−π, π].
+    Signed,
+    /// In [0, 2π).
+    Positive,
+}
+
+impl Wrap {
+    /// The angle `theta` as this wrapping reports it.
+    #[must_use]
+    pub fn apply(self, theta: f64) -> f64 {
+        match self {
+            Self::Continuous => theta,
+            // rem_euclid gives [0, 2π), so this is in (−π, π].
+            Self::Signed => PI - crate::math::rem_euclid(PI - theta, TAU),
+            Self::Positive => {
+                let w = crate::math::rem_euclid(theta, TAU);
+                // A tiny negative angle rounds to 2π itself.
+                if w >= TAU {
+                    0.0
+                } else {
+                    w
+                }
+            }
+        }
+    }
+}
+
+/// What a sweep does at a change point, where two assembly branches meet
+/// (a parallelogram four-bar folded flat at φ = 0 and 180°).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChangePoints {
+    /// Stop there, with [`StopReason::ChangePoint`].
+    #[default]
+    Stop,
+    /// Continue on the branch on which the motion is smooth: the pose past
+    /// the point nearest the one extrapolated (to second order) from the
+    /// samples before it. A parallelogram four-bar stays a parallelogram.
+    Smooth,
+    /// Continue on the other branch, where the joint rates jump: a
+    /// parallelogram four-bar folds into the crossed (anti-parallelogram)
+    /// form. Needs the block that meets the other branch to be solved in
+    /// closed form (see the mechanism's `BLOCKS`), where both branches are
+    /// at hand.
+    Switch,
+}
 
 /// One instant of a sweep.
 ///
@@ -28,29 +217,94 @@ use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointStat
 /// #         params   { a, b }
 /// #         drivers  { phi }
 /// #         unknowns { th, x }
-/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
-/// #         loops    { B + polar(b, th) == C; }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
 /// #     }
 /// # }
-/// # use kinematics_core::{sweep::sweep, Options};
 /// # let m = SliderCrank { a: 0.1, b: 0.3 };
 /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+/// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run();
 /// let last = &s.samples[10];
 /// assert_eq!((last.at, last.motion.q.phi), (1.0, 1.0));
-/// assert!(last.residual < 1e-12);
 /// ```
-#[derive(Debug, Clone, Copy)]
 pub struct Sample<M: Mechanism> {
     /// Value of the swept driver (or the time, for a simulation).
     pub at: f64,
-    /// Coordinates, rates, accelerations, points and frames.
+    /// Coordinates, rates, accelerations, points and frames; its
+    /// `residual` says how well the loops close.
     pub motion: M::Motion,
-    /// max|Φ_i| at the solved pose: how well the loops close.
-    pub residual: f64,
 }
 
-/// Why and where a sweep stopped before its end.
+impl<M: Mechanism> Clone for Sample<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<M: Mechanism> Copy for Sample<M> {}
+
+impl<M: Mechanism> fmt::Debug for Sample<M> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Sample")
+            .field("at", &self.at)
+            .field("motion", &self.motion)
+            .finish()
+    }
+}
+
+/// Why a sweep stopped before its end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StopReason {
+    /// A limit position of the driver: past the stop's `at`, the block of
+    /// `unknowns` has no real solution (the links cannot close the loop).
+    /// For a block solved in closed form, `at` is the last value that
+    /// assembles, by bisection to the resolution of `f64`.
+    LimitPosition {
+        /// The block's unknowns, joined by ", ".
+        unknowns: &'static str,
+    },
+    /// A change point between the samples at `from` and `to`: two assembly
+    /// branches meet there, and the sweep was not told which to continue
+    /// on (see [`ChangePoints`]). The stop's `at` estimates where.
+    ChangePoint {
+        /// The last sample before the point.
+        from: f64,
+        /// The first value past it.
+        to: f64,
+    },
+    /// Φ_u is singular at the stop's `at` ([`Error::Singular`]): a
+    /// dead-centre or toggle position met exactly, or a model whose
+    /// equations do not fix the unknowns there.
+    Singular(Error),
+    /// The mechanism does not assemble at `at`: Newton–Raphson did not
+    /// converge, or a block has no real solution at the first sample.
+    NotAssembled(Error),
+    /// An input is invalid: options, parameters, the range, a non-finite
+    /// value.
+    Invalid(Error),
+}
+
+impl StopReason {
+    fn from_error(e: Error) -> Self {
+        match e {
+            Error::Singular { .. } => Self::Singular(e),
+            Error::InvalidParameter { .. }
+            | Error::InvalidOption { .. }
+            | Error::NonFinite { .. } => Self::Invalid(e),
+            _ => Self::NotAssembled(e),
+        }
+    }
+
+    /// The error behind the stop, when there is one.
+    #[must_use]
+    pub fn error(&self) -> Option<&Error> {
+        match self {
+            Self::Singular(e) | Self::NotAssembled(e) | Self::Invalid(e) => Some(e),
+            Self::LimitPosition { .. } | Self::ChangePoint { .. } => None,
+        }
+    }
+}
+
+/// Where and why a sweep stopped before its end.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -60,182 +314,308 @@ pub struct Sample<M: Mechanism> {
 /// #         params   { a, b }
 /// #         drivers  { phi }
 /// #         unknowns { th, x }
-/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
-/// #         loops    { B + polar(b, th) == C; }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
 /// #     }
 /// # }
-/// use kinematics_core::{sweep::sweep, Options};
+/// use kinematics_core::sweep::StopReason;
 /// // a > b: the rod cannot follow the crank past sin φ = b / a.
 /// let m = SliderCrank { a: 0.3, b: 0.2 };
-/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.5 };
-/// let s = sweep(&m, &start, 0, 0.0, 1.5, 150, 1.0, 0.0, &Options::DEFAULT);
-/// let stop = s.stop.expect("stops before 1.5 rad");
-/// assert!(stop.at > 0.6 && stop.at < 0.8); // asin(2/3) = 0.73
+/// let start = m.assemble(&SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.5 })?;
+/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(360).run();
+/// let stop = s.stop.expect("stops at the limit position");
+/// assert!(matches!(stop.reason, StopReason::LimitPosition { .. }));
+/// assert!((stop.at - (0.2f64 / 0.3).asin()).abs() < 1e-10);
+/// # Ok::<(), kinematics_core::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stop {
-    /// Value of the swept driver (or the time) at which it could not go on.
+    /// Name of the swept driver, or "t" for a simulation.
+    pub variable: &'static str,
+    /// Value of the swept driver (or the time) at which it stopped.
     pub at: f64,
-    /// The reason.
-    pub reason: Error,
+    /// Why.
+    pub reason: StopReason,
 }
 
+impl fmt::Display for Stop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (v, at) = (self.variable, self.at);
+        match &self.reason {
+            StopReason::LimitPosition { unknowns } => write!(
+                f,
+                "limit position at {v} = {at}: past it the links of ({unknowns}) cannot close \
+                 the loop; sweep a range inside the limits, or choose a linkage whose driver \
+                 turns fully"
+            ),
+            StopReason::ChangePoint { from, to } => write!(
+                f,
+                "change point near {v} = {at} (between {from} and {to}): two assembly branches \
+                 meet there; continue with `.change_points(ChangePoints::Smooth)` or `Switch` \
+                 to say which branch to follow"
+            ),
+            StopReason::Singular(e) | StopReason::NotAssembled(e) | StopReason::Invalid(e) => {
+                write!(f, "at {v} = {at}: {e}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for Stop {}
+
 /// The samples of a sweep, and how it ended.
-///
-/// ```
-/// # use kinematics_core::mechanism;
-/// # mechanism! {
-/// #     /// Slider-crank.
-/// #     pub struct SliderCrank {
-/// #         params   { a, b }
-/// #         drivers  { phi }
-/// #         unknowns { th, x }
-/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
-/// #         loops    { B + polar(b, th) == C; }
-/// #     }
-/// # }
-/// # use kinematics_core::{sweep::sweep, Options};
-/// # let m = SliderCrank { a: 0.1, b: 0.3 };
-/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 6.0, 0.0, &Options::DEFAULT);
-/// assert_eq!((s.variable, s.samples.len()), ("phi", 361));
-/// assert!(s.stop.is_none());
-/// ```
 #[derive(Debug, Clone)]
 pub struct Sweep<M: Mechanism> {
     /// Name of the swept driver, or "t" for a simulation.
     pub variable: &'static str,
+    /// The kind of the swept driver (a time is reported as a length-like
+    /// plain value).
+    pub kind: Kind,
     /// The samples, in order.
     pub samples: Vec<Sample<M>>,
+    /// The change points passed on the branch chosen by [`ChangePoints`]
+    /// (estimates of the driver value of each).
+    pub change_points: Vec<f64>,
     /// `Some` when the sweep stopped early.
     pub stop: Option<Stop>,
 }
 
-/// Sweeps driver `driver` (index among the drivers) from `from` to `to` in
-/// `steps` equal steps, the other drivers held at their values in `start`
-/// (at rest), with the swept driver's rate d' = `rate` and acceleration
-/// d'' = `acceleration` at every sample. `start` gives the first pose's
-/// guess. A `driver` that is not the index of a driver gives no samples and
-/// a [`Stop`] with [`Error::InvalidOption`].
+// ───────────────────────── the builders ─────────────────────────
+
+/// The range of a sweep, as given.
+#[derive(Debug, Clone, Copy)]
+enum End {
+    /// Not given: one turn for an angle, an error for a length.
+    Default,
+    To(f64),
+    /// Whole turns from the start (the end, equal to the start, left out).
+    Turns(f64),
+}
+
+/// A sweep of one driver, built by the mechanism's `sweep(driver, start)`:
+/// the other drivers stay at their values in `start`, at rest.
 ///
-/// ```
-/// use kinematics_core::{mechanism, sweep::sweep, Options};
-/// mechanism! {
-///     /// A slider-crank.
-///     pub struct SliderCrank {
-///         params { a, b }
-///         drivers { phi }
-///         unknowns { th, x }
-///         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
-///     }
-/// }
-/// let m = SliderCrank { a: 0.1, b: 0.3 };
-/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 10.0, 0.0, &Options::DEFAULT);
-/// assert!(s.stop.is_none() && s.samples.len() == 361);
-/// assert_eq!(s.is_periodic(1e-9), Some(true));
-/// ```
-#[allow(clippy::too_many_arguments)]
-pub fn sweep<M: Mechanism>(
-    m: &M,
-    start: &M::Coords,
-    driver: usize,
-    from: f64,
-    to: f64,
+/// | method | meaning | default |
+/// |---|---|---|
+/// | [`from`](Self::from), [`to`](Self::to) | range, in rad or length units | from the start's value; one turn for an angle |
+/// | [`from_deg`](SweepBuilder::from_deg), [`to_deg`](SweepBuilder::to_deg) | range in degrees (angles only) | |
+/// | [`turn`](SweepBuilder::turn), [`turns`](SweepBuilder::turns) | whole turns, the end (the start again) left out | |
+/// | [`steps`](Self::steps) | equal steps: `n + 1` samples with both ends, `n` for turns | 360 |
+/// | [`rate`](Self::rate), [`acceleration`](Self::acceleration) | d' and d'' at every sample | 1 and 0 |
+/// | [`rpm`](SweepBuilder::rpm), [`deg_per_s`](SweepBuilder::deg_per_s) | the rate in rev/min or °/s (angles only) | |
+/// | [`options`](Self::options) | solver options | [`Options::DEFAULT`] |
+/// | [`wrap`](Self::wrap) | how output angles are reported | [`Wrap::Continuous`] |
+/// | [`change_points`](Self::change_points) | stop at a change point, or the branch to follow | [`ChangePoints::Stop`] |
+///
+/// With the default rate of 1 (rad/s or length unit per second), the
+/// rates are the derivatives with respect to the driver (velocity
+/// coefficients), and the accelerations the second derivatives.
+///
+/// [`run`](Self::run) collects the samples into a [`Sweep`]; iterating
+/// the builder streams them (an item per sample, then the stop as an
+/// `Err`), with no allocation per sample.
+#[derive(Debug, Clone)]
+#[must_use = "a sweep does nothing until it is run or iterated"]
+pub struct SweepBuilder<'m, M: Mechanism, U> {
+    m: &'m M,
+    driver: Driver<M, U>,
+    start: M::Coords,
+    from: Option<f64>,
+    end: End,
     steps: usize,
     rate: f64,
     acceleration: f64,
-    options: &Options,
-) -> Sweep<M> {
-    if driver >= M::DRIVERS {
-        return Sweep {
-            variable: "?",
-            samples: Vec::new(),
-            stop: Some(Stop {
-                at: from,
-                reason: Error::InvalidOption {
-                    name: "driver",
-                    #[allow(clippy::cast_precision_loss)]
-                    value: driver as f64,
-                    requirement: "must be the index of a driver, from 0 to DRIVERS − 1 in \
-                                  declaration order",
-                },
-            }),
-        };
-    }
-    let variable = M::COORDINATES.get(driver).map_or("?", |c| c.name);
-    let steps = steps.max(1);
-    #[allow(clippy::cast_precision_loss)]
-    let value = |k: usize| from + (to - from) * (k as f64) / (steps as f64);
-    let drive = |pose: &mut M::Coords, v: f64, rates: &mut [f64], accels: &mut [f64]| {
-        pose.set(driver, v);
-        if let (Some(r), Some(a)) = (rates.get_mut(driver), accels.get_mut(driver)) {
-            *r = rate;
-            *a = acceleration;
-        }
-    };
-    run(
-        m, start, variable, steps, value, drive, driver, rate, options,
-    )
+    options: Options,
+    wrap: Wrap,
+    change_points: ChangePoints,
 }
 
-/// Simulates the motion at the times `times` with the drivers following a
-/// profile: `profile(t, d, d', d'')` writes the drivers' values, rates and
-/// accelerations at time t (see [`constant_speed`] and
-/// [`constant_acceleration`] for the common cases, which drive the first
-/// driver). A driver the profile does not write keeps its value in `start`,
-/// at rest (d' = d'' = 0).
-///
-/// ```
-/// use kinematics_core::{mechanism, sweep::{simulate, constant_acceleration}, Options};
-/// mechanism! {
-///     /// A slider-crank.
-///     pub struct SliderCrank {
-///         params { a, b }
-///         drivers { phi }
-///         unknowns { th, x }
-///         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
-///     }
-/// }
-/// let m = SliderCrank { a: 0.1, b: 0.3 };
-/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let times: Vec<f64> = (0..=100).map(|k| f64::from(k) * 0.01).collect();
-/// // The crank starts from rest with φ'' = 20 rad/s².
-/// let s = simulate(&m, &start, &times, constant_acceleration(0.0, 0.0, 20.0), &Options::DEFAULT);
-/// assert!(s.stop.is_none());
-/// let last = &s.samples[100].motion;
-/// assert!((last.qd.phi - 20.0).abs() < 1e-12 && (last.q.phi - 10.0).abs() < 1e-12);
-/// ```
-pub fn simulate<M: Mechanism>(
-    m: &M,
-    start: &M::Coords,
-    times: &[f64],
-    mut profile: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
-    options: &Options,
-) -> Sweep<M> {
-    let mut d: Vec<f64> = (0..M::DRIVERS)
-        .map(|j| start.get(j).unwrap_or(0.0))
-        .collect();
-    let steps = times.len().saturating_sub(1);
-    let value = |k: usize| times.get(k).copied().unwrap_or(f64::NAN);
-    if times.is_empty() {
-        return Sweep {
-            variable: "t",
-            samples: Vec::new(),
-            stop: None,
-        };
-    }
-    let drive = |pose: &mut M::Coords, t: f64, rates: &mut [f64], accels: &mut [f64]| {
-        profile(t, &mut d, rates, accels);
-        for (j, v) in d.iter().enumerate() {
-            pose.set(j, *v);
+impl<'m, M: Mechanism, U> SweepBuilder<'m, M, U> {
+    /// A sweep of `driver` of `m` from the pose `start` (its drivers, and
+    /// the first guess of its unknowns; any unknowns for a mechanism
+    /// assembled in closed form, where they only pick the assembly mode).
+    pub fn new(m: &'m M, driver: Driver<M, U>, start: &M::Coords) -> Self {
+        Self {
+            m,
+            driver,
+            start: *start,
+            from: None,
+            end: End::Default,
+            steps: 360,
+            rate: 1.0,
+            acceleration: 0.0,
+            options: Options::DEFAULT,
+            wrap: Wrap::Continuous,
+            change_points: ChangePoints::Stop,
         }
-    };
-    run(m, start, "t", steps, value, drive, usize::MAX, 0.0, options)
+    }
+
+    /// The first value of the driver (rad or length unit); by default, its
+    /// value in the start pose.
+    pub fn from(mut self, value: f64) -> Self {
+        self.from = Some(value);
+        self
+    }
+
+    /// The last value of the driver (rad or length unit), included.
+    pub fn to(mut self, value: f64) -> Self {
+        self.end = End::To(value);
+        self
+    }
+
+    /// The number of equal steps (at least 1).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.steps = steps;
+        self
+    }
+
+    /// The driver's rate d' (rad/s or length unit per second) at every
+    /// sample.
+    pub fn rate(mut self, rate: f64) -> Self {
+        self.rate = rate;
+        self
+    }
+
+    /// The driver's acceleration d'' (rad/s² or length unit per s²) at
+    /// every sample.
+    pub fn acceleration(mut self, acceleration: f64) -> Self {
+        self.acceleration = acceleration;
+        self
+    }
+
+    /// The solver options.
+    pub fn options(mut self, options: &Options) -> Self {
+        self.options = *options;
+        self
+    }
+
+    /// How output angles are reported.
+    pub fn wrap(mut self, wrap: Wrap) -> Self {
+        self.wrap = wrap;
+        self
+    }
+
+    /// What to do at a change point.
+    pub fn change_points(mut self, change_points: ChangePoints) -> Self {
+        self.change_points = change_points;
+        self
+    }
+
+    /// Runs the sweep, collecting its samples.
+    pub fn run(self) -> Sweep<M> {
+        let kind = M::COORDINATES
+            .get(self.driver.index)
+            .map_or(Kind::Length, |c| c.kind);
+        collect(self.into_iter(), kind)
+    }
+
+    /// The range [from, to], the number of samples and whether the end is
+    /// left out; an error for a length driver with no end.
+    fn grid(&self) -> Result<Grid, Error> {
+        let from = self
+            .from
+            .or_else(|| self.start.get(self.driver.index))
+            .unwrap_or(f64::NAN);
+        let steps = self.steps.max(1);
+        let kind = M::COORDINATES
+            .get(self.driver.index)
+            .map_or(Kind::Length, |c| c.kind);
+        let (to, count) = match self.end {
+            End::To(to) => (to, steps + 1),
+            End::Turns(n) => (from + TAU * n, steps),
+            End::Default if kind == Kind::Angle => (from + TAU, steps),
+            End::Default => {
+                return Err(Error::InvalidOption {
+                    name: "to",
+                    value: f64::NAN,
+                    requirement: "must be given for a length driver: `.to(value)`",
+                })
+            }
+        };
+        if !(from.is_finite() && to.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "from/to",
+                value: if from.is_finite() { to } else { from },
+                requirement: "must be finite",
+            });
+        }
+        Ok(Grid {
+            from,
+            to,
+            steps,
+            count,
+            values: None,
+        })
+    }
 }
 
-/// The first driver turning at constant speed ω from d₀: d = d₀ + ω t,
-/// d' = ω, d'' = 0 (the others keep their start values).
+impl<M: Mechanism> SweepBuilder<'_, M, Angle> {
+    /// The first value of the driver, in degrees.
+    pub fn from_deg(self, degrees: f64) -> Self {
+        self.from(degrees.to_radians())
+    }
+
+    /// The last value of the driver, in degrees, included.
+    pub fn to_deg(self, degrees: f64) -> Self {
+        self.to(degrees.to_radians())
+    }
+
+    /// One full turn from the first value; with `steps(n)`, n samples 360°/n
+    /// apart (the end, the start again, left out).
+    pub fn turn(self) -> Self {
+        self.turns(1.0)
+    }
+
+    /// `n` full turns (negative: clockwise) from the first value, the end
+    /// left out.
+    pub fn turns(mut self, n: f64) -> Self {
+        self.end = End::Turns(n);
+        self
+    }
+
+    /// The driver's rate, in revolutions per minute.
+    pub fn rpm(self, rpm: f64) -> Self {
+        self.rate(rpm * TAU / 60.0)
+    }
+
+    /// The driver's rate, in degrees per second.
+    pub fn deg_per_s(self, rate: f64) -> Self {
+        self.rate(rate.to_radians())
+    }
+
+    /// The driver's acceleration, in degrees per second².
+    pub fn deg_per_s2(self, acceleration: f64) -> Self {
+        self.acceleration(acceleration.to_radians())
+    }
+}
+
+impl<'m, M: Mechanism, U> IntoIterator for SweepBuilder<'m, M, U> {
+    type Item = Result<Sample<M>, Stop>;
+    type IntoIter = SweepIter<'m, M, SweepDrive>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        let grid = self.grid();
+        let index = self.driver.index;
+        let drive = SweepDrive {
+            driver: index,
+            rate: self.rate,
+            acceleration: self.acceleration,
+        };
+        SweepIter::new(
+            self.m,
+            &self.start,
+            self.driver.name,
+            grid,
+            drive,
+            &self.options,
+            self.wrap,
+            self.change_points,
+        )
+    }
+}
+
+/// A simulation in time, built by the mechanism's `simulate(start)`: the
+/// drivers follow a profile of time (by default they stay at rest at their
+/// values in `start`).
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -245,191 +625,1058 @@ pub fn simulate<M: Mechanism>(
 /// #         params   { a, b }
 /// #         drivers  { phi }
 /// #         unknowns { th, x }
-/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
-/// #         loops    { B + polar(b, th) == C; }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
 /// #     }
 /// # }
-/// # use kinematics_core::{sweep::sweep, Options};
-/// # let m = SliderCrank { a: 0.1, b: 0.3 };
-/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// use kinematics_core::sweep::{constant_speed, simulate};
-/// let times: Vec<f64> = (0..=10).map(|k| f64::from(k) * 0.01).collect();
-/// let s = simulate(&m, &start, &times, constant_speed(0.0, 6.0), &Options::DEFAULT);
-/// assert!((s.samples[10].motion.q.phi - 0.6).abs() < 1e-15);
+/// use kinematics_core::sweep::constant_acceleration;
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// // The crank starts from rest with φ'' = 20 rad/s², for one second.
+/// let s = m
+///     .simulate(&start)
+///     .duration(1.0)
+///     .steps(100)
+///     .profile(constant_acceleration(SliderCrank::PHI, 0.0, 0.0, 20.0))
+///     .run();
+/// let last = &s.samples[100].motion;
+/// assert!((last.qd.phi - 20.0).abs() < 1e-12 && (last.q.phi - 10.0).abs() < 1e-12);
 /// ```
-pub fn constant_speed(d0: f64, speed: f64) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
-    constant_acceleration(d0, speed, 0.0)
+#[derive(Debug, Clone)]
+#[must_use = "a simulation does nothing until it is run or iterated"]
+pub struct Simulation<'m, M: Mechanism, P> {
+    m: &'m M,
+    start: M::Coords,
+    duration: f64,
+    steps: usize,
+    times: Option<Vec<f64>>,
+    profile: P,
+    options: Options,
+    wrap: Wrap,
+    change_points: ChangePoints,
 }
 
-/// The first driver with constant acceleration: d = d₀ + ω₀ t + ½ α t²,
-/// d' = ω₀ + α t, d'' = α (the others keep their start values).
-///
-/// ```
-/// use kinematics_core::sweep::constant_acceleration;
-/// let mut profile = constant_acceleration(0.0, 1.0, 2.0);
-/// let (mut d, mut dd, mut ddd) = ([0.0], [0.0], [0.0]);
-/// profile(3.0, &mut d, &mut dd, &mut ddd);
-/// assert_eq!((d[0], dd[0], ddd[0]), (12.0, 7.0, 2.0));
-/// ```
-pub fn constant_acceleration(
-    d0: f64,
-    speed: f64,
-    acceleration: f64,
-) -> impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]) {
-    move |t, d, dd, ddd| {
-        if let (Some(d), Some(dd), Some(ddd)) = (d.first_mut(), dd.first_mut(), ddd.first_mut()) {
-            *d = d0 + speed * t + 0.5 * acceleration * t * t;
-            *dd = speed + acceleration * t;
-            *ddd = acceleration;
+/// The profile of a simulation whose drivers stay at rest.
+#[derive(Debug, Clone, Copy)]
+pub struct AtRest;
+
+/// A time profile of the drivers: at time `t`, writes the drivers' values,
+/// rates and accelerations into `q`, `qd` and `qdd` (the mechanism's
+/// coordinates; only the drivers' fields are read). Implemented by every
+/// `FnMut(f64, &mut Coords, &mut Coords, &mut Coords)`.
+pub trait Profile<C> {
+    /// The drivers at time `t`.
+    fn at(&mut self, t: f64, q: &mut C, qd: &mut C, qdd: &mut C);
+}
+
+impl<C> Profile<C> for AtRest {
+    fn at(&mut self, _t: f64, _q: &mut C, _qd: &mut C, _qdd: &mut C) {}
+}
+
+impl<C, F: FnMut(f64, &mut C, &mut C, &mut C)> Profile<C> for F {
+    fn at(&mut self, t: f64, q: &mut C, qd: &mut C, qdd: &mut C) {
+        self(t, q, qd, qdd);
+    }
+}
+
+impl<'m, M: Mechanism> Simulation<'m, M, AtRest> {
+    /// A simulation of `m` from the pose `start`, the drivers at rest until
+    /// a [`profile`](Self::profile) is given; one second in 100 steps by
+    /// default.
+    pub fn new(m: &'m M, start: &M::Coords) -> Self {
+        Self {
+            m,
+            start: *start,
+            duration: 1.0,
+            steps: 100,
+            times: None,
+            profile: AtRest,
+            options: Options::DEFAULT,
+            wrap: Wrap::Continuous,
+            change_points: ChangePoints::Stop,
         }
     }
 }
 
-/// The common loop: at sample k, `drive` sets the drivers of the guess for
-/// the value `value(k)` and returns their rates and accelerations.
-#[allow(clippy::too_many_arguments)]
-fn run<M: Mechanism>(
-    m: &M,
-    start: &M::Coords,
-    variable: &'static str,
+impl<'m, M: Mechanism, P: Profile<M::Coords>> Simulation<'m, M, P> {
+    /// The drivers' motion: `profile(t, q, qd, qdd)` writes the drivers'
+    /// values, rates and accelerations at time t (see [`constant_speed`]
+    /// and [`constant_acceleration`]). A driver it does not write keeps its
+    /// start value, at rest.
+    pub fn profile<Q: Profile<M::Coords>>(self, profile: Q) -> Simulation<'m, M, Q> {
+        Simulation {
+            m: self.m,
+            start: self.start,
+            duration: self.duration,
+            steps: self.steps,
+            times: self.times,
+            profile,
+            options: self.options,
+            wrap: self.wrap,
+            change_points: self.change_points,
+        }
+    }
+
+    /// The simulated time, from t = 0 (seconds).
+    pub fn duration(mut self, seconds: f64) -> Self {
+        self.duration = seconds;
+        self
+    }
+
+    /// The number of equal time steps (`steps + 1` samples).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.steps = steps;
+        self
+    }
+
+    /// The instants to sample instead of equal steps (seconds, increasing;
+    /// the first is the start pose's instant).
+    pub fn times(mut self, times: &[f64]) -> Self {
+        self.times = Some(times.to_vec());
+        self
+    }
+
+    /// The solver options.
+    pub fn options(mut self, options: &Options) -> Self {
+        self.options = *options;
+        self
+    }
+
+    /// How output angles are reported.
+    pub fn wrap(mut self, wrap: Wrap) -> Self {
+        self.wrap = wrap;
+        self
+    }
+
+    /// What to do at a change point.
+    pub fn change_points(mut self, change_points: ChangePoints) -> Self {
+        self.change_points = change_points;
+        self
+    }
+
+    /// Runs the simulation, collecting its samples.
+    pub fn run(self) -> Sweep<M> {
+        collect(self.into_iter(), Kind::Length)
+    }
+}
+
+impl<'m, M: Mechanism, P: Profile<M::Coords>> IntoIterator for Simulation<'m, M, P> {
+    type Item = Result<Sample<M>, Stop>;
+    type IntoIter = SweepIter<'m, M, TimeDrive<M::Coords, P>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        let grid = if let Some(times) = self.times {
+            if times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]) {
+                Ok(Grid {
+                    from: times.first().copied().unwrap_or(0.0),
+                    to: times.last().copied().unwrap_or(0.0),
+                    steps: times.len().saturating_sub(1).max(1),
+                    count: times.len(),
+                    values: Some(times),
+                })
+            } else {
+                Err(Error::InvalidOption {
+                    name: "times",
+                    value: f64::NAN,
+                    requirement: "must be finite and increasing",
+                })
+            }
+        } else if self.duration.is_finite() && self.duration > 0.0 {
+            Ok(Grid {
+                from: 0.0,
+                to: self.duration,
+                steps: self.steps.max(1),
+                count: self.steps.max(1) + 1,
+                values: None,
+            })
+        } else {
+            Err(Error::InvalidOption {
+                name: "duration",
+                value: self.duration,
+                requirement: "must be positive and finite (seconds)",
+            })
+        };
+        let drive = TimeDrive {
+            start: self.start,
+            profile: self.profile,
+        };
+        SweepIter::new(
+            self.m,
+            &self.start,
+            "t",
+            grid,
+            drive,
+            &self.options,
+            self.wrap,
+            self.change_points,
+        )
+    }
+}
+
+/// The profile of driver `driver` turning (or sliding) at constant speed
+/// from `from`: d = d₀ + ω t, d' = ω, d'' = 0; the other drivers keep their
+/// values, at rest.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+/// #     }
+/// # }
+/// use kinematics_core::sweep::constant_speed;
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = m.simulate(&start).duration(0.1).steps(10)
+///     .profile(constant_speed(SliderCrank::PHI, 0.0, 6.0))
+///     .run();
+/// assert!((s.samples[10].motion.q.phi - 0.6).abs() < 1e-15);
+/// ```
+pub fn constant_speed<M: Mechanism, U>(
+    driver: Driver<M, U>,
+    from: f64,
+    speed: f64,
+) -> impl FnMut(f64, &mut M::Coords, &mut M::Coords, &mut M::Coords) {
+    constant_acceleration(driver, from, speed, 0.0)
+}
+
+/// The profile of driver `driver` with constant acceleration from `from`:
+/// d = d₀ + ω₀ t + ½ α t², d' = ω₀ + α t, d'' = α.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+/// #     }
+/// # }
+/// use kinematics_core::sweep::constant_acceleration;
+/// let mut profile = constant_acceleration(SliderCrank::PHI, 0.0, 1.0, 2.0);
+/// let (mut q, mut qd, mut qdd) = Default::default();
+/// profile(3.0, &mut q, &mut qd, &mut qdd);
+/// assert_eq!((q.phi, qd.phi, qdd.phi), (12.0, 7.0, 2.0));
+/// # let _: (SliderCrankCoords, SliderCrankCoords, SliderCrankCoords) = (q, qd, qdd);
+/// ```
+pub fn constant_acceleration<M: Mechanism, U>(
+    driver: Driver<M, U>,
+    from: f64,
+    speed: f64,
+    acceleration: f64,
+) -> impl FnMut(f64, &mut M::Coords, &mut M::Coords, &mut M::Coords) {
+    let j = driver.index;
+    move |t, q, qd, qdd| {
+        q.set(j, from + speed * t + 0.5 * acceleration * t * t);
+        qd.set(j, speed + acceleration * t);
+        qdd.set(j, acceleration);
+    }
+}
+
+// ───────────────────────── the engine ─────────────────────────
+
+/// Equally spaced values, `count` of them from `from` by (to − from)/steps;
+/// or the given `values`.
+#[derive(Debug, Clone)]
+struct Grid {
+    from: f64,
+    to: f64,
     steps: usize,
-    value: impl Fn(usize) -> f64,
-    mut drive: impl FnMut(&mut M::Coords, f64, &mut [f64], &mut [f64]),
-    swept: usize,
+    count: usize,
+    values: Option<Vec<f64>>,
+}
+
+impl Grid {
+    #[allow(clippy::cast_precision_loss)]
+    #[inline]
+    fn at(&self, k: usize) -> f64 {
+        if let Some(v) = &self.values {
+            return v.get(k).copied().unwrap_or(f64::NAN);
+        }
+        if k == self.steps {
+            self.to
+        } else {
+            // Through i64: one conversion instruction (the counts are far
+            // below 2⁶³).
+            #[allow(clippy::cast_possible_wrap)]
+            let (k, n) = (k as i64 as f64, self.steps as i64 as f64);
+            self.from + (self.to - self.from) * k / n
+        }
+    }
+}
+
+/// How the drivers follow the sweep variable.
+pub trait Drive<M: Mechanism> {
+    /// Sets the drivers of `pose` for the value `at` of the sweep variable,
+    /// and their rates and accelerations.
+    fn drive(&mut self, at: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]);
+    /// The rate of the sweep variable (for the predictor): the swept
+    /// driver's d', or 1 for the time.
+    fn variable_rate(&self) -> f64;
+}
+
+/// One driver swept at a constant rate (see [`SweepBuilder`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SweepDrive {
+    driver: usize,
     rate: f64,
-    options: &Options,
-) -> Sweep<M> {
-    let nd = M::DRIVERS;
-    let nq = nd + M::UNKNOWNS;
-    let mut samples: Vec<Sample<M>> = Vec::with_capacity(steps + 1);
-    let mut rates = vec![0.0; nd];
-    let mut accels = vec![0.0; nd];
-    let mut previous: Option<(M::Coords, M::Coords, f64, f64)> = None; // pose, rates, at, det sign
-                                                                       // The stepper's state: options and parameters checked once, the modes
-                                                                       // and the sines and cosines of each pose carried to the next.
-    let mut state = match m.step_state(options) {
-        Ok(state) => state,
-        Err(reason) => {
-            return Sweep {
-                variable,
-                samples,
-                stop: Some(Stop {
-                    at: value(0),
-                    reason,
-                }),
+    acceleration: f64,
+}
+
+impl<M: Mechanism> Drive<M> for SweepDrive {
+    #[inline]
+    fn drive(&mut self, at: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]) {
+        pose.set(self.driver, at);
+        if let (Some(r), Some(a)) = (rates.get_mut(self.driver), accels.get_mut(self.driver)) {
+            *r = self.rate;
+            *a = self.acceleration;
+        }
+    }
+
+    fn variable_rate(&self) -> f64 {
+        self.rate
+    }
+}
+
+/// The drivers following a time profile (see [`Simulation`]).
+#[derive(Debug, Clone)]
+pub struct TimeDrive<C, P> {
+    start: C,
+    profile: P,
+}
+
+impl<M: Mechanism, P: Profile<M::Coords>> Drive<M> for TimeDrive<M::Coords, P> {
+    fn drive(&mut self, t: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]) {
+        let (mut q, mut qd, mut qdd) = (self.start, M::Coords::default(), M::Coords::default());
+        self.profile.at(t, &mut q, &mut qd, &mut qdd);
+        for j in 0..M::DRIVERS {
+            pose.set(j, q.get(j).unwrap_or(f64::NAN));
+            if let (Some(r), Some(a)) = (rates.get_mut(j), accels.get_mut(j)) {
+                *r = qd.get(j).unwrap_or(0.0);
+                *a = qdd.get(j).unwrap_or(0.0);
             }
         }
-    };
-    for k in 0..=steps {
-        let at = value(k);
-        let mut guess = previous.as_ref().map_or(*start, |(pose, _, _, _)| *pose);
-        drive(&mut guess, at, &mut rates, &mut accels);
-        // Predictor: u + (du/dd) Δd along the swept driver (or the time).
-        if let Some((pose, qd, prev_at, _)) = &previous {
-            let delta = at - prev_at;
-            let scale = if swept == usize::MAX {
-                delta
-            } else if rate != 0.0 {
-                delta / rate
-            } else {
-                0.0
-            };
-            for j in nd..nq {
-                if let (Some(u), Some(ud)) = (pose.get(j), qd.get(j)) {
-                    guess.set(j, u + ud * scale);
+    }
+
+    fn variable_rate(&self) -> f64 {
+        1.0
+    }
+}
+
+/// A branch tried past a change point: its distance from the extrapolated
+/// pose, its sample and its step state.
+type Candidate<M> = (f64, Sample<M>, <M as Mechanism>::StepState);
+
+/// What the sweep keeps of an accepted sample: for the predictor, the
+/// change-point tests and the extrapolation past a change point.
+struct Head<C> {
+    at: f64,
+    q: C,
+    qd: C,
+    conditioning: f64,
+    det_sign: f64,
+}
+
+impl<C: Copy> Clone for Head<C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C: Copy> Copy for Head<C> {}
+
+/// A sweep or simulation in progress: an iterator over its samples (each
+/// `Ok`), ending with the stop (an `Err`) if it stops early. Made by
+/// iterating a [`SweepBuilder`] or a [`Simulation`]; allocates nothing per
+/// sample.
+///
+/// A sample that may lie past a change point (Φ_u's conditioning falling
+/// fast towards zero) is held back until the next one is solved, so that a
+/// sample on the wrong side of a change point is never handed out.
+pub struct SweepIter<'m, M: Mechanism, D> {
+    m: &'m M,
+    drive: D,
+    options: Options,
+    grid: Grid,
+    wrap: Wrap,
+    change_points: ChangePoints,
+    variable: &'static str,
+    state: Option<M::StepState>,
+    /// The next grid index to solve.
+    k: usize,
+    rates: Vec<f64>,
+    accels: Vec<f64>,
+    /// The newest accepted sample.
+    head: Option<Head<M::Coords>>,
+    /// The two accepted before it, oldest first: value, pose, conditioning.
+    older: [Option<(f64, M::Coords, f64)>; 2],
+    /// The newest sample, when it is held back.
+    held: Option<Sample<M>>,
+    /// Items ready to hand out before anything else.
+    out: VecDeque<Result<Sample<M>, Stop>>,
+    /// The change points passed.
+    passed: Vec<f64>,
+    done: bool,
+}
+
+impl<M: Mechanism, D: fmt::Debug> fmt::Debug for SweepIter<'_, M, D> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("SweepIter")
+            .field("variable", &self.variable)
+            .field("next", &self.k)
+            .field("of", &self.grid.count)
+            .field("drive", &self.drive)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        m: &'m M,
+        start: &M::Coords,
+        variable: &'static str,
+        grid: Result<Grid, Error>,
+        drive: D,
+        options: &Options,
+        wrap: Wrap,
+        change_points: ChangePoints,
+    ) -> Self {
+        let mut it = Self {
+            m,
+            drive,
+            options: *options,
+            grid: Grid {
+                from: 0.0,
+                to: 0.0,
+                steps: 1,
+                count: 0,
+                values: None,
+            },
+            wrap,
+            change_points,
+            variable,
+            state: None,
+            k: 0,
+            rates: vec![0.0; M::DRIVERS],
+            accels: vec![0.0; M::DRIVERS],
+            head: None,
+            older: [None, None],
+            held: None,
+            out: VecDeque::with_capacity(2),
+            passed: Vec::new(),
+            done: false,
+        };
+        let checked = grid.and_then(|g| Ok((g, m.step_state(options)?)));
+        match checked {
+            Ok((grid, state)) => {
+                it.grid = grid;
+                it.state = Some(state);
+                if it.grid.count == 0 {
+                    it.done = true;
+                } else {
+                    it.first(start);
+                }
+            }
+            Err(e) => it.finish(f64::NAN, StopReason::from_error(e)),
+        }
+        it
+    }
+
+    /// The change points passed so far.
+    #[must_use]
+    pub fn change_points(&self) -> &[f64] {
+        &self.passed
+    }
+
+    fn finish(&mut self, at: f64, reason: StopReason) {
+        self.out.push_back(Err(Stop {
+            variable: self.variable,
+            at,
+            reason,
+        }));
+        self.held = None;
+        self.done = true;
+    }
+
+    /// Solves grid sample `k` from `guess` (its drivers set here) with
+    /// `state`, off the hot path.
+    fn solve(
+        &mut self,
+        k: usize,
+        guess: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<Sample<M>, Error> {
+        let at = self.grid.at(k);
+        let mut pose = *guess;
+        self.drive
+            .drive(at, &mut pose, &mut self.rates, &mut self.accels);
+        let motion = self
+            .m
+            .step_carried(&pose, &self.rates, &self.accels, state)?;
+        Ok(Sample { at, motion })
+    }
+
+    /// The first sample, from `start`: handed out as it is.
+    fn first(&mut self, start: &M::Coords) {
+        let Some(mut state) = self.state.take() else {
+            return;
+        };
+        match self.solve(0, start, &mut state) {
+            Ok(s) => {
+                self.push_head(&s);
+                let s = self.wrapped(s);
+                self.out.push_back(Ok(s));
+                self.k = 1;
+            }
+            Err(e) => {
+                let at = self.grid.at(0);
+                self.finish(at, StopReason::from_error(e));
+            }
+        }
+        self.state = Some(state);
+    }
+
+    /// Makes `s` the newest accepted sample.
+    #[inline(always)]
+    fn push_head(&mut self, s: &Sample<M>) {
+        if let Some(h) = &self.head {
+            self.older = [self.older[1], Some((h.at, h.q, h.conditioning))];
+        }
+        self.head = Some(Head {
+            at: s.at,
+            q: *s.motion.q(),
+            qd: *s.motion.qd(),
+            conditioning: s.motion.conditioning(),
+            det_sign: s.motion.det_sign(),
+        });
+    }
+
+    /// The guess at `at`: the newest pose advanced along its rates,
+    /// u + (du/dt)·Δt.
+    #[inline(always)]
+    fn predicted(&self, at: f64) -> M::Coords {
+        let Some(h) = &self.head else {
+            return M::Coords::default();
+        };
+        let mut guess = h.q;
+        let rate = self.drive.variable_rate();
+        if rate != 0.0 && rate.is_finite() {
+            let dt = (at - h.at) / rate;
+            for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+                if let (Some(u), Some(ud)) = (guess.get(j), h.qd.get(j)) {
+                    guess.set(j, u + ud * dt);
                 }
             }
         }
-        let motion = match m.step_carried(&guess, &rates, &accels, &mut state) {
-            Ok(motion) => motion,
-            Err(reason) => {
-                let stop = match (&reason, &previous) {
-                    (Error::CannotAssemble { unknowns, .. }, Some((pose, _, prev_at, _))) => {
-                        let limit = limit_position(m, pose, *prev_at, at, &mut drive, options);
-                        Stop {
-                            at: limit,
-                            reason: Error::LimitPosition {
-                                variable,
-                                at: limit,
-                                unknowns,
-                            },
-                        }
+        guess
+    }
+
+    /// A sample as handed out: its angles wrapped as asked.
+    #[inline(always)]
+    fn wrapped(&self, mut s: Sample<M>) -> Sample<M> {
+        if self.wrap != Wrap::Continuous {
+            let q = s.motion.q_mut();
+            for (j, c) in M::COORDINATES.iter().enumerate() {
+                if c.kind == Kind::Angle {
+                    if let Some(v) = q.get(j) {
+                        q.set(j, self.wrap.apply(v));
                     }
-                    _ => Stop { at, reason },
-                };
-                return Sweep {
-                    variable,
-                    samples,
-                    stop: Some(stop),
-                };
-            }
-        };
-        let pose = *motion.q();
-        let sign = motion.det_sign();
-        if let Some((_, _, prev_at, prev_sign)) = &previous {
-            if sign * prev_sign < 0.0 {
-                return Sweep {
-                    variable,
-                    samples,
-                    stop: Some(Stop {
-                        at,
-                        reason: Error::PassedSingularity {
-                            variable,
-                            from: *prev_at,
-                            to: at,
-                        },
-                    }),
-                };
+                }
             }
         }
-        samples.push(Sample {
-            at,
-            motion,
-            residual: motion.residual(),
-        });
-        previous = Some((pose, *motion.qd(), at, sign));
+        s
     }
-    Sweep {
-        variable,
-        samples,
-        stop: None,
+
+    /// Queues the held sample to be handed out.
+    fn release(&mut self) {
+        if let Some(s) = self.held.take() {
+            let s = self.wrapped(s);
+            self.out.push_back(Ok(s));
+        }
+    }
+
+    /// Solves the next grid sample: the sample to hand out, if one is
+    /// ready.
+    #[inline(always)]
+    fn advance(&mut self) -> Option<Result<Sample<M>, Stop>> {
+        if self.k >= self.grid.count {
+            // The end: the held sample, if any, is before any change point.
+            self.done = true;
+            return self.held.take().map(|s| Ok(self.wrapped(s)));
+        }
+        let k = self.k;
+        let at = self.grid.at(k);
+        let mut pose = self.predicted(at);
+        self.drive
+            .drive(at, &mut pose, &mut self.rates, &mut self.accels);
+        let state = self.state.as_mut()?;
+        let result = self.m.step_carried(&pose, &self.rates, &self.accels, state);
+        match result {
+            Ok(motion) => self.judge(Sample { at, motion }),
+            Err(e) => {
+                self.failed(k, e);
+                None
+            }
+        }
+    }
+
+    /// A new sample `s`: handed out at once unless a change point may be
+    /// near (then the slow path decides).
+    #[inline(always)]
+    fn judge(&mut self, s: Sample<M>) -> Option<Result<Sample<M>, Stop>> {
+        let ordinary = match (&self.head, &self.held) {
+            (Some(h), None) => {
+                // det Φ_u keeps its sign, and the conditioning was not
+                // falling so fast that it could reach zero before `s`.
+                h.det_sign * s.motion.det_sign() > 0.0 && !self.falling_fast(h)
+            }
+            _ => false,
+        };
+        if ordinary {
+            self.k += 1;
+            self.push_head(&s);
+            return Some(Ok(self.wrapped(s)));
+        }
+        self.unusual(s);
+        None
+    }
+
+    /// Whether the conditioning falls so fast at the newest sample `h` that
+    /// it could reach zero before the next: the line through the last two
+    /// values meets zero less than two steps on (and it is below 0.5,
+    /// where a regular pose is of order one).
+    #[inline(always)]
+    fn falling_fast(&self, h: &Head<M::Coords>) -> bool {
+        match &self.older[1] {
+            Some((_, _, c0)) => 1.5 * h.conditioning < *c0 && h.conditioning < 0.5,
+            None => false,
+        }
+    }
+
+    /// A new sample `s` near a possible change point, or after a held one.
+    #[cold]
+    #[inline(never)]
+    fn unusual(&mut self, s: Sample<M>) {
+        let Some(h) = self.head else {
+            self.k += 1;
+            self.push_head(&s);
+            self.out.push_back(Ok(s));
+            return;
+        };
+        let (c1, c2) = (h.conditioning, s.motion.conditioning());
+        if h.det_sign * s.motion.det_sign() < 0.0 {
+            // det Φ_u changed sign between the newest sample and `s`.
+            let at = h.at + (s.at - h.at) * c1 / (c1 + c2);
+            self.release();
+            return self.change_point(at, h.at, s.at);
+        }
+        if self.held.is_some() {
+            // Does the conditioning dip to zero in a V around the held
+            // sample?
+            if let Some((a, _, c0)) = self.older[1] {
+                if let Some(t) = v_zero(c0, c1, c2) {
+                    let at = if t > 0.0 {
+                        h.at + t * (s.at - h.at)
+                    } else {
+                        h.at + t * (h.at - a)
+                    };
+                    // A held sample already at round-off is on the point.
+                    let on_it = c1 < 1e-3 * c0.min(c2);
+                    if on_it || self.singular_at(at, c1) {
+                        if t > 0.0 {
+                            self.release();
+                            return self.change_point(at, h.at, s.at);
+                        }
+                        // The held sample is past the point: dropped,
+                        // never handed out.
+                        self.held = None;
+                        self.head = None;
+                        return self.change_point(at, a, h.at);
+                    }
+                }
+            }
+            self.release();
+        }
+        // `s` accepted; held back if the conditioning was falling fast.
+        self.k += 1;
+        let fast = self.head.is_some_and(|h| self.falling_fast(&h));
+        self.push_head(&s);
+        if fast {
+            self.held = Some(s);
+        } else {
+            let s = self.wrapped(s);
+            self.out.push_back(Ok(s));
+        }
+    }
+
+    /// Sample `k` failed with `e`.
+    #[cold]
+    fn failed(&mut self, k: usize, e: Error) {
+        let at = self.grid.at(k);
+        match e {
+            Error::CannotAssemble { unknowns, .. } => self.no_solution(k, at, unknowns),
+            Error::Singular { .. } if self.change_points != ChangePoints::Stop => {
+                // Exactly at a change point: this sample is left out, and
+                // the branch chosen at the next.
+                self.release();
+                self.cross(at, k + 1);
+            }
+            e @ Error::Singular { .. } => {
+                // A change point met exactly, if the conditioning rises
+                // again past it as it fell before it (a V); else a
+                // singular position.
+                self.release();
+                let before = self.head.map(|h| (h.at, h.conditioning));
+                let after = self.probe(k + 1);
+                let reason = match (before, after) {
+                    (Some((from, c0)), Some((to, c2))) if c2 < 2.0 * c0 && c0 < 2.0 * c2 => {
+                        StopReason::ChangePoint { from, to }
+                    }
+                    _ => StopReason::from_error(e),
+                };
+                self.finish(at, reason);
+            }
+            e => {
+                self.release();
+                self.finish(at, StopReason::from_error(e));
+            }
+        }
+    }
+
+    /// Grid sample `k` solved from the pose extrapolated from the accepted
+    /// samples, with a fresh state: its value and conditioning.
+    fn probe(&mut self, k: usize) -> Option<(f64, f64)> {
+        if k >= self.grid.count {
+            return None;
+        }
+        let target = self.grid.at(k);
+        let guess = extrapolated::<M>(&self.known(), target);
+        let mut state = self.m.step_state(&self.options).ok()?;
+        let s = self.solve(k, &guess, &mut state).ok()?;
+        Some((s.at, s.motion.conditioning()))
+    }
+
+    /// A change point at `at`, between the accepted sample at `from` and
+    /// the value `next`.
+    fn change_point(&mut self, at: f64, from: f64, next: f64) {
+        if self.change_points == ChangePoints::Stop {
+            self.finish(at, StopReason::ChangePoint { from, to: next });
+            return;
+        }
+        let k = self.grid_index_after(at);
+        self.cross(at, k);
+    }
+
+    /// The first grid index whose value is past `at` in the direction of
+    /// the sweep.
+    fn grid_index_after(&self, at: f64) -> usize {
+        let forward = self.grid.to >= self.grid.from;
+        (0..self.grid.count)
+            .find(|&k| {
+                let v = self.grid.at(k);
+                if forward {
+                    v > at
+                } else {
+                    v < at
+                }
+            })
+            .unwrap_or(self.grid.count)
+    }
+
+    /// The accepted poses before a change point, oldest first: (value,
+    /// pose).
+    fn known(&self) -> Vec<(f64, M::Coords)> {
+        let mut known: Vec<(f64, M::Coords)> = self
+            .older
+            .iter()
+            .flatten()
+            .map(|&(a, q, _)| (a, q))
+            .collect();
+        if let Some(h) = &self.head {
+            known.push((h.at, h.q));
+        }
+        known
+    }
+
+    /// Continues past the change point at `at` from grid index `k` (or
+    /// the next that assembles) on the branch `self.change_points` names.
+    fn cross(&mut self, at: f64, k: usize) {
+        self.passed.push(at);
+        let known = self.known();
+        let Ok(fresh) = self.m.step_state(&self.options) else {
+            self.done = true;
+            return;
+        };
+        let mut probe = fresh.clone();
+        let modes = M::step_modes(&mut probe).len();
+        for k in k..(k + 3).min(self.grid.count) {
+            let target = self.grid.at(k);
+            let guess = extrapolated::<M>(&known, target);
+            // Every combination of assembly modes (one, from the guess, for
+            // Newton–Raphson), each from a fresh state, ranked by distance
+            // from the extrapolated pose.
+            let mut best: [Option<Candidate<M>>; 2] = [None, None];
+            for combo in 0..1usize << modes {
+                let mut state = fresh.clone();
+                for (i, m) in M::step_modes(&mut state).iter_mut().enumerate() {
+                    *m = if combo >> i & 1 == 1 { -1.0 } else { 1.0 };
+                }
+                let Ok(s) = self.solve(k, &guess, &mut state) else {
+                    continue;
+                };
+                let d = distance::<M>(&guess, s.motion.q());
+                let entry = Some((d, s, state));
+                if best[0].as_ref().is_none_or(|b| d < b.0) {
+                    best[1] = best[0].take();
+                    best[0] = entry;
+                } else if best[1].as_ref().is_none_or(|b| d < b.0) {
+                    best[1] = entry;
+                }
+            }
+            if best[0].is_none() {
+                // Still at the point: the next grid value.
+                continue;
+            }
+            let chosen = match self.change_points {
+                ChangePoints::Switch => best[1].take(),
+                _ => best[0].take(),
+            };
+            let Some((_, s, state)) = chosen else {
+                let reason = StopReason::Invalid(Error::InvalidOption {
+                    name: "change_points",
+                    value: f64::NAN,
+                    requirement: "must be `Smooth` or `Stop` here: `Switch` needs the block that \
+                                  meets the other branch solved in closed form (see the \
+                                  mechanism's BLOCKS), where both branches are at hand",
+                });
+                self.finish(at, reason);
+                return;
+            };
+            self.state = Some(state);
+            self.older = [None, None];
+            self.head = None;
+            self.push_head(&s);
+            let s = self.wrapped(s);
+            self.out.push_back(Ok(s));
+            self.k = k + 1;
+            return;
+        }
+        let from = known.last().map_or(at, |p| p.0);
+        let to = self.grid.at(k.min(self.grid.count.saturating_sub(1)));
+        self.finish(at, StopReason::ChangePoint { from, to });
+    }
+
+    /// No real solution at grid sample `k` (value `at`): a limit position,
+    /// or a change point where the two solutions touch and round-off makes
+    /// them vanish over a tiny interval.
+    fn no_solution(&mut self, k: usize, at: f64, unknowns: &'static str) {
+        let Some(h) = self.head else {
+            self.finish(at, StopReason::LimitPosition { unknowns });
+            return;
+        };
+        let pose = h.q;
+        let assembles = |it: &mut Self, v: f64| {
+            let mut guess = pose;
+            it.drive.drive(v, &mut guess, &mut it.rates, &mut it.accels);
+            !matches!(
+                it.m.assemble_with(&guess, &it.options),
+                Err(Error::CannotAssemble { .. })
+            )
+        };
+        // The last value that assembles, by bisection.
+        let (mut good, mut bad) = (h.at, at);
+        for _ in 0..200 {
+            let mid = good + 0.5 * (bad - good);
+            if mid == good || mid == bad {
+                break;
+            }
+            if assembles(self, mid) {
+                good = mid;
+            } else {
+                bad = mid;
+            }
+        }
+        // A change point: the mechanism assembles again within a step, the
+        // gap no wider than round-off makes it (1e-6 of the scale).
+        if k + 1 < self.grid.count {
+            let next = self.grid.at(k + 1);
+            if assembles(self, next) {
+                let (mut lo, mut hi) = (at, next);
+                for _ in 0..200 {
+                    let mid = lo + 0.5 * (hi - lo);
+                    if mid == lo || mid == hi {
+                        break;
+                    }
+                    if assembles(self, mid) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                let scale = 1.0 + good.abs().max(hi.abs());
+                if (hi - good).abs() <= 1e-6 * scale {
+                    self.release();
+                    return self.change_point(0.5 * (good + hi), h.at, next);
+                }
+            }
+        }
+        self.release();
+        self.finish(good, StopReason::LimitPosition { unknowns });
     }
 }
 
-/// The limit position between `good` (where the mechanism assembled, at
-/// `pose`) and `bad` (where a closed-form block has no real solution): the
-/// last value that assembles, by bisection to the resolution of `f64`.
-fn limit_position<M: Mechanism>(
-    m: &M,
-    pose: &M::Coords,
-    mut good: f64,
-    mut bad: f64,
-    drive: &mut impl FnMut(&mut M::Coords, f64, &mut [f64], &mut [f64]),
-    options: &Options,
-) -> f64 {
-    let nd = M::DRIVERS;
-    let (mut rates, mut accels) = (vec![0.0; nd], vec![0.0; nd]);
-    for _ in 0..200 {
-        let mid = good + 0.5 * (bad - good);
-        if mid == good || mid == bad {
-            break;
+/// The pose at `target` extrapolated from the `known` poses (up to three:
+/// quadratic in the sweep variable), unknowns only.
+fn extrapolated<M: Mechanism>(known: &[(f64, M::Coords)], target: f64) -> M::Coords {
+    let Some(last) = known.last() else {
+        return M::Coords::default();
+    };
+    let mut guess = last.1;
+    for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+        // Lagrange's polynomial through the known poses.
+        let mut value = 0.0;
+        for (i, (ai, qi)) in known.iter().enumerate() {
+            let mut w = 1.0;
+            for (l, (al, _)) in known.iter().enumerate() {
+                if l != i {
+                    w *= (target - al) / (ai - al);
+                }
+            }
+            value += w * qi.get(j).unwrap_or(f64::NAN);
         }
-        let mut guess = *pose;
-        drive(&mut guess, mid, &mut rates, &mut accels);
-        match m.step_slices(&guess, &rates, &accels, options) {
-            Err(Error::CannotAssemble { .. }) => bad = mid,
-            // Assembled, or assembled at a pose too near the limit for its
-            // velocities (a singular Jacobian): this side of the limit.
-            _ => good = mid,
+        if value.is_finite() {
+            guess.set(j, value);
         }
     }
-    good
+    guess
+}
+
+impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
+    /// Whether Φ_u is singular at `at` (where the conditioning, `c` at the
+    /// nearest sample, extrapolates to zero): its conditioning there below
+    /// a tenth of `c`, or a singular Jacobian. Tells a change point
+    /// from a sharp but regular minimum of the conditioning.
+    #[cold]
+    fn singular_at(&mut self, at: f64, c: f64) -> bool {
+        let known = self.known();
+        let mut guess = extrapolated::<M>(&known, at);
+        self.drive
+            .drive(at, &mut guess, &mut self.rates, &mut self.accels);
+        match self
+            .m
+            .step_slices(&guess, &self.rates, &self.accels, &self.options)
+        {
+            Ok(motion) => motion.conditioning() < 0.1 * c,
+            Err(Error::Singular { .. } | Error::CannotAssemble { .. }) => true,
+            Err(_) => false,
+        }
+    }
+}
+
+/// Where a V-shaped dip of the conditioning c₀, c₁, c₂ (three equally
+/// spaced samples, c₁ the least) reaches zero, as a fraction of a step
+/// from the middle sample, if it is V-shaped: the two samples on one side
+/// and the line through them meeting zero between the middle sample and
+/// the one on the other side, where that line's mirror image passes
+/// within 20 % of it. A minimum of a smooth curve sharper than the steps
+/// can look so too; the sweep then checks the conditioning at the point.
+#[inline]
+fn v_zero(c0: f64, c1: f64, c2: f64) -> Option<f64> {
+    if !(c1 < c0 && c1 < c2 && c0.min(c2) < 0.5) {
+        return None;
+    }
+    // The point beyond the middle sample (towards c₂), from c₀ and c₁.
+    let slope = c0 - c1;
+    let t = c1 / slope;
+    if t > 0.0 && t < 1.0 {
+        let mirrored = slope * (1.0 - t);
+        if (mirrored - c2).abs() <= 0.2 * c2 {
+            return Some(t);
+        }
+    }
+    // Before it (towards c₀), from c₂ and c₁.
+    let slope = c2 - c1;
+    let t = c1 / slope;
+    if t > 0.0 && t < 1.0 {
+        let mirrored = slope * (1.0 - t);
+        if (mirrored - c0).abs() <= 0.2 * c0 {
+            return Some(-t);
+        }
+    }
+    None
+}
+
+/// The distance between two poses: unknown angles compared modulo 2π,
+/// lengths as they are.
+fn distance<M: Mechanism>(a: &M::Coords, b: &M::Coords) -> f64 {
+    let mut d = 0.0;
+    for (j, c) in M::COORDINATES.iter().enumerate() {
+        if c.role == Role::Driver {
+            continue;
+        }
+        let (Some(x), Some(y)) = (a.get(j), b.get(j)) else {
+            continue;
+        };
+        let e = if c.kind == Kind::Angle {
+            Wrap::Signed.apply(y - x)
+        } else {
+            y - x
+        };
+        d += e * e;
+    }
+    d
+}
+
+impl<M: Mechanism, D: Drive<M>> Iterator for SweepIter<'_, M, D> {
+    type Item = Result<Sample<M>, Stop>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(item) = self.out.pop_front() {
+                return Some(item);
+            }
+            if self.done {
+                return None;
+            }
+            if let Some(item) = self.advance() {
+                return Some(item);
+            }
+        }
+    }
+}
+
+/// Collects a sweep's items.
+fn collect<M: Mechanism, D: Drive<M>>(mut it: SweepIter<'_, M, D>, kind: Kind) -> Sweep<M> {
+    let mut samples = Vec::with_capacity(it.grid.count + 1);
+    let mut stop = None;
+    for item in it.by_ref() {
+        match item {
+            Ok(s) => samples.push(s),
+            Err(s) => stop = Some(s),
+        }
+    }
+    Sweep {
+        variable: it.variable,
+        kind,
+        samples,
+        change_points: core::mem::take(&mut it.passed),
+        stop,
+    }
 }
 
 impl<M: Mechanism> Sweep<M> {
     /// Whether the last sample returns to the first pose: every unknown
     /// within `tolerance`, angles compared modulo 2π. `None` for a sweep that
-    /// stopped early or has fewer than two samples.
+    /// stopped early or has fewer than two samples. Meant for a sweep whose
+    /// range includes its end (`.to(…)`), one period from its start; a
+    /// `.turn()` leaves the end out.
     ///
     /// ```
     /// # use kinematics_core::mechanism;
@@ -443,10 +1690,9 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, std::f64::consts::TAU, 360, 6.0, 0.0, &Options::DEFAULT);
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(std::f64::consts::TAU).steps(360).run();
     /// assert_eq!(s.is_periodic(1e-9), Some(true));
     /// ```
     #[must_use]
@@ -488,20 +1734,25 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 100, 6.0, 0.0, &Options::DEFAULT);
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(100).run();
     /// assert!(s.max_residual() < 1e-12);
     /// ```
     #[must_use]
     pub fn max_residual(&self) -> f64 {
-        self.samples.iter().fold(0.0f64, |a, s| a.max(s.residual))
+        self.samples
+            .iter()
+            .fold(0.0f64, |a, s| a.max(s.motion.residual()))
     }
 
-    /// Column headers: the sweep variable, every coordinate's q, q', q''
-    /// (with units for angles), every point's position, velocity and
-    /// acceleration components, every frame's ω and α.
+    /// Column headers, plain identifiers with their units in the name:
+    /// the time (`t_s`) for a simulation; each coordinate's value, rate and
+    /// acceleration (`th3_rad`, `th3_rad_s`, `th3_rad_s2`; `x_m`, `x_m_s`,
+    /// `x_m_s2`); each point's position, velocity and acceleration
+    /// components (`B_x_m`, `B_vx_m_s`, `B_ax_m_s2`); each frame's ω and α
+    /// (`tool_wx_rad_s`, `tool_alphax_rad_s2`). Lengths are taken to be in
+    /// metres: see [`Sweep::headers_in`] for another unit.
     ///
     /// ```
     /// # use kinematics_core::mechanism;
@@ -515,39 +1766,49 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run();
     /// let h = s.headers();
+    /// assert_eq!(&h[..4], ["phi_rad", "phi_rad_s", "phi_rad_s2", "th_rad"]);
+    /// assert!(h.contains(&"C_vx_m_s".to_owned()));
     /// assert_eq!(h.len(), s.row(&s.samples[0]).len());
-    /// assert!(h.iter().any(|c| c.contains("phi")));
     /// ```
     #[must_use]
     pub fn headers(&self) -> Vec<String> {
-        let unit = |k: Kind, d: &str| match k {
-            Kind::Angle => format!(" (rad{d})"),
-            Kind::Length => String::new(),
-        };
-        let mut h = vec![self.variable.to_owned()];
+        self.headers_in("m")
+    }
+
+    /// [`Sweep::headers`] with lengths in `unit` (`"mm"`: `x_mm`,
+    /// `B_vx_mm_s`); the values are as computed, in the unit of the
+    /// mechanism's parameters.
+    #[must_use]
+    pub fn headers_in(&self, unit: &str) -> Vec<String> {
+        let mut h = Vec::new();
+        if self.variable == "t" {
+            h.push("t_s".to_owned());
+        }
         for c in M::COORDINATES {
-            h.push(format!("{}{}", c.name, unit(c.kind, "")));
-            h.push(format!("{}'{}", c.name, unit(c.kind, "/s")));
-            h.push(format!("{}''{}", c.name, unit(c.kind, "/s^2")));
+            let u = match c.kind {
+                Kind::Angle => "rad",
+                Kind::Length => unit,
+            };
+            h.push(format!("{}_{u}", c.name));
+            h.push(format!("{}_{u}_s", c.name));
+            h.push(format!("{}_{u}_s2", c.name));
         }
         let axes = ["x", "y", "z"];
         for p in M::POINT_NAMES {
-            // Position, velocity (v) and acceleration (a) components.
-            for prefix in ["", "v", "a"] {
+            for (prefix, suffix) in [("", ""), ("v", "_s"), ("a", "_s2")] {
                 for axis in axes.iter().take(M::POINT_DIM) {
-                    h.push(format!("{p}.{prefix}{axis}"));
+                    h.push(format!("{p}_{prefix}{axis}_{unit}{suffix}"));
                 }
             }
         }
         for f in M::FRAME_NAMES {
-            for (short, unit) in [("w", "rad/s"), ("alpha", "rad/s^2")] {
+            for (short, suffix) in [("w", "rad_s"), ("alpha", "rad_s2")] {
                 for axis in axes {
-                    h.push(format!("{f}.{short}{axis} ({unit})"));
+                    h.push(format!("{f}_{short}{axis}_{suffix}"));
                 }
             }
         }
@@ -568,16 +1829,18 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
-    /// assert_eq!(s.row(&s.samples[10])[0], 1.0); // the swept value first
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).rate(6.0).run();
+    /// assert_eq!(s.row(&s.samples[10])[0], 1.0); // φ first
     /// ```
     #[must_use]
     pub fn row(&self, sample: &Sample<M>) -> Vec<f64> {
         let mo = &sample.motion;
-        let mut r = vec![sample.at];
+        let mut r = Vec::new();
+        if self.variable == "t" {
+            r.push(sample.at);
+        }
         for j in 0..M::COORDINATES.len() {
             for c in [mo.q(), mo.qd(), mo.qdd()] {
                 r.push(c.get(j).unwrap_or(f64::NAN));
@@ -598,7 +1861,8 @@ impl<M: Mechanism> Sweep<M> {
         r
     }
 
-    /// The samples as CSV: a header line, then one line per sample.
+    /// The samples as CSV: a header line (see [`Sweep::headers`]), then one
+    /// line per sample.
     ///
     /// ```
     /// # use kinematics_core::mechanism;
@@ -612,10 +1876,9 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).rate(6.0).run();
     /// assert_eq!(s.to_csv().lines().count(), 1 + 11); // a header, then a line per sample
     /// ```
     #[must_use]
@@ -645,10 +1908,9 @@ impl<M: Mechanism> Sweep<M> {
     /// #         loops    { B + polar(b, th) == C; }
     /// #     }
     /// # }
-    /// # use kinematics_core::{sweep::sweep, Options};
     /// # let m = SliderCrank { a: 0.1, b: 0.3 };
     /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-    /// let s = sweep(&m, &start, 0, 0.0, 1.0, 10, 6.0, 0.0, &Options::DEFAULT);
+    /// let s = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).rate(6.0).run();
     /// print!("{}", s.to_text(5)); // every fifth sample, in aligned columns
     /// ```
     #[must_use]

@@ -8,7 +8,10 @@ use std::collections::HashMap;
 use proc_macro2::Span;
 use syn::Ident;
 
-use crate::names::{accessor_name, frame_accessor_name, is_builtin, Binding, Errors, Names};
+use crate::names::{
+    accessor_name, driver_handle_name, frame_accessor_name, is_builtin, Binding, Errors, Names,
+    TAKEN_HANDLES,
+};
 use crate::parse::Definition;
 
 /// Runs the declaration checks and builds the name table.
@@ -16,6 +19,7 @@ pub fn check(def: &Definition, errors: &mut Errors) -> Names {
     check_not_empty(def, errors);
     let names = check_unique_names(def, errors);
     check_point_accessors_distinct(def, errors);
+    check_driver_handles_distinct(def, errors);
     names
 }
 
@@ -215,6 +219,39 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
         section_of.insert(key, section);
     }
     Names { map }
+}
+
+/// Each driver has a typed handle, an associated constant named after it
+/// in upper case (`FourBar::PHI`): two drivers that differ only in case,
+/// or a driver named after one of the mechanism's own constants, would
+/// collide.
+fn check_driver_handles_distinct(def: &Definition, errors: &mut Errors) {
+    let mut seen: HashMap<String, &Ident> = HashMap::new();
+    for d in &def.drivers {
+        let handle = driver_handle_name(&d.name);
+        if TAKEN_HANDLES.contains(&handle.as_str()) {
+            errors.at(
+                d.name.span(),
+                format!(
+                    "a driver named `{}` would have the handle `{handle}`, which is the number \
+                     of the mechanism's {}; rename the driver",
+                    d.name,
+                    handle.to_lowercase()
+                ),
+            );
+        } else if let Some(first) = seen.get(&handle) {
+            errors.at(
+                d.name.span(),
+                format!(
+                    "drivers `{first}` and `{}` would both have the handle `{handle}`; rename \
+                     one of them",
+                    d.name
+                ),
+            );
+        } else {
+            seen.insert(handle, &d.name);
+        }
+    }
 }
 
 /// Points are reached through `point_<name>()` methods, so two point names

@@ -148,6 +148,22 @@ pub fn frame_accessor_name(name: &Ident) -> String {
     format!("frame_{}", name.unraw().to_string().to_lowercase())
 }
 
+/// The mechanism's own associated constants, which no driver handle may
+/// take.
+pub const TAKEN_HANDLES: [&str; 6] = [
+    "DRIVERS",
+    "UNKNOWNS",
+    "EQUATIONS",
+    "POINTS",
+    "FRAMES",
+    "BLOCKS",
+];
+
+/// The typed handle of a driver: its name in upper case (`PHI`).
+pub fn driver_handle_name(name: &Ident) -> String {
+    syn::ext::IdentExt::unraw(name).to_string().to_uppercase()
+}
+
 /// `point_<lowercase name>`, the accessor of a point on the motion struct.
 pub fn accessor_name(name: &Ident) -> String {
     use syn::ext::IdentExt;

@@ -164,17 +164,12 @@ fn a_sweeps_samples_allocate_nothing_each() {
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
     let count_for = |steps: usize| {
         let before = allocations();
-        let s = kinematics_core::sweep::sweep(
-            &m,
-            &start,
-            0,
-            0.0,
-            1.0,
-            steps,
-            10.0,
-            0.0,
-            &kinematics_core::Options::DEFAULT,
-        );
+        let s = m
+            .sweep(FourBar::PHI, &start)
+            .to(1.0)
+            .steps(steps)
+            .rate(10.0)
+            .run();
         assert!(s.stop.is_none() && s.samples.len() == steps + 1);
         allocations() - before
     };
@@ -183,4 +178,18 @@ fn a_sweeps_samples_allocate_nothing_each() {
         few, many,
         "allocations grow with the samples: {few} for 11, {many} for 1001"
     );
+    // Streamed, the samples allocate nothing either: only the sweep's own
+    // buffers, made when it starts.
+    let streamed = |steps: usize| {
+        let before = allocations();
+        let mut n = 0;
+        for sample in m.sweep(FourBar::PHI, &start).to(1.0).steps(steps) {
+            std::hint::black_box(sample.expect("no stop"));
+            n += 1;
+        }
+        assert_eq!(n, steps + 1);
+        allocations() - before
+    };
+    let (few, many) = (streamed(10), streamed(1000));
+    assert_eq!(few, many, "streamed: {few} for 11, {many} for 1001");
 }

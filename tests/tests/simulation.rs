@@ -3,11 +3,13 @@
 // Test code asserts by panicking.
 #![allow(clippy::expect_used, clippy::panic)]
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use kinematics_core::plot::{plot_motion, plot_path, plot_skeleton, Projection};
-use kinematics_core::sweep::{constant_acceleration, constant_speed, simulate, sweep};
-use kinematics_core::{batch, Error, Options};
+use kinematics_core::sweep::{
+    constant_acceleration, constant_speed, ChangePoints, StopReason, Wrap,
+};
+use kinematics_core::{batch, mechanism, Error};
 use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
 use kinematics_tests::Rng;
 
@@ -15,14 +17,19 @@ use kinematics_tests::Rng;
 fn crank_rocker_full_cycle_closes_and_is_periodic() {
     let m = FourBar::CRANK_ROCKER;
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
-    let s = sweep(&m, &start, 0, 0.0, TAU, 3600, 10.0, 0.0, &Options::DEFAULT);
+    let s = m
+        .sweep(FourBar::PHI, &start)
+        .to(TAU)
+        .steps(3600)
+        .rate(10.0)
+        .run();
     assert!(s.stop.is_none(), "{:?}", s.stop);
     assert_eq!(s.samples.len(), 3601);
     for sample in &s.samples {
         assert!(
-            sample.residual < 1e-10,
+            sample.motion.residual < 1e-10,
             "residual {} at φ = {}",
-            sample.residual,
+            sample.motion.residual,
             sample.at
         );
     }
@@ -54,7 +61,7 @@ fn non_grashof_four_bar_stops_at_its_toggle_position() {
             th4: 1.5,
         })
         .expect("assembles");
-    let s = sweep(&m, &start, 0, 0.0, TAU, 3600, 1.0, 0.0, &Options::DEFAULT);
+    let s = m.sweep(FourBar::PHI, &start).turn().steps(3600).run();
     let stop = s.stop.as_ref().expect("the crank cannot turn fully");
     let step = TAU / 3600.0;
     let last = s.samples.last().expect("samples before the stop").at;
@@ -64,19 +71,18 @@ fn non_grashof_four_bar_stops_at_its_toggle_position() {
     );
     // The loop is solved in closed form: the sweep locates the limit, where
     // its discriminant vanishes, by bisection, and says it is a limit.
-    match &stop.reason {
-        Error::LimitPosition {
-            variable,
-            at,
-            unknowns,
-        } => {
-            assert_eq!((*variable, *unknowns), ("phi", "th3, th4"));
-            assert!((at - limit).abs() < 1e-10, "{at} against {limit}");
-            assert_eq!(stop.at, *at);
+    assert_eq!(
+        stop.reason,
+        StopReason::LimitPosition {
+            unknowns: "th3, th4"
         }
-        other => panic!("unexpected {other:?}"),
-    }
-    let text = stop.reason.to_string();
+    );
+    assert!(
+        (stop.at - limit).abs() < 1e-10,
+        "{} against {limit}",
+        stop.at
+    );
+    let text = stop.to_string();
     assert!(text.contains("limit position at phi = "), "{text}");
     assert_eq!(s.is_periodic(1e-9), None);
 }
@@ -95,7 +101,12 @@ fn slider_crank_passes_its_dead_centres_on_one_branch() {
             x: 0.35,
         })
         .expect("assembles");
-    let s = sweep(&m, &start, 0, 0.0, TAU, 720, 6.0, 0.0, &Options::DEFAULT);
+    let s = m
+        .sweep(SliderCrank::PHI, &start)
+        .to(TAU)
+        .steps(720)
+        .rate(6.0)
+        .run();
     assert!(s.stop.is_none(), "{:?}", s.stop);
     assert_eq!(s.is_periodic(1e-9), Some(true));
     for sample in &s.samples {
@@ -123,43 +134,50 @@ fn time_driven_simulation_follows_the_profile() {
         x: 0.35,
     };
     let times: Vec<f64> = (0..=200).map(|k| f64::from(k) * 0.005).collect();
-    let s = simulate(
-        &m,
-        &start,
-        &times,
-        constant_acceleration(0.2, 1.0, 4.0),
-        &Options::DEFAULT,
-    );
+    let s = m
+        .simulate(&start)
+        .times(&times)
+        .profile(constant_acceleration(SliderCrank::PHI, 0.2, 1.0, 4.0))
+        .run();
     assert!(s.stop.is_none());
+    assert_eq!(s.samples.len(), times.len());
     for (t, sample) in times.iter().zip(&s.samples) {
         let q = &sample.motion;
         assert!((q.q.phi - (0.2 + t + 2.0 * t * t)).abs() < 1e-12);
         assert!((q.qd.phi - (1.0 + 4.0 * t)).abs() < 1e-12 && (q.qdd.phi - 4.0).abs() < 1e-15);
     }
-    // A constant speed equals a sweep at that rate.
-    let by_time = simulate(
-        &m,
-        &start,
-        &times,
-        constant_speed(0.0, 2.0),
-        &Options::DEFAULT,
-    );
-    let by_angle = sweep(&m, &start, 0, 0.0, 2.0, 200, 2.0, 0.0, &Options::DEFAULT);
+    // A constant speed equals a sweep at that rate; equal steps of time.
+    let by_time = m
+        .simulate(&start)
+        .duration(1.0)
+        .steps(200)
+        .profile(constant_speed(SliderCrank::PHI, 0.0, 2.0))
+        .run();
+    let by_angle = m
+        .sweep(SliderCrank::PHI, &start)
+        .to(2.0)
+        .steps(200)
+        .rate(2.0)
+        .run();
+    assert_eq!(by_time.samples.len(), 201);
     for (a, b) in by_time.samples.iter().zip(&by_angle.samples) {
         assert!((a.motion.qdd.x - b.motion.qdd.x).abs() < 1e-9);
     }
-    // A closure profile.
-    let custom = simulate(
-        &m,
-        &start,
-        &times,
-        |t, d, dd, ddd| {
-            d[0] = t.sin();
-            dd[0] = t.cos();
-            ddd[0] = -t.sin();
-        },
-        &Options::DEFAULT,
-    );
+    // A closure profile, on the named coordinates.
+    let custom = m
+        .simulate(&start)
+        .times(&times)
+        .profile(
+            |t: f64,
+             q: &mut SliderCrankCoords,
+             qd: &mut SliderCrankCoords,
+             qdd: &mut SliderCrankCoords| {
+                q.phi = t.sin();
+                qd.phi = t.cos();
+                qdd.phi = -t.sin();
+            },
+        )
+        .run();
     assert!(custom.stop.is_none());
     assert!((custom.samples[100].motion.qd.phi - 0.5f64.cos()).abs() < 1e-15);
 }
@@ -168,14 +186,25 @@ fn time_driven_simulation_follows_the_profile() {
 fn csv_and_text_tables() {
     let m = FourBar::CRANK_ROCKER;
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
-    let s = sweep(&m, &start, 0, 0.0, TAU, 36, 10.0, 0.0, &Options::DEFAULT);
+    let s = m
+        .sweep(FourBar::PHI, &start)
+        .to(TAU)
+        .steps(36)
+        .rate(10.0)
+        .run();
     let csv = s.to_csv();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 1 + 37);
     let header: Vec<&str> = lines[0].split(',').collect();
-    // φ, 3 coordinates × 3, 5 points × 6.
-    assert_eq!(header.len(), 1 + 9 + 30);
-    assert!(header.contains(&"th3' (rad/s)") && header.contains(&"P.ay"));
+    // 3 coordinates × 3, 5 points × 6; φ once.
+    assert_eq!(header.len(), 9 + 30);
+    assert_eq!(header[..3], ["phi_rad", "phi_rad_s", "phi_rad_s2"]);
+    assert!(header.contains(&"th3_rad_s") && header.contains(&"P_ay_m_s2"));
+    // Plain identifiers: letters, digits and underscores.
+    assert!(header
+        .iter()
+        .all(|h| h.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')));
+    assert!(s.headers_in("mm").contains(&"P_vx_mm_s".to_owned()));
     for line in &lines[1..] {
         let values: Vec<f64> = line
             .split(',')
@@ -200,7 +229,12 @@ fn plots_are_valid_svg_with_one_curve_per_unknown_and_one_line_per_link() {
     std::fs::create_dir_all(&dir).expect("temporary directory");
     let m = FourBar::CRANK_ROCKER;
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
-    let s = sweep(&m, &start, 0, 0.0, TAU, 360, 10.0, 0.0, &Options::DEFAULT);
+    let s = m
+        .sweep(FourBar::PHI, &start)
+        .to(TAU)
+        .steps(360)
+        .rate(10.0)
+        .run();
     let motion = dir.join("motion.svg");
     plot_motion(&s, &motion).expect("written");
     // Three panels (q, q', q''), one curve per unknown (θ3, θ4).
@@ -259,24 +293,6 @@ fn batch_reports_every_design() {
 }
 
 #[test]
-fn a_sweep_of_a_driver_that_does_not_exist_is_refused() {
-    // Driver 1 of a one-driver four-bar is the unknown θ3: this swept θ3
-    // and returned 11 samples with φ never moving.
-    let m = FourBar::CRANK_ROCKER;
-    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
-    let s = sweep(&m, &start, 1, 0.0, 1.0, 10, 1.0, 0.0, &Options::DEFAULT);
-    assert!(s.samples.is_empty());
-    match s.stop {
-        Some(stop) => assert!(
-            matches!(stop.reason, Error::InvalidOption { name: "driver", .. }),
-            "{:?}",
-            stop.reason
-        ),
-        None => panic!("no stop"),
-    }
-}
-
-#[test]
 fn a_profile_of_one_driver_holds_the_others_at_their_start_values() {
     use kinematics_examples::{FiveBar, FiveBarCoords};
     // A five-bar whose second crank stands at φ2 = 2.0: driving the first
@@ -293,18 +309,365 @@ fn a_profile_of_one_driver_holds_the_others_at_their_start_values() {
         th2,
         th3,
     };
-    let times: Vec<f64> = (0..=50).map(|k| f64::from(k) * 0.002).collect();
-    let s = simulate(
-        &m,
-        &start,
-        &times,
-        constant_speed(phi1, 1.0),
-        &Options::DEFAULT,
-    );
+    let s = m
+        .simulate(&start)
+        .duration(0.1)
+        .steps(50)
+        .profile(constant_speed(FiveBar::PHI1, phi1, 1.0))
+        .run();
     assert!(s.stop.is_none(), "{:?}", s.stop);
     for sample in &s.samples {
         assert_eq!(sample.motion.q.phi2, phi2);
         assert_eq!((sample.motion.qd.phi2, sample.motion.qdd.phi2), (0.0, 0.0));
         assert!((sample.motion.q.phi1 - (phi1 + sample.at)).abs() < 1e-15);
     }
+}
+
+/// A parallelogram four-bar (a = c, b = d) at 10°, on its parallelogram
+/// branch: θ3 = 0, θ4 = φ.
+fn parallelogram() -> (FourBar, FourBarCoords) {
+    let m = FourBar {
+        a: 0.04,
+        b: 0.11,
+        c: 0.04,
+        d: 0.11,
+        p: 0.05,
+        beta: 0.0,
+    };
+    let phi = 10f64.to_radians();
+    let start = m
+        .assemble(&FourBarCoords {
+            phi,
+            th3: 0.0,
+            th4: phi,
+        })
+        .expect("assembles");
+    (m, start)
+}
+
+/// The difference of two angles, modulo 2π, in (−π, π].
+fn angle_gap(a: f64, b: f64) -> f64 {
+    Wrap::Signed.apply(a - b)
+}
+
+#[test]
+fn a_parallelogram_stops_at_its_change_point_unless_told_which_branch_to_follow() {
+    // At φ = 180° the links fold flat: the parallelogram and the crossed
+    // (anti-parallelogram) branches meet. With 1° steps from 10° a sample
+    // falls on it.
+    let (m, start) = parallelogram();
+    let s = m.sweep(FourBar::PHI, &start).turn().steps(360).run();
+    let stop = s.stop.expect("stops at the change point");
+    assert!(
+        matches!(stop.reason, StopReason::ChangePoint { .. }),
+        "{stop:?}"
+    );
+    assert!((stop.at - PI).abs() < 1e-12, "{}", stop.at);
+    assert!(stop.to_string().contains("ChangePoints::Smooth"));
+    assert!(s.samples.iter().all(|x| x.at < PI));
+    // Off the grid (0.7° steps from 10°, no sample on 180°), the dip of the
+    // conditioning is seen between samples.
+    let s = m.sweep(FourBar::PHI, &start).turn().steps(514).run();
+    let stop = s.stop.expect("stops at the change point");
+    match stop.reason {
+        StopReason::ChangePoint { from, to } => {
+            assert!(from < PI && to > PI, "{from} {to}");
+            // Located to second order in the step from the V of the
+            // conditioning.
+            assert!((stop.at - PI).abs() < 1e-4, "{}", stop.at);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(s.samples.iter().all(|x| x.at < PI));
+}
+
+#[test]
+fn a_parallelogram_sweeps_a_full_turn_on_the_branch_named() {
+    let (m, start) = parallelogram();
+    // Smooth: the parallelogram all the way round, through 180° and 360°.
+    let s = m
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(360)
+        .change_points(ChangePoints::Smooth)
+        .run();
+    assert!(s.stop.is_none(), "{:?}", s.stop);
+    assert_eq!(s.change_points.len(), 2, "{:?}", s.change_points);
+    assert!((s.change_points[0] - PI).abs() < 1e-9 && (s.change_points[1] - TAU).abs() < 1e-6);
+    // Only the samples on the change points themselves (where Φ_u is
+    // singular) are left out.
+    assert!(s.samples.len() >= 358, "{}", s.samples.len());
+    assert!((s.samples.last().expect("samples").at - 369f64.to_radians()).abs() < 1e-12);
+    for x in &s.samples {
+        let q = x.motion.q;
+        // At a double root the pose is fixed to about √ε only.
+        let near = s.change_points.iter().any(|c| (x.at - c).abs() < 1e-6);
+        let tolerance = if near { 1e-7 } else { 1e-9 };
+        assert!(q.th3.abs() < tolerance, "θ3 = {} at φ = {}", q.th3, x.at);
+        assert!(angle_gap(q.th4, x.at).abs() < tolerance);
+        // The coupler translates: it does not turn.
+        if !near {
+            assert!(x.motion.qd.th3.abs() < 1e-9);
+        }
+    }
+    // Switch: past 180° the crossed branch, which is the other assembly
+    // at each driver value.
+    let s = m
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(360)
+        .change_points(ChangePoints::Switch)
+        .run();
+    assert!(s.stop.is_none(), "{:?}", s.stop);
+    let mut crossed = 0;
+    for x in &s.samples {
+        let q = x.motion.q;
+        let [a, b] = m.assemble_all(x.at);
+        let (a, b) = (a.expect("assembles"), b.expect("assembles"));
+        // The parallelogram assembly of the two, and the other.
+        let (par, other) = if a.th3.abs() < b.th3.abs() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let expected = if x.at > PI && x.at < TAU { other } else { par };
+        assert!(
+            angle_gap(q.th3, expected.th3).abs() < 1e-9
+                && angle_gap(q.th4, expected.th4).abs() < 1e-9,
+            "at φ = {}: {q:?} against {expected:?}",
+            x.at
+        );
+        if x.at > PI + 0.01 && x.at < TAU - 0.01 {
+            crossed += 1;
+            assert!(q.th3.abs() > 1e-3);
+        }
+    }
+    assert!(crossed > 170, "{crossed}");
+}
+
+#[test]
+fn ranges_rates_and_angles_in_degrees_and_revolutions_per_minute() {
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let deg = m
+        .sweep(FourBar::PHI, &start)
+        .from_deg(30.0)
+        .to_deg(90.0)
+        .steps(60)
+        .rpm(600.0)
+        .run();
+    let rad = m
+        .sweep(FourBar::PHI, &start)
+        .from(30f64.to_radians())
+        .to(90f64.to_radians())
+        .steps(60)
+        .rate(20.0 * PI)
+        .run();
+    assert_eq!(deg.samples.len(), 61);
+    for (a, b) in deg.samples.iter().zip(&rad.samples) {
+        assert_eq!(a.at, b.at);
+        assert!((a.motion.qd.th3 - b.motion.qd.th3).abs() < 1e-12);
+    }
+    assert!((deg.samples[60].at - FRAC_PI_2).abs() < 1e-15);
+    // A full turn: n samples, the end (the start again) left out.
+    let turn = m.sweep(FourBar::PHI, &start).turn().steps(3600).run();
+    assert_eq!(turn.samples.len(), 3600);
+    assert!((turn.samples[3599].at - 359.9f64.to_radians()).abs() < 1e-12);
+    // Two turns clockwise, reported wrapped.
+    let wrapped = m
+        .sweep(FourBar::PHI, &start)
+        .turns(-2.0)
+        .steps(720)
+        .deg_per_s(-90.0)
+        .wrap(Wrap::Signed)
+        .run();
+    assert!(wrapped.stop.is_none(), "{:?}", wrapped.stop);
+    assert!((wrapped.samples[500].at + 500f64.to_radians()).abs() < 1e-12);
+    for x in &wrapped.samples {
+        for v in [x.motion.q.phi, x.motion.q.th3, x.motion.q.th4] {
+            assert!(v > -PI && v <= PI, "{v}");
+        }
+        assert!(angle_gap(x.motion.q.phi, x.at).abs() < 1e-12);
+        assert!((x.motion.qd.phi + FRAC_PI_2).abs() < 1e-15);
+    }
+    let positive = m
+        .sweep(FourBar::PHI, &start)
+        .turns(-1.0)
+        .wrap(Wrap::Positive)
+        .run();
+    assert!(positive
+        .samples
+        .iter()
+        .all(|x| x.motion.q.th4 >= 0.0 && x.motion.q.th4 < TAU && x.motion.q.phi >= 0.0));
+}
+
+#[test]
+fn streamed_samples_are_the_collected_ones() {
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let sweep = m.sweep(FourBar::PHI, &start).turn().steps(720).rate(10.0);
+    let collected = sweep.clone().run();
+    let mut n = 0;
+    for (item, kept) in sweep.into_iter().zip(&collected.samples) {
+        let item = item.expect("no stop");
+        assert_eq!((item.at, item.motion), (kept.at, kept.motion));
+        n += 1;
+    }
+    assert_eq!(n, 720);
+    // The stop comes last, as an error.
+    let short = FourBar {
+        a: 0.05,
+        b: 0.08,
+        c: 0.06,
+        d: 0.11,
+        p: 0.0,
+        beta: 0.0,
+    };
+    let start = short
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .expect("assembles");
+    let items: Vec<_> = short
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .into_iter()
+        .collect();
+    let (last, before) = items.split_last().expect("items");
+    assert!(before.iter().all(Result::is_ok));
+    assert!(matches!(
+        last,
+        Err(stop) if matches!(stop.reason, StopReason::LimitPosition { .. })
+    ));
+}
+
+mechanism! {
+    /// An inverted slider-crank driven by its slider: the crank a turns
+    /// about A; the slider's distance s from B along the link through the
+    /// ground pivot D = (d, 0) is prescribed.
+    pub struct SliderDriven {
+        params {
+            /// Crank.
+            a,
+            /// Ground.
+            d
+        }
+        drivers { s }
+        unknowns { phi, th }
+        loops { polar(a, phi) + polar(s, th) == vec2(d, 0.0); }
+    }
+}
+
+#[test]
+fn a_length_driver_sweeps_between_the_lengths_given() {
+    let m = SliderDriven { a: 0.05, d: 0.12 };
+    let start = m
+        .assemble(&SliderDrivenCoords {
+            s: 0.1,
+            phi: 1.0,
+            th: -0.4,
+        })
+        .expect("assembles");
+    let s = m
+        .sweep(SliderDriven::S, &start)
+        .to(0.15)
+        .steps(50)
+        .rate(0.2)
+        .run();
+    assert!(s.stop.is_none(), "{:?}", s.stop);
+    assert_eq!(s.kind, kinematics_core::Kind::Length);
+    assert!((s.samples[50].motion.q.s - 0.15).abs() < 1e-15);
+    // |AB|: the crank stays a, whatever the slider does.
+    for x in &s.samples {
+        let q = x.motion.q;
+        let b = (q.d_x(&m), q.phi.sin() * m.a);
+        assert!(((b.0 * b.0 + b.1 * b.1).sqrt() - m.a).abs() < 1e-12);
+        assert_eq!(x.motion.qd.s, 0.2);
+    }
+    // A length driver has no default end: a clear stop, no samples.
+    let s = m.sweep(SliderDriven::S, &start).run();
+    assert!(s.samples.is_empty());
+    let stop = s.stop.expect("refused");
+    assert!(
+        matches!(
+            stop.reason,
+            StopReason::Invalid(Error::InvalidOption { name: "to", .. })
+        ),
+        "{stop:?}"
+    );
+    assert!(stop.to_string().contains(".to(value)"), "{stop}");
+}
+
+trait CrankX {
+    fn d_x(&self, m: &SliderDriven) -> f64;
+}
+
+impl CrankX for SliderDrivenCoords {
+    fn d_x(&self, m: &SliderDriven) -> f64 {
+        m.a * self.phi.cos()
+    }
+}
+
+mechanism! {
+    /// A four-bar written with the square root of its coupler's length (a
+    /// form no closed form covers): solved by Newton–Raphson.
+    pub struct NewtonFourBar {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Rocker angle.
+            th4
+        }
+        constraints {
+            sqrt(norm(polar(a, phi) - vec2(d, 0.0) - polar(c, th4))) == sqrt(b);
+        }
+    }
+}
+
+#[test]
+fn a_sweep_solved_by_newton_stops_where_it_cannot_go_on() {
+    // The non-Grashof four-bar of the limit-position test, by
+    // Newton–Raphson: the rocker angle cannot follow past the toggle.
+    let m = NewtonFourBar {
+        a: 0.05,
+        b: 0.08,
+        c: 0.06,
+        d: 0.11,
+    };
+    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
+    let start = m
+        .assemble(&NewtonFourBarCoords { phi: 0.0, th4: 1.5 })
+        .expect("assembles");
+    let s = m.sweep(NewtonFourBar::PHI, &start).turn().steps(3600).run();
+    let stop = s.stop.expect("stops");
+    assert!(
+        matches!(
+            stop.reason,
+            StopReason::Singular(Error::Singular { .. })
+                | StopReason::NotAssembled(Error::NotConverged { .. })
+        ),
+        "{stop:?}"
+    );
+    let last = s.samples.last().expect("samples").at;
+    assert!(
+        last < limit && stop.at > last && stop.at < limit + 0.01,
+        "{last} {} {limit}",
+        stop.at
+    );
+    assert!(s.samples.iter().all(|x| x.motion.residual < 1e-12));
+    assert!(!stop.to_string().is_empty());
 }

@@ -84,6 +84,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
+use kinematics_core::sweep::{Angle, Driver, SweepBuilder};
 use kinematics_core::Options;
 
 use models::{m1, m2, m3, m4, ARM_OFFSET, ARM_SPEED, M1, M2, M3, M4};
@@ -193,48 +194,58 @@ fn gen_m3s() -> f64 {
     turn_m3(|pose| stepper.step(pose, M3_RATES.0, M3_RATES.1))
 }
 
-/// The same turn through `kinematics_core::sweep::sweep` (3600 samples
-/// collected into its `Vec`), summed by `turn` over the samples.
-fn swept<M: kinematics_core::Mechanism>(
+/// A full turn of `driver` through a sweep (`m.sweep(driver, &start)
+/// .turn()`, 3600 samples).
+fn turn_sweep<M: kinematics_core::Mechanism>(
     m: &M,
+    driver: Driver<M, Angle>,
     start: M::Coords,
     rates: (f64, f64),
-    turn: impl FnOnce(&mut dyn FnMut(&M::Coords) -> Result<M::Motion, kinematics_core::Error>) -> f64,
-) -> f64 {
-    let s = kinematics_core::sweep::sweep(
-        m,
-        &start,
-        0,
-        0.0,
-        angle(STEPS - 1),
-        STEPS - 1,
-        rates.0,
-        rates.1,
-        &Options::DEFAULT,
-    );
-    assert!(s.stop.is_none(), "the sweep stopped: {:?}", s.stop);
-    let mut samples = s.samples.into_iter();
-    turn(&mut |_| Ok(samples.next().expect("a sample per step").motion))
+) -> SweepBuilder<'_, M, Angle> {
+    SweepBuilder::new(m, driver, &start)
+        .turn()
+        .steps(STEPS)
+        .rate(rates.0)
+        .acceleration(rates.1)
 }
 
-fn sweep_m1() -> f64 {
+/// The turn through a sweep, summed by `turn` over its samples: streamed
+/// from its iterator, or collected into its `Vec` first.
+macro_rules! swept {
+    ($m:expr, $driver:expr, $start:expr, $rates:expr, $collected:expr, $turn:ident) => {{
+        let sweep = turn_sweep($m, $driver, $start, $rates);
+        if $collected {
+            let s = sweep.run();
+            assert!(s.stop.is_none(), "the sweep stopped: {:?}", s.stop);
+            let mut samples = s.samples.into_iter();
+            $turn(|_| Ok(samples.next().expect("a sample per step").motion))
+        } else {
+            let mut samples = sweep.into_iter();
+            $turn(|_| {
+                Ok(samples
+                    .next()
+                    .expect("a sample per step")
+                    .expect("no stop")
+                    .motion)
+            })
+        }
+    }};
+}
+
+fn sweep_m1(collected: bool) -> f64 {
     let start = m1::FourBarCoords::from([0.0, M1_START[0], M1_START[1]]);
-    swept(&M1, start, M1_RATES, |f| turn_m1(f))
+    swept!(&M1, m1::FourBar::PHI, start, M1_RATES, collected, turn_m1)
 }
 
-fn sweep_m2() -> f64 {
-    swept(
-        &M2,
-        m2::RssrCoords::from([0.0, M2_START[0]]),
-        M2_RATES,
-        |f| turn_m2(f),
-    )
+fn sweep_m2(collected: bool) -> f64 {
+    let start = m2::RssrCoords::from([0.0, M2_START[0]]);
+    swept!(&M2, m2::Rssr::PHI, start, M2_RATES, collected, turn_m2)
 }
 
-fn sweep_m3() -> f64 {
+fn sweep_m3(collected: bool) -> f64 {
     let [th3, th4, th5, th6] = M3_START;
     let start = m3::WattCoords::from([0.0, th3, th4, th5, th6]);
-    swept(&M3, start, M3_RATES, |f| turn_m3(f))
+    swept!(&M3, m3::Watt::PHI, start, M3_RATES, collected, turn_m3)
 }
 
 fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
@@ -362,7 +373,12 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     vec![
         ("M1 four-bar", "generated", Box::new(gen_m1)),
         ("M1 four-bar", "stepper", Box::new(gen_m1s)),
-        ("M1 four-bar", "sweep", Box::new(sweep_m1)),
+        ("M1 four-bar", "sweep", Box::new(|| sweep_m1(false))),
+        (
+            "M1 four-bar",
+            "sweep collected",
+            Box::new(|| sweep_m1(true)),
+        ),
         ("M1 four-bar", "hand-written", Box::new(hand_m1)),
         (
             "M1 four-bar",
@@ -389,7 +405,8 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
         ),
         ("M2 RSSR", "generated", Box::new(gen_m2)),
         ("M2 RSSR", "stepper", Box::new(gen_m2s)),
-        ("M2 RSSR", "sweep", Box::new(sweep_m2)),
+        ("M2 RSSR", "sweep", Box::new(|| sweep_m2(false))),
+        ("M2 RSSR", "sweep collected", Box::new(|| sweep_m2(true))),
         ("M2 RSSR", "hand-written", Box::new(hand_m2)),
         (
             "M2 RSSR",
@@ -416,7 +433,12 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
         ),
         ("M3 Watt six-bar", "generated", Box::new(gen_m3)),
         ("M3 Watt six-bar", "stepper", Box::new(gen_m3s)),
-        ("M3 Watt six-bar", "sweep", Box::new(sweep_m3)),
+        ("M3 Watt six-bar", "sweep", Box::new(|| sweep_m3(false))),
+        (
+            "M3 Watt six-bar",
+            "sweep collected",
+            Box::new(|| sweep_m3(true)),
+        ),
         ("M3 Watt six-bar", "hand-written", Box::new(hand_m3)),
         (
             "M3 Watt six-bar",
@@ -462,10 +484,11 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     ]
 }
 
-const VARIANTS: [&str; 7] = [
+const VARIANTS: [&str; 8] = [
     "generated",
     "stepper",
     "sweep",
+    "sweep collected",
     "hand-written",
     "dual numbers",
     "finite differences",
@@ -633,7 +656,7 @@ fn main() {
             match (median_ns(mech, v), hand) {
                 (Some(ns), Some(h)) => table += &format!(" {:.0} ({:.2}×) |", per_step(ns), ns / h),
                 // `sweep` drives one driver; the arm's six follow a profile.
-                _ if v == "sweep" && mech == "M4 six-axis arm" => table += " – |",
+                _ if v.starts_with("sweep") && mech == "M4 six-axis arm" => table += " – |",
                 _ => {
                     complete = false;
                     table += " – |";
@@ -679,16 +702,25 @@ fn thread_cpu_ns() -> f64 {
 /// and the range of the middle 80 % of rounds.
 fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
     const ROUNDS: usize = 41;
-    const SHOWN: [&str; 4] = ["generated", "stepper", "sweep", "hand-written"];
+    const SHOWN: [&str; 5] = [
+        "generated",
+        "stepper",
+        "sweep",
+        "sweep collected",
+        "hand-written",
+    ];
+    let hand = SHOWN.len() - 1;
     let mut out = String::from(
         "Interleaved (41 rounds; in each, one turn of every variant in turn, thread CPU time; \
          the ratio to the hand-written turn of the same round): median ratio, and the range \
-         of the middle 80 % of rounds.\n\n| mechanism | generated | stepper | sweep | \
-         sweep / stepper |\n|---|---|---|---|---|\n",
+         of the middle 80 % of rounds. `sweep` streams the samples from its iterator, \
+         `collected` gathers them into its `Vec` first.\n\n| mechanism | generated | stepper | \
+         sweep | collected | sweep / stepper | collected / stepper |\n\
+         |---|---|---|---|---|---|---|\n",
     );
     for mech in &MECHANISMS[..3] {
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); SHOWN.len()];
-        let mut sweep_over_stepper = Vec::new();
+        let (mut streamed, mut collected) = (Vec::new(), Vec::new());
         for _ in 0..ROUNDS {
             let mut round = [0.0; SHOWN.len()];
             for (i, v) in SHOWN.iter().enumerate() {
@@ -701,9 +733,10 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
                 round[i] = thread_cpu_ns() - t0;
             }
             for i in 0..SHOWN.len() {
-                times[i].push(round[i] / round[3]);
+                times[i].push(round[i] / round[hand]);
             }
-            sweep_over_stepper.push(round[2] / round[1]);
+            streamed.push(round[2] / round[1]);
+            collected.push(round[3] / round[1]);
         }
         let summary = |mut r: Vec<f64>| {
             r.sort_by(f64::total_cmp);
@@ -711,11 +744,13 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
             format!("{mid:.2}× ({lo:.2}–{hi:.2})")
         };
         out += &format!(
-            "| {mech} | {} | {} | {} | {} |\n",
+            "| {mech} | {} | {} | {} | {} | {} | {} |\n",
             summary(times[0].clone()),
             summary(times[1].clone()),
             summary(times[2].clone()),
-            summary(sweep_over_stepper)
+            summary(times[3].clone()),
+            summary(streamed),
+            summary(collected)
         );
     }
     out

@@ -9,7 +9,8 @@
 //!
 //! `m1a` and `m2a` run M1 and M2 with the absolute convergence test, `m1s`,
 //! `m2s` and `m3s` through the stepping handle (`stepper().step`), `m1w`
-//! and `m2w` through `kinematics_core::sweep::sweep`. A
+//! and `m2w` through a sweep collected (`run()`), `m1i` and `m2i` through a
+//! sweep streamed (its iterator). A
 //! second argument repeats the turn and prints the wall time per step.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::panic, clippy::cast_precision_loss)]
@@ -17,7 +18,6 @@
 use std::f64::consts::TAU;
 use std::hint::black_box;
 
-use kinematics_core::sweep::sweep;
 use kinematics_core::{Convergence, Options};
 use kinematics_examples::{FourBar, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords, Watt};
 
@@ -111,37 +111,49 @@ fn turn(which: &str) -> f64 {
             // The same turns through `sweep` (3600 samples into its Vec).
             let s = if which == "m1w" {
                 let start = four_bar.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
-                let s = sweep(
-                    &four_bar,
-                    &start,
-                    0,
-                    0.0,
-                    angle(STEPS - 1),
-                    STEPS - 1,
-                    10.0,
-                    0.0,
-                    &Options::DEFAULT,
-                );
+                let s = four_bar
+                    .sweep(FourBar::PHI, &start)
+                    .turn()
+                    .steps(STEPS)
+                    .rate(10.0)
+                    .run();
                 s.samples
                     .iter()
                     .map(|x| x.motion.qdd.th4 + x.motion.points[2].acceleration.x)
                     .sum()
             } else {
                 let start = rssr.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
-                let s = sweep(
-                    &rssr,
-                    &start,
-                    0,
-                    0.0,
-                    angle(STEPS - 1),
-                    STEPS - 1,
-                    25.0,
-                    0.0,
-                    &Options::DEFAULT,
-                );
+                let s = rssr
+                    .sweep(Rssr::PHI, &start)
+                    .turn()
+                    .steps(STEPS)
+                    .rate(25.0)
+                    .run();
                 s.samples.iter().map(|x| x.motion.qdd.psi).sum()
             };
             s
+        }
+        "m1i" | "m2i" => {
+            // The same turns through a sweep's iterator (streamed).
+            let mut sum = 0.0;
+            if which == "m1i" {
+                let start = four_bar.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
+                for x in four_bar
+                    .sweep(FourBar::PHI, &start)
+                    .turn()
+                    .steps(STEPS)
+                    .rate(10.0)
+                {
+                    let x = x.unwrap();
+                    sum += x.motion.qdd.th4 + x.motion.points[2].acceleration.x;
+                }
+            } else {
+                let start = rssr.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
+                for x in rssr.sweep(Rssr::PHI, &start).turn().steps(STEPS).rate(25.0) {
+                    sum += x.unwrap().motion.qdd.psi;
+                }
+            }
+            sum
         }
         "m4" => {
             let m = black_box(SixAxisArm {

@@ -88,10 +88,7 @@ impl Ctx<'_> {
             roots.extend(super::closed_solve::coefficients(b.pattern.as_ref()));
         }
         let live = g.reachable(&roots);
-        let used = |f: Func, leaf: Id| {
-            g.find(&Node::Call(f, leaf))
-                .filter(|t| live[t.index()])
-        };
+        let used = |f: Func, leaf: Id| g.find(&Node::Call(f, leaf)).filter(|t| live[t.index()]);
         (0..self.nd)
             .filter_map(|j| {
                 let leaf = g.find(&Node::Leaf(Leaf::Q(u32::try_from(j).ok()?)))?;

@@ -121,7 +121,10 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let mut dtrig_lets = Vec::new();
     for (k, (j, [cos, sin])) in dtrig.iter().enumerate() {
         let name = id.coord[*j].unraw();
-        let (cv, sv) = (format_ident!("__cd_{}", name), format_ident!("__sd_{}", name));
+        let (cv, sv) = (
+            format_ident!("__cd_{}", name),
+            format_ident!("__sd_{}", name),
+        );
         let qv = &q[*j];
         dtrig_lets.push(quote! {
             let [#cv, #sv] = #pp::closed::carried_sin_cos(#qv, &mut __dtrig[#k]);

@@ -106,6 +106,10 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                 self.__step_state(options)
             }
 
+            fn step_modes(state: &mut #state) -> &mut [f64] {
+                &mut state.modes
+            }
+
             #[inline]
             fn step_carried(
                 &self,

@@ -153,7 +153,10 @@ pub(super) fn types(
     );
     let idx: Vec<usize> = (0..coord.len()).collect();
     let n = coord.len();
+    let handles = driver_handles(def, id, kinds);
     quote! {
+        #handles
+
         #(#docs)*
         #[derive(Debug, Clone, Copy, PartialEq)]
         #vis struct #name {
@@ -254,6 +257,10 @@ pub(super) fn types(
             fn qdd(&self) -> &#coords {
                 &self.qdd
             }
+            #[inline]
+            fn q_mut(&mut self) -> &mut #coords {
+                &mut self.q
+            }
             type Point = ::kinematics_core::__private::PointMotion<#point_dim>;
             #[inline]
             fn points(&self) -> &[Self::Point] {
@@ -274,6 +281,71 @@ pub(super) fn types(
             #[inline]
             fn residual(&self) -> f64 {
                 self.residual
+            }
+        }
+    }
+}
+
+/// Each driver's typed handle (`FourBar::PHI`), and `sweep` and `simulate`
+/// taking it.
+fn driver_handles(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) -> TokenStream {
+    let (name, coords) = (&id.name, &id.coords);
+    let pp = quote!(::kinematics_core::__private);
+    let mut seen = std::collections::HashSet::new();
+    let consts = def.drivers.iter().enumerate().filter_map(|(j, d)| {
+        let handle = crate::names::driver_handle_name(&d.name);
+        // A handle that collides is reported by the checks; left out here.
+        if crate::names::TAKEN_HANDLES.contains(&handle.as_str()) || !seen.insert(handle.clone()) {
+            return None;
+        }
+        let handle = format_ident!("{}", handle);
+        let text = d.name.unraw().to_string();
+        let (unit, what) = match kinds.and_then(|k| k.get(j)) {
+            Some(CoordKind::Length) => (quote!(Length), "a length"),
+            _ => (quote!(Angle), "an angle"),
+        };
+        let doc = format!(
+            "Driver `{text}` ({what}), for [`{name}::sweep`] and the profiles of \
+             [`{name}::simulate`]."
+        );
+        Some(quote! {
+            #[doc = #doc]
+            pub const #handle: #pp::sweep::Driver<#name, #pp::sweep::#unit> =
+                #pp::sweep::Driver::__new(#j, #text);
+        })
+    });
+    let sweep_doc = format!(
+        "A sweep of `driver` (one of the handles, e.g. [`{name}::{}`]) from the pose \
+         `start`, the other drivers held at rest: set its range, steps, rate and options on \
+         the builder, then `run()` it or iterate over it. See \
+         [`SweepBuilder`](::kinematics_core::sweep::SweepBuilder).",
+        def.drivers
+            .first()
+            .map_or_else(String::new, |d| crate::names::driver_handle_name(&d.name))
+    );
+    quote! {
+        #[allow(clippy::unreadable_literal)]
+        impl #name {
+            #(#consts)*
+
+            #[doc = #sweep_doc]
+            pub fn sweep<U>(
+                &self,
+                driver: #pp::sweep::Driver<#name, U>,
+                start: &#coords,
+            ) -> #pp::sweep::SweepBuilder<'_, #name, U> {
+                #pp::sweep::SweepBuilder::new(self, driver, start)
+            }
+
+            /// A simulation in time from the pose `start`: give the
+            /// drivers' motion with `profile`, the duration and steps on
+            /// the builder, then `run()` it or iterate over it. See
+            /// [`Simulation`](::kinematics_core::sweep::Simulation).
+            pub fn simulate(
+                &self,
+                start: &#coords,
+            ) -> #pp::sweep::Simulation<'_, #name, #pp::sweep::AtRest> {
+                #pp::sweep::Simulation::new(self, start)
             }
         }
     }
