@@ -6,13 +6,16 @@
 //! printed, and the whole cycle is written to `target/kinematics/`:
 //! `fourbar.csv` (every coordinate and point, q, q', q''),
 //! `fourbar-motion.svg` (θ3, θ4 and their rates and accelerations),
-//! `fourbar-path.svg` (the coupler curve of P) and `fourbar-skeleton.svg`
-//! (the linkage drawn every 90°).
+//! `fourbar-points.svg` (position, velocity and acceleration of B and of
+//! the coupler point P), `fourbar-path.svg` (the coupler curve of P),
+//! `fourbar-skeleton.svg` (the linkage drawn every 90°) and `fourbar.html`
+//! (an animation of the cycle, to open in a browser).
 use std::path::PathBuf;
 use std::time::Instant;
 
+use kinematics_core::animate::write_html;
 use kinematics_core::batch;
-use kinematics_core::plot::{plot_motion, plot_path, plot_skeleton, Projection};
+use kinematics_core::plot::{plot_motion, plot_path, plot_points, plot_skeleton, Projection};
 use kinematics_examples::{FourBar, FourBarCoords, FourBarModes};
 
 fn output_dir() -> PathBuf {
@@ -97,6 +100,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::write(&csv, cycle.to_csv())?;
     let motion = dir.join("fourbar-motion.svg");
     plot_motion(&cycle, &motion)?;
+    let points = dir.join("fourbar-points.svg");
+    plot_points(&cycle, &["B", "P"], &points)?;
     let path = dir.join("fourbar-path.svg");
     plot_path(&cycle, "P", Projection::XY, &path)?;
     let skeleton = dir.join("fourbar-skeleton.svg");
@@ -107,8 +112,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.motion.q)
         .collect();
     plot_skeleton(&m, &poses, &FourBar::LINKS, Projection::XY, &skeleton)?;
+    // The animation: one frame per 2° (180 frames).
+    let frames = m
+        .sweep(FourBar::PHI, &start)
+        .from_deg(0.0)
+        .turn()
+        .steps(180)
+        .rate(omega)
+        .run();
+    let page = dir.join("fourbar.html");
+    write_html(&m, &frames, &FourBar::LINKS, Projection::XY, &page)?;
     println!("\nwritten:");
-    for f in [&csv, &motion, &path, &skeleton] {
+    for f in [&csv, &motion, &points, &path, &skeleton, &page] {
         println!("  {}", f.display());
     }
 

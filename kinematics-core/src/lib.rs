@@ -69,6 +69,9 @@ extern crate alloc;
 #[cfg(all(test, not(feature = "std")))]
 extern crate std;
 
+#[cfg(feature = "std")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "std")))]
+pub mod animate;
 pub mod closed;
 mod error;
 pub mod math;
@@ -82,6 +85,7 @@ pub mod rigid;
 pub mod solve;
 pub mod sweep;
 pub mod transform;
+pub mod view;
 
 pub use error::{Error, Input};
 /// The language is described in [`guide::language`], with every section and

@@ -1,54 +1,45 @@
 //! SVG plots of sweeps and drawings of the mechanism (feature `plot`).
 //!
-//! Curves and links are drawn 2 px wide, grid lines 1 px.
+//! Every axis has a title with its unit: angles in degrees, angular rates
+//! in rad/s and rad/s², lengths in metres (the unit of the mechanism's
+//! parameters: see [`Units`] for another); the swept driver in degrees when
+//! it is an angle, the time in seconds. Curves and links are drawn 2 px
+//! wide, grid lines 1 px.
+//!
+//! | function | what it draws |
+//! |---|---|
+//! | [`plot_motion`] | q, q', q'' of every unknown against the driver, a panel per quantity and kind (angles, lengths) |
+//! | [`plot_points`] | position, velocity and acceleration of named points (components and magnitude) against the driver |
+//! | [`plot_path`] | the path of a point (a coupler curve), equal scales |
+//! | [`plot_skeleton`] | the linkage at chosen poses, with a legend of their driver values, ground pivots and sliders marked |
 
 use std::path::Path;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::sweep::Sweep;
-use crate::{Coordinates, Error, Mechanism, MotionState, PointState, Role};
+use crate::sweep::{Sample, Sweep};
+use crate::{Coordinates, Error, Kind, Mechanism, MotionState, PointState, Role};
 
-/// The plane a spatial mechanism is projected on (planar mechanisms are
-/// drawn in their plane).
-///
-/// ```
-/// # use kinematics_core::mechanism;
-/// # mechanism! {
-/// #     /// Slider-crank.
-/// #     pub struct SliderCrank {
-/// #         params   { a, b }
-/// #         drivers  { phi }
-/// #         unknowns { th, x }
-/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
-/// #         loops    { B + polar(b, th) == C; }
-/// #     }
-/// # }
-/// # let m = SliderCrank { a: 0.1, b: 0.3 };
-/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
-/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rate(6.0).run();
-/// let dir = std::env::temp_dir();
-/// use kinematics_core::plot::{plot_path, Projection};
-/// plot_path(&s, "B", Projection::XY, &dir.join("slider-crank-path.svg"))?;
-/// # Ok::<(), kinematics_core::Error>(())
-/// ```
+pub use crate::view::Projection;
+use crate::view::{point_roles, PointRole};
+
+/// The length unit written on the axes (the values are plotted as
+/// computed, in the unit of the mechanism's parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Projection {
-    /// Looking down z: (x, y).
-    XY,
-    /// Looking along y: (x, z).
-    XZ,
-    /// Looking along x: (y, z).
-    YZ,
+pub struct Units {
+    /// The name of the length unit, `"m"` by default.
+    pub length: &'static str,
 }
 
-impl Projection {
-    fn axes(self) -> (usize, usize) {
-        match self {
-            Projection::XY => (0, 1),
-            Projection::XZ => (0, 2),
-            Projection::YZ => (1, 2),
-        }
+impl Units {
+    /// Metres.
+    pub const METRES: Self = Self { length: "m" };
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Self::METRES
     }
 }
 
@@ -63,6 +54,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
+const FONT: &str = "sans-serif";
+
 fn output(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Output {
         path: path.display().to_string(),
@@ -71,18 +64,122 @@ fn output(path: &Path, e: impl std::fmt::Display) -> Error {
 }
 
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-        (a.min(v), b.max(v))
-    });
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     if !lo.is_finite() || !hi.is_finite() {
         return (-1.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(1e-9 * (1.0 + hi.abs()));
+    let pad = ((hi - lo) * 0.05).max(1e-9 * (1.0 + hi.abs().max(lo.abs())));
     (lo - pad, hi + pad)
 }
 
-/// Plots q, q' and q'' of every unknown against the swept variable, one
-/// panel each, one curve per unknown, into an SVG file at `path`.
+/// A tick label: as many decimals as the axis span needs, and never "-0".
+fn tick(v: f64, span: f64) -> String {
+    let decimals = if span > 0.0 && span.is_finite() {
+        // Up to about ten ticks: enough decimals for a tenth of the span.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let d = (-(span / 10.0).log10()).ceil().max(0.0) as usize;
+        d.min(9)
+    } else {
+        3
+    };
+    let s = format!("{v:.decimals$}");
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        s.trim_start_matches('-').to_owned()
+    } else {
+        s
+    }
+}
+
+/// The x axis of a sweep: its title and the factor from the swept value.
+fn x_axis<M: Mechanism>(sweep: &Sweep<M>, units: Units) -> (String, f64) {
+    if sweep.variable == "t" {
+        ("t (s)".to_owned(), 1.0)
+    } else if sweep.kind == Kind::Angle {
+        (
+            format!("{} (deg)", sweep.variable),
+            180.0 / std::f64::consts::PI,
+        )
+    } else {
+        (format!("{} ({})", sweep.variable, units.length), 1.0)
+    }
+}
+
+/// One curve of a panel.
+struct Curve {
+    label: String,
+    points: Vec<(f64, f64)>,
+    color: RGBColor,
+    width: u32,
+}
+
+/// Draws `curves` in `area` with the axis titles `x` and `y`, a caption and
+/// a legend.
+fn panel(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    caption: &str,
+    x: &str,
+    y: &str,
+    curves: &[Curve],
+    path: &Path,
+) -> Result<(), Error> {
+    let (x0, x1) = range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)));
+    let (y0, y1) = range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)));
+    // Room above the curves for the legend.
+    let y1 = y1 + 0.06 * (y1 - y0) * (curves.len() as f64);
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 17))
+        .margin(10)
+        .x_label_area_size(42)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| output(path, e))?;
+    let (xs, ys) = (x1 - x0, y1 - y0);
+    chart
+        .configure_mesh()
+        .x_desc(x)
+        .y_desc(y)
+        .axis_desc_style((FONT, 14))
+        .label_style((FONT, 12))
+        .x_label_formatter(&|v| tick(*v, xs))
+        .y_label_formatter(&|v| tick(*v, ys))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| output(path, e))?;
+    for c in curves {
+        let color = c.color;
+        chart
+            .draw_series(LineSeries::new(
+                c.points.iter().copied(),
+                color.stroke_width(c.width),
+            ))
+            .map_err(|e| output(path, e))?
+            .label(c.label.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
+        .map_err(|e| output(path, e))
+}
+
+/// Plots q, q' and q'' of every unknown against the swept variable into an
+/// SVG file at `path`: a row per quantity, a column per kind (angles in
+/// degrees with their rates in rad/s and rad/s²; lengths in m, m/s,
+/// m/s²), one curve per unknown. The driver is in degrees when it is an
+/// angle.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -99,74 +196,102 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// # let m = SliderCrank { a: 0.1, b: 0.3 };
 /// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
 /// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rate(6.0).run();
-/// let dir = std::env::temp_dir();
-/// let file = dir.join("slider-crank-motion.svg");
+/// let file = std::env::temp_dir().join("slider-crank-motion.svg");
 /// kinematics_core::plot::plot_motion(&s, &file)?;
-/// assert!(std::fs::read_to_string(&file).is_ok_and(|svg| svg.contains("<svg")));
+/// let svg = std::fs::read_to_string(&file).expect("written");
+/// assert!(svg.contains("phi (deg)") && svg.contains("angular velocity (rad/s)"));
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 ///
 /// # Errors
 /// [`Error::Output`] when the file cannot be written.
 pub fn plot_motion<M: Mechanism>(sweep: &Sweep<M>, path: &Path) -> Result<(), Error> {
-    let unknowns: Vec<(usize, &str)> = M::COORDINATES
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| c.role == Role::Unknown)
-        .map(|(j, c)| (j, c.name))
-        .collect();
-    let x: Vec<f64> = sweep.samples.iter().map(|s| s.at).collect();
-    let (x0, x1) = range(x.iter().copied());
-    let root = SVGBackend::new(path, (900, 1000)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| output(path, e))?;
-    let panels = root.split_evenly((3, 1));
-    let titles = ["position q", "rate q'", "acceleration q''"];
-    for (order, area) in panels.iter().enumerate() {
-        let value = |s: &crate::sweep::Sample<M>, j: usize| {
-            let c = match order {
-                0 => s.motion.q(),
-                1 => s.motion.qd(),
-                _ => s.motion.qdd(),
-            };
-            c.get(j).unwrap_or(f64::NAN)
-        };
-        let (y0, y1) = range(
-            sweep
-                .samples
+    plot_motion_in(sweep, Units::METRES, path)
+}
+
+/// [`plot_motion`] with lengths labelled in `units`.
+///
+/// # Errors
+/// [`Error::Output`] when the file cannot be written.
+pub fn plot_motion_in<M: Mechanism>(
+    sweep: &Sweep<M>,
+    units: Units,
+    path: &Path,
+) -> Result<(), Error> {
+    let (x_title, x_scale) = x_axis(sweep, units);
+    let kinds: Vec<Kind> = [Kind::Angle, Kind::Length]
+        .into_iter()
+        .filter(|k| {
+            M::COORDINATES
                 .iter()
-                .flat_map(|s| unknowns.iter().map(move |(j, _)| value(s, *j))),
-        );
-        let mut chart = ChartBuilder::on(area)
-            .caption(titles[order], ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| output(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc(sweep.variable)
-            .draw()
-            .map_err(|e| output(path, e))?;
-        for (k, (j, name)) in unknowns.iter().enumerate() {
-            let color = PALETTE[k % PALETTE.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    sweep.samples.iter().map(|s| (s.at, value(s, *j))),
-                    color.stroke_width(2),
-                ))
-                .map_err(|e| output(path, e))?
-                .label(*name)
-                .legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 4), (x + 12, y + 4)], color.filled())
-                });
+                .any(|c| c.role == Role::Unknown && c.kind == *k)
+        })
+        .collect();
+    let columns = kinds.len().max(1);
+    let width = u32::try_from(560 * columns).unwrap_or(1120);
+    let root = SVGBackend::new(path, (width, 960)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| output(path, e))?;
+    let areas = root.split_evenly((3, columns));
+    let len = units.length;
+    for (col, kind) in kinds.iter().enumerate() {
+        let titles: [(&str, String, f64); 3] = match kind {
+            Kind::Angle => [
+                (
+                    "angles",
+                    "angle (deg)".to_owned(),
+                    180.0 / std::f64::consts::PI,
+                ),
+                (
+                    "angular velocities",
+                    "angular velocity (rad/s)".to_owned(),
+                    1.0,
+                ),
+                (
+                    "angular accelerations",
+                    "angular acceleration (rad/s²)".to_owned(),
+                    1.0,
+                ),
+            ],
+            Kind::Length => [
+                ("lengths", format!("length ({len})"), 1.0),
+                ("linear velocities", format!("velocity ({len}/s)"), 1.0),
+                (
+                    "linear accelerations",
+                    format!("acceleration ({len}/s²)"),
+                    1.0,
+                ),
+            ],
+        };
+        for (order, (caption, y_title, scale)) in titles.iter().enumerate() {
+            let value = |s: &Sample<M>, j: usize| {
+                let c = match order {
+                    0 => s.motion.q(),
+                    1 => s.motion.qd(),
+                    _ => s.motion.qdd(),
+                };
+                c.get(j).unwrap_or(f64::NAN) * scale
+            };
+            let curves: Vec<Curve> = M::COORDINATES
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.role == Role::Unknown && c.kind == *kind)
+                .enumerate()
+                .map(|(n, (j, c))| Curve {
+                    label: c.name.to_owned(),
+                    points: sweep
+                        .samples
+                        .iter()
+                        .map(|s| (s.at * x_scale, value(s, j)))
+                        .collect(),
+                    color: PALETTE[n % PALETTE.len()],
+                    width: 2,
+                })
+                .collect();
+            let Some(area) = areas.get(order * columns + col) else {
+                continue;
+            };
+            panel(area, caption, &x_title, y_title, &curves, path)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| output(path, e))?;
     }
     root.present().map_err(|e| output(path, e))
 }
@@ -184,8 +309,139 @@ fn point_index<M: Mechanism>(name: &str) -> Result<usize, Error> {
         })
 }
 
+/// Plots the position, velocity and acceleration of each point of `points`
+/// (by name) against the swept variable into an SVG file at `path`: a
+/// column per point, a row per quantity, each with its components (x, y
+/// and for spatial mechanisms z) and, for velocity and acceleration, the
+/// magnitude (speed |v| and |a|, drawn thicker).
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let s = m.sweep(SliderCrank::PHI, &start).turn().steps(72).rpm(600.0).run();
+/// let file = std::env::temp_dir().join("slider-crank-points.svg");
+/// kinematics_core::plot::plot_points(&s, &["B", "C"], &file)?;
+/// let svg = std::fs::read_to_string(&file).expect("written");
+/// assert!(svg.contains("velocity (m/s)") && svg.contains("|v|"));
+/// // An unknown point is an error, not a panic.
+/// assert!(kinematics_core::plot::plot_points(&s, &["Q"], &file).is_err());
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
+///
+/// # Errors
+/// [`Error::InvalidGeometry`] for an unknown point, [`Error::Output`] when
+/// the file cannot be written.
+pub fn plot_points<M: Mechanism>(
+    sweep: &Sweep<M>,
+    points: &[&str],
+    path: &Path,
+) -> Result<(), Error> {
+    plot_points_in(sweep, points, Units::METRES, path)
+}
+
+/// [`plot_points`] with lengths labelled in `units`.
+///
+/// # Errors
+/// As [`plot_points`].
+pub fn plot_points_in<M: Mechanism>(
+    sweep: &Sweep<M>,
+    points: &[&str],
+    units: Units,
+    path: &Path,
+) -> Result<(), Error> {
+    let indices: Vec<usize> = points
+        .iter()
+        .map(|p| point_index::<M>(p))
+        .collect::<Result<_, _>>()?;
+    let (x_title, x_scale) = x_axis(sweep, units);
+    let columns = indices.len().max(1);
+    let width = u32::try_from(560 * columns).unwrap_or(1120);
+    let root = SVGBackend::new(path, (width, 960)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| output(path, e))?;
+    let areas = root.split_evenly((3, columns));
+    let len = units.length;
+    let axes = ["x", "y", "z"];
+    for (col, (&k, name)) in indices.iter().zip(points).enumerate() {
+        let rows = [
+            ("position", format!("position ({len})"), ""),
+            ("velocity", format!("velocity ({len}/s)"), "v"),
+            ("acceleration", format!("acceleration ({len}/s²)"), "a"),
+        ];
+        for (order, (what, y_title, prefix)) in rows.iter().enumerate() {
+            let vector = |s: &Sample<M>| -> Vec<f64> {
+                s.motion.points().get(k).map_or_else(Vec::new, |p| {
+                    match order {
+                        0 => p.position(),
+                        1 => p.velocity(),
+                        _ => p.acceleration(),
+                    }
+                    .to_vec()
+                })
+            };
+            let mut curves: Vec<Curve> = (0..M::POINT_DIM)
+                .map(|c| Curve {
+                    label: format!("{prefix}{}", axes.get(c).copied().unwrap_or("?")),
+                    points: sweep
+                        .samples
+                        .iter()
+                        .map(|s| {
+                            (
+                                s.at * x_scale,
+                                vector(s).get(c).copied().unwrap_or(f64::NAN),
+                            )
+                        })
+                        .collect(),
+                    color: PALETTE[c % PALETTE.len()],
+                    width: 2,
+                })
+                .collect();
+            if order > 0 {
+                curves.push(Curve {
+                    label: format!("|{prefix}|"),
+                    points: sweep
+                        .samples
+                        .iter()
+                        .map(|s| {
+                            (
+                                s.at * x_scale,
+                                vector(s).iter().map(|v| v * v).sum::<f64>().sqrt(),
+                            )
+                        })
+                        .collect(),
+                    color: BLACK,
+                    width: 3,
+                });
+            }
+            let Some(area) = areas.get(order * columns + col) else {
+                continue;
+            };
+            panel(
+                area,
+                &format!("{what} of {name}"),
+                &x_title,
+                y_title,
+                &curves,
+                path,
+            )?;
+        }
+    }
+    root.present().map_err(|e| output(path, e))
+}
+
 /// Plots the path of point `point` over the sweep (projected for spatial
-/// mechanisms) into an SVG file at `path`, with equal scales on both axes.
+/// mechanisms) into an SVG file at `path`, with equal scales on both axes
+/// and the first sample marked.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -234,18 +490,61 @@ pub fn plot_path<M: Mechanism>(
         })
         .collect();
     let ((x0, x1), (y0, y1)) = square(range(xy.iter().map(|p| p.0)), range(xy.iter().map(|p| p.1)));
-    let root = SVGBackend::new(path, (700, 700)).into_drawing_area();
+    let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(format!("path of {point}"), ("sans-serif", 18))
+        .caption(format!("path of {point}"), (FONT, 18))
         .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
+        .x_label_area_size(42)
+        .y_label_area_size(70)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| output(path, e))?;
-    chart.configure_mesh().draw().map_err(|e| output(path, e))?;
+    let (xn, yn) = projection.names();
+    let span = x1 - x0;
     chart
-        .draw_series(LineSeries::new(xy, PALETTE[0].stroke_width(2)))
+        .configure_mesh()
+        .x_desc(format!("{xn} (m)"))
+        .y_desc(format!("{yn} (m)"))
+        .axis_desc_style((FONT, 14))
+        .label_style((FONT, 12))
+        .x_label_formatter(&|v| tick(*v, span))
+        .y_label_formatter(&|v| tick(*v, span))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| output(path, e))?;
+    chart
+        .draw_series(LineSeries::new(
+            xy.iter().copied(),
+            PALETTE[0].stroke_width(2),
+        ))
+        .map_err(|e| output(path, e))?
+        .label(format!("{point} over the sweep"))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], PALETTE[0].stroke_width(2)));
+    if let (Some(first), Some(s)) = (xy.first(), sweep.samples.first()) {
+        let label = if sweep.variable == "t" {
+            format!("start, t = {} s", tick(s.at, 1.0))
+        } else if sweep.kind == Kind::Angle {
+            format!(
+                "start, {} = {}°",
+                sweep.variable,
+                tick(s.at.to_degrees(), 100.0)
+            )
+        } else {
+            format!("start, {} = {}", sweep.variable, tick(s.at, 0.01))
+        };
+        chart
+            .draw_series(std::iter::once(Circle::new(*first, 5, PALETTE[1].filled())))
+            .map_err(|e| output(path, e))?
+            .label(label)
+            .legend(|(x, y)| Circle::new((x + 8, y), 5, PALETTE[1].filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
         .map_err(|e| output(path, e))?;
     root.present().map_err(|e| output(path, e))
 }
@@ -262,11 +561,14 @@ fn square(x: (f64, f64), y: (f64, f64)) -> ((f64, f64), (f64, f64)) {
 }
 
 /// Draws the mechanism's skeleton at each pose of `poses` (one colour per
-/// pose): each link of `links` (pairs of point names) as a line between its
-/// points, and the fixed pivots (points that do not move over the poses) as
-/// black triangles; spatial mechanisms are projected orthographically.
+/// pose, with a legend of each pose's driver values): each link of `links`
+/// (pairs of point names) as a line between its points, ground pivots
+/// (points whose position depends on no coordinate) as hatched triangles,
+/// sliders on a ground guide (points that move along one fixed line) as
+/// blocks on a dashed guide, and the points' names beside them. Spatial
+/// mechanisms are projected orthographically.
 ///
-/// ```no_run
+/// ```
 /// # use kinematics_core::{mechanism, plot::{plot_skeleton, Projection}};
 /// # mechanism! {
 /// #     /// A four-bar.
@@ -279,9 +581,12 @@ fn square(x: (f64, f64), y: (f64, f64)) -> ((f64, f64), (f64, f64)) {
 /// #     }
 /// # }
 /// # let m = FourBar { a: 0.04, b: 0.12, c: 0.1, d: 0.11 };
-/// # let pose = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.0, th4: 1.6 }).unwrap();
+/// let pose = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.0, th4: 1.6 })?;
 /// let links = [("A", "B"), ("B", "C"), ("C", "D")];
-/// plot_skeleton(&m, &[pose], &links, Projection::XY, "skeleton.svg".as_ref())?;
+/// let file = std::env::temp_dir().join("four-bar-skeleton.svg");
+/// plot_skeleton(&m, &[pose], &links, Projection::XY, &file)?;
+/// let svg = std::fs::read_to_string(&file).expect("written");
+/// assert!(svg.contains("phi = 0°"));
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 ///
@@ -316,51 +621,211 @@ pub fn plot_skeleton<M: Mechanism>(
                 .collect()
         })
         .collect();
+    let roles = poses.first().map_or_else(Vec::new, |p| point_roles(m, p));
     let all = || positions.iter().flatten();
     let ((x0, x1), (y0, y1)) = square(range(all().map(|p| p.0)), range(all().map(|p| p.1)));
-    let tol = 1e-9 * (x1 - x0).abs().max(1e-300);
-    let fixed: Vec<usize> = (0..M::POINTS)
-        .filter(|&k| {
-            positions.iter().all(|ps| {
-                let (p, q) = (ps[k], positions[0][k]);
-                (p.0 - q.0).abs() <= tol && (p.1 - q.1).abs() <= tol
-            })
-        })
-        .collect();
-    let root = SVGBackend::new(path, (800, 800)).into_drawing_area();
+    // Room for the ground symbols and labels.
+    let pad = 0.08 * (x1 - x0);
+    let ((x0, x1), (y0, y1)) = ((x0 - pad, x1 + pad), (y0 - pad, y1 + pad));
+    let root = SVGBackend::new(path, (820, 820)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption("mechanism", ("sans-serif", 18))
+        .caption("the mechanism at each pose", (FONT, 18))
         .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
+        .x_label_area_size(42)
+        .y_label_area_size(70)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| output(path, e))?;
-    chart.configure_mesh().draw().map_err(|e| output(path, e))?;
-    for (i, ps) in positions.iter().enumerate() {
+    let (xn, yn) = projection.names();
+    let span = x1 - x0;
+    chart
+        .configure_mesh()
+        .x_desc(format!("{xn} (m)"))
+        .y_desc(format!("{yn} (m)"))
+        .axis_desc_style((FONT, 14))
+        .label_style((FONT, 12))
+        .x_label_formatter(&|v| tick(*v, span))
+        .y_label_formatter(&|v| tick(*v, span))
+        .light_line_style(RGBColor(238, 238, 238))
+        .draw()
+        .map_err(|e| output(path, e))?;
+    // Slider guides: dashed grey lines through each slider's positions.
+    for (k, role) in roles.iter().enumerate() {
+        if *role != PointRole::Slider {
+            continue;
+        }
+        let pts: Vec<(f64, f64)> = positions.iter().map(|ps| ps[k]).collect();
+        let (lo, hi) = extreme_along(&pts);
+        let (dx, dy) = (hi.0 - lo.0, hi.1 - lo.1);
+        let n = (dx * dx + dy * dy).sqrt();
+        let (ux, uy) = if n > 0.0 {
+            (dx / n, dy / n)
+        } else {
+            (1.0, 0.0)
+        };
+        let ext = 0.06 * span;
+        let guide = [
+            (lo.0 - ux * ext, lo.1 - uy * ext),
+            (hi.0 + ux * ext, hi.1 + uy * ext),
+        ];
+        chart
+            .draw_series(
+                dashes(guide[0], guide[1], span / 80.0)
+                    .into_iter()
+                    .map(|seg| PathElement::new(seg, RGBColor(150, 150, 150).stroke_width(1))),
+            )
+            .map_err(|e| output(path, e))?;
+    }
+    let driver_label = |pose: &M::Coords| -> String {
+        M::COORDINATES
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.role == Role::Driver)
+            .map(|(j, c)| {
+                let v = pose.get(j).unwrap_or(f64::NAN);
+                match c.kind {
+                    Kind::Angle => format!("{} = {}°", c.name, tick(v.to_degrees(), 100.0)),
+                    Kind::Length => format!("{} = {} m", c.name, tick(v, 0.01)),
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for (i, (ps, pose)) in positions.iter().zip(poses).enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         chart
             .draw_series(
                 ends.iter()
                     .map(|&(p, q)| PathElement::new(vec![ps[p], ps[q]], color.stroke_width(2))),
             )
+            .map_err(|e| output(path, e))?
+            .label(driver_label(pose))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+            });
+        // Joints as small open circles; sliders as blocks.
+        chart
+            .draw_series(
+                roles
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, r)| **r == PointRole::Moving)
+                    .map(|(k, _)| Circle::new(ps[k], 3, color.stroke_width(1))),
+            )
+            .map_err(|e| output(path, e))?;
+        chart
+            .draw_series(
+                roles
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, r)| **r == PointRole::Slider)
+                    .map(|(k, _)| {
+                        EmptyElement::at(ps[k])
+                            + Rectangle::new([(-9, -6), (9, 6)], color.mix(0.25).filled())
+                            + Rectangle::new([(-9, -6), (9, 6)], color.stroke_width(2))
+                    }),
+            )
             .map_err(|e| output(path, e))?;
     }
     let first = positions.first().cloned().unwrap_or_default();
+    // Ground pivots: a triangle under the pivot, hatched ground below it.
     chart
         .draw_series(
-            fixed
+            roles
                 .iter()
-                .map(|&k| TriangleMarker::new(first[k], 9, BLACK.filled())),
+                .enumerate()
+                .filter(|(_, r)| **r == PointRole::Fixed)
+                .map(|(k, _)| {
+                    EmptyElement::at(first[k])
+                        + Polygon::new(
+                            vec![(0, 0), (-9, 14), (9, 14)],
+                            RGBColor(90, 90, 90).filled(),
+                        )
+                        + PathElement::new(vec![(-13, 15), (13, 15)], BLACK.stroke_width(2))
+                        + Circle::new((0, 0), 3, WHITE.filled())
+                        + Circle::new((0, 0), 3, BLACK.stroke_width(1))
+                }),
         )
         .map_err(|e| output(path, e))?;
     chart
         .draw_series(
-            M::POINT_NAMES
+            roles
                 .iter()
-                .zip(&first)
-                .map(|(name, p)| Text::new((*name).to_owned(), *p, ("sans-serif", 14))),
+                .enumerate()
+                .filter(|(_, r)| **r == PointRole::Fixed)
+                .flat_map(|(k, _)| {
+                    let at = first[k];
+                    (0..5).map(move |h| {
+                        let x = -12 + 6 * h;
+                        EmptyElement::at(at)
+                            + PathElement::new(vec![(x, 15), (x - 5, 21)], BLACK.stroke_width(1))
+                    })
+                }),
         )
+        .map_err(|e| output(path, e))?;
+    // Names, offset up and to the right of the first pose's points.
+    chart
+        .draw_series(M::POINT_NAMES.iter().zip(&first).map(|(name, p)| {
+            EmptyElement::at(*p) + Text::new((*name).to_owned(), (7, -17), (FONT, 14).into_font())
+        }))
+        .map_err(|e| output(path, e))?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
         .map_err(|e| output(path, e))?;
     root.present().map_err(|e| output(path, e))
+}
+
+/// The two points of `pts` farthest apart along their common line.
+fn extreme_along(pts: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
+    let Some(&first) = pts.first() else {
+        return ((0.0, 0.0), (0.0, 0.0));
+    };
+    let far = pts.iter().copied().fold(first, |best, p| {
+        let d = |q: (f64, f64)| (q.0 - first.0).powi(2) + (q.1 - first.1).powi(2);
+        if d(p) > d(best) {
+            p
+        } else {
+            best
+        }
+    });
+    let other = pts.iter().copied().fold(far, |best, p| {
+        let d = |q: (f64, f64)| (q.0 - far.0).powi(2) + (q.1 - far.1).powi(2);
+        if d(p) > d(best) {
+            p
+        } else {
+            best
+        }
+    });
+    (other, far)
+}
+
+/// A dashed line from `a` to `b`: segments of length `dash` with equal
+/// gaps.
+fn dashes(a: (f64, f64), b: (f64, f64), dash: f64) -> Vec<Vec<(f64, f64)>> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = (dx * dx + dy * dy).sqrt();
+    if !(len > 0.0 && dash > 0.0) {
+        return vec![vec![a, b]];
+    }
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let n = ((len / dash) as usize).min(400);
+    (0..n)
+        .step_by(2)
+        .map(|i| {
+            #[allow(clippy::cast_precision_loss)]
+            let (t0, t1) = (
+                i as f64 * dash / len,
+                ((i + 1) as f64 * dash / len).min(1.0),
+            );
+            vec![
+                (a.0 + dx * t0, a.1 + dy * t0),
+                (a.0 + dx * t1, a.1 + dy * t1),
+            ]
+        })
+        .collect()
 }

@@ -5,7 +5,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use kinematics_core::plot::{plot_motion, plot_path, plot_skeleton, Projection};
+use kinematics_core::animate::write_html;
+use kinematics_core::plot::{plot_motion, plot_path, plot_points, plot_skeleton, Projection};
 use kinematics_core::sweep::{
     constant_acceleration, constant_speed, ChangePoints, StopReason, Wrap,
 };
@@ -216,53 +217,218 @@ fn csv_and_text_tables() {
     assert_eq!(text.lines().count(), 1 + 4);
 }
 
-fn stroke_2_polylines(svg: &str) -> usize {
+/// The curves of an SVG plot: polylines of at least 50 points.
+fn curves(svg: &str) -> usize {
     let doc = roxmltree::Document::parse(svg).expect("valid SVG (XML)");
     doc.descendants()
-        .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
+        .filter(|n| {
+            n.has_tag_name("polyline")
+                && n.attribute("points")
+                    .is_some_and(|p| p.split_whitespace().count() >= 50)
+        })
         .count()
 }
 
+/// Every text of an SVG file.
+fn texts(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).expect("valid SVG (XML)");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().map(|t| t.trim().to_owned()))
+        .collect()
+}
+
+/// Asserts that `svg` has every text of `wanted` and no tick reading "-0".
+fn assert_texts(svg: &str, wanted: &[&str]) {
+    let t = texts(svg);
+    for w in wanted {
+        assert!(t.iter().any(|x| x == w), "no text {w:?} in {t:?}");
+    }
+    for x in &t {
+        let negative_zero = x.starts_with('-') && x[1..].chars().all(|c| c == '0' || c == '.');
+        assert!(!negative_zero, "a tick reads {x:?}");
+    }
+}
+
 #[test]
-fn plots_are_valid_svg_with_one_curve_per_unknown_and_one_line_per_link() {
+fn plots_have_titled_axes_with_units_and_the_curves_asked_for() {
     let dir = std::env::temp_dir().join(format!("kinematics-plots-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temporary directory");
+    let read = |f: &std::path::Path| std::fs::read_to_string(f).expect("read");
     let m = FourBar::CRANK_ROCKER;
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
     let s = m
         .sweep(FourBar::PHI, &start)
-        .to(TAU)
+        .turn()
         .steps(360)
         .rate(10.0)
         .run();
+    // q, q', q'' of θ3 and θ4: one column of angles, two curves per panel.
     let motion = dir.join("motion.svg");
     plot_motion(&s, &motion).expect("written");
-    // Three panels (q, q', q''), one curve per unknown (θ3, θ4).
-    assert_eq!(
-        stroke_2_polylines(&std::fs::read_to_string(&motion).expect("read")),
-        3 * 2
+    let svg = read(&motion);
+    assert_eq!(curves(&svg), 3 * 2);
+    assert_texts(
+        &svg,
+        &[
+            "phi (deg)",
+            "angle (deg)",
+            "angular velocity (rad/s)",
+            "angular acceleration (rad/s²)",
+            "th3",
+            "th4",
+        ],
     );
+    // Points: positions (x, y), velocities and accelerations (x, y and the
+    // magnitude) of B and P.
+    let points = dir.join("points.svg");
+    plot_points(&s, &["B", "P"], &points).expect("written");
+    let svg = read(&points);
+    assert_eq!(curves(&svg), 2 * (2 + 3 + 3));
+    assert_texts(
+        &svg,
+        &[
+            "position (m)",
+            "velocity (m/s)",
+            "acceleration (m/s²)",
+            "|v|",
+            "|a|",
+            "velocity of P",
+        ],
+    );
+    assert!(plot_points(&s, &["Q"], &points).is_err());
     let path = dir.join("path.svg");
     plot_path(&s, "P", Projection::XY, &path).expect("written");
-    assert_eq!(
-        stroke_2_polylines(&std::fs::read_to_string(&path).expect("read")),
-        1
-    );
+    let svg = read(&path);
+    assert_eq!(curves(&svg), 1);
+    assert_texts(&svg, &["x (m)", "y (m)", "start, phi = 0°"]);
+    // The skeleton every 90°: a legend of the crank angles, and the two
+    // ground pivots A and D marked (a filled triangle each).
     let skeleton = dir.join("skeleton.svg");
     let poses: Vec<FourBarCoords> = s.samples.iter().step_by(90).map(|x| x.motion.q).collect();
-    assert_eq!(poses.len(), 5);
+    assert_eq!(poses.len(), 4);
     plot_skeleton(&m, &poses, &FourBar::LINKS, Projection::XY, &skeleton).expect("written");
-    let svg = std::fs::read_to_string(&skeleton).expect("read");
-    assert_eq!(stroke_2_polylines(&svg), FourBar::LINKS.len() * poses.len());
-    // The two fixed pivots, A and D, are marked.
-    let doc = roxmltree::Document::parse(&svg).expect("valid SVG");
-    let markers = doc
-        .descendants()
-        .filter(|n| n.has_tag_name("polygon"))
-        .count();
-    assert_eq!(markers, 2);
+    let svg = read(&skeleton);
+    assert_texts(
+        &svg,
+        &[
+            "phi = 0°",
+            "phi = 90°",
+            "phi = 180°",
+            "phi = 270°",
+            "A",
+            "D",
+            "x (m)",
+        ],
+    );
+    let polygons = |svg: &str| {
+        roxmltree::Document::parse(svg)
+            .expect("valid SVG")
+            .descendants()
+            .filter(|n| n.has_tag_name("polygon"))
+            .count()
+    };
+    assert_eq!(polygons(&svg), 2);
+    // With a single pose, only the ground pivots are marked as such (every
+    // point was, when "fixed" meant "the same in every pose drawn").
+    plot_skeleton(&m, &poses[..1], &FourBar::LINKS, Projection::XY, &skeleton).expect("written");
+    assert_eq!(polygons(&read(&skeleton)), 2);
     // An unknown point is an error, not a panic.
     assert!(plot_skeleton(&m, &poses, &[("A", "Q")], Projection::XY, &skeleton).is_err());
+    // A slider-crank: angles and lengths in their own columns, the slider
+    // drawn as a block on its guide, its crank pivot as ground.
+    let sc = SliderCrank {
+        a: 0.1,
+        b: 0.25,
+        e: 0.02,
+    };
+    let start = sc
+        .assemble(&SliderCrankCoords {
+            phi: 0.0,
+            th: 0.0,
+            x: 0.35,
+        })
+        .expect("assembles");
+    let s = sc.sweep(SliderCrank::PHI, &start).turn().rpm(600.0).run();
+    plot_motion(&s, &motion).expect("written");
+    let svg = read(&motion);
+    assert_eq!(curves(&svg), 6);
+    assert_texts(
+        &svg,
+        &[
+            "angle (deg)",
+            "length (m)",
+            "velocity (m/s)",
+            "acceleration (m/s²)",
+        ],
+    );
+    let sc_poses: Vec<SliderCrankCoords> =
+        s.samples.iter().step_by(120).map(|x| x.motion.q).collect();
+    plot_skeleton(&sc, &sc_poses, &[("B", "C")], Projection::XY, &skeleton).expect("written");
+    let doc = read(&skeleton);
+    let blocks = roxmltree::Document::parse(&doc)
+        .expect("valid SVG")
+        .descendants()
+        .filter(|n| n.has_tag_name("rect") && n.attribute("opacity") == Some("0.25"))
+        .count();
+    assert_eq!(blocks, sc_poses.len(), "one slider block per pose");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_animation_is_one_self_contained_page_with_a_frame_per_sample() {
+    let dir = std::env::temp_dir().join(format!("kinematics-animation-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary directory");
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let s = m.sweep(FourBar::PHI, &start).turn().steps(90).run();
+    let page = dir.join("fourbar.html");
+    write_html(&m, &s, &FourBar::LINKS, Projection::XY, &page).expect("written");
+    let html = std::fs::read_to_string(&page).expect("read");
+    // Self-contained: nothing fetched from anywhere.
+    assert!(
+        !html.contains("http") && !html.contains("src="),
+        "external references"
+    );
+    // Well-formed (as XML too), with the drawing, the slider and the player.
+    let body = html.trim_start_matches("<!DOCTYPE html>");
+    let doc = roxmltree::Document::parse(body).expect("well-formed");
+    let has = |tag: &str| doc.descendants().any(|n| n.has_tag_name(tag));
+    assert!(has("svg") && has("button") && has("script"));
+    let range = doc
+        .descendants()
+        .find(|n| n.attribute("type") == Some("range"))
+        .expect("a slider for the driver");
+    assert_eq!(range.attribute("max"), Some("89"));
+    // One frame per sample, each with the position of every point.
+    let frames = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("frames"))
+        .and_then(|n| n.text())
+        .expect("frames");
+    let frames: Vec<Vec<f64>> = serde_json::from_str(frames).expect("JSON frames");
+    assert_eq!(frames.len(), s.samples.len());
+    let k = <FourBar as kinematics_core::Mechanism>::POINT_NAMES
+        .iter()
+        .position(|n| *n == "P")
+        .expect("a point P");
+    for (f, sample) in frames.iter().zip(&s.samples) {
+        assert_eq!(f.len(), 2 * FourBar::POINTS);
+        let p = sample.motion.point_p().position;
+        // Seven significant digits.
+        assert!((f[2 * k] - p.x).abs() < 1e-7 && (f[2 * k + 1] - p.y).abs() < 1e-7);
+    }
+    // Each link is a line of the drawing; each moving point's path too.
+    let lines = doc
+        .descendants()
+        .filter(|n| n.attribute("id").is_some_and(|i| i.starts_with("link")))
+        .count();
+    assert_eq!(lines, FourBar::LINKS.len());
+    let paths = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .count();
+    assert_eq!(paths, 3); // B, C and P; A and D are ground pivots
     let _ = std::fs::remove_dir_all(&dir);
 }
 
