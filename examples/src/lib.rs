@@ -10,6 +10,7 @@ mechanism! {
     /// Planar four-bar. Ground pivots A = (0, 0) and D = (d, 0); crank AB at
     /// angle φ, coupler BC at θ3, rocker DC at θ4 measured at D; coupler point
     /// P = B + p·(cos(θ3 + β), sin(θ3 + β)).
+    #[derive(serde::Serialize, serde::Deserialize)]
     pub struct FourBar {
         params {
             /// Crank length AB.

@@ -102,6 +102,7 @@ impl fmt::Display for Block {
 /// The mode of a continuous motion does not change except through a
 /// limit position, where the two solutions meet.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Mode {
     /// The `+` solution.
     #[default]

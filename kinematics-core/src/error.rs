@@ -1,8 +1,9 @@
 //! Errors of assembly and analysis.
 
 use alloc::string::String;
-use alloc::vec::Vec;
 use core::fmt;
+
+pub use crate::names::{Configuration, Name};
 
 /// What kind of input a non-finite value was found in.
 ///
@@ -27,6 +28,7 @@ use core::fmt;
 /// }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Input {
     /// A field of the mechanism struct (a link length, an offset).
     Parameter,
@@ -80,6 +82,7 @@ impl fmt::Display for Input {
 /// println!("{e}"); // names the drivers and the unknowns that cannot close
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Error {
     /// Newton–Raphson did not bring the loop-closure residual below the
@@ -95,29 +98,40 @@ pub enum Error {
         /// (see [`Scaling`](crate::solve::Scaling)).
         relative: f64,
         /// The equation with that residual, as written in the definition.
-        equation: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        equation: Name,
         /// Coordinates at the last iterate, by name.
-        configuration: Vec<(&'static str, f64)>,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::names::configuration")
+        )]
+        configuration: Configuration,
     },
     /// The Jacobian Φ_u is singular (or nearly so) at this configuration:
     /// the unknowns are not determined by the equations. This is a dead
     /// centre, a toggle position, or a redundant or missing constraint.
     Singular {
         /// The unknown the equations determine worst there.
-        unknown: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        unknown: Name,
         /// The conditioning: the distance of the scaled Jacobian to the
         /// nearest singular matrix (see
         /// [`MotionState::conditioning`](crate::MotionState::conditioning)).
         conditioning: f64,
         /// Coordinates at the configuration, by name.
-        configuration: Vec<(&'static str, f64)>,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::names::configuration")
+        )]
+        configuration: Configuration,
     },
     /// An input, or a value computed from valid inputs, is NaN or infinite.
     NonFinite {
         /// What kind of value it is.
         input: Input,
         /// Its name in the mechanism definition.
-        name: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        name: Name,
         /// The value found.
         value: f64,
     },
@@ -126,7 +140,8 @@ pub enum Error {
     /// rotation, parallel vectors).
     InvalidGeometry {
         /// The function or quantity concerned.
-        what: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        what: Name,
         /// What is wrong and what is expected.
         detail: String,
     },
@@ -134,7 +149,11 @@ pub enum Error {
     /// required by [`Options::branch`](crate::Options::branch).
     WrongBranch {
         /// Coordinates of the solution found, by name.
-        configuration: Vec<(&'static str, f64)>,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::names::configuration")
+        )]
+        configuration: Configuration,
     },
     /// A block of loop equations solved in closed form has no real solution
     /// at these driver values: its links are too short or too long to close
@@ -142,11 +161,16 @@ pub enum Error {
     /// position; an exact statement, not a failure to converge.
     CannotAssemble {
         /// The block's unknowns, joined by ", ".
-        unknowns: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        unknowns: Name,
         /// The block's discriminant (negative).
         discriminant: f64,
         /// The drivers, by name.
-        drivers: Vec<(&'static str, f64)>,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::names::configuration")
+        )]
+        drivers: Configuration,
     },
     /// A file could not be written.
     Output {
@@ -159,20 +183,24 @@ pub enum Error {
     /// that is zero or negative).
     InvalidParameter {
         /// The parameter.
-        name: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        name: Name,
         /// The value given.
         value: f64,
         /// What the value must satisfy.
-        requirement: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        requirement: Name,
     },
     /// A solver option is out of its valid range.
     InvalidOption {
         /// The option's field name in [`Options`](crate::Options).
-        name: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        name: Name,
         /// The value given.
         value: f64,
         /// What the value must satisfy.
-        requirement: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        requirement: Name,
     },
 }
 

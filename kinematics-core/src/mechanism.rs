@@ -25,6 +25,7 @@ use crate::{Error, Options};
 /// assert_eq!(roles, [Role::Driver, Role::Unknown, Role::Unknown]);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Role {
     /// Prescribed input (its value, rate and acceleration are given).
     Driver,
@@ -57,6 +58,7 @@ pub enum Role {
 /// assert_eq!(kinds, [Kind::Angle, Kind::Angle, Kind::Length]); // φ, θ, x
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Kind {
     /// An angle in radians.
     Angle,
@@ -120,6 +122,7 @@ pub struct Coordinate {
 /// # }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PointMotion<const D: usize = 2> {
     /// Position r.
     pub position: SVector<f64, D>,
@@ -140,6 +143,18 @@ impl<const D: usize> PointMotion<D> {
     #[must_use]
     pub fn speed(&self) -> f64 {
         self.velocity.norm()
+    }
+
+    /// Magnitude of the acceleration |a|.
+    ///
+    /// ```
+    /// use kinematics_core::{nalgebra::Vector2, PointMotion};
+    /// let p = PointMotion { position: Vector2::zeros(), velocity: Vector2::zeros(), acceleration: Vector2::new(6.0, 8.0) };
+    /// assert_eq!(p.acceleration_magnitude(), 10.0);
+    /// ```
+    #[must_use]
+    pub fn acceleration_magnitude(&self) -> f64 {
+        self.acceleration.norm()
     }
 
     /// Tangential acceleration a·v/|v| (the rate of change of speed); zero
@@ -242,6 +257,7 @@ impl<const D: usize> PointState for PointMotion<D> {
 /// # }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FrameState {
     /// Rotation matrix R (frame axes in fixed coordinates).
     pub rotation: Matrix3<f64>,

@@ -27,6 +27,7 @@ use crate::Error;
 /// # }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Options {
     /// Newton–Raphson has converged when every residual |Φ_i| is at most
     /// `tolerance` times the term scale S_i of its equation (the sum of the
@@ -66,6 +67,7 @@ pub struct Options {
 /// assert!(absolute.validate().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Convergence {
     /// max_i |Φ_i| / S_i ≤ tolerance, with S_i the term scale of equation
     /// i: independent of the units and size of the mechanism.
@@ -105,6 +107,7 @@ pub enum Convergence {
 /// # }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Branch {
     /// Whichever branch Newton–Raphson reaches from the guess.
     #[default]

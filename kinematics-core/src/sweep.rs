@@ -62,6 +62,7 @@ use core::fmt;
 use core::fmt::Write as _;
 use core::marker::PhantomData;
 
+use crate::names::Name;
 use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
 
 /// The unit of a driver that is an angle (radians; degrees and rev/min at
@@ -156,6 +157,7 @@ impl<M, U> PartialEq for Driver<M, U> {
 /// assert_eq!(Wrap::Continuous.apply(7.0), 7.0);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Wrap {
     /// As followed: continuous through full turns (a crank at 370° reads
     /// 6.46 rad).
@@ -191,6 +193,7 @@ impl Wrap {
 /// What a sweep does at a change point, where two assembly branches meet
 /// (a parallelogram four-bar folded flat at φ = 0 and 180°).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ChangePoints {
     /// Stop there, with [`StopReason::ChangePoint`].
     #[default]
@@ -226,6 +229,14 @@ pub enum ChangePoints {
 /// let last = &s.samples[10];
 /// assert_eq!((last.at, last.motion.q.phi), (1.0, 1.0));
 /// ```
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(bound(
+        serialize = "M::Motion: serde::Serialize",
+        deserialize = "M::Motion: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Sample<M: Mechanism> {
     /// Value of the swept driver (or the time, for a simulation).
     pub at: f64,
@@ -253,6 +264,7 @@ impl<M: Mechanism> fmt::Debug for Sample<M> {
 
 /// Why a sweep stopped before its end.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum StopReason {
     /// A limit position of the driver: past the stop's `at`, the block of
     /// `unknowns` has no real solution (the links cannot close the loop).
@@ -260,7 +272,8 @@ pub enum StopReason {
     /// assembles, by bisection to the resolution of `f64`.
     LimitPosition {
         /// The block's unknowns, joined by ", ".
-        unknowns: &'static str,
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        unknowns: Name,
     },
     /// A change point between the samples at `from` and `to`: two assembly
     /// branches meet there, and the sweep was not told which to continue
@@ -328,9 +341,11 @@ impl StopReason {
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stop {
     /// Name of the swept driver, or "t" for a simulation.
-    pub variable: &'static str,
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+    pub variable: Name,
     /// Value of the swept driver (or the time) at which it stopped.
     pub at: f64,
     /// Why.
@@ -364,9 +379,18 @@ impl core::error::Error for Stop {}
 
 /// The samples of a sweep, and how it ended.
 #[derive(Debug, Clone)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(bound(
+        serialize = "M::Motion: serde::Serialize",
+        deserialize = "M::Motion: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Sweep<M: Mechanism> {
     /// Name of the swept driver, or "t" for a simulation.
-    pub variable: &'static str,
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+    pub variable: Name,
     /// The kind of the swept driver (a time is reported as a length-like
     /// plain value).
     pub kind: Kind,

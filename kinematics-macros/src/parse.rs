@@ -40,6 +40,12 @@ pub mod kw {
 #[derive(Clone)]
 pub struct Definition {
     pub docs: Vec<Attribute>,
+    /// The other outer attributes of the struct (`#[derive(…)]`,
+    /// `#[serde(…)]`, …), passed on to the parameters struct.
+    pub attrs: Vec<Attribute>,
+    /// The derives among them that name `Serialize` or `Deserialize`, also
+    /// applied to the coordinates, motion and modes types.
+    pub serde_derives: Vec<syn::Path>,
     pub vis: Visibility,
     pub name: Ident,
     pub params: Vec<Decl>,
@@ -99,8 +105,14 @@ pub struct Equation {
 
 impl Parse for Definition {
     fn parse(input: ParseStream<'_>) -> syn::Result<Self> {
-        let attrs = input.call(Attribute::parse_outer)?;
-        let docs = doc_attributes(attrs)?;
+        let all = input.call(Attribute::parse_outer)?;
+        let (docs, attrs): (Vec<Attribute>, Vec<Attribute>) =
+            all.into_iter().partition(|a| a.path().is_ident("doc"));
+        for d in &docs {
+            check_doc(d)?;
+        }
+        check_struct_attributes(&attrs)?;
+        let serde_derives = serde_derives(&attrs)?;
         let vis: Visibility = input.parse()?;
         input.parse::<Token![struct]>().map_err(|e| {
             syn::Error::new(
@@ -114,6 +126,8 @@ impl Parse for Definition {
         braced!(body in input);
         let mut def = Definition {
             docs,
+            attrs,
+            serde_derives,
             vis,
             unknowns_span: name.span(),
             name,
@@ -206,6 +220,67 @@ impl Parse for Definition {
         }
         Ok(def)
     }
+}
+
+/// The attributes passed on to the parameters struct: derives and lint
+/// levels, `serde(…)`, `cfg_attr(…)`, `must_use`; any other is taken for a
+/// helper of a derive other than the standard ones, and needs one.
+fn check_struct_attributes(attrs: &[Attribute]) -> syn::Result<()> {
+    const KNOWN: [&str; 9] = [
+        "derive", "serde", "allow", "warn", "deny", "forbid", "expect", "cfg_attr", "must_use",
+    ];
+    const STANDARD: [&str; 8] = [
+        "Debug",
+        "Clone",
+        "Copy",
+        "PartialEq",
+        "Eq",
+        "PartialOrd",
+        "Default",
+        "Hash",
+    ];
+    let mut other_derive = false;
+    for attr in attrs.iter().filter(|a| a.path().is_ident("derive")) {
+        let paths = attr.parse_args_with(
+            syn::punctuated::Punctuated::<syn::Path, Token![,]>::parse_terminated,
+        )?;
+        other_derive |= paths.iter().any(|p| {
+            let last = p.segments.last().map(|s| s.ident.to_string());
+            !matches!(last.as_deref(), Some(n) if STANDARD.contains(&n) || n == "Serialize" || n == "Deserialize")
+        });
+    }
+    for attr in attrs {
+        let name = attr.path().get_ident().map(ToString::to_string);
+        let known = name.as_deref().is_some_and(|n| KNOWN.contains(&n));
+        if !known && !other_derive {
+            return Err(syn::Error::new_spanned(
+                attr,
+                "this attribute is not one the parameters struct can take: the struct accepts \
+                 `///` docs, `#[derive(…)]` (e.g. serde's `Serialize, Deserialize`), \
+                 `#[serde(…)]`, lint levels (`#[allow(…)]`) and `#[cfg_attr(…)]`, and the \
+                 helper attributes of a derive it names",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The paths in `#[derive(…)]` attributes whose last segment is
+/// `Serialize` or `Deserialize`.
+fn serde_derives(attrs: &[Attribute]) -> syn::Result<Vec<syn::Path>> {
+    let mut out = Vec::new();
+    for attr in attrs.iter().filter(|a| a.path().is_ident("derive")) {
+        let paths = attr.parse_args_with(
+            syn::punctuated::Punctuated::<syn::Path, Token![,]>::parse_terminated,
+        )?;
+        for p in paths {
+            let last = p.segments.last().map(|s| s.ident.to_string());
+            if matches!(last.as_deref(), Some("Serialize" | "Deserialize")) {
+                out.push(p);
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Keeps `///` comments; any other attribute is an error at its tokens.

@@ -837,3 +837,33 @@ fn a_sweep_solved_by_newton_stops_where_it_cannot_go_on() {
     assert!(s.samples.iter().all(|x| x.motion.residual < 1e-12));
     assert!(!stop.to_string().is_empty());
 }
+
+#[test]
+fn points_by_name_and_their_acceleration_parts() {
+    let m = FourBar::CRANK_ROCKER;
+    let pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let s = m.analyze(&pose, 10.0, 3.0).expect("analyses");
+    let at = m.positions(&pose);
+    // The same positions as the motion's, by name.
+    assert_eq!(at.P, s.point_p().position);
+    assert_eq!(at.C, s.point_c().position);
+    assert_eq!((at.A.x, at.A.y, at.D.x), (0.0, 0.0, m.d));
+    // |a|² = a_t² + a_n², and a_t is the rate of change of the speed:
+    // against a central difference of |v| over a step of the crank in time.
+    let p = s.point_p();
+    let (t, n) = (p.tangential_acceleration(), p.normal_acceleration());
+    assert!((p.acceleration_magnitude() - (t * t + n * n).sqrt()).abs() < 1e-12);
+    let h = 1e-5;
+    let speed_at = |dt: f64| {
+        let phi = pose.phi + 10.0 * dt + 1.5 * dt * dt;
+        let q = m
+            .assemble(&FourBarCoords { phi, ..pose })
+            .expect("assembles");
+        m.analyze(&q, 10.0 + 3.0 * dt, 3.0)
+            .expect("analyses")
+            .point_p()
+            .speed()
+    };
+    let fd = (speed_at(h) - speed_at(-h)) / (2.0 * h);
+    assert!((fd - t).abs() < 1e-5 * t.abs().max(1.0), "{fd} against {t}");
+}

@@ -165,12 +165,18 @@ pub(super) fn modes_type(cx: &Ctx<'_>) -> TokenStream {
          closed-form solutions (see [`kinematics_core::closed::Mode`]), for \
          [`{name}::assemble_in`]."
     );
+    let item = super::types::with_serde(
+        cx.def,
+        quote! {
+            #[doc = #doc]
+            #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+            #vis struct #modes {
+                #( #[doc = #docs] pub #fields: #pp::closed::Mode, )*
+            }
+        },
+    );
     quote! {
-        #[doc = #doc]
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-        #vis struct #modes {
-            #( #[doc = #docs] pub #fields: #pp::closed::Mode, )*
-        }
+        #item
 
         impl #modes {
             /// Every combination of modes, in the order of

@@ -2,7 +2,8 @@
 //! `frame_rotations`, and the Jacobian behind `Mechanism::jacobian_into`.
 
 use proc_macro2::TokenStream;
-use quote::quote;
+use quote::{format_ident, quote};
+use syn::ext::IdentExt;
 
 use super::print::bind;
 use super::Ctx;
@@ -29,6 +30,9 @@ pub(super) fn evaluate(cx: &Ctx<'_>) -> TokenStream {
         quote!(#pp::Vector2<f64>)
     };
     let positions: Vec<_> = d.pos.iter().map(|c| cx.vector(&pr, c)).collect();
+    let positions_type = format_ident!("{}Positions", id.name.unraw());
+    let point_names: Vec<&syn::Ident> = cx.def.points.iter().map(|p| &p.name).collect();
+    let idx: Vec<usize> = (0..np).collect();
     let positions_fn = quote! {
         /// Positions of the points (in declaration order) at `pose`, which
         /// should be assembled: r_P(q).
@@ -38,6 +42,14 @@ pub(super) fn evaluate(cx: &Ctx<'_>) -> TokenStream {
             #( let #q = pose.#coord; )*
             #(#lets)*
             [#(#positions),*]
+        }
+
+        /// Positions of the points at `pose`, by name (`.P` for point
+        /// `P`), as [`Self::point_positions`].
+        #[must_use]
+        pub fn positions(&self, pose: &#coords) -> #positions_type {
+            let p = self.point_positions(pose);
+            #positions_type { #( #point_names: p[#idx], )* }
         }
     };
 

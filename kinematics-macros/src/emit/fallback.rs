@@ -61,6 +61,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
     } = &id;
     let vis = &def.vis;
     let state = quote::format_ident!("{}StepState", syn::ext::IdentExt::unraw(name));
+    let positions = quote::format_ident!("{}Positions", syn::ext::IdentExt::unraw(name));
     let pp = quote!(::kinematics_core::__private);
     let (nd, nu, np, nf) = (
         def.drivers.len(),
@@ -109,6 +110,9 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             /// Unavailable: the definition has errors.
             #[must_use]
             pub fn point_positions(&self, pose: &#coords) -> [#vtype; #np] { #unavailable }
+            /// Unavailable: the definition has errors.
+            #[must_use]
+            pub fn positions(&self, pose: &#coords) -> #positions { #unavailable }
             /// Unavailable: the definition has errors.
             #[must_use]
             pub fn frame_rotations(&self, pose: &#coords) -> [#pp::Matrix3<f64>; #nf] { #unavailable }

@@ -154,20 +154,64 @@ pub(super) fn types(
     let idx: Vec<usize> = (0..coord.len()).collect();
     let n = coord.len();
     let handles = driver_handles(def, id, kinds);
+    let positions_item = positions_type(def, id, point_dim);
+    let attrs = &def.attrs;
+    let motion_item = with_serde(
+        def,
+        quote! {
+            #[doc = #motion_doc]
+            #[derive(Debug, Clone, Copy, PartialEq)]
+            #vis struct #motion {
+                /// Coordinates q.
+                pub q: #coords,
+                /// Rates q' (angular velocities ω for angles).
+                pub qd: #coords,
+                /// Accelerations q'' (angular accelerations α for angles).
+                pub qdd: #coords,
+                /// Every point's motion, in declaration order.
+                pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
+                /// Every frame's orientation and motion, in declaration order.
+                pub frames: [::kinematics_core::__private::FrameState; #nf],
+                /// Conditioning of Φ_u: the distance of the scaled Jacobian
+                /// (equations divided by the size of their terms, unknowns by
+                /// their natural units) to the nearest singular matrix, of
+                /// order one at a regular pose and tending to 0 at a
+                /// dead-centre or toggle position; each unknown is within
+                /// tolerance / conditioning of the exact pose. See
+                /// `kinematics_core::MotionState::conditioning`.
+                pub conditioning: f64,
+                /// Sign of det Φ_u, ±1: the assembly branch (it changes only
+                /// through a singular configuration).
+                pub det_sign: f64,
+                /// max |Φ_i| at the pose, in the equations' units: how well
+                /// the loops close.
+                pub residual: f64,
+            }
+        },
+    );
+    let coords_item = with_serde(
+        def,
+        quote! {
+            #[doc = #coords_doc]
+            #[derive(Debug, Clone, Copy, PartialEq, Default)]
+            #vis struct #coords {
+                #( #coord_docs pub #coord: f64, )*
+            }
+        },
+    );
     quote! {
         #handles
 
         #(#docs)*
         #[derive(Debug, Clone, Copy, PartialEq)]
+        #(#attrs)*
         #vis struct #name {
             #( #(#param_docs)* pub #params: f64, )*
         }
 
-        #[doc = #coords_doc]
-        #[derive(Debug, Clone, Copy, PartialEq, Default)]
-        #vis struct #coords {
-            #( #coord_docs pub #coord: f64, )*
-        }
+        #coords_item
+
+        #positions_item
 
         #[automatically_derived]
         impl ::core::convert::From<[f64; #n]> for #coords {
@@ -208,34 +252,7 @@ pub(super) fn types(
             }
         }
 
-        #[doc = #motion_doc]
-        #[derive(Debug, Clone, Copy, PartialEq)]
-        #vis struct #motion {
-            /// Coordinates q.
-            pub q: #coords,
-            /// Rates q' (angular velocities ω for angles).
-            pub qd: #coords,
-            /// Accelerations q'' (angular accelerations α for angles).
-            pub qdd: #coords,
-            /// Every point's motion, in declaration order.
-            pub points: [::kinematics_core::__private::PointMotion<#point_dim>; #np],
-            /// Every frame's orientation and motion, in declaration order.
-            pub frames: [::kinematics_core::__private::FrameState; #nf],
-            /// Conditioning of Φ_u: the distance of the scaled Jacobian
-            /// (equations divided by the size of their terms, unknowns by
-            /// their natural units) to the nearest singular matrix, of
-            /// order one at a regular pose and tending to 0 at a
-            /// dead-centre or toggle position; each unknown is within
-            /// tolerance / conditioning of the exact pose. See
-            /// `kinematics_core::MotionState::conditioning`.
-            pub conditioning: f64,
-            /// Sign of det Φ_u, ±1: the assembly branch (it changes only
-            /// through a singular configuration).
-            pub det_sign: f64,
-            /// max |Φ_i| at the pose, in the equations' units: how well
-            /// the loops close.
-            pub residual: f64,
-        }
+        #motion_item
 
         impl #motion {
             #(#accessors)*
@@ -349,4 +366,46 @@ fn driver_handles(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) ->
             }
         }
     }
+}
+
+/// `item` with the serde derives of the definition, if any (see
+/// `kinematics_core::__with_serde`).
+pub(super) fn with_serde(def: &Definition, item: TokenStream) -> TokenStream {
+    let paths = &def.serde_derives;
+    if paths.is_empty() {
+        item
+    } else {
+        quote!(::kinematics_core::__with_serde! { [#(#paths),*] #item })
+    }
+}
+
+/// The positions of the points by name: `FourBarPositions { A, B, … }`.
+fn positions_type(def: &Definition, id: &Idents, point_dim: usize) -> TokenStream {
+    let (name, vis) = (&id.name, &def.vis);
+    let positions = format_ident!("{}Positions", name.unraw());
+    let vtype = if point_dim == 3 {
+        quote!(::kinematics_core::__private::Vector3<f64>)
+    } else {
+        quote!(::kinematics_core::__private::Vector2<f64>)
+    };
+    let fields = def.points.iter().map(|p| {
+        let field = &p.name;
+        let doc = format!("Position of point `{}`.", p.name.unraw());
+        quote!(#[doc = #doc] pub #field: #vtype,)
+    });
+    let doc = format!(
+        "The positions of the points of [`{name}`] at one pose, by name (see \
+         [`{name}::positions`])."
+    );
+    with_serde(
+        def,
+        quote! {
+            #[doc = #doc]
+            #[derive(Debug, Clone, Copy, PartialEq)]
+            #[allow(non_snake_case)]
+            #vis struct #positions {
+                #(#fields)*
+            }
+        },
+    )
 }
