@@ -20,6 +20,7 @@ pub fn check(def: &Definition, errors: &mut Errors) -> Names {
     let names = check_unique_names(def, errors);
     check_point_accessors_distinct(def, errors);
     check_driver_handles_distinct(def, errors);
+    check_sensitivities(def, errors);
     names
 }
 
@@ -219,6 +220,46 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
         section_of.insert(key, section);
     }
     Names { map }
+}
+
+/// The `sensitivities` section names parameters, each once, at least one.
+fn check_sensitivities(def: &Definition, errors: &mut Errors) {
+    let Some((span, names)) = &def.sensitivities else {
+        return;
+    };
+    if names.is_empty() {
+        errors.at(
+            *span,
+            "list the parameters to differentiate the motion against, e.g. \
+             `sensitivities { a, b }`",
+        );
+    }
+    let params: Vec<String> = def
+        .params
+        .iter()
+        .map(|p| syn::ext::IdentExt::unraw(&p.name).to_string())
+        .collect();
+    let mut seen: Vec<String> = Vec::new();
+    for n in names {
+        let key = syn::ext::IdentExt::unraw(n).to_string();
+        if !params.contains(&key) {
+            errors.at(
+                n.span(),
+                format!(
+                    "`{key}` is not a parameter; sensitivities are taken with respect to \
+                     parameters: {}",
+                    params.join(", ")
+                ),
+            );
+        } else if seen.contains(&key) {
+            errors.at(
+                n.span(),
+                format!("`{key}` is listed twice in `sensitivities`"),
+            );
+        } else {
+            seen.push(key);
+        }
+    }
 }
 
 /// Each driver has a typed handle, an associated constant named after it

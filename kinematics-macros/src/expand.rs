@@ -2,7 +2,9 @@
 
 use proc_macro2::TokenStream;
 
-use crate::{check, closed, emit, ir, kinematics, lower, names, parse, scale, validate};
+use crate::{
+    check, closed, emit, ir, kinematics, lower, names, parse, scale, sensitivity, validate,
+};
 
 /// The whole expansion: code for a valid definition, or `compile_error!`s
 /// spanned on the offending tokens (with stub types, so uses of the
@@ -26,7 +28,23 @@ pub fn expand(input: TokenStream) -> TokenStream {
     let scales = scale::scales(&mut model, def.params.len());
     let closed = closed::closed_blocks(&mut model, &derived.jac);
     let offsets = closed::offsets(&mut model);
-    emit::expand(&def, &model, &derived, &scales, &closed, &offsets)
+    let sensitivities = def.sensitivities.as_ref().map(|(_, names)| {
+        let params: Vec<u32> = names
+            .iter()
+            .filter_map(|n| def.params.iter().position(|p| p.name == *n))
+            .filter_map(|k| u32::try_from(k).ok())
+            .collect();
+        sensitivity::partials(&mut model, &derived, &params)
+    });
+    emit::expand(
+        &def,
+        &model,
+        &derived,
+        &scales,
+        &closed,
+        &offsets,
+        sensitivities.as_ref(),
+    )
 }
 
 /// The operation counts of a definition (see [`emit::operation_counts`]), or

@@ -40,6 +40,7 @@ mod lower;
 mod names;
 mod parse;
 mod scale;
+mod sensitivity;
 mod simplify;
 mod validate;
 

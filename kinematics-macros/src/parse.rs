@@ -12,6 +12,7 @@
 //!         loops       { lhs == rhs; … }      // vector equations
 //!         constraints { lhs == rhs; … }      // scalar equations
 //!         joints      { R: 4 }               // optional: mobility check
+//!         sensitivities { a, b }             // optional: ∂/∂ parameters
 //!     }
 //! }
 //! ```
@@ -34,6 +35,7 @@ pub mod kw {
     syn::custom_keyword!(constraints);
     syn::custom_keyword!(joints);
     syn::custom_keyword!(frames);
+    syn::custom_keyword!(sensitivities);
 }
 
 /// A whole `mechanism!` invocation.
@@ -61,6 +63,9 @@ pub struct Definition {
     pub unknowns_span: Span,
     /// The optional `joints { … }` section.
     pub joints: Option<Joints>,
+    /// The optional `sensitivities { a, b, … }` section: the parameters to
+    /// differentiate the motion against.
+    pub sensitivities: Option<(Span, Vec<Ident>)>,
 }
 
 /// `joints { links: 4, R: 3, P: 1, passive: 0 }`: the joint kinds and their
@@ -139,6 +144,7 @@ impl Parse for Definition {
             loops: Vec::new(),
             constraints: Vec::new(),
             joints: None,
+            sensitivities: None,
         };
         let mut seen: Vec<(String, Span)> = Vec::new();
         while !body.is_empty() {
@@ -168,6 +174,9 @@ impl Parse for Definition {
             } else if lookahead.peek(kw::frames) {
                 body.parse::<kw::frames>()?;
                 "frames"
+            } else if lookahead.peek(kw::sensitivities) {
+                body.parse::<kw::sensitivities>()?;
+                "sensitivities"
             } else {
                 return Err(lookahead.error());
             };
@@ -193,6 +202,10 @@ impl Parse for Definition {
                 "frames" => def.frames = parse_items(&content, parse_point)?,
                 "loops" => def.loops = parse_items(&content, parse_equation)?,
                 "constraints" => def.constraints = parse_items(&content, parse_equation)?,
+                "sensitivities" => {
+                    let names = content.parse_terminated(Ident::parse, Token![,])?;
+                    def.sensitivities = Some((keyword_span, names.into_iter().collect()));
+                }
                 _ => {
                     let entries = content
                         .parse_terminated(

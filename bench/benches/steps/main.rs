@@ -68,6 +68,9 @@ mod parse;
 #[path = "../../../kinematics-macros/src/scale.rs"]
 mod scale;
 #[allow(dead_code, unused_imports)]
+#[path = "../../../kinematics-macros/src/sensitivity.rs"]
+mod sensitivity;
+#[allow(dead_code, unused_imports)]
 #[path = "../../../kinematics-macros/src/simplify.rs"]
 mod simplify;
 #[allow(dead_code, unused_imports)]

@@ -30,6 +30,7 @@ mod guards;
 mod mechanism_impl;
 mod newton;
 mod print;
+mod sensitivity;
 mod solve;
 mod step;
 mod types;
@@ -348,8 +349,10 @@ pub fn expand(
     scales: &Scales,
     closed: &[crate::closed::Closed],
     offsets: &[crate::closed::Offset],
+    sensitivities: Option<&crate::sensitivity::Partials>,
 ) -> TokenStream {
     let cx = Ctx::new(def, model, d, scales, closed, offsets);
+    let sensitivities = sensitivity::sensitivities(&cx, sensitivities);
     let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
     let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();
@@ -411,5 +414,7 @@ pub fn expand(
         #stepper
 
         #mechanism_impl
+
+        #sensitivities
     }
 }
