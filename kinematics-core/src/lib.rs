@@ -85,6 +85,7 @@ pub mod plot;
 pub mod rigid;
 pub mod solve;
 pub mod sweep;
+pub mod tolerance;
 pub mod transform;
 pub mod view;
 

@@ -421,3 +421,104 @@ fn sensitivities_are_named() {
         (0.0, 0.0, 0.0)
     );
 }
+
+#[test]
+fn tolerance_stack_up_agrees_with_monte_carlo() {
+    use kinematics_core::tolerance::point_deviations;
+    // The crank-rocker with ±0.1 mm on its lengths and ±0.1° on β, and the
+    // same tolerances drawn uniformly for 2000 Monte Carlo designs.
+    let m = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: 0.5,
+    };
+    let start = m
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 1.0,
+            th4: 1.6,
+        })
+        .expect("assembles");
+    let sweep = m
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(24)
+        .rate(10.0)
+        .run();
+    assert!(sweep.stop.is_none());
+    let t = [1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 0.1f64.to_radians()];
+    let names = ["a", "b", "c", "d", "p", "beta"];
+    let tolerances: Vec<(&str, f64)> = names.iter().copied().zip(t).collect();
+    let dev = point_deviations(&m, &sweep, "P", &tolerances).expect("deviations");
+    assert_eq!(dev.len(), sweep.samples.len());
+    let mut rng = Rng::new(0x70_1E7A);
+    let n = 2000;
+    // Per sample: the largest |δr_c| and |δv_c|, Σ δ², the largest |δr|.
+    let ns = sweep.samples.len();
+    let mut max_c = vec![[0.0f64; 4]; ns];
+    let mut sum2 = vec![[0.0f64; 4]; ns];
+    let mut max_dist = vec![0.0f64; ns];
+    for _ in 0..n {
+        let d: Vec<f64> = t.iter().map(|t| rng.range(-t, *t)).collect();
+        let mc = FourBar {
+            a: m.a + d[0],
+            b: m.b + d[1],
+            c: m.c + d[2],
+            d: m.d + d[3],
+            p: m.p + d[4],
+            beta: m.beta + d[5],
+        };
+        for (i, s) in sweep.samples.iter().enumerate() {
+            let pose = mc.assemble(&s.motion.q).expect("assembles");
+            let x = mc.analyze(&pose, 10.0, 0.0).expect("analyses");
+            let (p0, p1) = (s.motion.point_p(), x.point_p());
+            let dr = p1.position - p0.position;
+            let dv = p1.velocity - p0.velocity;
+            for (c, v) in [dr.x, dr.y, dv.x, dv.y].into_iter().enumerate() {
+                max_c[i][c] = max_c[i][c].max(v.abs());
+                sum2[i][c] += v * v;
+            }
+            max_dist[i] = max_dist[i].max(dr.norm());
+        }
+    }
+    let mut worst_ratio = 0.0f64;
+    let mut std_ratio = (f64::INFINITY, 0.0f64);
+    for (i, d) in dev.iter().enumerate() {
+        let worst = [
+            d.position_components[0],
+            d.position_components[1],
+            d.velocity_components[0],
+            d.velocity_components[1],
+        ];
+        let rss = [
+            d.position_rss[0],
+            d.position_rss[1],
+            d.velocity_rss[0],
+            d.velocity_rss[1],
+        ];
+        for c in 0..4 {
+            // Never beyond the first-order worst case (the second-order
+            // terms are of the relative size of the tolerances, 1e-3).
+            let r = max_c[i][c] / worst[c];
+            assert!(r <= 1.01, "sample {i}, component {c}: {r}");
+            worst_ratio = worst_ratio.max(r);
+            // Uniform deviations: the standard deviation is RSS/√3.
+            let std = (sum2[i][c] / f64::from(n)).sqrt();
+            let ratio = std / (rss[c] / 3f64.sqrt());
+            assert!(
+                (ratio - 1.0).abs() < 0.06,
+                "sample {i}, component {c}: {ratio}"
+            );
+            std_ratio = (std_ratio.0.min(ratio), std_ratio.1.max(ratio));
+        }
+        assert!(max_dist[i] <= 1.01 * d.position_worst);
+    }
+    eprintln!(
+        "Monte Carlo ({n} designs): largest deviation {:.3} of the worst case; \
+         standard deviation {:.3}–{:.3} of RSS/√3",
+        worst_ratio, std_ratio.0, std_ratio.1
+    );
+}
