@@ -41,6 +41,8 @@ mechanism! {
             P = B + polar(p, th3 + beta);
         }
         loops { B + polar(b, th3) == C; }
+        // Exact derivatives of the motion with respect to every dimension.
+        sensitivities { a, b, c, d, p, beta }
     }
 }
 

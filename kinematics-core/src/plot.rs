@@ -549,6 +549,167 @@ pub fn plot_path<M: Mechanism>(
     root.present().map_err(|e| output(path, e))
 }
 
+/// Plots the path of point `point` over the sweep with its worst-case
+/// tolerance band (from [`point_deviations`](crate::tolerance::point_deviations)):
+/// at each sample, the nominal position ± the worst-case distance along the
+/// path's normal, magnified `magnify` times (tolerance bands are often too
+/// thin to see at the scale of the path; the legend says the factor).
+///
+/// ```
+/// use kinematics_core::{mechanism, plot::{plot_band, Projection}, tolerance::point_deviations};
+/// mechanism! {
+///     /// A crank.
+///     pub struct Crank {
+///         params { a }
+///         drivers { phi }
+///         unknowns { }
+///         points { B = polar(a, phi); }
+///         sensitivities { a }
+///     }
+/// }
+/// let m = Crank { a: 0.1 };
+/// let s = m.sweep(Crank::PHI, &CrankCoords { phi: 0.0 }).turn().steps(72).run();
+/// let d = point_deviations(&m, &s, "B", &[("a", 0.0005)])?;
+/// let file = std::env::temp_dir().join("crank-band.svg");
+/// plot_band(&s, "B", &d, 10.0, Projection::XY, &file)?;
+/// let svg = std::fs::read_to_string(&file).expect("written");
+/// assert!(svg.contains("worst-case band ×10"));
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
+///
+/// # Errors
+/// [`Error::InvalidGeometry`] for an unknown point or deviations not of
+/// this sweep, [`Error::Output`] when the file cannot be written.
+pub fn plot_band<M: Mechanism>(
+    sweep: &Sweep<M>,
+    point: &str,
+    deviations: &[crate::tolerance::Deviation],
+    magnify: f64,
+    projection: Projection,
+    path: &Path,
+) -> Result<(), Error> {
+    let k = point_index::<M>(point)?;
+    if deviations.len() != sweep.samples.len() {
+        return Err(Error::InvalidGeometry {
+            what: "plot",
+            detail: format!(
+                "{} deviations for {} samples: compute them from this sweep",
+                deviations.len(),
+                sweep.samples.len()
+            ),
+        });
+    }
+    let (a, b) = projection.axes();
+    let at = |v: &[f64]| {
+        (
+            v.get(a).copied().unwrap_or(0.0),
+            v.get(b).copied().unwrap_or(0.0),
+        )
+    };
+    let nominal: Vec<(f64, f64)> = sweep
+        .samples
+        .iter()
+        .filter_map(|s| s.motion.points().get(k))
+        .map(|p| at(p.position()))
+        .collect();
+    // The unit normal of the path at each sample, from the velocity.
+    let edges: Vec<((f64, f64), (f64, f64))> = sweep
+        .samples
+        .iter()
+        .zip(deviations)
+        .filter_map(|(s, d)| {
+            let p = s.motion.points().get(k)?;
+            let (x, y) = at(p.position());
+            let (vx, vy) = at(p.velocity());
+            let n = (vx * vx + vy * vy).sqrt();
+            let (nx, ny) = if n > 0.0 {
+                (-vy / n, vx / n)
+            } else {
+                (0.0, 0.0)
+            };
+            let w = magnify * d.position_worst;
+            Some(((x + nx * w, y + ny * w), (x - nx * w, y - ny * w)))
+        })
+        .collect();
+    let all = || {
+        edges
+            .iter()
+            .flat_map(|(o, i)| [*o, *i])
+            .chain(nominal.iter().copied())
+    };
+    let ((x0, x1), (y0, y1)) = square(range(all().map(|p| p.0)), range(all().map(|p| p.1)));
+    let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| output(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("path of {point} and its tolerance band"),
+            (FONT, 18),
+        )
+        .margin(12)
+        .x_label_area_size(42)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| output(path, e))?;
+    let (xn, yn) = projection.names();
+    let span = x1 - x0;
+    chart
+        .configure_mesh()
+        .x_desc(format!("{xn} (m)"))
+        .y_desc(format!("{yn} (m)"))
+        .axis_desc_style((FONT, 14))
+        .label_style((FONT, 12))
+        .x_label_formatter(&|v| tick(*v, span))
+        .y_label_formatter(&|v| tick(*v, span))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| output(path, e))?;
+    // A closed path (a whole turn, its end left out) closes its band too.
+    let distance =
+        |p: (f64, f64), q: (f64, f64)| ((q.0 - p.0).powi(2) + (q.1 - p.1).powi(2)).sqrt();
+    let longest = nominal
+        .windows(2)
+        .map(|w| distance(w[0], w[1]))
+        .fold(0.0f64, f64::max);
+    let mut edges = edges;
+    let mut nominal = nominal;
+    if let (Some(&first), Some(&last), true) = (nominal.first(), nominal.last(), nominal.len() > 2)
+    {
+        if distance(first, last) <= 1.5 * longest {
+            edges.push(edges[0]);
+            nominal.push(first);
+        }
+    }
+    let band = RGBColor(214, 39, 40);
+    chart
+        .draw_series(
+            edges.windows(2).map(|w| {
+                Polygon::new(vec![w[0].0, w[1].0, w[1].1, w[0].1], band.mix(0.3).filled())
+            }),
+        )
+        .map_err(|e| output(path, e))?
+        .label(format!("worst-case band ×{}", tick(magnify, 10.0)))
+        .legend(move |(x, y)| {
+            Rectangle::new([(x, y - 5), (x + 16, y + 5)], band.mix(0.3).filled())
+        });
+    chart
+        .draw_series(LineSeries::new(
+            nominal.iter().copied(),
+            PALETTE[0].stroke_width(2),
+        ))
+        .map_err(|e| output(path, e))?
+        .label(format!("nominal path of {point}"))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], PALETTE[0].stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
+        .map_err(|e| output(path, e))?;
+    root.present().map_err(|e| output(path, e))
+}
+
 /// Equal scales: widens the smaller range to the larger one's span.
 fn square(x: (f64, f64), y: (f64, f64)) -> ((f64, f64), (f64, f64)) {
     let span = (x.1 - x.0).max(y.1 - y.0);

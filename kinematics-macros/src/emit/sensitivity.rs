@@ -73,7 +73,6 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
         .iter()
         .enumerate()
         .map(|(k, _)| {
-            let name_text = params[k].unraw().to_string();
             let rhs_u: Vec<TokenStream> = s.phi_p[k]
                 .iter()
                 .map(|&i| {
@@ -154,7 +153,6 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
                     let sdd: [f64; #nu] = lu.solve(&[#(#rhs_udd),*]);
                     let _ = (&s, &sd, &sdd);
                     #one {
-                        parameter: #name_text,
                         q: #coords::from([#(#zeros,)* #(#s_j),*]),
                         qd: #coords::from([#(#zeros,)* #(#sd_j),*]),
                         qdd: #coords::from([#(#zeros,)* #(#sdd_j),*]),
@@ -201,8 +199,6 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
             #[doc = #one_doc]
             #[derive(Debug, Clone, Copy, PartialEq)]
             #vis struct #one {
-                /// The parameter.
-                pub parameter: &'static str,
                 /// ∂q/∂p.
                 pub q: #coords,
                 /// ∂q'/∂p.
