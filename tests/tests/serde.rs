@@ -228,3 +228,23 @@ fn the_example_parameter_file_reads_as_the_crank_rocker() {
     let m: FourBar = serde_json::from_str(&text).expect("parameters");
     assert_eq!(m, FourBar::CRANK_ROCKER);
 }
+
+#[test]
+fn sensitivities_and_deviations_round_trip() {
+    use kinematics_core::tolerance::{point_deviations, Deviation};
+    use kinematics_examples::FourBarSensitivities;
+    let m = FourBar::CRANK_ROCKER;
+    let pose = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let motion = m.analyze(&pose, 10.0, 0.0).expect("analyses");
+    let sens: FourBarSensitivities = m.sensitivities(&motion).expect("sensitivities");
+    same(&sens);
+    let s = m
+        .sweep(FourBar::PHI, &pose)
+        .turn()
+        .steps(12)
+        .rate(10.0)
+        .run();
+    let d: Vec<Deviation> =
+        point_deviations(&m, &s, "P", &[("a", 1e-4), ("beta", 1e-3)]).expect("deviations");
+    same(&d);
+}
