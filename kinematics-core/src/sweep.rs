@@ -1431,7 +1431,6 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// Continues past the change point at `at` from grid index `k` (or
     /// the next that assembles) on the branch `self.change_points` names.
     fn cross(&mut self, at: f64, k: usize) {
-        self.passed.push(at);
         let known = self.known();
         let Ok(fresh) = self.m.step_state(&self.options) else {
             self.done = true;
@@ -1482,6 +1481,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                 self.finish(at, reason);
                 return;
             };
+            self.passed.push(at);
             self.state = Some(state);
             self.older = [None, None];
             self.head = None;

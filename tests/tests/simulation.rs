@@ -867,3 +867,59 @@ fn points_by_name_and_their_acceleration_parts() {
     let fd = (speed_at(h) - speed_at(-h)) / (2.0 * h);
     assert!((fd - t).abs() < 1e-5 * t.abs().max(1.0), "{fd} against {t}");
 }
+
+#[test]
+fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
+    // The parallelogram written as a distance, solved by Newton–Raphson:
+    // det Φ_u changes sign at the folds, located between samples by the
+    // conditioning; Smooth continues along θ4 = φ, Switch is refused with
+    // the reason (no closed form holds the other branch).
+    let m = NewtonFourBar {
+        a: 0.04,
+        b: 0.11,
+        c: 0.04,
+        d: 0.11,
+    };
+    let phi = 10f64.to_radians();
+    let start = m
+        .assemble(&NewtonFourBarCoords { phi, th4: phi })
+        .expect("assembles");
+    let s = m.sweep(NewtonFourBar::PHI, &start).turn().steps(514).run();
+    let stop = s.stop.expect("stops");
+    assert!(
+        matches!(stop.reason, StopReason::ChangePoint { .. }),
+        "{stop:?}"
+    );
+    assert!((stop.at - PI).abs() < 1e-6, "{}", stop.at);
+    let s = m
+        .sweep(NewtonFourBar::PHI, &start)
+        .turn()
+        .steps(514)
+        .change_points(ChangePoints::Smooth)
+        .run();
+    assert!(s.stop.is_none(), "{:?}", s.stop);
+    assert_eq!(s.samples.len(), 514);
+    assert_eq!(s.change_points.len(), 2);
+    assert!(s
+        .samples
+        .iter()
+        .all(|x| angle_gap(x.motion.q.th4, x.at).abs() < 1e-6));
+    let s = m
+        .sweep(NewtonFourBar::PHI, &start)
+        .turn()
+        .steps(514)
+        .change_points(ChangePoints::Switch)
+        .run();
+    let stop = s.stop.expect("refused");
+    assert!(
+        matches!(
+            stop.reason,
+            StopReason::Invalid(Error::InvalidOption {
+                name: "change_points",
+                ..
+            })
+        ),
+        "{stop:?}"
+    );
+    assert!(s.change_points.is_empty() && s.samples.iter().all(|x| x.at < PI));
+}
