@@ -379,13 +379,26 @@ pub trait Coordinates: Copy {
     fn set(&mut self, j: usize, value: f64) -> bool;
 }
 
-/// Values given for the drivers: a bare `f64` for a single driver, or an
-/// array in declaration order.
+/// Values given for the drivers: a bare `f64` for a single driver, an
+/// array in declaration order, or the mechanism's coordinates struct (its
+/// drivers' fields are read, the unknowns' ignored), so that the rates of
+/// several drivers are given by name.
 ///
 /// ```
-/// use kinematics_core::DriverValues;
+/// use kinematics_core::{mechanism, DriverValues};
 /// assert_eq!(10.0.into_array(), [10.0]);
 /// assert_eq!([0.3, 0.5].into_array(), [0.3, 0.5]);
+/// mechanism! {
+///     /// A five-bar with two cranks.
+///     pub struct FiveBar {
+///         params { a, b, c, d, e }
+///         drivers { phi1, phi2 }
+///         unknowns { th2, th3 }
+///         loops { polar(a, phi1) + polar(b, th2) == vec2(e, 0.0) + polar(d, phi2) + polar(c, th3); }
+///     }
+/// }
+/// let rates = FiveBarCoords { phi1: 2.0, phi2: -1.0, ..Default::default() };
+/// assert_eq!(DriverValues::<2>::into_array(rates), [2.0, -1.0]);
 /// ```
 pub trait DriverValues<const N: usize> {
     /// The values in declaration order.

@@ -923,3 +923,35 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
     );
     assert!(s.change_points.is_empty() && s.samples.iter().all(|x| x.at < PI));
 }
+
+#[test]
+fn rates_of_several_drivers_are_given_by_name() {
+    use kinematics_examples::{FiveBar, FiveBarCoords};
+    let (a, b, c, d) = (0.05, 0.12, 0.12, 0.05);
+    let (phi1, phi2, th2, th3) = (1.0, 2.0, 0.9, 2.2);
+    let ex = a * f64::cos(phi1) + b * f64::cos(th2) - c * f64::cos(th3) - d * f64::cos(phi2);
+    let ey = a * f64::sin(phi1) + b * f64::sin(th2) - c * f64::sin(th3) - d * f64::sin(phi2);
+    let m = FiveBar { a, b, c, d, ex, ey };
+    let pose = FiveBarCoords {
+        phi1,
+        phi2,
+        th2,
+        th3,
+    };
+    let by_name = m
+        .analyze(
+            &pose,
+            FiveBarCoords {
+                phi1: 2.0,
+                phi2: -1.0,
+                ..Default::default()
+            },
+            &FiveBarCoords {
+                phi2: 0.5,
+                ..Default::default()
+            },
+        )
+        .expect("analyses");
+    let by_order = m.analyze(&pose, [2.0, -1.0], [0.0, 0.5]).expect("analyses");
+    assert_eq!(by_name, by_order);
+}

@@ -153,6 +153,7 @@ pub(super) fn types(
     );
     let idx: Vec<usize> = (0..coord.len()).collect();
     let n = coord.len();
+    let c_drivers = &coord[..nd];
     let handles = driver_handles(def, id, kinds);
     let positions_item = positions_type(def, id, point_dim);
     let attrs = &def.attrs;
@@ -231,6 +232,24 @@ pub(super) fn types(
             #[inline]
             fn from(q: #coords) -> Self {
                 [#(q.#coord),*]
+            }
+        }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::DriverValues<#nd> for #coords {
+            /// The drivers' fields, in declaration order.
+            #[inline]
+            fn into_array(self) -> [f64; #nd] {
+                [#(self.#c_drivers),*]
+            }
+        }
+
+        #[automatically_derived]
+        impl ::kinematics_core::__private::DriverValues<#nd> for &#coords {
+            /// The drivers' fields, in declaration order.
+            #[inline]
+            fn into_array(self) -> [f64; #nd] {
+                [#(self.#c_drivers),*]
             }
         }
 
