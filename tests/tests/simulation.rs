@@ -925,6 +925,9 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
 }
 
 #[test]
+// The accelerations are given by reference on purpose: both forms are
+// accepted.
+#[allow(clippy::needless_borrows_for_generic_args)]
 fn rates_of_several_drivers_are_given_by_name() {
     use kinematics_examples::{FiveBar, FiveBarCoords};
     let (a, b, c, d) = (0.05, 0.12, 0.12, 0.05);
