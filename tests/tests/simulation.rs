@@ -597,9 +597,13 @@ fn a_parallelogram_sweeps_a_full_turn_on_the_branch_named() {
             (b, a)
         };
         let expected = if x.at > PI && x.at < TAU { other } else { par };
+        // At a double root the pose is fixed to about √ε only, and there
+        // the two assemblies are one.
+        let near = s.change_points.iter().any(|c| (x.at - c).abs() < 1e-6);
+        let tolerance = if near { 1e-7 } else { 1e-9 };
         assert!(
-            angle_gap(q.th3, expected.th3).abs() < 1e-9
-                && angle_gap(q.th4, expected.th4).abs() < 1e-9,
+            angle_gap(q.th3, expected.th3).abs() < tolerance
+                && angle_gap(q.th4, expected.th4).abs() < tolerance,
             "at φ = {}: {q:?} against {expected:?}",
             x.at
         );
