@@ -10,21 +10,12 @@
 //! the coupler point P), `fourbar-path.svg` (the coupler curve of P),
 //! `fourbar-skeleton.svg` (the linkage drawn every 90°) and `fourbar.html`
 //! (an animation of the cycle, to open in a browser).
-use std::path::PathBuf;
 use std::time::Instant;
 
 use kinematics_core::animate::write_html;
 use kinematics_core::batch;
 use kinematics_core::plot::{plot_motion, plot_path, plot_points, plot_skeleton, Projection};
-use kinematics_examples::{FourBar, FourBarCoords, FourBarModes};
-
-fn output_dir() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
-        PathBuf::from,
-    );
-    target.join("kinematics")
-}
+use kinematics_examples::{output_dir, FourBar, FourBarCoords, FourBarModes};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let m = FourBar::CRANK_ROCKER;
@@ -93,9 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cycle.max_residual()
     );
 
-    let dir = output_dir();
-    std::fs::create_dir_all(&dir)?;
-    let dir = dir.canonicalize()?;
+    let dir = output_dir()?;
     let csv = dir.join("fourbar.csv");
     std::fs::write(&csv, cycle.to_csv())?;
     let motion = dir.join("fourbar-motion.svg");

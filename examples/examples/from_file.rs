@@ -37,13 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(stop) = sweep.stop {
         return Err(stop.into());
     }
-    let dir = std::env::var_os("CARGO_TARGET_DIR")
-        .map_or_else(
-            || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
-            PathBuf::from,
-        )
-        .join("kinematics");
-    std::fs::create_dir_all(&dir)?;
+    let dir = kinematics_examples::output_dir()?;
     let out = dir.join("from_file.json");
     std::fs::write(&out, serde_json::to_string_pretty(&sweep)?)?;
     let fastest = sweep

@@ -5,8 +5,6 @@
 //! over a turn of the crank at 10 rad/s, a table every 30°, and
 //! `target/kinematics/tolerance-band.svg`: the coupler curve with its
 //! worst-case band, magnified 20 times.
-use std::path::PathBuf;
-
 use kinematics_core::plot::{plot_band, Projection};
 use kinematics_core::tolerance::point_deviations;
 use kinematics_examples::FourBar;
@@ -57,13 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "largest worst-case deviation of P over the turn: {:.4} mm",
         largest * 1e3
     );
-    let dir = std::env::var_os("CARGO_TARGET_DIR")
-        .map_or_else(
-            || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
-            PathBuf::from,
-        )
-        .join("kinematics");
-    std::fs::create_dir_all(&dir)?;
+    let dir = kinematics_examples::output_dir()?;
     let file = dir.join("tolerance-band.svg");
     plot_band(&sweep, "P", &dev, 20.0, Projection::XY, &file)?;
     println!("written: {}", file.display());

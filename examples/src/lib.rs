@@ -6,6 +6,21 @@
 
 use kinematics_core::mechanism;
 
+/// Where the examples write their files: `target/kinematics/` of the
+/// workspace (or of `CARGO_TARGET_DIR`), created if need be.
+///
+/// # Errors
+/// When the folder cannot be created.
+pub fn output_dir() -> std::io::Result<std::path::PathBuf> {
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(
+        || std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
+        std::path::PathBuf::from,
+    );
+    let dir = target.join("kinematics");
+    std::fs::create_dir_all(&dir)?;
+    dir.canonicalize()
+}
+
 mechanism! {
     /// Planar four-bar. Ground pivots A = (0, 0) and D = (d, 0); crank AB at
     /// angle φ, coupler BC at θ3, rocker DC at θ4 measured at D; coupler point

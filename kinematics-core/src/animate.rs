@@ -29,7 +29,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::sweep::Sweep;
-use crate::view::{point_roles, PointRole, Projection};
+use crate::view::{point_index, point_roles, PointRole, Projection};
 use crate::{Error, Kind, Mechanism, MotionState, PointState};
 
 /// Writes an HTML page at `path` that plays the sweep `sweep` of `m`: each
@@ -56,19 +56,6 @@ pub fn write_html<M: Mechanism>(
     })
 }
 
-fn point_index<M: Mechanism>(name: &str) -> Result<usize, Error> {
-    M::POINT_NAMES
-        .iter()
-        .position(|p| *p == name)
-        .ok_or_else(|| Error::InvalidGeometry {
-            what: "animation",
-            detail: format!(
-                "the mechanism has no point `{name}`; its points are {}",
-                M::POINT_NAMES.join(", ")
-            ),
-        })
-}
-
 /// The page as a string.
 fn html<M: Mechanism>(
     m: &M,
@@ -78,7 +65,12 @@ fn html<M: Mechanism>(
 ) -> Result<String, Error> {
     let ends: Vec<(usize, usize)> = links
         .iter()
-        .map(|(p, q)| Ok((point_index::<M>(p)?, point_index::<M>(q)?)))
+        .map(|(p, q)| {
+            Ok((
+                point_index::<M>(p, "animation")?,
+                point_index::<M>(q, "animation")?,
+            ))
+        })
         .collect::<Result<_, Error>>()?;
     let Some(first) = sweep.samples.first() else {
         return Err(Error::InvalidGeometry {

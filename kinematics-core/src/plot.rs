@@ -15,6 +15,7 @@
 
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -22,7 +23,7 @@ use crate::sweep::{Sample, Sweep};
 use crate::{Coordinates, Error, Kind, Mechanism, MotionState, PointState, Role};
 
 pub use crate::view::Projection;
-use crate::view::{point_roles, PointRole};
+use crate::view::{point_index, point_roles, PointRole};
 
 /// The length unit written on the axes (the values are plotted as
 /// computed, in the unit of the mechanism's parameters).
@@ -133,6 +134,35 @@ fn panel(
     let (y0, y1) = range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)));
     // Room above the curves for the legend.
     let y1 = y1 + 0.06 * (y1 - y0) * (curves.len() as f64);
+    let mut chart = titled_chart(area, caption, (x0, x1), (y0, y1), x, y, path)?;
+    for c in curves {
+        let color = c.color;
+        chart
+            .draw_series(LineSeries::new(
+                c.points.iter().copied(),
+                color.stroke_width(c.width),
+            ))
+            .map_err(|e| output(path, e))?
+            .label(c.label.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+            });
+    }
+    legend(&mut chart, path)
+}
+
+/// A chart in `area` over [x0, x1] × [y0, y1] with its caption, the axis
+/// titles `x` and `y`, ticks that never read "-0", and a light grid.
+#[allow(clippy::too_many_arguments)]
+fn titled_chart<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: &str,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    x: &str,
+    y: &str,
+    path: &Path,
+) -> Result<Chart<'a, 'b>, Error> {
     let mut chart = ChartBuilder::on(area)
         .caption(caption, (FONT, 17))
         .margin(10)
@@ -152,19 +182,31 @@ fn panel(
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| output(path, e))?;
-    for c in curves {
-        let color = c.color;
-        chart
-            .draw_series(LineSeries::new(
-                c.points.iter().copied(),
-                color.stroke_width(c.width),
-            ))
-            .map_err(|e| output(path, e))?
-            .label(c.label.clone())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
-            });
-    }
+    Ok(chart)
+}
+
+/// A chart of the plane `projection` over equal ranges, axes in metres.
+fn plane_chart<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: &str,
+    ranges: ((f64, f64), (f64, f64)),
+    projection: Projection,
+    path: &Path,
+) -> Result<Chart<'a, 'b>, Error> {
+    let (xn, yn) = projection.names();
+    titled_chart(
+        area,
+        caption,
+        ranges.0,
+        ranges.1,
+        &format!("{xn} (m)"),
+        &format!("{yn} (m)"),
+        path,
+    )
+}
+
+/// The legend of the labelled series, upper right.
+fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, path: &Path) -> Result<(), Error> {
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -174,6 +216,9 @@ fn panel(
         .draw()
         .map_err(|e| output(path, e))
 }
+
+/// A chart of the SVG backend in plain coordinates.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Plots q, q' and q'' of every unknown against the swept variable into an
 /// SVG file at `path`: a row per quantity, a column per kind (angles in
@@ -296,19 +341,6 @@ pub fn plot_motion_in<M: Mechanism>(
     root.present().map_err(|e| output(path, e))
 }
 
-fn point_index<M: Mechanism>(name: &str) -> Result<usize, Error> {
-    M::POINT_NAMES
-        .iter()
-        .position(|p| *p == name)
-        .ok_or_else(|| Error::InvalidGeometry {
-            what: "plot",
-            detail: format!(
-                "the mechanism has no point `{name}`; its points are {}",
-                M::POINT_NAMES.join(", ")
-            ),
-        })
-}
-
 /// Plots the position, velocity and acceleration of each point of `points`
 /// (by name) against the swept variable into an SVG file at `path`: a
 /// column per point, a row per quantity, each with its components (x, y
@@ -362,7 +394,7 @@ pub fn plot_points_in<M: Mechanism>(
 ) -> Result<(), Error> {
     let indices: Vec<usize> = points
         .iter()
-        .map(|p| point_index::<M>(p))
+        .map(|p| point_index::<M>(p, "plot"))
         .collect::<Result<_, _>>()?;
     let (x_title, x_scale) = x_axis(sweep, units);
     let columns = indices.len().max(1);
@@ -475,7 +507,7 @@ pub fn plot_path<M: Mechanism>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
-    let k = point_index::<M>(point)?;
+    let k = point_index::<M>(point, "plot")?;
     let (a, b) = projection.axes();
     let xy: Vec<(f64, f64)> = sweep
         .samples
@@ -492,26 +524,13 @@ pub fn plot_path<M: Mechanism>(
     let ((x0, x1), (y0, y1)) = square(range(xy.iter().map(|p| p.0)), range(xy.iter().map(|p| p.1)));
     let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(format!("path of {point}"), (FONT, 18))
-        .margin(12)
-        .x_label_area_size(42)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| output(path, e))?;
-    let (xn, yn) = projection.names();
-    let span = x1 - x0;
-    chart
-        .configure_mesh()
-        .x_desc(format!("{xn} (m)"))
-        .y_desc(format!("{yn} (m)"))
-        .axis_desc_style((FONT, 14))
-        .label_style((FONT, 12))
-        .x_label_formatter(&|v| tick(*v, span))
-        .y_label_formatter(&|v| tick(*v, span))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| output(path, e))?;
+    let mut chart = plane_chart(
+        &root,
+        &format!("path of {point}"),
+        ((x0, x1), (y0, y1)),
+        projection,
+        path,
+    )?;
     chart
         .draw_series(LineSeries::new(
             xy.iter().copied(),
@@ -538,14 +557,7 @@ pub fn plot_path<M: Mechanism>(
             .label(label)
             .legend(|(x, y)| Circle::new((x + 8, y), 5, PALETTE[1].filled()));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()
-        .map_err(|e| output(path, e))?;
+    legend(&mut chart, path)?;
     root.present().map_err(|e| output(path, e))
 }
 
@@ -588,7 +600,7 @@ pub fn plot_band<M: Mechanism>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
-    let k = point_index::<M>(point)?;
+    let k = point_index::<M>(point, "plot")?;
     if deviations.len() != sweep.samples.len() {
         return Err(Error::InvalidGeometry {
             what: "plot",
@@ -640,29 +652,13 @@ pub fn plot_band<M: Mechanism>(
     let ((x0, x1), (y0, y1)) = square(range(all().map(|p| p.0)), range(all().map(|p| p.1)));
     let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("path of {point} and its tolerance band"),
-            (FONT, 18),
-        )
-        .margin(12)
-        .x_label_area_size(42)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| output(path, e))?;
-    let (xn, yn) = projection.names();
-    let span = x1 - x0;
-    chart
-        .configure_mesh()
-        .x_desc(format!("{xn} (m)"))
-        .y_desc(format!("{yn} (m)"))
-        .axis_desc_style((FONT, 14))
-        .label_style((FONT, 12))
-        .x_label_formatter(&|v| tick(*v, span))
-        .y_label_formatter(&|v| tick(*v, span))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(|e| output(path, e))?;
+    let mut chart = plane_chart(
+        &root,
+        &format!("path of {point} and its tolerance band"),
+        ((x0, x1), (y0, y1)),
+        projection,
+        path,
+    )?;
     // A closed path (a whole turn, its end left out) closes its band too.
     let distance =
         |p: (f64, f64), q: (f64, f64)| ((q.0 - p.0).powi(2) + (q.1 - p.1).powi(2)).sqrt();
@@ -699,14 +695,7 @@ pub fn plot_band<M: Mechanism>(
         .map_err(|e| output(path, e))?
         .label(format!("nominal path of {point}"))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], PALETTE[0].stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()
-        .map_err(|e| output(path, e))?;
+    legend(&mut chart, path)?;
     root.present().map_err(|e| output(path, e))
 }
 
@@ -763,7 +752,7 @@ pub fn plot_skeleton<M: Mechanism>(
 ) -> Result<(), Error> {
     let ends: Vec<(usize, usize)> = links
         .iter()
-        .map(|(p, q)| Ok((point_index::<M>(p)?, point_index::<M>(q)?)))
+        .map(|(p, q)| Ok((point_index::<M>(p, "plot")?, point_index::<M>(q, "plot")?)))
         .collect::<Result<_, Error>>()?;
     let (a, b) = projection.axes();
     let dim = M::POINT_DIM;
@@ -790,26 +779,14 @@ pub fn plot_skeleton<M: Mechanism>(
     let ((x0, x1), (y0, y1)) = ((x0 - pad, x1 + pad), (y0 - pad, y1 + pad));
     let root = SVGBackend::new(path, (820, 820)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption("the mechanism at each pose", (FONT, 18))
-        .margin(12)
-        .x_label_area_size(42)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| output(path, e))?;
-    let (xn, yn) = projection.names();
+    let mut chart = plane_chart(
+        &root,
+        "the mechanism at each pose",
+        ((x0, x1), (y0, y1)),
+        projection,
+        path,
+    )?;
     let span = x1 - x0;
-    chart
-        .configure_mesh()
-        .x_desc(format!("{xn} (m)"))
-        .y_desc(format!("{yn} (m)"))
-        .axis_desc_style((FONT, 14))
-        .label_style((FONT, 12))
-        .x_label_formatter(&|v| tick(*v, span))
-        .y_label_formatter(&|v| tick(*v, span))
-        .light_line_style(RGBColor(238, 238, 238))
-        .draw()
-        .map_err(|e| output(path, e))?;
     // Slider guides: dashed grey lines through each slider's positions.
     for (k, role) in roles.iter().enumerate() {
         if *role != PointRole::Slider {
@@ -930,14 +907,7 @@ pub fn plot_skeleton<M: Mechanism>(
             EmptyElement::at(*p) + Text::new((*name).to_owned(), (7, -17), (FONT, 14).into_font())
         }))
         .map_err(|e| output(path, e))?;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()
-        .map_err(|e| output(path, e))?;
+    legend(&mut chart, path)?;
     root.present().map_err(|e| output(path, e))
 }
 

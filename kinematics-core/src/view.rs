@@ -153,3 +153,22 @@ pub fn point_roles<M: Mechanism>(m: &M, pose: &M::Coords) -> Vec<PointRole> {
         })
         .collect()
 }
+
+/// The index of point `name` among the points of `M`, or an error for
+/// `what` (the drawing asking) listing the points there are.
+#[cfg(feature = "std")]
+pub(crate) fn point_index<M: Mechanism>(
+    name: &str,
+    what: &'static str,
+) -> Result<usize, crate::Error> {
+    M::POINT_NAMES
+        .iter()
+        .position(|p| *p == name)
+        .ok_or_else(|| crate::Error::InvalidGeometry {
+            what,
+            detail: alloc::format!(
+                "the mechanism has no point `{name}`; its points are {}",
+                M::POINT_NAMES.join(", ")
+            ),
+        })
+}

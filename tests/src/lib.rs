@@ -287,3 +287,31 @@ pub fn assemble_back<M: Mechanism>(m: &M, exact: &M::Coords, rng: &mut Rng) -> M
     }
     pose
 }
+
+kinematics_core::mechanism! {
+    /// A four-bar written with the square root of its coupler's length (a
+    /// form no closed form covers): solved by Newton–Raphson.
+    pub struct DistanceFourBar {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Rocker angle.
+            th4
+        }
+        constraints {
+            sqrt(norm(polar(a, phi) - vec2(d, 0.0) - polar(c, th4))) == sqrt(b);
+        }
+    }
+}

@@ -4,6 +4,7 @@
 
 use kinematics_core::{mechanism, Error, Input, Options};
 use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
+use kinematics_tests::{DistanceFourBar, DistanceFourBarCoords};
 
 mechanism! {
     /// A model whose equation is undefined for negative `r`.
@@ -112,34 +113,6 @@ fn links_too_short_to_close_the_loop() {
         }
         Err(Error::Singular { .. }) => {}
         other => panic!("unexpected {other:?}"),
-    }
-}
-
-mechanism! {
-    /// A four-bar written with the square root of its coupler's length (a
-    /// form no closed form covers): solved by Newton–Raphson.
-    pub struct DistanceFourBar {
-        params {
-            /// Crank.
-            a,
-            /// Coupler.
-            b,
-            /// Rocker.
-            c,
-            /// Ground.
-            d
-        }
-        drivers {
-            /// Crank angle.
-            phi
-        }
-        unknowns {
-            /// Rocker angle.
-            th4
-        }
-        constraints {
-            sqrt(norm(polar(a, phi) - vec2(d, 0.0) - polar(c, th4))) == sqrt(b);
-        }
     }
 }
 

@@ -12,7 +12,7 @@ use kinematics_core::sweep::{
 };
 use kinematics_core::{batch, mechanism, Error};
 use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
-use kinematics_tests::Rng;
+use kinematics_tests::{DistanceFourBar, DistanceFourBarCoords, Rng};
 
 #[test]
 fn crank_rocker_full_cycle_closes_and_is_periodic() {
@@ -780,39 +780,11 @@ impl CrankX for SliderDrivenCoords {
     }
 }
 
-mechanism! {
-    /// A four-bar written with the square root of its coupler's length (a
-    /// form no closed form covers): solved by Newton–Raphson.
-    pub struct NewtonFourBar {
-        params {
-            /// Crank.
-            a,
-            /// Coupler.
-            b,
-            /// Rocker.
-            c,
-            /// Ground.
-            d
-        }
-        drivers {
-            /// Crank angle.
-            phi
-        }
-        unknowns {
-            /// Rocker angle.
-            th4
-        }
-        constraints {
-            sqrt(norm(polar(a, phi) - vec2(d, 0.0) - polar(c, th4))) == sqrt(b);
-        }
-    }
-}
-
 #[test]
 fn a_sweep_solved_by_newton_stops_where_it_cannot_go_on() {
     // The non-Grashof four-bar of the limit-position test, by
     // Newton–Raphson: the rocker angle cannot follow past the toggle.
-    let m = NewtonFourBar {
+    let m = DistanceFourBar {
         a: 0.05,
         b: 0.08,
         c: 0.06,
@@ -820,9 +792,13 @@ fn a_sweep_solved_by_newton_stops_where_it_cannot_go_on() {
     };
     let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
     let start = m
-        .assemble(&NewtonFourBarCoords { phi: 0.0, th4: 1.5 })
+        .assemble(&DistanceFourBarCoords { phi: 0.0, th4: 1.5 })
         .expect("assembles");
-    let s = m.sweep(NewtonFourBar::PHI, &start).turn().steps(3600).run();
+    let s = m
+        .sweep(DistanceFourBar::PHI, &start)
+        .turn()
+        .steps(3600)
+        .run();
     let stop = s.stop.expect("stops");
     assert!(
         matches!(
@@ -878,7 +854,7 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
     // det Φ_u changes sign at the folds, located between samples by the
     // conditioning; Smooth continues along θ4 = φ, Switch is refused with
     // the reason (no closed form holds the other branch).
-    let m = NewtonFourBar {
+    let m = DistanceFourBar {
         a: 0.04,
         b: 0.11,
         c: 0.04,
@@ -886,9 +862,13 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
     };
     let phi = 10f64.to_radians();
     let start = m
-        .assemble(&NewtonFourBarCoords { phi, th4: phi })
+        .assemble(&DistanceFourBarCoords { phi, th4: phi })
         .expect("assembles");
-    let s = m.sweep(NewtonFourBar::PHI, &start).turn().steps(514).run();
+    let s = m
+        .sweep(DistanceFourBar::PHI, &start)
+        .turn()
+        .steps(514)
+        .run();
     let stop = s.stop.expect("stops");
     assert!(
         matches!(stop.reason, StopReason::ChangePoint { .. }),
@@ -896,7 +876,7 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
     );
     assert!((stop.at - PI).abs() < 1e-6, "{}", stop.at);
     let s = m
-        .sweep(NewtonFourBar::PHI, &start)
+        .sweep(DistanceFourBar::PHI, &start)
         .turn()
         .steps(514)
         .change_points(ChangePoints::Smooth)
@@ -909,7 +889,7 @@ fn a_parallelogram_solved_by_newton_crosses_on_the_smooth_branch() {
         .iter()
         .all(|x| angle_gap(x.motion.q.th4, x.at).abs() < 1e-6));
     let s = m
-        .sweep(NewtonFourBar::PHI, &start)
+        .sweep(DistanceFourBar::PHI, &start)
         .turn()
         .steps(514)
         .change_points(ChangePoints::Switch)
