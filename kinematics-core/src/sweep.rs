@@ -562,13 +562,7 @@ impl<'m, M: Mechanism, U> SweepBuilder<'m, M, U> {
                 requirement: "must be finite",
             });
         }
-        Ok(Grid {
-            from,
-            to,
-            steps,
-            count,
-            values: None,
-        })
+        Ok(Grid::even(from, to, steps, count))
     }
 }
 
@@ -790,13 +784,7 @@ impl<'m, M: Mechanism, P: Profile<M::Coords>> IntoIterator for Simulation<'m, M,
     fn into_iter(self) -> Self::IntoIter {
         let grid = if let Some(times) = self.times {
             if times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]) {
-                Ok(Grid {
-                    from: times.first().copied().unwrap_or(0.0),
-                    to: times.last().copied().unwrap_or(0.0),
-                    steps: times.len().saturating_sub(1).max(1),
-                    count: times.len(),
-                    values: Some(times),
-                })
+                Ok(Grid::given(times))
             } else {
                 Err(Error::InvalidOption {
                     name: "times",
@@ -805,13 +793,12 @@ impl<'m, M: Mechanism, P: Profile<M::Coords>> IntoIterator for Simulation<'m, M,
                 })
             }
         } else if self.duration.is_finite() && self.duration > 0.0 {
-            Ok(Grid {
-                from: 0.0,
-                to: self.duration,
-                steps: self.steps.max(1),
-                count: self.steps.max(1) + 1,
-                values: None,
-            })
+            Ok(Grid::even(
+                0.0,
+                self.duration,
+                self.steps.max(1),
+                self.steps.max(1) + 1,
+            ))
         } else {
             Err(Error::InvalidOption {
                 name: "duration",
@@ -910,12 +897,38 @@ pub fn constant_acceleration<M: Mechanism, U>(
 struct Grid {
     from: f64,
     to: f64,
+    /// (to − from)/steps.
+    step: f64,
     steps: usize,
     count: usize,
     values: Option<Vec<f64>>,
 }
 
 impl Grid {
+    #[allow(clippy::cast_precision_loss)]
+    fn even(from: f64, to: f64, steps: usize, count: usize) -> Self {
+        Self {
+            from,
+            to,
+            step: (to - from) / steps as f64,
+            steps,
+            count,
+            values: None,
+        }
+    }
+
+    fn given(values: Vec<f64>) -> Self {
+        Self {
+            from: values.first().copied().unwrap_or(0.0),
+            to: values.last().copied().unwrap_or(0.0),
+            step: f64::NAN,
+            steps: values.len().saturating_sub(1).max(1),
+            count: values.len(),
+            values: Some(values),
+        }
+    }
+
+    /// Value `k`: from + k·step (the last one exactly `to`).
     #[allow(clippy::cast_precision_loss)]
     #[inline]
     fn at(&self, k: usize) -> f64 {
@@ -928,8 +941,8 @@ impl Grid {
             // Through i64: one conversion instruction (the counts are far
             // below 2⁶³).
             #[allow(clippy::cast_possible_wrap)]
-            let (k, n) = (k as i64 as f64, self.steps as i64 as f64);
-            self.from + (self.to - self.from) * k / n
+            let k = k as i64 as f64;
+            self.from + self.step * k
         }
     }
 }
@@ -1027,6 +1040,9 @@ pub struct SweepIter<'m, M: Mechanism, D> {
     drive: D,
     options: Options,
     grid: Grid,
+    /// 1 / the rate of the sweep variable (0 when it is 0), for the
+    /// predictor.
+    per_rate: f64,
     wrap: Wrap,
     change_points: ChangePoints,
     variable: &'static str,
@@ -1071,17 +1087,18 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         wrap: Wrap,
         change_points: ChangePoints,
     ) -> Self {
+        let rate = drive.variable_rate();
+        let per_rate = if rate != 0.0 && rate.is_finite() {
+            1.0 / rate
+        } else {
+            0.0
+        };
         let mut it = Self {
             m,
             drive,
             options: *options,
-            grid: Grid {
-                from: 0.0,
-                to: 0.0,
-                steps: 1,
-                count: 0,
-                values: None,
-            },
+            grid: Grid::even(0.0, 0.0, 1, 0),
+            per_rate,
             wrap,
             change_points,
             variable,
@@ -1189,13 +1206,10 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             return M::Coords::default();
         };
         let mut guess = h.q;
-        let rate = self.drive.variable_rate();
-        if rate != 0.0 && rate.is_finite() {
-            let dt = (at - h.at) / rate;
-            for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
-                if let (Some(u), Some(ud)) = (guess.get(j), h.qd.get(j)) {
-                    guess.set(j, u + ud * dt);
-                }
+        let dt = (at - h.at) * self.per_rate;
+        for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+            if let (Some(u), Some(ud)) = (guess.get(j), h.qd.get(j)) {
+                guess.set(j, u + ud * dt);
             }
         }
         guess
@@ -1204,6 +1218,13 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// A sample as handed out: its angles wrapped as asked.
     #[inline(always)]
     fn wrapped(&self, mut s: Sample<M>) -> Sample<M> {
+        self.wrap_angles(&mut s);
+        s
+    }
+
+    /// Wraps the angles of `s` as asked.
+    #[inline(always)]
+    fn wrap_angles(&self, s: &mut Sample<M>) {
         if self.wrap != Wrap::Continuous {
             let q = s.motion.q_mut();
             for (j, c) in M::COORDINATES.iter().enumerate() {
@@ -1214,7 +1235,6 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                 }
             }
         }
-        s
     }
 
     /// Queues the held sample to be handed out.
@@ -1265,7 +1285,9 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         if ordinary {
             self.k += 1;
             self.push_head(&s);
-            return Some(Ok(self.wrapped(s)));
+            let mut s = s;
+            self.wrap_angles(&mut s);
+            return Some(Ok(s));
         }
         self.unusual(s);
         None
