@@ -85,6 +85,9 @@ pub mod plot;
 pub mod rigid;
 pub mod solve;
 pub mod sweep;
+#[cfg(feature = "synthesis")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "synthesis")))]
+pub mod synthesis;
 pub mod tolerance;
 pub mod transform;
 pub mod view;

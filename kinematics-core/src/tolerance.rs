@@ -56,6 +56,27 @@ pub trait Sensitive: Mechanism {
     /// As the generated `sensitivities`.
     fn point_sensitivities_into(&self, motion: &Self::Motion, out: &mut [f64])
         -> Result<(), Error>;
+
+    /// The position-level sensitivities of `motion`, for synthesis:
+    /// ∂q/∂p into `coordinates` as `[parameter][coordinate]` (zero for the
+    /// drivers) and ∂r/∂p into `points` as `[parameter][point][component]`
+    /// (as many as fit in each).
+    ///
+    /// # Errors
+    /// As the generated `sensitivities`.
+    fn position_sensitivities_into(
+        &self,
+        motion: &Self::Motion,
+        coordinates: &mut [f64],
+        points: &mut [f64],
+    ) -> Result<(), Error>;
+
+    /// Parameter `k` of [`Sensitive::PARAMETERS`] (NaN past the last).
+    fn parameter(&self, k: usize) -> f64;
+
+    /// Sets parameter `k` of [`Sensitive::PARAMETERS`]; `false` past the
+    /// last.
+    fn set_parameter(&mut self, k: usize, value: f64) -> bool;
 }
 
 /// The first-order deviation of a point at one sample of a sweep (see the

@@ -222,6 +222,7 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
         },
     );
     let pname_text: Vec<String> = params.iter().map(|p| p.unraw().to_string()).collect();
+    let param_index: Vec<usize> = (0..params.len()).collect();
     let _ = &pr as &Printer<'_>;
     quote! {
         #items
@@ -271,6 +272,52 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
                     }
                 }
                 ::core::result::Result::Ok(())
+            }
+
+            fn position_sensitivities_into(
+                &self,
+                motion: &#motion,
+                coordinates: &mut [f64],
+                points: &mut [f64],
+            ) -> #pp::Result<(), #pp::Error> {
+                let all = self.sensitivities(motion)?;
+                let (mut i, mut j) = (0usize, 0usize);
+                for one in all.to_array() {
+                    let mut c = 0usize;
+                    while let ::core::option::Option::Some(v) = #pp::Coordinates::get(&one.q, c) {
+                        if let ::core::option::Option::Some(o) = coordinates.get_mut(i) {
+                            *o = v;
+                        }
+                        i += 1;
+                        c += 1;
+                    }
+                    for p in &one.points {
+                        for v in p.position.iter() {
+                            if let ::core::option::Option::Some(o) = points.get_mut(j) {
+                                *o = *v;
+                            }
+                            j += 1;
+                        }
+                    }
+                }
+                ::core::result::Result::Ok(())
+            }
+
+            fn parameter(&self, k: usize) -> f64 {
+                match k {
+                    #(#param_index => self.#params,)*
+                    _ => ::core::primitive::f64::NAN,
+                }
+            }
+
+            fn set_parameter(&mut self, k: usize, value: f64) -> bool {
+                match k {
+                    #(#param_index => {
+                        self.#params = value;
+                        true
+                    })*
+                    _ => false,
+                }
             }
         }
 
