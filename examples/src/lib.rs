@@ -515,3 +515,262 @@ impl RRtrRrt {
 pub fn rpm_to_rad_per_s(rpm: f64) -> f64 {
     std::f64::consts::PI * rpm / 30.0
 }
+
+mechanism! {
+    /// Planar four-bar placed anywhere: crank pivot A = (x0, y0), rocker
+    /// pivot D at distance d from A in the direction θ0; crank AB = a at
+    /// angle φ (from the x axis), coupler BC = b at θ3, rocker DC = c at θ4,
+    /// coupler point P = B + p·(cos(θ3 + β), sin(θ3 + β)). Its nine
+    /// dimensions are the unknowns of the nine-point path synthesis problem.
+    pub struct PlacedFourBar {
+        params {
+            /// x of the crank pivot A.
+            x0,
+            /// y of the crank pivot A.
+            y0,
+            /// Direction of AD from the x axis (rad).
+            theta0,
+            /// Ground length AD.
+            d,
+            /// Crank length AB.
+            a,
+            /// Coupler length BC.
+            b,
+            /// Rocker length DC.
+            c,
+            /// Distance BP to the coupler point.
+            p,
+            /// Angle of BP from BC (rad).
+            beta
+        }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points {
+            /// Crank pivot (fixed).
+            A = vec2(x0, y0);
+            /// Crank pin.
+            B = A + polar(a, phi);
+            /// Rocker pivot (fixed).
+            D = A + polar(d, theta0);
+            /// Rocker pin.
+            C = D + polar(c, th4);
+            /// Coupler point.
+            P = B + polar(p, th3 + beta);
+        }
+        loops { B + polar(b, th3) == C; }
+        sensitivities { x0, y0, theta0, d, a, b, c, p, beta }
+    }
+}
+
+/// Path-generation problems from the literature on four-bar synthesis.
+pub mod literature {
+    /// Five precision points on a straight line, with the ground pivots at
+    /// (0, 0) and (1, 0): Problem 7 of A. P. Morgan and C. W. Wampler,
+    /// "Solving a Planar Four-Bar Design Problem Using Continuation",
+    /// Journal of Mechanical Design 112 (1990) 544–550, whose polynomial
+    /// continuation finds every solution, each passing through the points
+    /// exactly (the best error is zero).
+    pub const MORGAN_WAMPLER_7: [[f64; 2]; 5] =
+        [[0.50, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43], [0.22, 0.78]];
+
+    /// Nine precision points, the most a four-bar's coupler curve can be
+    /// made to pass through with all nine dimensions free: the nine-point
+    /// path synthesis problem, solved completely by C. W. Wampler,
+    /// A. P. Morgan and A. J. Sommese, "Complete Solution of the Nine-Point
+    /// Path Synthesis Problem for Four-Bar Linkages", Journal of Mechanical
+    /// Design 114 (1992) 153–159, whose real solutions pass through the
+    /// points exactly (the best error is zero). These nine points are the
+    /// worked example of the HomotopyContinuation.jl nine-point example
+    /// (P. Breiding, A. Eckhardt, S. Timme, 2019).
+    pub const NINE_POINTS: [[f64; 2]; 9] = [
+        [0.896_186_7, -0.098_029_17],
+        [1.215_653_5, -1.187_491_00],
+        [1.515_143_5, -0.854_498_08],
+        [1.675_477_5, -0.487_680_58],
+        [1.713_869_0, -0.300_992_32],
+        [1.721_523_6, 0.032_699_53],
+        [1.664_202_9, 0.332_410_88],
+        [1.498_417_1, 0.744_355_76],
+        [1.301_183_4, 0.921_538_06],
+    ];
+}
+
+/// The literature's path-generation problems solved from seeded random
+/// starting designs, shared by the synthesis example, its tests and the
+/// synthesis benchmark.
+pub mod synthesis_runs {
+    use super::literature::{MORGAN_WAMPLER_7, NINE_POINTS};
+    use super::{FourBar, FourBarCoords, FourBarModes, PlacedFourBar, PlacedFourBarModes};
+    use kinematics_core::synthesis::{Synthesis, Synthesized};
+    use kinematics_core::Error;
+    use std::f64::consts::{PI, TAU};
+
+    /// A seeded generator of uniform numbers (xorshift64*).
+    #[derive(Debug, Clone)]
+    pub struct Uniform(u64);
+
+    impl Uniform {
+        /// The generator for `seed`.
+        #[must_use]
+        pub fn new(seed: u64) -> Self {
+            Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        }
+
+        /// A number in [lo, hi).
+        pub fn in_range(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            let bits = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
+            #[allow(clippy::cast_precision_loss)]
+            let u = bits as f64 / (1u64 << 53) as f64;
+            lo + (hi - lo) * u
+        }
+    }
+
+    /// Driver values evenly spaced over a turn from `from`.
+    #[must_use]
+    pub fn evenly(from: f64, n: usize) -> Vec<f64> {
+        #[allow(clippy::cast_precision_loss)]
+        (0..n).map(|j| from + TAU * j as f64 / n as f64).collect()
+    }
+
+    /// A random starting design for Morgan and Wampler's Problem 7 (ground
+    /// pivots (0, 0) and (1, 0); a, b, c, p in [0.2, 2], β in [−π, π], a
+    /// random assembly mode), drawn again until it assembles at its
+    /// initial driver values; with its start pose.
+    #[must_use]
+    pub fn morgan_wampler_start(seed: u64) -> (FourBar, FourBarCoords) {
+        let mut u = Uniform::new(seed);
+        loop {
+            let m = FourBar {
+                a: u.in_range(0.2, 2.0),
+                b: u.in_range(0.2, 2.0),
+                c: u.in_range(0.2, 2.0),
+                d: 1.0,
+                p: u.in_range(0.2, 2.0),
+                beta: u.in_range(-PI, PI),
+            };
+            let modes = FourBarModes::ALL[usize::from(u.in_range(0.0, 1.0) < 0.5)];
+            let phi0 = u.in_range(-PI, PI);
+            let fits = evenly(phi0, MORGAN_WAMPLER_7.len())
+                .iter()
+                .all(|&phi| m.assemble_in(phi, &modes).is_ok());
+            if let (true, Ok(start)) = (fits, m.assemble_in(phi0, &modes)) {
+                return (m, start);
+            }
+        }
+    }
+
+    /// Morgan and Wampler's Problem 7 by Levenberg–Marquardt from the
+    /// starting design of `seed`: a, b, c, p, β and the five crank angles
+    /// free (initially evenly spaced over a turn from the start pose's),
+    /// lengths within [0.01, 10].
+    ///
+    /// # Errors
+    /// As [`Synthesis::run`].
+    pub fn morgan_wampler(seed: u64) -> Result<Synthesized<FourBar>, Error> {
+        let (m, start) = morgan_wampler_start(seed);
+        let mut s = Synthesis::path(&m, FourBar::PHI, "P", &MORGAN_WAMPLER_7, &start)
+            .vary(&["a", "b", "c", "p", "beta"])
+            .driver_guesses(&evenly(start.phi, MORGAN_WAMPLER_7.len()));
+        for name in ["a", "b", "c", "p"] {
+            s = s.bounds(name, 0.01, 10.0);
+        }
+        s.run()
+    }
+
+    /// E = Σ|P(φ_j) − t_j|² of Morgan and Wampler's Problem 7 for the
+    /// unknowns `x` = (a, b, c, p, β, φ₁ … φ₅) in the modes `modes`, for a
+    /// derivative-free method; 10⁶ where the design does not assemble.
+    #[must_use]
+    pub fn morgan_wampler_objective(x: &[f64], modes: &FourBarModes) -> f64 {
+        let m = FourBar { a: x[0], b: x[1], c: x[2], d: 1.0, p: x[3], beta: x[4] };
+        let mut e = 0.0;
+        for (j, t) in MORGAN_WAMPLER_7.iter().enumerate() {
+            let Ok(pose) = m.assemble_in(x[5 + j], modes) else {
+                return 1e6;
+            };
+            let p = m.positions(&pose).P;
+            e += (p.x - t[0]).powi(2) + (p.y - t[1]).powi(2);
+        }
+        e
+    }
+
+    /// A random starting design for the nine-point problem (A in
+    /// [−1, 3] × [−2, 2], θ0 and β in [−π, π], d, a, b, c, p in [0.2, 2.5],
+    /// a random assembly mode), drawn again until it assembles at its
+    /// initial driver values; with its start pose.
+    #[must_use]
+    pub fn nine_point_start(seed: u64) -> (PlacedFourBar, super::PlacedFourBarCoords) {
+        let mut u = Uniform::new(seed);
+        loop {
+            let m = PlacedFourBar {
+                x0: u.in_range(-1.0, 3.0),
+                y0: u.in_range(-2.0, 2.0),
+                theta0: u.in_range(-PI, PI),
+                d: u.in_range(0.2, 2.5),
+                a: u.in_range(0.2, 2.5),
+                b: u.in_range(0.2, 2.5),
+                c: u.in_range(0.2, 2.5),
+                p: u.in_range(0.2, 2.5),
+                beta: u.in_range(-PI, PI),
+            };
+            let modes = PlacedFourBarModes::ALL[usize::from(u.in_range(0.0, 1.0) < 0.5)];
+            let phi0 = u.in_range(-PI, PI);
+            let fits = evenly(phi0, NINE_POINTS.len())
+                .iter()
+                .all(|&phi| m.assemble_in(phi, &modes).is_ok());
+            if let (true, Ok(start)) = (fits, m.assemble_in(phi0, &modes)) {
+                return (m, start);
+            }
+        }
+    }
+
+    /// The nine-point problem by Levenberg–Marquardt from the starting
+    /// design of `seed`: all nine dimensions and the nine crank angles
+    /// free (initially evenly spaced over a turn from the start pose's),
+    /// the pivot A within [−10, 10]², lengths within [0.01, 20].
+    ///
+    /// # Errors
+    /// As [`Synthesis::run`].
+    pub fn nine_point(seed: u64) -> Result<Synthesized<PlacedFourBar>, Error> {
+        let (m, start) = nine_point_start(seed);
+        let mut s = Synthesis::path(&m, PlacedFourBar::PHI, "P", &NINE_POINTS, &start)
+            .driver_guesses(&evenly(start.phi, NINE_POINTS.len()));
+        for name in ["x0", "y0"] {
+            s = s.bounds(name, -10.0, 10.0);
+        }
+        for name in ["d", "a", "b", "c", "p"] {
+            s = s.bounds(name, 0.01, 20.0);
+        }
+        s.run()
+    }
+
+    /// E of the nine-point problem for the unknowns `x` = (x0, y0, θ0, d,
+    /// a, b, c, p, β, φ₁ … φ₉) in the modes `modes`; 10⁶ where the design
+    /// does not assemble.
+    #[must_use]
+    pub fn nine_point_objective(x: &[f64], modes: &PlacedFourBarModes) -> f64 {
+        let m = PlacedFourBar {
+            x0: x[0],
+            y0: x[1],
+            theta0: x[2],
+            d: x[3],
+            a: x[4],
+            b: x[5],
+            c: x[6],
+            p: x[7],
+            beta: x[8],
+        };
+        let mut e = 0.0;
+        for (j, t) in NINE_POINTS.iter().enumerate() {
+            let Ok(pose) = m.assemble_in(x[9 + j], modes) else {
+                return 1e6;
+            };
+            let p = m.positions(&pose).P;
+            e += (p.x - t[0]).powi(2) + (p.y - t[1]).powi(2);
+        }
+        e
+    }
+}

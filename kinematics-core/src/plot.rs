@@ -750,6 +750,72 @@ pub fn plot_skeleton<M: Mechanism>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
+    plot_skeleton_with(m, poses, links, &Overlay::default(), projection, path)
+}
+
+/// Curves and marked points drawn with a skeleton by
+/// [`plot_skeleton_with`]: a synthesised coupler curve and its target
+/// points, a desired path. Coordinates are in the plane of the projection.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Overlay {
+    /// Curves, each with its legend label.
+    pub curves: Vec<(String, Vec<(f64, f64)>)>,
+    /// Marked points (open circles), each set with its legend label.
+    pub marks: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+impl Overlay {
+    /// The path of point `point` over `sweep`, in the plane of
+    /// `projection`, as a curve labelled `label`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidGeometry`] for an unknown point.
+    pub fn path<M: Mechanism>(
+        mut self,
+        sweep: &Sweep<M>,
+        point: &str,
+        projection: Projection,
+        label: &str,
+    ) -> Result<Self, Error> {
+        let k = point_index::<M>(point, "plot")?;
+        let (a, b) = projection.axes();
+        let xy = sweep
+            .samples
+            .iter()
+            .filter_map(|s| s.motion.points().get(k))
+            .map(|p| {
+                let r = p.position();
+                (
+                    r.get(a).copied().unwrap_or(0.0),
+                    r.get(b).copied().unwrap_or(0.0),
+                )
+            })
+            .collect();
+        self.curves.push((label.to_owned(), xy));
+        Ok(self)
+    }
+
+    /// Marks `points` (in the plane of the projection), labelled `label`.
+    #[must_use]
+    pub fn marks(mut self, points: &[(f64, f64)], label: &str) -> Self {
+        self.marks.push((label.to_owned(), points.to_vec()));
+        self
+    }
+}
+
+/// [`plot_skeleton`] with the curves and marks of `overlay` drawn under
+/// and over the mechanism.
+///
+/// # Errors
+/// As [`plot_skeleton`].
+pub fn plot_skeleton_with<M: Mechanism>(
+    m: &M,
+    poses: &[M::Coords],
+    links: &[(&str, &str)],
+    overlay: &Overlay,
+    projection: Projection,
+    path: &Path,
+) -> Result<(), Error> {
     let ends: Vec<(usize, usize)> = links
         .iter()
         .map(|(p, q)| Ok((point_index::<M>(p, "plot")?, point_index::<M>(q, "plot")?)))
@@ -772,7 +838,14 @@ pub fn plot_skeleton<M: Mechanism>(
         })
         .collect();
     let roles = poses.first().map_or_else(Vec::new, |p| point_roles(m, p));
-    let all = || positions.iter().flatten();
+    let extra = || {
+        overlay
+            .curves
+            .iter()
+            .chain(&overlay.marks)
+            .flat_map(|(_, pts)| pts.iter())
+    };
+    let all = || positions.iter().flatten().chain(extra());
     let ((x0, x1), (y0, y1)) = square(range(all().map(|p| p.0)), range(all().map(|p| p.1)));
     // Room for the ground symbols and labels.
     let pad = 0.08 * (x1 - x0);
@@ -813,6 +886,14 @@ pub fn plot_skeleton<M: Mechanism>(
                     .map(|seg| PathElement::new(seg, RGBColor(150, 150, 150).stroke_width(1))),
             )
             .map_err(|e| output(path, e))?;
+    }
+    for (i, (label, curve)) in overlay.curves.iter().enumerate() {
+        let color = RGBColor(120, 120, 120).mix(if i == 0 { 1.0 } else { 0.6 });
+        chart
+            .draw_series(LineSeries::new(curve.iter().copied(), color.stroke_width(2)))
+            .map_err(|e| output(path, e))?
+            .label(label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2)));
     }
     let driver_label = |pose: &M::Coords| -> String {
         M::COORDINATES
@@ -864,6 +945,14 @@ pub fn plot_skeleton<M: Mechanism>(
                     }),
             )
             .map_err(|e| output(path, e))?;
+    }
+    for (i, (label, pts)) in overlay.marks.iter().enumerate() {
+        let color = PALETTE[(poses.len() + i) % PALETTE.len()];
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 6, color.stroke_width(2))))
+            .map_err(|e| output(path, e))?
+            .label(label.clone())
+            .legend(move |(x, y)| Circle::new((x + 8, y), 6, color.stroke_width(2)));
     }
     let first = positions.first().cloned().unwrap_or_default();
     // Ground pivots: a triangle under the pivot, hatched ground below it.

@@ -152,6 +152,9 @@ pub struct Synthesized<M> {
     /// How many times the Jacobian was evaluated (each is one analysis and
     /// one sensitivity solve per target).
     pub jacobians: usize,
+    /// How many trial designs could not be assembled at some target (each
+    /// rejected as a step).
+    pub rejected: usize,
     /// Whether every linear inequality holds (to 10⁻¹⁰ of the design's
     /// scale).
     pub constraints_met: bool,
@@ -330,15 +333,25 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     }
 
     /// Grashof's condition with the link `crank` the shortest, so that it
-    /// turns fully: s + l ≤ p + q for the lengths (`crank`, `coupler`,
-    /// `rocker`, `ground`), as the three inequalities
-    /// crank + x ≤ (sum of the other two) for x each of the others (which
-    /// together also make the crank the shortest).
+    /// turns fully, kept `margin` away from its boundary: s + l ≤ p + q −
+    /// margin for the lengths (`crank`, `coupler`, `rocker`, `ground`), as
+    /// the three inequalities crank + x ≤ (sum of the other two) − margin
+    /// for x each of the others (which together also make the crank the
+    /// shortest). On the boundary (margin 0) the linkage folds flat once a
+    /// turn, at a change point, so a margin of a few per cent of the
+    /// lengths keeps it a clean crank.
     #[must_use]
-    pub fn grashof_crank(self, crank: &str, coupler: &str, rocker: &str, ground: &str) -> Self {
-        self.at_most(&[(crank, 1.0), (coupler, 1.0), (rocker, -1.0), (ground, -1.0)], 0.0)
-            .at_most(&[(crank, 1.0), (rocker, 1.0), (coupler, -1.0), (ground, -1.0)], 0.0)
-            .at_most(&[(crank, 1.0), (ground, 1.0), (coupler, -1.0), (rocker, -1.0)], 0.0)
+    pub fn grashof_crank(
+        self,
+        crank: &str,
+        coupler: &str,
+        rocker: &str,
+        ground: &str,
+        margin: f64,
+    ) -> Self {
+        self.at_most(&[(crank, 1.0), (coupler, 1.0), (rocker, -1.0), (ground, -1.0)], -margin)
+            .at_most(&[(crank, 1.0), (rocker, 1.0), (coupler, -1.0), (ground, -1.0)], -margin)
+            .at_most(&[(crank, 1.0), (ground, 1.0), (coupler, -1.0), (rocker, -1.0)], -margin)
     }
 
     /// The assembly modes of the closed-form blocks, in the order of the
@@ -421,11 +434,15 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             .step_carried(&self.start, &zeros, &zeros, &mut state)?;
         let phi0 = self.start.get(self.driver).unwrap_or(0.0);
         let timing_unknowns: Vec<f64> = match &self.timing {
-            Timing::Free => self.guesses.clone().unwrap_or_else(|| {
-                let span = if self.driver_kind == Kind::Angle { TAU } else { 1.0 };
-                #[allow(clippy::cast_precision_loss)]
-                (0..n).map(|j| phi0 + span * j as f64 / n as f64).collect()
-            }),
+            Timing::Free => self
+                .guesses
+                .clone()
+                .or_else(|| self.nearest_on_path(n))
+                .unwrap_or_else(|| {
+                    let span = if self.driver_kind == Kind::Angle { TAU } else { 1.0 };
+                    #[allow(clippy::cast_precision_loss)]
+                    (0..n).map(|j| phi0 + span * j as f64 / n as f64).collect()
+                }),
             Timing::Prescribed(_) => Vec::new(),
             Timing::Relative(_) => vec![phi0],
         };
@@ -446,6 +463,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             modes: M::step_modes(&mut state).to_vec(),
             evaluations: Cell::new(0),
             jacobians: Cell::new(0),
+            rejected: Cell::new(0),
         };
         // x: the varied parameters in their bounded variables, then the
         // timing unknowns.
@@ -489,10 +507,67 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             max_error: e.1,
             evaluations: problem.evaluations.get(),
             jacobians: problem.jacobians.get(),
+            rejected: problem.rejected.get(),
             constraints_met: problem.violation() <= 1e-10 * scale,
             full_turn,
             termination,
         })
+    }
+}
+
+impl<M: Sensitive + Clone> Synthesis<M> {
+    /// For free timing with a point and an angle driver: each target's
+    /// initial driver value, that of the sample of the starting design's
+    /// path (one turn each way from the start, 360 steps, in the start's
+    /// modes) nearest the target. `None` when the path has no sample.
+    fn nearest_on_path(&self, n: usize) -> Option<Vec<f64>> {
+        let Output::Point(k) = self.output else {
+            return None;
+        };
+        if self.driver_kind != Kind::Angle {
+            return None;
+        }
+        let handle = Driver::<M, crate::sweep::Angle>::__new(
+            self.driver,
+            M::COORDINATES[self.driver].name,
+        );
+        let phi0 = self.start.get(self.driver)?;
+        let mut samples = Vec::new();
+        for to in [phi0 + TAU, phi0 - TAU] {
+            let sweep = SweepBuilder::new(&self.design, handle, &self.start)
+                .to(to)
+                .steps(360)
+                .options(&self.options)
+                .run();
+            let stopped = sweep.stop.is_some();
+            samples.extend(sweep.samples.iter().filter_map(|x| {
+                x.motion
+                    .points()
+                    .get(k)
+                    .map(|p| (x.at, p.position().to_vec()))
+            }));
+            if !stopped {
+                break;
+            }
+        }
+        if samples.is_empty() {
+            return None;
+        }
+        let d = self.dim;
+        Some(
+            (0..n)
+                .map(|j| {
+                    let t = &self.targets[j * d..(j + 1) * d];
+                    let dist = |r: &[f64]| -> f64 {
+                        r.iter().zip(t).map(|(a, b)| (a - b) * (a - b)).sum()
+                    };
+                    samples
+                        .iter()
+                        .min_by(|a, b| dist(&a.1).total_cmp(&dist(&b.1)))
+                        .map_or(phi0, |s| s.0)
+                })
+                .collect(),
+        )
     }
 }
 
@@ -561,6 +636,7 @@ struct Problem<'s, M: Sensitive> {
     modes: Vec<f64>,
     evaluations: Cell<usize>,
     jacobians: Cell<usize>,
+    rejected: Cell<usize>,
 }
 
 impl<M: Sensitive + Clone> Problem<'_, M> {
@@ -728,7 +804,10 @@ impl<M: Sensitive + Clone> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M>
             // A design that does not assemble: a residual larger than any
             // accepted, so that the step is rejected.
             #[allow(clippy::cast_precision_loss)]
-            Err(_) => Some(DVector::from_element(rows, self.reject / (rows as f64).sqrt())),
+            Err(_) => {
+                self.rejected.set(self.rejected.get() + 1);
+                Some(DVector::from_element(rows, self.reject / (rows as f64).sqrt()))
+            }
         }
     }
 
