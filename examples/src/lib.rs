@@ -570,8 +570,13 @@ pub mod literature {
     /// Journal of Mechanical Design 112 (1990) 544–550, whose polynomial
     /// continuation finds every solution, each passing through the points
     /// exactly (the best error is zero).
-    pub const MORGAN_WAMPLER_7: [[f64; 2]; 5] =
-        [[0.50, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43], [0.22, 0.78]];
+    pub const MORGAN_WAMPLER_7: [[f64; 2]; 5] = [
+        [0.50, 1.06],
+        [-0.83, -0.27],
+        [-0.34, 0.22],
+        [-0.13, 0.43],
+        [0.22, 0.78],
+    ];
 
     /// Nine precision points, the most a four-bar's coupler curve can be
     /// made to pass through with all nine dimensions free: the nine-point
@@ -685,7 +690,14 @@ pub mod synthesis_runs {
     /// derivative-free method; 10⁶ where the design does not assemble.
     #[must_use]
     pub fn morgan_wampler_objective(x: &[f64], modes: &FourBarModes) -> f64 {
-        let m = FourBar { a: x[0], b: x[1], c: x[2], d: 1.0, p: x[3], beta: x[4] };
+        let m = FourBar {
+            a: x[0],
+            b: x[1],
+            c: x[2],
+            d: 1.0,
+            p: x[3],
+            beta: x[4],
+        };
         let mut e = 0.0;
         for (j, t) in MORGAN_WAMPLER_7.iter().enumerate() {
             let Ok(pose) = m.assemble_in(x[5 + j], modes) else {

@@ -890,10 +890,15 @@ pub fn plot_skeleton_with<M: Mechanism>(
     for (i, (label, curve)) in overlay.curves.iter().enumerate() {
         let color = RGBColor(120, 120, 120).mix(if i == 0 { 1.0 } else { 0.6 });
         chart
-            .draw_series(LineSeries::new(curve.iter().copied(), color.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                curve.iter().copied(),
+                color.stroke_width(2),
+            ))
             .map_err(|e| output(path, e))?
             .label(label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+            });
     }
     let driver_label = |pose: &M::Coords| -> String {
         M::COORDINATES
@@ -949,7 +954,10 @@ pub fn plot_skeleton_with<M: Mechanism>(
     for (i, (label, pts)) in overlay.marks.iter().enumerate() {
         let color = PALETTE[(poses.len() + i) % PALETTE.len()];
         chart
-            .draw_series(pts.iter().map(|&p| Circle::new(p, 6, color.stroke_width(2))))
+            .draw_series(
+                pts.iter()
+                    .map(|&p| Circle::new(p, 6, color.stroke_width(2))),
+            )
             .map_err(|e| output(path, e))?
             .label(label.clone())
             .legend(move |(x, y)| Circle::new((x + 8, y), 6, color.stroke_width(2)));

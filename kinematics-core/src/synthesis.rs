@@ -73,12 +73,12 @@
 //! # }
 //! ```
 
+use core::cell::{Cell, RefCell};
+use core::f64::consts::{PI, TAU};
 use std::format;
 use std::string::String;
 use std::vec;
 use std::vec::Vec;
-use core::cell::{Cell, RefCell};
-use core::f64::consts::{PI, TAU};
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra_lm::{storage::Owned, DMatrix, DVector, Dyn};
@@ -283,7 +283,10 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     /// section); the others keep the values of the design given.
     #[must_use]
     pub fn vary(mut self, names: &[&str]) -> Self {
-        let varied: Vec<usize> = names.iter().filter_map(|n| self.parameter_index(n)).collect();
+        let varied: Vec<usize> = names
+            .iter()
+            .filter_map(|n| self.parameter_index(n))
+            .collect();
         self.varied = varied;
         self
     }
@@ -293,7 +296,9 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     pub fn bounds(mut self, name: &str, lo: f64, hi: f64) -> Self {
         if let Some(k) = self.parameter_index(name) {
             if lo.is_nan() || hi.is_nan() || lo >= hi {
-                self.fail(format!("the bounds of `{name}` must satisfy lo < hi, not [{lo}, {hi}]"));
+                self.fail(format!(
+                    "the bounds of `{name}` must satisfy lo < hi, not [{lo}, {hi}]"
+                ));
             }
             self.bounds[k] = (lo, hi);
         }
@@ -349,9 +354,18 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         ground: &str,
         margin: f64,
     ) -> Self {
-        self.at_most(&[(crank, 1.0), (coupler, 1.0), (rocker, -1.0), (ground, -1.0)], -margin)
-            .at_most(&[(crank, 1.0), (rocker, 1.0), (coupler, -1.0), (ground, -1.0)], -margin)
-            .at_most(&[(crank, 1.0), (ground, 1.0), (coupler, -1.0), (rocker, -1.0)], -margin)
+        self.at_most(
+            &[(crank, 1.0), (coupler, 1.0), (rocker, -1.0), (ground, -1.0)],
+            -margin,
+        )
+        .at_most(
+            &[(crank, 1.0), (rocker, 1.0), (coupler, -1.0), (ground, -1.0)],
+            -margin,
+        )
+        .at_most(
+            &[(crank, 1.0), (ground, 1.0), (coupler, -1.0), (rocker, -1.0)],
+            -margin,
+        )
     }
 
     /// The assembly modes of the closed-form blocks, in the order of the
@@ -389,7 +403,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         if let Some(e) = self.problem {
             return Err(e);
         }
-        let n = if self.dim == 0 { 0 } else { self.targets.len() / self.dim };
+        let n = self.targets.len().checked_div(self.dim).unwrap_or(0);
         if n == 0 {
             return Err(Error::InvalidGeometry {
                 what: "synthesis",
@@ -439,7 +453,11 @@ impl<M: Sensitive + Clone> Synthesis<M> {
                 .clone()
                 .or_else(|| self.nearest_on_path(n))
                 .unwrap_or_else(|| {
-                    let span = if self.driver_kind == Kind::Angle { TAU } else { 1.0 };
+                    let span = if self.driver_kind == Kind::Angle {
+                        TAU
+                    } else {
+                        1.0
+                    };
                     #[allow(clippy::cast_precision_loss)]
                     (0..n).map(|j| phi0 + span * j as f64 / n as f64).collect()
                 }),
@@ -494,10 +512,17 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         let full_turn = (self.driver_kind == Kind::Angle).then(|| {
             let mut first = problem.poses.borrow()[0];
             first.set(self.driver, values[0]);
-            let sweep = SweepBuilder::new(&design, Driver::<M, crate::sweep::Angle>::__new(self.driver, M::COORDINATES[self.driver].name), &first)
-                .turn()
-                .options(&self.options)
-                .run();
+            let sweep = SweepBuilder::new(
+                &design,
+                Driver::<M, crate::sweep::Angle>::__new(
+                    self.driver,
+                    M::COORDINATES[self.driver].name,
+                ),
+                &first,
+            )
+            .turn()
+            .options(&self.options)
+            .run();
             sweep.stop.is_none()
         });
         Ok(Synthesized {
@@ -527,10 +552,8 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         if self.driver_kind != Kind::Angle {
             return None;
         }
-        let handle = Driver::<M, crate::sweep::Angle>::__new(
-            self.driver,
-            M::COORDINATES[self.driver].name,
-        );
+        let handle =
+            Driver::<M, crate::sweep::Angle>::__new(self.driver, M::COORDINATES[self.driver].name);
         let phi0 = self.start.get(self.driver)?;
         let mut samples = Vec::new();
         for to in [phi0 + TAU, phi0 - TAU] {
@@ -663,7 +686,11 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
             .linear
             .iter()
             .map(|(terms, h)| {
-                terms.iter().map(|&(k, c)| c * design.parameter(k)).sum::<f64>() - h
+                terms
+                    .iter()
+                    .map(|&(k, c)| c * design.parameter(k))
+                    .sum::<f64>()
+                    - h
             })
             .fold(0.0f64, f64::max)
     }
@@ -688,7 +715,11 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
         let np = M::PARAMETERS.len();
         let nrows = n * d + s.linear.len();
         let mut res = vec![0.0; nrows];
-        let mut jac = if jacobian { vec![0.0; nrows * nx] } else { Vec::new() };
+        let mut jac = if jacobian {
+            vec![0.0; nrows * nx]
+        } else {
+            Vec::new()
+        };
         let mut rates = vec![0.0; M::DRIVERS];
         rates[s.driver] = 1.0;
         let zeros = vec![0.0; M::DRIVERS];
@@ -739,9 +770,7 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
                 let jr = &mut jac[row * nx..(row + 1) * nx];
                 for (i, &k) in s.varied.iter().enumerate() {
                     let dp = match s.output {
-                        Output::Point(pi) => {
-                            dr[(k * M::POINTS + pi) * M::POINT_DIM + c]
-                        }
+                        Output::Point(pi) => dr[(k * M::POINTS + pi) * M::POINT_DIM + c],
                         Output::Coordinate(ci, _) => dq[k * ncoord + ci],
                     };
                     jr[i] = dp * dpdx[i];
@@ -755,7 +784,11 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
         }
         for (l, (terms, h)) in s.linear.iter().enumerate() {
             let row = n * d + l;
-            let g = terms.iter().map(|&(k, c)| c * design.parameter(k)).sum::<f64>() - h;
+            let g = terms
+                .iter()
+                .map(|&(k, c)| c * design.parameter(k))
+                .sum::<f64>()
+                - h;
             if g > 0.0 {
                 res[row] = self.weight * g;
                 if jacobian {
@@ -806,7 +839,10 @@ impl<M: Sensitive + Clone> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M>
             #[allow(clippy::cast_precision_loss)]
             Err(_) => {
                 self.rejected.set(self.rejected.get() + 1);
-                Some(DVector::from_element(rows, self.reject / (rows as f64).sqrt()))
+                Some(DVector::from_element(
+                    rows,
+                    self.reject / (rows as f64).sqrt(),
+                ))
             }
         }
     }

@@ -1,6 +1,8 @@
 //! Dimensional synthesis: designs recovered from targets they pass
 //! through, the literature's path-generation problems, constraints.
 
+#![allow(missing_docs, clippy::unwrap_used)]
+
 use kinematics_core::{
     mechanism,
     synthesis::{Synthesis, Timing},
@@ -20,8 +22,21 @@ mechanism! {
 
 #[test]
 fn a_design_is_recovered_from_five_points_with_prescribed_timing() {
-    let truth = FourBar { a: 1.0, b: 3.0, c: 2.5, d: 3.0, p: 1.5, beta: 0.6 };
-    let start = truth.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let truth = FourBar {
+        a: 1.0,
+        b: 3.0,
+        c: 2.5,
+        d: 3.0,
+        p: 1.5,
+        beta: 0.6,
+    };
+    let start = truth
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     let phis = [0.3, 1.1, 2.0, 3.5, 5.0];
     let targets: Vec<[f64; 2]> = phis
         .iter()
@@ -31,7 +46,14 @@ fn a_design_is_recovered_from_five_points_with_prescribed_timing() {
             [p.x, p.y]
         })
         .collect();
-    let guess = FourBar { a: 1.1, b: 2.8, c: 2.7, d: 3.0, p: 1.3, beta: 0.5 };
+    let guess = FourBar {
+        a: 1.1,
+        b: 2.8,
+        c: 2.7,
+        d: 3.0,
+        p: 1.3,
+        beta: 0.5,
+    };
     let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
         .prescribed(&phis)
         .run()
@@ -51,14 +73,34 @@ fn targets_of(truth: &FourBar, start: &FourBarCoords, phis: &[f64]) -> Vec<[f64;
         .collect()
 }
 
-const TRUTH: FourBar = FourBar { a: 1.0, b: 3.0, c: 2.5, d: 3.0, p: 1.5, beta: 0.6 };
+const TRUTH: FourBar = FourBar {
+    a: 1.0,
+    b: 3.0,
+    c: 2.5,
+    d: 3.0,
+    p: 1.5,
+    beta: 0.6,
+};
 
 #[test]
 fn free_and_relative_timing_recover_the_crank_angles_too() {
-    let start = TRUTH.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let start = TRUTH
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     let phis = [0.3, 1.1, 2.0, 2.9, 3.5, 4.2, 5.0];
     let targets = targets_of(&TRUTH, &start, &phis);
-    let guess = FourBar { a: 1.05, b: 2.9, c: 2.6, d: 3.0, p: 1.45, beta: 0.55 };
+    let guess = FourBar {
+        a: 1.05,
+        b: 2.9,
+        c: 2.6,
+        d: 3.0,
+        p: 1.45,
+        beta: 0.55,
+    };
     // Free timing from angles 0.1 rad off.
     let off: Vec<f64> = phis.iter().map(|p| p + 0.1).collect();
     let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
@@ -70,7 +112,11 @@ fn free_and_relative_timing_recover_the_crank_angles_too() {
         assert!((got - want).abs() < 1e-8, "{got} {want}");
     }
     assert!((found.design.b - 3.0).abs() < 1e-8 && (found.design.beta - 0.6).abs() < 1e-8);
-    assert_eq!(found.full_turn, Some(true), "a = 1 is the shortest and 1 + 3 ≤ 2.5 + 3");
+    assert_eq!(
+        found.full_turn,
+        Some(true),
+        "a = 1 is the shortest and 1 + 3 ≤ 2.5 + 3"
+    );
     // Relative timing: increments known, the first angle found.
     let steps: Vec<f64> = phis.iter().map(|p| p - phis[0]).collect();
     let start2 = FourBarCoords { phi: 0.2, ..start };
@@ -84,13 +130,29 @@ fn free_and_relative_timing_recover_the_crank_angles_too() {
 
 #[test]
 fn function_generation_recovers_the_output_angles() {
-    let start = TRUTH.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let start = TRUTH
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     // Input–output pairs (φ, θ4) of the true design, from its closed form.
     let pairs: Vec<(f64, f64)> = [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
         .iter()
-        .map(|&phi| (phi, TRUTH.assemble(&FourBarCoords { phi, ..start }).unwrap().th4))
+        .map(|&phi| {
+            (
+                phi,
+                TRUTH.assemble(&FourBarCoords { phi, ..start }).unwrap().th4,
+            )
+        })
         .collect();
-    let guess = FourBar { a: 0.9, b: 3.2, c: 2.3, ..TRUTH };
+    let guess = FourBar {
+        a: 0.9,
+        b: 3.2,
+        c: 2.3,
+        ..TRUTH
+    };
     let found = Synthesis::function(&guess, FourBar::PHI, "th4", &pairs, &start)
         .vary(&["a", "b", "c"])
         .run()
@@ -100,31 +162,64 @@ fn function_generation_recovers_the_output_angles() {
     assert!((found.design.c - 2.5).abs() < 1e-8);
     // θ4 of the design found, assembled on its own, at each input.
     for (phi, psi) in &pairs {
-        let pose = found.design.assemble(&FourBarCoords { phi: *phi, ..start }).unwrap();
+        let pose = found
+            .design
+            .assemble(&FourBarCoords { phi: *phi, ..start })
+            .unwrap();
         assert!((pose.th4 - psi).abs() < 1e-9);
     }
 }
 
 #[test]
 fn bounds_hold_at_every_result_and_grashof_is_enforced() {
-    let start = TRUTH.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let start = TRUTH
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     let phis = [0.3, 1.1, 2.0, 3.5, 5.0];
     let targets = targets_of(&TRUTH, &start, &phis);
-    let guess = FourBar { a: 1.1, b: 2.8, c: 2.7, d: 3.0, p: 1.3, beta: 0.5 };
+    let guess = FourBar {
+        a: 1.1,
+        b: 2.8,
+        c: 2.7,
+        d: 3.0,
+        p: 1.3,
+        beta: 0.5,
+    };
     // The best c is 2.5; held to [2.6, 3]: c ends inside, on the bound.
     let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
         .prescribed(&phis)
         .bounds("c", 2.6, 3.0)
         .run()
         .unwrap();
-    assert!(found.design.c >= 2.6 && found.design.c <= 3.0, "{}", found.design.c);
+    assert!(
+        found.design.c >= 2.6 && found.design.c <= 3.0,
+        "{}",
+        found.design.c
+    );
     assert!((found.design.c - 2.6).abs() < 1e-6, "{}", found.design.c);
     assert!(found.sum_squares > 1e-8, "the bound costs accuracy");
     // Grashof with the crank shortest, while a coupler point that wants a
     // non-Grashof design (b large) is fitted: the inequalities hold.
     // (1 + 4.2 > 2 + 3: a rocker-rocker, assembled for φ ≥ 0.54 rad.)
-    let non_grashof = FourBar { a: 1.0, b: 4.2, c: 2.0, d: 3.0, p: 1.5, beta: 0.6 };
-    let s2 = non_grashof.assemble(&FourBarCoords { phi: 1.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let non_grashof = FourBar {
+        a: 1.0,
+        b: 4.2,
+        c: 2.0,
+        d: 3.0,
+        p: 1.5,
+        beta: 0.6,
+    };
+    let s2 = non_grashof
+        .assemble(&FourBarCoords {
+            phi: 1.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     let phis2 = [0.8, 1.2, 1.6, 2.0];
     let targets2 = targets_of(&non_grashof, &s2, &phis2);
     let found = Synthesis::path(&TRUTH, FourBar::PHI, "P", &targets2, &s2)
@@ -140,22 +235,52 @@ fn bounds_hold_at_every_result_and_grashof_is_enforced() {
         lengths.iter().copied().fold(f64::INFINITY, f64::min),
         lengths.iter().copied().fold(0.0, f64::max),
     );
-    assert!(s + l <= lengths.iter().sum::<f64>() - s - l - 0.05 + 1e-9, "{m:?}");
+    assert!(
+        s + l <= lengths.iter().sum::<f64>() - s - l - 0.05 + 1e-9,
+        "{m:?}"
+    );
     assert!(m.a <= s + 1e-12, "{m:?}");
     assert_eq!(found.full_turn, Some(true));
 }
 
 #[test]
 fn mistakes_are_errors_that_say_what_is_wrong() {
-    let start = TRUTH.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 }).unwrap();
+    let start = TRUTH
+        .assemble(&FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .unwrap();
     let t = [[0.0, 1.0], [1.0, 2.0]];
-    let msg = |r: Result<_, kinematics_core::Error>| r.map(|_: kinematics_core::synthesis::Synthesized<FourBar>| ()).unwrap_err().to_string();
-    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "Q", &t, &start).run()).contains("no point `Q`"));
-    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start).vary(&["e"]).run()).contains("`e` is not a parameter"));
-    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &[[1.0, 2.0, 3.0]], &start).run()).contains("3 components"));
-    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start).prescribed(&[0.1]).run()).contains("one driver value per target"));
-    assert!(msg(Synthesis::function(&TRUTH, FourBar::PHI, "phi", &[(0.0, 1.0)], &start).run()).contains("no unknown `phi`"));
-    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start).bounds("a", 2.0, 1.0).run()).contains("lo < hi"));
+    let msg = |r: Result<_, kinematics_core::Error>| {
+        r.map(|_: kinematics_core::synthesis::Synthesized<FourBar>| ())
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(
+        msg(Synthesis::path(&TRUTH, FourBar::PHI, "Q", &t, &start).run()).contains("no point `Q`")
+    );
+    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start)
+        .vary(&["e"])
+        .run())
+    .contains("`e` is not a parameter"));
+    assert!(
+        msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &[[1.0, 2.0, 3.0]], &start).run())
+            .contains("3 components")
+    );
+    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start)
+        .prescribed(&[0.1])
+        .run())
+    .contains("one driver value per target"));
+    assert!(
+        msg(Synthesis::function(&TRUTH, FourBar::PHI, "phi", &[(0.0, 1.0)], &start).run())
+            .contains("no unknown `phi`")
+    );
+    assert!(msg(Synthesis::path(&TRUTH, FourBar::PHI, "P", &t, &start)
+        .bounds("a", 2.0, 1.0)
+        .run())
+    .contains("lo < hi"));
 }
 
 #[test]
@@ -189,6 +314,9 @@ fn morgan_and_wamplers_problem_7_is_solved_exactly_from_random_starts() {
             worst = w;
         }
     }
-    assert!(found_modes.is_some(), "one assembly mode puts P on all five points");
+    assert!(
+        found_modes.is_some(),
+        "one assembly mode puts P on all five points"
+    );
     assert!(worst < 1e-10);
 }

@@ -9,6 +9,8 @@
 //! cargo run --release -p kinematics-bench --bin synthesis [starts]
 //! ```
 
+#![allow(clippy::expect_used)]
+
 use std::time::Instant;
 
 use argmin::core::{CostFunction, Executor};
@@ -50,7 +52,10 @@ fn nelder_mead(f: impl Fn(&[f64]) -> f64, x0: &[f64], iterations: u64) -> (f64, 
         .run()
         .expect("Nelder–Mead runs");
     let best = res.state().get_best_cost();
-    (best, res.problem().problem.as_ref().map_or(0, |c| c.1.get()))
+    (
+        best,
+        res.problem().problem.as_ref().map_or(0, |c| c.1.get()),
+    )
 }
 
 fn median(mut v: Vec<usize>) -> usize {
@@ -83,13 +88,30 @@ fn print(problem: &str, starts: usize, rows: &[Row]) {
 }
 
 fn main() {
-    let starts: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(20);
+    let starts: u64 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20);
     let nm_iterations = 20_000;
     println!("| problem | method | E < 1e-20 | E < 1e-6 | best E | median evaluations | time per start |");
     println!("|---|---|---|---|---|---|---|");
     // Morgan and Wampler's Problem 7.
-    let mut lm = Row { method: "Levenberg–Marquardt, exact Jacobian", ok: 0, ok6: 0, best: f64::INFINITY, evals: vec![], secs: 0.0 };
-    let mut nm = Row { method: "Nelder–Mead (argmin)", ok: 0, ok6: 0, best: f64::INFINITY, evals: vec![], secs: 0.0 };
+    let mut lm = Row {
+        method: "Levenberg–Marquardt, exact Jacobian",
+        ok: 0,
+        ok6: 0,
+        best: f64::INFINITY,
+        evals: vec![],
+        secs: 0.0,
+    };
+    let mut nm = Row {
+        method: "Nelder–Mead (argmin)",
+        ok: 0,
+        ok6: 0,
+        best: f64::INFINITY,
+        evals: vec![],
+        secs: 0.0,
+    };
     for seed in 0..starts {
         let t = Instant::now();
         let r = morgan_wampler(seed).expect("the start assembles");
@@ -99,7 +121,11 @@ fn main() {
         lm.best = lm.best.min(r.sum_squares);
         lm.evals.push(r.evaluations + r.jacobians);
         let (m, start) = morgan_wampler_start(seed);
-        let modes = m.assemble_all(start.phi).iter().position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9)).map_or(FourBarModes::ALL[0], |i| FourBarModes::ALL[i]);
+        let modes = m
+            .assemble_all(start.phi)
+            .iter()
+            .position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9))
+            .map_or(FourBarModes::ALL[0], |i| FourBarModes::ALL[i]);
         let mut x0 = vec![m.a, m.b, m.c, m.p, m.beta];
         x0.extend(evenly(start.get(0).unwrap_or(0.0), 5));
         let t = Instant::now();
@@ -111,10 +137,28 @@ fn main() {
         nm.evals.push(n);
     }
     #[allow(clippy::cast_possible_truncation)]
-    print("Morgan–Wampler 1990, Problem 7 (5 points)", starts as usize, &[lm, nm]);
+    print(
+        "Morgan–Wampler 1990, Problem 7 (5 points)",
+        starts as usize,
+        &[lm, nm],
+    );
     // The nine-point problem.
-    let mut lm = Row { method: "Levenberg–Marquardt, exact Jacobian", ok: 0, ok6: 0, best: f64::INFINITY, evals: vec![], secs: 0.0 };
-    let mut nm = Row { method: "Nelder–Mead (argmin)", ok: 0, ok6: 0, best: f64::INFINITY, evals: vec![], secs: 0.0 };
+    let mut lm = Row {
+        method: "Levenberg–Marquardt, exact Jacobian",
+        ok: 0,
+        ok6: 0,
+        best: f64::INFINITY,
+        evals: vec![],
+        secs: 0.0,
+    };
+    let mut nm = Row {
+        method: "Nelder–Mead (argmin)",
+        ok: 0,
+        ok6: 0,
+        best: f64::INFINITY,
+        evals: vec![],
+        secs: 0.0,
+    };
     for seed in 0..starts {
         let t = Instant::now();
         let r = nine_point(seed).expect("the start assembles");
@@ -124,7 +168,11 @@ fn main() {
         lm.best = lm.best.min(r.sum_squares);
         lm.evals.push(r.evaluations + r.jacobians);
         let (m, start) = nine_point_start(seed);
-        let modes = m.assemble_all(start.phi).iter().position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9)).map_or(PlacedFourBarModes::ALL[0], |i| PlacedFourBarModes::ALL[i]);
+        let modes = m
+            .assemble_all(start.phi)
+            .iter()
+            .position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9))
+            .map_or(PlacedFourBarModes::ALL[0], |i| PlacedFourBarModes::ALL[i]);
         let mut x0 = vec![m.x0, m.y0, m.theta0, m.d, m.a, m.b, m.c, m.p, m.beta];
         x0.extend(evenly(start.phi, 9));
         let t = Instant::now();
@@ -136,5 +184,9 @@ fn main() {
         nm.evals.push(n);
     }
     #[allow(clippy::cast_possible_truncation)]
-    print("Wampler–Morgan–Sommese 1992, nine points", starts as usize, &[lm, nm]);
+    print(
+        "Wampler–Morgan–Sommese 1992, nine points",
+        starts as usize,
+        &[lm, nm],
+    );
 }
