@@ -507,20 +507,7 @@ pub fn plot_path<M: Mechanism>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
-    let k = point_index::<M>(point, "plot")?;
-    let (a, b) = projection.axes();
-    let xy: Vec<(f64, f64)> = sweep
-        .samples
-        .iter()
-        .filter_map(|s| s.motion.points().get(k))
-        .map(|p| {
-            let r = p.position();
-            (
-                r.get(a).copied().unwrap_or(0.0),
-                r.get(b).copied().unwrap_or(0.0),
-            )
-        })
-        .collect();
+    let xy = path_xy(sweep, point, projection)?;
     let ((x0, x1), (y0, y1)) = square(range(xy.iter().map(|p| p.0)), range(xy.iter().map(|p| p.1)));
     let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
@@ -559,6 +546,29 @@ pub fn plot_path<M: Mechanism>(
     }
     legend(&mut chart, path)?;
     root.present().map_err(|e| output(path, e))
+}
+
+/// The positions of point `point` over `sweep` in the plane of
+/// `projection`.
+fn path_xy<M: Mechanism>(
+    sweep: &Sweep<M>,
+    point: &str,
+    projection: Projection,
+) -> Result<Vec<(f64, f64)>, Error> {
+    let k = point_index::<M>(point, "plot")?;
+    let (a, b) = projection.axes();
+    Ok(sweep
+        .samples
+        .iter()
+        .filter_map(|s| s.motion.points().get(k))
+        .map(|p| {
+            let r = p.position();
+            (
+                r.get(a).copied().unwrap_or(0.0),
+                r.get(b).copied().unwrap_or(0.0),
+            )
+        })
+        .collect())
 }
 
 /// Plots the path of point `point` over the sweep with its worst-case
@@ -777,21 +787,8 @@ impl Overlay {
         projection: Projection,
         label: &str,
     ) -> Result<Self, Error> {
-        let k = point_index::<M>(point, "plot")?;
-        let (a, b) = projection.axes();
-        let xy = sweep
-            .samples
-            .iter()
-            .filter_map(|s| s.motion.points().get(k))
-            .map(|p| {
-                let r = p.position();
-                (
-                    r.get(a).copied().unwrap_or(0.0),
-                    r.get(b).copied().unwrap_or(0.0),
-                )
-            })
-            .collect();
-        self.curves.push((label.to_owned(), xy));
+        self.curves
+            .push((label.to_owned(), path_xy(sweep, point, projection)?));
         Ok(self)
     }
 

@@ -475,7 +475,6 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             n,
             x: Vec::new(),
             weight: 1.0 / scale.max(1.0),
-            scale,
             reject: f64::INFINITY,
             poses: RefCell::new(vec![self.start; n]),
             modes: M::step_modes(&mut state).to_vec(),
@@ -649,7 +648,6 @@ struct Problem<'s, M: Sensitive> {
     x: Vec<f64>,
     /// The weight of the inequality residuals.
     weight: f64,
-    scale: f64,
     /// The size of the residual vector returned for a design that cannot
     /// be assembled (larger than any the solver has accepted).
     reject: f64,
@@ -807,7 +805,6 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
                 value: f64::NAN,
             });
         }
-        let _ = self.scale;
         Ok((res, jac))
     }
 

@@ -38,14 +38,7 @@ fn a_design_is_recovered_from_five_points_with_prescribed_timing() {
         })
         .unwrap();
     let phis = [0.3, 1.1, 2.0, 3.5, 5.0];
-    let targets: Vec<[f64; 2]> = phis
-        .iter()
-        .map(|&phi| {
-            let pose = truth.assemble(&FourBarCoords { phi, ..start }).unwrap();
-            let p = truth.positions(&pose).P;
-            [p.x, p.y]
-        })
-        .collect();
+    let targets = targets_of(&truth, &start, &phis);
     let guess = FourBar {
         a: 1.1,
         b: 2.8,

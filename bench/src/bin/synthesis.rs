@@ -15,7 +15,6 @@ use std::time::Instant;
 
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
-use kinematics_core::Coordinates;
 use kinematics_examples::synthesis_runs::{
     evenly, morgan_wampler, morgan_wampler_objective, morgan_wampler_start, nine_point,
     nine_point_objective, nine_point_start,
@@ -87,6 +86,47 @@ fn print(problem: &str, starts: usize, rows: &[Row]) {
     }
 }
 
+/// One start's Levenberg–Marquardt run: its E, its evaluations, the start
+/// as a vector of unknowns and the objective E for Nelder–Mead.
+type Run = (f64, usize, Vec<f64>, Box<dyn Fn(&[f64]) -> f64>);
+
+impl Row {
+    fn new(method: &'static str) -> Self {
+        Self {
+            method,
+            ok: 0,
+            ok6: 0,
+            best: f64::INFINITY,
+            evals: vec![],
+            secs: 0.0,
+        }
+    }
+
+    fn add(&mut self, e: f64, evaluations: usize, secs: f64) {
+        self.secs += secs;
+        self.ok += usize::from(e < 1e-20);
+        self.ok6 += usize::from(e < 1e-6);
+        self.best = self.best.min(e);
+        self.evals.push(evaluations);
+    }
+}
+
+/// Both methods from each of `starts` seeded starts (`run` does the
+/// Levenberg–Marquardt run and returns what Nelder–Mead starts from).
+fn compare(starts: u64, nm_iterations: u64, run: impl Fn(u64) -> Run) -> [Row; 2] {
+    let mut lm = Row::new("Levenberg–Marquardt, exact Jacobian");
+    let mut nm = Row::new("Nelder–Mead (argmin)");
+    for seed in 0..starts {
+        let t = Instant::now();
+        let (e, n, x0, f) = run(seed);
+        lm.add(e, n, t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        let (e, n) = nelder_mead(f, &x0, nm_iterations);
+        nm.add(e, n, t.elapsed().as_secs_f64());
+    }
+    [lm, nm]
+}
+
 fn main() {
     let starts: u64 = std::env::args()
         .nth(1)
@@ -95,31 +135,11 @@ fn main() {
     let nm_iterations = 20_000;
     println!("| problem | method | E < 1e-20 | E < 1e-6 | best E | median evaluations | time per start |");
     println!("|---|---|---|---|---|---|---|");
+    #[allow(clippy::cast_possible_truncation)]
+    let n = starts as usize;
     // Morgan and Wampler's Problem 7.
-    let mut lm = Row {
-        method: "Levenberg–Marquardt, exact Jacobian",
-        ok: 0,
-        ok6: 0,
-        best: f64::INFINITY,
-        evals: vec![],
-        secs: 0.0,
-    };
-    let mut nm = Row {
-        method: "Nelder–Mead (argmin)",
-        ok: 0,
-        ok6: 0,
-        best: f64::INFINITY,
-        evals: vec![],
-        secs: 0.0,
-    };
-    for seed in 0..starts {
-        let t = Instant::now();
+    let rows = compare(starts, nm_iterations, |seed| {
         let r = morgan_wampler(seed).expect("the start assembles");
-        lm.secs += t.elapsed().as_secs_f64();
-        lm.ok += usize::from(r.sum_squares < 1e-20);
-        lm.ok6 += usize::from(r.sum_squares < 1e-6);
-        lm.best = lm.best.min(r.sum_squares);
-        lm.evals.push(r.evaluations + r.jacobians);
         let (m, start) = morgan_wampler_start(seed);
         let modes = m
             .assemble_all(start.phi)
@@ -127,46 +147,18 @@ fn main() {
             .position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9))
             .map_or(FourBarModes::ALL[0], |i| FourBarModes::ALL[i]);
         let mut x0 = vec![m.a, m.b, m.c, m.p, m.beta];
-        x0.extend(evenly(start.get(0).unwrap_or(0.0), 5));
-        let t = Instant::now();
-        let (e, n) = nelder_mead(|x| morgan_wampler_objective(x, &modes), &x0, nm_iterations);
-        nm.secs += t.elapsed().as_secs_f64();
-        nm.ok += usize::from(e < 1e-20);
-        nm.ok6 += usize::from(e < 1e-6);
-        nm.best = nm.best.min(e);
-        nm.evals.push(n);
-    }
-    #[allow(clippy::cast_possible_truncation)]
-    print(
-        "Morgan–Wampler 1990, Problem 7 (5 points)",
-        starts as usize,
-        &[lm, nm],
-    );
+        x0.extend(evenly(start.phi, 5));
+        (
+            r.sum_squares,
+            r.evaluations + r.jacobians,
+            x0,
+            Box::new(move |x: &[f64]| morgan_wampler_objective(x, &modes)),
+        )
+    });
+    print("Morgan–Wampler 1990, Problem 7 (5 points)", n, &rows);
     // The nine-point problem.
-    let mut lm = Row {
-        method: "Levenberg–Marquardt, exact Jacobian",
-        ok: 0,
-        ok6: 0,
-        best: f64::INFINITY,
-        evals: vec![],
-        secs: 0.0,
-    };
-    let mut nm = Row {
-        method: "Nelder–Mead (argmin)",
-        ok: 0,
-        ok6: 0,
-        best: f64::INFINITY,
-        evals: vec![],
-        secs: 0.0,
-    };
-    for seed in 0..starts {
-        let t = Instant::now();
+    let rows = compare(starts, nm_iterations, |seed| {
         let r = nine_point(seed).expect("the start assembles");
-        lm.secs += t.elapsed().as_secs_f64();
-        lm.ok += usize::from(r.sum_squares < 1e-20);
-        lm.ok6 += usize::from(r.sum_squares < 1e-6);
-        lm.best = lm.best.min(r.sum_squares);
-        lm.evals.push(r.evaluations + r.jacobians);
         let (m, start) = nine_point_start(seed);
         let modes = m
             .assemble_all(start.phi)
@@ -175,18 +167,12 @@ fn main() {
             .map_or(PlacedFourBarModes::ALL[0], |i| PlacedFourBarModes::ALL[i]);
         let mut x0 = vec![m.x0, m.y0, m.theta0, m.d, m.a, m.b, m.c, m.p, m.beta];
         x0.extend(evenly(start.phi, 9));
-        let t = Instant::now();
-        let (e, n) = nelder_mead(|x| nine_point_objective(x, &modes), &x0, nm_iterations);
-        nm.secs += t.elapsed().as_secs_f64();
-        nm.ok += usize::from(e < 1e-20);
-        nm.ok6 += usize::from(e < 1e-6);
-        nm.best = nm.best.min(e);
-        nm.evals.push(n);
-    }
-    #[allow(clippy::cast_possible_truncation)]
-    print(
-        "Wampler–Morgan–Sommese 1992, nine points",
-        starts as usize,
-        &[lm, nm],
-    );
+        (
+            r.sum_squares,
+            r.evaluations + r.jacobians,
+            x0,
+            Box::new(move |x: &[f64]| nine_point_objective(x, &modes)),
+        )
+    });
+    print("Wampler–Morgan–Sommese 1992, nine points", n, &rows);
 }
