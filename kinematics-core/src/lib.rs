@@ -238,6 +238,22 @@ pub mod __private {
         }
     }
 
+    /// Fails with [`Error::InvalidParameter`] unless `value` > 0: the
+    /// distance b of a constraint `norm(v) == b`, which the generated code
+    /// solves as v·v = b² (the same solutions only for b > 0).
+    #[inline]
+    pub fn positive_distance(name: &'static str, value: f64) -> Result<(), Error> {
+        if value > 0.0 {
+            Ok(())
+        } else {
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                requirement: "must be positive: it is the distance in a `norm(…) == …` constraint",
+            })
+        }
+    }
+
     /// Fails with [`Error::NonFinite`] when `value` is NaN or infinite.
     #[inline]
     pub fn finite(input: Input, name: &'static str, value: f64) -> Result<(), Error> {

@@ -431,6 +431,33 @@ fn declared_lengths_must_be_positive() {
 }
 
 #[test]
+fn the_distance_of_a_norm_constraint_must_be_positive() {
+    use kinematics_examples::{Rssr, RssrCoords};
+    // `norm(B - A) == b` is solved as (B − A)·(B − A) = b², which has the
+    // same solutions only for b > 0: with b < 0 the distance cannot be
+    // met, and the squared form must not pretend it is.
+    let start = RssrCoords { phi: 0.0, psi: 1.2 };
+    let good = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.314,
+    };
+    let pose = good.assemble(&start).expect("assembles");
+    for b in [-0.381, 0.0] {
+        let bad = Rssr { b, ..good };
+        let err = bad.assemble(&start).expect_err("no such distance");
+        assert!(
+            matches!(err, Error::InvalidParameter { name, .. } if name == "b"),
+            "{err:?}"
+        );
+        assert!(err.to_string().contains("distance"), "{err}");
+        assert!(bad.step(&pose, 1.0, 0.0).is_err());
+        assert!(bad.stepper(&Options::DEFAULT).is_err());
+    }
+}
+
+#[test]
 fn the_requested_assembly_branch_is_enforced() {
     use kinematics_core::Branch;
     let m = four_bar();

@@ -182,10 +182,12 @@ fn example_7_2_spatial_crank_and_slider() {
     let v_ba = pb.velocity - pa.velocity;
     let omega = no_spin_angular_velocity(&b, &v_ba).expect("b ≠ 0");
     assert!(close3(&omega.cross(&b), &v_ba, 1e-9) && omega.dot(&b).abs() < 1e-9);
+    // To 1e-10: Newton–Raphson stops at |Φ|/S ≤ 1e-12, which leaves y
+    // within about 5e-10 mm of 150.
     assert!(close3(
         &omega,
         &(Vector3::new(93_750.0, 25_000.0, 12_500.0) / 30_625.0),
-        1e-12
+        1e-10
     ));
     // The notes instead take the collar's condition Ω · R = 0 with
     // R = 50i − 75k; their equations 51–54 then give v_B = −250 mm/s and
@@ -194,7 +196,8 @@ fn example_7_2_spatial_crank_and_slider() {
     // (150 ω_x + 50 ω_y = 500).
     let r = Vector3::new(50.0, 0.0, -75.0);
     let w = Vector3::new(1.5, 2.0, 1.0) * (500.0 / 325.0);
-    assert!(close3(&w.cross(&b), &v_ba, 1e-9) && w.dot(&r).abs() < 1e-9);
+    // |v_BA| ≈ 290 mm/s, from the pose within about 5e-10 mm.
+    assert!(close3(&w.cross(&b), &v_ba, 1e-7) && w.dot(&r).abs() < 1e-9);
     assert!(close3(&w, &Vector3::new(2.31, 3.08, 1.54), 5e-3));
     assert!((150.0 * 57.7 + 50.0 * 76.9 - 500.0_f64).abs() > 1000.0);
     check_motion(&m, &pose, &[10.0], &[0.0], 1e-6);

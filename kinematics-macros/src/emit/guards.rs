@@ -28,7 +28,7 @@ pub(super) fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStre
 }
 
 /// The `validate` method: every parameter finite, every declared length
-/// positive.
+/// and every distance of a `norm(v) == b` constraint positive.
 pub(super) fn validate(cx: &Ctx<'_>) -> TokenStream {
     let (pp, params) = (&cx.pp, &cx.id.params);
     let param_names: Vec<String> = params.iter().map(|c| c.unraw().to_string()).collect();
@@ -40,18 +40,32 @@ pub(super) fn validate(cx: &Ctx<'_>) -> TokenStream {
         .map(|p| &p.name)
         .collect();
     let length_names: Vec<String> = lengths.iter().map(|c| c.unraw().to_string()).collect();
+    // Distances of `norm(v) == b` constraints not already declared lengths.
+    let (distances, distance_names): (Vec<&Ident>, Vec<String>) = cx
+        .model
+        .distances
+        .iter()
+        .filter_map(|(k, _)| cx.def.params.get(*k as usize))
+        .filter(|p| !p.length)
+        .map(|p| (&p.name, p.name.unraw().to_string()))
+        .unzip();
     let finite = guarded(
         &params.iter().map(|p| quote!(self.#p)).collect::<Vec<_>>(),
         &quote!(#( #pp::finite(#pp::Input::Parameter, #param_names, self.#params)?; )*),
     );
     quote! {
-        /// Checks that every parameter is finite.
+        /// Checks that every parameter is finite, and that every
+        /// parameter declared a length, or the distance b of a
+        /// constraint `norm(v) == b`, is positive.
         ///
         /// # Errors
-        /// [`Error::NonFinite`](::kinematics_core::Error::NonFinite) naming the parameter.
+        /// [`Error::NonFinite`](::kinematics_core::Error::NonFinite) or
+        /// [`Error::InvalidParameter`](::kinematics_core::Error::InvalidParameter)
+        /// naming the parameter.
         pub fn validate(&self) -> #pp::Result<(), #pp::Error> {
             #finite
             #( #pp::positive(#length_names, self.#lengths)?; )*
+            #( #pp::positive_distance(#distance_names, self.#distances)?; )*
             ::core::result::Result::Ok(())
         }
     }

@@ -91,6 +91,10 @@ pub struct Model {
     pub loop_dims: Vec<usize>,
     /// Whether any 3-D quantity appears (λ = 6 for the mobility count).
     pub spatial: bool,
+    /// The parameters that are the distance of a constraint `norm(v) == b`
+    /// (lowered as v·v − b²), with the constraint's text: each must be
+    /// positive for the two forms to have the same solutions.
+    pub distances: Vec<(u32, String)>,
 }
 
 impl Model {
@@ -243,11 +247,22 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
             }
         }
     }
+    let mut distances = Vec::new();
     for eq in &def.constraints {
         let (l, r) = (cx.expr(&eq.lhs), cx.expr(&eq.rhs));
         match (l, r) {
             (Some(Value::Scalar(a)), Some(Value::Scalar(b))) => {
-                let residual = cx.g.sub(a, b);
+                let residual = match squared_distance(&mut cx.g, a, b) {
+                    Some((residual, param)) => {
+                        if let Some(k) = param {
+                            if !distances.iter().any(|&(j, _)| j == k) {
+                                distances.push((k, eq.text.clone()));
+                            }
+                        }
+                        residual
+                    }
+                    None => cx.g.sub(a, b),
+                };
                 equations.push(ModelEquation {
                     residual,
                     text: eq.text.clone(),
@@ -285,9 +300,33 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         frames,
         spatial,
         graph,
+        distances,
     };
     let kinds = coordinate_kinds(&model);
     Model { kinds, ..model }
+}
+
+/// A constraint √x == b (a distance, `norm(v) == b`, either way round),
+/// with b a parameter or a positive constant, as the residual x − b²: the
+/// same solutions when b > 0 (the generated `validate` requires it of the
+/// parameter, returned beside the residual), with no square root to
+/// evaluate and a derivative that stays finite where v = 0. `None` for any
+/// other constraint.
+fn squared_distance(g: &mut Graph, a: Id, b: Id) -> Option<(Id, Option<u32>)> {
+    for (root, other, flip) in [(a, b, false), (b, a, true)] {
+        let Node::Call(Func::Sqrt, x) = g.node(root) else {
+            continue;
+        };
+        let param = match g.node(other) {
+            Node::Leaf(Leaf::Param(k)) => Some(k),
+            Node::Const(bits) if f64::from_bits(bits) > 0.0 => None,
+            _ => continue,
+        };
+        let b2 = g.mul(other, other);
+        let residual = if flip { g.sub(b2, x) } else { g.sub(x, b2) };
+        return Some((residual, param));
+    }
+    None
 }
 
 fn count(n: usize) -> u32 {
@@ -323,4 +362,72 @@ struct Lowerer<'a> {
     frames: HashMap<usize, (Mat, [Id; 3])>,
     spatial: bool,
     errors: &'a mut Errors,
+}
+
+#[cfg(test)]
+mod tests {
+    use quote::quote;
+
+    use crate::ir::{Func, Node};
+
+    /// The lowered model of a definition, and whether any residual still
+    /// takes a square root.
+    fn lowered(input: proc_macro2::TokenStream) -> (super::Model, bool) {
+        let def: crate::parse::Definition = syn::parse2(input).expect("parses");
+        let mut errors = crate::names::Errors::default();
+        let names = crate::check::check(&def, &mut errors);
+        let model = super::lower(&def, &names, &mut errors);
+        assert!(errors.is_empty());
+        let roots: Vec<_> = model.equations.iter().map(|e| e.residual).collect();
+        let live = model.graph.reachable(&roots);
+        let sqrt = (0..live.len()).any(|i| {
+            live[i]
+                && matches!(
+                    model.graph.node(crate::ir::Id::from_index(i)),
+                    Node::Call(Func::Sqrt, _)
+                )
+        });
+        (model, sqrt)
+    }
+
+    #[test]
+    fn a_distance_is_solved_squared_and_its_parameter_must_be_positive() {
+        // Either way round; the point B keeps its own expression.
+        for constraint in [quote!(norm(B - A) == b;), quote!(b == norm(B - A);)] {
+            let (model, sqrt) = lowered(quote! { struct M {
+                params { a, b, c, d } drivers { phi } unknowns { psi }
+                points {
+                    A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+                    B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+                }
+                constraints { #constraint }
+            }});
+            assert!(!sqrt, "{constraint}: the residual still has a square root");
+            assert_eq!(model.distances.len(), 1);
+            assert_eq!(model.distances[0].0, 1, "the parameter b");
+        }
+        // A positive constant needs no check.
+        let (model, sqrt) = lowered(quote! { struct M {
+            params { a } drivers { phi } unknowns { y }
+            constraints { norm(vec2(a * cos(phi), y)) == 2.0; }
+        }});
+        assert!(!sqrt && model.distances.is_empty());
+    }
+
+    #[test]
+    fn other_square_roots_are_kept() {
+        // An expression of parameters, a negative constant, an unknown:
+        // none is squared.
+        for rhs in [quote!(b + c), quote!(-1.0), quote!(y)] {
+            let (model, sqrt) = lowered(quote! { struct M {
+                params { a, b, c } drivers { phi } unknowns { y, z }
+                constraints {
+                    norm(vec2(a * cos(phi), y)) == #rhs;
+                    z == y;
+                }
+            }});
+            assert!(sqrt, "{rhs}");
+            assert!(model.distances.is_empty());
+        }
+    }
 }
