@@ -313,3 +313,59 @@ fn morgan_and_wamplers_problem_7_is_solved_exactly_from_random_starts() {
     );
     assert!(worst < 1e-10);
 }
+
+/// The nine-point problem's exact solutions cross a branch: an exact
+/// solution of its loop and coupler equations with every angle an unknown
+/// (computed independently of this library: SciPy's Levenberg–Marquardt on
+/// those 36 equations written by hand, then Newton steps; E < 2e-30)
+/// passes the first target in the other assembly mode than the other
+/// eight. So the published best error, zero, is not reachable by a design
+/// that runs on one branch, which is what `Synthesis` looks for.
+#[test]
+fn the_exact_nine_point_solution_needs_both_assembly_modes() {
+    use kinematics_examples::literature::NINE_POINTS;
+    use kinematics_examples::{PlacedFourBar, PlacedFourBarModes};
+    let m = PlacedFourBar {
+        x0: 1.074_792_956_135_832_7,
+        y0: 0.455_410_275_065_994_46,
+        theta0: -2.705_818_830_789_655_6,
+        d: 1.651_861_076_425_315_4,
+        a: 1.150_381_284_995_437_6,
+        b: 1.066_585_452_808_838_3,
+        c: 1.743_798_004_136_658,
+        p: 0.675_377_682_142_430_3,
+        beta: 0.185_266_161_609_688_56,
+    };
+    let phis = [
+        3.951_322_051_520_598_7,
+        5.130_254_367_389_051,
+        5.545_336_074_701_741_5,
+        5.883_474_730_517_064,
+        6.038_762_969_886_956,
+        6.307_204_182_846_377,
+        6.555_864_654_524_639,
+        7.172_790_330_673_54,
+        7.710_881_955_693_418,
+    ];
+    // For each target, the modes in which P reaches it at its crank angle.
+    let reaching: Vec<Vec<usize>> = NINE_POINTS
+        .iter()
+        .zip(phis)
+        .map(|(t, phi)| {
+            (0..2)
+                .filter(|&k| {
+                    m.assemble_in(phi, &PlacedFourBarModes::ALL[k])
+                        .is_ok_and(|pose| {
+                            let p = m.positions(&pose).P;
+                            (p.x - t[0]).hypot(p.y - t[1]) < 1e-12
+                        })
+                })
+                .collect()
+        })
+        .collect();
+    assert!(reaching.iter().all(|r| r.len() == 1), "{reaching:?}");
+    assert!(
+        reaching[1..].iter().all(|r| r == &reaching[1]) && reaching[0] != reaching[1],
+        "{reaching:?}"
+    );
+}
