@@ -193,8 +193,11 @@ pub fn angle(
         let [cg, sg] = guess();
         *mode = sign(a * sg - b * cg);
     }
+    // 1/R² is computed beside the square root, not after it: one division
+    // off the dependency chain.
+    let inv = 1.0 / r2;
     let root = *mode * crate::math::sqrt(disc);
-    Ok([(-a * c - b * root) / r2, (-b * c + a * root) / r2])
+    Ok([(-a * c - b * root) * inv, (-b * c + a * root) * inv])
 }
 
 /// The RRR dyad: (cos θ₀, sin θ₀, cos θ₁, sin θ₁) solving
