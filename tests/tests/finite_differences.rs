@@ -515,7 +515,10 @@ fn a_stepper_follows_step_over_a_turn() {
         pose.phi = turn(k);
         let s = stepper.step(&pose, 25.0, 3.0).expect("steps");
         let exact = r.analyze(&s.q, 25.0, 3.0).expect("analysis");
-        close("psi''", k, s.qdd.psi, exact.qdd.psi, 1e-13);
+        // ψ'' divides by Φ_ψ: the two routes' rounding (closed-form sines
+        // and cosines against those of ψ) grows as the conditioning falls
+        // (to 0.195 near step 560, where the difference is 1.2e-13).
+        close("psi''", k, s.qdd.psi, exact.qdd.psi, 1e-13 / s.conditioning);
         pose = s.q;
     }
     let sc = SliderCrank {
