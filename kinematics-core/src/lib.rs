@@ -227,15 +227,7 @@ pub mod __private {
     /// parameter declared `name: length`).
     #[inline]
     pub fn positive(name: &'static str, value: f64) -> Result<(), Error> {
-        if value > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                requirement: "must be positive: it is declared a length",
-            })
-        }
+        positive_because(name, value, "must be positive: it is declared a length")
     }
 
     /// Fails with [`Error::InvalidParameter`] unless `value` > 0: the
@@ -243,13 +235,28 @@ pub mod __private {
     /// solves as v·v = b² (the same solutions only for b > 0).
     #[inline]
     pub fn positive_distance(name: &'static str, value: f64) -> Result<(), Error> {
+        positive_because(
+            name,
+            value,
+            "must be positive: it is the distance in a `norm(…) == …` constraint",
+        )
+    }
+
+    /// Fails with [`Error::InvalidParameter`] and `requirement` unless
+    /// `value` > 0 (a NaN fails too).
+    #[inline]
+    fn positive_because(
+        name: &'static str,
+        value: f64,
+        requirement: &'static str,
+    ) -> Result<(), Error> {
         if value > 0.0 {
             Ok(())
         } else {
             Err(Error::InvalidParameter {
                 name,
                 value,
-                requirement: "must be positive: it is the distance in a `norm(…) == …` constraint",
+                requirement,
             })
         }
     }
