@@ -1299,10 +1299,12 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// where a regular pose is of order one).
     #[inline(always)]
     fn falling_fast(&self, h: &Head<M::Coords>) -> bool {
-        match &self.older[1] {
-            Some((_, _, c0)) => 1.5 * h.conditioning < *c0 && h.conditioning < 0.5,
-            None => false,
-        }
+        // The bound first: at a regular pose nothing more is read.
+        h.conditioning < 0.5
+            && match &self.older[1] {
+                Some((_, _, c0)) => 1.5 * h.conditioning < *c0,
+                None => false,
+            }
     }
 
     /// A new sample `s` near a possible change point, or after a held one.
