@@ -277,8 +277,9 @@ fn circle_circle_in(
         k[1] + p[1][0] * c0 + p[1][1] * s0,
     ];
     // −Qᵀw = QᵀQ e₁, a vector of length q² (to rounding, when θ₀ is
-    // accurate): normalised, so that (cos θ₁, sin θ₁) is a unit vector even where
-    // cancellation made θ₀ inaccurate (the residual check catches that).
+    // accurate): normalised, so that (cos θ₁, sin θ₁) is a unit vector
+    // even where cancellation made θ₀ inaccurate (the residual check
+    // catches that).
     let x = -(q[0][0] * w[0] + q[1][0] * w[1]);
     let y = -(q[0][1] * w[0] + q[1][1] * w[1]);
     let r = unit_scale(x * x + y * y, q2)?;
