@@ -8,7 +8,7 @@
 //! ```
 //!
 //! `m1a` and `m2a` run M1 and M2 with the absolute convergence test, `m1s`,
-//! `m2s` and `m3s` through the stepping handle (`stepper().step`), `m1w`
+//! `m2s`, `m3s` and `m4s` through the stepping handle (`stepper().step`), `m1w`
 //! and `m2w` through a sweep collected (`run()`), `m1i` and `m2i` through a
 //! sweep streamed (its iterator). A
 //! second argument repeats the turn and prints the wall time per step.
@@ -155,7 +155,7 @@ fn turn(which: &str) -> f64 {
             }
             sum
         }
-        "m4" => {
+        "m4" | "m4s" => {
             let m = black_box(SixAxisArm {
                 d1: 0.4,
                 a2: 0.45,
@@ -164,16 +164,22 @@ fn turn(which: &str) -> f64 {
                 d6: 0.1,
             });
             let rates = [1.0, 0.3, -0.2, 0.5, 1.0, -1.0];
+            let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
             let mut sum = 0.0;
             for k in 0..STEPS {
                 let q = SixAxisArmCoords::from(rates.map(|r| r * angle(k)));
-                let s = m.step(black_box(&q), rates, [0.0; 6]).unwrap();
+                let s = if which == "m4" {
+                    m.step(black_box(&q), rates, [0.0; 6])
+                } else {
+                    stepper.step(black_box(&q), rates, [0.0; 6])
+                };
+                let s = s.unwrap();
                 sum += s.points[0].acceleration.x + s.frames[2].angular_acceleration.z;
             }
             sum
         }
         other => panic!(
-            "unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s, m1w, m2w or m4"
+            "unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s, m1w, m2w, m1i, m2i, m4 or m4s"
         ),
     }
 }
