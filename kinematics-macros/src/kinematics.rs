@@ -10,7 +10,7 @@
 
 use crate::diff::{partial, time_derivative, time_derivative_by_partials, Accelerating, Memo};
 use crate::ir::{op_count, Id, Leaf, OpCount};
-use crate::lower::Model;
+use crate::lower::{Chain, Model};
 
 /// Every expression the generated code evaluates.
 pub struct Derived {
@@ -121,10 +121,6 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     let mut frames = Vec::new();
     for f in &model.frames {
         let r = f.rotation;
-        let rd = r.map(|row| row.map(|e| dt(g, e, Accelerating::None, memo)));
-        // [ω]× is the skew part of Ṙ Rᵀ, and [α]× that of R̈ Rᵀ (the
-        // derivative of Ṙ Rᵀ adds Ṙ Ṙᵀ, which is symmetric).
-        let rdd = rd.map(|row| row.map(|e| dt(g, e, Accelerating::All, memo)));
         let half = g.constant(0.5);
         // ½ axial(M Rᵀ − R Mᵀ), with (M Rᵀ)_ij = Σ_k M_ik R_jk.
         let axial = |m: &[[Id; 3]; 3], g: &mut crate::ir::Graph| {
@@ -145,8 +141,16 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
             }
             v
         };
-        let omega = axial(&rd, g);
-        let alpha = axial(&rdd, g);
+        let (omega, alpha) = match &f.chain {
+            Some(chain) => chain_rates(g, chain, &mut |g, e, acc| dt(g, e, acc, memo)),
+            None => {
+                // [ω]× is the skew part of Ṙ Rᵀ, and [α]× that of R̈ Rᵀ (the
+                // derivative of Ṙ Rᵀ adds Ṙ Ṙᵀ, which is symmetric).
+                let rd = r.map(|row| row.map(|e| dt(g, e, Accelerating::None, memo)));
+                let rdd = rd.map(|row| row.map(|e| dt(g, e, Accelerating::All, memo)));
+                (axial(&rd, g), axial(&rdd, g))
+            }
+        };
         let o = f.origin;
         let od = o.map(|e| dt(g, e, Accelerating::None, memo));
         let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
@@ -167,6 +171,44 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
         acc,
         frames,
     }
+}
+
+/// ω and α of a rotation built as a chain (see [`Chain`]), by the
+/// recursion ω = Σ zₖ θ̇ₖ, α = Σ (zₖ θ̈ₖ + ωₖ₋₁ × zₖ θ̇ₖ), with `dt` the time
+/// derivative.
+fn chain_rates(
+    g: &mut crate::ir::Graph,
+    chain: &Chain,
+    dt: &mut dyn FnMut(&mut crate::ir::Graph, Id, Accelerating) -> Id,
+) -> ([Id; 3], [Id; 3]) {
+    let zero = g.constant(0.0);
+    let (mut omega, mut alpha) = ([zero; 3], [zero; 3]);
+    for &(z, theta) in chain {
+        let rate = dt(g, theta, Accelerating::None);
+        let acceleration = dt(g, rate, Accelerating::All);
+        // zₖ θ̇ₖ, the joint's own angular velocity.
+        let w = z.map(|c| g.mul(c, rate));
+        let turn = cross(g, omega, w);
+        for i in 0..3 {
+            let za = g.mul(z[i], acceleration);
+            let a = g.sum(alpha[i], za);
+            alpha[i] = g.sum(a, turn[i]);
+            omega[i] = g.sum(omega[i], w[i]);
+        }
+    }
+    (omega, alpha)
+}
+
+/// a × b.
+fn cross(g: &mut crate::ir::Graph, a: [Id; 3], b: [Id; 3]) -> [Id; 3] {
+    let mut out = a;
+    for (i, o) in out.iter_mut().enumerate() {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let l = g.mul(a[j], b[k]);
+        let r = g.mul(a[k], b[j]);
+        *o = g.sub(l, r);
+    }
+    out
 }
 
 /// Operation counts, before and after common-subexpression elimination, of

@@ -531,3 +531,34 @@ fn a_spatial_loop_is_three_equations() {
     assert!((pose.psi - (-0.4f64).atan2(y)).abs() < 1e-14);
     check_motion(&m, &pose, &[0.7], &[-0.2], 1e-6);
 }
+
+/// A frame turned about axes fixed in their bodies (z, then x, then the
+/// screw axis (1, 1, 1)/√3, with a translation between) is differentiated
+/// along the chain, ω = Σ zₖ θ̇ₖ; one whose axis turns with a coordinate
+/// (here, in the x–y plane with q1) by differentiating R. Both against
+/// differences of R (ω) and of ω (α).
+#[test]
+fn frames_along_a_chain_and_about_a_moving_axis_match_finite_differences() {
+    mechanism! {
+        pub struct Gimbal {
+            params { l, k }
+            drivers { q1, q2, q3 }
+            unknowns { }
+            frames {
+                chained = rot_z(q1) * translation(vec3(l, 0.0, 0.0)) * rot_x(q2)
+                    * screw(vec3(1.0, 1.0, 1.0), q3, k * q3);
+                moving = rot(vec3(cos(q1), sin(q1), 0.5), q2 * q3);
+            }
+            points { P = chained * vec3(0.1, l, 0.2); }
+        }
+    }
+    let m = Gimbal { l: 0.3, k: 0.05 };
+    let mut rng = Rng::new(0x61_3B);
+    for _ in 0..20 {
+        let q: [f64; 3] = std::array::from_fn(|_| rng.range(-3.0, 3.0));
+        let rates: [f64; 3] = std::array::from_fn(|_| rng.range(-2.0, 2.0));
+        let accels: [f64; 3] = std::array::from_fn(|_| rng.range(-5.0, 5.0));
+        let pose = GimbalCoords::from(q);
+        check_motion(&m, &pose, &rates, &accels, 1e-7);
+    }
+}

@@ -181,6 +181,15 @@ impl Lowerer<'_> {
                 out[i][j] = self.dot3(a[i], cols[j]);
             }
         }
+        // The product of two chains: b's axes carried into a's fixed
+        // coordinates, z ↦ A z.
+        if let (Some(first), Some(second)) = (self.chains.get(a), self.chains.get(b)) {
+            let (mut chain, second) = (first.clone(), second.clone());
+            for (z, theta) in second {
+                chain.push((self.mat_vec(a, z), theta));
+            }
+            self.chains.entry(out).or_insert(chain);
+        }
         out
     }
 
@@ -381,6 +390,13 @@ impl Lowerer<'_> {
                     }
                 };
             }
+        }
+        // An axis fixed in time (free of the coordinates) starts a chain.
+        let moving = u
+            .iter()
+            .any(|&x| self.g.depends_on(x, &|l| matches!(l, Leaf::Q(_))));
+        if !moving {
+            self.chains.entry(m).or_insert_with(|| vec![(u, theta)]);
         }
         m
     }

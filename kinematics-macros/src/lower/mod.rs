@@ -65,7 +65,18 @@ pub struct ModelPoint {
 pub struct ModelFrame {
     pub rotation: Mat,
     pub origin: [Id; 3],
+    /// The rotation as a product of rotations about axes fixed in their
+    /// own bodies, when it was built as one (see [`Chain`]).
+    pub chain: Option<Chain>,
 }
+
+/// A rotation R = R₁(θ₁) R₂(θ₂) ⋯ Rₙ(θₙ), each Rₖ about an axis fixed in
+/// its body, kept as the axes in fixed coordinates, zₖ = R₁⋯Rₖ₋₁ aₖ, and
+/// the angles θₖ: then ω = Σ zₖ θ̇ₖ and α = Σ (zₖ θ̈ₖ + ωₖ₋₁ × zₖ θ̇ₖ),
+/// with ωₖ₋₁ = Σ_{j<k} zⱼ θ̇ⱼ, the recursion along a serial chain, where
+/// differentiating the product of matrices would cost a matrix product per
+/// factor and derivative.
+pub type Chain = Vec<([Id; 3], Id)>;
 
 /// Whether a coordinate is an angle (appears inside a trigonometric function)
 /// or a length.
@@ -113,6 +124,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         names,
         points: HashMap::new(),
         frames: HashMap::new(),
+        chains: HashMap::new(),
         spatial: false,
         errors,
     };
@@ -124,11 +136,13 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                 ModelFrame {
                     rotation: r,
                     origin: [zero; 3],
+                    chain: cx.chains.get(&r).cloned(),
                 }
             }
             Some(Value::Tf(r, t)) => ModelFrame {
                 rotation: r,
                 origin: t,
+                chain: cx.chains.get(&r).cloned(),
             },
             other => {
                 if let Some(v) = other {
@@ -147,6 +161,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                 ModelFrame {
                     rotation: [[one, zero, zero], [zero, one, zero], [zero, zero, one]],
                     origin: [zero; 3],
+                    chain: None,
                 }
             }
         };
@@ -360,6 +375,9 @@ struct Lowerer<'a> {
     points: HashMap<usize, Vec<Id>>,
     /// Frames lowered so far, by index.
     frames: HashMap<usize, (Mat, [Id; 3])>,
+    /// The rotations built as products of rotations about body-fixed axes,
+    /// with their chains.
+    chains: HashMap<Mat, Chain>,
     spatial: bool,
     errors: &'a mut Errors,
 }
@@ -429,5 +447,26 @@ mod tests {
             assert!(sqrt, "{rhs}");
             assert!(model.distances.is_empty());
         }
+    }
+
+    /// A product of rotations about axes fixed in their bodies keeps its
+    /// chain (one entry per rotation: R times the translation's identity
+    /// is R itself, and keeps R's chain); a rotation about an axis that
+    /// moves with a coordinate has none.
+    #[test]
+    fn rotations_about_body_fixed_axes_keep_their_chain() {
+        let (model, _) = lowered(quote! {
+            pub struct Gimbal {
+                params { l }
+                drivers { q1, q2 }
+                unknowns { }
+                frames {
+                    chained = rot_z(q1) * translation(vec3(l, 0.0, 0.0)) * rot_x(q2);
+                    moving = rot(vec3(cos(q1), sin(q1), 0.5), q2);
+                }
+            }
+        });
+        assert_eq!(model.frames[0].chain.as_ref().map(Vec::len), Some(2));
+        assert!(model.frames[1].chain.is_none());
     }
 }
