@@ -232,7 +232,12 @@ impl<const D: usize> PointState for PointMotion<D> {
 /// For a frame given by a rotation R(q) (or a 4×4 transform with rotation R
 /// and origin o): Ṙ = Σ ∂R/∂q_j q'_j, the angular velocity ω is the axial
 /// vector of the skew part of Ṙ Rᵀ, and α = dω/dt, all in the fixed frame
-/// and differentiated exactly at compile time.
+/// and differentiated exactly at compile time. When R is a product of
+/// rotations Rₖ(θₖ) about axes fixed in their bodies (joints `t1`…`t6`,
+/// `rot_x`…`rot_z`, `rot` or `screw` about a constant axis), the same ω and
+/// α are formed along the chain: ω = Σ zₖ θ̇ₖ and
+/// α = Σ (zₖ θ̈ₖ + ωₖ₋₁ × zₖ θ̇ₖ), zₖ being the k-th axis in fixed
+/// coordinates and ωₖ₋₁ the sum up to k − 1.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
