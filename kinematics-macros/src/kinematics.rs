@@ -188,7 +188,7 @@ fn chain_rates(
         let acceleration = dt(g, rate, Accelerating::All);
         // zₖ θ̇ₖ, the joint's own angular velocity.
         let w = z.map(|c| g.mul(c, rate));
-        let turn = cross(g, omega, w);
+        let turn = g.cross3(omega, w);
         for i in 0..3 {
             let za = g.mul(z[i], acceleration);
             let a = g.sum(alpha[i], za);
@@ -197,18 +197,6 @@ fn chain_rates(
         }
     }
     (omega, alpha)
-}
-
-/// a × b.
-fn cross(g: &mut crate::ir::Graph, a: [Id; 3], b: [Id; 3]) -> [Id; 3] {
-    let mut out = a;
-    for (i, o) in out.iter_mut().enumerate() {
-        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        let l = g.mul(a[j], b[k]);
-        let r = g.mul(a[k], b[j]);
-        *o = g.sub(l, r);
-    }
-    out
 }
 
 /// Operation counts, before and after common-subexpression elimination, of

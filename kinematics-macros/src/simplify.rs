@@ -47,6 +47,18 @@ impl Graph {
         self.add(Node::Neg(a))
     }
 
+    /// a × b, component by component.
+    pub fn cross3(&mut self, a: [Id; 3], b: [Id; 3]) -> [Id; 3] {
+        let mut out = a;
+        for (i, o) in out.iter_mut().enumerate() {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let l = self.mul(a[j], b[k]);
+            let r = self.mul(a[k], b[j]);
+            *o = self.sub(l, r);
+        }
+        out
+    }
+
     /// aⁿ for an integer n.
     pub fn powi(&mut self, a: Id, n: i32) -> Id {
         self.add(Node::Powi(a, n))

@@ -155,14 +155,7 @@ impl Lowerer<'_> {
     }
 
     pub(super) fn cross3(&mut self, a: [Id; 3], b: [Id; 3]) -> [Id; 3] {
-        let mut out = [a[0]; 3];
-        for (i, o) in out.iter_mut().enumerate() {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let l = self.g.mul(a[j], b[k]);
-            let r = self.g.mul(a[k], b[j]);
-            *o = self.g.sub(l, r);
-        }
-        out
+        self.g.cross3(a, b)
     }
 
     pub(super) fn mat_vec(&mut self, m: &Mat, v: [Id; 3]) -> [Id; 3] {
