@@ -631,7 +631,7 @@ pub fn cannot_assemble(
 #[cfg(test)]
 mod tests {
     /// The Newton step from 1/q² against 1/√m itself, near m = q⁴ (the
-    /// fast path) and away from it (the square root), over eight decades
+    /// fast path) and away from it (the square root), over twelve decades
     /// of q²; within 2 ulp, the two roundings of 1/√m.
     #[test]
     fn the_inverse_length_is_1_over_the_square_root_of_m() {
