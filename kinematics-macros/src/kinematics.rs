@@ -10,7 +10,7 @@
 
 use crate::diff::{partial, time_derivative, time_derivative_by_partials, Accelerating, Memo};
 use crate::ir::{op_count, Id, Leaf, OpCount};
-use crate::lower::{Chain, Model};
+use crate::lower::{Body, Chain, Model};
 
 /// Every expression the generated code evaluates.
 pub struct Derived {
@@ -106,6 +106,31 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     let mut acc = Vec::new();
     for p in &model.points {
         pos.push(p.coords.clone());
+        if let Some(b) = &p.attached {
+            // v = ȯ + ω × r, a = ö + α × r + ω × (ω × r), r = R v.
+            let (omega, alpha) = chain_rates(g, &b.chain, &mut |g, e, acc| dt(g, e, acc, memo));
+            let [_, od, odd] = match &b.body {
+                Some(body) => body_origin(g, body, &mut |g, e, acc| dt(g, e, acc, memo)),
+                None => {
+                    let od = b.origin.map(|e| dt(g, e, Accelerating::None, memo));
+                    let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
+                    [b.origin, od, odd]
+                }
+            };
+            let wr = g.cross3(omega, b.offset);
+            let ar = g.cross3(alpha, b.offset);
+            let wwr = g.cross3(omega, wr);
+            let mut v = Vec::new();
+            let mut a = Vec::new();
+            for i in 0..3 {
+                v.push(g.sum(od[i], wr[i]));
+                let s = g.sum(odd[i], ar[i]);
+                a.push(g.sum(s, wwr[i]));
+            }
+            vel.push(v);
+            acc.push(a);
+            continue;
+        }
         let v: Vec<Id> = p
             .coords
             .iter()
@@ -152,8 +177,14 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
             }
         };
         let o = f.origin;
-        let od = o.map(|e| dt(g, e, Accelerating::None, memo));
-        let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
+        let [_, od, odd] = match &f.body {
+            Some(body) => body_origin(g, body, &mut |g, e, acc| dt(g, e, acc, memo)),
+            None => {
+                let od = o.map(|e| dt(g, e, Accelerating::None, memo));
+                let odd = od.map(|e| dt(g, e, Accelerating::All, memo));
+                [o, od, odd]
+            }
+        };
         frames.push(DerivedFrame {
             rotation: r,
             omega,
@@ -173,16 +204,31 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     }
 }
 
+/// The time derivative of an expression, as [`derive_with`] forms it.
+type TimeDerivative<'a> = dyn FnMut(&mut crate::ir::Graph, Id, Accelerating) -> Id + 'a;
+
 /// ω and α of a rotation built as a chain (see [`Chain`]), by the
 /// recursion ω = Σ zₖ θ̇ₖ, α = Σ (zₖ θ̈ₖ + ωₖ₋₁ × zₖ θ̇ₖ), with `dt` the time
 /// derivative.
 fn chain_rates(
     g: &mut crate::ir::Graph,
     chain: &Chain,
-    dt: &mut dyn FnMut(&mut crate::ir::Graph, Id, Accelerating) -> Id,
+    dt: &mut TimeDerivative<'_>,
 ) -> ([Id; 3], [Id; 3]) {
+    let prefixes = prefix_rates(g, chain, dt);
+    let zero = g.constant(0.0);
+    prefixes.last().copied().unwrap_or(([zero; 3], [zero; 3]))
+}
+
+/// (ωₖ, αₖ) of the first k rotations of `chain`, for k = 0 … n.
+fn prefix_rates(
+    g: &mut crate::ir::Graph,
+    chain: &Chain,
+    dt: &mut TimeDerivative<'_>,
+) -> Vec<([Id; 3], [Id; 3])> {
     let zero = g.constant(0.0);
     let (mut omega, mut alpha) = ([zero; 3], [zero; 3]);
+    let mut out = vec![(omega, alpha)];
     for &(z, theta) in chain {
         let rate = dt(g, theta, Accelerating::None);
         let acceleration = dt(g, rate, Accelerating::All);
@@ -195,8 +241,33 @@ fn chain_rates(
             alpha[i] = g.sum(a, turn[i]);
             omega[i] = g.sum(omega[i], w[i]);
         }
+        out.push((omega, alpha));
     }
-    (omega, alpha)
+    out
+}
+
+/// o, ȯ and ö of a body's origin built along its chain (see [`Body`]):
+/// ȯ = Σ ω_{k(m)} × sₘ, ö = Σ α_{k(m)} × sₘ + ω_{k(m)} × (ω_{k(m)} × sₘ),
+/// with ωₖ and αₖ those of the chain's first k rotations.
+fn body_origin(g: &mut crate::ir::Graph, body: &Body, dt: &mut TimeDerivative<'_>) -> [[Id; 3]; 3] {
+    let zero = g.constant(0.0);
+    let prefix = prefix_rates(g, &body.chain, dt);
+    let mut out = [[zero; 3]; 3];
+    for &(s, k) in &body.segments {
+        let Some(&(w, a)) = prefix.get(k) else {
+            continue;
+        };
+        let ws = g.cross3(w, s);
+        let as_ = g.cross3(a, s);
+        let wws = g.cross3(w, ws);
+        for i in 0..3 {
+            out[0][i] = g.sum(out[0][i], s[i]);
+            out[1][i] = g.sum(out[1][i], ws[i]);
+            let t = g.sum(as_[i], wws[i]);
+            out[2][i] = g.sum(out[2][i], t);
+        }
+    }
+    out
 }
 
 /// Operation counts, before and after common-subexpression elimination, of

@@ -532,11 +532,16 @@ fn a_spatial_loop_is_three_equations() {
     check_motion(&m, &pose, &[0.7], &[-0.2], 1e-6);
 }
 
-/// A frame turned about axes fixed in their bodies (z, then x, then the
-/// screw axis (1, 1, 1)/√3, with a translation between) is differentiated
-/// along the chain, ω = Σ zₖ θ̇ₖ; one whose axis turns with a coordinate
-/// (here, in the x–y plane with q1) by differentiating R. Both against
-/// differences of R (ω) and of ω (α).
+/// Frames and points along a chain against finite differences (ω against
+/// differences of R, α of ω, velocities of positions, accelerations of
+/// velocities):
+/// * `arm`, joints with constant offsets: ω, α, the origin's and the point
+///   Q's motion all along the chain (ȯ = Σ ωₖ × sₘ);
+/// * `chained`, turned about z, x and the screw axis (1, 1, 1)/√3, whose
+///   slide k q3 moves the origin: ω, α and P along the chain, the origin's
+///   motion by differentiating its expression;
+/// * `moving`, about an axis that turns with q1: everything by
+///   differentiating R.
 #[test]
 fn frames_along_a_chain_and_about_a_moving_axis_match_finite_differences() {
     mechanism! {
@@ -545,11 +550,15 @@ fn frames_along_a_chain_and_about_a_moving_axis_match_finite_differences() {
             drivers { q1, q2, q3 }
             unknowns { }
             frames {
+                arm = t3(0.0, 0.0, l, q1) * t2(l, 0.0, 0.0, q2) * t1(0.0, l, 0.0, q3);
                 chained = rot_z(q1) * translation(vec3(l, 0.0, 0.0)) * rot_x(q2)
                     * screw(vec3(1.0, 1.0, 1.0), q3, k * q3);
                 moving = rot(vec3(cos(q1), sin(q1), 0.5), q2 * q3);
             }
-            points { P = chained * vec3(0.1, l, 0.2); }
+            points {
+                P = chained * vec3(0.1, l, 0.2);
+                Q = arm * vec3(0.1, 0.2, 0.3);
+            }
         }
     }
     let m = Gimbal { l: 0.3, k: 0.05 };

@@ -158,6 +158,27 @@ impl Lowerer<'_> {
         self.g.cross3(a, b)
     }
 
+    /// A transform [[R, o], [0, 1]] acting on a point: R v + o, recorded as
+    /// fixed in the body when R is a chain and v free of the coordinates.
+    fn body_point(&mut self, m: &Mat, origin: [Id; 3], v: [Id; 3]) -> [Id; 3] {
+        let offset = self.mat_vec(m, v);
+        let p = self.vec3_op(offset, origin, Graph::sum);
+        let moving = v
+            .iter()
+            .any(|&x| self.g.depends_on(x, &|l| matches!(l, Leaf::Q(_))));
+        if let (false, Some(chain)) = (moving, self.chains.get(m).cloned()) {
+            let body = self.body(m, origin);
+            let attached = super::Attached {
+                chain,
+                origin,
+                body,
+                offset,
+            };
+            self.attached.entry(p).or_insert(attached);
+        }
+        p
+    }
+
     pub(super) fn mat_vec(&mut self, m: &Mat, v: [Id; 3]) -> [Id; 3] {
         [self.dot3(m[0], v), self.dot3(m[1], v), self.dot3(m[2], v)]
     }
@@ -190,7 +211,39 @@ impl Lowerer<'_> {
     pub(super) fn tf_tf(&mut self, (r1, t1): (Mat, [Id; 3]), (r2, t2): (Mat, [Id; 3])) -> Value {
         let r = self.mat_mat(&r1, &r2);
         let rt = self.mat_vec(&r1, t2);
-        Value::Tf(r, self.vec3_op(rt, t1, Graph::sum))
+        let t = self.vec3_op(rt, t1, Graph::sum);
+        // Along the chain: the second body's axes and segments carried into
+        // the first's fixed coordinates, its segments after the first's
+        // rotations.
+        if let (Some(first), Some(second)) = (self.body(&r1, t1), self.body(&r2, t2)) {
+            let mut body = first.clone();
+            let n = first.chain.len();
+            for (z, theta) in second.chain {
+                body.chain.push((self.mat_vec(&r1, z), theta));
+            }
+            for (seg, k) in second.segments {
+                body.segments.push((self.mat_vec(&r1, seg), n + k));
+            }
+            self.bodies.entry((r, t)).or_insert(body);
+        }
+        Value::Tf(r, t)
+    }
+
+    /// The transform (R, o) as a [`Body`](super::Body): as built by
+    /// [`Self::tf_tf`], or, for a rotation R along a chain and an origin o
+    /// free of the coordinates, the one segment o before R's rotations.
+    pub(super) fn body(&mut self, r: &Mat, o: [Id; 3]) -> Option<super::Body> {
+        if let Some(b) = self.bodies.get(&(*r, o)) {
+            return Some(b.clone());
+        }
+        let moving = o
+            .iter()
+            .any(|&x| self.g.depends_on(x, &|l| matches!(l, Leaf::Q(_))));
+        let chain = self.chains.get(r)?.clone();
+        (!moving).then(|| super::Body {
+            chain,
+            segments: vec![(o, 0)],
+        })
     }
 
     pub(super) fn as_tf(&mut self, v: Value) -> Option<(Mat, [Id; 3])> {
@@ -268,12 +321,11 @@ impl Lowerer<'_> {
                 Some(Value::Vec3(v.map(|x| self.g.mul(s, x))))
             }
             (BinOp::Mul(_), Value::Rot(m), Value::Vec3(v)) => {
-                Some(Value::Vec3(self.mat_vec(&m, v)))
+                let zero = self.g.constant(0.0);
+                Some(Value::Vec3(self.body_point(&m, [zero; 3], v)))
             }
             (BinOp::Mul(_), Value::Tf(m, t), Value::Vec3(v)) => {
-                // A transform acts on a point: R p + t.
-                let rv = self.mat_vec(&m, v);
-                Some(Value::Vec3(self.vec3_op(rv, t, Graph::sum)))
+                Some(Value::Vec3(self.body_point(&m, t, v)))
             }
             (BinOp::Mul(_), Value::Rot(a), Value::Rot(c)) => Some(Value::Rot(self.mat_mat(&a, &c))),
             (

@@ -59,6 +59,25 @@ pub struct ModelEquation {
 /// A point of interest, component by component (2 or 3 of them).
 pub struct ModelPoint {
     pub coords: Vec<Id>,
+    /// The point as a fixed point of a body turned along a chain, when it
+    /// was given as one (a transform or rotation built as a [`Chain`] times
+    /// a vector free of the coordinates).
+    pub attached: Option<Attached>,
+}
+
+/// A point p = R v + o fixed in a body whose rotation R is a [`Chain`]: its
+/// velocity is ȯ + ω × (R v) and its acceleration
+/// ö + α × (R v) + ω × (ω × (R v)), with ω and α from the chain, where
+/// differentiating R v would differentiate the chain's matrices.
+#[derive(Clone)]
+pub struct Attached {
+    pub chain: Chain,
+    /// o, the body's origin.
+    pub origin: [Id; 3],
+    /// o as segments along the chain, when it was built so.
+    pub body: Option<Body>,
+    /// R v, the point relative to the origin in fixed coordinates.
+    pub offset: [Id; 3],
 }
 
 /// A body frame: rotation and origin.
@@ -66,8 +85,23 @@ pub struct ModelFrame {
     pub rotation: Mat,
     pub origin: [Id; 3],
     /// The rotation as a product of rotations about axes fixed in their
-    /// own bodies, when it was built as one (see [`Chain`]).
+    /// own bodies, when it was built as one (see [`Chain`]), and the origin
+    /// as a sum of body-fixed segments along it, when it was built as one
+    /// (see [`Body`]).
     pub chain: Option<Chain>,
+    pub body: Option<Body>,
+}
+
+/// A transform [[R, o], [0, 1]] built along a [`Chain`] from joints with
+/// constant offsets: o = Σ sₘ, each segment sₘ = R₁⋯R_{k(m)} tₘ with tₘ
+/// constant, so that ṡₘ = ω_{k(m)} × sₘ and
+/// s̈ₘ = α_{k(m)} × sₘ + ω_{k(m)} × (ω_{k(m)} × sₘ), ωₖ and αₖ being those
+/// of the first k rotations of the chain.
+#[derive(Clone)]
+pub struct Body {
+    pub chain: Chain,
+    /// (sₘ, k(m)).
+    pub segments: Vec<([Id; 3], usize)>,
 }
 
 /// A rotation R = R₁(θ₁) R₂(θ₂) ⋯ Rₙ(θₙ), each Rₖ about an axis fixed in
@@ -125,6 +159,8 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         points: HashMap::new(),
         frames: HashMap::new(),
         chains: HashMap::new(),
+        attached: HashMap::new(),
+        bodies: HashMap::new(),
         spatial: false,
         errors,
     };
@@ -137,12 +173,14 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                     rotation: r,
                     origin: [zero; 3],
                     chain: cx.chains.get(&r).cloned(),
+                    body: cx.body(&r, [zero; 3]),
                 }
             }
             Some(Value::Tf(r, t)) => ModelFrame {
                 rotation: r,
                 origin: t,
                 chain: cx.chains.get(&r).cloned(),
+                body: cx.body(&r, t),
             },
             other => {
                 if let Some(v) = other {
@@ -162,6 +200,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
                     rotation: [[one, zero, zero], [zero, one, zero], [zero, zero, one]],
                     origin: [zero; 3],
                     chain: None,
+                    body: None,
                 }
             }
         };
@@ -219,7 +258,10 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
             }
         };
         cx.points.insert(k, coords.clone());
-        points.push(ModelPoint { coords });
+        let attached = <[Id; 3]>::try_from(coords.as_slice())
+            .ok()
+            .and_then(|c| cx.attached.get(&c).cloned());
+        points.push(ModelPoint { coords, attached });
     }
     let mut equations = Vec::new();
     let mut loop_dims = Vec::new();
@@ -378,6 +420,11 @@ struct Lowerer<'a> {
     /// The rotations built as products of rotations about body-fixed axes,
     /// with their chains.
     chains: HashMap<Mat, Chain>,
+    /// The vectors built as points fixed in such bodies, by their
+    /// components.
+    attached: HashMap<[Id; 3], Attached>,
+    /// The transforms built along chains, by rotation and origin.
+    bodies: HashMap<(Mat, [Id; 3]), Body>,
     spatial: bool,
     errors: &'a mut Errors,
 }
@@ -451,8 +498,10 @@ mod tests {
 
     /// A product of rotations about axes fixed in their bodies keeps its
     /// chain (one entry per rotation: R times the translation's identity
-    /// is R itself, and keeps R's chain); a rotation about an axis that
-    /// moves with a coordinate has none.
+    /// is R itself, and keeps R's chain), and with constant offsets its
+    /// origin's segments; a point fixed in it is attached to it. A slide
+    /// that moves with a coordinate leaves the origin without segments; a
+    /// rotation about an axis that moves with a coordinate has no chain.
     #[test]
     fn rotations_about_body_fixed_axes_keep_their_chain() {
         let (model, _) = lowered(quote! {
@@ -462,11 +511,26 @@ mod tests {
                 unknowns { }
                 frames {
                     chained = rot_z(q1) * translation(vec3(l, 0.0, 0.0)) * rot_x(q2);
+                    sliding = chained * t7(q1, 0.0, 0.0);
                     moving = rot(vec3(cos(q1), sin(q1), 0.5), q2);
+                }
+                points {
+                    P = chained * vec3(0.1, l, 0.2);
+                    Q = moving * vec3(0.1, l, 0.2);
                 }
             }
         });
-        assert_eq!(model.frames[0].chain.as_ref().map(Vec::len), Some(2));
-        assert!(model.frames[1].chain.is_none());
+        let [chained, sliding, moving] = &model.frames[..] else {
+            panic!("three frames");
+        };
+        assert_eq!(chained.chain.as_ref().map(Vec::len), Some(2));
+        assert_eq!(chained.body.as_ref().map(|b| b.segments.len()), Some(3));
+        assert!(sliding.chain.is_some() && sliding.body.is_none());
+        assert!(moving.chain.is_none() && moving.body.is_none());
+        assert!(model.points[0]
+            .attached
+            .as_ref()
+            .is_some_and(|a| a.body.is_some()));
+        assert!(model.points[1].attached.is_none());
     }
 }
