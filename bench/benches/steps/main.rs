@@ -712,46 +712,58 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
         "sweep collected",
         "hand-written",
     ];
-    let hand = SHOWN.len() - 1;
     let mut out = String::from(
         "Interleaved (41 rounds; in each, one turn of every variant in turn, thread CPU time; \
          the ratio to the hand-written turn of the same round): median ratio, and the range \
          of the middle 80 % of rounds. `sweep` streams the samples from its iterator, \
-         `collected` gathers them into its `Vec` first.\n\n| mechanism | generated | stepper | \
+         `collected` gathers them into its `Vec` first (the arm, whose six drivers follow a \
+         profile, has no sweep).\n\n| mechanism | generated | stepper | \
          sweep | collected | sweep / stepper | collected / stepper |\n\
          |---|---|---|---|---|---|---|\n",
     );
-    for mech in &MECHANISMS[..3] {
+    let summary = |mut r: Vec<f64>| {
+        if r.is_empty() {
+            return "–".to_string();
+        }
+        r.sort_by(f64::total_cmp);
+        let (lo, mid, hi) = (r[ROUNDS / 10], r[ROUNDS / 2], r[ROUNDS - 1 - ROUNDS / 10]);
+        format!("{mid:.2}× ({lo:.2}–{hi:.2})")
+    };
+    for mech in MECHANISMS {
+        // The variants this mechanism has, in the order of `SHOWN`.
+        let shown: Vec<usize> = (0..SHOWN.len())
+            .filter(|&i| all.iter().any(|(m, w, _)| *m == mech && *w == SHOWN[i]))
+            .collect();
+        let hand = SHOWN.len() - 1;
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); SHOWN.len()];
         let (mut streamed, mut collected) = (Vec::new(), Vec::new());
         for _ in 0..ROUNDS {
-            let mut round = [0.0; SHOWN.len()];
-            for (i, v) in SHOWN.iter().enumerate() {
+            let mut round = [f64::NAN; SHOWN.len()];
+            for &i in &shown {
                 let (_, _, f) = all
                     .iter_mut()
-                    .find(|(m, w, _)| m == mech && w == v)
+                    .find(|(m, w, _)| *m == mech && *w == SHOWN[i])
                     .expect("a variant");
                 let t0 = thread_cpu_ns();
                 black_box(f());
                 round[i] = thread_cpu_ns() - t0;
             }
-            for i in 0..SHOWN.len() {
+            for &i in &shown {
                 times[i].push(round[i] / round[hand]);
             }
-            streamed.push(round[2] / round[1]);
-            collected.push(round[3] / round[1]);
+            if shown.contains(&2) {
+                streamed.push(round[2] / round[1]);
+                collected.push(round[3] / round[1]);
+            }
         }
-        let summary = |mut r: Vec<f64>| {
-            r.sort_by(f64::total_cmp);
-            let (lo, mid, hi) = (r[ROUNDS / 10], r[ROUNDS / 2], r[ROUNDS - 1 - ROUNDS / 10]);
-            format!("{mid:.2}× ({lo:.2}–{hi:.2})")
-        };
+        let mut cells = times.into_iter().take(4).map(summary);
+        let mut cell = || cells.next().unwrap_or_default();
         out += &format!(
             "| {mech} | {} | {} | {} | {} | {} | {} |\n",
-            summary(times[0].clone()),
-            summary(times[1].clone()),
-            summary(times[2].clone()),
-            summary(times[3].clone()),
+            cell(),
+            cell(),
+            cell(),
+            cell(),
             summary(streamed),
             summary(collected)
         );
