@@ -640,31 +640,52 @@ pub mod synthesis_runs {
         (0..n).map(|j| from + TAU * j as f64 / n as f64).collect()
     }
 
+    /// A design drawn by `draw` with a random assembly mode of `modes` and
+    /// a random start angle φ₀, drawn again until it assembles at the `n`
+    /// driver values spaced evenly over a turn from φ₀; with its pose at φ₀
+    /// and its mode.
+    fn drawn<M, C, Modes: Copy>(
+        seed: u64,
+        n: usize,
+        mut draw: impl FnMut(&mut Uniform) -> M,
+        modes: [Modes; 2],
+        assemble: impl Fn(&M, f64, &Modes) -> Result<C, Error>,
+    ) -> (M, C, Modes) {
+        let mut u = Uniform::new(seed);
+        loop {
+            let m = draw(&mut u);
+            let mode = modes[usize::from(u.in_range(0.0, 1.0) < 0.5)];
+            let phi0 = u.in_range(-PI, PI);
+            let fits = evenly(phi0, n)
+                .iter()
+                .all(|&phi| assemble(&m, phi, &mode).is_ok());
+            if let (true, Ok(start)) = (fits, assemble(&m, phi0, &mode)) {
+                return (m, start, mode);
+            }
+        }
+    }
+
     /// A random starting design for Morgan and Wampler's Problem 7 (ground
     /// pivots (0, 0) and (1, 0); a, b, c, p in [0.2, 2], β in [−π, π], a
     /// random assembly mode), drawn again until it assembles at its
-    /// initial driver values; with its start pose.
+    /// initial driver values; with its start pose and its mode.
     #[must_use]
-    pub fn morgan_wampler_start(seed: u64) -> (FourBar, FourBarCoords) {
-        let mut u = Uniform::new(seed);
-        loop {
-            let m = FourBar {
-                a: u.in_range(0.2, 2.0),
-                b: u.in_range(0.2, 2.0),
-                c: u.in_range(0.2, 2.0),
-                d: 1.0,
-                p: u.in_range(0.2, 2.0),
-                beta: u.in_range(-PI, PI),
-            };
-            let modes = FourBarModes::ALL[usize::from(u.in_range(0.0, 1.0) < 0.5)];
-            let phi0 = u.in_range(-PI, PI);
-            let fits = evenly(phi0, MORGAN_WAMPLER_7.len())
-                .iter()
-                .all(|&phi| m.assemble_in(phi, &modes).is_ok());
-            if let (true, Ok(start)) = (fits, m.assemble_in(phi0, &modes)) {
-                return (m, start);
-            }
-        }
+    pub fn morgan_wampler_start(seed: u64) -> (FourBar, FourBarCoords, FourBarModes) {
+        let draw = |u: &mut Uniform| FourBar {
+            a: u.in_range(0.2, 2.0),
+            b: u.in_range(0.2, 2.0),
+            c: u.in_range(0.2, 2.0),
+            d: 1.0,
+            p: u.in_range(0.2, 2.0),
+            beta: u.in_range(-PI, PI),
+        };
+        drawn(
+            seed,
+            MORGAN_WAMPLER_7.len(),
+            draw,
+            FourBarModes::ALL,
+            |m, phi, modes| m.assemble_in(phi, modes),
+        )
     }
 
     /// Morgan and Wampler's Problem 7 by Levenberg–Marquardt from the
@@ -675,7 +696,7 @@ pub mod synthesis_runs {
     /// # Errors
     /// As [`Synthesis::run`].
     pub fn morgan_wampler(seed: u64) -> Result<Synthesized<FourBar>, Error> {
-        let (m, start) = morgan_wampler_start(seed);
+        let (m, start, _) = morgan_wampler_start(seed);
         let mut s = Synthesis::path(&m, FourBar::PHI, "P", &MORGAN_WAMPLER_7, &start)
             .vary(&["a", "b", "c", "p", "beta"])
             .driver_guesses(&evenly(start.phi, MORGAN_WAMPLER_7.len()));
@@ -712,31 +733,33 @@ pub mod synthesis_runs {
     /// A random starting design for the nine-point problem (A in
     /// [−1, 3] × [−2, 2], θ0 and β in [−π, π], d, a, b, c, p in [0.2, 2.5],
     /// a random assembly mode), drawn again until it assembles at its
-    /// initial driver values; with its start pose.
+    /// initial driver values; with its start pose and its mode.
     #[must_use]
-    pub fn nine_point_start(seed: u64) -> (PlacedFourBar, super::PlacedFourBarCoords) {
-        let mut u = Uniform::new(seed);
-        loop {
-            let m = PlacedFourBar {
-                x0: u.in_range(-1.0, 3.0),
-                y0: u.in_range(-2.0, 2.0),
-                theta0: u.in_range(-PI, PI),
-                d: u.in_range(0.2, 2.5),
-                a: u.in_range(0.2, 2.5),
-                b: u.in_range(0.2, 2.5),
-                c: u.in_range(0.2, 2.5),
-                p: u.in_range(0.2, 2.5),
-                beta: u.in_range(-PI, PI),
-            };
-            let modes = PlacedFourBarModes::ALL[usize::from(u.in_range(0.0, 1.0) < 0.5)];
-            let phi0 = u.in_range(-PI, PI);
-            let fits = evenly(phi0, NINE_POINTS.len())
-                .iter()
-                .all(|&phi| m.assemble_in(phi, &modes).is_ok());
-            if let (true, Ok(start)) = (fits, m.assemble_in(phi0, &modes)) {
-                return (m, start);
-            }
-        }
+    pub fn nine_point_start(
+        seed: u64,
+    ) -> (
+        PlacedFourBar,
+        super::PlacedFourBarCoords,
+        PlacedFourBarModes,
+    ) {
+        let draw = |u: &mut Uniform| PlacedFourBar {
+            x0: u.in_range(-1.0, 3.0),
+            y0: u.in_range(-2.0, 2.0),
+            theta0: u.in_range(-PI, PI),
+            d: u.in_range(0.2, 2.5),
+            a: u.in_range(0.2, 2.5),
+            b: u.in_range(0.2, 2.5),
+            c: u.in_range(0.2, 2.5),
+            p: u.in_range(0.2, 2.5),
+            beta: u.in_range(-PI, PI),
+        };
+        drawn(
+            seed,
+            NINE_POINTS.len(),
+            draw,
+            PlacedFourBarModes::ALL,
+            |m, phi, modes| m.assemble_in(phi, modes),
+        )
     }
 
     /// The nine-point problem by Levenberg–Marquardt from the starting
@@ -748,7 +771,7 @@ pub mod synthesis_runs {
     /// # Errors
     /// As [`Synthesis::run`].
     pub fn nine_point(seed: u64) -> Result<Synthesized<PlacedFourBar>, Error> {
-        let (m, start) = nine_point_start(seed);
+        let (m, start, _) = nine_point_start(seed);
         let mut s = Synthesis::path(&m, PlacedFourBar::PHI, "P", &NINE_POINTS, &start)
             .driver_guesses(&evenly(start.phi, NINE_POINTS.len()));
         for name in ["x0", "y0"] {

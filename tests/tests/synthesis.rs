@@ -20,39 +20,47 @@ mechanism! {
     }
 }
 
-#[test]
-fn a_design_is_recovered_from_five_points_with_prescribed_timing() {
-    let truth = FourBar {
-        a: 1.0,
-        b: 3.0,
-        c: 2.5,
-        d: 3.0,
-        p: 1.5,
-        beta: 0.6,
-    };
-    let start = truth
+/// The design the tests' targets come from.
+const TRUTH: FourBar = FourBar {
+    a: 1.0,
+    b: 3.0,
+    c: 2.5,
+    d: 3.0,
+    p: 1.5,
+    beta: 0.6,
+};
+
+/// A starting design near [`TRUTH`].
+const GUESS: FourBar = FourBar {
+    a: 1.1,
+    b: 2.8,
+    c: 2.7,
+    d: 3.0,
+    p: 1.3,
+    beta: 0.5,
+};
+
+/// [`TRUTH`] assembled at φ = 0.
+fn start() -> FourBarCoords {
+    TRUTH
         .assemble(&FourBarCoords {
             phi: 0.0,
             th3: 0.5,
             th4: 1.5,
         })
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn a_design_is_recovered_from_five_points_with_prescribed_timing() {
+    let start = start();
     let phis = [0.3, 1.1, 2.0, 3.5, 5.0];
-    let targets = targets_of(&truth, &start, &phis);
-    let guess = FourBar {
-        a: 1.1,
-        b: 2.8,
-        c: 2.7,
-        d: 3.0,
-        p: 1.3,
-        beta: 0.5,
-    };
-    let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
+    let targets = targets_of(&TRUTH, &start, &phis);
+    let found = Synthesis::path(&GUESS, FourBar::PHI, "P", &targets, &start)
         .prescribed(&phis)
         .run()
         .unwrap();
-    println!("{found:#?}");
-    assert!(found.sum_squares < 1e-20);
+    assert!(found.sum_squares < 1e-20, "{found:?}");
 }
 
 /// The targets of `truth`'s point P at the crank angles `phis`.
@@ -66,24 +74,9 @@ fn targets_of(truth: &FourBar, start: &FourBarCoords, phis: &[f64]) -> Vec<[f64;
         .collect()
 }
 
-const TRUTH: FourBar = FourBar {
-    a: 1.0,
-    b: 3.0,
-    c: 2.5,
-    d: 3.0,
-    p: 1.5,
-    beta: 0.6,
-};
-
 #[test]
 fn free_and_relative_timing_recover_the_crank_angles_too() {
-    let start = TRUTH
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .unwrap();
+    let start = start();
     let phis = [0.3, 1.1, 2.0, 2.9, 3.5, 4.2, 5.0];
     let targets = targets_of(&TRUTH, &start, &phis);
     let guess = FourBar {
@@ -123,13 +116,7 @@ fn free_and_relative_timing_recover_the_crank_angles_too() {
 
 #[test]
 fn function_generation_recovers_the_output_angles() {
-    let start = TRUTH
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .unwrap();
+    let start = start();
     // Input–output pairs (φ, θ4) of the true design, from its closed form.
     let pairs: Vec<(f64, f64)> = [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
         .iter()
@@ -165,25 +152,11 @@ fn function_generation_recovers_the_output_angles() {
 
 #[test]
 fn bounds_hold_at_every_result_and_grashof_is_enforced() {
-    let start = TRUTH
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .unwrap();
+    let start = start();
     let phis = [0.3, 1.1, 2.0, 3.5, 5.0];
     let targets = targets_of(&TRUTH, &start, &phis);
-    let guess = FourBar {
-        a: 1.1,
-        b: 2.8,
-        c: 2.7,
-        d: 3.0,
-        p: 1.3,
-        beta: 0.5,
-    };
     // The best c is 2.5; held to [2.6, 3]: c ends inside, on the bound.
-    let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
+    let found = Synthesis::path(&GUESS, FourBar::PHI, "P", &targets, &start)
         .prescribed(&phis)
         .bounds("c", 2.6, 3.0)
         .run()
@@ -238,13 +211,7 @@ fn bounds_hold_at_every_result_and_grashof_is_enforced() {
 
 #[test]
 fn mistakes_are_errors_that_say_what_is_wrong() {
-    let start = TRUTH
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .unwrap();
+    let start = start();
     let t = [[0.0, 1.0], [1.0, 2.0]];
     let msg = |r: Result<_, kinematics_core::Error>| {
         r.map(|_: kinematics_core::synthesis::Synthesized<FourBar>| ())

@@ -19,7 +19,6 @@ use kinematics_examples::synthesis_runs::{
     evenly, morgan_wampler, morgan_wampler_objective, morgan_wampler_start, nine_point,
     nine_point_objective, nine_point_start,
 };
-use kinematics_examples::{FourBarModes, PlacedFourBarModes};
 
 /// E as a cost for argmin, counting its evaluations.
 struct Cost<F: Fn(&[f64]) -> f64>(F, std::cell::Cell<usize>);
@@ -140,12 +139,7 @@ fn main() {
     // Morgan and Wampler's Problem 7.
     let rows = compare(starts, nm_iterations, |seed| {
         let r = morgan_wampler(seed).expect("the start assembles");
-        let (m, start) = morgan_wampler_start(seed);
-        let modes = m
-            .assemble_all(start.phi)
-            .iter()
-            .position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9))
-            .map_or(FourBarModes::ALL[0], |i| FourBarModes::ALL[i]);
+        let (m, start, modes) = morgan_wampler_start(seed);
         let mut x0 = vec![m.a, m.b, m.c, m.p, m.beta];
         x0.extend(evenly(start.phi, 5));
         (
@@ -159,12 +153,7 @@ fn main() {
     // The nine-point problem.
     let rows = compare(starts, nm_iterations, |seed| {
         let r = nine_point(seed).expect("the start assembles");
-        let (m, start) = nine_point_start(seed);
-        let modes = m
-            .assemble_all(start.phi)
-            .iter()
-            .position(|p| p.as_ref().is_ok_and(|p| (p.th3 - start.th3).abs() < 1e-9))
-            .map_or(PlacedFourBarModes::ALL[0], |i| PlacedFourBarModes::ALL[i]);
+        let (m, start, modes) = nine_point_start(seed);
         let mut x0 = vec![m.x0, m.y0, m.theta0, m.d, m.a, m.b, m.c, m.p, m.beta];
         x0.extend(evenly(start.phi, 9));
         (
