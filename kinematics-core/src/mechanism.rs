@@ -572,9 +572,10 @@ pub trait Mechanism {
     const EQUATION_NAMES: &'static [&'static str];
 
     /// Solves Φ(d, u) = 0 for u, with d and a guess of u taken from
-    /// `start`: in closed form when every block has one (each block in the
-    /// mode the guess lies in), else by Newton–Raphson, which finds the
-    /// assembly branch nearest the guess.
+    /// `start`: each block with a closed form exactly (in the mode the
+    /// guess lies in), each other block by Newton–Raphson on that block;
+    /// without closed-form blocks by Newton–Raphson on the whole system,
+    /// which finds the assembly branch nearest the guess.
     ///
     /// # Errors
     /// Non-finite inputs, invalid options, a singular Jacobian or no

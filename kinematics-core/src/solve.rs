@@ -74,6 +74,35 @@ impl Failure {
             other => other,
         }
     }
+
+    /// A failure found in a subsystem of Φ = 0 (a diagonal block solved
+    /// alone) whose equations are `rows` and unknowns `columns` (indices
+    /// into all of them): the equation and unknown indices are made
+    /// global. Used by generated code.
+    #[doc(hidden)]
+    #[cold]
+    #[must_use]
+    pub fn in_subsystem(self, rows: &[usize], columns: &[usize]) -> Self {
+        let row = |i: usize| rows.get(i).copied().unwrap_or(i);
+        match self.in_block(columns) {
+            Failure::NotConverged {
+                iterations,
+                residual,
+                relative,
+                equation,
+            } => Failure::NotConverged {
+                iterations,
+                residual,
+                relative,
+                equation: row(equation),
+            },
+            Failure::NonFiniteResidual { equation, value } => Failure::NonFiniteResidual {
+                equation: row(equation),
+                value,
+            },
+            other => other,
+        }
+    }
 }
 
 /// The scales that make Newton's tests and the singularity measure

@@ -95,6 +95,49 @@ mechanism! {
     }
 }
 
+mechanism! {
+    /// The four-bar's rocker, extended by e, carries a link f whose far
+    /// end is a pin in a slot along the parabola x = h + k y²: the
+    /// four-bar's dyad in closed form, then the pin's (θ5, y) by
+    /// Newton–Raphson on that block.
+    pub struct SlotSixBar {
+        params { a, b, c, d, e, f, h, k }
+        drivers { phi }
+        unknowns { th3, th4, th5, y }
+        points { P = vec2(h + k * y * y, y); }
+        loops {
+            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
+            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
+        }
+    }
+}
+
+mechanism! {
+    /// A slider-crank whose slider runs in a parabolic guide y = h + k x²
+    /// (Newton–Raphson on (θ, x)), its connecting rod driving an RRR dyad
+    /// to a rocker at (gx, gy) (closed form, after it).
+    pub struct CurvedGuide {
+        params { a, f, h, k, e, al, g, r, gx, gy }
+        drivers { phi }
+        unknowns { th, x, th5, th6 }
+        loops {
+            polar(a, phi) + polar(f, th) == vec2(x, h + k * x * x);
+            polar(a, phi) + polar(e, th + al) + polar(g, th5) == vec2(gx, gy) + polar(r, th6);
+        }
+    }
+}
+
+const SLOT: SlotSixBar = SlotSixBar {
+    a: 0.04,
+    b: 0.12,
+    c: 0.10,
+    d: 0.11,
+    e: 0.05,
+    f: 0.16,
+    h: 0.2,
+    k: 2.0,
+};
+
 /// Newton–Raphson on the mechanism's residual and Jacobian (the
 /// generated Φ and Φ_u, not the closed forms), dense, from `guess`.
 fn newton<M: Mechanism>(m: &M, guess: &M::Coords) -> M::Coords {
@@ -133,9 +176,6 @@ fn check_all<M: Mechanism>(
 ) {
     let found: Vec<&str> = blocks.iter().map(|b| b.method).collect();
     assert_eq!(found, methods);
-    assert!(blocks
-        .iter()
-        .all(kinematics_core::closed::Block::is_closed_form));
     let modes = blocks.iter().filter(|b| b.modes).count();
     assert_eq!(all.len(), 1 << modes);
     let (nd, nu) = (M::DRIVERS, M::UNKNOWNS);
@@ -404,4 +444,162 @@ fn the_carried_angles_do_not_drift() {
     eprintln!("largest difference from a fresh closed form: {worst:e}");
     assert!(worst <= 1e-14, "drift {worst:e}");
     assert!(pose.phi > 99.0);
+}
+
+#[test]
+fn mixed_mechanisms_solve_their_closed_form_blocks_exactly() {
+    let m = SLOT;
+    // The pin's side of the slot follows the four-bar's mode: a guess for
+    // the Newton block per mode.
+    let guess = |mode: Mode| {
+        let s = mode.sign();
+        SlotSixBarCoords {
+            phi: 0.7,
+            th3: 0.0,
+            th4: 0.0,
+            th5: 0.6 * s,
+            y: 0.13 * s,
+        }
+    };
+    let all: Vec<_> = SlotSixBarModes::ALL
+        .iter()
+        .map(|modes| m.assemble_in(&guess(modes.th3_th4), modes))
+        .collect();
+    check_all(
+        &m,
+        SlotSixBar::BLOCKS,
+        &["closed form: RRR dyad (circle–circle)", "Newton–Raphson"],
+        &all,
+        |g| m.assemble(g).expect("assembles"),
+    );
+    assert!(SlotSixBar::BLOCKS[0].is_closed_form() && !SlotSixBar::BLOCKS[1].is_closed_form());
+    assert_eq!(SlotSixBar::BLOCKS[1].to_string(), "th5, y: Newton–Raphson");
+    // The closed-form block is the four-bar's, in the same modes.
+    let four_bar = FourBar {
+        a: m.a,
+        b: m.b,
+        c: m.c,
+        d: m.d,
+        p: 0.0,
+        beta: 0.0,
+    };
+    for (modes, pose) in SlotSixBarModes::ALL.iter().zip(&all) {
+        let pose = pose.as_ref().expect("assembles");
+        let alone = four_bar
+            .assemble_in(
+                0.7,
+                &FourBarModes {
+                    th3_th4: modes.th3_th4,
+                },
+            )
+            .expect("assembles");
+        assert!((pose.th3 - alone.th3).abs() < 1e-15 && (pose.th4 - alone.th4).abs() < 1e-15);
+        // The pin at distance f from the rocker's end, on the parabola.
+        let q = (m.d + m.e * pose.th4.cos(), m.e * pose.th4.sin());
+        let pin = (m.h + m.k * pose.y * pose.y, pose.y);
+        assert!(((pin.0 - q.0).hypot(pin.1 - q.1) - m.f).abs() < 1e-15);
+        assert!(pose.y * modes.th3_th4.sign() > 0.0);
+    }
+
+    // The Newton block first, the closed form after it.
+    let m = CurvedGuide {
+        a: 0.04,
+        f: 0.12,
+        h: 0.05,
+        k: 3.0,
+        e: 0.06,
+        al: 0.8,
+        g: 0.10,
+        r: 0.08,
+        gx: 0.02,
+        gy: 0.14,
+    };
+    let start = CurvedGuideCoords {
+        phi: 0.3,
+        th: 0.8,
+        x: 0.12,
+        th5: 0.0,
+        th6: 0.0,
+    };
+    check_all(
+        &m,
+        CurvedGuide::BLOCKS,
+        &["Newton–Raphson", "closed form: RRR dyad (circle–circle)"],
+        &m.assemble_all(&start),
+        |g| m.assemble(g).expect("assembles"),
+    );
+}
+
+#[test]
+fn a_newton_block_that_cannot_close_is_an_error_in_the_modes_asked_for() {
+    // A link f too short to reach the slot: no assembly in either mode,
+    // and Newton–Raphson on the whole system is not asked to find one in
+    // another.
+    let m = SlotSixBar { f: 0.02, ..SLOT };
+    let start = SlotSixBarCoords {
+        phi: 0.7,
+        th3: 0.0,
+        th4: 0.0,
+        th5: 0.6,
+        y: 0.13,
+    };
+    for r in m.assemble_all(&start) {
+        // The error names the slot's loop, where Newton–Raphson stopped.
+        let e = r.expect_err("the pin cannot reach the slot");
+        let kinematics_core::Error::NotConverged { equation, .. } = &e else {
+            panic!("{e:?}");
+        };
+        assert!(equation.contains("polar(f, th5)"), "{e}");
+    }
+}
+
+#[test]
+fn a_mixed_stepper_keeps_its_modes_and_matches_finite_differences() {
+    let m = SLOT;
+    let (rate, acc) = (3.0, 0.0);
+    for mode in [Mode::Plus, Mode::Minus] {
+        let modes = SlotSixBarModes { th3_th4: mode };
+        let s = mode.sign();
+        let exact = |phi: f64| {
+            let guess = SlotSixBarCoords {
+                phi,
+                th3: 0.0,
+                th4: 0.0,
+                th5: 0.6 * s,
+                y: 0.13 * s,
+            };
+            m.assemble_in(&guess, &modes).expect("assembles")
+        };
+        let mut pose = exact(0.0);
+        let mut stepper = m
+            .stepper(&kinematics_core::Options::DEFAULT)
+            .expect("valid");
+        for k in 1..=72 {
+            pose.phi = f64::from(k * 5).to_radians();
+            let motion = stepper.step(&pose, rate, acc).expect("steps");
+            let (h1, h2) = (1e-6, 1e-4);
+            let (p, m1, p1) = (exact(pose.phi), exact(pose.phi - h1), exact(pose.phi + h1));
+            let (m2, p2) = (exact(pose.phi - h2), exact(pose.phi + h2));
+            let fields = |q: &SlotSixBarCoords| [q.th3, q.th4, q.th5, q.y];
+            let (q, qd, qdd) = (fields(&motion.q), fields(&motion.qd), fields(&motion.qdd));
+            for j in 0..4 {
+                let at = |c: &SlotSixBarCoords| fields(c)[j];
+                assert!((q[j] - at(&p)).abs() < 1e-12, "position {j} at step {k}");
+                let v = (at(&p1) - at(&m1)) / (2.0 * h1) * rate;
+                assert!(
+                    (qd[j] - v).abs() < 1e-7 * v.abs().max(1.0),
+                    "velocity {j}: {} {v}",
+                    qd[j]
+                );
+                let a = (at(&p2) - 2.0 * at(&p) + at(&m2)) / (h2 * h2) * rate * rate;
+                assert!(
+                    (qdd[j] - a).abs() < 1e-5 * a.abs().max(1.0),
+                    "acceleration {j}: {} {a}",
+                    qdd[j]
+                );
+            }
+            pose = motion.q;
+        }
+        assert_eq!(stepper.modes(), Some(modes));
+    }
 }

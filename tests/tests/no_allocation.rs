@@ -5,7 +5,7 @@
 //! tests run on parallel threads); the hot path must leave the count of its
 //! own thread unchanged.
 // Test code asserts by panicking.
-#![allow(clippy::expect_used, clippy::panic)]
+#![allow(missing_docs, clippy::expect_used, clippy::panic)]
 // Implementing `GlobalAlloc` requires `unsafe`; it only forwards to the
 // system allocator and counts.
 #![allow(unsafe_code)]
@@ -152,6 +152,57 @@ fn a_stepper_allocates_nothing() {
             pose = stepper.step(&pose, 10.0, 0.0).expect("steps").q;
         }
         std::hint::black_box(pose);
+    });
+}
+
+kinematics_core::mechanism! {
+    /// A four-bar (closed form) whose rocker drives a pin in a parabolic
+    /// slot (Newton–Raphson on that block): the mixed path.
+    pub struct SlotSixBar {
+        params { a, b, c, d, e, f, h, k }
+        drivers { phi }
+        unknowns { th3, th4, th5, y }
+        loops {
+            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
+            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
+        }
+    }
+}
+
+#[test]
+fn a_mixed_stepper_allocates_nothing() {
+    let m = SlotSixBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.05,
+        f: 0.16,
+        h: 0.2,
+        k: 2.0,
+    };
+    let guess = SlotSixBarCoords {
+        phi: 0.0,
+        th3: 0.0,
+        th4: 0.0,
+        th5: 0.6,
+        y: 0.13,
+    };
+    let modes = SlotSixBarModes {
+        th3_th4: kinematics_core::closed::Mode::Plus,
+    };
+    let start = m.assemble_in(&guess, &modes).expect("assembles");
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    assert_allocates_nothing(|| {
+        let mut pose = start;
+        for k in 0..360 {
+            pose.phi = f64::from(k) * 0.0175;
+            pose = stepper.step(&pose, 10.0, 0.0).expect("steps").q;
+        }
+        let again = m.assemble_in(&pose, &modes).expect("assembles");
+        std::hint::black_box((pose, again));
     });
 }
 

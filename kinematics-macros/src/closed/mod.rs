@@ -72,6 +72,8 @@ impl Pattern {
 /// One diagonal block of Φ_u and how it is solved.
 #[derive(Debug, Clone)]
 pub struct Closed {
+    /// Its equations (rows of Φ_u, ascending).
+    pub rows: Vec<usize>,
     /// Its unknowns (0-based among the unknowns), in the order of the
     /// pattern's symbols (the angle first for the RRT and RTR dyads).
     pub cols: Vec<usize>,
@@ -160,11 +162,13 @@ pub fn closed_blocks(model: &mut Model, jac: &[Vec<Id>]) -> Vec<Closed> {
                         cols.reverse();
                     }
                     Closed {
+                        rows: b.rows,
                         cols,
                         pattern: Some(pattern),
                     }
                 }
                 None => Closed {
+                    rows: b.rows,
                     cols: b.cols,
                     pattern: None,
                 },

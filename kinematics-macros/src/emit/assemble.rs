@@ -56,15 +56,15 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
             let _ = (__conditioning, __det_sign);
             ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
     };
-    let (body, off_path) = if cx.all_closed() {
-        // Every block in closed form, each in the mode of the guess; Newton
-        // off that path.
+    let (body, off_path) = if cx.closed_path() {
+        // The closed-form blocks each in the mode of the guess, the others
+        // by Newton on the block; Newton on the whole system off that path.
         let nm = cx.nm();
         let body = quote! {
             let __scaling = self.__scaling(&[#(#q_drivers),*])?;
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let pt = self.__param_trig();
-            match self.__assemble_closed(start, options, &__scaling, &mut modes, &pt) {
+            match self.__assemble_closed(start, options, &__scaling, &mut modes, &pt, false) {
                 ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => {
                     self.__assemble_other_branch(e, start, options, &__scaling, &mut modes, &pt)
                 }
@@ -88,11 +88,13 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
     quote! {
         /// Assembles the mechanism: solves the loop-closure equations
         /// Φ(d, u) = 0 for the unknowns u, with the drivers d and a guess
-        /// of u taken from `start`. When every block of the equations has
-        /// a closed form ([`Self::BLOCKS`]), each block is solved exactly
-        /// in the assembly mode the guess lies in; otherwise by
-        /// Newton–Raphson from the guess, which finds the assembly branch
-        /// nearest it.
+        /// of u taken from `start`. Each block of the equations with a
+        /// closed form ([`Self::BLOCKS`]) is solved exactly in the
+        /// assembly mode the guess lies in, each other block by
+        /// Newton–Raphson on that block from the guess; a mechanism
+        /// without closed-form blocks by Newton–Raphson on the whole
+        /// system from the guess, which finds the assembly branch nearest
+        /// it.
         ///
         /// # Errors
         /// Non-finite parameters or start values, a singular Jacobian, or

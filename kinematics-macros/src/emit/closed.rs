@@ -1,6 +1,6 @@
 //! The closed-form path (`crate::closed`): what the emitters share about
 //! it, the `BLOCKS` constant every mechanism has, and the modes type of a
-//! mechanism whose every block has a closed form. Its methods are in
+//! mechanism with a closed-form block. Its methods are in
 //! `closed_step`, the solution of each block in `closed_solve`.
 
 use proc_macro2::TokenStream;
@@ -13,10 +13,18 @@ use crate::closed::{Closed, Pattern};
 use crate::ir::{Func, Id, Leaf, Node};
 
 impl Ctx<'_> {
-    /// Whether every block has a closed form (then stepping and assembly
-    /// without a guess go through `__step_closed`).
-    pub(super) fn all_closed(&self) -> bool {
-        !self.closed.is_empty() && self.closed.iter().all(|b| b.pattern.is_some())
+    /// Whether some block has a closed form: then stepping and assembly
+    /// go through `__step_closed`, which solves the closed-form blocks
+    /// exactly in their modes and any other block by Newton–Raphson on
+    /// that block alone, from the guess.
+    pub(super) fn closed_path(&self) -> bool {
+        self.closed.iter().any(|b| b.pattern.is_some())
+    }
+
+    /// Whether the closed-form path also has Newton blocks (which need a
+    /// guess: `assemble_in` then takes one).
+    pub(super) fn mixed(&self) -> bool {
+        self.closed_path() && self.closed.iter().any(|b| b.pattern.is_none())
     }
 
     /// The blocks with two assembly modes.
@@ -35,9 +43,9 @@ impl Ctx<'_> {
             .count()
     }
 
-    /// Number of modes (0 unless every block is closed-form).
+    /// Number of modes (0 without a closed-form path).
     pub(super) fn nm(&self) -> usize {
-        if self.all_closed() {
+        if self.closed_path() {
             self.mode_blocks().len()
         } else {
             0
@@ -46,10 +54,9 @@ impl Ctx<'_> {
 
     /// The sines and cosines of parameter-only arguments that the
     /// closed-form path uses (evaluated once per stepper by
-    /// `__param_trig`), in arena order; none unless every block is
-    /// closed-form.
+    /// `__param_trig`), in arena order; none without a closed-form path.
     pub(super) fn param_trig(&self) -> Vec<Id> {
-        if !self.all_closed() {
+        if !self.closed_path() {
             return Vec::new();
         }
         let g = self.g();
@@ -76,9 +83,9 @@ impl Ctx<'_> {
 
     /// The drivers whose cosine or sine the closed-form step uses, with
     /// those nodes ([cos, sin]): a stepper carries them from step to step
-    /// (`closed::carried_sin_cos`). None unless every block is closed-form.
+    /// (`closed::carried_sin_cos`). None without a closed-form path.
     pub(super) fn driver_trig(&self) -> Vec<(usize, [Option<Id>; 2])> {
-        if !self.all_closed() {
+        if !self.closed_path() {
             return Vec::new();
         }
         let g = self.g();
@@ -110,27 +117,27 @@ impl Ctx<'_> {
 /// The `BLOCKS` constant: how each block is solved.
 pub(super) fn blocks_const(cx: &Ctx<'_>) -> TokenStream {
     let pp = &cx.pp;
-    let all = cx.all_closed();
     let entries = cx.closed.iter().map(|b| {
         let names = cx.block_names(b);
         let (method, modes) = match &b.pattern {
-            Some(p) if all => (p.describe(), p.has_modes()),
-            _ => ("Newton–Raphson", false),
+            Some(p) => (p.describe(), p.has_modes()),
+            None => ("Newton–Raphson", false),
         };
         quote!(#pp::closed::Block { unknowns: &[#(#names),*], method: #method, modes: #modes })
     });
     quote! {
         /// How each diagonal block of the loop equations is solved, in
-        /// solve order: in closed form (needing no guess, with two
-        /// assembly modes where it has two solutions) when every block of
-        /// the mechanism has one, else by Newton–Raphson from a guess.
+        /// solve order: in closed form where the block has one (needing
+        /// no guess, with two assembly modes where it has two solutions),
+        /// else by Newton–Raphson on that block alone from a guess, with
+        /// the unknowns of the blocks before it known.
         pub const BLOCKS: &'static [#pp::closed::Block] = &[#(#entries),*];
     }
 }
 
-/// The modes type, when every block is closed-form.
+/// The modes type, when some block is closed-form.
 pub(super) fn modes_type(cx: &Ctx<'_>) -> TokenStream {
-    if !cx.all_closed() {
+    if !cx.closed_path() {
         return TokenStream::new();
     }
     let (pp, vis, name) = (&cx.pp, &cx.def.vis, &cx.id.name);

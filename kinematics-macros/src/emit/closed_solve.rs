@@ -14,12 +14,15 @@ use crate::ir::{Func, Id};
 /// The blocks solved in order under `pr`'s names (`lets`: the stages of
 /// the blocks' coefficients first), each binding its unknowns (`q_…`) and
 /// the sines and cosines of its angles (`__c_…`, `__s_…`); `fallback`
-/// returns from the enclosing function where a block is degenerate.
+/// returns from the enclosing function where a block is degenerate, and
+/// where a Newton block does not converge after `newton_failed` (which
+/// sees the failure `f` and the coordinates `__q` it was solved at).
 pub(super) fn solve_blocks(
     cx: &Ctx<'_>,
     pr: &Printer<'_>,
     lets: &[TokenStream],
     fallback: &TokenStream,
+    newton_failed: &TokenStream,
 ) -> TokenStream {
     let (pp, nd, nm) = (&cx.pp, cx.nd, cx.nm());
     let (coord, q) = (&cx.id.coord, &cx.id.q);
@@ -27,8 +30,25 @@ pub(super) fn solve_blocks(
     let mut solve = TokenStream::new();
     let mut m = 0usize;
     let mut angle = 0usize;
-    for (b, block_lets) in cx.closed.iter().zip(lets) {
-        let Some(p) = &b.pattern else { continue };
+    let mut known: Vec<bool> = (0..cx.nd + cx.nu).map(|j| j < nd).collect();
+    for (i, (b, block_lets)) in cx.closed.iter().zip(lets).enumerate() {
+        let Some(p) = &b.pattern else {
+            solve.extend(newton_block_call(cx, i, b, &known, fallback, newton_failed));
+            for &c in &b.cols {
+                known[nd + c] = true;
+                if cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle {
+                    let (qv, field) = (&q[nd + c], &coord[nd + c]);
+                    let cv = format_ident!("__c_{}", field.unraw());
+                    let sv = format_ident!("__s_{}", field.unraw());
+                    solve.extend(quote!(let (#sv, #cv) = #pp::math::sin_cos(#qv);));
+                    solve.extend(offsets_of(cx, pr, nd + c, &cv, &sv));
+                }
+            }
+            continue;
+        };
+        for &c in &b.cols {
+            known[nd + c] = true;
+        }
         let names = cx.block_names(b).join(", ");
         let mode = if p.has_modes() {
             m += 1;
@@ -63,24 +83,181 @@ pub(super) fn solve_blocks(
                     let #qv = #pp::closed::near_carried(&mut #cv, &mut #sv, start.#field, &mut angles[#angle]);
                 });
                 angle += 1;
-                for (i, o) in cx.offsets.iter().enumerate() {
-                    if o.coord != nd + c {
-                        continue;
-                    }
-                    let (ck, sk) = (pr.operand(o.cos_k), pr.operand(o.sin_k));
-                    let off = format_ident!("__off_{}", i);
-                    // sin(θ + k) = sin θ cos k + cos θ sin k;
-                    // cos(θ + k) = cos θ cos k − sin θ sin k.
-                    solve.extend(if o.func == Func::Sin {
-                        quote!(let #off = #sv * #ck + #cv * #sk;)
-                    } else {
-                        quote!(let #off = #cv * #ck - #sv * #sk;)
-                    });
-                }
+                solve.extend(offsets_of(cx, pr, nd + c, &cv, &sv));
             }
         }
     }
     solve
+}
+
+/// The bindings `__off_…` of sin(θ + k) and cos(θ + k) for the angle of
+/// coordinate `coord`, from its cosine `cv` and sine `sv` by the addition
+/// theorem.
+fn offsets_of(
+    cx: &Ctx<'_>,
+    pr: &Printer<'_>,
+    coord: usize,
+    cv: &syn::Ident,
+    sv: &syn::Ident,
+) -> TokenStream {
+    let mut out = TokenStream::new();
+    for (i, o) in cx.offsets.iter().enumerate() {
+        if o.coord != coord {
+            continue;
+        }
+        let (ck, sk) = (pr.operand(o.cos_k), pr.operand(o.sin_k));
+        let off = format_ident!("__off_{}", i);
+        // sin(θ + k) = sin θ cos k + cos θ sin k;
+        // cos(θ + k) = cos θ cos k − sin θ sin k.
+        out.extend(if o.func == Func::Sin {
+            quote!(let #off = #sv * #ck + #cv * #sk;)
+        } else {
+            quote!(let #off = #cv * #ck - #sv * #sk;)
+        });
+    }
+    out
+}
+
+/// The name of the function solving block `i` by Newton–Raphson.
+fn newton_block_name(i: usize) -> syn::Ident {
+    format_ident!("__newton_block_{}", i)
+}
+
+/// The solution of Newton block `i` (binding its unknowns `q_…`): every
+/// coordinate marked `known` passed as bound, the others (its own
+/// unknowns, and later ones it does not involve) from `start`;
+/// `newton_failed`, then `fallback`, where it does not converge.
+fn newton_block_call(
+    cx: &Ctx<'_>,
+    i: usize,
+    b: &Closed,
+    known: &[bool],
+    fallback: &TokenStream,
+    newton_failed: &TokenStream,
+) -> TokenStream {
+    let (nd, nm) = (cx.nd, cx.nm());
+    let (coord, q) = (&cx.id.coord, &cx.id.q);
+    let args = known.iter().enumerate().map(|(j, &k)| {
+        let (qv, field) = (&q[j], &coord[j]);
+        if k {
+            quote!(#qv)
+        } else {
+            quote!(start.#field)
+        }
+    });
+    let guess = b.cols.iter().map(|&c| {
+        let field = &coord[nd + c];
+        quote!(start.#field)
+    });
+    let outs = b.cols.iter().map(|&c| &q[nd + c]);
+    let name = newton_block_name(i);
+    // The coordinates of the failure: the block's at its last iterate.
+    let failed = if newton_failed.is_empty() {
+        TokenStream::new()
+    } else {
+        let (at, k) = (b.cols.iter().map(|&c| nd + c), 0..b.cols.len());
+        quote! {
+            let mut __q = __q;
+            #( __q[#at] = last[#k]; )*
+            #newton_failed
+        }
+    };
+    quote! {
+        let __q = [#(#args),*];
+        let [#(#outs),*] = match self.#name(__q, [#(#guess),*], __scaling, options) {
+            ::core::result::Result::Ok(x) => x,
+            ::core::result::Result::Err((f, last)) => {
+                #failed
+                *modes = [::core::primitive::f64::NAN; #nm];
+                #fallback
+            }
+        };
+    }
+}
+
+/// The functions solving the Newton blocks of a mechanism with a
+/// closed-form path: Newton–Raphson (the general damped solver, with the
+/// block's rows and columns of the scaling) on the block's equations in
+/// its unknowns alone, the coordinates of the blocks before it given.
+pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
+    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (nd, ne) = (cx.nd, cx.ne);
+    let n = nd + cx.nu;
+    let q = &cx.id.q;
+    let leaf = cx.leaf();
+    let mut out = TokenStream::new();
+    for (i, b) in cx.closed.iter().enumerate() {
+        if b.pattern.is_some() {
+            continue;
+        }
+        let k = b.cols.len();
+        let own: Vec<u32> = b
+            .cols
+            .iter()
+            .map(|&c| u32::try_from(nd + c).unwrap_or(u32::MAX))
+            .collect();
+        let phi: Vec<Id> = b.rows.iter().map(|&r| d.phi[r]).collect();
+        let jac: Vec<Vec<Id>> = b
+            .rows
+            .iter()
+            .map(|&r| b.cols.iter().map(|&c| d.jac[r][c]).collect())
+            .collect();
+        let roots: Vec<Id> = phi.iter().chain(jac.iter().flatten()).copied().collect();
+        let hoist = super::newton::frontier(g, &roots, &|j| own.contains(&j));
+        let sched = crate::cse::schedule(g, &[hoist, roots]);
+        let (pr, lets) = super::print::bind(g, &sched, &leaf);
+        let (hoisted, iterated) = (&lets[0], &lets[1]);
+        let phi = phi.iter().map(|&r| pr.element(r));
+        let jac = jac.iter().map(|row| {
+            let row = row.iter().map(|&e| pr.element(e));
+            quote!([#(#row),*])
+        });
+        let own_q = b.cols.iter().map(|&c| &q[nd + c]);
+        let (rows, cols) = (&b.rows, &b.cols);
+        let name = newton_block_name(i);
+        let doc = format!(
+            "Newton–Raphson on the block solving {} alone, from `guess`, the \
+             coordinates of the blocks before it given in `q`; where it does not converge, \
+             the failure (its indices among all equations and unknowns) and the last \
+             iterate.",
+            cx.block_names(b).join(", ")
+        );
+        out.extend(quote! {
+            #[doc = #doc]
+            #[doc(hidden)]
+            #allow
+            fn #name(
+                &self,
+                q: [f64; #n],
+                guess: [f64; #k],
+                scaling: &#pp::Scaling<#ne>,
+                options: &#pp::Options,
+            ) -> ::core::result::Result<[f64; #k], (#pp::Failure, [f64; #k])> {
+                let [#(#q),*] = q;
+                #hoisted
+                let sc = #pp::Scaling::<#k> {
+                    row: [#(scaling.row[#rows]),*],
+                    col: [#(scaling.col[#cols]),*],
+                };
+                let mut u = guess;
+                let mut phi = [0.0f64; #k];
+                let mut jac = [[0.0f64; #k]; #k];
+                let solved = #pp::newton(&mut u, &mut phi, &mut jac, &sc, options, |u, phi, jac| {
+                    let [#(#own_q),*] = *u;
+                    #iterated
+                    *phi = [#(#phi),*];
+                    *jac = [#(#jac),*];
+                }, |jac, rhs| #pp::dense_solve(jac, rhs, &sc, options.singularity_threshold));
+                match solved {
+                    ::core::result::Result::Ok(_) => ::core::result::Result::Ok(u),
+                    ::core::result::Result::Err(f) => {
+                        ::core::result::Result::Err((f.in_subsystem(&[#(#rows),*], &[#(#cols),*]), u))
+                    }
+                }
+            }
+        });
+    }
+    out
 }
 
 /// The coefficients of a pattern (what its block's stage evaluates).

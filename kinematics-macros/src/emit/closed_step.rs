@@ -14,15 +14,16 @@ use quote::{format_ident, quote};
 use syn::ext::IdentExt;
 use syn::Ident;
 
-use super::closed_solve::{coefficients, solve_blocks};
+use super::closed_solve::{coefficients, newton_block_fns, solve_blocks};
 use super::print::{bind_given, Printer};
 use super::{guards, Ctx};
 use crate::cse::schedule;
 use crate::ir::{Func, Id, Leaf, Node};
 
-/// The closed-form step and the assembly without a guess.
+/// The closed-form step and the assembly in named modes (without a guess
+/// unless some block is solved by Newton–Raphson).
 pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
-    if !cx.all_closed() {
+    if !cx.closed_path() {
         return TokenStream::new();
     }
     let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
@@ -156,7 +157,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     stages.extend(cx.analysis_stages());
     let sched = schedule(g, &stages);
     let (pr, lets) = bind_given(g, &sched, &leaf, step_given);
-    let step_solve = solve_blocks(cx, &pr, &lets, &step_newton);
+    let step_solve = solve_blocks(cx, &pr, &lets, &step_newton, &TokenStream::new());
     let step_check = phi_check(&pr, &step_newton);
     let step_far = far_check(&step_newton);
     let phi_lets = &lets[nb];
@@ -173,7 +174,14 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     stages.push(cx.jac_flat());
     let sched = schedule(g, &stages);
     let (apr, alets) = bind_given(g, &sched, &leaf, given);
-    let asm_solve = solve_blocks(cx, &apr, &alets, &asm_newton);
+    // In the modes asked for, a Newton block that does not converge is an
+    // error: Newton–Raphson on the whole system could find another mode.
+    let asm_failed = quote! {
+        if strict {
+            return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &__q));
+        }
+    };
+    let asm_solve = solve_blocks(cx, &apr, &alets, &asm_newton, &asm_failed);
     let asm_check = phi_check(&apr, &asm_newton);
     let asm_far = far_check(&asm_newton);
     let (asm_phi_lets, asm_jac_lets) = (&alets[nb], &alets[nb + 1]);
@@ -182,6 +190,88 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let nnz = cx.blocks.nnz();
     let inputs = guards::inputs(cx, "start", true);
     let asm_inputs = guards::inputs(cx, "start", false);
+    let newton_blocks = newton_block_fns(cx);
+    let assemble_in = if cx.mixed() {
+        quote! {
+            /// Assembles at the drivers of `start` in the assembly modes
+            /// `modes`: the closed-form blocks of the loop equations
+            /// exactly, with no guess; the other blocks (see
+            /// [`Self::BLOCKS`]) by Newton–Raphson from the values of
+            /// their unknowns in `start`, which is all of `start` that is
+            /// read besides the drivers. Unknown angles of closed-form
+            /// blocks are returned in (−π, π].
+            ///
+            /// # Errors
+            /// [`Error::CannotAssemble`](#pp::Error::CannotAssemble) when
+            /// the links cannot close a closed-form block at these drivers
+            /// (past a limit position), the errors of Newton–Raphson on
+            /// the whole system when a Newton block does not converge
+            /// from its guess, invalid parameters, non-finite inputs, and
+            /// a singular Jacobian at the solution.
+            pub fn assemble_in(
+                &self,
+                start: &#coords,
+                modes: &#modes,
+            ) -> #pp::Result<#coords, #pp::Error> {
+                self.validate()?;
+                let d = [#(start.#c_drivers),*];
+                let scaling = self.__scaling(&d)?;
+                let mut signs = modes.__signs();
+                self.__assemble_closed(start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig(), true)
+            }
+
+            /// Every assembly at the drivers of `start`: one per
+            /// combination of modes, in the order of
+            #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
+            /// (each as [`Self::assemble_in`], the Newton blocks from
+            /// the same guess).
+            pub fn assemble_all(
+                &self,
+                start: &#coords,
+            ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
+                ::core::array::from_fn(|i| self.assemble_in(start, &#modes::ALL[i]))
+            }
+        }
+    } else {
+        quote! {
+            /// Assembles at the drivers `drivers` (a bare `f64` for one driver,
+            /// else an array in declaration order) in the assembly modes
+            /// `modes`, with no guess: every block of the loop equations is
+            /// solved in closed form (see [`Self::BLOCKS`]). Unknown angles are
+            /// returned in (−π, π].
+            ///
+            /// # Errors
+            /// [`Error::CannotAssemble`](#pp::Error::CannotAssemble) when the
+            /// links cannot close a loop at these drivers (past a limit
+            /// position), invalid parameters, non-finite drivers, and a
+            /// singular Jacobian at the solution.
+            pub fn assemble_in(
+                &self,
+                drivers: impl #pp::DriverValues<#nd>,
+                modes: &#modes,
+            ) -> #pp::Result<#coords, #pp::Error> {
+                self.validate()?;
+                let d = drivers.into_array();
+                let [#(#q_drivers),*] = d;
+                let start = #coords { #( #c_drivers: #q_drivers, )* #( #c_unknowns: 0.0, )* };
+                let scaling = self.__scaling(&d)?;
+                let mut signs = modes.__signs();
+                self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig(), true)
+            }
+
+            /// Every assembly at the drivers `drivers`: one per combination of
+            /// modes, in the order of
+            #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
+            /// (each as [`Self::assemble_in`]).
+            pub fn assemble_all(
+                &self,
+                drivers: impl #pp::DriverValues<#nd>,
+            ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
+                let d = drivers.into_array();
+                ::core::array::from_fn(|i| self.assemble_in(d, &#modes::ALL[i]))
+            }
+        }
+    };
     quote! {
         /// A step in closed form: the blocks solved in order in the modes
         /// `modes` (±1; NaN: from the guess in `start`, then stored), each
@@ -220,7 +310,10 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         }
 
         /// An assembly in closed form: as `__step_closed`, positions only,
-        /// with the conditioning and branch checks at the solution.
+        /// with the conditioning and branch checks at the solution;
+        /// `strict` where the modes were asked for (then a Newton block
+        /// that does not converge is an error, not a hand-over to
+        /// Newton–Raphson on the whole system).
         #[doc(hidden)]
         #[inline(always)]
         #allow
@@ -231,6 +324,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
             __pt: &[f64; #npt],
+            strict: bool,
         ) -> #pp::Result<#coords, #pp::Error> {
             let [#(#pt_names),*] = *__pt;
             #asm_far
@@ -296,7 +390,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             pt: &[f64; #npt],
         ) -> #pp::Result<#coords, #pp::Error> {
             for mut m in #pp::closed::other_modes(*modes) {
-                let r = self.__assemble_closed(start, options, scaling, &mut m, pt);
+                let r = self.__assemble_closed(start, options, scaling, &mut m, pt, false);
                 if r.is_ok() {
                     *modes = m;
                     return r;
@@ -321,41 +415,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             self.__step_core(start, rates, accelerations, options, scaling, &mut carry)
         }
 
-        /// Assembles at the drivers `drivers` (a bare `f64` for one driver,
-        /// else an array in declaration order) in the assembly modes
-        /// `modes`, with no guess: every block of the loop equations is
-        /// solved in closed form (see [`Self::BLOCKS`]). Unknown angles are
-        /// returned in (−π, π].
-        ///
-        /// # Errors
-        /// [`Error::CannotAssemble`](#pp::Error::CannotAssemble) when the
-        /// links cannot close a loop at these drivers (past a limit
-        /// position), invalid parameters, non-finite drivers, and a
-        /// singular Jacobian at the solution.
-        pub fn assemble_in(
-            &self,
-            drivers: impl #pp::DriverValues<#nd>,
-            modes: &#modes,
-        ) -> #pp::Result<#coords, #pp::Error> {
-            self.validate()?;
-            let d = drivers.into_array();
-            let [#(#q_drivers),*] = d;
-            let start = #coords { #( #c_drivers: #q_drivers, )* #( #c_unknowns: 0.0, )* };
-            let scaling = self.__scaling(&d)?;
-            let mut signs = modes.__signs();
-            self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig())
-        }
+        #assemble_in
 
-        /// Every assembly at the drivers `drivers`: one per combination of
-        /// modes, in the order of
-        #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
-        /// (each as [`Self::assemble_in`]).
-        pub fn assemble_all(
-            &self,
-            drivers: impl #pp::DriverValues<#nd>,
-        ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
-            let d = drivers.into_array();
-            ::core::array::from_fn(|i| self.assemble_in(d, &#modes::ALL[i]))
-        }
+        #newton_blocks
     }
 }

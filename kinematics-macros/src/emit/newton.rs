@@ -8,12 +8,19 @@ use crate::ir::{Func, Graph, Id, Leaf, Node};
 /// The driver-only nodes of the Newton cone that the unknown-dependent part
 /// (or the output list itself) uses: evaluated once before the iteration.
 pub(super) fn driver_frontier(g: &Graph, roots: &[Id], drivers: u32) -> Vec<Id> {
+    frontier(g, roots, &|j| j >= drivers)
+}
+
+/// The nodes free of the coordinates `moving` selects that the rest of the
+/// cone of `roots` (or the list itself) uses: what an iteration over those
+/// coordinates evaluates once, before it.
+pub(super) fn frontier(g: &Graph, roots: &[Id], moving: &dyn Fn(u32) -> bool) -> Vec<Id> {
     let live = g.reachable(roots);
     let mut dep = vec![false; g.len()];
     for i in 0..g.len() {
         let node = g.node(Id::from_index(i));
         dep[i] = match node {
-            Node::Leaf(Leaf::Q(j)) => j >= drivers,
+            Node::Leaf(Leaf::Q(j)) => moving(j),
             _ => node.children().any(|c| dep[c.index()]),
         };
     }

@@ -104,12 +104,12 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let nm = cx.nm();
     let na = cx.na();
     let ndt = cx.driver_trig().len();
-    let param_trig_init = if cx.all_closed() {
+    let param_trig_init = if cx.closed_path() {
         quote!(self.__param_trig())
     } else {
         quote!([])
     };
-    let step_body = if cx.all_closed() {
+    let step_body = if cx.closed_path() {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
             let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
@@ -330,7 +330,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let ndt = cx.driver_trig().len();
     let vis = &cx.def.vis;
     let state = format_ident!("{}StepState", name.unraw());
-    let call = if cx.all_closed() {
+    let call = if cx.closed_path() {
         quote! {
             let (r, a) = (rates.into_array(), accelerations.into_array());
             let (options, angles, pt) = (&self.options, &mut self.angles, &self.param_trig);
@@ -352,7 +352,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             &mut self.carry
         ))
     };
-    let modes_fn = if cx.all_closed() {
+    let modes_fn = if cx.closed_path() {
         let modes = format_ident!("{}Modes", name.unraw());
         quote! {
             /// The assembly modes the steps follow: those of the first
