@@ -9,7 +9,9 @@ use syn::ext::IdentExt;
 use super::print::Printer;
 use super::Ctx;
 use crate::closed::{Closed, Pattern};
-use crate::ir::{Func, Id};
+use std::collections::HashMap;
+
+use crate::ir::{Func, Id, Leaf, Node};
 
 /// The blocks solved in order under `pr`'s names (`lets`: the stages of
 /// the blocks' coefficients first), each binding its unknowns (`q_…`) and
@@ -34,13 +36,17 @@ pub(super) fn solve_blocks(
     for (i, (b, block_lets)) in cx.closed.iter().zip(lets).enumerate() {
         let Some(p) = &b.pattern else {
             solve.extend(newton_block_call(cx, i, b, &known, fallback, newton_failed));
+            angle += b
+                .cols
+                .iter()
+                .filter(|&&c| cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle)
+                .count();
             for &c in &b.cols {
                 known[nd + c] = true;
                 if cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle {
-                    let (qv, field) = (&q[nd + c], &coord[nd + c]);
+                    let field = &coord[nd + c];
                     let cv = format_ident!("__c_{}", field.unraw());
                     let sv = format_ident!("__s_{}", field.unraw());
-                    solve.extend(quote!(let (#sv, #cv) = #pp::math::sin_cos(#qv);));
                     solve.extend(offsets_of(cx, pr, nd + c, &cv, &sv));
                 }
             }
@@ -151,6 +157,22 @@ fn newton_block_call(
     });
     let outs = b.cols.iter().map(|&c| &q[nd + c]);
     let name = newton_block_name(i);
+    // The cosines and sines of the angles solved before, and of its own.
+    let angle_names = |coords: Vec<usize>| -> Vec<syn::Ident> {
+        coords
+            .into_iter()
+            .filter(|&j| cx.model.kinds[j] == crate::lower::CoordKind::Angle)
+            .flat_map(|j| {
+                let field = coord[j].unraw();
+                [
+                    format_ident!("__c_{}", field),
+                    format_ident!("__s_{}", field),
+                ]
+            })
+            .collect()
+    };
+    let known_trig = angle_names((nd..known.len()).filter(|&j| known[j]).collect());
+    let own_trig = angle_names(b.cols.iter().map(|&c| nd + c).collect());
     // The coordinates of the failure: the block's at its last iterate.
     let failed = if newton_failed.is_empty() {
         TokenStream::new()
@@ -164,7 +186,7 @@ fn newton_block_call(
     };
     quote! {
         let __q = [#(#args),*];
-        let [#(#outs),*] = match self.#name(__q, [#(#guess),*], __scaling, options) {
+        let ([#(#outs),*], [#(#own_trig),*]) = match self.#name(__q, [#(#guess),*], [#(#known_trig),*], angles, __scaling, options) {
             ::core::result::Result::Ok(x) => x,
             ::core::result::Result::Err((f, last)) => {
                 #failed
@@ -176,18 +198,33 @@ fn newton_block_call(
 }
 
 /// The functions solving the Newton blocks of a mechanism with a
-/// closed-form path: Newton–Raphson (the general damped solver, with the
-/// block's rows and columns of the scaling) on the block's equations in
-/// its unknowns alone, the coordinates of the blocks before it given.
+/// closed-form path: Newton–Raphson on the block's equations in its
+/// unknowns alone, the coordinates of the blocks before it given (and the
+/// cosines and sines of their angles, as the caller has them). Full
+/// Newton steps while each passes the Armijo test, the sines and cosines
+/// of the block's angles carried from one iterate to the next
+/// (`sin_cos_after`); off that path the general damped solver, with the
+/// block's rows and columns of the scaling.
 pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
     let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
     let (nd, ne) = (cx.nd, cx.ne);
     let n = nd + cx.nu;
     let q = &cx.id.q;
     let leaf = cx.leaf();
+    let na_all = cx.na();
     let mut out = TokenStream::new();
+    let mut earlier: Vec<usize> = Vec::new();
+    // The slot of each unknown angle in the carried `angles`, in solve
+    // order (as `solve_blocks` counts them).
+    let mut slot = 0usize;
     for (i, b) in cx.closed.iter().enumerate() {
         if b.pattern.is_some() {
+            earlier.extend(b.cols.iter().map(|&c| nd + c));
+            slot += b
+                .cols
+                .iter()
+                .filter(|&&c| cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle)
+                .count();
             continue;
         }
         let k = b.cols.len();
@@ -203,61 +240,177 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
             .map(|&r| b.cols.iter().map(|&c| d.jac[r][c]).collect())
             .collect();
         let roots: Vec<Id> = phi.iter().chain(jac.iter().flatten()).copied().collect();
+        let (given_known, known_trig) = angle_trig(cx, &earlier);
+        let (given_own, own_trig) =
+            angle_trig(cx, &b.cols.iter().map(|&c| nd + c).collect::<Vec<_>>());
+        let mut given = given_known;
+        given.extend(given_own);
         let hoist = super::newton::frontier(g, &roots, &|j| own.contains(&j));
         let sched = crate::cse::schedule(g, &[hoist, roots]);
-        let (pr, lets) = super::print::bind(g, &sched, &leaf);
+        let (pr, lets) = super::print::bind_given(g, &sched, &leaf, given);
         let (hoisted, iterated) = (&lets[0], &lets[1]);
-        let phi = phi.iter().map(|&r| pr.element(r));
-        let jac = jac.iter().map(|row| {
-            let row = row.iter().map(|&e| pr.element(e));
-            quote!([#(#row),*])
-        });
-        let own_q = b.cols.iter().map(|&c| &q[nd + c]);
+        let phi: Vec<TokenStream> = phi.iter().map(|&r| pr.element(r)).collect();
+        let jac: Vec<TokenStream> = jac
+            .iter()
+            .map(|row| {
+                let row = row.iter().map(|&e| pr.element(e));
+                quote!([#(#row),*])
+            })
+            .collect();
+        let own_q: Vec<&syn::Ident> = b.cols.iter().map(|&c| &q[nd + c]).collect();
         let (rows, cols) = (&b.rows, &b.cols);
         let name = newton_block_name(i);
+        let (nk, na) = (known_trig.len(), own_trig.len());
+        let known_names = known_trig.iter().flat_map(|(_, c, s)| [c, s]);
+        let own_names: Vec<&syn::Ident> = own_trig.iter().flat_map(|(_, c, s)| [c, s]).collect();
+        let slots: Vec<usize> = (slot..slot + na).collect();
+        slot += na;
+        let carried = own_trig.iter().enumerate().map(|(m, (j, c, s))| {
+            let qv = &q[*j];
+            quote! {
+                let (#s, #c) = #pp::sin_cos_after(__t[#m][1], __t[#m][0], #qv, #qv - __t[#m][2]);
+                __t[#m] = [#c, #s, #qv];
+            }
+        });
+        let store: Vec<TokenStream> = own_trig
+            .iter()
+            .zip(&slots)
+            .map(|((j, c, s), k)| {
+                let qv = &q[*j];
+                quote!(angles[#k] = [#c, #s, #qv];)
+            })
+            .collect();
+        let fresh: Vec<TokenStream> = own_trig
+            .iter()
+            .map(|(j, c, s)| {
+                let qv = &q[*j];
+                quote!(let (#s, #c) = #pp::math::sin_cos(#qv);)
+            })
+            .collect();
         let doc = format!(
             "Newton–Raphson on the block solving {} alone, from `guess`, the \
-             coordinates of the blocks before it given in `q`; where it does not converge, \
-             the failure (its indices among all equations and unknowns) and the last \
-             iterate.",
+             coordinates of the blocks before it given in `q` and the cosines and sines of \
+             their angles in `trig`: the solution and the cosines and sines of its angles, \
+             or where it does not converge, the failure (its indices among all equations \
+             and unknowns) and the last iterate.",
             cx.block_names(b).join(", ")
         );
         out.extend(quote! {
             #[doc = #doc]
             #[doc(hidden)]
+            #[inline(always)]
             #allow
             fn #name(
                 &self,
                 q: [f64; #n],
                 guess: [f64; #k],
+                trig: [f64; 2 * #nk],
+                angles: &mut [[f64; 3]; #na_all],
                 scaling: &#pp::Scaling<#ne>,
                 options: &#pp::Options,
-            ) -> ::core::result::Result<[f64; #k], (#pp::Failure, [f64; #k])> {
+            ) -> ::core::result::Result<([f64; #k], [f64; 2 * #na]), (#pp::Failure, [f64; #k])> {
                 let [#(#q),*] = q;
+                let [#(#known_names),*] = trig;
                 #hoisted
                 let sc = #pp::Scaling::<#k> {
                     row: [#(scaling.row[#rows]),*],
                     col: [#(scaling.col[#cols]),*],
                 };
+                // The common path: full Newton steps until the residual is
+                // at round-off (as the closed-form path checks it after
+                // the last block), no other test.
+                let w = sc.weights(options);
+                let fine = #pp::Options { tolerance: options.tolerance.min(1e-12), ..*options };
+                let mut fast = #pp::FastNewton::new();
+                let mut u = guess;
+                // [cos, sin, angle] of the block's angles: the last
+                // solution's, carried from the step before (NaN angle:
+                // computed afresh).
+                let mut __t: [[f64; 3]; #na] = [#(angles[#slots]),*];
+                loop {
+                    let [#(#own_q),*] = u;
+                    #(#carried)*
+                    #iterated
+                    let phi = [#(#phi),*];
+                    match fast.assess(&phi, &w, &fine) {
+                        #pp::Next::Converged => {
+                            #(#store)*
+                            return ::core::result::Result::Ok((u, [#(#own_names),*]));
+                        }
+                        #pp::Next::Continue => {}
+                        #pp::Next::Fallback => break,
+                    }
+                    let jac = [#(#jac),*];
+                    match #pp::dense_solve(&jac, &phi, &sc, options.singularity_threshold) {
+                        ::core::result::Result::Ok(step) => fast.advance(&mut u, &step),
+                        ::core::result::Result::Err(_) => break,
+                    }
+                }
+                // Off it: the damped solver from the guess, which reports
+                // the failure.
                 let mut u = guess;
                 let mut phi = [0.0f64; #k];
                 let mut jac = [[0.0f64; #k]; #k];
                 let solved = #pp::newton(&mut u, &mut phi, &mut jac, &sc, options, |u, phi, jac| {
                     let [#(#own_q),*] = *u;
+                    #(#fresh)*
                     #iterated
                     *phi = [#(#phi),*];
                     *jac = [#(#jac),*];
                 }, |jac, rhs| #pp::dense_solve(jac, rhs, &sc, options.singularity_threshold));
                 match solved {
-                    ::core::result::Result::Ok(_) => ::core::result::Result::Ok(u),
+                    ::core::result::Result::Ok(_) => {
+                        let [#(#own_q),*] = u;
+                        #(#fresh)*
+                        #(#store)*
+                        ::core::result::Result::Ok((u, [#(#own_names),*]))
+                    }
                     ::core::result::Result::Err(f) => {
+                        #( angles[#slots][2] = ::core::primitive::f64::NAN; )*
                         ::core::result::Result::Err((f.in_subsystem(&[#(#rows),*], &[#(#cols),*]), u))
                     }
                 }
             }
         });
+        earlier.extend(b.cols.iter().map(|&c| nd + c));
     }
     out
+}
+
+/// Unknown angles: each one's coordinate index and the names of its
+/// cosine and sine.
+type AngleNames = Vec<(usize, syn::Ident, syn::Ident)>;
+
+/// The unknown angles among the coordinates `coords`: the names of their
+/// cosines and sines (`__c_…`, `__s_…`, as the closed-form path binds
+/// them), and the graph's cos and sin nodes of each, to print as those
+/// names.
+fn angle_trig(cx: &Ctx<'_>, coords: &[usize]) -> (HashMap<Id, syn::Ident>, AngleNames) {
+    let g = cx.g();
+    let mut given = HashMap::new();
+    let mut names = Vec::new();
+    for &j in coords {
+        if cx.model.kinds[j] != crate::lower::CoordKind::Angle {
+            continue;
+        }
+        let field = cx.id.coord[j].unraw();
+        let (cv, sv) = (
+            format_ident!("__c_{}", field),
+            format_ident!("__s_{}", field),
+        );
+        if let Some(leaf) = u32::try_from(j)
+            .ok()
+            .and_then(|j| g.find(&Node::Leaf(Leaf::Q(j))))
+        {
+            for (f, v) in [(Func::Cos, &cv), (Func::Sin, &sv)] {
+                if let Some(t) = g.find(&Node::Call(f, leaf)) {
+                    given.insert(t, v.clone());
+                }
+            }
+        }
+        names.push((j, cv, sv));
+    }
+    (given, names)
 }
 
 /// The coefficients of a pattern (what its block's stage evaluates).
