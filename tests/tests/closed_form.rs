@@ -634,3 +634,42 @@ fn a_mixed_stepper_keeps_its_modes_and_matches_finite_differences() {
         assert!(worst <= 1e-11, "drift {worst:e}");
     }
 }
+
+#[test]
+fn a_mixed_sweep_stops_at_the_limit_of_its_closed_form_block() {
+    // The four-bar block of the slot mechanism, not Grashof: d + a = 0.16 >
+    // b + c = 0.14, so the crank stops where coupler and rocker are in
+    // line, cos φ = (a² + d² − (b + c)²)/(2ad); the slot's Newton block
+    // follows the rocker up to there.
+    let m = SlotSixBar {
+        a: 0.05,
+        b: 0.08,
+        c: 0.06,
+        d: 0.11,
+        ..SLOT
+    };
+    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
+    let guess = SlotSixBarCoords {
+        phi: 0.0,
+        th3: 0.5,
+        th4: 1.5,
+        th5: 0.6,
+        y: 0.13,
+    };
+    let start = m.assemble(&guess).expect("assembles");
+    let s = m.sweep(SlotSixBar::PHI, &start).turn().steps(3600).run();
+    let stop = s.stop.as_ref().expect("the crank cannot turn fully");
+    assert_eq!(
+        stop.reason,
+        kinematics_core::sweep::StopReason::LimitPosition {
+            unknowns: "th3, th4"
+        }
+    );
+    assert!(
+        (stop.at - limit).abs() < 1e-10,
+        "{} against {limit}",
+        stop.at
+    );
+    let last = s.samples.last().expect("samples before the stop");
+    assert!(last.at < limit && last.at > limit - 2.0 * std::f64::consts::TAU / 3600.0);
+}
