@@ -152,8 +152,62 @@ kinematics_core::mechanism! {
     }
 }
 
+kinematics_core::mechanism! {
+    /// A closed-form block, then one solved by Newton–Raphson.
+    pub struct Slot {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d,
+            /// Rocker extension.
+            e,
+            /// Link to the pin.
+            f,
+            /// Vertex of the slot.
+            h,
+            /// Curvature of the slot.
+            k
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns { th3, th4, th5, y }
+        loops {
+            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
+            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
+        }
+    }
+}
+
 #[test]
 fn expansion_is_usable() {
+    let slot = Slot {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.05,
+        f: 0.16,
+        h: 0.2,
+        k: 2.0,
+    };
+    let guess = SlotCoords {
+        phi: 0.0,
+        th3: 0.0,
+        th4: 0.0,
+        th5: 0.6,
+        y: 0.13,
+    };
+    assert!(slot
+        .assemble_all(&guess)
+        .iter()
+        .all(core::result::Result::is_ok));
     let chain = Chain { l1: 0.4, l2: 0.3 };
     let wrist = chain
         .step(&ChainCoords { q1: 0.0, q2: 0.0 }, [1.0, 0.0], [0.0, 0.0])
