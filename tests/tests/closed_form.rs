@@ -673,3 +673,100 @@ fn a_mixed_sweep_stops_at_the_limit_of_its_closed_form_block() {
     let last = s.samples.last().expect("samples before the stop");
     assert!(last.at < limit && last.at > limit - 2.0 * std::f64::consts::TAU / 3600.0);
 }
+
+#[test]
+fn a_newton_block_after_blocks_solved_out_of_declaration_order() {
+    // ψ is declared first but solved after the four-bar's dyad (its
+    // equation involves θ4), and the slot's Newton block (whose vertex
+    // moves with cos ψ) after both: the block is handed the cosines and
+    // sines of the angles solved before it by name, whatever their order.
+    mechanism! {
+        pub struct Reordered {
+            params { a, b, c, d, e, f, h, k }
+            drivers { phi }
+            unknowns { psi, th3, th4, th5, y }
+            loops {
+                polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
+                vec2(d, 0.0) + polar(e, th4) + polar(f, th5)
+                    == vec2(h + 0.01 * cos(psi) + k * y * y, y);
+            }
+            constraints { cos(psi) == 0.5 * cos(th4); }
+        }
+    }
+    let names: Vec<String> = Reordered::BLOCKS.iter().map(ToString::to_string).collect();
+    assert_eq!(
+        names,
+        [
+            "th3, th4: closed form: RRR dyad (circle–circle)",
+            "psi: closed form: a cos θ + b sin θ + c = 0",
+            "th5, y: Newton–Raphson"
+        ]
+    );
+    let SlotSixBar {
+        a,
+        b,
+        c,
+        d,
+        e,
+        f,
+        h,
+        k,
+    } = SLOT;
+    let m = Reordered {
+        a,
+        b,
+        c,
+        d,
+        e,
+        f,
+        h,
+        k,
+    };
+    let modes = ReorderedModes {
+        th3_th4: Mode::Plus,
+        psi: Mode::Plus,
+    };
+    let mut pose = ReorderedCoords {
+        phi: 0.0,
+        psi: 0.0,
+        th3: 0.0,
+        th4: 0.0,
+        th5: 0.6,
+        y: 0.13,
+    };
+    pose = m.assemble_in(&pose, &modes).expect("assembles");
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("valid");
+    for step in 1..=36 {
+        pose.phi = f64::from(step * 10).to_radians();
+        let q = stepper.step(&pose, 1.0, 0.0).expect("steps").q;
+        // The dyad as the four-bar's, ψ and the pin from their equations.
+        let alone = FourBar {
+            a,
+            b,
+            c,
+            d,
+            p: 0.0,
+            beta: 0.0,
+        }
+        .assemble_in(
+            pose.phi,
+            &FourBarModes {
+                th3_th4: Mode::Plus,
+            },
+        )
+        .expect("assembles");
+        assert!((q.th3 - alone.th3).abs() < 1e-12 && (q.th4 - alone.th4).abs() < 1e-12);
+        assert!((q.psi.cos() - 0.5 * q.th4.cos()).abs() < 1e-15);
+        // (The Newton block stops below 1e-12 of its terms' size, 0.6 m.)
+        let x = h + 0.01 * q.psi.cos() + k * q.y * q.y;
+        assert!((d + e * q.th4.cos() + f * q.th5.cos() - x).abs() < 1e-12);
+        assert!((e * q.th4.sin() + f * q.th5.sin() - q.y).abs() < 1e-12);
+        pose = q;
+    }
+    // Had the block been handed another angle's cosine and sine, every
+    // step would have failed the residual check and left the closed-form
+    // path, forgetting the modes.
+    assert_eq!(stepper.modes(), Some(modes));
+}

@@ -240,6 +240,8 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
             .map(|&r| b.cols.iter().map(|&c| d.jac[r][c]).collect())
             .collect();
         let roots: Vec<Id> = phi.iter().chain(jac.iter().flatten()).copied().collect();
+        // In coordinate order, as the caller passes them.
+        earlier.sort_unstable();
         let (given_known, known_trig) = angle_trig(cx, &earlier);
         let (given_own, own_trig) =
             angle_trig(cx, &b.cols.iter().map(|&c| nd + c).collect::<Vec<_>>());
