@@ -1,6 +1,8 @@
-//! Each closed-form block in the generated code: its coefficients, the call
-//! of its form in `kinematics_core::closed`, and the bindings of its
-//! unknowns and of their sines and cosines.
+//! Each block of the closed-form path in the generated code: for a
+//! closed-form block its coefficients, the call of its form in
+//! `kinematics_core::closed`, and the bindings of its unknowns and of their
+//! sines and cosines; for any other block the call of its own
+//! Newton–Raphson function (`newton_block_fns`) and the same bindings.
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

@@ -1,10 +1,12 @@
-//! The closed-form methods: `__step_closed` solves the blocks in order with
-//! `kinematics_core::closed`, each from coefficients evaluated with the
-//! unknowns of the blocks before it, checks the residual, and analyses the
-//! motion with the sines and cosines the closed forms produced (no
-//! trigonometric call for an unknown angle but its atan2);
-//! `__assemble_closed` does the same for positions only; `assemble_in` and
-//! `assemble_all` assemble with no guess; the retries in other modes where
+//! The closed-form methods: `__step_closed` solves the blocks in order,
+//! each closed-form one with `kinematics_core::closed` from coefficients
+//! evaluated with the unknowns of the blocks before it and any other by
+//! Newton–Raphson on that block alone, checks the residual, and analyses
+//! the motion with the sines and cosines the blocks produced (no
+//! trigonometric call for an unknown angle of a closed-form block but its
+//! atan2); `__assemble_closed` does the same for positions only;
+//! `assemble_in` and `assemble_all` assemble in named modes (with no guess
+//! unless there are Newton blocks); the retries in other modes where
 //! `Options::branch` asks for the other branch.
 
 use std::collections::HashMap;
