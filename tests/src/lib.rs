@@ -315,3 +315,69 @@ kinematics_core::mechanism! {
         }
     }
 }
+
+kinematics_core::mechanism! {
+    /// A four-bar whose rocker, extended by e, carries a link f whose far
+    /// end is a pin in a slot along the parabola x = h + k y²: the
+    /// four-bar's dyad in closed form, then the pin's (θ5, y) by
+    /// Newton–Raphson on that block (a mixed mechanism).
+    pub struct SlotSixBar {
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d,
+            /// Rocker extension.
+            e,
+            /// Link to the pin.
+            f,
+            /// Vertex of the slot.
+            h,
+            /// Curvature of the slot.
+            k
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns { th3, th4, th5, y }
+        loops {
+            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
+            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
+        }
+    }
+}
+
+impl SlotSixBar {
+    /// A Grashof crank-rocker whose pin reaches the slot over a whole turn
+    /// in both modes of the four-bar (checked with an independent solve
+    /// when the geometry was chosen).
+    pub const EXAMPLE: Self = Self {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        e: 0.05,
+        f: 0.16,
+        h: 0.2,
+        k: 2.0,
+    };
+
+    /// A guess at crank angle `phi` for the slot's Newton block, with the
+    /// pin on the side `side` (±1: the sign of the four-bar's mode, which
+    /// the pin's side follows); the closed-form block needs none.
+    #[must_use]
+    pub fn guess(phi: f64, side: f64) -> SlotSixBarCoords {
+        SlotSixBarCoords {
+            phi,
+            th3: 0.0,
+            th4: 0.0,
+            th5: 0.6 * side,
+            y: 0.13 * side,
+        }
+    }
+}

@@ -7,6 +7,7 @@
 use kinematics_core::closed::Mode;
 use kinematics_core::nalgebra::{DMatrix, DVector};
 use kinematics_core::{mechanism, Coordinates, Mechanism, MotionState};
+use kinematics_tests::{SlotSixBar, SlotSixBarCoords, SlotSixBarModes};
 
 mechanism! {
     pub struct FourBar {
@@ -96,23 +97,6 @@ mechanism! {
 }
 
 mechanism! {
-    /// The four-bar's rocker, extended by e, carries a link f whose far
-    /// end is a pin in a slot along the parabola x = h + k y²: the
-    /// four-bar's dyad in closed form, then the pin's (θ5, y) by
-    /// Newton–Raphson on that block.
-    pub struct SlotSixBar {
-        params { a, b, c, d, e, f, h, k }
-        drivers { phi }
-        unknowns { th3, th4, th5, y }
-        points { P = vec2(h + k * y * y, y); }
-        loops {
-            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
-            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
-        }
-    }
-}
-
-mechanism! {
     /// A slider-crank whose slider runs in a parabolic guide y = h + k x²
     /// (Newton–Raphson on (θ, x)), its connecting rod driving an RRR dyad
     /// to a rocker at (gx, gy) (closed form, after it).
@@ -126,17 +110,6 @@ mechanism! {
         }
     }
 }
-
-const SLOT: SlotSixBar = SlotSixBar {
-    a: 0.04,
-    b: 0.12,
-    c: 0.10,
-    d: 0.11,
-    e: 0.05,
-    f: 0.16,
-    h: 0.2,
-    k: 2.0,
-};
 
 /// Newton–Raphson on the mechanism's residual and Jacobian (the
 /// generated Φ and Φ_u, not the closed forms), dense, from `guess`.
@@ -448,22 +421,12 @@ fn the_carried_angles_do_not_drift() {
 
 #[test]
 fn mixed_mechanisms_solve_their_closed_form_blocks_exactly() {
-    let m = SLOT;
+    let m = SlotSixBar::EXAMPLE;
     // The pin's side of the slot follows the four-bar's mode: a guess for
     // the Newton block per mode.
-    let guess = |mode: Mode| {
-        let s = mode.sign();
-        SlotSixBarCoords {
-            phi: 0.7,
-            th3: 0.0,
-            th4: 0.0,
-            th5: 0.6 * s,
-            y: 0.13 * s,
-        }
-    };
     let all: Vec<_> = SlotSixBarModes::ALL
         .iter()
-        .map(|modes| m.assemble_in(&guess(modes.th3_th4), modes))
+        .map(|modes| m.assemble_in(&SlotSixBar::guess(0.7, modes.th3_th4.sign()), modes))
         .collect();
     check_all(
         &m,
@@ -535,15 +498,11 @@ fn a_newton_block_that_cannot_close_is_an_error_in_the_modes_asked_for() {
     // A link f too short to reach the slot: no assembly in either mode,
     // and Newton–Raphson on the whole system is not asked to find one in
     // another.
-    let m = SlotSixBar { f: 0.02, ..SLOT };
-    let start = SlotSixBarCoords {
-        phi: 0.7,
-        th3: 0.0,
-        th4: 0.0,
-        th5: 0.6,
-        y: 0.13,
+    let m = SlotSixBar {
+        f: 0.02,
+        ..SlotSixBar::EXAMPLE
     };
-    for r in m.assemble_all(&start) {
+    for r in m.assemble_all(&SlotSixBar::guess(0.7, 1.0)) {
         // The error names the slot's loop, where Newton–Raphson stopped.
         let e = r.expect_err("the pin cannot reach the slot");
         let kinematics_core::Error::NotConverged { equation, .. } = &e else {
@@ -555,20 +514,14 @@ fn a_newton_block_that_cannot_close_is_an_error_in_the_modes_asked_for() {
 
 #[test]
 fn a_mixed_stepper_keeps_its_modes_and_matches_finite_differences() {
-    let m = SLOT;
+    let m = SlotSixBar::EXAMPLE;
     let (rate, acc) = (3.0, 0.0);
     for mode in [Mode::Plus, Mode::Minus] {
         let modes = SlotSixBarModes { th3_th4: mode };
         let s = mode.sign();
         let exact = |phi: f64| {
-            let guess = SlotSixBarCoords {
-                phi,
-                th3: 0.0,
-                th4: 0.0,
-                th5: 0.6 * s,
-                y: 0.13 * s,
-            };
-            m.assemble_in(&guess, &modes).expect("assembles")
+            m.assemble_in(&SlotSixBar::guess(phi, s), &modes)
+                .expect("assembles")
         };
         let mut pose = exact(0.0);
         let mut stepper = m
@@ -646,15 +599,13 @@ fn a_mixed_sweep_stops_at_the_limit_of_its_closed_form_block() {
         b: 0.08,
         c: 0.06,
         d: 0.11,
-        ..SLOT
+        ..SlotSixBar::EXAMPLE
     };
     let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
     let guess = SlotSixBarCoords {
-        phi: 0.0,
         th3: 0.5,
         th4: 1.5,
-        th5: 0.6,
-        y: 0.13,
+        ..SlotSixBar::guess(0.0, 1.0)
     };
     let start = m.assemble(&guess).expect("assembles");
     let s = m.sweep(SlotSixBar::PHI, &start).turn().steps(3600).run();
@@ -711,7 +662,7 @@ fn a_newton_block_after_blocks_solved_out_of_declaration_order() {
         f,
         h,
         k,
-    } = SLOT;
+    } = SlotSixBar::EXAMPLE;
     let m = Reordered {
         a,
         b,

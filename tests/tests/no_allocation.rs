@@ -5,7 +5,7 @@
 //! tests run on parallel threads); the hot path must leave the count of its
 //! own thread unchanged.
 // Test code asserts by panicking.
-#![allow(missing_docs, clippy::expect_used, clippy::panic)]
+#![allow(clippy::expect_used, clippy::panic)]
 // Implementing `GlobalAlloc` requires `unsafe`; it only forwards to the
 // system allocator and counts.
 #![allow(unsafe_code)]
@@ -14,6 +14,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use kinematics_examples::{FourBar, RRtrRrt, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords};
+use kinematics_tests::{SlotSixBar, SlotSixBarModes};
 
 struct Counting;
 
@@ -155,39 +156,10 @@ fn a_stepper_allocates_nothing() {
     });
 }
 
-kinematics_core::mechanism! {
-    /// A four-bar (closed form) whose rocker drives a pin in a parabolic
-    /// slot (Newton–Raphson on that block): the mixed path.
-    pub struct SlotSixBar {
-        params { a, b, c, d, e, f, h, k }
-        drivers { phi }
-        unknowns { th3, th4, th5, y }
-        loops {
-            polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4);
-            vec2(d, 0.0) + polar(e, th4) + polar(f, th5) == vec2(h + k * y * y, y);
-        }
-    }
-}
-
 #[test]
 fn a_mixed_stepper_allocates_nothing() {
-    let m = SlotSixBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        e: 0.05,
-        f: 0.16,
-        h: 0.2,
-        k: 2.0,
-    };
-    let guess = SlotSixBarCoords {
-        phi: 0.0,
-        th3: 0.0,
-        th4: 0.0,
-        th5: 0.6,
-        y: 0.13,
-    };
+    let m = SlotSixBar::EXAMPLE;
+    let guess = SlotSixBar::guess(0.0, 1.0);
     let modes = SlotSixBarModes {
         th3_th4: kinematics_core::closed::Mode::Plus,
     };

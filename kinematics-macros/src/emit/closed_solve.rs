@@ -38,19 +38,13 @@ pub(super) fn solve_blocks(
     for (i, (b, block_lets)) in cx.closed.iter().zip(lets).enumerate() {
         let Some(p) = &b.pattern else {
             solve.extend(newton_block_call(cx, i, b, &known, fallback, newton_failed));
-            angle += b
-                .cols
-                .iter()
-                .filter(|&&c| cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle)
-                .count();
+            let (_, angles) = angle_trig(cx, &own_coords(cx, b));
+            angle += angles.len();
             for &c in &b.cols {
                 known[nd + c] = true;
-                if cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle {
-                    let field = &coord[nd + c];
-                    let cv = format_ident!("__c_{}", field.unraw());
-                    let sv = format_ident!("__s_{}", field.unraw());
-                    solve.extend(offsets_of(cx, pr, nd + c, &cv, &sv));
-                }
+            }
+            for (j, cv, sv) in &angles {
+                solve.extend(offsets_of(cx, pr, *j, cv, sv));
             }
             continue;
         };
@@ -160,21 +154,13 @@ fn newton_block_call(
     let outs = b.cols.iter().map(|&c| &q[nd + c]);
     let name = newton_block_name(i);
     // The cosines and sines of the angles solved before, and of its own.
-    let angle_names = |coords: Vec<usize>| -> Vec<syn::Ident> {
-        coords
-            .into_iter()
-            .filter(|&j| cx.model.kinds[j] == crate::lower::CoordKind::Angle)
-            .flat_map(|j| {
-                let field = coord[j].unraw();
-                [
-                    format_ident!("__c_{}", field),
-                    format_ident!("__s_{}", field),
-                ]
-            })
-            .collect()
+    let angle_names = |coords: &[usize]| -> Vec<syn::Ident> {
+        let (_, angles) = angle_trig(cx, coords);
+        angles.into_iter().flat_map(|(_, c, s)| [c, s]).collect()
     };
-    let known_trig = angle_names((nd..known.len()).filter(|&j| known[j]).collect());
-    let own_trig = angle_names(b.cols.iter().map(|&c| nd + c).collect());
+    let known_coords: Vec<usize> = (nd..known.len()).filter(|&j| known[j]).collect();
+    let known_trig = angle_names(&known_coords);
+    let own_trig = angle_names(&own_coords(cx, b));
     // The coordinates of the failure: the block's at its last iterate.
     let failed = if newton_failed.is_empty() {
         TokenStream::new()
@@ -221,12 +207,9 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
     let mut slot = 0usize;
     for (i, b) in cx.closed.iter().enumerate() {
         if b.pattern.is_some() {
-            earlier.extend(b.cols.iter().map(|&c| nd + c));
-            slot += b
-                .cols
-                .iter()
-                .filter(|&&c| cx.model.kinds[nd + c] == crate::lower::CoordKind::Angle)
-                .count();
+            let own = own_coords(cx, b);
+            slot += angle_trig(cx, &own).1.len();
+            earlier.extend(own);
             continue;
         }
         let k = b.cols.len();
@@ -245,8 +228,7 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
         // In coordinate order, as the caller passes them.
         earlier.sort_unstable();
         let (given_known, known_trig) = angle_trig(cx, &earlier);
-        let (given_own, own_trig) =
-            angle_trig(cx, &b.cols.iter().map(|&c| nd + c).collect::<Vec<_>>());
+        let (given_own, own_trig) = angle_trig(cx, &own_coords(cx, b));
         let mut given = given_known;
         given.extend(given_own);
         let hoist = super::newton::frontier(g, &roots, &|j| own.contains(&j));
@@ -376,9 +358,14 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
                 }
             }
         });
-        earlier.extend(b.cols.iter().map(|&c| nd + c));
+        earlier.extend(own_coords(cx, b));
     }
     out
+}
+
+/// The coordinate indices of a block's unknowns, in the block's order.
+fn own_coords(cx: &Ctx<'_>, b: &Closed) -> Vec<usize> {
+    b.cols.iter().map(|&c| cx.nd + c).collect()
 }
 
 /// Unknown angles: each one's coordinate index and the names of its
