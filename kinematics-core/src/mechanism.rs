@@ -570,6 +570,12 @@ pub trait Mechanism {
     const FRAME_NAMES: &'static [&'static str];
     /// Each scalar equation as written in the definition.
     const EQUATION_NAMES: &'static [&'static str];
+    /// Whether a step's guess of the unknowns sets where Newton–Raphson
+    /// starts (some block is not solved in closed form), so that a sweep
+    /// predicts it along the rates; where every block is in closed form,
+    /// the guess only names the branch, and the previous pose does.
+    #[doc(hidden)]
+    const NEWTON_GUESS: bool = true;
 
     /// Solves Φ(d, u) = 0 for u, with d and a guess of u taken from
     /// `start`: each block with a closed form exactly (in the mode the
@@ -632,15 +638,16 @@ pub trait Mechanism {
     fn step_modes(state: &mut Self::StepState) -> &mut [f64];
 
     /// A step as the mechanism's stepper takes it, carrying `state` to the
-    /// next step: `rates` and `accelerations` hold d' and d''.
+    /// next step: the drivers' entries of `rates` and `accelerations` hold
+    /// d' and d'' (their unknowns' entries are not read).
     ///
     /// # Errors
     /// As [`Mechanism::step_slices`].
     fn step_carried(
         &self,
         start: &Self::Coords,
-        rates: &[f64],
-        accelerations: &[f64],
+        rates: &Self::Coords,
+        accelerations: &Self::Coords,
         state: &mut Self::StepState,
     ) -> Result<Self::Motion, Error>;
 

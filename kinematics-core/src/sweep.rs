@@ -55,7 +55,6 @@ use alloc::borrow::ToOwned;
 use alloc::collections::VecDeque;
 use alloc::format;
 use alloc::string::String;
-use alloc::vec;
 use alloc::vec::Vec;
 use core::f64::consts::{PI, TAU};
 use core::fmt;
@@ -929,29 +928,55 @@ impl Grid {
     }
 
     /// Value `k`: from + k·step (the last one exactly `to`).
-    #[allow(clippy::cast_precision_loss)]
     #[inline]
     fn at(&self, k: usize) -> f64 {
+        if k == self.steps && self.values.is_none() {
+            self.to
+        } else {
+            self.inner(k)
+        }
+    }
+
+    /// Value `k` for k below [`Grid::inner_end`]: the given value, or
+    /// from + k·step.
+    #[allow(clippy::cast_precision_loss)]
+    #[inline(always)]
+    fn inner(&self, k: usize) -> f64 {
         if let Some(v) = &self.values {
             return v.get(k).copied().unwrap_or(f64::NAN);
         }
-        if k == self.steps {
-            self.to
+        // Through i64: one conversion instruction (the counts are far
+        // below 2⁶³).
+        #[allow(clippy::cast_possible_wrap)]
+        let k = k as i64 as f64;
+        self.from + self.step * k
+    }
+
+    /// The indices below which [`Grid::inner`] is the value: all but the
+    /// end of an even grid that includes it.
+    fn inner_end(&self) -> usize {
+        if self.values.is_some() {
+            self.count
         } else {
-            // Through i64: one conversion instruction (the counts are far
-            // below 2⁶³).
-            #[allow(clippy::cast_possible_wrap)]
-            let k = k as i64 as f64;
-            self.from + self.step * k
+            self.count.min(self.steps)
         }
     }
 }
 
 /// How the drivers follow the sweep variable.
 pub trait Drive<M: Mechanism> {
+    /// Sets, before the first sample, the drivers' rates and accelerations
+    /// that are the same at every sample.
+    fn start(&self, rates: &mut M::Coords, accels: &mut M::Coords);
     /// Sets the drivers of `pose` for the value `at` of the sweep variable,
-    /// and their rates and accelerations.
-    fn drive(&mut self, at: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]);
+    /// and the rates and accelerations that change with it.
+    fn drive(
+        &mut self,
+        at: f64,
+        pose: &mut M::Coords,
+        rates: &mut M::Coords,
+        accels: &mut M::Coords,
+    );
     /// The rate of the sweep variable (for the predictor): the swept
     /// driver's d', or 1 for the time.
     fn variable_rate(&self) -> f64;
@@ -966,13 +991,14 @@ pub struct SweepDrive {
 }
 
 impl<M: Mechanism> Drive<M> for SweepDrive {
-    #[inline]
-    fn drive(&mut self, at: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]) {
+    fn start(&self, rates: &mut M::Coords, accels: &mut M::Coords) {
+        rates.set(self.driver, self.rate);
+        accels.set(self.driver, self.acceleration);
+    }
+
+    #[inline(always)]
+    fn drive(&mut self, at: f64, pose: &mut M::Coords, _: &mut M::Coords, _: &mut M::Coords) {
         pose.set(self.driver, at);
-        if let (Some(r), Some(a)) = (rates.get_mut(self.driver), accels.get_mut(self.driver)) {
-            *r = self.rate;
-            *a = self.acceleration;
-        }
     }
 
     fn variable_rate(&self) -> f64 {
@@ -988,15 +1014,20 @@ pub struct TimeDrive<C, P> {
 }
 
 impl<M: Mechanism, P: Profile<M::Coords>> Drive<M> for TimeDrive<M::Coords, P> {
-    fn drive(&mut self, t: f64, pose: &mut M::Coords, rates: &mut [f64], accels: &mut [f64]) {
-        let (mut q, mut qd, mut qdd) = (self.start, M::Coords::default(), M::Coords::default());
-        self.profile.at(t, &mut q, &mut qd, &mut qdd);
+    fn start(&self, _: &mut M::Coords, _: &mut M::Coords) {}
+
+    fn drive(
+        &mut self,
+        t: f64,
+        pose: &mut M::Coords,
+        rates: &mut M::Coords,
+        accels: &mut M::Coords,
+    ) {
+        let mut q = self.start;
+        (*rates, *accels) = (M::Coords::default(), M::Coords::default());
+        self.profile.at(t, &mut q, rates, accels);
         for j in 0..M::DRIVERS {
             pose.set(j, q.get(j).unwrap_or(f64::NAN));
-            if let (Some(r), Some(a)) = (rates.get_mut(j), accels.get_mut(j)) {
-                *r = qd.get(j).unwrap_or(0.0);
-                *a = qdd.get(j).unwrap_or(0.0);
-            }
         }
     }
 
@@ -1027,6 +1058,18 @@ impl<C: Copy> Clone for Head<C> {
 
 impl<C: Copy> Copy for Head<C> {}
 
+impl<C: Default> Default for Head<C> {
+    fn default() -> Self {
+        Self {
+            at: f64::NAN,
+            q: C::default(),
+            qd: C::default(),
+            conditioning: f64::NAN,
+            det_sign: f64::NAN,
+        }
+    }
+}
+
 /// A sweep or simulation in progress: an iterator over its samples (each
 /// `Ok`), ending with the stop (an `Err`) if it stops early. Made by
 /// iterating a [`SweepBuilder`] or a [`Simulation`]; allocates nothing per
@@ -1049,12 +1092,24 @@ pub struct SweepIter<'m, M: Mechanism, D> {
     state: Option<M::StepState>,
     /// The next grid index to solve.
     k: usize,
-    rates: Vec<f64>,
-    accels: Vec<f64>,
-    /// The newest accepted sample.
-    head: Option<Head<M::Coords>>,
-    /// The two accepted before it, oldest first: value, pose, conditioning.
-    older: [Option<(f64, M::Coords, f64)>; 2],
+    /// The drivers' rates and accelerations (their entries only).
+    rates: M::Coords,
+    accels: M::Coords,
+    /// The last accepted samples, a ring: `history[newest]` the newest,
+    /// the one before it at `newest − 1` (mod 4), and so on; an entry
+    /// whose value `at` is NaN holds none (before the first sample, and
+    /// after a change point).
+    history: [Head<M::Coords>; 4],
+    newest: usize,
+    /// Whether the conditioning falls so fast at the newest sample that it
+    /// could reach zero before the next: the line through it and the one
+    /// before meets zero less than two steps on (and it is below 0.5,
+    /// where a regular pose is of order one).
+    falling: bool,
+    /// The sign of det Φ_u at the newest sample when the next sample may
+    /// be handed out as soon as it keeps that sign (no sample held back,
+    /// the conditioning not falling fast); 0 when the slow path decides.
+    gate: f64,
     /// The newest sample, when it is held back.
     held: Option<Sample<M>>,
     /// Items ready to hand out before anything else.
@@ -1062,6 +1117,10 @@ pub struct SweepIter<'m, M: Mechanism, D> {
     /// The change points passed.
     passed: Vec<f64>,
     done: bool,
+    /// The grid indices below which the next sample is solved on the
+    /// fast path: 0 while items wait in `out` or the sweep is done, the
+    /// grid's [`Grid::inner_end`] otherwise.
+    open: usize,
 }
 
 impl<M: Mechanism, D: fmt::Debug> fmt::Debug for SweepIter<'_, M, D> {
@@ -1104,15 +1163,19 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             variable,
             state: None,
             k: 0,
-            rates: vec![0.0; M::DRIVERS],
-            accels: vec![0.0; M::DRIVERS],
-            head: None,
-            older: [None, None],
+            rates: M::Coords::default(),
+            accels: M::Coords::default(),
+            history: [Head::default(); 4],
+            newest: 0,
+            falling: false,
+            gate: 0.0,
             held: None,
             out: VecDeque::with_capacity(2),
             passed: Vec::new(),
             done: false,
+            open: 0,
         };
+        it.drive.start(&mut it.rates, &mut it.accels);
         let checked = grid.and_then(|g| Ok((g, m.step_state(options)?)));
         match checked {
             Ok((grid, state)) => {
@@ -1122,11 +1185,22 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                     it.done = true;
                 } else {
                     it.first(start);
+                    it.regate();
                 }
             }
             Err(e) => it.finish(f64::NAN, StopReason::from_error(e)),
         }
+        it.reopen();
         it
+    }
+
+    /// Sets `open` after the slow path.
+    fn reopen(&mut self) {
+        self.open = if self.out.is_empty() && !self.done {
+            self.grid.inner_end()
+        } else {
+            0
+        };
     }
 
     /// The change points passed so far.
@@ -1170,7 +1244,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         };
         match self.solve(0, start, &mut state) {
             Ok(s) => {
-                self.push_head(&s);
+                self.push_head(s.at, &s.motion);
                 let s = self.wrapped(s);
                 self.out.push_back(Ok(s));
                 self.k = 1;
@@ -1183,29 +1257,70 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         self.state = Some(state);
     }
 
-    /// Makes `s` the newest accepted sample.
+    /// The newest accepted sample.
     #[inline(always)]
-    fn push_head(&mut self, s: &Sample<M>) {
-        if let Some(h) = &self.head {
-            self.older = [self.older[1], Some((h.at, h.q, h.conditioning))];
+    fn head(&self) -> Option<&Head<M::Coords>> {
+        self.back(0)
+    }
+
+    /// The accepted sample `n` (at most 2) before the newest (0: the
+    /// newest).
+    #[inline(always)]
+    fn back(&self, n: usize) -> Option<&Head<M::Coords>> {
+        debug_assert!(n <= 2, "the sweep keeps three samples");
+        let h = &self.history[self.newest.wrapping_sub(n) & 3];
+        (!h.at.is_nan()).then_some(h)
+    }
+
+    /// Makes the sample at `at` with `motion` the newest accepted one.
+    #[inline(always)]
+    fn push_head(&mut self, at: f64, motion: &M::Motion) {
+        // NaN with no sample before (then the test is false).
+        let previous = self.history[self.newest & 3].conditioning;
+        let conditioning = motion.conditioning();
+        let det_sign = motion.det_sign();
+        self.falling = conditioning < 0.5 && 1.5 * conditioning < previous;
+        self.gate = if self.falling { 0.0 } else { det_sign };
+        self.newest = (self.newest + 1) & 3;
+        let h = &mut self.history[self.newest];
+        h.at = at;
+        h.q = *motion.q();
+        // The rates only where the predictor uses them.
+        if M::NEWTON_GUESS {
+            h.qd = *motion.qd();
         }
-        self.head = Some(Head {
-            at: s.at,
-            q: *s.motion.q(),
-            qd: *s.motion.qd(),
-            conditioning: s.motion.conditioning(),
-            det_sign: s.motion.det_sign(),
-        });
+        h.conditioning = conditioning;
+        h.det_sign = det_sign;
+    }
+
+    /// Sets `gate` after the slow path: open (the newest sample's sign of
+    /// det Φ_u) only with a sample accepted, none held back and the
+    /// conditioning not falling fast.
+    fn regate(&mut self) {
+        self.gate = match self.head() {
+            Some(h) if !self.falling && self.held.is_none() => h.det_sign,
+            _ => 0.0,
+        };
+    }
+
+    /// Forgets every accepted sample.
+    fn forget(&mut self) {
+        self.history = [Head::default(); 4];
+        self.falling = false;
     }
 
     /// The guess at `at`: the newest pose advanced along its rates,
-    /// u + (du/dt)·Δt.
+    /// u + (du/dt)·Δt, where Newton–Raphson starts from it; the newest
+    /// pose where the guess only names the branch.
     #[inline(always)]
     fn predicted(&self, at: f64) -> M::Coords {
-        let Some(h) = &self.head else {
+        let Some(h) = self.head() else {
             return M::Coords::default();
         };
         let mut guess = h.q;
+        if !M::NEWTON_GUESS {
+            return guess;
+        }
         let dt = (at - h.at) * self.per_rate;
         for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
             if let (Some(u), Some(ud)) = (guess.get(j), h.qd.get(j)) {
@@ -1245,75 +1360,47 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         }
     }
 
-    /// Solves the next grid sample: the sample to hand out, if one is
-    /// ready.
+    /// Solves grid sample `k` = `self.k`, of value `at`: the sample to hand
+    /// out, if one is ready.
     #[inline(always)]
-    fn advance(&mut self) -> Option<Result<Sample<M>, Stop>> {
-        if self.k >= self.grid.count {
-            // The end: the held sample, if any, is before any change point.
-            self.done = true;
-            return self.held.take().map(|s| Ok(self.wrapped(s)));
-        }
-        let k = self.k;
-        let at = self.grid.at(k);
+    fn advance(&mut self, k: usize, at: f64) -> Option<Result<Sample<M>, Stop>> {
         let mut pose = self.predicted(at);
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
         let state = self.state.as_mut()?;
-        let result = self.m.step_carried(&pose, &self.rates, &self.accels, state);
-        match result {
-            Ok(motion) => self.judge(Sample { at, motion }),
+        match self.m.step_carried(&pose, &self.rates, &self.accels, state) {
+            // The common case, handed out at once: det Φ_u keeps its sign,
+            // the conditioning was not falling so fast that it could reach
+            // zero before this sample, and nothing is held back (`gate`).
+            Ok(motion) if self.gate * motion.det_sign() > 0.0 => {
+                self.k += 1;
+                self.push_head(at, &motion);
+                let mut s = Sample { at, motion };
+                self.wrap_angles(&mut s);
+                Some(Ok(s))
+            }
+            Ok(motion) => {
+                self.unusual(Sample { at, motion });
+                self.regate();
+                self.reopen();
+                None
+            }
             Err(e) => {
                 self.failed(k, e);
+                self.regate();
+                self.reopen();
                 None
             }
         }
-    }
-
-    /// A new sample `s`: handed out at once unless a change point may be
-    /// near (then the slow path decides).
-    #[inline(always)]
-    fn judge(&mut self, s: Sample<M>) -> Option<Result<Sample<M>, Stop>> {
-        let ordinary = match (&self.head, &self.held) {
-            (Some(h), None) => {
-                // det Φ_u keeps its sign, and the conditioning was not
-                // falling so fast that it could reach zero before `s`.
-                h.det_sign * s.motion.det_sign() > 0.0 && !self.falling_fast(h)
-            }
-            _ => false,
-        };
-        if ordinary {
-            self.k += 1;
-            self.push_head(&s);
-            let mut s = s;
-            self.wrap_angles(&mut s);
-            return Some(Ok(s));
-        }
-        self.unusual(s);
-        None
-    }
-
-    /// Whether the conditioning falls so fast at the newest sample `h` that
-    /// it could reach zero before the next: the line through the last two
-    /// values meets zero less than two steps on (and it is below 0.5,
-    /// where a regular pose is of order one).
-    #[inline(always)]
-    fn falling_fast(&self, h: &Head<M::Coords>) -> bool {
-        // The bound first: at a regular pose nothing more is read.
-        h.conditioning < 0.5
-            && match &self.older[1] {
-                Some((_, _, c0)) => 1.5 * h.conditioning < *c0,
-                None => false,
-            }
     }
 
     /// A new sample `s` near a possible change point, or after a held one.
     #[cold]
     #[inline(never)]
     fn unusual(&mut self, s: Sample<M>) {
-        let Some(h) = self.head else {
+        let Some(&h) = self.head() else {
             self.k += 1;
-            self.push_head(&s);
+            self.push_head(s.at, &s.motion);
             self.out.push_back(Ok(s));
             return;
         };
@@ -1327,7 +1414,12 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         if self.held.is_some() {
             // Does the conditioning dip to zero in a V around the held
             // sample?
-            if let Some((a, _, c0)) = self.older[1] {
+            if let Some(&Head {
+                at: a,
+                conditioning: c0,
+                ..
+            }) = self.back(1)
+            {
                 if let Some(t) = v_zero(c0, c1, c2) {
                     let at = if t > 0.0 {
                         h.at + t * (s.at - h.at)
@@ -1342,9 +1434,10 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                             return self.change_point(at, h.at, s.at);
                         }
                         // The held sample is past the point: dropped,
-                        // never handed out.
+                        // never handed out, and forgotten.
                         self.held = None;
-                        self.head = None;
+                        self.history[self.newest & 3] = Head::default();
+                        self.newest = self.newest.wrapping_sub(1) & 3;
                         return self.change_point(at, a, h.at);
                     }
                 }
@@ -1353,8 +1446,8 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         }
         // `s` accepted; held back if the conditioning was falling fast.
         self.k += 1;
-        let fast = self.head.is_some_and(|h| self.falling_fast(&h));
-        self.push_head(&s);
+        let fast = self.falling;
+        self.push_head(s.at, &s.motion);
         if fast {
             self.held = Some(s);
         } else {
@@ -1380,7 +1473,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                 // again past it as it fell before it (a V); else a
                 // singular position.
                 self.release();
-                let before = self.head.map(|h| (h.at, h.conditioning));
+                let before = self.head().map(|h| (h.at, h.conditioning));
                 let after = self.probe(k + 1);
                 let reason = match (before, after) {
                     (Some((from, c0)), Some((to, c2))) if c2 < 2.0 * c0 && c0 < 2.0 * c2 => {
@@ -1440,16 +1533,10 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// The accepted poses before a change point, oldest first: (value,
     /// pose).
     fn known(&self) -> Vec<(f64, M::Coords)> {
-        let mut known: Vec<(f64, M::Coords)> = self
-            .older
-            .iter()
-            .flatten()
-            .map(|&(a, q, _)| (a, q))
-            .collect();
-        if let Some(h) = &self.head {
-            known.push((h.at, h.q));
-        }
-        known
+        (0..=2)
+            .rev()
+            .filter_map(|n| self.back(n).map(|h| (h.at, h.q)))
+            .collect()
     }
 
     /// Continues past the change point at `at` from grid index `k` (or
@@ -1507,9 +1594,8 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             };
             self.passed.push(at);
             self.state = Some(state);
-            self.older = [None, None];
-            self.head = None;
-            self.push_head(&s);
+            self.forget();
+            self.push_head(s.at, &s.motion);
             let s = self.wrapped(s);
             self.out.push_back(Ok(s));
             self.k = k + 1;
@@ -1524,7 +1610,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// or a change point where the two solutions touch and round-off makes
     /// them vanish over a tiny interval.
     fn no_solution(&mut self, k: usize, at: f64, unknowns: &'static str) {
-        let Some(h) = self.head else {
+        let Some(&h) = self.head() else {
             self.finish(at, StopReason::LimitPosition { unknowns });
             return;
         };
@@ -1616,9 +1702,12 @@ impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
         let mut guess = extrapolated::<M>(&known, at);
         self.drive
             .drive(at, &mut guess, &mut self.rates, &mut self.accels);
+        let Ok(mut state) = self.m.step_state(&self.options) else {
+            return false;
+        };
         match self
             .m
-            .step_slices(&guess, &self.rates, &self.accels, &self.options)
+            .step_carried(&guess, &self.rates, &self.accels, &mut state)
         {
             Ok(motion) => motion.conditioning() < 0.1 * c,
             Err(Error::Singular { .. } | Error::CannotAssemble { .. }) => true,
@@ -1686,17 +1775,44 @@ impl<M: Mechanism, D: Drive<M>> Iterator for SweepIter<'_, M, D> {
 
     #[inline]
     fn next(&mut self) -> Option<Self::Item> {
-        loop {
-            if let Some(item) = self.out.pop_front() {
-                return Some(item);
-            }
-            if self.done {
-                return None;
-            }
-            if let Some(item) = self.advance() {
+        // One comparison on the common path: nothing waiting, not done,
+        // and the value is from + k·step.
+        let k = self.k;
+        if k < self.open {
+            let at = self.grid.inner(k);
+            if let Some(item) = self.advance(k, at) {
                 return Some(item);
             }
         }
+        self.next_slow()
+    }
+}
+
+impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
+    /// [`Iterator::next`] off the fast path: the items waiting, the end,
+    /// the last value of an even grid.
+    #[inline(never)]
+    fn next_slow(&mut self) -> Option<Result<Sample<M>, Stop>> {
+        let item = loop {
+            if let Some(item) = self.out.pop_front() {
+                break Some(item);
+            }
+            if self.done {
+                break None;
+            }
+            if self.k >= self.grid.count {
+                // The end: the held sample, if any, is before any change
+                // point.
+                self.done = true;
+                break self.held.take().map(|s| Ok(self.wrapped(s)));
+            }
+            let k = self.k;
+            if let Some(item) = self.advance(k, self.grid.at(k)) {
+                break Some(item);
+            }
+        };
+        self.reopen();
+        item
     }
 }
 

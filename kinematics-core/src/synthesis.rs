@@ -443,7 +443,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             slots.copy_from_slice(modes);
         }
         // The modes of the start pose (when not given).
-        let zeros = vec![0.0; M::DRIVERS];
+        let zeros = M::Coords::default();
         self.design
             .step_carried(&self.start, &zeros, &zeros, &mut state)?;
         let phi0 = self.start.get(self.driver).unwrap_or(0.0);
@@ -718,9 +718,9 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
         } else {
             Vec::new()
         };
-        let mut rates = vec![0.0; M::DRIVERS];
-        rates[s.driver] = 1.0;
-        let zeros = vec![0.0; M::DRIVERS];
+        let mut rates = M::Coords::default();
+        rates.set(s.driver, 1.0);
+        let zeros = M::Coords::default();
         let ncoord = M::COORDINATES.len();
         let mut dq = vec![0.0; np * ncoord];
         let mut dr = vec![0.0; np * M::POINTS * M::POINT_DIM];

@@ -101,6 +101,14 @@ fn angle(k: usize) -> f64 {
     k * TAU / STEPS as f64
 }
 
+/// The mechanisms and their driver rates as run-time data, as in an
+/// application: every variant reads them through `black_box` once per
+/// turn, so that none has its parameters or rates folded into its code as
+/// constants.
+fn data<T>(x: T) -> T {
+    black_box(x)
+}
+
 /// Driver rates and accelerations of the planar and RSSR sweeps.
 const M1_RATES: (f64, f64) = (10.0, 2.0);
 const M2_RATES: (f64, f64) = (8.0 * std::f64::consts::PI, 0.0); // 240 rev/min
@@ -131,13 +139,15 @@ fn turn_m1(
 }
 
 fn gen_m1() -> f64 {
-    turn_m1(|pose| M1.step(pose, M1_RATES.0, M1_RATES.1))
+    let (m, rates) = data((M1, M1_RATES));
+    turn_m1(|pose| m.step(pose, rates.0, rates.1))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m1s() -> f64 {
-    let mut stepper = M1.stepper(&Options::DEFAULT).expect("a stepper");
-    turn_m1(|pose| stepper.step(pose, M1_RATES.0, M1_RATES.1))
+    let (m, rates) = data((M1, M1_RATES));
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m1(|pose| stepper.step(pose, rates.0, rates.1))
 }
 
 /// A full turn of M2 through `step`.
@@ -158,13 +168,15 @@ fn turn_m2(
 }
 
 fn gen_m2() -> f64 {
-    turn_m2(|pose| M2.step(pose, M2_RATES.0, M2_RATES.1))
+    let (m, rates) = data((M2, M2_RATES));
+    turn_m2(|pose| m.step(pose, rates.0, rates.1))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m2s() -> f64 {
-    let mut stepper = M2.stepper(&Options::DEFAULT).expect("a stepper");
-    turn_m2(|pose| stepper.step(pose, M2_RATES.0, M2_RATES.1))
+    let (m, rates) = data((M2, M2_RATES));
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m2(|pose| stepper.step(pose, rates.0, rates.1))
 }
 
 /// A full turn of M3 through `step`.
@@ -188,13 +200,15 @@ fn turn_m3(
 }
 
 fn gen_m3() -> f64 {
-    turn_m3(|pose| M3.step(pose, M3_RATES.0, M3_RATES.1))
+    let (m, rates) = data((M3, M3_RATES));
+    turn_m3(|pose| m.step(pose, rates.0, rates.1))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m3s() -> f64 {
-    let mut stepper = M3.stepper(&Options::DEFAULT).expect("a stepper");
-    turn_m3(|pose| stepper.step(pose, M3_RATES.0, M3_RATES.1))
+    let (m, rates) = data((M3, M3_RATES));
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    turn_m3(|pose| stepper.step(pose, rates.0, rates.1))
 }
 
 /// A full turn of `driver` through a sweep (`m.sweep(driver, &start)
@@ -237,18 +251,21 @@ macro_rules! swept {
 
 fn sweep_m1(collected: bool) -> f64 {
     let start = m1::FourBarCoords::from([0.0, M1_START[0], M1_START[1]]);
-    swept!(&M1, m1::FourBar::PHI, start, M1_RATES, collected, turn_m1)
+    let (m, rates) = data((M1, M1_RATES));
+    swept!(&m, m1::FourBar::PHI, start, rates, collected, turn_m1)
 }
 
 fn sweep_m2(collected: bool) -> f64 {
     let start = m2::RssrCoords::from([0.0, M2_START[0]]);
-    swept!(&M2, m2::Rssr::PHI, start, M2_RATES, collected, turn_m2)
+    let (m, rates) = data((M2, M2_RATES));
+    swept!(&m, m2::Rssr::PHI, start, rates, collected, turn_m2)
 }
 
 fn sweep_m3(collected: bool) -> f64 {
     let [th3, th4, th5, th6] = M3_START;
     let start = m3::WattCoords::from([0.0, th3, th4, th5, th6]);
-    swept!(&M3, m3::Watt::PHI, start, M3_RATES, collected, turn_m3)
+    let (m, rates) = data((M3, M3_RATES));
+    swept!(&m, m3::Watt::PHI, start, rates, collected, turn_m3)
 }
 
 fn arm_joints(k: usize) -> ([f64; 6], [f64; 6], [f64; 6]) {
@@ -281,44 +298,50 @@ fn turn_m4(
 }
 
 fn gen_m4() -> f64 {
-    turn_m4(|q, qd, qdd| M4.step(q, qd, qdd))
+    let m = data(M4);
+    turn_m4(|q, qd, qdd| m.step(q, qd, qdd))
 }
 
 /// As the generated variant, through the stepping handle.
 fn gen_m4s() -> f64 {
-    let mut stepper = M4.stepper(&Options::DEFAULT).expect("a stepper");
+    let m = data(M4);
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
     turn_m4(|q, qd, qdd| stepper.step(q, qd, qdd))
 }
 
 // ───────────────────────── variant 2: hand-written ─────────────────────────
 
 fn hand_m1() -> f64 {
+    let (m, rates) = data((M1, M1_RATES));
     let mut st = hand::Carried::new(M1_START);
-    let beta = M1.beta.sin_cos();
+    let beta = m.beta.sin_cos();
     (0..STEPS)
-        .map(|k| hand::m1_step(&M1, beta, angle(k), &mut st, M1_RATES.0, M1_RATES.1))
+        .map(|k| hand::m1_step(&m, beta, angle(k), &mut st, rates.0, rates.1))
         .sum()
 }
 
 fn hand_m2() -> f64 {
+    let (m, rates) = data((M2, M2_RATES));
     let mut st = hand::Carried::new(M2_START);
     (0..STEPS)
-        .map(|k| hand::m2_step(&M2, angle(k), &mut st, M2_RATES.0, M2_RATES.1))
+        .map(|k| hand::m2_step(&m, angle(k), &mut st, rates.0, rates.1))
         .sum()
 }
 
 fn hand_m3() -> f64 {
+    let (m, rates) = data((M3, M3_RATES));
     let mut th = M3_START;
     (0..STEPS)
-        .map(|k| hand::m3_step(&M3, angle(k), &mut th, M3_RATES.0, M3_RATES.1))
+        .map(|k| hand::m3_step(&m, angle(k), &mut th, rates.0, rates.1))
         .sum()
 }
 
 fn hand_m4() -> f64 {
+    let m = data(M4);
     (0..STEPS)
         .map(|k| {
             let (q, qd, qdd) = arm_joints(k);
-            hand::m4_step(&M4, &q, &qd, &qdd)
+            hand::m4_step(&m, &q, &qd, &qdd)
         })
         .sum()
 }
@@ -332,6 +355,7 @@ fn sweep<const NQ: usize, const NU: usize>(
     rates: (f64, f64),
     mut step: impl FnMut(&mut [f64; NQ], &mut [f64; NQ], &mut [f64; NQ]) -> f64,
 ) -> f64 {
+    let rates = data(rates);
     let mut q = [0.0; NQ];
     q[1..].copy_from_slice(&start);
     let mut sum = 0.0;
@@ -387,8 +411,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M1 four-bar",
             "dual numbers",
             Box::new(|| {
+                let m = data(M1);
                 sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| {
-                    generic::dual_step::<_, 3, 2>(&M1, q, d, a)
+                    generic::dual_step::<_, 3, 2>(&m, q, d, a)
                 })
             }),
         ),
@@ -396,8 +421,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M1 four-bar",
             "finite differences",
             Box::new(|| {
+                let m = data(M1);
                 sweep::<3, 2>(M1_START, M1_RATES, |q, d, a| {
-                    generic::fd_step::<_, 3, 2>(&M1, q, d, a)
+                    generic::fd_step::<_, 3, 2>(&m, q, d, a)
                 })
             }),
         ),
@@ -415,8 +441,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M2 RSSR",
             "dual numbers",
             Box::new(|| {
+                let m = data(M2);
                 sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| {
-                    generic::dual_step::<_, 2, 1>(&M2, q, d, a)
+                    generic::dual_step::<_, 2, 1>(&m, q, d, a)
                 })
             }),
         ),
@@ -424,8 +451,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M2 RSSR",
             "finite differences",
             Box::new(|| {
+                let m = data(M2);
                 sweep::<2, 1>(M2_START, M2_RATES, |q, d, a| {
-                    generic::fd_step::<_, 2, 1>(&M2, q, d, a)
+                    generic::fd_step::<_, 2, 1>(&m, q, d, a)
                 })
             }),
         ),
@@ -447,8 +475,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M3 Watt six-bar",
             "dual numbers",
             Box::new(|| {
+                let m = data(M3);
                 sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| {
-                    generic::dual_step::<_, 5, 4>(&M3, q, d, a)
+                    generic::dual_step::<_, 5, 4>(&m, q, d, a)
                 })
             }),
         ),
@@ -456,8 +485,9 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
             "M3 Watt six-bar",
             "finite differences",
             Box::new(|| {
+                let m = data(M3);
                 sweep::<5, 4>(M3_START, M3_RATES, |q, d, a| {
-                    generic::fd_step::<_, 5, 4>(&M3, q, d, a)
+                    generic::fd_step::<_, 5, 4>(&m, q, d, a)
                 })
             }),
         ),
@@ -472,12 +502,18 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
         (
             "M4 six-axis arm",
             "dual numbers",
-            Box::new(|| arm_sweep(|q, d, a| generic::dual_step::<_, 6, 0>(&M4, q, d, a))),
+            Box::new(|| {
+                let m = data(M4);
+                arm_sweep(|q, d, a| generic::dual_step::<_, 6, 0>(&m, q, d, a))
+            }),
         ),
         (
             "M4 six-axis arm",
             "finite differences",
-            Box::new(|| arm_sweep(|q, d, a| generic::fd_step::<_, 6, 0>(&M4, q, d, a))),
+            Box::new(|| {
+                let m = data(M4);
+                arm_sweep(|q, d, a| generic::fd_step::<_, 6, 0>(&m, q, d, a))
+            }),
         ),
         (
             "M4 six-axis arm",

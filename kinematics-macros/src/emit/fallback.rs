@@ -150,7 +150,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             fn step_slices(&self, start: &#coords, rates: &[f64], accelerations: &[f64], options: &#pp::Options) -> #pp::Result<#motion, #pp::Error> { #unavailable }
             fn step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> { #unavailable }
             fn step_modes(state: &mut #state) -> &mut [f64] { #unavailable }
-            fn step_carried(&self, start: &#coords, rates: &[f64], accelerations: &[f64], state: &mut #state) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            fn step_carried(&self, start: &#coords, rates: &#coords, accelerations: &#coords, state: &mut #state) -> #pp::Result<#motion, #pp::Error> { #unavailable }
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }

@@ -44,6 +44,9 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
         };
         quote!(#pp::Coordinate { name: #n, role: #pp::Role::#role, kind: #pp::Kind::#kind })
     });
+    // Newton–Raphson starts from the guess unless every block has a
+    // closed form.
+    let newton_guess = !cx.closed_path() || cx.mixed();
     quote! {
         #[automatically_derived]
         impl #pp::Mechanism for #name {
@@ -60,6 +63,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
             const POINT_NAMES: &'static [&'static str] = &[#(#point_names),*];
             const FRAME_NAMES: &'static [&'static str] = &[#(#frame_names),*];
             const EQUATION_NAMES: &'static [&'static str] = &[#(#eq_names),*];
+            const NEWTON_GUESS: bool = #newton_guess;
 
             fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
                 #name::assemble_with(self, start, options)
@@ -114,12 +118,11 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
             fn step_carried(
                 &self,
                 start: &#coords,
-                rates: &[f64],
-                accelerations: &[f64],
+                rates: &#coords,
+                accelerations: &#coords,
                 state: &mut #state,
             ) -> #pp::Result<#motion, #pp::Error> {
-                let (r, a) = #pp::driver_arrays::<#nd>(rates, accelerations)?;
-                state.__step(self, start, r, a)
+                state.__step(self, start, rates, accelerations)
             }
 
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) {
