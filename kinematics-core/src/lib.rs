@@ -111,7 +111,7 @@ pub mod guide {
 }
 pub use mechanism::{
     Coordinate, Coordinates, DriverValues, FrameState, Kind, Mechanism, MotionState, PointMotion,
-    PointState, Role,
+    PointState, Pose, Role,
 };
 pub use nalgebra;
 pub use options::{Branch, Convergence, Options};
@@ -198,7 +198,7 @@ pub mod __private {
     pub use crate::sweep;
     pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
-    pub use crate::{FrameState, Options, PointMotion, PointState, Role};
+    pub use crate::{FrameState, Options, PointMotion, PointState, Pose, Role};
     pub use core::result::Result;
     pub use nalgebra::{Matrix3, Vector2, Vector3};
 

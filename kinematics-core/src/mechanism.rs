@@ -508,6 +508,47 @@ pub trait MotionState: Copy + core::fmt::Debug {
     fn residual(&self) -> f64;
 }
 
+/// A pose solved without its motion: what a positions-only step
+/// ([`Mechanism::pose_carried`], a stepper's `pose`, a sweep's
+/// [`poses`](crate::sweep::SweepBuilder::poses)) returns. The diagnostics
+/// are those of [`MotionState`], at the same pose.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// let m = SliderCrank { a: 0.1, b: 0.3 };
+/// let mut stepper = m.stepper(&kinematics_core::Options::DEFAULT)?;
+/// let pose = stepper.pose(&SliderCrankCoords { phi: 0.5, th: 0.0, x: 0.4 })?;
+/// // x = a cos φ + √(b² − a² sin² φ) on the branch of the guess.
+/// let x = 0.1 * 0.5f64.cos() + (0.09 - 0.01 * 0.5f64.sin().powi(2)).sqrt();
+/// assert!((pose.q.x - x).abs() < 1e-15);
+/// assert!(pose.conditioning > 0.0 && pose.residual < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Pose<C> {
+    /// The drivers and the solved unknowns.
+    pub q: C,
+    /// The conditioning of Φ_u at `q` (see [`MotionState::conditioning`]).
+    pub conditioning: f64,
+    /// The sign of det Φ_u at `q`, ±1 (see [`MotionState::det_sign`]).
+    pub det_sign: f64,
+    /// max |Φ_i| at `q`, in the equations' units.
+    pub residual: f64,
+}
+
 /// A mechanism declared with [`mechanism!`](crate::mechanism).
 ///
 /// Coordinates q = (d, u): drivers d then unknowns u. Constraints Φ(q) = 0,
@@ -650,6 +691,19 @@ pub trait Mechanism {
         accelerations: &Self::Coords,
         state: &mut Self::StepState,
     ) -> Result<Self::Motion, Error>;
+
+    /// A positions-only step as the mechanism's stepper takes it
+    /// (its `pose`): assembles at the drivers of `start` from the state of
+    /// the previous step, carrying `state` to the next, with no velocity
+    /// or acceleration computed.
+    ///
+    /// # Errors
+    /// As [`Mechanism::assemble_with`].
+    fn pose_carried(
+        &self,
+        start: &Self::Coords,
+        state: &mut Self::StepState,
+    ) -> Result<Pose<Self::Coords>, Error>;
 
     /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
     fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);

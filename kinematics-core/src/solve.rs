@@ -903,6 +903,17 @@ impl FastNewton {
         Next::Continue
     }
 
+    /// Whether a converged Φ is above [`POLISH`] times the tolerance in
+    /// the weighted norm of [`FastNewton::assess`]: then [`newton`], from
+    /// the converged iterate, takes the polishing steps that an assembly
+    /// takes.
+    #[inline(always)]
+    #[must_use]
+    pub fn unpolished<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
+        let (_, max) = norms(phi, w);
+        !(max <= POLISH * options.tolerance)
+    }
+
     /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.
     #[inline(always)]
     pub fn advance<const N: usize>(&mut self, u: &mut [f64; N], step: &[f64; N]) {

@@ -62,7 +62,7 @@ use core::fmt::Write as _;
 use core::marker::PhantomData;
 
 use crate::names::Name;
-use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Role};
+use crate::{Coordinates, Error, Kind, Mechanism, MotionState, Options, PointState, Pose, Role};
 
 /// The unit of a driver that is an angle (radians; degrees and rev/min at
 /// the API's boundary): the type parameter of [`Driver`].
@@ -258,6 +258,176 @@ impl<M: Mechanism> fmt::Debug for Sample<M> {
             .field("at", &self.at)
             .field("motion", &self.motion)
             .finish()
+    }
+}
+
+/// One sample of a sweep of positions ([`SweepBuilder::poses`]): the pose
+/// with its diagnostics, no velocities or accelerations.
+///
+/// ```
+/// # use kinematics_core::mechanism;
+/// # mechanism! {
+/// #     /// Slider-crank.
+/// #     pub struct SliderCrank {
+/// #         params   { a, b }
+/// #         drivers  { phi }
+/// #         unknowns { th, x }
+/// #         points   { B = polar(a, phi); C = vec2(x, 0.0); }
+/// #         loops    { B + polar(b, th) == C; }
+/// #     }
+/// # }
+/// # let m = SliderCrank { a: 0.1, b: 0.3 };
+/// # let start = SliderCrankCoords { phi: 0.0, th: 0.0, x: 0.4 };
+/// let poses: Vec<_> = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).poses().collect();
+/// let last = poses[10].as_ref().unwrap();
+/// assert_eq!((last.at, last.pose.q.phi), (1.0, 1.0));
+/// assert!(last.pose.residual < 1e-15);
+/// ```
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(bound(
+        serialize = "M::Coords: serde::Serialize",
+        deserialize = "M::Coords: serde::Deserialize<'de>"
+    ))
+)]
+pub struct PoseSample<M: Mechanism> {
+    /// Value of the swept driver (or the time, for a simulation).
+    pub at: f64,
+    /// The coordinates, the conditioning, the sign of det Φ_u and the
+    /// residual.
+    pub pose: Pose<M::Coords>,
+}
+
+impl<M: Mechanism> Clone for PoseSample<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<M: Mechanism> Copy for PoseSample<M> {}
+
+impl<M: Mechanism> fmt::Debug for PoseSample<M> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("PoseSample")
+            .field("at", &self.at)
+            .field("pose", &self.pose)
+            .finish()
+    }
+}
+
+/// What a sweep hands out for each sample: a [`Sample`] (the motion, from
+/// the mechanism's step) or a [`PoseSample`] (positions only, from its
+/// positions-only step). The sweep reads the pose, the conditioning and
+/// the sign of det Φ_u of each to follow the branch and find change
+/// points.
+pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
+    /// Whether [`Solved::qd`] returns the rates.
+    const RATES: bool;
+    /// Solves the sample at `at` from `start` (its drivers set), with the
+    /// drivers' `rates` and `accelerations`, carrying `state`.
+    ///
+    /// # Errors
+    /// As the mechanism's step.
+    fn solve(
+        m: &M,
+        at: f64,
+        start: &M::Coords,
+        rates: &M::Coords,
+        accelerations: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<Self, Error>;
+    /// The value of the sweep variable.
+    fn at(&self) -> f64;
+    /// The coordinates.
+    fn q(&self) -> &M::Coords;
+    /// The coordinates, to change (the sweep wraps the angles it reports).
+    fn q_mut(&mut self) -> &mut M::Coords;
+    /// The rates, where they are computed.
+    fn qd(&self) -> Option<&M::Coords>;
+    /// See [`MotionState::conditioning`].
+    fn conditioning(&self) -> f64;
+    /// See [`MotionState::det_sign`].
+    fn det_sign(&self) -> f64;
+}
+
+impl<M: Mechanism> Solved<M> for Sample<M> {
+    const RATES: bool = true;
+    #[inline(always)]
+    fn solve(
+        m: &M,
+        at: f64,
+        start: &M::Coords,
+        rates: &M::Coords,
+        accelerations: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<Self, Error> {
+        let motion = m.step_carried(start, rates, accelerations, state)?;
+        Ok(Self { at, motion })
+    }
+    #[inline(always)]
+    fn at(&self) -> f64 {
+        self.at
+    }
+    #[inline(always)]
+    fn q(&self) -> &M::Coords {
+        self.motion.q()
+    }
+    #[inline(always)]
+    fn q_mut(&mut self) -> &mut M::Coords {
+        self.motion.q_mut()
+    }
+    #[inline(always)]
+    fn qd(&self) -> Option<&M::Coords> {
+        Some(self.motion.qd())
+    }
+    #[inline(always)]
+    fn conditioning(&self) -> f64 {
+        self.motion.conditioning()
+    }
+    #[inline(always)]
+    fn det_sign(&self) -> f64 {
+        self.motion.det_sign()
+    }
+}
+
+impl<M: Mechanism> Solved<M> for PoseSample<M> {
+    const RATES: bool = false;
+    #[inline(always)]
+    fn solve(
+        m: &M,
+        at: f64,
+        start: &M::Coords,
+        _: &M::Coords,
+        _: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<Self, Error> {
+        let pose = m.pose_carried(start, state)?;
+        Ok(Self { at, pose })
+    }
+    #[inline(always)]
+    fn at(&self) -> f64 {
+        self.at
+    }
+    #[inline(always)]
+    fn q(&self) -> &M::Coords {
+        &self.pose.q
+    }
+    #[inline(always)]
+    fn q_mut(&mut self) -> &mut M::Coords {
+        &mut self.pose.q
+    }
+    #[inline(always)]
+    fn qd(&self) -> Option<&M::Coords> {
+        None
+    }
+    #[inline(always)]
+    fn conditioning(&self) -> f64 {
+        self.pose.conditioning
+    }
+    #[inline(always)]
+    fn det_sign(&self) -> f64 {
+        self.pose.det_sign
     }
 }
 
@@ -610,6 +780,22 @@ impl<'m, M: Mechanism, U> IntoIterator for SweepBuilder<'m, M, U> {
     type IntoIter = SweepIter<'m, M, SweepDrive>;
 
     fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl<'m, M: Mechanism, U> SweepBuilder<'m, M, U> {
+    /// The sweep of positions only: an iterator over [`PoseSample`]s (the
+    /// pose with its conditioning, sign of det Φ_u and residual, no
+    /// velocities or accelerations), then the stop as an `Err` if it stops
+    /// early, as for the full sweep. Each sample is the mechanism's
+    /// positions-only step (as a stepper's `pose`); the rates and
+    /// accelerations set are not used. Allocates nothing per sample.
+    pub fn poses(self) -> SweepIter<'m, M, SweepDrive, PoseSample<M>> {
+        self.iter()
+    }
+
+    fn iter<S: Solved<M>>(self) -> SweepIter<'m, M, SweepDrive, S> {
         let grid = self.grid();
         let index = self.driver.index;
         let drive = SweepDrive {
@@ -781,6 +967,19 @@ impl<'m, M: Mechanism, P: Profile<M::Coords>> IntoIterator for Simulation<'m, M,
     type IntoIter = SweepIter<'m, M, TimeDrive<M::Coords, P>>;
 
     fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl<'m, M: Mechanism, P: Profile<M::Coords>> Simulation<'m, M, P> {
+    /// The simulation of positions only: an iterator over
+    /// [`PoseSample`]s, as [`SweepBuilder::poses`] (the profile's rates and
+    /// accelerations are not used).
+    pub fn poses(self) -> SweepIter<'m, M, TimeDrive<M::Coords, P>, PoseSample<M>> {
+        self.iter()
+    }
+
+    fn iter<S: Solved<M>>(self) -> SweepIter<'m, M, TimeDrive<M::Coords, P>, S> {
         let grid = if let Some(times) = self.times {
             if times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]) {
                 Ok(Grid::given(times))
@@ -1038,7 +1237,7 @@ impl<M: Mechanism, P: Profile<M::Coords>> Drive<M> for TimeDrive<M::Coords, P> {
 
 /// A branch tried past a change point: its distance from the extrapolated
 /// pose, its sample and its step state.
-type Candidate<M> = (f64, Sample<M>, <M as Mechanism>::StepState);
+type Candidate<M, S> = (f64, S, <M as Mechanism>::StepState);
 
 /// What the sweep keeps of an accepted sample: for the predictor, the
 /// change-point tests and the extrapolation past a change point.
@@ -1078,7 +1277,7 @@ impl<C: Default> Default for Head<C> {
 /// A sample that may lie past a change point (Φ_u's conditioning falling
 /// fast towards zero) is held back until the next one is solved, so that a
 /// sample on the wrong side of a change point is never handed out.
-pub struct SweepIter<'m, M: Mechanism, D> {
+pub struct SweepIter<'m, M: Mechanism, D, S = Sample<M>> {
     m: &'m M,
     drive: D,
     options: Options,
@@ -1111,9 +1310,9 @@ pub struct SweepIter<'m, M: Mechanism, D> {
     /// the conditioning not falling fast); 0 when the slow path decides.
     gate: f64,
     /// The newest sample, when it is held back.
-    held: Option<Sample<M>>,
+    held: Option<S>,
     /// Items ready to hand out before anything else.
-    out: VecDeque<Result<Sample<M>, Stop>>,
+    out: VecDeque<Result<S, Stop>>,
     /// The change points passed.
     passed: Vec<f64>,
     done: bool,
@@ -1123,7 +1322,7 @@ pub struct SweepIter<'m, M: Mechanism, D> {
     open: usize,
 }
 
-impl<M: Mechanism, D: fmt::Debug> fmt::Debug for SweepIter<'_, M, D> {
+impl<M: Mechanism, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("SweepIter")
             .field("variable", &self.variable)
@@ -1134,7 +1333,7 @@ impl<M: Mechanism, D: fmt::Debug> fmt::Debug for SweepIter<'_, M, D> {
     }
 }
 
-impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
+impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     #[allow(clippy::too_many_arguments)]
     fn new(
         m: &'m M,
@@ -1226,15 +1425,12 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         k: usize,
         guess: &M::Coords,
         state: &mut M::StepState,
-    ) -> Result<Sample<M>, Error> {
+    ) -> Result<S, Error> {
         let at = self.grid.at(k);
         let mut pose = *guess;
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
-        let motion = self
-            .m
-            .step_carried(&pose, &self.rates, &self.accels, state)?;
-        Ok(Sample { at, motion })
+        S::solve(self.m, at, &pose, &self.rates, &self.accels, state)
     }
 
     /// The first sample, from `start`: handed out as it is.
@@ -1244,7 +1440,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         };
         match self.solve(0, start, &mut state) {
             Ok(s) => {
-                self.push_head(s.at, &s.motion);
+                self.push_head(&s);
                 let s = self.wrapped(s);
                 self.out.push_back(Ok(s));
                 self.k = 1;
@@ -1272,22 +1468,24 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         (!h.at.is_nan()).then_some(h)
     }
 
-    /// Makes the sample at `at` with `motion` the newest accepted one.
+    /// Makes `s` the newest accepted sample.
     #[inline(always)]
-    fn push_head(&mut self, at: f64, motion: &M::Motion) {
+    fn push_head(&mut self, s: &S) {
         // NaN with no sample before (then the test is false).
         let previous = self.history[self.newest & 3].conditioning;
-        let conditioning = motion.conditioning();
-        let det_sign = motion.det_sign();
+        let conditioning = s.conditioning();
+        let det_sign = s.det_sign();
         self.falling = conditioning < 0.5 && 1.5 * conditioning < previous;
         self.gate = if self.falling { 0.0 } else { det_sign };
         self.newest = (self.newest + 1) & 3;
         let h = &mut self.history[self.newest];
-        h.at = at;
-        h.q = *motion.q();
+        h.at = s.at();
+        h.q = *s.q();
         // The rates only where the predictor uses them.
         if M::NEWTON_GUESS {
-            h.qd = *motion.qd();
+            if let Some(qd) = s.qd() {
+                h.qd = *qd;
+            }
         }
         h.conditioning = conditioning;
         h.det_sign = det_sign;
@@ -1309,9 +1507,10 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         self.falling = false;
     }
 
-    /// The guess at `at`: the newest pose advanced along its rates,
-    /// u + (du/dt)·Δt, where Newton–Raphson starts from it; the newest
-    /// pose where the guess only names the branch.
+    /// The guess at `at`, where Newton–Raphson starts from it: the newest
+    /// pose advanced along its rates, u + (du/dt)·Δt, or without rates
+    /// along the secant from the pose before it; the newest pose where the
+    /// guess only names the branch.
     #[inline(always)]
     fn predicted(&self, at: f64) -> M::Coords {
         let Some(h) = self.head() else {
@@ -1321,27 +1520,41 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         if !M::NEWTON_GUESS {
             return guess;
         }
-        let dt = (at - h.at) * self.per_rate;
-        for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
-            if let (Some(u), Some(ud)) = (guess.get(j), h.qd.get(j)) {
-                guess.set(j, u + ud * dt);
+        let (rate, from) = if S::RATES {
+            (&h.qd, None)
+        } else {
+            match self.back(1) {
+                Some(p) if p.at != h.at => (&h.q, Some((p, 1.0 / (h.at - p.at)))),
+                _ => return guess,
             }
+        };
+        let dt = (at - h.at) * if S::RATES { self.per_rate } else { 1.0 };
+        for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+            let (Some(u), Some(r)) = (guess.get(j), rate.get(j)) else {
+                continue;
+            };
+            // The secant's slope (u − u_prev) / (at_h − at_prev).
+            let slope = match from {
+                Some((p, inv)) => (r - p.q.get(j).unwrap_or(r)) * inv,
+                None => r,
+            };
+            guess.set(j, u + slope * dt);
         }
         guess
     }
 
     /// A sample as handed out: its angles wrapped as asked.
     #[inline(always)]
-    fn wrapped(&self, mut s: Sample<M>) -> Sample<M> {
+    fn wrapped(&self, mut s: S) -> S {
         self.wrap_angles(&mut s);
         s
     }
 
     /// Wraps the angles of `s` as asked.
     #[inline(always)]
-    fn wrap_angles(&self, s: &mut Sample<M>) {
+    fn wrap_angles(&self, s: &mut S) {
         if self.wrap != Wrap::Continuous {
-            let q = s.motion.q_mut();
+            let q = s.q_mut();
             for (j, c) in M::COORDINATES.iter().enumerate() {
                 if c.kind == Kind::Angle {
                     if let Some(v) = q.get(j) {
@@ -1363,24 +1576,23 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// Solves grid sample `k` = `self.k`, of value `at`: the sample to hand
     /// out, if one is ready.
     #[inline(always)]
-    fn advance(&mut self, k: usize, at: f64) -> Option<Result<Sample<M>, Stop>> {
+    fn advance(&mut self, k: usize, at: f64) -> Option<Result<S, Stop>> {
         let mut pose = self.predicted(at);
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
         let state = self.state.as_mut()?;
-        match self.m.step_carried(&pose, &self.rates, &self.accels, state) {
+        match S::solve(self.m, at, &pose, &self.rates, &self.accels, state) {
             // The common case, handed out at once: det Φ_u keeps its sign,
             // the conditioning was not falling so fast that it could reach
             // zero before this sample, and nothing is held back (`gate`).
-            Ok(motion) if self.gate * motion.det_sign() > 0.0 => {
+            Ok(mut s) if self.gate * s.det_sign() > 0.0 => {
                 self.k += 1;
-                self.push_head(at, &motion);
-                let mut s = Sample { at, motion };
+                self.push_head(&s);
                 self.wrap_angles(&mut s);
                 Some(Ok(s))
             }
-            Ok(motion) => {
-                self.unusual(Sample { at, motion });
+            Ok(s) => {
+                self.unusual(s);
                 self.regate();
                 self.reopen();
                 None
@@ -1397,19 +1609,19 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
     /// A new sample `s` near a possible change point, or after a held one.
     #[cold]
     #[inline(never)]
-    fn unusual(&mut self, s: Sample<M>) {
+    fn unusual(&mut self, s: S) {
         let Some(&h) = self.head() else {
             self.k += 1;
-            self.push_head(s.at, &s.motion);
+            self.push_head(&s);
             self.out.push_back(Ok(s));
             return;
         };
-        let (c1, c2) = (h.conditioning, s.motion.conditioning());
-        if h.det_sign * s.motion.det_sign() < 0.0 {
+        let (c1, c2) = (h.conditioning, s.conditioning());
+        if h.det_sign * s.det_sign() < 0.0 {
             // det Φ_u changed sign between the newest sample and `s`.
-            let at = h.at + (s.at - h.at) * c1 / (c1 + c2);
+            let at = h.at + (s.at() - h.at) * c1 / (c1 + c2);
             self.release();
-            return self.change_point(at, h.at, s.at);
+            return self.change_point(at, h.at, s.at());
         }
         if self.held.is_some() {
             // Does the conditioning dip to zero in a V around the held
@@ -1422,7 +1634,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             {
                 if let Some(t) = v_zero(c0, c1, c2) {
                     let at = if t > 0.0 {
-                        h.at + t * (s.at - h.at)
+                        h.at + t * (s.at() - h.at)
                     } else {
                         h.at + t * (h.at - a)
                     };
@@ -1431,7 +1643,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                     if on_it || self.singular_at(at, c1) {
                         if t > 0.0 {
                             self.release();
-                            return self.change_point(at, h.at, s.at);
+                            return self.change_point(at, h.at, s.at());
                         }
                         // The held sample is past the point: dropped,
                         // never handed out, and forgotten.
@@ -1447,7 +1659,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         // `s` accepted; held back if the conditioning was falling fast.
         self.k += 1;
         let fast = self.falling;
-        self.push_head(s.at, &s.motion);
+        self.push_head(&s);
         if fast {
             self.held = Some(s);
         } else {
@@ -1500,7 +1712,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
         let guess = extrapolated::<M>(&self.known(), target);
         let mut state = self.m.step_state(&self.options).ok()?;
         let s = self.solve(k, &guess, &mut state).ok()?;
-        Some((s.at, s.motion.conditioning()))
+        Some((s.at(), s.conditioning()))
     }
 
     /// A change point at `at`, between the accepted sample at `from` and
@@ -1555,7 +1767,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             // Every combination of assembly modes (one, from the guess, for
             // Newton–Raphson), each from a fresh state, ranked by distance
             // from the extrapolated pose.
-            let mut best: [Option<Candidate<M>>; 2] = [None, None];
+            let mut best: [Option<Candidate<M, S>>; 2] = [None, None];
             for combo in 0..1usize << modes {
                 let mut state = fresh.clone();
                 for (i, m) in M::step_modes(&mut state).iter_mut().enumerate() {
@@ -1564,7 +1776,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
                 let Ok(s) = self.solve(k, &guess, &mut state) else {
                     continue;
                 };
-                let d = distance::<M>(&guess, s.motion.q());
+                let d = distance::<M>(&guess, s.q());
                 let entry = Some((d, s, state));
                 if best[0].as_ref().is_none_or(|b| d < b.0) {
                     best[1] = best[0].take();
@@ -1595,7 +1807,7 @@ impl<'m, M: Mechanism, D: Drive<M>> SweepIter<'m, M, D> {
             self.passed.push(at);
             self.state = Some(state);
             self.forget();
-            self.push_head(s.at, &s.motion);
+            self.push_head(&s);
             let s = self.wrapped(s);
             self.out.push_back(Ok(s));
             self.k = k + 1;
@@ -1691,7 +1903,7 @@ fn extrapolated<M: Mechanism>(known: &[(f64, M::Coords)], target: f64) -> M::Coo
     guess
 }
 
-impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
+impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// Whether Φ_u is singular at `at` (where the conditioning, `c` at the
     /// nearest sample, extrapolates to zero): its conditioning there below
     /// a tenth of `c`, or a singular Jacobian. Tells a change point
@@ -1705,11 +1917,8 @@ impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
         let Ok(mut state) = self.m.step_state(&self.options) else {
             return false;
         };
-        match self
-            .m
-            .step_carried(&guess, &self.rates, &self.accels, &mut state)
-        {
-            Ok(motion) => motion.conditioning() < 0.1 * c,
+        match S::solve(self.m, at, &guess, &self.rates, &self.accels, &mut state) {
+            Ok(s) => s.conditioning() < 0.1 * c,
             Err(Error::Singular { .. } | Error::CannotAssemble { .. }) => true,
             Err(_) => false,
         }
@@ -1770,8 +1979,8 @@ fn distance<M: Mechanism>(a: &M::Coords, b: &M::Coords) -> f64 {
     d
 }
 
-impl<M: Mechanism, D: Drive<M>> Iterator for SweepIter<'_, M, D> {
-    type Item = Result<Sample<M>, Stop>;
+impl<M: Mechanism, D: Drive<M>, S: Solved<M>> Iterator for SweepIter<'_, M, D, S> {
+    type Item = Result<S, Stop>;
 
     #[inline]
     fn next(&mut self) -> Option<Self::Item> {
@@ -1788,11 +1997,11 @@ impl<M: Mechanism, D: Drive<M>> Iterator for SweepIter<'_, M, D> {
     }
 }
 
-impl<M: Mechanism, D: Drive<M>> SweepIter<'_, M, D> {
+impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// [`Iterator::next`] off the fast path: the items waiting, the end,
     /// the last value of an even grid.
     #[inline(never)]
-    fn next_slow(&mut self) -> Option<Result<Sample<M>, Stop>> {
+    fn next_slow(&mut self) -> Option<Result<S, Stop>> {
         let item = loop {
             if let Some(item) = self.out.pop_front() {
                 break Some(item);

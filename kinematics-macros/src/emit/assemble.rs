@@ -1,89 +1,62 @@
-//! `assemble` and `assemble_with`: Newton–Raphson on Φ(d, u) = 0 from a
-//! guess, by the general damped solver, with the driver-only part of Φ and
-//! Φ_u evaluated once.
+//! `assemble` and `assemble_with`: the closed-form blocks in the modes of
+//! the guess, the others (or the whole system) by Newton–Raphson from the
+//! guess, its common path inline (`__pose_core`), the general damped solver
+//! off it.
 
 use proc_macro2::TokenStream;
 use quote::quote;
 
-use super::newton::driver_frontier;
-use super::print::bind;
+use super::newton::unknown_trig;
 use super::{guards, Ctx};
-use crate::cse::schedule;
 
 /// The assembly methods.
 pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
-    let (g, d, pp) = (cx.g(), cx.d, &cx.pp);
-    let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
+    let (nd, ne, pp) = (cx.nd, cx.ne, &cx.pp);
     let id = &cx.id;
-    let (coords, coord, q) = (&id.coords, &id.coord, &id.q);
-    let (q_drivers, q_unknowns) = q.split_at(nd);
-    let (c_drivers, c_unknowns) = coord.split_at(nd);
-    let leaf = cx.leaf();
-    let newton_roots = cx.newton_roots();
-    let sched = schedule(
-        g,
-        &[
-            driver_frontier(g, &newton_roots, cx.model.drivers),
-            newton_roots,
-        ],
-    );
-    let (pr, lets) = bind(g, &sched, &leaf);
-    let (hoisted, iterated) = (&lets[0], &lets[1]);
-    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
-    let jac = cx.jac_array(&pr);
+    let (coords, coord) = (&id.coords, &id.coord);
+    let c_drivers = &coord[..nd];
+    let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
     let inputs = guards::inputs(cx, "start", false);
-    let scaling = cx.scaling();
-    let solver = cx.solver();
-    let at_solution = cx.factor_at_solution();
+    // Newton–Raphson on the whole system, its common path inline.
     let newton = quote! {
-            #scaling
-            #hoisted
-            let mut u = [#(start.#c_unknowns),*];
-            let mut phi = [0.0f64; #ne];
-            let mut jac = [0.0f64; #nnz];
-            let solved = #pp::newton(&mut u, &mut phi, &mut jac, &__scaling, options, |u, phi, jac| {
-                let [#(#q_unknowns),*] = *u;
-                #iterated
-                *phi = [#(#phi),*];
-                *jac = #jac;
-            }, #solver);
-            let [#(#q_unknowns),*] = u;
-            if let ::core::result::Result::Err(f) = solved {
-                return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
-            }
-            // The singularity and the branch are judged at the solution.
-            #at_solution
-            let _ = (__conditioning, __det_sign);
-            ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
+        let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+        self.__pose_core(start, options, &__scaling, &mut carry, true)
     };
     let (body, off_path) = if cx.closed_path() {
         // The closed-form blocks each in the mode of the guess, the others
         // by Newton on the block; Newton on the whole system off that path.
-        let nm = cx.nm();
+        let (nm, na, ndt) = (cx.nm(), cx.na(), cx.driver_trig().len());
         let body = quote! {
-            let __scaling = self.__scaling(&[#(#q_drivers),*])?;
             let mut modes = [::core::primitive::f64::NAN; #nm];
+            let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
+            let mut dtrig = [[::core::primitive::f64::NAN; 3]; #ndt];
             let pt = self.__param_trig();
-            match self.__assemble_closed(start, options, &__scaling, &mut modes, &pt, false) {
+            let pose = match self.__assemble_closed(start, options, &__scaling, &mut modes, &mut angles, &pt, &mut dtrig, false) {
                 ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => {
                     self.__assemble_other_branch(e, start, options, &__scaling, &mut modes, &pt)
                 }
                 r => r,
-            }
+            };
+            pose.map(|p| p.q)
         };
         let off_path = quote! {
             /// Newton–Raphson from `start`, off the closed-form path.
             #[doc(hidden)]
             #[cold]
             #[inline(never)]
-            fn __assemble_newton(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
-                let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
-                #newton
+            fn __assemble_newton(
+                &self,
+                start: &#coords,
+                options: &#pp::Options,
+                __scaling: &#pp::Scaling<#ne>,
+            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+                let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+                self.__pose_core(start, options, __scaling, &mut carry, true)
             }
         };
         (body, off_path)
     } else {
-        (newton, TokenStream::new())
+        (quote!({ #newton }.map(|p| p.q)), TokenStream::new())
     };
     quote! {
         /// Assembles the mechanism: solves the loop-closure equations
@@ -111,7 +84,7 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
             options.validate()?;
             self.validate()?;
             #inputs
-            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            let __scaling = self.__scaling(&[#(start.#c_drivers),*])?;
             #body
         }
 

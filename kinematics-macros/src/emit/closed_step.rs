@@ -158,7 +158,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     stages.push(d.phi.clone());
     stages.extend(cx.analysis_stages());
     let sched = schedule(g, &stages);
-    let (pr, lets) = bind_given(g, &sched, &leaf, step_given);
+    let (pr, lets) = bind_given(g, &sched, &leaf, step_given.clone());
     let step_solve = solve_blocks(cx, &pr, &lets, &step_newton, &TokenStream::new());
     let step_check = phi_check(&pr, &step_newton);
     let step_far = far_check(&step_newton);
@@ -170,12 +170,12 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         &quote!(#pp::closed::max_abs(&__phi)),
     );
     // The assembly: the blocks, Φ, then Φ_u.
-    let asm_newton = quote!(return self.__assemble_newton(start, options););
+    let asm_newton = quote!(return self.__assemble_newton(start, options, __scaling););
     let mut stages = coefs;
     stages.push(d.phi.clone());
     stages.push(cx.jac_flat());
     let sched = schedule(g, &stages);
-    let (apr, alets) = bind_given(g, &sched, &leaf, given);
+    let (apr, alets) = bind_given(g, &sched, &leaf, step_given.clone());
     // In the modes asked for, a Newton block that does not converge is an
     // error: Newton–Raphson on the whole system could find another mode.
     let asm_failed = quote! {
@@ -190,6 +190,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let asm_jac = cx.jac_array(&apr);
     let at_solution = cx.factor_at_solution();
     let nnz = cx.blocks.nnz();
+    // Carried values to compute afresh.
+    let fresh = quote!(&mut [[::core::primitive::f64::NAN; 3]; #na]);
+    let fresh_dtrig = quote!(&mut [[::core::primitive::f64::NAN; 3]; #ndt]);
     let inputs = guards::inputs(cx, "start", true);
     let asm_inputs = guards::inputs(cx, "start", false);
     let newton_blocks = newton_block_fns(cx);
@@ -219,7 +222,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                 let d = [#(start.#c_drivers),*];
                 let scaling = self.__scaling(&d)?;
                 let mut signs = modes.__signs();
-                self.__assemble_closed(start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig(), true)
+                self.__assemble_closed(start, &#pp::Options::DEFAULT, &scaling, &mut signs, #fresh, &self.__param_trig(), #fresh_dtrig, true)
+                    .map(|p| p.q)
             }
 
             /// Every assembly at the drivers of `start`: one per
@@ -258,7 +262,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                 let start = #coords { #( #c_drivers: #q_drivers, )* #( #c_unknowns: 0.0, )* };
                 let scaling = self.__scaling(&d)?;
                 let mut signs = modes.__signs();
-                self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, &self.__param_trig(), true)
+                self.__assemble_closed(&start, &#pp::Options::DEFAULT, &scaling, &mut signs, #fresh, &self.__param_trig(), #fresh_dtrig, true)
+                    .map(|p| p.q)
             }
 
             /// Every assembly at the drivers `drivers`: one per combination of
@@ -311,7 +316,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             #tail
         }
 
-        /// An assembly in closed form: as `__step_closed`, positions only,
+        /// An assembly in closed form: as `__step_closed`, positions only
+        /// (the unknown angles and the drivers' sines and cosines carried
+        /// in `angles` and `__dtrig` as there; all NaN: computed afresh),
         /// with the conditioning and branch checks at the solution;
         /// `strict` where the modes were asked for (then a Newton block
         /// that does not converge is an error, not a hand-over to
@@ -325,22 +332,28 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             options: &#pp::Options,
             __scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
+            angles: &mut [[f64; 3]; #na],
             __pt: &[f64; #npt],
+            __dtrig: &mut [[f64; 3]; #ndt],
             strict: bool,
-        ) -> #pp::Result<#coords, #pp::Error> {
+        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
             let [#(#pt_names),*] = *__pt;
             #asm_far
-            let angles = &mut [[::core::primitive::f64::NAN; 3]; #na];
             #asm_inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            #(#dtrig_lets)*
             #asm_solve
             #asm_phi_lets
             #asm_check
             #asm_jac_lets
             let jac: [f64; #nnz] = #asm_jac;
             #at_solution
-            let _ = (__conditioning, __det_sign);
-            ::core::result::Result::Ok(#coords { #( #coord: #q ),* })
+            ::core::result::Result::Ok(#pp::Pose {
+                q: #coords { #( #coord: #q ),* },
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+                residual: #pp::closed::max_abs(&__phi),
+            })
         }
 
         #param_trig
@@ -377,7 +390,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             ::core::result::Result::Err(first)
         }
 
-        /// `__step_other_branch` for `__assemble_closed`.
+        /// `__step_other_branch` for `__assemble_closed` (from values
+        /// computed afresh).
         #[doc(hidden)]
         #[cold]
         #[inline(never)]
@@ -390,9 +404,9 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
             pt: &[f64; #npt],
-        ) -> #pp::Result<#coords, #pp::Error> {
+        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
             for mut m in #pp::closed::other_modes(*modes) {
-                let r = self.__assemble_closed(start, options, scaling, &mut m, pt, false);
+                let r = self.__assemble_closed(start, options, scaling, &mut m, #fresh, pt, #fresh_dtrig, false);
                 if r.is_ok() {
                     *modes = m;
                     return r;

@@ -128,6 +128,8 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         impl #stepper<'_> {
             /// Unavailable: the definition has errors.
             pub fn step(&mut self, start: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            /// Unavailable: the definition has errors.
+            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> { #unavailable }
         }
         #[automatically_derived]
         #[allow(unused_variables)]
@@ -151,6 +153,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             fn step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> { #unavailable }
             fn step_modes(state: &mut #state) -> &mut [f64] { #unavailable }
             fn step_carried(&self, start: &#coords, rates: &#coords, accelerations: &#coords, state: &mut #state) -> #pp::Result<#motion, #pp::Error> { #unavailable }
+            fn pose_carried(&self, start: &#coords, state: &mut #state) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> { #unavailable }
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }

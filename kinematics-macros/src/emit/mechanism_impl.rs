@@ -125,6 +125,15 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                 state.__step(self, start, rates, accelerations)
             }
 
+            #[inline]
+            fn pose_carried(
+                &self,
+                start: &#coords,
+                state: &mut #state,
+            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+                state.__pose(self, start)
+            }
+
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) {
                 let r = #name::residual(self, pose);
                 for (o, v) in out.iter_mut().zip(r.iter()) {

@@ -48,42 +48,15 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         &[&vel_stage, &acc_stage, &pt_stage],
     );
     let (pr, lets) = bind(g, &sched, &leaf);
-    // The sine and cosine of each unknown angle carried from one iterate to
-    // the next (`sin_cos_after`): the same schedule, with those nodes read
-    // from variables. The change of the argument is the difference of its
-    // evaluated values, so that the carried values follow the argument as
-    // evaluated in floating point (an offset of 1e20 rad leaves u + γ
-    // unchanged by a small step in u).
-    let mut given: HashMap<Id, Ident> = HashMap::new();
-    let (mut trig_setup, mut trig_eval, mut trig_keep) =
-        (TokenStream::new(), TokenStream::new(), Vec::new());
-    let trig = unknown_trig(g, &newton_roots, cx.model.drivers);
-    let nt = trig.len();
-    for (n, t) in trig.into_iter().enumerate() {
-        // The argument as an expression of u_k and values bound before the
-        // iteration (the part free of unknowns is driver-only or constant).
-        let arg = pr.body(t.arg);
-        let (sv, cv, av) = (
-            format_ident!("__sin_{}", n),
-            format_ident!("__cos_{}", n),
-            format_ident!("__arg_{}", n),
-        );
-        given.extend(t.sin.map(|id| (id, sv.clone())));
-        given.extend(t.cos.map(|id| (id, cv.clone())));
-        // From the values carried in: the previous pose's (a stepper's), or
-        // an argument of NaN, which computes afresh.
-        trig_setup.extend(quote! {
-            let [mut #sv, mut #cv, mut #av] = carry[#n];
-        });
-        trig_keep.push(quote!([#sv, #cv, #av]));
-        trig_eval.extend(quote! {
-            let __x = #arg;
-            (#sv, #cv) = #pp::sin_cos_after(#sv, #cv, __x, __x - #av);
-            #av = __x;
-        });
-    }
-    let (_, fast_lets) = bind_given(g, &sched, &leaf, given);
-    let iterated_fast = &fast_lets[1];
+    let fast_loop = FastLoop::new(cx, &sched, &pr);
+    let FastLoop {
+        trig_setup,
+        trig_eval,
+        trig_keep,
+        nt,
+        ..
+    } = &fast_loop;
+    let iterated_fast = &fast_loop.iterated;
     let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
     let newton_solve = cx.blocks.solve(&quote!(phi), false);
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
@@ -138,6 +111,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
          drivers rotated by each step's increment, refreshed every 16 steps; those of the \
          unknowns every 64). The way to run a simulation."
     );
+    let pose_core = pose_core(cx);
     // Whether the scaling must be evaluated at each step: a term scale that
     // holds a driver (a slider driver outside a sine or cosine).
     let driver_scaled = cx.scales.full.iter().any(|&r| {
@@ -281,6 +255,8 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             #tail
         }
 
+        #pose_core
+
         #[doc = #stepper_doc]
         ///
         /// # Errors
@@ -352,6 +328,21 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             &mut self.carry
         ))
     };
+    let pose_call = if cx.closed_path() {
+        quote! {
+            let (options, pt) = (&self.options, &self.param_trig);
+            match mechanism.__assemble_closed(
+                start, options, &scaling, &mut self.modes, &mut self.angles, pt, &mut self.dtrig, false,
+            ) {
+                ::core::result::Result::Err(e @ #pp::Error::WrongBranch { .. }) => {
+                    mechanism.__assemble_other_branch(e, start, options, &scaling, &mut self.modes, pt)
+                }
+                r => r,
+            }
+        }
+    } else {
+        quote!(mechanism.__pose_core(start, &self.options, &scaling, &mut self.carry, false))
+    };
     let modes_fn = if cx.closed_path() {
         let modes = format_ident!("{}Modes", name.unraw());
         quote! {
@@ -381,6 +372,13 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
         "A stepping handle of [`{name}`], made by [`{name}::stepper`]: options, parameters and \
          the scaling of the equations checked once, and the sines and cosines of each solved \
          pose carried to the next step."
+    );
+    let pose_doc = format!(
+        "As [`{stepper}::step`], positions only: assembles at the drivers of `start` from the \
+         previous step's state (its assembly modes and the sines and cosines of its pose) and \
+         returns the pose with its conditioning, the sign of det Φ_u and the residual, with no \
+         velocity or acceleration computed. The step of a sweep of positions \
+         ([`SweepBuilder::poses`](::kinematics_core::sweep::SweepBuilder::poses))."
     );
     let step_doc = format!(
         "As [`{name}::step`] from `start` (the drivers and a guess of the unknowns, usually the \
@@ -426,6 +424,15 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 self.state.__step(self.mechanism, start, rates, accelerations)
             }
 
+            #[doc = #pose_doc]
+            ///
+            /// # Errors
+            /// As the mechanism's `assemble`.
+            #[inline]
+            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+                self.state.__pose(self.mechanism, start)
+            }
+
             #modes_fn
         }
 
@@ -440,6 +447,30 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 rates: impl #pp::DriverValues<#nd>,
                 accelerations: impl #pp::DriverValues<#nd>,
             ) -> #pp::Result<#motion, #pp::Error> {
+                let scaling = self.__refresh(mechanism, start)?;
+                #call
+            }
+
+            /// The stepper's positions-only step, for `mechanism`.
+            #[doc(hidden)]
+            #[inline(always)]
+            pub fn __pose(
+                &mut self,
+                mechanism: &#name,
+                start: &#coords,
+            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+                let scaling = self.__refresh(mechanism, start)?;
+                #pose_call
+            }
+
+            /// Counts a step, refreshing the carried sines and cosines now
+            /// and then; the scaling at the drivers of `start`.
+            #[inline(always)]
+            fn __refresh(
+                &mut self,
+                mechanism: &#name,
+                start: &#coords,
+            ) -> #pp::Result<#pp::Scaling<#ne>, #pp::Error> {
                 // Fresh sines and cosines now and then bound the drift of
                 // the carried ones.
                 self.since_refresh += 1;
@@ -457,14 +488,191 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                         a[2] = ::core::primitive::f64::NAN;
                     }
                 }
-                let scaling = match self.scaling {
-                    ::core::option::Option::Some(s) => s,
-                    ::core::option::Option::None => {
-                        mechanism.__scaling(&[#(start.#c_drivers),*])?
-                    }
-                };
-                #call
+                match self.scaling {
+                    ::core::option::Option::Some(s) => ::core::result::Result::Ok(s),
+                    ::core::option::Option::None => mechanism.__scaling(&[#(start.#c_drivers),*]),
+                }
             }
+        }
+    }
+}
+
+/// The pieces of Newton's inline loop for a schedule whose first two
+/// stages are the driver-only values and the Newton cone (Φ and Φ_u): the
+/// sine and cosine of each unknown angle carried from one iterate to the
+/// next (`sin_cos_after`), and the iteration's values with those nodes read
+/// from the carried variables. The change of the argument is the
+/// difference of its evaluated values, so that the carried values follow
+/// the argument as evaluated in floating point (an offset of 1e20 rad
+/// leaves u + γ unchanged by a small step in u).
+struct FastLoop {
+    /// Binds the carried values from `carry`.
+    trig_setup: TokenStream,
+    /// Updates them at the iterate.
+    trig_eval: TokenStream,
+    /// Each carried value as stored back into `carry`.
+    trig_keep: Vec<TokenStream>,
+    /// The number of carried sines and cosines.
+    nt: usize,
+    /// The iteration's values (stage 1 of the schedule).
+    iterated: TokenStream,
+}
+
+impl FastLoop {
+    fn new(cx: &Ctx<'_>, sched: &crate::cse::Schedule, pr: &super::print::Printer<'_>) -> Self {
+        let (g, pp) = (cx.g(), &cx.pp);
+        let leaf = cx.leaf();
+        let mut given: HashMap<Id, Ident> = HashMap::new();
+        let (mut trig_setup, mut trig_eval, mut trig_keep) =
+            (TokenStream::new(), TokenStream::new(), Vec::new());
+        let trig = unknown_trig(g, &cx.newton_roots(), cx.model.drivers);
+        let nt = trig.len();
+        for (n, t) in trig.into_iter().enumerate() {
+            // The argument as an expression of u_k and values bound before
+            // the iteration (the part free of unknowns is driver-only or
+            // constant).
+            let arg = pr.body(t.arg);
+            let (sv, cv, av) = (
+                format_ident!("__sin_{}", n),
+                format_ident!("__cos_{}", n),
+                format_ident!("__arg_{}", n),
+            );
+            given.extend(t.sin.map(|id| (id, sv.clone())));
+            given.extend(t.cos.map(|id| (id, cv.clone())));
+            // From the values carried in: the previous pose's (a
+            // stepper's), or an argument of NaN, which computes afresh.
+            trig_setup.extend(quote! {
+                let [mut #sv, mut #cv, mut #av] = carry[#n];
+            });
+            trig_keep.push(quote!([#sv, #cv, #av]));
+            trig_eval.extend(quote! {
+                let __x = #arg;
+                (#sv, #cv) = #pp::sin_cos_after(#sv, #cv, __x, __x - #av);
+                #av = __x;
+            });
+        }
+        let (_, fast_lets) = bind_given(g, sched, &leaf, given);
+        Self {
+            trig_setup,
+            trig_eval,
+            trig_keep,
+            nt,
+            iterated: fast_lets[1].clone(),
+        }
+    }
+}
+
+/// `__pose_core`: a positions-only step or assembly. Newton's common path
+/// inline (Φ and Φ_u only), the general damped solver off it (and, with
+/// `polish`, after it where the residual is above `solve::POLISH` times
+/// the tolerance: `assemble` returns poses at round-off), then the
+/// conditioning and the branch judged at the solution.
+fn pose_core(cx: &Ctx<'_>) -> TokenStream {
+    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
+    let id = &cx.id;
+    let (coords, coord, q) = (&id.coords, &id.coord, &id.q);
+    let (q_drivers, q_unknowns) = q.split_at(nd);
+    let (c_drivers, c_unknowns) = coord.split_at(nd);
+    let leaf = cx.leaf();
+    let newton_roots = cx.newton_roots();
+    let sched = schedule(
+        g,
+        &[
+            driver_frontier(g, &newton_roots, cx.model.drivers),
+            newton_roots,
+        ],
+    );
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let FastLoop {
+        trig_setup,
+        trig_eval,
+        trig_keep,
+        nt,
+        iterated: iterated_fast,
+    } = FastLoop::new(cx, &sched, &pr);
+    let (hoisted, iterated) = (&lets[0], &lets[1]);
+    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
+    let jac = cx.jac_array(&pr);
+    let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
+    let newton_solve = cx.blocks.solve(&quote!(phi), false);
+    let inputs = guards::inputs(cx, "start", false);
+    let solver = cx.solver();
+    let at_solution = cx.factor_at_solution();
+    quote! {
+        /// A positions-only step (or, with `polish`, an assembly) from
+        /// `start`, with options, parameters and scaling already checked,
+        /// the sines and cosines of the unknown angles carried in `carry`
+        /// as in `__step_core`.
+        #[doc(hidden)]
+        #[inline(always)]
+        #allow
+        #[allow(unused_assignments)]
+        fn __pose_core(
+            &self,
+            start: &#coords,
+            options: &#pp::Options,
+            __scaling: &#pp::Scaling<#ne>,
+            carry: &mut [[f64; 3]; #nt],
+            polish: bool,
+        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+            #inputs
+            let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
+            let __weights = __scaling.weights(options);
+            #hoisted
+            let mut u = [#(start.#c_unknowns),*];
+            let mut fast = #pp::FastNewton::new();
+            let mut __phi = [0.0f64; #ne];
+            let mut __jac = [0.0f64; #nnz];
+            #trig_setup
+            let on_path = loop {
+                let [#(#q_unknowns),*] = u;
+                #trig_eval
+                #iterated_fast
+                let phi = [#(#phi),*];
+                __phi = phi;
+                let jac: [f64; #nnz] = #jac;
+                __jac = jac;
+                match fast.assess(&phi, &__weights, options) {
+                    #pp::Next::Continue => {}
+                    #pp::Next::Converged => break true,
+                    #pp::Next::Fallback => break false,
+                }
+                #newton_factor
+                fast.advance(&mut u, &#newton_solve);
+            };
+            if on_path && !(polish && #pp::FastNewton::unpolished(&__phi, &__weights, options)) {
+                *carry = [#(#trig_keep),*];
+            } else {
+                *carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+                if !on_path {
+                    u = [#(start.#c_unknowns),*];
+                }
+                let mut phi = [0.0f64; #ne];
+                let mut jac = [0.0f64; #nnz];
+                let solved = #pp::newton(&mut u, &mut phi, &mut jac, __scaling, options, |u, phi, jac| {
+                    let [#(#q_unknowns),*] = *u;
+                    #iterated
+                    *phi = [#(#phi),*];
+                    *jac = #jac;
+                }, #solver);
+                if let ::core::result::Result::Err(f) = solved {
+                    let [#(#q_unknowns),*] = u;
+                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+                }
+                __phi = phi;
+                __jac = jac;
+            }
+            let [#(#q_unknowns),*] = u;
+            let jac = __jac;
+            // The singularity and the branch are judged at the solution.
+            #at_solution
+            ::core::result::Result::Ok(#pp::Pose {
+                q: #coords { #( #coord: #q ),* },
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+                residual: #pp::closed::max_abs(&__phi),
+            })
         }
     }
 }
