@@ -911,7 +911,7 @@ impl FastNewton {
     #[must_use]
     pub fn unpolished<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
         let (_, max) = norms(phi, w);
-        !(max <= POLISH * options.tolerance)
+        max > POLISH * options.tolerance || max.is_nan()
     }
 
     /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.

@@ -1420,12 +1420,7 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
 
     /// Solves grid sample `k` from `guess` (its drivers set here) with
     /// `state`, off the hot path.
-    fn solve(
-        &mut self,
-        k: usize,
-        guess: &M::Coords,
-        state: &mut M::StepState,
-    ) -> Result<S, Error> {
+    fn solve(&mut self, k: usize, guess: &M::Coords, state: &mut M::StepState) -> Result<S, Error> {
         let at = self.grid.at(k);
         let mut pose = *guess;
         self.drive

@@ -14,7 +14,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use kinematics_examples::{FourBar, RRtrRrt, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords};
-use kinematics_tests::{SlotSixBar, SlotSixBarModes};
+use kinematics_tests::{DistanceFourBar, DistanceFourBarCoords, SlotSixBar, SlotSixBarModes};
 
 struct Counting;
 
@@ -179,6 +179,41 @@ fn a_mixed_stepper_allocates_nothing() {
 }
 
 #[test]
+fn positions_only_steps_allocate_nothing() {
+    // A stepper's positions-only steps, in closed form and by Newton's
+    // inline path, and the assembly of a mechanism without closed forms.
+    let m = FourBar::CRANK_ROCKER;
+    let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let mut stepper = m
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    let n = DistanceFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let n_start = n
+        .assemble(&DistanceFourBarCoords { phi: 0.0, th4: 1.5 })
+        .expect("assembles");
+    let mut n_stepper = n
+        .stepper(&kinematics_core::Options::DEFAULT)
+        .expect("a stepper");
+    assert_allocates_nothing(|| {
+        let (mut pose, mut n_pose) = (start, n_start);
+        for k in 0..360 {
+            let phi = f64::from(k) * 0.0175;
+            pose.phi = phi;
+            pose = stepper.pose(&pose).expect("assembles").q;
+            n_pose.phi = phi;
+            n_pose = n_stepper.pose(&n_pose).expect("assembles").q;
+            n_pose = n.assemble(&n_pose).expect("assembles");
+        }
+        std::hint::black_box((pose, n_pose));
+    });
+}
+
+#[test]
 fn a_sweeps_samples_allocate_nothing_each() {
     // A sweep allocates its sample vector (once, with its capacity) and its
     // rate buffers; the number of allocations does not grow with the number
@@ -215,4 +250,17 @@ fn a_sweeps_samples_allocate_nothing_each() {
     };
     let (few, many) = (streamed(10), streamed(1000));
     assert_eq!(few, many, "streamed: {few} for 11, {many} for 1001");
+    // A sweep of poses likewise.
+    let poses = |steps: usize| {
+        let before = allocations();
+        let mut n = 0;
+        for sample in m.sweep(FourBar::PHI, &start).to(1.0).steps(steps).poses() {
+            std::hint::black_box(sample.expect("no stop"));
+            n += 1;
+        }
+        assert_eq!(n, steps + 1);
+        allocations() - before
+    };
+    let (few, many) = (poses(10), poses(1000));
+    assert_eq!(few, many, "poses: {few} for 11, {many} for 1001");
 }
