@@ -324,11 +324,30 @@ impl<M: Mechanism> fmt::Debug for PoseSample<M> {
 pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
     /// Whether [`Solved::qd`] returns the rates.
     const RATES: bool;
-    /// Solves the sample at `at` from `start` (its drivers set), with the
-    /// drivers' `rates` and `accelerations`, carrying `state`.
+    /// What the mechanism's step returns: the motion, or the pose.
+    type Step;
+    /// Takes the mechanism's step at the drivers of `start` (the guess of
+    /// its unknowns), with the drivers' `rates` and `accelerations`,
+    /// carrying `state`.
     ///
     /// # Errors
     /// As the mechanism's step.
+    fn step(
+        m: &M,
+        start: &M::Coords,
+        rates: &M::Coords,
+        accelerations: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<Self::Step, Error>;
+    /// The sign of det Φ_u of a step's result.
+    fn step_det_sign(step: &Self::Step) -> f64;
+    /// The sample at `at` of a step's result.
+    fn sample(at: f64, step: Self::Step) -> Self;
+    /// Solves the sample at `at` from `start`, as [`Solved::step`].
+    ///
+    /// # Errors
+    /// As the mechanism's step.
+    #[inline(always)]
     fn solve(
         m: &M,
         at: f64,
@@ -336,7 +355,9 @@ pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
         rates: &M::Coords,
         accelerations: &M::Coords,
         state: &mut M::StepState,
-    ) -> Result<Self, Error>;
+    ) -> Result<Self, Error> {
+        Self::step(m, start, rates, accelerations, state).map(|s| Self::sample(at, s))
+    }
     /// The value of the sweep variable.
     fn at(&self) -> f64;
     /// The coordinates.
@@ -353,17 +374,24 @@ pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
 
 impl<M: Mechanism> Solved<M> for Sample<M> {
     const RATES: bool = true;
+    type Step = M::Motion;
     #[inline(always)]
-    fn solve(
+    fn step(
         m: &M,
-        at: f64,
         start: &M::Coords,
         rates: &M::Coords,
         accelerations: &M::Coords,
         state: &mut M::StepState,
-    ) -> Result<Self, Error> {
-        let motion = m.step_carried(start, rates, accelerations, state)?;
-        Ok(Self { at, motion })
+    ) -> Result<M::Motion, Error> {
+        m.step_carried(start, rates, accelerations, state)
+    }
+    #[inline(always)]
+    fn step_det_sign(step: &M::Motion) -> f64 {
+        step.det_sign()
+    }
+    #[inline(always)]
+    fn sample(at: f64, motion: M::Motion) -> Self {
+        Self { at, motion }
     }
     #[inline(always)]
     fn at(&self) -> f64 {
@@ -393,17 +421,24 @@ impl<M: Mechanism> Solved<M> for Sample<M> {
 
 impl<M: Mechanism> Solved<M> for PoseSample<M> {
     const RATES: bool = false;
+    type Step = Pose<M::Coords>;
     #[inline(always)]
-    fn solve(
+    fn step(
         m: &M,
-        at: f64,
         start: &M::Coords,
         _: &M::Coords,
         _: &M::Coords,
         state: &mut M::StepState,
-    ) -> Result<Self, Error> {
-        let pose = m.pose_carried(start, state)?;
-        Ok(Self { at, pose })
+    ) -> Result<Pose<M::Coords>, Error> {
+        m.pose_carried(start, state)
+    }
+    #[inline(always)]
+    fn step_det_sign(step: &Pose<M::Coords>) -> f64 {
+        step.det_sign
+    }
+    #[inline(always)]
+    fn sample(at: f64, pose: Pose<M::Coords>) -> Self {
+        Self { at, pose }
     }
     #[inline(always)]
     fn at(&self) -> f64 {
@@ -1576,18 +1611,19 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
         let state = self.state.as_mut()?;
-        match S::solve(self.m, at, &pose, &self.rates, &self.accels, state) {
+        match S::step(self.m, &pose, &self.rates, &self.accels, state) {
             // The common case, handed out at once: det Φ_u keeps its sign,
             // the conditioning was not falling so fast that it could reach
             // zero before this sample, and nothing is held back (`gate`).
-            Ok(mut s) if self.gate * s.det_sign() > 0.0 => {
+            Ok(step) if self.gate * S::step_det_sign(&step) > 0.0 => {
                 self.k += 1;
+                let mut s = S::sample(at, step);
                 self.push_head(&s);
                 self.wrap_angles(&mut s);
                 Some(Ok(s))
             }
-            Ok(s) => {
-                self.unusual(s);
+            Ok(step) => {
+                self.unusual(S::sample(at, step));
                 self.regate();
                 self.reopen();
                 None

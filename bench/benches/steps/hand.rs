@@ -170,6 +170,75 @@ pub fn m2_step(m: &m2::Rssr, phi: f64, st: &mut Carried<1>, w: f64, al: f64) -> 
     psi + psid + psidd + b[0] + b[1] + b[2] + v[0] + v[1] + v[2] + a[0] + a[1] + a[2]
 }
 
+/// M1's positions only, as an expert writes them: `m1_step`'s Newton loop
+/// (the driver's `sin_cos` once, each angle's once per iterate after the
+/// first, the converged pose carried to the next position) without the
+/// rates; returns θ3 + θ4.
+pub fn m1_pose(m: &m1::FourBar, phi: f64, st: &mut Carried<2>) -> f64 {
+    let (b, c) = (m.b, m.c);
+    let (s1, c1) = phi.sin_cos();
+    let (rx, ry) = (m.a * c1 - m.d, m.a * s1);
+    let [mut t3, mut t4] = st.angles;
+    let [(mut sb, mut cb), (mut sc, mut cc)] = st.trig;
+    for _ in 0..MAX_IT {
+        let f0 = rx + b * cb - c * cc;
+        let f1 = ry + b * sb - c * sc;
+        if f0.abs().max(f1.abs()) < TOL {
+            break;
+        }
+        let det = b * c * (sb * cc - cb * sc);
+        t3 -= (-c * cc * f0 - c * sc * f1) / det;
+        t4 -= (-b * cb * f0 - b * sb * f1) / det;
+        (sb, cb) = t3.sin_cos();
+        (sc, cc) = t4.sin_cos();
+    }
+    st.angles = [t3, t4];
+    st.trig = [(sb, cb), (sc, cc)];
+    t3 + t4
+}
+
+/// M2's positions only, as an expert writes them: `m2_step`'s hoisted
+/// residual and Newton loop without the rates; returns ψ.
+pub fn m2_pose(m: &m2::Rssr, phi: f64, st: &mut Carried<1>) -> f64 {
+    let (sf, cf) = phi.sin_cos();
+    let k = m.a * cf - m.d;
+    let f0 = k * k + m.c * m.c + m.a * m.a * sf * sf - m.b * m.b;
+    let g = -2.0 * k * m.c;
+    let [mut psi] = st.angles;
+    let [(mut sp, mut cp)] = st.trig;
+    for _ in 0..MAX_IT {
+        let f = f0 + g * cp;
+        if f.abs() < TOL {
+            break;
+        }
+        psi -= f / (-g * sp);
+        (sp, cp) = psi.sin_cos();
+    }
+    st.angles = [psi];
+    st.trig = [(sp, cp)];
+    psi
+}
+
+/// M3's positions only: the two dyads of `m3_step` without the rates;
+/// returns the sum of the four angles.
+pub fn m3_pose(m: &m3::Watt, phi: f64, th: &mut [f64; 4]) -> f64 {
+    let (s1, c1) = phi.sin_cos();
+    let (mut t3, mut t4) = (th[0], th[1]);
+    dyad(m.a * c1 - m.d, m.a * s1, m.b, m.c, &mut t3, &mut t4);
+    let (se, ce) = (t4 + m.gamma).sin_cos();
+    let (mut t5, mut t6) = (th[2], th[3]);
+    dyad(
+        m.d + m.e * ce - m.gx,
+        m.e * se - m.gy,
+        m.f,
+        m.g,
+        &mut t5,
+        &mut t6,
+    );
+    *th = [t3, t4, t5, t6];
+    th.iter().sum()
+}
+
 /// M3: the four-bar dyad, then the output dyad driven by the rocker.
 pub fn m3_step(m: &m3::Watt, phi: f64, th: &mut [f64; 4], w: f64, al: f64) -> f64 {
     let (s1, c1) = phi.sin_cos();

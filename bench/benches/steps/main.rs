@@ -81,6 +81,7 @@ mod generic;
 mod hand;
 mod interp;
 mod models;
+mod positions;
 
 use std::f64::consts::TAU;
 use std::hint::black_box;
@@ -92,9 +93,9 @@ use kinematics_core::Options;
 
 use models::{m1, m2, m3, m4, ARM_OFFSET, ARM_SPEED, M1, M2, M3, M4};
 
-const STEPS: usize = 3600;
+pub(crate) const STEPS: usize = 3600;
 
-fn angle(k: usize) -> f64 {
+pub(crate) fn angle(k: usize) -> f64 {
     // Exact for the integers involved.
     #[allow(clippy::cast_precision_loss)]
     let k = k as f64;
@@ -105,7 +106,7 @@ fn angle(k: usize) -> f64 {
 /// application: every variant reads them through `black_box` once per
 /// turn, so that none has its parameters or rates folded into its code as
 /// constants.
-fn data<T>(x: T) -> T {
+pub(crate) fn data<T>(x: T) -> T {
     black_box(x)
 }
 
@@ -661,6 +662,7 @@ fn main() {
     if std::env::var_os("KINEMATICS_BENCH_INTERLEAVED").is_some() {
         // The interleaved ratios only (about a minute).
         println!("{}", interleaved(&mut all));
+        println!("{}", positions::table());
         return;
     }
     let mut c = Criterion::default()
@@ -706,6 +708,8 @@ fn main() {
     }
     table += "\n";
     table += &interleaved(&mut all);
+    table += "\n";
+    table += &positions::table();
     table += "\nMacro expansion (the whole `proc_macro2` pipeline, median of 11 runs) and floating-point \
               operation counts, written out as expression trees and after common-subexpression elimination:\n\n";
     table += &expansion_table();
@@ -722,7 +726,7 @@ fn main() {
 /// CPU time of the calling thread, in nanoseconds (the one `unsafe` call of
 /// the project, a foreign function with a valid out-pointer).
 #[allow(unsafe_code)]
-fn thread_cpu_ns() -> f64 {
+pub(crate) fn thread_cpu_ns() -> f64 {
     let mut t = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,

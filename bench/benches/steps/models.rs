@@ -60,6 +60,28 @@ model!(m4, pub struct Arm {
     points { TCP = tool * vec3(d6, 0.0, 0.0); }
 });
 
+/// M5, for the positions-only benchmark: a slider-crank whose slider runs
+/// in a curved guide, the parabola x = h + k y², which no closed form
+/// covers (Newton–Raphson on the whole system).
+pub mod m5 {
+    #![allow(missing_docs)]
+    kinematics_core::mechanism! {
+        pub struct CurvedSlider {
+            params   { a, b, h, k }
+            drivers  { phi }
+            unknowns { th, y }
+            loops { polar(a, phi) + polar(b, th) == vec2(h + k * y * y, y); }
+        }
+    }
+}
+
+pub const M5: m5::CurvedSlider = m5::CurvedSlider {
+    a: 0.05,
+    b: 0.2,
+    h: 0.05,
+    k: 2.0,
+};
+
 pub const M1: m1::FourBar = m1::FourBar {
     a: 0.04,
     b: 0.12,

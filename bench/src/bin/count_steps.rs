@@ -10,18 +10,53 @@
 //! `m1a` and `m2a` run M1 and M2 with the absolute convergence test, `m1s`,
 //! `m2s`, `m3s` and `m4s` through the stepping handle (`stepper().step`), `m1w`
 //! and `m2w` through a sweep collected (`run()`), `m1i` and `m2i` through a
-//! sweep streamed (its iterator). A
-//! second argument repeats the turn and prints the wall time per step.
+//! sweep streamed (its iterator), `m1p`, `m2p` and `m3p` through a sweep of
+//! positions only (`poses()`). `n`, `np` and `na` run a slider-crank in a
+//! curved guide, which no closed form covers (Newton–Raphson on the whole
+//! system), through a sweep, a sweep of poses, and `assemble` from the
+//! previous pose. A second argument repeats the turn and prints the wall
+//! time per step.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::panic, clippy::cast_precision_loss)]
 
 use std::f64::consts::TAU;
 use std::hint::black_box;
 
-use kinematics_core::{Convergence, Options};
+use kinematics_core::{mechanism, Convergence, Options};
 use kinematics_examples::{FourBar, Rssr, RssrCoords, SixAxisArm, SixAxisArmCoords, Watt};
 
 const STEPS: usize = 3600;
+
+mechanism! {
+    /// A slider-crank whose slider runs in a curved guide, the parabola
+    /// x = h + k y²: no closed form covers it (Newton–Raphson on the whole
+    /// system).
+    pub struct CurvedSlider {
+        params {
+            /// Crank.
+            a,
+            /// Connecting rod.
+            b,
+            /// Vertex of the guide.
+            h,
+            /// Curvature of the guide.
+            k
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Rod angle.
+            th,
+            /// Slider height along the guide.
+            y
+        }
+        loops {
+            polar(a, phi) + polar(b, th) == vec2(h + k * y * y, y);
+        }
+    }
+}
 
 fn angle(k: usize) -> f64 {
     k as f64 * TAU / STEPS as f64
@@ -133,6 +168,79 @@ fn turn(which: &str) -> f64 {
             };
             s
         }
+        "m1p" | "m2p" | "m3p" => {
+            // The same turns, positions only.
+            let mut sum = 0.0;
+            if which == "m1p" {
+                let start = four_bar.assemble(&FourBar::CRANK_ROCKER_GUESS).unwrap();
+                for x in four_bar
+                    .sweep(FourBar::PHI, &start)
+                    .turn()
+                    .steps(STEPS)
+                    .poses()
+                {
+                    sum += x.unwrap().pose.q.th4;
+                }
+            } else if which == "m2p" {
+                let start = rssr.assemble(&RssrCoords { phi: 0.0, psi: 1.2 }).unwrap();
+                for x in rssr.sweep(Rssr::PHI, &start).turn().steps(STEPS).poses() {
+                    sum += x.unwrap().pose.q.psi;
+                }
+            } else {
+                let start = watt.assemble(&Watt::EXAMPLE_GUESS).unwrap();
+                for x in watt.sweep(Watt::PHI, &start).turn().steps(STEPS).poses() {
+                    sum += x.unwrap().pose.q.th6;
+                }
+            }
+            sum
+        }
+        "n" | "np" | "na" => {
+            let m = black_box(CurvedSlider {
+                a: 0.05,
+                b: 0.2,
+                h: 0.05,
+                k: 2.0,
+            });
+            let start = m
+                .assemble(&CurvedSliderCoords {
+                    phi: 0.0,
+                    th: 1.2,
+                    y: 0.19,
+                })
+                .unwrap();
+            let mut sum = 0.0;
+            match which {
+                "n" => {
+                    for x in m
+                        .sweep(CurvedSlider::PHI, &start)
+                        .turn()
+                        .steps(STEPS)
+                        .rate(10.0)
+                    {
+                        sum += x.unwrap().motion.qdd.y;
+                    }
+                }
+                "np" => {
+                    for x in m
+                        .sweep(CurvedSlider::PHI, &start)
+                        .turn()
+                        .steps(STEPS)
+                        .poses()
+                    {
+                        sum += x.unwrap().pose.q.y;
+                    }
+                }
+                _ => {
+                    let mut pose = start;
+                    for k in 0..STEPS {
+                        pose.phi = angle(k);
+                        pose = m.assemble(black_box(&pose)).unwrap();
+                        sum += pose.y;
+                    }
+                }
+            }
+            sum
+        }
         "m1i" | "m2i" => {
             // The same turns through a sweep's iterator (streamed).
             let mut sum = 0.0;
@@ -179,7 +287,8 @@ fn turn(which: &str) -> f64 {
             sum
         }
         other => panic!(
-            "unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s, m1w, m2w, m1i, m2i, m4 or m4s"
+            "unknown mechanism `{other}`: m1, m1a, m1s, m2, m2a, m2s, m3, m3s, m1w, m2w, m1i, m2i, \
+             m1p, m2p, m3p, n, np, na, m4 or m4s"
         ),
     }
 }
