@@ -381,3 +381,32 @@ impl SlotSixBar {
         }
     }
 }
+
+/// A non-Grashof four-bar (d + a = 0.16 > b + c = 0.14), assembled at
+/// φ = 0, and its limit angle: the crank cannot pass the angle where
+/// coupler and rocker are in line, BD = b + c, cos φ = (a² + d² −
+/// (b + c)²) / (2ad).
+#[must_use]
+pub fn non_grashof_four_bar() -> (
+    kinematics_examples::FourBar,
+    kinematics_examples::FourBarCoords,
+    f64,
+) {
+    let m = kinematics_examples::FourBar {
+        a: 0.05,
+        b: 0.08,
+        c: 0.06,
+        d: 0.11,
+        p: 0.0,
+        beta: 0.0,
+    };
+    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
+    let start = m
+        .assemble(&kinematics_examples::FourBarCoords {
+            phi: 0.0,
+            th3: 0.5,
+            th4: 1.5,
+        })
+        .expect("assembles");
+    (m, start, limit)
+}

@@ -8,8 +8,10 @@ use std::f64::consts::{PI, TAU};
 
 use kinematics_core::sweep::{PoseSample, Sample, StopReason, SweepBuilder};
 use kinematics_core::{Coordinates, Kind, Mechanism, MotionState, Options};
-use kinematics_examples::{FourBar, FourBarCoords};
-use kinematics_tests::{DistanceFourBar, DistanceFourBarCoords, SlotSixBar, SlotSixBarModes};
+use kinematics_examples::FourBar;
+use kinematics_tests::{
+    non_grashof_four_bar, DistanceFourBar, DistanceFourBarCoords, SlotSixBar, SlotSixBarModes,
+};
 
 /// The difference of two values of coordinate `j`, angles modulo 2π.
 fn diff<M: Mechanism>(j: usize, a: f64, b: f64) -> f64 {
@@ -198,25 +200,8 @@ fn a_steppers_pose_is_its_steps_position() {
 
 #[test]
 fn a_sweep_of_poses_stops_at_the_limit_position() {
-    // The non-Grashof four-bar of the simulation tests: d + a = 0.16 >
-    // b + c = 0.14, so the crank stops where coupler and rocker are in
-    // line, cos φ = (a² + d² − (b + c)²) / (2ad).
-    let m = FourBar {
-        a: 0.05,
-        b: 0.08,
-        c: 0.06,
-        d: 0.11,
-        p: 0.0,
-        beta: 0.0,
-    };
-    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
-    let start = m
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .expect("assembles");
+    // The non-Grashof four-bar of the simulation tests.
+    let (m, start, limit) = non_grashof_four_bar();
     let mut last = None;
     let mut stop = None;
     for item in m.sweep(FourBar::PHI, &start).turn().steps(3600).poses() {

@@ -12,7 +12,7 @@ use kinematics_core::sweep::{
 };
 use kinematics_core::{batch, mechanism, Error};
 use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
-use kinematics_tests::{DistanceFourBar, DistanceFourBarCoords, Rng};
+use kinematics_tests::{non_grashof_four_bar, DistanceFourBar, DistanceFourBarCoords, Rng};
 
 #[test]
 fn crank_rocker_full_cycle_closes_and_is_periodic() {
@@ -45,23 +45,8 @@ fn crank_rocker_full_cycle_closes_and_is_periodic() {
 #[test]
 fn non_grashof_four_bar_stops_at_its_toggle_position() {
     // d + a = 0.16 > b + c = 0.14: the crank cannot pass the angle where BD
-    // = b + c (coupler and rocker in line), cos φ = (a² + d² − (b + c)²)/(2ad).
-    let m = FourBar {
-        a: 0.05,
-        b: 0.08,
-        c: 0.06,
-        d: 0.11,
-        p: 0.0,
-        beta: 0.0,
-    };
-    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
-    let start = m
-        .assemble(&FourBarCoords {
-            phi: 0.0,
-            th3: 0.5,
-            th4: 1.5,
-        })
-        .expect("assembles");
+    // = b + c (coupler and rocker in line).
+    let (m, start, limit) = non_grashof_four_bar();
     let s = m.sweep(FourBar::PHI, &start).turn().steps(3600).run();
     let stop = s.stop.as_ref().expect("the crank cannot turn fully");
     let step = TAU / 3600.0;

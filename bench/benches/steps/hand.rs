@@ -90,24 +90,9 @@ pub fn m1_step(
     let (b, c) = (m.b, m.c);
     let (s1, c1) = phi.sin_cos();
     let (ax, ay) = (m.a * c1, m.a * s1);
-    let (rx, ry) = (ax - m.d, ay);
-    let [mut t3, mut t4] = st.angles;
-    let [(mut sb, mut cb), (mut sc, mut cc)] = st.trig;
-    for _ in 0..MAX_IT {
-        let f0 = rx + b * cb - c * cc;
-        let f1 = ry + b * sb - c * sc;
-        if f0.abs().max(f1.abs()) < TOL {
-            break;
-        }
-        // J = [[−b sb, c sc], [b cb, −c cc]], det = b c sin(θ3 − θ4).
-        let det = b * c * (sb * cc - cb * sc);
-        t3 -= (-c * cc * f0 - c * sc * f1) / det;
-        t4 -= (-b * cb * f0 - b * sb * f1) / det;
-        (sb, cb) = t3.sin_cos();
-        (sc, cc) = t4.sin_cos();
-    }
-    st.angles = [t3, t4];
-    st.trig = [(sb, cb), (sc, cc)];
+    m1_newton(m, ax - m.d, ay, st);
+    let [t3, t4] = st.angles;
+    let [(sb, cb), (sc, cc)] = st.trig;
     let rd = [-ay * w, ax * w];
     let rdd = [-ax * w * w - ay * al, -ay * w * w + ax * al];
     let (om, alpha) = dyad_rates(b, c, [sb, cb, sc, cc], rd, rdd);
@@ -133,20 +118,9 @@ pub fn m1_step(
 pub fn m2_step(m: &m2::Rssr, phi: f64, st: &mut Carried<1>, w: f64, al: f64) -> f64 {
     let (sf, cf) = phi.sin_cos();
     let k = m.a * cf - m.d;
-    let f0 = k * k + m.c * m.c + m.a * m.a * sf * sf - m.b * m.b;
-    let g = -2.0 * k * m.c;
-    let [mut psi] = st.angles;
-    let [(mut sp, mut cp)] = st.trig;
-    for _ in 0..MAX_IT {
-        let f = f0 + g * cp;
-        if f.abs() < TOL {
-            break;
-        }
-        psi -= f / (-g * sp);
-        (sp, cp) = psi.sin_cos();
-    }
-    st.angles = [psi];
-    st.trig = [(sp, cp)];
+    let g = m2_newton(m, sf, k, st);
+    let [psi] = st.angles;
+    let [(sp, cp)] = st.trig;
     let phi_psi = -g * sp;
     let e = m.d + m.c * cp;
     let phi_phi = 2.0 * m.a * sf * e;
@@ -170,14 +144,12 @@ pub fn m2_step(m: &m2::Rssr, phi: f64, st: &mut Carried<1>, w: f64, al: f64) -> 
     psi + psid + psidd + b[0] + b[1] + b[2] + v[0] + v[1] + v[2] + a[0] + a[1] + a[2]
 }
 
-/// M1's positions only, as an expert writes them: `m1_step`'s Newton loop
-/// (the driver's `sin_cos` once, each angle's once per iterate after the
-/// first, the converged pose carried to the next position) without the
-/// rates; returns θ3 + θ4.
-pub fn m1_pose(m: &m1::FourBar, phi: f64, st: &mut Carried<2>) -> f64 {
+/// M1's Newton loop for θ3, θ4 with (rx, ry) = A − D known, from the
+/// carried pose (each angle's `sin_cos` once per iterate after the first),
+/// the converged pose carried on in `st`.
+#[inline(always)]
+fn m1_newton(m: &m1::FourBar, rx: f64, ry: f64, st: &mut Carried<2>) {
     let (b, c) = (m.b, m.c);
-    let (s1, c1) = phi.sin_cos();
-    let (rx, ry) = (m.a * c1 - m.d, m.a * s1);
     let [mut t3, mut t4] = st.angles;
     let [(mut sb, mut cb), (mut sc, mut cc)] = st.trig;
     for _ in 0..MAX_IT {
@@ -186,6 +158,7 @@ pub fn m1_pose(m: &m1::FourBar, phi: f64, st: &mut Carried<2>) -> f64 {
         if f0.abs().max(f1.abs()) < TOL {
             break;
         }
+        // J = [[−b sb, c sc], [b cb, −c cc]], det = b c sin(θ3 − θ4).
         let det = b * c * (sb * cc - cb * sc);
         t3 -= (-c * cc * f0 - c * sc * f1) / det;
         t4 -= (-b * cb * f0 - b * sb * f1) / det;
@@ -194,14 +167,23 @@ pub fn m1_pose(m: &m1::FourBar, phi: f64, st: &mut Carried<2>) -> f64 {
     }
     st.angles = [t3, t4];
     st.trig = [(sb, cb), (sc, cc)];
-    t3 + t4
 }
 
-/// M2's positions only, as an expert writes them: `m2_step`'s hoisted
-/// residual and Newton loop without the rates; returns ψ.
-pub fn m2_pose(m: &m2::Rssr, phi: f64, st: &mut Carried<1>) -> f64 {
-    let (sf, cf) = phi.sin_cos();
-    let k = m.a * cf - m.d;
+/// M1's positions only, as an expert writes them: `m1_step`'s Newton loop
+/// (the driver's `sin_cos` once, each angle's once per iterate after the
+/// first, the converged pose carried to the next position) without the
+/// rates; returns θ3 + θ4.
+pub fn m1_pose(m: &m1::FourBar, phi: f64, st: &mut Carried<2>) -> f64 {
+    let (s1, c1) = phi.sin_cos();
+    m1_newton(m, m.a * c1 - m.d, m.a * s1, st);
+    st.angles[0] + st.angles[1]
+}
+
+/// M2's Newton loop for ψ with sin φ and k = a cos φ − d known: the
+/// residual hoisted to f₀ + g cos ψ, one `sin_cos` per iterate after the
+/// first, the converged pose carried on in `st`; returns g = −2kc.
+#[inline(always)]
+fn m2_newton(m: &m2::Rssr, sf: f64, k: f64, st: &mut Carried<1>) -> f64 {
     let f0 = k * k + m.c * m.c + m.a * m.a * sf * sf - m.b * m.b;
     let g = -2.0 * k * m.c;
     let [mut psi] = st.angles;
@@ -216,7 +198,15 @@ pub fn m2_pose(m: &m2::Rssr, phi: f64, st: &mut Carried<1>) -> f64 {
     }
     st.angles = [psi];
     st.trig = [(sp, cp)];
-    psi
+    g
+}
+
+/// M2's positions only, as an expert writes them: `m2_step`'s hoisted
+/// residual and Newton loop without the rates; returns ψ.
+pub fn m2_pose(m: &m2::Rssr, phi: f64, st: &mut Carried<1>) -> f64 {
+    let (sf, cf) = phi.sin_cos();
+    m2_newton(m, sf, m.a * cf - m.d, st);
+    st.angles[0]
 }
 
 /// M3's positions only: the two dyads of `m3_step` without the rates;

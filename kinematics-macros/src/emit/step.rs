@@ -19,14 +19,14 @@ use crate::ir::Id;
 
 /// The stepping methods.
 pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
-    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
-    let (nd, nnz) = (cx.nd, cx.blocks.nnz());
+    let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let nd = cx.nd;
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
     let q = &id.q;
     let (q_drivers, q_unknowns) = q.split_at(nd);
     let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
-    let (c_drivers, c_unknowns) = coord.split_at(nd);
+    let c_drivers = &coord[..nd];
     let leaf = cx.leaf();
     let newton_roots = cx.newton_roots();
     let [vel_stage, acc_stage, pt_stage] = cx.analysis_stages();
@@ -49,21 +49,24 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     );
     let (pr, lets) = bind(g, &sched, &leaf);
     let fast_loop = FastLoop::new(cx, &sched, &pr);
-    let FastLoop {
-        trig_setup,
-        trig_eval,
-        trig_keep,
-        nt,
-        ..
-    } = &fast_loop;
-    let iterated_fast = &fast_loop.iterated;
-    let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
-    let newton_solve = cx.blocks.solve(&quote!(phi), false);
+    let nt = fast_loop.nt;
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
     let nc = cached_names.len();
-    let (hoisted, iterated) = (&lets[0], &lets[1]);
-    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
-    let jac = cx.jac_array(&pr);
+    let hoisted = &lets[0];
+    // The values the analysis reuses, kept from the last evaluation.
+    let keep = quote!(cache = [#(#cached_names),*];);
+    let solve = newton_solve(
+        cx,
+        &pr,
+        &fast_loop,
+        &lets[1],
+        &NewtonKeep {
+            fast: keep.clone(),
+            general: keep,
+            after: TokenStream::new(),
+            polish: None,
+        },
+    );
     let tail = cx.analysis_tail(
         &pr,
         [&lets[2], &lets[3], &lets[4]],
@@ -72,7 +75,6 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     );
     let inputs = guards::inputs(cx, "start", true);
     let scaling = cx.scaling();
-    let solver = cx.solver();
     let ne = cx.ne;
     let nm = cx.nm();
     let na = cx.na();
@@ -208,48 +210,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             let __weights = __scaling.weights(options);
             #hoisted
             let mut cache = [0.0f64; #nc];
-            let mut u = [#(start.#c_unknowns),*];
-            // Newton's common path, evaluated inline; anything off it
-            // (damping, round-off, failure) goes to the general solver.
-            let mut fast = #pp::FastNewton::new();
-            let mut __phi = [0.0f64; #ne];
-            #trig_setup
-            let on_path = loop {
-                let [#(#q_unknowns),*] = u;
-                #trig_eval
-                #iterated_fast
-                cache = [#(#cached_names),*];
-                let phi = [#(#phi),*];
-                __phi = phi;
-                let jac: [f64; #nnz] = #jac;
-                match fast.assess(&phi, &__weights, options) {
-                    #pp::Next::Continue => {}
-                    #pp::Next::Converged => break true,
-                    #pp::Next::Fallback => break false,
-                }
-                #newton_factor
-                fast.advance(&mut u, &#newton_solve);
-            };
-            if on_path {
-                *carry = [#(#trig_keep),*];
-            } else {
-                *carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
-                u = [#(start.#c_unknowns),*];
-                let mut phi = [0.0f64; #ne];
-                let mut jac = [0.0f64; #nnz];
-                let solved = #pp::newton(&mut u, &mut phi, &mut jac, __scaling, options, |u, phi, jac| {
-                    let [#(#q_unknowns),*] = *u;
-                    #iterated
-                    *phi = [#(#phi),*];
-                    *jac = #jac;
-                    cache = [#(#cached_names),*];
-                }, #solver);
-                if let ::core::result::Result::Err(f) = solved {
-                    let [#(#q_unknowns),*] = u;
-                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
-                }
-                __phi = phi;
-            }
+            #solve
             let [#(#q_unknowns),*] = u;
             let [#(#cached_names),*] = cache;
             #tail
@@ -568,12 +529,12 @@ impl FastLoop {
 /// the tolerance: `assemble` returns poses at round-off), then the
 /// conditioning and the branch judged at the solution.
 fn pose_core(cx: &Ctx<'_>) -> TokenStream {
-    let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
     let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
     let id = &cx.id;
     let (coords, coord, q) = (&id.coords, &id.coord, &id.q);
     let (q_drivers, q_unknowns) = q.split_at(nd);
-    let (c_drivers, c_unknowns) = coord.split_at(nd);
+    let c_drivers = &coord[..nd];
     let leaf = cx.leaf();
     let newton_roots = cx.newton_roots();
     let sched = schedule(
@@ -584,20 +545,23 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         ],
     );
     let (pr, lets) = bind(g, &sched, &leaf);
-    let FastLoop {
-        trig_setup,
-        trig_eval,
-        trig_keep,
-        nt,
-        iterated: iterated_fast,
-    } = FastLoop::new(cx, &sched, &pr);
-    let (hoisted, iterated) = (&lets[0], &lets[1]);
-    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
-    let jac = cx.jac_array(&pr);
-    let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
-    let newton_solve = cx.blocks.solve(&quote!(phi), false);
+    let fast_loop = FastLoop::new(cx, &sched, &pr);
+    let nt = fast_loop.nt;
+    let hoisted = &lets[0];
+    // Φ_u at the solution, for its conditioning and branch.
+    let solve = newton_solve(
+        cx,
+        &pr,
+        &fast_loop,
+        &lets[1],
+        &NewtonKeep {
+            fast: quote!(__jac = jac;),
+            general: TokenStream::new(),
+            after: quote!(__jac = jac;),
+            polish: Some(quote!(polish)),
+        },
+    );
     let inputs = guards::inputs(cx, "start", false);
-    let solver = cx.solver();
     let at_solution = cx.factor_at_solution();
     quote! {
         /// A positions-only step (or, with `polish`, an assembly) from
@@ -620,49 +584,8 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             let __weights = __scaling.weights(options);
             #hoisted
-            let mut u = [#(start.#c_unknowns),*];
-            let mut fast = #pp::FastNewton::new();
-            let mut __phi = [0.0f64; #ne];
             let mut __jac = [0.0f64; #nnz];
-            #trig_setup
-            let on_path = loop {
-                let [#(#q_unknowns),*] = u;
-                #trig_eval
-                #iterated_fast
-                let phi = [#(#phi),*];
-                __phi = phi;
-                let jac: [f64; #nnz] = #jac;
-                __jac = jac;
-                match fast.assess(&phi, &__weights, options) {
-                    #pp::Next::Continue => {}
-                    #pp::Next::Converged => break true,
-                    #pp::Next::Fallback => break false,
-                }
-                #newton_factor
-                fast.advance(&mut u, &#newton_solve);
-            };
-            if on_path && !(polish && #pp::FastNewton::unpolished(&__phi, &__weights, options)) {
-                *carry = [#(#trig_keep),*];
-            } else {
-                *carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
-                if !on_path {
-                    u = [#(start.#c_unknowns),*];
-                }
-                let mut phi = [0.0f64; #ne];
-                let mut jac = [0.0f64; #nnz];
-                let solved = #pp::newton(&mut u, &mut phi, &mut jac, __scaling, options, |u, phi, jac| {
-                    let [#(#q_unknowns),*] = *u;
-                    #iterated
-                    *phi = [#(#phi),*];
-                    *jac = #jac;
-                }, #solver);
-                if let ::core::result::Result::Err(f) = solved {
-                    let [#(#q_unknowns),*] = u;
-                    return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
-                }
-                __phi = phi;
-                __jac = jac;
-            }
+            #solve
             let [#(#q_unknowns),*] = u;
             let jac = __jac;
             // The singularity and the branch are judged at the solution.
@@ -673,6 +596,113 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
                 det_sign: __det_sign,
                 residual: #pp::closed::max_abs(&__phi),
             })
+        }
+    }
+}
+
+/// What the Newton solve of [`newton_solve`] keeps besides the pose.
+struct NewtonKeep {
+    /// Statements after each inline evaluation (Φ and Φ_u bound as `phi`
+    /// and `jac`).
+    fast: TokenStream,
+    /// Statements at the end of each of the general solver's evaluations.
+    general: TokenStream,
+    /// Statements after the general solver (its last `phi` and `jac`).
+    after: TokenStream,
+    /// A `bool` expression, if any: whether to polish a converged pose to
+    /// round-off with the general solver (as an assembly does).
+    polish: Option<TokenStream>,
+}
+
+/// Newton's solve from the unknowns of `start`, binding `u` (the solution)
+/// and `__phi` (Φ there) and updating `carry`: the common path evaluated
+/// inline (`FastNewton`), anything off it (damping, round-off, failure)
+/// handed to the general solver from `start` again, which returns the
+/// failure from the enclosing function.
+fn newton_solve(
+    cx: &Ctx<'_>,
+    pr: &super::print::Printer<'_>,
+    fast_loop: &FastLoop,
+    iterated: &TokenStream,
+    keep: &NewtonKeep,
+) -> TokenStream {
+    let (d, pp) = (cx.d, &cx.pp);
+    let (ne, nnz) = (cx.ne, cx.blocks.nnz());
+    let id = &cx.id;
+    let (q, c_unknowns) = (&id.q, &id.coord[cx.nd..]);
+    let q_unknowns = &q[cx.nd..];
+    let FastLoop {
+        trig_setup,
+        trig_eval,
+        trig_keep,
+        nt,
+        iterated: iterated_fast,
+    } = fast_loop;
+    let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
+    let jac = cx.jac_array(pr);
+    let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
+    let newton_step = cx.blocks.solve(&quote!(phi), false);
+    let solver = cx.solver();
+    let NewtonKeep {
+        fast,
+        general,
+        after,
+        polish,
+    } = keep;
+    let (done, restart) = match polish {
+        Some(p) => (
+            quote!(on_path && !(#p && #pp::FastNewton::unpolished(&__phi, &__weights, options))),
+            quote! {
+                if !on_path {
+                    u = [#(start.#c_unknowns),*];
+                }
+            },
+        ),
+        None => (quote!(on_path), quote!(u = [#(start.#c_unknowns),*];)),
+    };
+    quote! {
+        let mut u = [#(start.#c_unknowns),*];
+        // Newton's common path, evaluated inline; anything off it
+        // (damping, round-off, failure) goes to the general solver.
+        let mut fast = #pp::FastNewton::new();
+        let mut __phi = [0.0f64; #ne];
+        #trig_setup
+        let on_path = loop {
+            let [#(#q_unknowns),*] = u;
+            #trig_eval
+            #iterated_fast
+            let phi = [#(#phi),*];
+            __phi = phi;
+            let jac: [f64; #nnz] = #jac;
+            #fast
+            match fast.assess(&phi, &__weights, options) {
+                #pp::Next::Continue => {}
+                #pp::Next::Converged => break true,
+                #pp::Next::Fallback => break false,
+            }
+            #newton_factor
+            fast.advance(&mut u, &#newton_step);
+        };
+        if #done {
+            *carry = [#(#trig_keep),*];
+        } else {
+            *carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
+            #restart
+            let mut phi = [0.0f64; #ne];
+            let mut jac = [0.0f64; #nnz];
+            let solved = #pp::newton(&mut u, &mut phi, &mut jac, __scaling, options, |u, phi, jac| {
+                let [#(#q_unknowns),*] = *u;
+                #iterated
+                *phi = [#(#phi),*];
+                *jac = #jac;
+                #general
+            }, #solver);
+            if let ::core::result::Result::Err(f) = solved {
+                let [#(#q_unknowns),*] = u;
+                return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
+            }
+            __phi = phi;
+            #after
         }
     }
 }
