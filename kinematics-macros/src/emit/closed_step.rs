@@ -188,7 +188,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let asm_far = far_check(&asm_newton);
     let (asm_phi_lets, asm_jac_lets) = (&alets[nb], &alets[nb + 1]);
     let asm_jac = cx.jac_array(&apr);
-    let at_solution = cx.factor_at_solution();
+    let pose_ok = cx.pose_at_solution();
     let nnz = cx.blocks.nnz();
     // Carried values to compute afresh.
     let fresh = quote!(&mut [[::core::primitive::f64::NAN; 3]; #na]);
@@ -347,13 +347,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             #asm_check
             #asm_jac_lets
             let jac: [f64; #nnz] = #asm_jac;
-            #at_solution
-            ::core::result::Result::Ok(#pp::Pose {
-                q: #coords { #( #coord: #q ),* },
-                conditioning: __conditioning,
-                det_sign: __det_sign,
-                residual: #pp::closed::max_abs(&__phi),
-            })
+            #pose_ok
         }
 
         #param_trig

@@ -224,6 +224,25 @@ impl<'a> Ctx<'a> {
         quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
     }
 
+    /// The end of a positions-only solve: Φ_u's blocks factored at the
+    /// solution (`jac`, with the coordinates and `__phi` bound), the
+    /// conditioning and branch checked, and the `Pose` returned.
+    fn pose_at_solution(&self) -> TokenStream {
+        let pp = &self.pp;
+        let (coords, coord, q) = (&self.id.coords, &self.id.coord, &self.id.q);
+        let at_solution = self.factor_at_solution();
+        quote! {
+            // The singularity and the branch are judged at the solution.
+            #at_solution
+            ::core::result::Result::Ok(#pp::Pose {
+                q: #coords { #( #coord: #q ),* },
+                conditioning: __conditioning,
+                det_sign: __det_sign,
+                residual: #pp::closed::max_abs(&__phi),
+            })
+        }
+    }
+
     /// The factorisation of Φ_u's blocks at a solution, with the
     /// conditioning and branch checks (binding `__conditioning` and
     /// `__det_sign`), returning the error from the enclosing function.

@@ -562,7 +562,7 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         },
     );
     let inputs = guards::inputs(cx, "start", false);
-    let at_solution = cx.factor_at_solution();
+    let pose_ok = cx.pose_at_solution();
     quote! {
         /// A positions-only step (or, with `polish`, an assembly) from
         /// `start`, with options, parameters and scaling already checked,
@@ -588,14 +588,7 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
             #solve
             let [#(#q_unknowns),*] = u;
             let jac = __jac;
-            // The singularity and the branch are judged at the solution.
-            #at_solution
-            ::core::result::Result::Ok(#pp::Pose {
-                q: #coords { #( #coord: #q ),* },
-                conditioning: __conditioning,
-                det_sign: __det_sign,
-                residual: #pp::closed::max_abs(&__phi),
-            })
+            #pose_ok
         }
     }
 }
