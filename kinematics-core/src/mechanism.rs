@@ -510,8 +510,11 @@ pub trait MotionState: Copy + core::fmt::Debug {
 
 /// A pose solved without its motion: what a positions-only step
 /// ([`Mechanism::pose_carried`], a stepper's `pose`, a sweep's
-/// [`poses`](crate::sweep::SweepBuilder::poses)) returns. The diagnostics
-/// are those of [`MotionState`], at the same pose.
+/// [`poses`](crate::sweep::SweepBuilder::poses)) returns: the coordinates,
+/// the points' positions (the mechanism's `…Positions`, a field per point
+/// by name), and the diagnostics of [`MotionState`] at the same pose. The
+/// points come from the sines and cosines the solve already has, with no
+/// trigonometric call of their own.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -532,15 +535,18 @@ pub trait MotionState: Copy + core::fmt::Debug {
 /// // x = a cos φ + √(b² − a² sin² φ) on the branch of the guess.
 /// let x = 0.1 * 0.5f64.cos() + (0.09 - 0.01 * 0.5f64.sin().powi(2)).sqrt();
 /// assert!((pose.q.x - x).abs() < 1e-15);
+/// assert!((pose.points.C.x - x).abs() < 1e-15 && pose.points.C.y == 0.0);
 /// assert!(pose.conditioning > 0.0 && pose.residual < 1e-15);
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Pose<C> {
+pub struct Pose<C, P> {
     /// The drivers and the solved unknowns.
     pub q: C,
+    /// The points' positions, by name.
+    pub points: P,
     /// The conditioning of Φ_u at `q` (see [`MotionState::conditioning`]).
     pub conditioning: f64,
     /// The sign of det Φ_u at `q`, ±1 (see [`MotionState::det_sign`]).
@@ -692,6 +698,10 @@ pub trait Mechanism {
         state: &mut Self::StepState,
     ) -> Result<Self::Motion, Error>;
 
+    /// The positions of the points by name, the `points` of a [`Pose`]:
+    /// the generated `…Positions`.
+    type Positions: Copy + core::fmt::Debug;
+
     /// A positions-only step as the mechanism's stepper takes it
     /// (its `pose`): assembles at the drivers of `start` from the state of
     /// the previous step, carrying `state` to the next, with no velocity
@@ -703,7 +713,7 @@ pub trait Mechanism {
         &self,
         start: &Self::Coords,
         state: &mut Self::StepState,
-    ) -> Result<Pose<Self::Coords>, Error>;
+    ) -> Result<Pose<Self::Coords, Self::Positions>, Error>;
 
     /// Residuals Φ_i at `pose`, written into `out` (as many as fit).
     fn residual_into(&self, pose: &Self::Coords, out: &mut [f64]);

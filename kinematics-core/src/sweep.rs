@@ -261,8 +261,9 @@ impl<M: Mechanism> fmt::Debug for Sample<M> {
     }
 }
 
-/// One sample of a sweep of positions ([`SweepBuilder::poses`]): the pose
-/// with its diagnostics, no velocities or accelerations.
+/// One sample of a sweep of positions ([`SweepBuilder::poses`]): the pose,
+/// its points' positions and its diagnostics, no velocities or
+/// accelerations.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -282,21 +283,23 @@ impl<M: Mechanism> fmt::Debug for Sample<M> {
 /// let last = poses[10].as_ref().unwrap();
 /// assert_eq!((last.at, last.pose.q.phi), (1.0, 1.0));
 /// assert!(last.pose.residual < 1e-15);
+/// // The crank pin B, by name.
+/// assert!((last.pose.points.B.x - 0.1 * 1f64.cos()).abs() < 1e-15);
 /// ```
 #[cfg_attr(
     feature = "serde",
     derive(serde::Serialize, serde::Deserialize),
     serde(bound(
-        serialize = "M::Coords: serde::Serialize",
-        deserialize = "M::Coords: serde::Deserialize<'de>"
+        serialize = "M::Coords: serde::Serialize, M::Positions: serde::Serialize",
+        deserialize = "M::Coords: serde::Deserialize<'de>, M::Positions: serde::Deserialize<'de>"
     ))
 )]
 pub struct PoseSample<M: Mechanism> {
     /// Value of the swept driver (or the time, for a simulation).
     pub at: f64,
-    /// The coordinates, the conditioning, the sign of det Φ_u and the
-    /// residual.
-    pub pose: Pose<M::Coords>,
+    /// The coordinates, the points' positions, the conditioning, the sign
+    /// of det Φ_u and the residual.
+    pub pose: Pose<M::Coords, M::Positions>,
 }
 
 impl<M: Mechanism> Clone for PoseSample<M> {
@@ -421,7 +424,7 @@ impl<M: Mechanism> Solved<M> for Sample<M> {
 
 impl<M: Mechanism> Solved<M> for PoseSample<M> {
     const RATES: bool = false;
-    type Step = Pose<M::Coords>;
+    type Step = Pose<M::Coords, M::Positions>;
     #[inline(always)]
     fn step(
         m: &M,
@@ -429,15 +432,15 @@ impl<M: Mechanism> Solved<M> for PoseSample<M> {
         _: &M::Coords,
         _: &M::Coords,
         state: &mut M::StepState,
-    ) -> Result<Pose<M::Coords>, Error> {
+    ) -> Result<Pose<M::Coords, M::Positions>, Error> {
         m.pose_carried(start, state)
     }
     #[inline(always)]
-    fn step_det_sign(step: &Pose<M::Coords>) -> f64 {
+    fn step_det_sign(step: &Pose<M::Coords, M::Positions>) -> f64 {
         step.det_sign
     }
     #[inline(always)]
-    fn sample(at: f64, pose: Pose<M::Coords>) -> Self {
+    fn sample(at: f64, pose: Pose<M::Coords, M::Positions>) -> Self {
         Self { at, pose }
     }
     #[inline(always)]

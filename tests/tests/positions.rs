@@ -7,7 +7,7 @@
 use std::f64::consts::{PI, TAU};
 
 use kinematics_core::sweep::{PoseSample, Sample, StopReason, SweepBuilder};
-use kinematics_core::{Coordinates, Kind, Mechanism, MotionState, Options};
+use kinematics_core::{mechanism, Coordinates, Kind, Mechanism, MotionState, Options};
 use kinematics_examples::FourBar;
 use kinematics_tests::{
     non_grashof_four_bar, DistanceFourBar, DistanceFourBarCoords, SlotSixBar, SlotSixBarModes,
@@ -23,13 +23,49 @@ fn diff<M: Mechanism>(j: usize, a: f64, b: f64) -> f64 {
     }
 }
 
+mechanism! {
+    /// A slider-crank whose slider runs in the curved guide x = h + k y²
+    /// (no closed form: Newton–Raphson on the whole system), with a point P
+    /// on its rod at p from the crank pin, β off the rod's line.
+    pub struct CurvedSlider {
+        params { a, b, h, k, p, beta }
+        drivers { phi }
+        unknowns { th, y }
+        points {
+            B = polar(a, phi);
+            S = vec2(h + k * y * y, y);
+            P = B + polar(p, th + beta);
+        }
+        loops { B + polar(b, th) == S; }
+    }
+}
+
+const CURVED: CurvedSlider = CurvedSlider {
+    a: 0.05,
+    b: 0.2,
+    h: 0.05,
+    k: 2.0,
+    p: 0.12,
+    beta: 0.3,
+};
+
+/// The points of a pose against the mechanism's own evaluation of them at
+/// its coordinates (sines and cosines called afresh), to `tol`.
+fn same_points(a: &[f64], b: &[f64], tol: f64) {
+    for (x, y) in a.iter().zip(b) {
+        assert!((x - y).abs() <= tol, "{a:?} against {b:?}");
+    }
+}
+
 /// A sweep of poses and the full sweep of the same range: the same
-/// samples, poses equal to `tol`, the same diagnostics, the same end.
+/// samples, poses equal to `tol`, the same diagnostics, the same end;
+/// `points` checks each pose's points.
 fn poses_match_the_full_sweep<M: Mechanism>(
     m: &M,
     driver: kinematics_core::sweep::Driver<M, kinematics_core::sweep::Angle>,
     start: &M::Coords,
     tol: f64,
+    points: impl Fn(&PoseSample<M>),
 ) -> usize {
     let full: Vec<Result<Sample<M>, _>> = SweepBuilder::new(m, driver, start)
         .turn()
@@ -68,6 +104,7 @@ fn poses_match_the_full_sweep<M: Mechanism>(
             p.pose.residual
         );
         assert!(max < 1e-11, "residual {max}");
+        points(p);
     }
     poses.len()
 }
@@ -79,7 +116,12 @@ fn a_sweep_of_poses_has_the_positions_of_the_full_sweep() {
     let m = FourBar::CRANK_ROCKER;
     let start = m.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
     assert_eq!(
-        poses_match_the_full_sweep(&m, FourBar::PHI, &start, 1e-15),
+        poses_match_the_full_sweep(&m, FourBar::PHI, &start, 1e-15, |s| {
+            let (got, exact) = (s.pose.points, m.positions(&s.pose.q));
+            for (a, b) in [(got.B, exact.B), (got.C, exact.C), (got.P, exact.P)] {
+                same_points(a.as_slice(), b.as_slice(), 1e-15);
+            }
+        }),
         720
     );
     // Mixed: the dyad in closed form, the slot's block by Newton–Raphson
@@ -92,7 +134,7 @@ fn a_sweep_of_poses_has_the_positions_of_the_full_sweep() {
         .assemble_in(&SlotSixBar::guess(0.0, 1.0), &modes)
         .expect("assembles");
     assert_eq!(
-        poses_match_the_full_sweep(&m, SlotSixBar::PHI, &start, 1e-11),
+        poses_match_the_full_sweep(&m, SlotSixBar::PHI, &start, 1e-11, |_| {}),
         720
     );
     // Newton–Raphson on the whole system, the poses' predictor along the
@@ -102,7 +144,30 @@ fn a_sweep_of_poses_has_the_positions_of_the_full_sweep() {
         .assemble(&DistanceFourBarCoords { phi: 0.0, th4: 1.5 })
         .expect("assembles");
     assert_eq!(
-        poses_match_the_full_sweep(&m, DistanceFourBar::PHI, &start, 1e-11),
+        poses_match_the_full_sweep(&m, DistanceFourBar::PHI, &start, 1e-11, |_| {}),
+        720
+    );
+    // With points: each from the solve's last sines and cosines, against
+    // the points evaluated afresh at the pose, and the slider on its guide
+    // at the rod's length from the crank pin.
+    let m = CURVED;
+    assert_eq!(CurvedSlider::BLOCKS[0].method, "Newton–Raphson");
+    let start = m
+        .assemble(&CurvedSliderCoords {
+            phi: 0.0,
+            th: 1.2,
+            y: 0.19,
+        })
+        .expect("assembles");
+    assert_eq!(
+        poses_match_the_full_sweep(&m, CurvedSlider::PHI, &start, 1e-11, |s| {
+            let (got, exact) = (s.pose.points, m.positions(&s.pose.q));
+            for (a, b) in [(got.B, exact.B), (got.S, exact.S), (got.P, exact.P)] {
+                same_points(a.as_slice(), b.as_slice(), 1e-15);
+            }
+            assert!((got.S.x - (m.h + m.k * got.S.y * got.S.y)).abs() < 1e-15);
+            assert!(((got.S - got.B).norm() - m.b).abs() < 1e-12);
+        }),
         720
     );
 }

@@ -9,9 +9,9 @@
 //!
 //! Prints the feet's positions at the samples the Python script prints
 //! (the two must agree), then the time per step over five repetitions of
-//! `turns` turns of 3600 steps (thread CPU time), for a sweep of poses
-//! alone and with every joint's position computed from each pose (what
-//! pylinkage returns).
+//! `turns` turns of 3600 steps (thread CPU time) of a sweep of poses, with
+//! every joint's position (what pylinkage returns) as each pose carries
+//! it, or evaluated again from the pose's coordinates.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::cast_precision_loss)]
 
@@ -110,8 +110,13 @@ fn start() -> StriderCoords {
     LEG.assemble(&guess).expect("assembles")
 }
 
-/// A turn of the leg's poses (the sweep's iterator), each passed to `use_pose`.
-fn turn(m: &Strider, start: &StriderCoords, mut use_pose: impl FnMut(&StriderCoords)) {
+/// A turn of the leg's poses (the sweep's iterator), each passed to
+/// `use_pose`.
+fn turn(
+    m: &Strider,
+    start: &StriderCoords,
+    mut use_pose: impl FnMut(&kinematics_core::Pose<StriderCoords, StriderPositions>),
+) {
     for s in m
         .sweep(Strider::TH, start)
         .from(start.th)
@@ -120,7 +125,7 @@ fn turn(m: &Strider, start: &StriderCoords, mut use_pose: impl FnMut(&StriderCoo
         .poses()
         .take(STEPS)
     {
-        use_pose(&s.expect("no stop").pose.q);
+        use_pose(&s.expect("no stop").pose);
     }
 }
 
@@ -145,9 +150,9 @@ fn main() {
     let m = black_box(LEG);
     let start = start();
     let mut k = 0;
-    turn(&m, &start, |q| {
+    turn(&m, &start, |pose| {
         if [0, 1, 900, 1800, 2700].contains(&k) {
-            let p = m.positions(q);
+            let p = pose.points;
             println!(
                 "step {k}: H = ({:.15}, {:.15}), I = ({:.15}, {:.15})",
                 p.H.x, p.H.y, p.I.x, p.I.y
@@ -155,18 +160,27 @@ fn main() {
         }
         k += 1;
     });
-    for (name, joints) in [("poses", false), ("poses and every joint", true)] {
+    // Each pose's joints: those the pose carries (from the solve's own
+    // sines and cosines), or evaluated afresh from its coordinates.
+    for (name, joints) in [
+        ("poses with every joint", 0),
+        ("poses, every joint evaluated again", 1),
+    ] {
         let mut times = Vec::new();
         for _ in 0..5 {
             let mut sum = 0.0;
             let t0 = thread_cpu_ns();
             for _ in 0..turns {
-                turn(&m, &start, |q| {
-                    sum += if joints {
-                        let p = m.point_positions(q);
-                        p.iter().map(|v| v.x + v.y).sum::<f64>()
+                turn(&m, &start, |pose| {
+                    sum += if joints == 0 {
+                        let p = &pose.points;
+                        [p.C, p.D, p.E, p.F, p.G, p.H, p.I]
+                            .iter()
+                            .map(|v| v.x + v.y)
+                            .sum::<f64>()
                     } else {
-                        q.h1 + q.i1
+                        let p = m.point_positions(&pose.q);
+                        p.iter().map(|v| v.x + v.y).sum::<f64>()
                     };
                 });
             }

@@ -17,6 +17,7 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
     let c_drivers = &coord[..nd];
     let nt = unknown_trig(cx.g(), &cx.newton_roots(), cx.model.drivers).len();
     let inputs = guards::inputs(cx, "start", false);
+    let pose_t = cx.pose_type();
     // Newton–Raphson on the whole system, its common path inline.
     let newton = quote! {
         let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
@@ -49,7 +50,7 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
                 start: &#coords,
                 options: &#pp::Options,
                 __scaling: &#pp::Scaling<#ne>,
-            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+            ) -> #pp::Result<#pose_t, #pp::Error> {
                 let mut carry = [[0.0f64, 0.0f64, ::core::primitive::f64::NAN]; #nt];
                 self.__pose_core(start, options, __scaling, &mut carry, true)
             }

@@ -174,6 +174,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let mut stages = coefs;
     stages.push(d.phi.clone());
     stages.push(cx.jac_flat());
+    stages.push(d.pos.iter().flatten().copied().collect());
     let sched = schedule(g, &stages);
     let (apr, alets) = bind_given(g, &sched, &leaf, step_given.clone());
     // In the modes asked for, a Newton block that does not converge is an
@@ -188,7 +189,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let asm_far = far_check(&asm_newton);
     let (asm_phi_lets, asm_jac_lets) = (&alets[nb], &alets[nb + 1]);
     let asm_jac = cx.jac_array(&apr);
-    let pose_ok = cx.pose_at_solution();
+    let pose_ok = cx.pose_at_solution(&apr, &alets[nb + 2]);
+    let pose_t = cx.pose_type();
     let nnz = cx.blocks.nnz();
     // Carried values to compute afresh.
     let fresh = quote!(&mut [[::core::primitive::f64::NAN; 3]; #na]);
@@ -336,7 +338,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             __pt: &[f64; #npt],
             __dtrig: &mut [[f64; 3]; #ndt],
             strict: bool,
-        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+        ) -> #pp::Result<#pose_t, #pp::Error> {
             let [#(#pt_names),*] = *__pt;
             #asm_far
             #asm_inputs
@@ -398,7 +400,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             scaling: &#pp::Scaling<#ne>,
             modes: &mut [f64; #nm],
             pt: &[f64; #npt],
-        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+        ) -> #pp::Result<#pose_t, #pp::Error> {
             for mut m in #pp::closed::other_modes(*modes) {
                 let r = self.__assemble_closed(start, options, scaling, &mut m, #fresh, pt, #fresh_dtrig, false);
                 if r.is_ok() {

@@ -129,7 +129,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             /// Unavailable: the definition has errors.
             pub fn step(&mut self, start: &#coords, rates: impl #pp::DriverValues<#nd>, accelerations: impl #pp::DriverValues<#nd>) -> #pp::Result<#motion, #pp::Error> { #unavailable }
             /// Unavailable: the definition has errors.
-            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> { #unavailable }
+            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pp::Pose<#coords, #positions>, #pp::Error> { #unavailable }
         }
         #[automatically_derived]
         #[allow(unused_variables)]
@@ -137,6 +137,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             type Coords = #coords;
             type Motion = #motion;
             type StepState = #state;
+            type Positions = #positions;
             const DRIVERS: usize = #nd;
             const UNKNOWNS: usize = #nu;
             const EQUATIONS: usize = #nu;
@@ -153,7 +154,7 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             fn step_state(&self, options: &#pp::Options) -> #pp::Result<#state, #pp::Error> { #unavailable }
             fn step_modes(state: &mut #state) -> &mut [f64] { #unavailable }
             fn step_carried(&self, start: &#coords, rates: &#coords, accelerations: &#coords, state: &mut #state) -> #pp::Result<#motion, #pp::Error> { #unavailable }
-            fn pose_carried(&self, start: &#coords, state: &mut #state) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> { #unavailable }
+            fn pose_carried(&self, start: &#coords, state: &mut #state) -> #pp::Result<#pp::Pose<#coords, #positions>, #pp::Error> { #unavailable }
             fn residual_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn jacobian_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }
             fn point_positions_into(&self, pose: &#coords, out: &mut [f64]) { #unavailable }

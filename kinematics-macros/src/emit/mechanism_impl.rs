@@ -16,6 +16,8 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
     let id = &cx.id;
     let (name, coords, motion, coord) = (&id.name, &id.coords, &id.motion, &id.coord);
     let state = quote::format_ident!("{}StepState", name.unraw());
+    let positions = quote::format_ident!("{}Positions", name.unraw());
+    let pose_t = cx.pose_type();
     let (c_drivers, c_unknowns) = coord.split_at(nd);
     let coord_names: Vec<String> = coord.iter().map(|c| c.unraw().to_string()).collect();
     let eq_names: Vec<&str> = cx.model.equations.iter().map(|e| e.text.as_str()).collect();
@@ -53,6 +55,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
             type Coords = #coords;
             type Motion = #motion;
             type StepState = #state;
+            type Positions = #positions;
             const DRIVERS: usize = #nd;
             const UNKNOWNS: usize = #nu;
             const EQUATIONS: usize = #ne;
@@ -130,7 +133,7 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
                 &self,
                 start: &#coords,
                 state: &mut #state,
-            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+            ) -> #pp::Result<#pose_t, #pp::Error> {
                 state.__pose(self, start)
             }
 

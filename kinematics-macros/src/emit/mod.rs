@@ -224,18 +224,33 @@ impl<'a> Ctx<'a> {
         quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
     }
 
+    /// The type of a positions-only solve's result, `Pose<Coords,
+    /// Positions>`.
+    fn pose_type(&self) -> TokenStream {
+        let (pp, coords) = (&self.pp, &self.id.coords);
+        let positions = quote::format_ident!("{}Positions", self.id.name.unraw());
+        quote!(#pp::Pose<#coords, #positions>)
+    }
+
     /// The end of a positions-only solve: Φ_u's blocks factored at the
     /// solution (`jac`, with the coordinates and `__phi` bound), the
-    /// conditioning and branch checked, and the `Pose` returned.
-    fn pose_at_solution(&self) -> TokenStream {
+    /// conditioning and branch checked, and the `Pose` returned, with the
+    /// points' positions `d.pos` printed by `pr` (`points`: their values'
+    /// bindings).
+    fn pose_at_solution(&self, pr: &Printer<'_>, points: &TokenStream) -> TokenStream {
         let pp = &self.pp;
         let (coords, coord, q) = (&self.id.coords, &self.id.coord, &self.id.q);
+        let positions = quote::format_ident!("{}Positions", self.id.name.unraw());
+        let names = self.def.points.iter().map(|p| &p.name);
+        let values = self.d.pos.iter().map(|c| self.vector(pr, c));
         let at_solution = self.factor_at_solution();
         quote! {
             // The singularity and the branch are judged at the solution.
             #at_solution
+            #points
             ::core::result::Result::Ok(#pp::Pose {
                 q: #coords { #( #coord: #q ),* },
+                points: #positions { #( #names: #values, )* },
                 conditioning: __conditioning,
                 det_sign: __det_sign,
                 residual: #pp::closed::max_abs(&__phi),

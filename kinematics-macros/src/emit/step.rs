@@ -266,6 +266,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let npt = cx.param_trig().len();
     let ndt = cx.driver_trig().len();
     let vis = &cx.def.vis;
+    let pose_t = cx.pose_type();
     let state = format_ident!("{}StepState", name.unraw());
     let call = if cx.closed_path() {
         quote! {
@@ -390,7 +391,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
             /// # Errors
             /// As the mechanism's `assemble`.
             #[inline]
-            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+            pub fn pose(&mut self, start: &#coords) -> #pp::Result<#pose_t, #pp::Error> {
                 self.state.__pose(self.mechanism, start)
             }
 
@@ -419,7 +420,7 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
                 &mut self,
                 mechanism: &#name,
                 start: &#coords,
-            ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+            ) -> #pp::Result<#pose_t, #pp::Error> {
                 let scaling = self.__refresh(mechanism, start)?;
                 #pose_call
             }
@@ -537,14 +538,23 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
     let c_drivers = &coord[..nd];
     let leaf = cx.leaf();
     let newton_roots = cx.newton_roots();
+    // The points' positions after the solve, from the values of its last
+    // evaluation that they use (kept in `cache`, as `__step_core` keeps
+    // those of the analysis).
+    let pos_stage: Vec<Id> = cx.d.pos.iter().flatten().copied().collect();
     let sched = schedule(
         g,
         &[
             driver_frontier(g, &newton_roots, cx.model.drivers),
-            newton_roots,
+            newton_roots.clone(),
+            pos_stage.clone(),
         ],
     );
+    let cached = used_later(g, &sched, 1, &newton_roots, &[&pos_stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
+    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
+    let nc = cached_names.len();
+    let keep = quote!(cache = [#(#cached_names),*];);
     let fast_loop = FastLoop::new(cx, &sched, &pr);
     let nt = fast_loop.nt;
     let hoisted = &lets[0];
@@ -555,14 +565,15 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         &fast_loop,
         &lets[1],
         &NewtonKeep {
-            fast: quote!(__jac = jac;),
-            general: TokenStream::new(),
+            fast: quote!(#keep __jac = jac;),
+            general: keep,
             after: quote!(__jac = jac;),
             polish: Some(quote!(polish)),
         },
     );
     let inputs = guards::inputs(cx, "start", false);
-    let pose_ok = cx.pose_at_solution();
+    let pose_ok = cx.pose_at_solution(&pr, &lets[2]);
+    let pose_t = cx.pose_type();
     quote! {
         /// A positions-only step (or, with `polish`, an assembly) from
         /// `start`, with options, parameters and scaling already checked,
@@ -579,14 +590,16 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
             __scaling: &#pp::Scaling<#ne>,
             carry: &mut [[f64; 3]; #nt],
             polish: bool,
-        ) -> #pp::Result<#pp::Pose<#coords>, #pp::Error> {
+        ) -> #pp::Result<#pose_t, #pp::Error> {
             #inputs
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             let __weights = __scaling.weights(options);
             #hoisted
             let mut __jac = [0.0f64; #nnz];
+            let mut cache = [0.0f64; #nc];
             #solve
             let [#(#q_unknowns),*] = u;
+            let [#(#cached_names),*] = cache;
             let jac = __jac;
             #pose_ok
         }
