@@ -509,6 +509,93 @@ impl RRtrRrt {
     }
 }
 
+mechanism! {
+    /// The Strider leg (diywalkers.com), with the joints of pylinkage's
+    /// example: the frame A, B, B′ (B, B′ at `tri` from A, `ape` either
+    /// side of the vertical), the crank A–C of unit length, the knees D
+    /// and E (a femur from B′ and B, a long rocker arm from C), F and G
+    /// fixed to the rocker arms (a short arm at `phi` from the long one),
+    /// the feet H and I (a tibia from D and E, a foot link from F and G).
+    pub struct Strider {
+        params {
+            /// Distance of B and B′ from A.
+            tri,
+            /// Angle of AB and AB′ from the vertical.
+            ape,
+            /// B′D and BE.
+            femur,
+            /// CD and CE.
+            rocker_l,
+            /// CF and CG.
+            rocker_s,
+            /// Angle of CF from CE (of CG from CD, the other way).
+            phi,
+            /// DH and EI.
+            tibia,
+            /// FH and GI.
+            foot
+        }
+        drivers {
+            /// Crank angle.
+            th
+        }
+        unknowns { d1, d2, e1, e2, h1, h2, i1, i2 }
+        points {
+            C = polar(1.0, th);
+            D = C + polar(rocker_l, d2);
+            E = C + polar(rocker_l, e2);
+            F = C + polar(rocker_s, e2 - phi);
+            G = C + polar(rocker_s, d2 + phi);
+            H = D + polar(tibia, h1);
+            I = E + polar(tibia, i1);
+        }
+        loops {
+            polar(tri, 0.5 * pi + ape) + polar(femur, d1) == C + polar(rocker_l, d2);
+            polar(tri, 0.5 * pi - ape) + polar(femur, e1) == C + polar(rocker_l, e2);
+            D + polar(tibia, h1) == F + polar(foot, h2);
+            E + polar(tibia, i1) == G + polar(foot, i2);
+        }
+    }
+}
+
+impl Strider {
+    /// The dimensions of pylinkage's Strider example (crank of unit
+    /// length).
+    pub const PYLINKAGE: Strider = Strider {
+        tri: 2.0,
+        ape: std::f64::consts::FRAC_PI_4,
+        femur: 1.8,
+        rocker_l: 2.6,
+        rocker_s: 1.4,
+        phi: std::f64::consts::PI + 0.2,
+        tibia: 2.5,
+        foot: 1.8,
+    };
+
+    /// A guess at crank angle `th` from the joints' starting positions in
+    /// pylinkage's example (the crank pin below A, the knees outside, the
+    /// feet below), which picks the assembly modes: each unknown the angle
+    /// of its link between those positions.
+    #[must_use]
+    pub fn pylinkage_guess(th: f64) -> StriderCoords {
+        let angle = |p: (f64, f64), q: (f64, f64)| (q.1 - p.1).atan2(q.0 - p.0);
+        let (c, d, e) = ((0.0, -1.0), (-2.25, 0.0), (2.25, 0.0));
+        let (f, g, h, i) = ((-1.4, -1.2), (1.4, -1.2), (-2.7, -2.7), (2.7, -2.7));
+        let (b, bp) = ((1.41, 1.41), (-1.41, 1.41));
+        StriderCoords {
+            th,
+            d1: angle(bp, d),
+            d2: angle(c, d),
+            e1: angle(b, e),
+            e2: angle(c, e),
+            h1: angle(d, h),
+            h2: angle(f, h),
+            i1: angle(e, i),
+            i2: angle(g, i),
+        }
+    }
+}
+
 /// Angular speed in rad/s of a shaft turning at `rpm` revolutions per minute:
 /// ω = π n / 30.
 #[must_use]

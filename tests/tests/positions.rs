@@ -8,7 +8,7 @@ use std::f64::consts::{PI, TAU};
 
 use kinematics_core::sweep::{PoseSample, Sample, StopReason, SweepBuilder};
 use kinematics_core::{mechanism, Coordinates, Kind, Mechanism, MotionState, Options};
-use kinematics_examples::FourBar;
+use kinematics_examples::{FourBar, Strider};
 use kinematics_tests::{
     non_grashof_four_bar, DistanceFourBar, DistanceFourBarCoords, SlotSixBar, SlotSixBarModes,
 };
@@ -289,4 +289,72 @@ fn a_sweep_of_poses_stops_at_the_limit_position() {
     );
     let last = last.expect("samples before the stop");
     assert!(last < limit && last > limit - 2.0 * TAU / 3600.0);
+}
+
+#[test]
+fn a_sweep_of_poses_follows_pylinkages_strider() {
+    // The feet of the Strider leg at steps 0, 900, 1800 and 2700 of a turn
+    // of 3600 steps, as pylinkage 1.3's numba solver computes them
+    // (circle intersections in Cartesian coordinates, each joint nearest
+    // its previous position; `bench/python/strider_pylinkage.py` prints
+    // them). Its crank angle accumulates a step at a time, ours is from +
+    // k·step: hence the 1e-12.
+    let pylinkage: [(usize, [f64; 4]); 4] = [
+        (
+            0,
+            [
+                -2.582_748_307_752_058,
+                -2.568_626_542_988_897,
+                2.587_458_703_155_555,
+                -2.566_615_120_591_06,
+            ],
+        ),
+        (
+            900,
+            [
+                0.106_814_718_970_229,
+                -2.231_316_900_850_534,
+                3.120_724_762_250_088,
+                -1.132_655_027_631_859,
+            ],
+        ),
+        (
+            1800,
+            [
+                0.075_641_046_441_651,
+                0.498_177_639_426_165,
+                -0.079_765_569_585_372,
+                0.498_275_798_631_585,
+            ],
+        ),
+        (
+            2700,
+            [
+                -3.124_981_013_729_512,
+                -1.136_152_133_743_815,
+                -0.100_640_783_849_303,
+                -2.236_378_479_867_035,
+            ],
+        ),
+    ];
+    let m = Strider::PYLINKAGE;
+    assert!(Strider::BLOCKS.iter().all(|b| b.is_closed_form()));
+    let th0 = -std::f64::consts::FRAC_PI_2 + TAU / 3600.0;
+    let start = m
+        .assemble(&Strider::pylinkage_guess(th0))
+        .expect("assembles");
+    let poses: Vec<_> = m
+        .sweep(Strider::TH, &start)
+        .from(th0)
+        .to(th0 + TAU)
+        .steps(3600)
+        .poses()
+        .collect();
+    assert_eq!(poses.len(), 3601);
+    for (k, [hx, hy, ix, iy]) in pylinkage {
+        let p = poses[k].as_ref().expect("no stop").pose.points;
+        for (got, want) in [(p.H.x, hx), (p.H.y, hy), (p.I.x, ix), (p.I.y, iy)] {
+            assert!((got - want).abs() < 1e-12, "step {k}: {got} against {want}");
+        }
+    }
 }
