@@ -28,8 +28,24 @@ mechanism! {
     /// (no closed form: Newton–Raphson on the whole system), with a point P
     /// on its rod at p from the crank pin, β off the rod's line.
     pub struct CurvedSlider {
-        params { a, b, h, k, p, beta }
-        drivers { phi }
+        params {
+            /// Crank.
+            a,
+            /// Rod.
+            b,
+            /// Vertex of the guide.
+            h,
+            /// Curvature of the guide.
+            k,
+            /// Distance of P from the crank pin.
+            p,
+            /// Angle of P off the rod's line.
+            beta
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
         unknowns { th, y }
         points {
             B = polar(a, phi);
