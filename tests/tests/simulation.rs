@@ -769,13 +769,13 @@ impl CrankX for SliderDrivenCoords {
 fn a_sweep_solved_by_newton_stops_where_it_cannot_go_on() {
     // The non-Grashof four-bar of the limit-position test, by
     // Newton–Raphson: the rocker angle cannot follow past the toggle.
+    let (f, _, limit) = non_grashof_four_bar();
     let m = DistanceFourBar {
-        a: 0.05,
-        b: 0.08,
-        c: 0.06,
-        d: 0.11,
+        a: f.a,
+        b: f.b,
+        c: f.c,
+        d: f.d,
     };
-    let limit = ((m.a * m.a + m.d * m.d - (m.b + m.c).powi(2)) / (2.0 * m.a * m.d)).acos();
     let start = m
         .assemble(&DistanceFourBarCoords { phi: 0.0, th4: 1.5 })
         .expect("assembles");

@@ -176,7 +176,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     stages.push(cx.jac_flat());
     stages.push(d.pos.iter().flatten().copied().collect());
     let sched = schedule(g, &stages);
-    let (apr, alets) = bind_given(g, &sched, &leaf, step_given.clone());
+    let (apr, alets) = bind_given(g, &sched, &leaf, step_given);
     // In the modes asked for, a Newton block that does not converge is an
     // error: Newton–Raphson on the whole system could find another mode.
     let asm_failed = quote! {

@@ -24,7 +24,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
     let q = &id.q;
-    let (q_drivers, q_unknowns) = q.split_at(nd);
+    let q_drivers = &q[..nd];
     let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
     let c_drivers = &coord[..nd];
     let leaf = cx.leaf();
@@ -40,32 +40,17 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             pt_stage.clone(),
         ],
     );
-    let cached = used_later(
-        g,
-        &sched,
-        1,
-        &newton_roots,
-        &[&vel_stage, &acc_stage, &pt_stage],
-    );
     let (pr, lets) = bind(g, &sched, &leaf);
-    let fast_loop = FastLoop::new(cx, &sched, &pr);
-    let nt = fast_loop.nt;
-    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
-    let nc = cached_names.len();
     let hoisted = &lets[0];
-    // The values the analysis reuses, kept from the last evaluation.
-    let keep = quote!(cache = [#(#cached_names),*];);
-    let solve = newton_solve(
+    // The values the analysis reuses are kept from the last evaluation.
+    let (solve, nt) = newton_solve(
         cx,
+        &sched,
         &pr,
-        &fast_loop,
         &lets[1],
-        &NewtonKeep {
-            fast: keep.clone(),
-            general: keep,
-            after: TokenStream::new(),
-            polish: None,
-        },
+        &[&vel_stage, &acc_stage, &pt_stage],
+        false,
+        None,
     );
     let tail = cx.analysis_tail(
         &pr,
@@ -209,10 +194,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             let __weights = __scaling.weights(options);
             #hoisted
-            let mut cache = [0.0f64; #nc];
             #solve
-            let [#(#q_unknowns),*] = u;
-            let [#(#cached_names),*] = cache;
             #tail
         }
 
@@ -338,8 +320,8 @@ pub(super) fn stepper_items(cx: &Ctx<'_>) -> TokenStream {
     let pose_doc = format!(
         "As [`{stepper}::step`], positions only: assembles at the drivers of `start` from the \
          previous step's state (its assembly modes and the sines and cosines of its pose) and \
-         returns the pose with its conditioning, the sign of det Φ_u and the residual, with no \
-         velocity or acceleration computed. The step of a sweep of positions \
+         returns the pose with its points' positions, its conditioning, the sign of det Φ_u and \
+         the residual, with no velocity or acceleration computed. The step of a sweep of positions \
          ([`SweepBuilder::poses`](::kinematics_core::sweep::SweepBuilder::poses))."
     );
     let step_doc = format!(
@@ -531,10 +513,10 @@ impl FastLoop {
 /// conditioning and the branch judged at the solution.
 fn pose_core(cx: &Ctx<'_>) -> TokenStream {
     let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
-    let (nd, ne, nnz) = (cx.nd, cx.ne, cx.blocks.nnz());
+    let (nd, ne) = (cx.nd, cx.ne);
     let id = &cx.id;
     let (coords, coord, q) = (&id.coords, &id.coord, &id.q);
-    let (q_drivers, q_unknowns) = q.split_at(nd);
+    let q_drivers = &q[..nd];
     let c_drivers = &coord[..nd];
     let leaf = cx.leaf();
     let newton_roots = cx.newton_roots();
@@ -550,26 +532,17 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
             pos_stage.clone(),
         ],
     );
-    let cached = used_later(g, &sched, 1, &newton_roots, &[&pos_stage]);
     let (pr, lets) = bind(g, &sched, &leaf);
-    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
-    let nc = cached_names.len();
-    let keep = quote!(cache = [#(#cached_names),*];);
-    let fast_loop = FastLoop::new(cx, &sched, &pr);
-    let nt = fast_loop.nt;
     let hoisted = &lets[0];
-    // Φ_u at the solution, for its conditioning and branch.
-    let solve = newton_solve(
+    // Φ_u kept at the solution, for its conditioning and branch.
+    let (solve, nt) = newton_solve(
         cx,
+        &sched,
         &pr,
-        &fast_loop,
         &lets[1],
-        &NewtonKeep {
-            fast: quote!(#keep __jac = jac;),
-            general: keep,
-            after: quote!(__jac = jac;),
-            polish: Some(quote!(polish)),
-        },
+        &[&pos_stage],
+        true,
+        Some(quote!(polish)),
     );
     let inputs = guards::inputs(cx, "start", false);
     let pose_ok = cx.pose_at_solution(&pr, &lets[2]);
@@ -595,45 +568,51 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
             let [#(#q_drivers),*]: [f64; #nd] = [#(start.#c_drivers),*];
             let __weights = __scaling.weights(options);
             #hoisted
-            let mut __jac = [0.0f64; #nnz];
-            let mut cache = [0.0f64; #nc];
             #solve
-            let [#(#q_unknowns),*] = u;
-            let [#(#cached_names),*] = cache;
-            let jac = __jac;
             #pose_ok
         }
     }
 }
 
-/// What the Newton solve of [`newton_solve`] keeps besides the pose.
-struct NewtonKeep {
-    /// Statements after each inline evaluation (Φ and Φ_u bound as `phi`
-    /// and `jac`).
-    fast: TokenStream,
-    /// Statements at the end of each of the general solver's evaluations.
-    general: TokenStream,
-    /// Statements after the general solver (its last `phi` and `jac`).
-    after: TokenStream,
-    /// A `bool` expression, if any: whether to polish a converged pose to
-    /// round-off with the general solver (as an assembly does).
-    polish: Option<TokenStream>,
-}
-
-/// Newton's solve from the unknowns of `start`, binding `u` (the solution)
-/// and `__phi` (Φ there) and updating `carry`: the common path evaluated
-/// inline (`FastNewton`), anything off it (damping, round-off, failure)
-/// handed to the general solver from `start` again, which returns the
-/// failure from the enclosing function.
+/// Newton's solve from the unknowns of `start` for a schedule whose
+/// first stages are the driver-only values and the Newton cone (`iterated`:
+/// its bindings under `pr`): the common path evaluated inline
+/// (`FastNewton`), anything off it (damping, round-off, failure) handed to
+/// the general solver from `start` again, which returns the failure from
+/// the enclosing function; with `polish` (a `bool` expression), a
+/// converged pose above `solve::POLISH` times the tolerance handed over
+/// too, to be polished to round-off. Binds the unknowns at the solution,
+/// `__phi` (Φ there), the values of the last evaluation that the `later`
+/// stages use and, with `keep_jac`, `jac` (Φ_u there), and updates
+/// `carry`; also returns the number of carried sines and cosines.
 fn newton_solve(
     cx: &Ctx<'_>,
+    sched: &crate::cse::Schedule,
     pr: &super::print::Printer<'_>,
-    fast_loop: &FastLoop,
     iterated: &TokenStream,
-    keep: &NewtonKeep,
-) -> TokenStream {
+    later: &[&Vec<Id>],
+    keep_jac: bool,
+    polish: Option<TokenStream>,
+) -> (TokenStream, usize) {
+    let fast_loop = FastLoop::new(cx, sched, pr);
+    let cached = used_later(cx.g(), sched, 1, &cx.newton_roots(), later);
+    let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
+    let nc = cached_names.len();
+    let keep = quote!(cache = [#(#cached_names),*];);
+    let nnz = cx.blocks.nnz();
+    let (declare_jac, keep_fast, keep_after, bind_jac) = if keep_jac {
+        (
+            quote!(let mut __jac = [0.0f64; #nnz];),
+            quote!(#keep __jac = jac;),
+            quote!(__jac = jac;),
+            quote!(let jac = __jac;),
+        )
+    } else {
+        let none = TokenStream::new;
+        (none(), keep.clone(), none(), none())
+    };
     let (d, pp) = (cx.d, &cx.pp);
-    let (ne, nnz) = (cx.ne, cx.blocks.nnz());
+    let ne = cx.ne;
     let id = &cx.id;
     let (q, c_unknowns) = (&id.q, &id.coord[cx.nd..]);
     let q_unknowns = &q[cx.nd..];
@@ -643,18 +622,12 @@ fn newton_solve(
         trig_keep,
         nt,
         iterated: iterated_fast,
-    } = fast_loop;
+    } = &fast_loop;
     let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
     let jac = cx.jac_array(pr);
     let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
     let newton_step = cx.blocks.solve(&quote!(phi), false);
     let solver = cx.solver();
-    let NewtonKeep {
-        fast,
-        general,
-        after,
-        polish,
-    } = keep;
     let (done, restart) = match polish {
         Some(p) => (
             quote!(on_path && !(#p && #pp::FastNewton::unpolished(&__phi, &__weights, options))),
@@ -666,8 +639,10 @@ fn newton_solve(
         ),
         None => (quote!(on_path), quote!(u = [#(start.#c_unknowns),*];)),
     };
-    quote! {
+    let solve = quote! {
         let mut u = [#(start.#c_unknowns),*];
+        let mut cache = [0.0f64; #nc];
+        #declare_jac
         // Newton's common path, evaluated inline; anything off it
         // (damping, round-off, failure) goes to the general solver.
         let mut fast = #pp::FastNewton::new();
@@ -680,7 +655,7 @@ fn newton_solve(
             let phi = [#(#phi),*];
             __phi = phi;
             let jac: [f64; #nnz] = #jac;
-            #fast
+            #keep_fast
             match fast.assess(&phi, &__weights, options) {
                 #pp::Next::Continue => {}
                 #pp::Next::Converged => break true,
@@ -701,14 +676,18 @@ fn newton_solve(
                 #iterated
                 *phi = [#(#phi),*];
                 *jac = #jac;
-                #general
+                #keep
             }, #solver);
             if let ::core::result::Result::Err(f) = solved {
                 let [#(#q_unknowns),*] = u;
                 return ::core::result::Result::Err(#pp::describe(f, &Self::__NAMES, &[#(#q),*]));
             }
             __phi = phi;
-            #after
+            #keep_after
         }
-    }
+        let [#(#q_unknowns),*] = u;
+        let [#(#cached_names),*] = cache;
+        #bind_jac
+    };
+    (solve, *nt)
 }
