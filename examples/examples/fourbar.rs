@@ -15,7 +15,7 @@ use std::time::Instant;
 use kinematics_core::animate::write_html;
 use kinematics_core::batch;
 use kinematics_core::plot::{plot_motion, plot_path, plot_points, plot_skeleton, Projection};
-use kinematics_examples::{output_dir, FourBar, FourBarCoords, FourBarModes};
+use kinematics_examples::{output_dir, FourBar, FourBarCoords};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let m = FourBar::CRANK_ROCKER;
@@ -30,9 +30,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // Both assemblies at phi = 0, with no guess: the rough guess below picks
     // the open one.
-    let all = m.assemble_all(0.0);
-    for (modes, pose) in FourBarModes::ALL.iter().zip(&all) {
-        let pose = pose.as_ref().map_err(|e| e.to_string())?;
+    for (modes, pose) in m.assemble_all(0.0) {
+        let pose = pose.map_err(|e| e.to_string())?;
         println!(
             "  assembly {:?}: th3 = {:.3} deg, th4 = {:.3} deg",
             modes.th3_th4,

@@ -41,8 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         m.a, m.b, m.c, m.d, m.p, m.beta, best.sum_squares
     );
     // The poses at the targets, in the design's assembly mode.
-    let modes = kinematics_examples::FourBarModes::ALL
-        .into_iter()
+    let modes = kinematics_examples::FourBarModes::all()
         .find(|modes| {
             MORGAN_WAMPLER_7
                 .iter()

@@ -693,6 +693,7 @@ pub mod literature {
 pub mod synthesis_runs {
     use super::literature::{MORGAN_WAMPLER_7, NINE_POINTS};
     use super::{FourBar, FourBarCoords, FourBarModes, PlacedFourBar, PlacedFourBarModes};
+    use kinematics_core::closed::{AllModes, ModeSet};
     use kinematics_core::synthesis::{Synthesis, Synthesized};
     use kinematics_core::Error;
     use std::f64::consts::{PI, TAU};
@@ -731,17 +732,18 @@ pub mod synthesis_runs {
     /// a random start angle φ₀, drawn again until it assembles at the `n`
     /// driver values spaced evenly over a turn from φ₀; with its pose at φ₀
     /// and its mode.
-    fn drawn<M, C, Modes: Copy>(
+    fn drawn<M, C, Modes: ModeSet>(
         seed: u64,
         n: usize,
         mut draw: impl FnMut(&mut Uniform) -> M,
-        modes: [Modes; 2],
         assemble: impl Fn(&M, f64, &Modes) -> Result<C, Error>,
     ) -> (M, C, Modes) {
         let mut u = Uniform::new(seed);
         loop {
             let m = draw(&mut u);
-            let mode = modes[usize::from(u.in_range(0.0, 1.0) < 0.5)];
+            let mode = AllModes::<Modes>::new()
+                .nth(usize::from(u.in_range(0.0, 1.0) < 0.5))
+                .unwrap_or_else(Modes::all_plus);
             let phi0 = u.in_range(-PI, PI);
             let fits = evenly(phi0, n)
                 .iter()
@@ -766,13 +768,9 @@ pub mod synthesis_runs {
             p: u.in_range(0.2, 2.0),
             beta: u.in_range(-PI, PI),
         };
-        drawn(
-            seed,
-            MORGAN_WAMPLER_7.len(),
-            draw,
-            FourBarModes::ALL,
-            |m, phi, modes| m.assemble_in(phi, modes),
-        )
+        drawn(seed, MORGAN_WAMPLER_7.len(), draw, |m, phi, modes| {
+            m.assemble_in(phi, modes)
+        })
     }
 
     /// Morgan and Wampler's Problem 7 by Levenberg–Marquardt from the
@@ -840,13 +838,9 @@ pub mod synthesis_runs {
             p: u.in_range(0.2, 2.5),
             beta: u.in_range(-PI, PI),
         };
-        drawn(
-            seed,
-            NINE_POINTS.len(),
-            draw,
-            PlacedFourBarModes::ALL,
-            |m, phi, modes| m.assemble_in(phi, modes),
-        )
+        drawn(seed, NINE_POINTS.len(), draw, |m, phi, modes| {
+            m.assemble_in(phi, modes)
+        })
     }
 
     /// The nine-point problem by Levenberg–Marquardt from the starting

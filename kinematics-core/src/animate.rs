@@ -28,9 +28,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::error::Error;
+use crate::mechanism::{Kind, Mechanism, MotionState, PointState};
 use crate::sweep::Sweep;
 use crate::view::{point_index, point_roles, PointRole, Projection};
-use crate::{Error, Kind, Mechanism, MotionState, PointState};
 
 /// Writes an HTML page at `path` that plays the sweep `sweep` of `m`: each
 /// link of `links` (pairs of point names) as a line, the path of every

@@ -193,7 +193,7 @@ pub enum Error {
     },
     /// A solver option is out of its valid range.
     InvalidOption {
-        /// The option's field name in [`Options`](crate::Options).
+        /// The option's field name in [`Options`](crate::options::Options).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
         name: Name,
         /// The value given.

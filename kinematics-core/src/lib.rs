@@ -72,7 +72,11 @@ extern crate std;
 #[cfg(feature = "std")]
 #[cfg_attr(docsrs_nightly, doc(cfg(feature = "std")))]
 pub mod animate;
+#[cfg(feature = "parallel")]
+mod batch;
+mod checks;
 pub mod closed;
+mod derive;
 mod error;
 pub mod math;
 mod mechanism;
@@ -92,6 +96,9 @@ pub mod tolerance;
 pub mod transform;
 pub mod view;
 
+#[cfg(feature = "parallel")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "parallel")))]
+pub use batch::batch;
 pub use error::{Error, Input};
 /// The language is described in [`guide::language`], with every section and
 /// built-in and what is generated for a definition.
@@ -116,39 +123,6 @@ pub use mechanism::{
 pub use nalgebra;
 pub use options::{Branch, Convergence, Options};
 
-/// Evaluates `f` for every item of `items` (parameter sets, starting poses)
-/// on all cores, returning each item's result or error in order; one failing
-/// item never aborts the others (feature `parallel`).
-///
-/// ```
-/// use kinematics_core::{batch, mechanism};
-/// mechanism! {
-///     /// A slider-crank.
-///     pub struct SliderCrank {
-///         params { a, b }
-///         drivers { phi }
-///         unknowns { th, x }
-///         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
-///     }
-/// }
-/// let designs: Vec<SliderCrank> = (1..=4).map(|k| SliderCrank { a: 0.1, b: 0.05 * f64::from(k) }).collect();
-/// let start = SliderCrankCoords { phi: 1.2, th: 0.0, x: 0.2 };
-/// let results = batch(&designs, |m| m.assemble(&start));
-/// // b = 0.05 < a sin φ cannot reach the slider line; the others assemble.
-/// assert!(results[0].is_err() && results[3].is_ok());
-/// ```
-#[cfg(feature = "parallel")]
-#[cfg_attr(docsrs_nightly, doc(cfg(feature = "parallel")))]
-pub fn batch<T, R, F>(items: &[T], f: F) -> Vec<Result<R, Error>>
-where
-    T: Sync,
-    R: Send,
-    F: Fn(&T) -> Result<R, Error> + Sync + Send,
-{
-    use rayon::prelude::*;
-    items.par_iter().map(f).collect()
-}
-
 /// The README's examples, compiled and run as doctests (one of them
 /// derives serde's traits: with the `serde` feature, which the workspace's
 /// tests turn on).
@@ -156,39 +130,11 @@ where
 #[cfg(all(doctest, feature = "serde"))]
 pub struct ReadmeDoctests;
 
-/// Applies the serde derives of a mechanism's definition to one of its
-/// generated types (the coordinates, the motion, the modes): with the
-/// `serde` feature, as `#[derive(…)]`; without it, a compile error saying
-/// to enable it (the generated types hold this crate's types, whose serde
-/// implementations come with the feature).
-#[cfg(feature = "serde")]
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __with_serde {
-    ([$($path:path),+] $item:item) => {
-        #[derive($($path),+)]
-        $item
-    };
-}
-
-/// See the `serde` version.
-#[cfg(not(feature = "serde"))]
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __with_serde {
-    ([$($path:path),+] $item:item) => {
-        ::core::compile_error!(
-            "deriving Serialize or Deserialize on a mechanism needs the `serde` feature of \
-             kinematics-core: `kinematics-core = { version = \"0.1\", features = [\"serde\"] }`"
-        );
-        $item
-    };
-}
-
 /// Items used by the code that `mechanism!` generates. Not a stable API:
 /// anything here may change in any release.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::checks::{driver_arrays, finite, finite_outputs, positive, positive_distance};
     pub use crate::closed;
     pub use crate::math;
     pub use crate::solve::{
@@ -201,109 +147,4 @@ pub mod __private {
     pub use crate::{FrameState, Options, PointMotion, PointState, Pose, Role};
     pub use core::result::Result;
     pub use nalgebra::{Matrix3, Vector2, Vector3};
-
-    /// `rates` and `accelerations` as arrays of one value per driver, or
-    /// [`Error::InvalidOption`] when a slice has another length.
-    #[inline]
-    pub fn driver_arrays<const N: usize>(
-        rates: &[f64],
-        accelerations: &[f64],
-    ) -> Result<([f64; N], [f64; N]), Error> {
-        match (
-            <[f64; N]>::try_from(rates),
-            <[f64; N]>::try_from(accelerations),
-        ) {
-            (Ok(r), Ok(a)) => Ok((r, a)),
-            _ => Err(Error::InvalidOption {
-                name: "rates and accelerations",
-                #[allow(clippy::cast_precision_loss)]
-                value: rates.len().max(accelerations.len()) as f64,
-                requirement: "must have one value per driver",
-            }),
-        }
-    }
-
-    /// Fails with [`Error::InvalidParameter`] unless `value` > 0 (a
-    /// parameter declared `name: length`).
-    #[inline]
-    pub fn positive(name: &'static str, value: f64) -> Result<(), Error> {
-        positive_because(name, value, "must be positive: it is declared a length")
-    }
-
-    /// Fails with [`Error::InvalidParameter`] unless `value` > 0: the
-    /// distance b of a constraint `norm(v) == b`, which the generated code
-    /// solves as v·v = b² (the same solutions only for b > 0).
-    #[inline]
-    pub fn positive_distance(name: &'static str, value: f64) -> Result<(), Error> {
-        positive_because(
-            name,
-            value,
-            "must be positive: it is the distance in a `norm(…) == …` constraint",
-        )
-    }
-
-    /// Fails with [`Error::InvalidParameter`] and `requirement` unless
-    /// `value` > 0 (a NaN fails too).
-    #[inline]
-    fn positive_because(
-        name: &'static str,
-        value: f64,
-        requirement: &'static str,
-    ) -> Result<(), Error> {
-        if value > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                requirement,
-            })
-        }
-    }
-
-    /// Fails with [`Error::NonFinite`] when `value` is NaN or infinite.
-    #[inline]
-    pub fn finite(input: Input, name: &'static str, value: f64) -> Result<(), Error> {
-        if value.is_finite() {
-            Ok(())
-        } else {
-            Err(Error::NonFinite { input, name, value })
-        }
-    }
-
-    /// Fails with [`Error::NonFinite`] naming the first point or frame whose
-    /// position, velocity, acceleration, rotation or angular rates hold a NaN
-    /// or an infinity. Generated code calls it only after a cheap sum of all
-    /// outputs has come out non-finite, so it stays off the hot path.
-    #[cold]
-    #[inline(never)]
-    pub fn finite_outputs<const D: usize>(
-        points: &[PointMotion<D>],
-        point_names: &[&'static str],
-        frames: &[FrameState],
-        frame_names: &[&'static str],
-    ) -> Result<(), Error> {
-        for (name, p) in point_names.iter().zip(points) {
-            for v in p.position.iter().chain(&p.velocity).chain(&p.acceleration) {
-                finite(Input::Computed, name, *v)?;
-            }
-        }
-        for (name, f) in frame_names.iter().zip(frames) {
-            let vectors = [
-                f.origin,
-                f.velocity,
-                f.acceleration,
-                f.angular_velocity,
-                f.angular_acceleration,
-            ];
-            for v in f
-                .rotation
-                .iter()
-                .chain(vectors.iter().flat_map(|v| v.iter()))
-            {
-                finite(Input::Computed, name, *v)?;
-            }
-        }
-        Ok(())
-    }
 }

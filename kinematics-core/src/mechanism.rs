@@ -4,7 +4,9 @@ use nalgebra::{Matrix3, SVector, Vector3};
 
 use crate::rigid::FrameMotion;
 
-use crate::{Error, Options};
+use crate::error::Error;
+
+use crate::options::Options;
 
 /// Role of a coordinate in the model.
 ///
@@ -496,12 +498,12 @@ pub trait MotionState: Copy + core::fmt::Debug {
     /// conditioning of the exact pose (in radians, or in units of the
     /// characteristic length), to first order and up to twice that next to
     /// a toggle; velocities and accelerations inherit the same factor.
-    /// [`Options::singularity_threshold`](crate::Options) refuses poses at or
+    /// [`Options::singularity_threshold`](crate::options::Options) refuses poses at or
     /// below a chosen value (`Error::Singular`).
     fn conditioning(&self) -> f64;
     /// Sign of det Φ_u at this pose, ±1 (1 when there are no unknowns): the
     /// assembly branch, which changes only through a singular
-    /// configuration (see [`Options::branch`](crate::Options)).
+    /// configuration (see [`Options::branch`](crate::options::Options)).
     fn det_sign(&self) -> f64;
     /// max |Φ_i| at this pose, in the equations' units (metres for a
     /// planar loop): how well the loops close.

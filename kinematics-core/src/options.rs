@@ -1,6 +1,6 @@
 //! Solver settings.
 
-use crate::Error;
+use crate::error::Error;
 
 /// Settings of the Newton–Raphson assembly and of the linear solves.
 ///

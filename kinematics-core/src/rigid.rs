@@ -7,7 +7,7 @@
 
 use nalgebra::Vector3;
 
-use crate::Error;
+use crate::error::Error;
 
 /// Motion of a reference frame (or body) at an instant: its origin's
 /// velocity and acceleration, its angular velocity ω and acceleration α.

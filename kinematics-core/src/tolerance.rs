@@ -38,8 +38,9 @@ use alloc::format;
 use alloc::vec;
 use alloc::vec::Vec;
 
+use crate::error::Error;
+use crate::mechanism::Mechanism;
 use crate::sweep::Sweep;
-use crate::{Error, Mechanism};
 
 /// A mechanism with exact design sensitivities (generated for a definition
 /// with a `sensitivities { … }` section).

@@ -5,7 +5,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::{Coordinates, Kind, Mechanism};
+use crate::mechanism::{Coordinates, Kind, Mechanism};
 
 /// The plane a spatial mechanism is projected on (planar mechanisms are
 /// drawn in their plane).
@@ -160,7 +160,7 @@ pub fn point_roles<M: Mechanism>(m: &M, pose: &M::Coords) -> Vec<PointRole> {
 pub(crate) fn point_index<M: Mechanism>(
     name: &str,
     what: &'static str,
-) -> Result<usize, crate::Error> {
+) -> Result<usize, crate::error::Error> {
     M::POINT_NAMES
         .iter()
         .position(|p| *p == name)

@@ -11,7 +11,7 @@
 //! velocity of a point at the end of a six-joint chain then costs a few
 //! times its position, not six times.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use crate::ir::{Func, Graph, Id, Leaf, Node};
 
@@ -62,7 +62,14 @@ pub fn time_derivative_by_partials(
     memo: &mut Memo,
 ) -> Id {
     let mut total = g.constant(0.0);
+    // Only the coordinates `root` involves have nonzero partials: the
+    // others are skipped rather than differentiated to zero (a loop of a
+    // chain involves a few of its hundreds of coordinates).
+    let involved = leaves(g, root);
     for j in 0..coords {
+        if !involved.contains(&Leaf::Q(j)) && !involved.contains(&Leaf::Qd(j)) {
+            continue;
+        }
         let dq = partial(g, root, Leaf::Q(j), memo);
         let qd = g.leaf(Leaf::Qd(j));
         let t = g.mul(dq, qd);
@@ -80,6 +87,25 @@ pub fn time_derivative_by_partials(
         }
     }
     total
+}
+
+/// The leaves `root` depends on.
+pub fn leaves(g: &Graph, root: Id) -> HashSet<Leaf> {
+    let mut out = HashSet::new();
+    let mut seen = HashSet::new();
+    let mut stack = vec![root];
+    while let Some(id) = stack.pop() {
+        if !seen.insert(id) {
+            continue;
+        }
+        match g.node(id) {
+            Node::Leaf(l) => {
+                out.insert(l);
+            }
+            node => stack.extend(node.children()),
+        }
+    }
+    out
 }
 
 /// The derivative of a leaf along `along`.
@@ -110,13 +136,24 @@ fn derivative(g: &mut Graph, root: Id, along: Along, memo: &mut Memo) -> Id {
     if let Some(&d) = memo.get(&(root, along)) {
         return d;
     }
-    let live = g.reachable(&[root]);
-    let zero = g.constant(0.0);
-    for (i, _) in live.iter().enumerate().filter(|(_, l)| **l) {
-        let id = Id::from_index(i);
-        if memo.contains_key(&(id, along)) {
+    // The nodes under `root` whose derivative along `along` is not known
+    // yet, found without descending below a known one: the work is the
+    // size of the new part of the DAG, not of the whole arena (a Jacobian
+    // of a chain of n loops asks for n² derivatives of small expressions).
+    let mut order = Vec::new();
+    let mut seen = HashSet::new();
+    let mut stack = vec![root];
+    while let Some(id) = stack.pop() {
+        if memo.contains_key(&(id, along)) || !seen.insert(id) {
             continue;
         }
+        order.push(id);
+        stack.extend(g.node(id).children());
+    }
+    // Children come before their parents in the arena.
+    order.sort_unstable();
+    let zero = g.constant(0.0);
+    for id in order {
         let d = |memo: &Memo, c: Id| memo.get(&(c, along)).copied().unwrap_or(zero);
         let node = g.node(id);
         let result = match node {

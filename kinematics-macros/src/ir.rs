@@ -249,12 +249,22 @@ impl Graph {
     }
 
     /// Whether `id` depends on `leaf`.
+    ///
+    /// A walk of the nodes under `id` only, stopping at the first such
+    /// leaf: the cost is the size of the expression, not of the arena.
     pub fn depends_on(&self, id: Id, pred: &dyn Fn(Leaf) -> bool) -> bool {
-        let live = self.reachable(&[id]);
-        self.nodes
-            .iter()
-            .enumerate()
-            .any(|(i, n)| live[i] && matches!(n, Node::Leaf(l) if pred(*l)))
+        let mut seen = std::collections::HashSet::new();
+        let mut stack = vec![id];
+        while let Some(i) = stack.pop() {
+            if !seen.insert(i) {
+                continue;
+            }
+            match self.node(i) {
+                Node::Leaf(l) if pred(l) => return true,
+                n => stack.extend(n.children()),
+            }
+        }
+        false
     }
 }
 

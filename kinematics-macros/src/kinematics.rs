@@ -80,9 +80,21 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
         Method::Forward => time_derivative(g, e, acc, memo),
     };
     let phi: Vec<Id> = model.equations.iter().map(|e| e.residual).collect();
+    let zero = g.constant(0.0);
     let jac = phi
         .iter()
-        .map(|&p| (nd..nq).map(|j| partial(g, p, Leaf::Q(j), memo)).collect())
+        .map(|&p| {
+            let involved = crate::diff::leaves(g, p);
+            (nd..nq)
+                .map(|j| {
+                    if involved.contains(&Leaf::Q(j)) {
+                        partial(g, p, Leaf::Q(j), memo)
+                    } else {
+                        zero
+                    }
+                })
+                .collect()
+        })
         .collect();
     let mut vel_rhs = Vec::new();
     let mut acc_rhs = Vec::new();

@@ -6,7 +6,7 @@
 
 use kinematics_core::closed::Mode;
 use kinematics_core::nalgebra::{DMatrix, DVector};
-use kinematics_core::{mechanism, Coordinates, Mechanism, MotionState};
+use kinematics_core::{mechanism, Coordinates, Error, Mechanism, MotionState};
 use kinematics_tests::{SlotSixBar, SlotSixBarCoords, SlotSixBarModes};
 
 mechanism! {
@@ -140,6 +140,11 @@ fn newton<M: Mechanism>(m: &M, guess: &M::Coords) -> M::Coords {
 /// there are 2^k assemblies, all distinct, each equal to Newton–Raphson
 /// from a guess 0.02 off it to 1e-12 relative, each reproduced by
 /// `assemble` from that guess.
+/// The assemblies of `assemble_all`, in the order of the modes.
+fn results<M, C>(all: impl Iterator<Item = (M, Result<C, Error>)>) -> Vec<Result<C, Error>> {
+    all.map(|(_, r)| r).collect()
+}
+
 fn check_all<M: Mechanism>(
     m: &M,
     blocks: &[kinematics_core::closed::Block],
@@ -198,12 +203,17 @@ fn four_bar_both_modes() {
         &m,
         FourBar::BLOCKS,
         &["closed form: RRR dyad (circle–circle)"],
-        &m.assemble_all(0.7),
+        &results(m.assemble_all(0.7)),
         |g| m.assemble(g).expect("assembles"),
     );
     // The modes are the two sides of the line through the dyad's ends:
     // the open and the crossed four-bar, mirror images about the diagonal.
-    let [plus, minus] = m.assemble_all(0.7).map(|r| r.expect("assembles"));
+    let [plus, minus]: [FourBarCoords; 2] = results(m.assemble_all(0.7))
+        .into_iter()
+        .map(|r| r.expect("assembles"))
+        .collect::<Vec<_>>()
+        .try_into()
+        .expect("two assemblies");
     let (bx, by) = (m.a * 0.7f64.cos(), m.a * 0.7f64.sin());
     let side = |q: &FourBarCoords| {
         let (cx, cy) = (bx + m.b * q.th3.cos(), by + m.b * q.th3.sin());
@@ -236,7 +246,7 @@ fn slider_cranks_and_dyads_both_modes() {
             "closed form: a cos θ + b sin θ + c = 0",
             "closed form: linear in one length",
         ],
-        &m.assemble_all(0.4),
+        &results(m.assemble_all(0.4)),
         |g| m.assemble(g).expect("assembles"),
     );
     let m = Inverted { a: 0.1, d: 0.3 };
@@ -244,7 +254,7 @@ fn slider_cranks_and_dyads_both_modes() {
         &m,
         Inverted::BLOCKS,
         &["closed form: RTR dyad (slider on a turning link)"],
-        &m.assemble_all(0.4),
+        &results(m.assemble_all(0.4)),
         |g| m.assemble(g).expect("assembles"),
     );
     let m = OffsetRtr {
@@ -256,7 +266,7 @@ fn slider_cranks_and_dyads_both_modes() {
         &m,
         OffsetRtr::BLOCKS,
         &["closed form: RTR dyad (slider on a turning link)"],
-        &m.assemble_all(0.4),
+        &results(m.assemble_all(0.4)),
         |g| m.assemble(g).expect("assembles"),
     );
     let m = Rrt {
@@ -269,7 +279,7 @@ fn slider_cranks_and_dyads_both_modes() {
         &m,
         Rrt::BLOCKS,
         &["closed form: RRT dyad (circle–line)"],
-        &m.assemble_all(0.4),
+        &results(m.assemble_all(0.4)),
         |g| m.assemble(g).expect("assembles"),
     );
     let m = Trt {
@@ -281,7 +291,7 @@ fn slider_cranks_and_dyads_both_modes() {
         &m,
         Trt::BLOCKS,
         &["closed form: TRT dyad (line–line)"],
-        &m.assemble_all(0.4),
+        &results(m.assemble_all(0.4)),
         |g| m.assemble(g).expect("assembles"),
     );
 }
@@ -304,7 +314,7 @@ fn watt_six_bar_four_assemblies() {
         &m,
         Watt::BLOCKS,
         &["closed form: RRR dyad (circle–circle)"; 2],
-        &m.assemble_all(0.3),
+        &results(m.assemble_all(0.3)),
         |g| m.assemble(g).expect("assembles"),
     );
 }
@@ -321,7 +331,7 @@ fn rssr_both_modes() {
         &m,
         Rssr::BLOCKS,
         &["closed form: a cos θ + b sin θ + c = 0"],
-        &m.assemble_all(0.3),
+        &results(m.assemble_all(0.3)),
         |g| m.assemble(g).expect("assembles"),
     );
 }
@@ -424,9 +434,8 @@ fn mixed_mechanisms_solve_their_closed_form_blocks_exactly() {
     let m = SlotSixBar::EXAMPLE;
     // The pin's side of the slot follows the four-bar's mode: a guess for
     // the Newton block per mode.
-    let all: Vec<_> = SlotSixBarModes::ALL
-        .iter()
-        .map(|modes| m.assemble_in(&SlotSixBar::guess(0.7, modes.th3_th4.sign()), modes))
+    let all: Vec<_> = SlotSixBarModes::all()
+        .map(|modes| m.assemble_in(&SlotSixBar::guess(0.7, modes.th3_th4.sign()), &modes))
         .collect();
     check_all(
         &m,
@@ -446,7 +455,7 @@ fn mixed_mechanisms_solve_their_closed_form_blocks_exactly() {
         p: 0.0,
         beta: 0.0,
     };
-    for (modes, pose) in SlotSixBarModes::ALL.iter().zip(&all) {
+    for (modes, pose) in SlotSixBarModes::all().zip(&all) {
         let pose = pose.as_ref().expect("assembles");
         let alone = four_bar
             .assemble_in(
@@ -488,7 +497,7 @@ fn mixed_mechanisms_solve_their_closed_form_blocks_exactly() {
         &m,
         CurvedGuide::BLOCKS,
         &["Newton–Raphson", "closed form: RRR dyad (circle–circle)"],
-        &m.assemble_all(&start),
+        &results(m.assemble_all(&start)),
         |g| m.assemble(g).expect("assembles"),
     );
 }
@@ -502,7 +511,7 @@ fn a_newton_block_that_cannot_close_is_an_error_in_the_modes_asked_for() {
         f: 0.02,
         ..SlotSixBar::EXAMPLE
     };
-    for r in m.assemble_all(&SlotSixBar::guess(0.7, 1.0)) {
+    for (_, r) in m.assemble_all(&SlotSixBar::guess(0.7, 1.0)) {
         // The error names the slot's loop, where Newton–Raphson stopped.
         let e = r.expect_err("the pin cannot reach the slot");
         let kinematics_core::Error::NotConverged { equation, .. } = &e else {

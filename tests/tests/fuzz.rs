@@ -649,3 +649,118 @@ fn six_axis_arm_under_random_and_extreme_inputs() {
     }
     tally.report("six-axis arm");
 }
+
+/// The largest relative residual max_i |Φ_i| / S_i of a pose, by the
+/// equations and term scales written out here.
+fn relative_gap<M: Model>(m: &M, q: &M::Coords) -> f64 {
+    let (s, _) = m.scales();
+    m.gap(q)
+        .iter()
+        .zip(&s)
+        .fold(0.0f64, |a, (g, s)| a.max((g / s).abs()))
+}
+
+/// 64 units of round-off: the bound every `Ok` pose of `assemble` and of
+/// `step` meets, at every scale (see `guide::failures`).
+const CLOSED: f64 = 64.0 * f64::EPSILON;
+
+/// `assemble` and `step` of `m` from `start` (a guess near a closing
+/// pose): each `Ok` pose within [`CLOSED`]; returns how many were `Ok`.
+fn closes_at_round_off<M: Model>(m: &M, start: &M::Coords, what: &str) -> usize {
+    let options = kinematics_core::Options::DEFAULT;
+    let assembled = m
+        .assemble_with(start, &options)
+        .map(|q| relative_gap(m, &q));
+    let stepped = m
+        .step_slices(start, &[1.0], &[0.0], &options)
+        .map(|s| relative_gap(m, s.q()));
+    let mut ok = 0;
+    for (how, r) in [("assemble", assembled), ("step", stepped)] {
+        if let Ok(gap) = r {
+            assert!(
+                gap <= CLOSED,
+                "{what}: {how} closes to {gap:e} (> 64 ε) for {m:?} from {start:?}"
+            );
+            ok += 1;
+        }
+    }
+    ok
+}
+
+/// Scales by 10^k, k uniform in [78, 100] (or, for `tiny`, in [−100, −78]).
+fn extreme_scale(rng: &mut Rng, tiny: bool) -> f64 {
+    let k = rng.range(78.0, 100.0);
+    10f64.powf(if tiny { -k } else { k })
+}
+
+#[test]
+fn step_and_assemble_close_to_the_same_bound_at_extreme_scales() {
+    let mut rng = Rng::new(0x5CA1E);
+    let (mut ok, mut tried) = (0, 0);
+    for k in 0..400 {
+        let s = extreme_scale(&mut rng, k % 4 == 3);
+        // A four-bar closing at a random pose (its ground link from the
+        // others), scaled, from a guess 0.05 rad off.
+        let (phi, th3) = (rng.angle(), rng.angle());
+        let (a, b, c) = (
+            rng.range(0.02, 0.2),
+            rng.range(0.05, 0.3),
+            rng.range(0.05, 0.3),
+        );
+        let y = a * phi.sin() + b * th3.sin();
+        if (y / c).abs() < 0.95 {
+            let th4 = (y / c).asin();
+            let d = a * phi.cos() + b * th3.cos() - c * th4.cos();
+            let m = FourBar {
+                a: a * s,
+                b: b * s,
+                c: c * s,
+                d: d * s,
+                p: 0.1 * s,
+                beta: 0.3,
+            };
+            let start = FourBarCoords {
+                phi,
+                th3: th3 + 0.05,
+                th4: th4 - 0.05,
+            };
+            ok += closes_at_round_off(&m, &start, "four-bar");
+            tried += 2;
+        }
+        // A slider-crank, its slider from the crank and rod.
+        let (a, b) = (rng.range(0.02, 0.1), rng.range(0.15, 0.4));
+        let e = rng.range(-0.05, 0.05);
+        let th = ((e - a * phi.sin()) / b).asin();
+        let x = a * phi.cos() + b * th.cos();
+        let m = SliderCrank {
+            a: a * s,
+            b: b * s,
+            e: e * s,
+        };
+        let start = SliderCrankCoords {
+            phi,
+            th: th + 0.05,
+            x: x * s * 1.01,
+        };
+        ok += closes_at_round_off(&m, &start, "slider-crank");
+        // An RSSR at the textbook's proportions, its coupler from a pose.
+        let psi = rng.angle();
+        let (a, c, d) = (0.102, 0.254, 0.315);
+        let pa = Vector3::new(-a * phi.cos(), 0.0, a * phi.sin());
+        let pb = Vector3::new(-d - c * psi.cos(), c * psi.sin(), 0.0);
+        let m = Rssr {
+            a: a * s,
+            b: (pb - pa).norm() * s,
+            c: c * s,
+            d: d * s,
+        };
+        let start = RssrCoords {
+            phi,
+            psi: psi + 0.05,
+        };
+        ok += closes_at_round_off(&m, &start, "RSSR");
+        tried += 4;
+    }
+    // Most calls succeed: the bound is not met by failing.
+    assert!(ok * 10 >= tried * 9, "{ok} of {tried} Ok");
+}

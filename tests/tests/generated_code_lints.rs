@@ -204,10 +204,7 @@ fn expansion_is_usable() {
         th5: 0.6,
         y: 0.13,
     };
-    assert!(slot
-        .assemble_all(&guess)
-        .iter()
-        .all(core::result::Result::is_ok));
+    assert!(slot.assemble_all(&guess).all(|(_, r)| r.is_ok()));
     let chain = Chain { l1: 0.4, l2: 0.3 };
     let wrist = chain
         .step(&ChainCoords { q1: 0.0, q2: 0.0 }, [1.0, 0.0], [0.0, 0.0])

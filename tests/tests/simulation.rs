@@ -573,8 +573,8 @@ fn a_parallelogram_sweeps_a_full_turn_on_the_branch_named() {
     let mut crossed = 0;
     for x in &s.samples {
         let q = x.motion.q;
-        let [a, b] = m.assemble_all(x.at);
-        let (a, b) = (a.expect("assembles"), b.expect("assembles"));
+        let mut all = m.assemble_all(x.at).map(|(_, r)| r.expect("assembles"));
+        let (a, b) = (all.next().expect("two"), all.next().expect("two"));
         // The parallelogram assembly of the two, and the other.
         let (par, other) = if a.th3.abs() < b.th3.abs() {
             (a, b)

@@ -257,7 +257,7 @@ fn morgan_and_wamplers_problem_7_is_solved_exactly_from_random_starts() {
     let m = found.design;
     assert_eq!(m.d, 1.0, "the pivots are the problem's");
     let (mut found_modes, mut worst) = (None, 0.0f64);
-    for modes in kinematics_examples::FourBarModes::ALL {
+    for modes in kinematics_examples::FourBarModes::all() {
         let w = MORGAN_WAMPLER_7
             .iter()
             .zip(&found.driver_values)
@@ -319,14 +319,15 @@ fn the_exact_nine_point_solution_needs_both_assembly_modes() {
         .iter()
         .zip(phis)
         .map(|(t, phi)| {
-            (0..2)
-                .filter(|&k| {
-                    m.assemble_in(phi, &PlacedFourBarModes::ALL[k])
-                        .is_ok_and(|pose| {
-                            let p = m.positions(&pose).P;
-                            (p.x - t[0]).hypot(p.y - t[1]) < 1e-12
-                        })
+            PlacedFourBarModes::all()
+                .enumerate()
+                .filter(|(_, modes)| {
+                    m.assemble_in(phi, modes).is_ok_and(|pose| {
+                        let p = m.positions(&pose).P;
+                        (p.x - t[0]).hypot(p.y - t[1]) < 1e-12
+                    })
                 })
+                .map(|(k, _)| k)
                 .collect()
         })
         .collect();

@@ -12,6 +12,7 @@ use crate::cse::schedule;
 /// The analysis methods.
 pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
     let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let inline_core = cx.inline_core();
     let nd = cx.nd;
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
@@ -69,7 +70,7 @@ pub(super) fn analyze(cx: &Ctx<'_>) -> TokenStream {
         /// into each, so that with the default options their checks fold
         /// away at compile time.
         #[doc(hidden)]
-        #[inline(always)]
+        #inline_core
         #allow
         fn __analyze(
             &self,

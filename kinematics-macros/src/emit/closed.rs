@@ -155,18 +155,8 @@ pub(super) fn modes_type(cx: &Ctx<'_>) -> TokenStream {
             cx.block_names(b).join(", ")
         )
     });
-    let combos = 1usize << nm;
-    let all = (0..combos).map(|i| {
-        let vals = (0..nm).map(|j| {
-            if i >> j & 1 == 1 {
-                quote!(#pp::closed::Mode::Minus)
-            } else {
-                quote!(#pp::closed::Mode::Plus)
-            }
-        });
-        quote!(#modes { #( #fields: #vals ),* })
-    });
     let idx: Vec<usize> = (0..nm).collect();
+    let all_doc = format!("[`{name}::assemble_all`]:");
     let doc = format!(
         "The assembly modes of [`{name}`]: one per block of its loop equations with two \
          closed-form solutions (see [`kinematics_core::closed::Mode`]), for \
@@ -186,10 +176,15 @@ pub(super) fn modes_type(cx: &Ctx<'_>) -> TokenStream {
         #item
 
         impl #modes {
-            /// Every combination of modes, in the order of
-            /// [`assemble_all`](#name::assemble_all): field j is `Minus`
-            /// where bit j of the index is set.
-            pub const ALL: [Self; #combos] = [#(#all),*];
+            /// Every combination of modes (2^k for k blocks with two
+            /// modes), lazily, in the order of
+            #[doc = #all_doc]
+            /// combination i has field j `Minus` where bit j of i is set.
+            /// `nth` skips without visiting the combinations in between.
+            #[must_use]
+            pub fn all() -> #pp::closed::AllModes<Self> {
+                #pp::closed::AllModes::new()
+            }
 
             /// The modes as signs (±1), in field order.
             #[doc(hidden)]
@@ -203,6 +198,32 @@ pub(super) fn modes_type(cx: &Ctx<'_>) -> TokenStream {
             #[must_use]
             pub fn __from_signs(s: &[f64; #nm]) -> Self {
                 Self { #( #fields: #pp::closed::Mode::from_sign(s[#idx]) ),* }
+            }
+        }
+
+        #[automatically_derived]
+        impl #pp::closed::ModeSet for #modes {
+            const BLOCKS: usize = #nm;
+
+            #[inline]
+            fn mode(&self, j: usize) -> #pp::closed::Mode {
+                match j {
+                    #( #idx => self.#fields, )*
+                    _ => #pp::closed::Mode::Plus,
+                }
+            }
+
+            #[inline]
+            fn set_mode(&mut self, j: usize, mode: #pp::closed::Mode) {
+                match j {
+                    #( #idx => self.#fields = mode, )*
+                    _ => {}
+                }
+            }
+
+            #[inline]
+            fn all_plus() -> Self {
+                Self { #( #fields: #pp::closed::Mode::Plus ),* }
             }
         }
     }

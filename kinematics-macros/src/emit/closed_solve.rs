@@ -194,6 +194,7 @@ fn newton_block_call(
 /// (`sin_cos_after`); off that path the general damped solver, with the
 /// block's rows and columns of the scaling.
 pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
+    let inline_core = cx.inline_core();
     let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
     let (nd, ne) = (cx.nd, cx.ne);
     let n = nd + cx.nu;
@@ -284,7 +285,7 @@ pub(super) fn newton_block_fns(cx: &Ctx<'_>) -> TokenStream {
         out.extend(quote! {
             #[doc = #doc]
             #[doc(hidden)]
-            #[inline(always)]
+            #inline_core
             #allow
             fn #name(
                 &self,

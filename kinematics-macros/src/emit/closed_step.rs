@@ -29,6 +29,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         return TokenStream::new();
     }
     let (g, d, pp, allow) = (cx.g(), cx.d, &cx.pp, &cx.allow);
+    let inline_core = cx.inline_core();
     let (nd, nm) = (cx.nd, cx.nm());
     let id = &cx.id;
     let (coords, motion, coord, q) = (&id.coords, &id.motion, &id.coord, &id.q);
@@ -36,7 +37,6 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
     let q_drivers = &q[..nd];
     let (qd_drivers, qdd_drivers) = (&id.qd[..nd], &id.qdd[..nd]);
     let modes = format_ident!("{}Modes", id.name.unraw());
-    let combos = 1usize << nm;
     let ne = cx.ne;
     let na = cx.na();
     let nt = super::newton::unknown_trig(g, &cx.newton_roots(), cx.model.drivers).len();
@@ -141,12 +141,22 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         .iter()
         .map(|b| coefficients(b.pattern.as_ref()))
         .collect();
+    // Φ at the closed-form solution: beyond round-off (cancellation in a
+    // closed form), Newton–Raphson from the guess in fresh modes; above
+    // the bound every step's pose is brought to (at extreme scales),
+    // Newton–Raphson from the solution itself, to polish it in the same
+    // modes.
     let phi_check = |pr: &Printer<'_>, fallback: &TokenStream| {
         let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
         quote! {
             let __phi = [#(#phi),*];
-            if !#pp::closed::at_round_off(&__phi, &__scaling.weights(options), options) {
+            let __w = __scaling.weights(options);
+            if !#pp::closed::at_round_off(&__phi, &__w, options) {
                 *modes = [::core::primitive::f64::NAN; #nm];
+                let start = &#coords { #( #coord: #q ),* };
+                #fallback
+            }
+            if #pp::FastNewton::unclosed(&__phi, &__w, options) {
                 let start = &#coords { #( #coord: #q ),* };
                 #fallback
             }
@@ -228,16 +238,19 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                     .map(|p| p.q)
             }
 
-            /// Every assembly at the drivers of `start`: one per
+            /// Every assembly at the drivers of `start`, lazily: for each
             /// combination of modes, in the order of
-            #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
-            /// (each as [`Self::assemble_in`], the Newton blocks from
-            /// the same guess).
+            #[doc = concat!("[`", stringify!(#modes), "::all`],")]
+            /// the modes and the assembly in them (as
+            /// [`Self::assemble_in`], the Newton blocks from the same
+            /// guess). Nothing is assembled until asked for; `nth` skips
+            /// combinations without assembling them.
             pub fn assemble_all(
                 &self,
                 start: &#coords,
-            ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
-                ::core::array::from_fn(|i| self.assemble_in(start, &#modes::ALL[i]))
+            ) -> #pp::closed::Assemblies<#modes, impl FnMut(&#modes) -> #pp::Result<#coords, #pp::Error> + '_> {
+                let start = *start;
+                #pp::closed::Assemblies::new(move |m: &#modes| self.assemble_in(&start, m))
             }
         }
     } else {
@@ -268,16 +281,18 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                     .map(|p| p.q)
             }
 
-            /// Every assembly at the drivers `drivers`: one per combination of
-            /// modes, in the order of
-            #[doc = concat!("[`", stringify!(#modes), "::ALL`]")]
-            /// (each as [`Self::assemble_in`]).
+            /// Every assembly at the drivers `drivers`, lazily: for each
+            /// combination of modes, in the order of
+            #[doc = concat!("[`", stringify!(#modes), "::all`],")]
+            /// the modes and the assembly in them (as
+            /// [`Self::assemble_in`]). Nothing is assembled until asked
+            /// for; `nth` skips combinations without assembling them.
             pub fn assemble_all(
                 &self,
                 drivers: impl #pp::DriverValues<#nd>,
-            ) -> [#pp::Result<#coords, #pp::Error>; #combos] {
+            ) -> #pp::closed::Assemblies<#modes, impl FnMut(&#modes) -> #pp::Result<#coords, #pp::Error> + '_> {
                 let d = drivers.into_array();
-                ::core::array::from_fn(|i| self.assemble_in(d, &#modes::ALL[i]))
+                #pp::closed::Assemblies::new(move |m: &#modes| self.assemble_in(d, m))
             }
         }
     };
@@ -291,7 +306,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         /// Newton–Raphson (resetting `modes`) where a block is degenerate
         /// or the residual is not at round-off.
         #[doc(hidden)]
-        #[inline(always)]
+        #inline_core
         #allow
         fn __step_closed(
             &self,
@@ -326,7 +341,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         /// that does not converge is an error, not a hand-over to
         /// Newton–Raphson on the whole system).
         #[doc(hidden)]
-        #[inline(always)]
+        #inline_core
         #allow
         fn __assemble_closed(
             &self,

@@ -20,8 +20,9 @@ pub(super) fn guarded(values: &[TokenStream], checks: &TokenStream) -> TokenStre
     if values.is_empty() {
         return TokenStream::new();
     }
+    let sum = super::print::chain(values, &quote!(+));
     quote! {
-        if !(#( #values )+*).is_finite() {
+        if !(#sum).is_finite() {
             #checks
         }
     }
@@ -135,8 +136,9 @@ pub(super) fn outputs(
         return TokenStream::new();
     }
     let (dim, np, nf) = (cx.model.point_dim, cx.np, cx.nf);
+    let sum = super::print::chain(terms, &quote!(+));
     quote! {
-        if !(#(#terms)+*).is_finite() {
+        if !(#sum).is_finite() {
             let points: [#pp::PointMotion<#dim>; #np] = [#(#points),*];
             let frames: [#pp::FrameState; #nf] = [#(#frames),*];
             #pp::finite_outputs(

@@ -30,6 +30,7 @@ mod guards;
 mod mechanism_impl;
 mod newton;
 mod print;
+mod scopes;
 mod sensitivity;
 mod solve;
 mod step;
@@ -93,7 +94,7 @@ impl<'a> Ctx<'a> {
             offsets,
             id: Idents::new(def),
             pp: quote!(::kinematics_core::__private),
-            allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::too_many_arguments, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant)]),
+            allow: quote!(#[allow(unused_variables, clippy::unreadable_literal, clippy::similar_names, clippy::too_many_lines, clippy::too_many_arguments, clippy::many_single_char_names, clippy::excessive_precision, clippy::approx_constant, clippy::needless_late_init, unused_assignments)]),
             nd: model.drivers as usize,
             nu: model.unknowns as usize,
             ne: model.equations.len(),
@@ -218,12 +219,6 @@ impl<'a> Ctx<'a> {
             .collect()
     }
 
-    /// `return Err(describe(f, …))` at the current coordinates `q_…`.
-    fn fail_here(&self, f: &TokenStream) -> TokenStream {
-        let (pp, q) = (&self.pp, &self.id.q);
-        quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &[#(#q),*]));)
-    }
-
     /// The type of a positions-only solve's result, `Pose<Coords,
     /// Positions>`.
     fn pose_type(&self) -> TokenStream {
@@ -261,11 +256,32 @@ impl<'a> Ctx<'a> {
     /// The factorisation of Φ_u's blocks at a solution, with the
     /// conditioning and branch checks (binding `__conditioning` and
     /// `__det_sign`), returning the error from the enclosing function.
+    /// The coordinates are gathered once into `__at` for the errors, so
+    /// that the code stays linear in the number of blocks.
     fn factor_at_solution(&self) -> TokenStream {
-        let fail = |f: TokenStream| self.fail_here(&f);
-        let factor = self.blocks.factor(&self.pp, true, &fail);
-        let check = self.blocks.check(&self.pp, &fail);
-        quote!(#factor #check)
+        let (pp, q) = (&self.pp, &self.id.q);
+        let fail = |f: TokenStream| quote!(return ::core::result::Result::Err(#pp::describe(#f, &Self::__NAMES, &__at)););
+        let factor = self.blocks.factor(pp, true, &fail);
+        let check = self.blocks.check(pp, &fail);
+        quote! {
+            let __at = [#(#q),*];
+            #factor
+            #check
+        }
+    }
+
+    /// The inlining of the large generated functions (the solves and the
+    /// analysis): always inlined into their callers for a model of a few
+    /// loops, where that lets the compiler fold the checks of each caller
+    /// into them; never for a large model (more than
+    /// [`LARGE_MODEL`] unknowns), where each caller's copy would multiply
+    /// the compile time and the code size.
+    fn inline_core(&self) -> TokenStream {
+        if self.nu > LARGE_MODEL {
+            quote!(#[inline(never)])
+        } else {
+            quote!(#[inline(always)])
+        }
     }
 
     /// The binding of `__scaling` from the parameters and the bound
@@ -375,6 +391,10 @@ impl<'a> Ctx<'a> {
     }
 }
 
+/// The number of unknowns above which a model counts as large (see
+/// `Ctx::inline_core`).
+const LARGE_MODEL: usize = 32;
+
 /// The full expansion of a checked model.
 pub fn expand(
     def: &Definition,
@@ -406,7 +426,7 @@ pub fn expand(
     let blocks = closed::blocks_const(&cx);
     let modes = closed::modes_type(&cx);
     let closed_methods = closed_step::closed_methods(&cx);
-    quote! {
+    scopes::shallow(quote! {
         #types
 
         #modes
@@ -450,5 +470,5 @@ pub fn expand(
         #mechanism_impl
 
         #sensitivities
-    }
+    })
 }

@@ -166,6 +166,10 @@ impl Printer<'_> {
     }
 }
 
+/// The number of values a stage binds with one `let` each; a longer stage
+/// declares them in groups of this size (see [`bind_given`]).
+const LONG_STAGE: usize = 128;
+
 /// Names the bindings of a schedule `t0, t1, …` and emits each stage's
 /// `let`s.
 pub(super) fn bind<'a>(
@@ -194,14 +198,63 @@ pub(super) fn bind_given<'a>(
     let mut n = 0usize;
     for lets in &sched.stages {
         let mut code = TokenStream::new();
-        for &id in lets {
-            let body = p.body(id);
-            let name = format_ident!("t{}", n);
-            n += 1;
-            code.extend(quote!(let #name = #body;));
-            p.names.insert(id, name);
+        // Every `let` opens a lexical scope nested in the one before, and
+        // the debug information of a function with thousands of them
+        // overflows the code generator's stack: a long stage declares its
+        // values a group at a time (one scope per group) and assigns them.
+        let grouped = lets.len() > LONG_STAGE;
+        for group in lets.chunks(if grouped {
+            LONG_STAGE
+        } else {
+            lets.len().max(1)
+        }) {
+            let names: Vec<Ident> = (n..n + group.len())
+                .map(|k| format_ident!("t{}", k))
+                .collect();
+            if grouped {
+                let types = names.iter().map(|_| quote!(f64));
+                code.extend(quote!(let (#(#names),*): (#(#types),*);));
+            }
+            for (&id, name) in group.iter().zip(names) {
+                let body = p.body(id);
+                if grouped {
+                    code.extend(quote!(#name = #body;));
+                } else {
+                    code.extend(quote!(let #name = #body;));
+                }
+                p.names.insert(id, name);
+            }
+            n += group.len();
         }
         stages.push(code);
     }
     (p, stages)
+}
+
+/// `t₀ op t₁ op …` for an associative `op` (`+` or `*`), nested no deeper
+/// than a few dozen levels however many terms there are: up to 64 terms
+/// are written as one chain (as a person would write them), more are
+/// grouped 64 to a parenthesised chain, recursively. rustc walks an
+/// expression recursively, and a chain of hundreds of terms (the input
+/// guard of a model with hundreds of coordinates) overflows its stack.
+pub(super) fn chain(terms: &[TokenStream], op: &TokenStream) -> TokenStream {
+    const GROUP: usize = 64;
+    if terms.len() <= GROUP {
+        let mut out = TokenStream::new();
+        for (i, t) in terms.iter().enumerate() {
+            if i > 0 {
+                out.extend(op.clone());
+            }
+            out.extend(t.clone());
+        }
+        return out;
+    }
+    let groups: Vec<TokenStream> = terms
+        .chunks(GROUP)
+        .map(|g| {
+            let inner = chain(g, op);
+            quote!((#inner))
+        })
+        .collect();
+    chain(&groups, op)
 }

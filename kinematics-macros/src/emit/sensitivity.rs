@@ -60,7 +60,7 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
         if terms.is_empty() {
             quote!(0.0f64)
         } else {
-            quote!(#(#terms)+*)
+            super::print::chain(&terms, &quote!(+))
         }
     };
     let params: Vec<syn::Ident> = s

@@ -161,10 +161,11 @@ impl BlockSolve {
         let rows: Vec<usize> = self.blocks.iter().flat_map(|b| b.rows.clone()).collect();
         let cols: Vec<usize> = self.blocks.iter().flat_map(|b| b.cols.clone()).collect();
         let odd = parity(&rows) != parity(&cols);
-        let sign = match signs.split_first() {
-            Some((first, rest)) if odd => quote!(-(#first #(* #rest)*)),
-            Some((first, rest)) => quote!(#first #(* #rest)*),
-            None => quote!(1.0f64),
+        let product = super::print::chain(&signs, &quote!(*));
+        let sign = match signs.len() {
+            0 => quote!(1.0f64),
+            _ if odd => quote!(-(#product)),
+            _ => product,
         };
         code.extend(quote! {
             let __det_sign: f64 = #sign;
@@ -194,11 +195,13 @@ impl BlockSolve {
                 } else if known.is_empty() {
                     quote!((__rhs[#r] * __scaling.row[#r]))
                 } else if !scaled {
-                    quote!((__rhs[#r] - (#(#known)+*)))
+                    let known = super::print::chain(&known, &quote!(+));
+                    quote!((__rhs[#r] - (#known)))
                 } else {
                     // Parenthesised, as every array element that is an
                     // operation (see `Printer::element`).
-                    quote!(((__rhs[#r] - (#(#known)+*)) * __scaling.row[#r]))
+                    let known = super::print::chain(&known, &quote!(+));
+                    quote!(((__rhs[#r] - (#known)) * __scaling.row[#r]))
                 }
             });
             let store = block.cols.iter().enumerate().map(|(slot, &c)| {

@@ -20,6 +20,7 @@ use crate::ir::Id;
 /// The stepping methods.
 pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let inline_core = cx.inline_core();
     let nd = cx.nd;
     let id = &cx.id;
     let (coords, motion, coord) = (&id.coords, &id.motion, &id.coord);
@@ -50,7 +51,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         &lets[1],
         &[&vel_stage, &acc_stage, &pt_stage],
         false,
-        None,
+        quote!(#pp::FastNewton::unclosed(&__phi, &__weights, options)),
     );
     let tail = cx.analysis_tail(
         &pr,
@@ -176,7 +177,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         /// angles carried in `carry` as (sin, cos, argument): on return,
         /// those of the solution (or a NaN argument, to compute afresh).
         #[doc(hidden)]
-        #[inline(always)]
+        #inline_core
         #allow
         #[allow(unused_assignments)]
         fn __step_core(
@@ -513,6 +514,7 @@ impl FastLoop {
 /// conditioning and the branch judged at the solution.
 fn pose_core(cx: &Ctx<'_>) -> TokenStream {
     let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let inline_core = cx.inline_core();
     let (nd, ne) = (cx.nd, cx.ne);
     let id = &cx.id;
     let (coords, coord, q) = (&id.coords, &id.coord, &id.q);
@@ -542,7 +544,13 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         &lets[1],
         &[&pos_stage],
         true,
-        Some(quote!(polish)),
+        quote! {
+            if polish {
+                #pp::FastNewton::unpolished(&__phi, &__weights, options)
+            } else {
+                #pp::FastNewton::unclosed(&__phi, &__weights, options)
+            }
+        },
     );
     let inputs = guards::inputs(cx, "start", false);
     let pose_ok = cx.pose_at_solution(&pr, &lets[2]);
@@ -553,7 +561,7 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         /// the sines and cosines of the unknown angles carried in `carry`
         /// as in `__step_core`.
         #[doc(hidden)]
-        #[inline(always)]
+        #inline_core
         #allow
         #[allow(unused_assignments)]
         fn __pose_core(
@@ -579,9 +587,10 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
 /// its bindings under `pr`): the common path evaluated inline
 /// (`FastNewton`), anything off it (damping, round-off, failure) handed to
 /// the general solver from `start` again, which returns the failure from
-/// the enclosing function; with `polish` (a `bool` expression), a
-/// converged pose above `solve::POLISH` times the tolerance handed over
-/// too, to be polished to round-off. Binds the unknowns at the solution,
+/// the enclosing function; a converged pose for which `polish` (a `bool`
+/// expression of `__phi`: `FastNewton::unclosed` for a step,
+/// `FastNewton::unpolished` for an assembly) holds is handed over too, to
+/// be polished by the general solver from there. Binds the unknowns at the solution,
 /// `__phi` (Φ there), the values of the last evaluation that the `later`
 /// stages use and, with `keep_jac`, `jac` (Φ_u there), and updates
 /// `carry`; also returns the number of carried sines and cosines.
@@ -592,7 +601,7 @@ fn newton_solve(
     iterated: &TokenStream,
     later: &[&Vec<Id>],
     keep_jac: bool,
-    polish: Option<TokenStream>,
+    polish: TokenStream,
 ) -> (TokenStream, usize) {
     let fast_loop = FastLoop::new(cx, sched, pr);
     let cached = used_later(cx.g(), sched, 1, &cx.newton_roots(), later);
@@ -628,17 +637,14 @@ fn newton_solve(
     let newton_factor = cx.blocks.factor(pp, false, &|_| quote!(break false));
     let newton_step = cx.blocks.solve(&quote!(phi), false);
     let solver = cx.solver();
-    let (done, restart) = match polish {
-        Some(p) => (
-            quote!(on_path && !(#p && #pp::FastNewton::unpolished(&__phi, &__weights, options))),
-            quote! {
-                if !on_path {
-                    u = [#(start.#c_unknowns),*];
-                }
-            },
-        ),
-        None => (quote!(on_path), quote!(u = [#(start.#c_unknowns),*];)),
-    };
+    let (done, restart) = (
+        quote!(on_path && !(#polish)),
+        quote! {
+            if !on_path {
+                u = [#(start.#c_unknowns),*];
+            }
+        },
+    );
     let solve = quote! {
         let mut u = [#(start.#c_unknowns),*];
         let mut cache = [0.0f64; #nc];

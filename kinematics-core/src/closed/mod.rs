@@ -48,7 +48,12 @@
 use core::f64::consts::{PI, TAU};
 use core::fmt;
 
-use crate::{Error, Options};
+use crate::error::Error;
+
+use crate::options::Options;
+
+mod modes;
+pub use modes::{AllModes, Assemblies, ModeSet};
 
 /// How one diagonal block of a mechanism's loop equations is solved: the
 /// entries of a mechanism's generated `BLOCKS` constant, in solve order.
@@ -578,18 +583,31 @@ pub fn at_round_off<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Opti
     max <= options.tolerance.min(1e-12)
 }
 
-/// Every combination of N modes (±1; bit j of its index set: the j-th
-/// `Minus`) other than `tried` (compared bit for bit, so a NaN entry
-/// matches none). Used by generated code.
+/// The combinations of N modes (±1) to try after `tried` put the
+/// solution on the other branch than asked: with `base` the modes of
+/// `tried` (NaN taken as +1), `base` itself where it differs from `tried`
+/// bit for bit, then `base` with one block's mode flipped (each flip
+/// changes the sign of that block's determinant, so one of these is on
+/// the other branch), then, for N ≤ 16 only, every other combination:
+/// N + 1 candidates at most for a large model rather than 2^N. Used by
+/// generated code.
 #[doc(hidden)]
 pub fn other_modes<const N: usize>(tried: [f64; N]) -> impl Iterator<Item = [f64; N]> {
-    (0..1usize << N)
-        .map(|i| core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 }))
-        .filter(move |m: &[f64; N]| {
-            m.iter()
-                .zip(&tried)
-                .any(|(a, b)| a.to_bits() != b.to_bits())
-        })
+    let base: [f64; N] = core::array::from_fn(|j| if tried[j] < 0.0 { -1.0 } else { 1.0 });
+    let same = base
+        .iter()
+        .zip(&tried)
+        .all(|(a, b)| a.to_bits() == b.to_bits());
+    let flips = (0..N).map(move |j| {
+        let mut m = base;
+        m[j] = -m[j];
+        m
+    });
+    let all = if N <= 16 { 1usize << N } else { 0 };
+    let rest = (0..all)
+        .filter(|i| i.count_ones() >= 2)
+        .map(move |i| core::array::from_fn(|j| if i >> j & 1 == 1 { -base[j] } else { base[j] }));
+    (!same).then_some(base).into_iter().chain(flips).chain(rest)
 }
 
 /// max |x_i|, NaN if any x_i is NaN. Used by generated code.
@@ -648,5 +666,31 @@ mod tests {
         }
         assert!(super::unit_scale(0.0, 1.0).is_err());
         assert!(super::unit_scale(f64::NAN, 1.0).is_err());
+    }
+
+    /// For a few blocks, every other combination once; for many, the base
+    /// and its single flips only (not 2^N), with no shift overflow.
+    #[test]
+    fn other_modes_are_every_other_combination_or_single_flips() {
+        use alloc::vec::Vec;
+        let tried = [1.0, -1.0, 1.0];
+        let others: Vec<[f64; 3]> = super::other_modes(tried).collect();
+        assert_eq!(others.len(), 7);
+        for i in 0..8usize {
+            let m: [f64; 3] = core::array::from_fn(|j| if i >> j & 1 == 1 { -1.0 } else { 1.0 });
+            let n = others.iter().filter(|o| **o == m).count();
+            assert_eq!(n, usize::from(m != tried), "{m:?}");
+        }
+        // NaN modes (not yet chosen): the base (all +1) is tried too.
+        assert_eq!(super::other_modes([f64::NAN; 2]).count(), 4);
+        let many = [1.0; 100];
+        let others: Vec<[f64; 100]> = super::other_modes(many).collect();
+        assert_eq!(others.len(), 100);
+        for (j, m) in others.iter().enumerate() {
+            assert!(m
+                .iter()
+                .enumerate()
+                .all(|(k, &x)| x == if k == j { -1.0 } else { 1.0 }));
+        }
     }
 }

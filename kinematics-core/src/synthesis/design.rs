@@ -1,92 +1,23 @@
-//! Dimensional synthesis by Levenberg–Marquardt with exact derivatives.
-//!
-//! Path generation: find parameters p (link lengths, the coupler point,
-//! the ground pivots: whatever the mechanism declares in its
-//! `sensitivities` section and the synthesis varies) and, unless the
-//! timing is prescribed, the driver values φ_j, so that a point passes
-//! through N targets t_j:
-//!
-//! min over (p, φ) of  E = Σ_j |r(φ_j, p) − t_j|².
-//!
-//! Function generation: the same with an unknown coordinate u(φ_j, p)
-//! instead of a point, against prescribed input–output pairs (φ_j, ψ_j),
-//! with angle differences taken in (−π, π].
-//!
-//! Every residual's derivatives are exact: ∂r/∂p from the generated design
-//! sensitivities (Φ_u ∂u/∂p = −Φ_p, ∂r/∂p = r_p + r_u ∂u/∂p) and ∂r/∂φ_j
-//! as the point's velocity for a unit driver rate. The least-squares
-//! problem is solved by the `levenberg-marquardt` crate (MINPACK's
-//! trust-region algorithm).
-//!
-//! * **Assembly.** Every target is assembled in the same assembly modes,
-//!   those of the starting pose (or those given by
-//!   [`Synthesis::modes`]), so the design found works on one branch.
-//!   A trial design that cannot be assembled at some target is rejected
-//!   as a step that does not decrease E (the trust region shrinks).
-//! * **Bounds** lo ≤ p ≤ hi are kept by the change of variables
-//!   p = lo + (hi − lo)(1 + sin x)/2 (one bound: p = lo − 1 + √(x² + 1)),
-//!   so every iterate is within them.
-//! * **Linear inequalities** Σ c_k p_k ≤ h (and the Grashof condition for
-//!   a crank, which is three of them) are added as residuals
-//!   w · max(0, Σ c_k p_k − h); when the result violates one by more than
-//!   10⁻¹⁰ of the design's scale, w grows a hundredfold and the
-//!   minimisation goes on from there (at most six times).
-//! * **Full turn.** For an angle driver, [`Synthesized::full_turn`] says
-//!   whether the design sweeps a whole turn in its assembly modes.
-//!
-//! ```
-//! use kinematics_core::{mechanism, synthesis::Synthesis};
-//!
-//! mechanism! {
-//!     /// A four-bar with its coupler point P.
-//!     struct FourBar {
-//!         params { a, b, c, d, p, beta }
-//!         drivers { phi }
-//!         unknowns { th3, th4 }
-//!         points { P = polar(a, phi) + polar(p, th3 + beta); }
-//!         loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-//!         sensitivities { a, b, c, p, beta }
-//!     }
-//! }
-//!
-//! # fn main() -> Result<(), kinematics_core::Error> {
-//! // Targets: five points of the coupler curve of a known design, at
-//! // φ = 0.3, 1.1, 2.0, 3.5 and 5.0.
-//! let truth = FourBar { a: 1.0, b: 3.0, c: 2.5, d: 3.0, p: 1.5, beta: 0.6 };
-//! let start = truth.assemble(&FourBarCoords { phi: 0.0, th3: 0.5, th4: 1.5 })?;
-//! let targets: Vec<[f64; 2]> = [0.3, 1.1, 2.0, 3.5, 5.0]
-//!     .iter()
-//!     .map(|&phi| {
-//!         let pose = truth.assemble(&FourBarCoords { phi, ..start }).unwrap();
-//!         let p = truth.positions(&pose).P;
-//!         [p.x, p.y]
-//!     })
-//!     .collect();
-//! // From a design 10 % off, with the same crank angles prescribed.
-//! let guess = FourBar { a: 1.1, b: 2.8, c: 2.7, d: 3.0, p: 1.3, beta: 0.5 };
-//! let found = Synthesis::path(&guess, FourBar::PHI, "P", &targets, &start)
-//!     .prescribed(&[0.3, 1.1, 2.0, 3.5, 5.0])
-//!     .run()?;
-//! assert!(found.sum_squares < 1e-20);
-//! assert!((found.design.c - 2.5).abs() < 1e-9);
-//! # Ok(())
-//! # }
-//! ```
+//! The synthesis problem as posed (targets, timing, free parameters and
+//! bounds) and its solution by Levenberg–Marquardt from a starting design.
 
 use core::cell::{Cell, RefCell};
-use core::f64::consts::{PI, TAU};
+use core::f64::consts::TAU;
 use std::format;
 use std::string::String;
 use std::vec;
 use std::vec::Vec;
 
-use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
-use nalgebra_lm::{storage::Owned, DMatrix, DVector, Dyn};
+use levenberg_marquardt::LevenbergMarquardt;
 
 use crate::closed::Mode;
+use crate::error::Error;
+use crate::mechanism::{Coordinates, Kind, MotionState, PointState, Role};
+use crate::options::Options;
 use crate::sweep::{Driver, SweepBuilder};
 use crate::tolerance::Sensitive;
-use crate::{Coordinates, Error, Kind, MotionState, Options, PointState, Role};
+
+use super::problem::{norm, to_free, Problem};
 
 /// How the driver values of the targets are found.
 #[derive(Debug, Clone, PartialEq)]
@@ -105,7 +36,7 @@ pub enum Timing {
 
 /// What is compared with the targets.
 #[derive(Debug, Clone, Copy)]
-enum Output {
+pub(super) enum Output {
     /// A point (index), all its components.
     Point(usize),
     /// A coordinate (index), an angle or a length.
@@ -116,20 +47,20 @@ enum Output {
 /// [`Synthesis::function`] and solved with [`Synthesis::run`].
 #[derive(Debug, Clone)]
 pub struct Synthesis<M: Sensitive> {
-    design: M,
+    pub(super) design: M,
     start: M::Coords,
-    driver: usize,
+    pub(super) driver: usize,
     driver_kind: Kind,
-    output: Output,
-    dim: usize,
-    targets: Vec<f64>,
-    varied: Vec<usize>,
-    bounds: Vec<(f64, f64)>,
-    timing: Timing,
+    pub(super) output: Output,
+    pub(super) dim: usize,
+    pub(super) targets: Vec<f64>,
+    pub(super) varied: Vec<usize>,
+    pub(super) bounds: Vec<(f64, f64)>,
+    pub(super) timing: Timing,
     guesses: Option<Vec<f64>>,
-    linear: Vec<(Vec<(usize, f64)>, f64)>,
+    pub(super) linear: Vec<(Vec<(usize, f64)>, f64)>,
     modes: Option<Vec<f64>>,
-    options: Options,
+    pub(super) options: Options,
     patience: usize,
     problem: Option<Error>,
 }
@@ -590,263 +521,5 @@ impl<M: Sensitive + Clone> Synthesis<M> {
                 })
                 .collect(),
         )
-    }
-}
-
-/// The bounded parameter p for the free variable x.
-fn from_free(x: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
-    match (lo.is_finite(), hi.is_finite()) {
-        (true, true) => (
-            lo + (hi - lo) * 0.5 * (1.0 + (x).sin()),
-            (hi - lo) * 0.5 * (x).cos(),
-        ),
-        (true, false) => {
-            let r = (x * x + 1.0).sqrt();
-            (lo - 1.0 + r, x / r)
-        }
-        (false, true) => {
-            let r = (x * x + 1.0).sqrt();
-            (hi + 1.0 - r, -x / r)
-        }
-        (false, false) => (x, 1.0),
-    }
-}
-
-/// The free variable x of the bounded parameter p (p clamped into the
-/// bounds).
-fn to_free(p: f64, (lo, hi): (f64, f64)) -> f64 {
-    match (lo.is_finite(), hi.is_finite()) {
-        (true, true) => {
-            let t = (2.0 * (p - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0);
-            (t).asin()
-        }
-        (true, false) => {
-            let r = (p - lo + 1.0).max(1.0);
-            (r * r - 1.0).sqrt()
-        }
-        (false, true) => {
-            let r = (hi + 1.0 - p).max(1.0);
-            -(r * r - 1.0).sqrt()
-        }
-        (false, false) => p,
-    }
-}
-
-fn norm(v: &[f64]) -> f64 {
-    crate::math::sqrt(v.iter().map(|x| x * x).sum())
-}
-
-/// An angle difference in (−π, π].
-fn wrapped(d: f64) -> f64 {
-    PI - (PI - d).rem_euclid(TAU)
-}
-
-/// The least-squares problem handed to the solver.
-struct Problem<'s, M: Sensitive> {
-    s: &'s Synthesis<M>,
-    n: usize,
-    x: Vec<f64>,
-    /// The weight of the inequality residuals.
-    weight: f64,
-    /// The size of the residual vector returned for a design that cannot
-    /// be assembled (larger than any the solver has accepted).
-    reject: f64,
-    /// The last pose of each target (the guess of the next analysis).
-    poses: RefCell<Vec<M::Coords>>,
-    /// The assembly modes (as the step state holds them).
-    modes: Vec<f64>,
-    evaluations: Cell<usize>,
-    jacobians: Cell<usize>,
-    rejected: Cell<usize>,
-}
-
-impl<M: Sensitive + Clone> Problem<'_, M> {
-    /// The design and driver values at x.
-    fn design_at(&self, x: &[f64]) -> (M, Vec<f64>) {
-        let s = self.s;
-        let mut design = s.design.clone();
-        for (i, &k) in s.varied.iter().enumerate() {
-            design.set_parameter(k, from_free(x[i], s.bounds[k]).0);
-        }
-        let t = &x[s.varied.len()..];
-        let values = match &s.timing {
-            Timing::Free => t.to_vec(),
-            Timing::Prescribed(v) => v.clone(),
-            Timing::Relative(v) => v.iter().map(|d| t[0] + d).collect(),
-        };
-        (design, values)
-    }
-
-    /// The largest violation of a linear inequality.
-    fn violation(&self) -> f64 {
-        let (design, _) = self.design_at(&self.x);
-        self.s
-            .linear
-            .iter()
-            .map(|(terms, h)| {
-                terms
-                    .iter()
-                    .map(|&(k, c)| c * design.parameter(k))
-                    .sum::<f64>()
-                    - h
-            })
-            .fold(0.0f64, f64::max)
-    }
-
-    /// E and the largest error from the residuals (the inequality
-    /// residuals left out).
-    fn errors(&self, res: &[f64]) -> (f64, f64) {
-        let d = self.s.dim;
-        let fit = &res[..self.n * d];
-        let e = fit.iter().map(|r| r * r).sum();
-        let worst = fit.chunks(d).map(norm).fold(0.0f64, f64::max);
-        (e, worst)
-    }
-
-    /// The residuals at x and, if `jacobian`, the Jacobian (row-major,
-    /// residuals × unknowns).
-    fn evaluate(&self, x: &[f64], jacobian: bool) -> Result<(Vec<f64>, Vec<f64>), Error> {
-        let s = self.s;
-        let (n, d, nv) = (self.n, s.dim, s.varied.len());
-        let nx = x.len();
-        let (design, values) = self.design_at(x);
-        let np = M::PARAMETERS.len();
-        let nrows = n * d + s.linear.len();
-        let mut res = vec![0.0; nrows];
-        let mut jac = if jacobian {
-            vec![0.0; nrows * nx]
-        } else {
-            Vec::new()
-        };
-        let mut rates = M::Coords::default();
-        rates.set(s.driver, 1.0);
-        let zeros = M::Coords::default();
-        let ncoord = M::COORDINATES.len();
-        let mut dq = vec![0.0; np * ncoord];
-        let mut dr = vec![0.0; np * M::POINTS * M::POINT_DIM];
-        let dpdx: Vec<f64> = s
-            .varied
-            .iter()
-            .enumerate()
-            .map(|(i, &k)| from_free(x[i], s.bounds[k]).1)
-            .collect();
-        // A fresh state for the design (its scaling and the sines and
-        // cosines of its parameters), in the modes of the synthesis.
-        let mut fresh = design.step_state(&s.options)?;
-        M::step_modes(&mut fresh).copy_from_slice(&self.modes);
-        let mut poses = self.poses.borrow_mut();
-        for j in 0..n {
-            let mut pose = poses[j];
-            pose.set(s.driver, values[j]);
-            let mut state = fresh.clone();
-            let motion = design.step_carried(&pose, &rates, &zeros, &mut state)?;
-            poses[j] = *motion.q();
-            if jacobian {
-                design.position_sensitivities_into(&motion, &mut dq, &mut dr)?;
-            }
-            // ∂(output)/∂φ_j and ∂(output)/∂p_k per component.
-            for c in 0..d {
-                let row = j * d + c;
-                let (value, rate) = match s.output {
-                    Output::Point(i) => {
-                        let p = &motion.points()[i];
-                        (p.position()[c], p.velocity()[c])
-                    }
-                    Output::Coordinate(i, _) => (
-                        motion.q().get(i).unwrap_or(f64::NAN),
-                        motion.qd().get(i).unwrap_or(f64::NAN),
-                    ),
-                };
-                let target = s.targets[row];
-                res[row] = match s.output {
-                    Output::Coordinate(_, Kind::Angle) => wrapped(value - target),
-                    _ => value - target,
-                };
-                if !jacobian {
-                    continue;
-                }
-                let jr = &mut jac[row * nx..(row + 1) * nx];
-                for (i, &k) in s.varied.iter().enumerate() {
-                    let dp = match s.output {
-                        Output::Point(pi) => dr[(k * M::POINTS + pi) * M::POINT_DIM + c],
-                        Output::Coordinate(ci, _) => dq[k * ncoord + ci],
-                    };
-                    jr[i] = dp * dpdx[i];
-                }
-                match &s.timing {
-                    Timing::Free => jr[nv + j] = rate,
-                    Timing::Relative(_) => jr[nv] = rate,
-                    Timing::Prescribed(_) => {}
-                }
-            }
-        }
-        for (l, (terms, h)) in s.linear.iter().enumerate() {
-            let row = n * d + l;
-            let g = terms
-                .iter()
-                .map(|&(k, c)| c * design.parameter(k))
-                .sum::<f64>()
-                - h;
-            if g > 0.0 {
-                res[row] = self.weight * g;
-                if jacobian {
-                    for &(k, c) in terms {
-                        if let Some(i) = s.varied.iter().position(|&v| v == k) {
-                            jac[row * nx + i] += self.weight * c * dpdx[i];
-                        }
-                    }
-                }
-            }
-        }
-        if res.iter().chain(&jac).any(|v| !v.is_finite()) {
-            return Err(Error::NonFinite {
-                input: crate::Input::Computed,
-                name: "synthesis residual",
-                value: f64::NAN,
-            });
-        }
-        Ok((res, jac))
-    }
-
-    fn rows(&self) -> usize {
-        self.n * self.s.dim + self.s.linear.len()
-    }
-}
-
-impl<M: Sensitive + Clone> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M> {
-    type ResidualStorage = Owned<f64, Dyn>;
-    type JacobianStorage = Owned<f64, Dyn, Dyn>;
-    type ParameterStorage = Owned<f64, Dyn>;
-
-    fn set_params(&mut self, x: &DVector<f64>) {
-        self.x = x.iter().copied().collect();
-    }
-
-    fn params(&self) -> DVector<f64> {
-        DVector::from_column_slice(&self.x)
-    }
-
-    fn residuals(&self) -> Option<DVector<f64>> {
-        self.evaluations.set(self.evaluations.get() + 1);
-        let rows = self.rows();
-        match self.evaluate(&self.x, false) {
-            Ok((r, _)) => Some(DVector::from_vec(r)),
-            // A design that does not assemble: a residual larger than any
-            // accepted, so that the step is rejected.
-            #[allow(clippy::cast_precision_loss)]
-            Err(_) => {
-                self.rejected.set(self.rejected.get() + 1);
-                Some(DVector::from_element(
-                    rows,
-                    self.reject / (rows as f64).sqrt(),
-                ))
-            }
-        }
-    }
-
-    fn jacobian(&self) -> Option<DMatrix<f64>> {
-        self.jacobians.set(self.jacobians.get() + 1);
-        let (_, j) = self.evaluate(&self.x, true).ok()?;
-        Some(DMatrix::from_row_slice(self.rows(), self.x.len(), &j))
     }
 }

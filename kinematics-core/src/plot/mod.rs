@@ -1,0 +1,26 @@
+//! SVG plots of sweeps and drawings of the mechanism (feature `plot`).
+//!
+//! Every axis has a title with its unit: angles in degrees, angular rates
+//! in rad/s and rad/s², lengths in metres (the unit of the mechanism's
+//! parameters: see [`Units`] for another); the swept driver in degrees when
+//! it is an angle, the time in seconds. Curves and links are drawn 2 px
+//! wide, grid lines 1 px.
+//!
+//! | function | what it draws |
+//! |---|---|
+//! | [`plot_motion`] | q, q', q'' of every unknown against the driver, a panel per quantity and kind (angles, lengths) |
+//! | [`plot_points`] | position, velocity and acceleration of named points (components and magnitude) against the driver |
+//! | [`plot_path`] | the path of a point (a coupler curve), equal scales |
+//! | [`plot_skeleton`] | the linkage at chosen poses, with a legend of their driver values, ground pivots and sliders marked |
+
+pub use crate::view::Projection;
+
+mod chart;
+mod motion;
+mod path;
+mod skeleton;
+
+pub use chart::Units;
+pub use motion::{plot_motion, plot_motion_in, plot_points, plot_points_in};
+pub use path::{plot_band, plot_path};
+pub use skeleton::{plot_skeleton, plot_skeleton_with, Overlay};

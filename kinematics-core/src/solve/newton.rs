@@ -1,0 +1,434 @@
+//! Newton–Raphson: the general damped solver with its polish to
+//! round-off, and the inline common path (`FastNewton`) that generated
+//! code runs first.
+
+// Elimination is written with explicit indices, as in the formulas.
+#![allow(clippy::needless_range_loop)]
+
+use crate::options::Options;
+
+use super::failure::{non_finite, not_converged, Failure};
+use super::scaling::Scaling;
+
+/// ½‖w∘v‖² and max|w_i v_i| (infinite when some entry is not finite) in one
+/// pass.
+#[inline(always)]
+fn norms<const N: usize>(v: &[f64; N], w: &[f64; N]) -> (f64, f64) {
+    let mut sq = 0.0;
+    let mut max = 0.0f64;
+    for i in 0..N {
+        let x = v[i] * w[i];
+        sq += x * x;
+        // A plain comparison (not `f64::max`, whose NaN rule costs more):
+        // a NaN shows up in `sq` instead.
+        let a = x.abs();
+        if a > max {
+            max = a;
+        }
+    }
+    // A float comparison, false for NaN (cheaper than `is_finite`).
+    if sq < f64::INFINITY {
+        (0.5 * sq, max)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    }
+}
+
+/// The index of the largest |w_i v_i| (or of the first non-finite entry).
+pub(super) fn worst<const N: usize>(v: &[f64; N], w: &[f64; N]) -> usize {
+    let mut at = 0;
+    for i in 0..N {
+        if !v[i].is_finite() {
+            return i;
+        }
+        if (v[i] * w[i]).abs() > (v[at] * w[at]).abs() {
+            at = i;
+        }
+    }
+    at
+}
+
+/// The Armijo fraction: a step of length t must decrease f = ½‖Φ‖² to at
+/// most (1 − `ARMIJO`·t) times its value.
+const ARMIJO: f64 = 2e-4;
+
+/// In [`newton`], a converged residual above `POLISH` times the tolerance
+/// gets one more Newton step.
+pub const POLISH: f64 = 1e-3;
+
+/// The relative residual max_i |Φ_i| / S_i (64 units of round-off) below
+/// which a step's pose counts as closed: above it (and above [`POLISH`]
+/// times the tolerance), `step`, the stepper and sweeps polish the pose
+/// by Newton–Raphson as `assemble` does (see
+/// [`FastNewton::unclosed`]).
+pub const CLOSED: f64 = 16.0 * f64::EPSILON;
+
+/// The largest relative residual max_i |Φ_i| / S_i that counts as the
+/// round-off of evaluating the equations (about 450 units of round-off
+/// 2⁻⁵², a sum of some dozens of terms of the size S_i): Newton stops
+/// there, even when the tolerance asked for is smaller.
+pub const ROUND_OFF: f64 = 1e-13;
+
+/// Solves Φ(u) = 0 for `u` by Newton–Raphson from the value in `u`. `eval`
+/// writes Φ(u) and Φ_u(u); when it returns, `phi` and `jac` hold them at the
+/// returned `u`.
+///
+/// Each Newton step Δu = −Φ_u⁻¹ Φ is solved with the scaled matrix
+/// Φ̃_u = diag(1/S) Φ_u diag(unit) of `scaling` (pivots at or below
+/// `options.singularity_threshold` fail), and is a descent direction of the
+/// merit f = ½‖w∘Φ‖² with the weights w of [`Scaling::weights`]; the step
+/// length t is halved until f decreases by at least the Armijo fraction,
+/// f(u + tΔu) ≤ (1 − 2·10⁻⁴ t) f(u), which keeps a poor guess from
+/// wandering to a far solution. Converged when max|w_i Φ_i| ≤
+/// `options.tolerance`. When the tolerance is below what round-off allows, a
+/// full step that fails to decrease f and is itself at the level of
+/// round-off (|Δu_i| ≤ 10⁻¹⁴·(1 + |u_i|)) ends the iteration too, but only
+/// if the relative residual max|Φ_i| / S_i is at most [`ROUND_OFF`]:
+/// `Ok` always means a pose that closes. After convergence, full steps are
+/// taken while they decrease the residual, until it is below [`POLISH`]
+/// times the tolerance, so that the result is at round-off rather than
+/// merely within the tolerance.
+/// Returns the iterations used.
+///
+/// The singularity of the solution and its assembly branch are not judged
+/// here: the caller factors Φ̃_u at the returned pose (block by block) and
+/// checks both.
+///
+/// # Errors
+/// A [`Failure`] when Φ̃_u is singular at an iterate, Φ is not finite, no
+/// step length decreases the merit (a local minimum of ‖Φ‖ that is not a
+/// solution), or the iteration cap is reached; `u` then holds the last
+/// iterate.
+///
+/// ```
+/// use kinematics_core::solve::{dense_solve, newton, Scaling};
+/// use kinematics_core::Options;
+/// // x² + y² = 4, y = x, from (1, 0.5): the root (√2, √2).
+/// let scaling = Scaling::new(&[8.0, 2.0], 1.0, [false, false])?;
+/// let (mut u, mut phi, mut jac) = ([1.0, 0.5], [0.0; 2], [[0.0; 2]; 2]);
+/// newton(
+///     &mut u, &mut phi, &mut jac, &scaling, &Options::DEFAULT,
+///     |u, phi, jac| {
+///         *phi = [u[0] * u[0] + u[1] * u[1] - 4.0, u[1] - u[0]];
+///         *jac = [[2.0 * u[0], 2.0 * u[1]], [-1.0, 1.0]];
+///     },
+///     |jac, rhs| dense_solve(jac, rhs, &scaling, 1e-10),
+/// )?;
+/// assert!((u[0] - 2f64.sqrt()).abs() < 1e-15 && (u[1] - 2f64.sqrt()).abs() < 1e-15);
+/// # Ok::<(), kinematics_core::solve::Failure>(())
+/// ```
+#[inline]
+pub fn newton<const N: usize, J>(
+    u: &mut [f64; N],
+    phi: &mut [f64; N],
+    jac: &mut J,
+    scaling: &Scaling<N>,
+    options: &Options,
+    mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    solve: impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
+) -> Result<usize, Failure> {
+    let w = scaling.weights(options);
+    eval(u, phi, jac);
+    let (mut f0, mut max) = norms(phi, &w);
+    let mut iterations = 0;
+    loop {
+        if max <= options.tolerance {
+            break;
+        }
+        // `norms` makes both infinite when Φ is not finite.
+        if max == f64::INFINITY {
+            return Err(non_finite(phi, &w));
+        }
+        if iterations >= options.max_iterations {
+            return Err(not_converged(iterations, phi, scaling, &w));
+        }
+        iterations += 1;
+        let step = solve(jac, phi)?;
+        let start = *u;
+        for i in 0..N {
+            u[i] = start[i] - step[i];
+        }
+        eval(u, phi, jac);
+        let (f, m) = norms(phi, &w);
+        if f <= (1.0 - ARMIJO) * f0 {
+            (f0, max) = (f, m);
+            continue;
+        }
+        let search = Search {
+            start: &start,
+            step: &step,
+            f0,
+            last_max: m,
+            iterations,
+            scaling,
+            w: &w,
+        };
+        match search.run(u, phi, jac, &mut eval)? {
+            Some((f, m)) => (f0, max) = (f, m),
+            None => return Ok(iterations),
+        }
+    }
+    polish(u, phi, jac, scaling, options, &mut eval, &solve);
+    Ok(iterations)
+}
+
+/// Full Newton steps after convergence, while the residual is above
+/// [`POLISH`] times the tolerance and each step decreases the largest
+/// relative residual (a step that does not is undone, `u` put back and Φ
+/// and Φ_u evaluated there again, so that the caller's last evaluation is
+/// at the returned `u`). Near a regular solution one step reaches
+/// round-off; near a dead-centre position, where Newton converges only
+/// linearly, a few more bring the pose as close to the solution as
+/// double precision resolves it.
+#[cold]
+fn polish<const N: usize, J>(
+    u: &mut [f64; N],
+    phi: &mut [f64; N],
+    jac: &mut J,
+    scaling: &Scaling<N>,
+    options: &Options,
+    eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    solve: &impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
+) {
+    let w = scaling.weights(options);
+    for _ in 0..options.max_iterations {
+        let (_, before) = norms(phi, &scaling.row);
+        let (_, weighted) = norms(phi, &w);
+        if before == 0.0 || weighted <= POLISH * options.tolerance {
+            return;
+        }
+        let Ok(step) = solve(jac, phi) else {
+            return;
+        };
+        let start = *u;
+        for i in 0..N {
+            u[i] -= step[i];
+        }
+        eval(u, phi, jac);
+        let (_, after) = norms(phi, &scaling.row);
+        let kept = after < before;
+        if !kept {
+            *u = start;
+            eval(u, phi, jac);
+            return;
+        }
+    }
+}
+
+/// What [`FastNewton::assess`] found at the latest evaluation. Used by
+/// generated code.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Next {
+    /// Not converged: take the full Newton step with
+    /// [`FastNewton::advance`], then evaluate again at the new u.
+    Continue,
+    /// max|w_i Φ_i| ≤ tolerance.
+    Converged,
+    /// Anything else: solve again from the start with [`newton`], whose
+    /// common path this is, so that it damps, detects round-off or reports
+    /// the failure.
+    Fallback,
+}
+
+/// The common path of [`newton`], driven by the caller's own loop, so that
+/// generated code evaluates Φ and Φ_u inline rather than through a closure:
+/// near a solution every full Newton step passes the Armijo test, and then
+/// the iterates are those of [`newton`] (to rounding: generated code
+/// solves Φ̃_u block by block and carries sines and cosines from one
+/// iterate to the next with [`sin_cos_after`]). On the first event off
+/// that path (a full step that does not decrease f = ½‖w∘Φ‖² enough, a
+/// singular or non-finite Φ_u, the iteration cap) it answers
+/// [`Next::Fallback`], and the caller runs [`newton`] from the start,
+/// which retraces the same iterates up to that point and takes over. The
+/// caller judges the singularity and the branch of the converged pose, as
+/// after [`newton`]. Used by generated code.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy)]
+pub struct FastNewton {
+    /// f at the current iterate's predecessor (infinite before the first).
+    f0: f64,
+    /// f at the current iterate, once assessed.
+    f: f64,
+    iterations: usize,
+}
+
+impl Default for FastNewton {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FastNewton {
+    /// Before the first evaluation.
+    #[inline(always)]
+    #[must_use]
+    pub const fn new() -> Self {
+        Self {
+            f0: f64::INFINITY,
+            f: f64::INFINITY,
+            iterations: 0,
+        }
+    }
+
+    /// Given Φ at the current iterate and the weights `w` of the
+    /// convergence test ([`Scaling::weights`]): converged, off the common
+    /// path, or [`Next::Continue`]: take the full Newton step
+    /// Δu = −Φ_u⁻¹ Φ with [`FastNewton::advance`].
+    #[inline(always)]
+    pub fn assess<const N: usize>(
+        &mut self,
+        phi: &[f64; N],
+        w: &[f64; N],
+        options: &Options,
+    ) -> Next {
+        let (f, max) = norms(phi, w);
+        // The Armijo test of the full step that led here (vacuous at the
+        // first evaluation, where f0 is infinite and f is at most infinite).
+        let decreased = f <= (1.0 - ARMIJO) * self.f0;
+        if !decreased {
+            return Next::Fallback;
+        }
+        if max <= options.tolerance {
+            return Next::Converged;
+        }
+        if max == f64::INFINITY || self.iterations >= options.max_iterations {
+            return Next::Fallback;
+        }
+        self.f = f;
+        Next::Continue
+    }
+
+    /// Whether a converged Φ is above [`POLISH`] times the tolerance in
+    /// the weighted norm of [`FastNewton::assess`]: then [`newton`], from
+    /// the converged iterate, takes the polishing steps that an assembly
+    /// takes.
+    #[inline(always)]
+    #[must_use]
+    pub fn unpolished<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
+        let (_, max) = norms(phi, w);
+        max > POLISH * options.tolerance || max.is_nan()
+    }
+
+    /// Whether Φ is above the bound every `Ok` pose of a step is brought
+    /// to, in the weighted norm of [`FastNewton::assess`]: the larger of
+    /// [`POLISH`] times the tolerance and [`CLOSED`]. Then [`newton`],
+    /// from that pose, takes the polishing steps an assembly takes. A
+    /// closed form or a Newton iteration that stops within the tolerance
+    /// is below it at ordinary scales; at extreme ones (lengths near
+    /// 10^±100) it can stop short by a few decades.
+    #[inline(always)]
+    #[must_use]
+    pub fn unclosed<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
+        let (_, max) = norms(phi, w);
+        let bound = (POLISH * options.tolerance).max(CLOSED);
+        max > bound || max.is_nan()
+    }
+
+    /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.
+    #[inline(always)]
+    pub fn advance<const N: usize>(&mut self, u: &mut [f64; N], step: &[f64; N]) {
+        self.iterations += 1;
+        self.f0 = self.f;
+        for i in 0..N {
+            u[i] -= step[i];
+        }
+    }
+}
+
+/// sin x and cos x, given `s` = sin(x − d) and `c` = cos(x − d): by the
+/// angle-addition formulas, sin x = s cos d + c sin d and
+/// cos x = c cos d − s sin d, with sin d and cos d − 1 from their Taylor
+/// series when |d| ≤ 1/32 (truncated after d⁷ and d⁶: the first term
+/// left out is below 3·10⁻¹⁷), else computed afresh. Each result is then
+/// within a few units of 10⁻¹⁶ of the exact value. Generated code uses
+/// it between Newton iterates, whose steps are small near a solution; an
+/// infinite or NaN `d` (before the first iterate) computes afresh. Used by
+/// generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
+    if d.abs() <= 0.031_25 {
+        let d2 = d * d;
+        // sin d = d − d³/3! + d⁵/5! − d⁷/7! and cos d − 1 = −d²/2! +
+        // d⁴/4! − d⁶/6!, in Horner form with rounded coefficients.
+        let sin_d = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0)));
+        let cos_d_m1 = d2 * (-0.5 + d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
+        (
+            s + (s * cos_d_m1 + c * sin_d),
+            c + (c * cos_d_m1 - s * sin_d),
+        )
+    } else {
+        crate::math::sin_cos(x)
+    }
+}
+
+/// A Newton step whose full length did not decrease the merit f = ½‖w∘Φ‖²
+/// enough: the slow path of [`newton`].
+struct Search<'a, const N: usize> {
+    start: &'a [f64; N],
+    step: &'a [f64; N],
+    /// f at `start`.
+    f0: f64,
+    /// max|w_i Φ_i| after the full step.
+    last_max: f64,
+    iterations: usize,
+    scaling: &'a Scaling<N>,
+    w: &'a [f64; N],
+}
+
+impl<const N: usize> Search<'_, N> {
+    /// `Ok(None)` when the step is at the level of round-off and so is the
+    /// residual at the start: u is put back at the start (and Φ, Φ_u
+    /// evaluated there). Else halves t from 1 until the Armijo test
+    /// passes, `Ok(Some((f, max|w_i Φ_i|)))` at the new u.
+    #[cold]
+    fn run<J>(
+        &self,
+        u: &mut [f64; N],
+        phi: &mut [f64; N],
+        jac: &mut J,
+        eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    ) -> Result<Option<(f64, f64)>, Failure> {
+        let (start, step) = (self.start, self.step);
+        let mut tiny = true;
+        for i in 0..N {
+            tiny &= step[i].abs() <= 1e-14 * (1.0 + start[i].abs());
+        }
+        if tiny {
+            *u = *start;
+            eval(u, phi, jac);
+            let (_, relative) = norms(phi, &self.scaling.row);
+            if relative <= ROUND_OFF {
+                return Ok(None);
+            }
+            // A step that cannot move u (an unknown so large that its
+            // floating-point spacing exceeds the step) while the equations
+            // are far from closed: no solution is reachable from here.
+            return Err(not_converged(self.iterations, phi, self.scaling, self.w));
+        }
+        let mut t = 1.0;
+        let mut m = self.last_max;
+        loop {
+            if t < 1e-3 {
+                if m == f64::INFINITY {
+                    return Err(non_finite(phi, self.w));
+                }
+                // No decrease along the Newton direction: a local minimum
+                // of ‖Φ‖ that is not a solution.
+                return Err(not_converged(self.iterations, phi, self.scaling, self.w));
+            }
+            t *= 0.5;
+            for i in 0..N {
+                u[i] = start[i] - t * step[i];
+            }
+            eval(u, phi, jac);
+            let (f, max) = norms(phi, self.w);
+            m = max;
+            if f <= (1.0 - ARMIJO * t) * self.f0 {
+                return Ok(Some((f, max)));
+            }
+        }
+    }
+}

@@ -1,0 +1,433 @@
+//! The stepping iterator behind every sweep and simulation: the grid
+//! walked sample by sample, each pose predicted from the last ones and
+//! solved, the common path kept to one comparison per sample.
+
+use alloc::collections::VecDeque;
+use alloc::vec::Vec;
+use core::fmt;
+
+use super::drive::{Drive, Grid};
+use super::handles::{ChangePoints, Wrap};
+use super::sample::{Sample, Solved, Stop, StopReason};
+use crate::error::Error;
+use crate::mechanism::{Coordinates, Kind, Mechanism};
+use crate::options::Options;
+
+/// A branch tried past a change point: its distance from the extrapolated
+/// pose, its sample and its step state.
+pub(super) type Candidate<M, S> = (f64, S, <M as Mechanism>::StepState);
+
+/// What the sweep keeps of an accepted sample: for the predictor, the
+/// change-point tests and the extrapolation past a change point.
+pub(super) struct Head<C> {
+    pub(super) at: f64,
+    pub(super) q: C,
+    qd: C,
+    pub(super) conditioning: f64,
+    pub(super) det_sign: f64,
+}
+
+impl<C: Copy> Clone for Head<C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C: Copy> Copy for Head<C> {}
+
+impl<C: Default> Default for Head<C> {
+    fn default() -> Self {
+        Self {
+            at: f64::NAN,
+            q: C::default(),
+            qd: C::default(),
+            conditioning: f64::NAN,
+            det_sign: f64::NAN,
+        }
+    }
+}
+
+/// A sweep or simulation in progress: an iterator over its samples (each
+/// `Ok`), ending with the stop (an `Err`) if it stops early. Made by
+/// iterating a [`SweepBuilder`](super::SweepBuilder) or a [`Simulation`](super::Simulation); allocates nothing per
+/// sample.
+///
+/// A sample that may lie past a change point (Φ_u's conditioning falling
+/// fast towards zero) is held back until the next one is solved, so that a
+/// sample on the wrong side of a change point is never handed out.
+pub struct SweepIter<'m, M: Mechanism, D, S = Sample<M>> {
+    pub(super) m: &'m M,
+    pub(super) drive: D,
+    pub(super) options: Options,
+    pub(super) grid: Grid,
+    /// 1 / the rate of the sweep variable (0 when it is 0), for the
+    /// predictor.
+    per_rate: f64,
+    wrap: Wrap,
+    pub(super) change_points: ChangePoints,
+    pub(super) variable: &'static str,
+    pub(super) state: Option<M::StepState>,
+    /// The next grid index to solve.
+    pub(super) k: usize,
+    /// The drivers' rates and accelerations (their entries only).
+    pub(super) rates: M::Coords,
+    pub(super) accels: M::Coords,
+    /// The last accepted samples, a ring: `history[newest]` the newest,
+    /// the one before it at `newest − 1` (mod 4), and so on; an entry
+    /// whose value `at` is NaN holds none (before the first sample, and
+    /// after a change point).
+    pub(super) history: [Head<M::Coords>; 4],
+    pub(super) newest: usize,
+    /// Whether the conditioning falls so fast at the newest sample that it
+    /// could reach zero before the next: the line through it and the one
+    /// before meets zero less than two steps on (and it is below 0.5,
+    /// where a regular pose is of order one).
+    pub(super) falling: bool,
+    /// The sign of det Φ_u at the newest sample when the next sample may
+    /// be handed out as soon as it keeps that sign (no sample held back,
+    /// the conditioning not falling fast); 0 when the slow path decides.
+    gate: f64,
+    /// The newest sample, when it is held back.
+    pub(super) held: Option<S>,
+    /// Items ready to hand out before anything else.
+    pub(super) out: VecDeque<Result<S, Stop>>,
+    /// The change points passed.
+    pub(super) passed: Vec<f64>,
+    pub(super) done: bool,
+    /// The grid indices below which the next sample is solved on the
+    /// fast path: 0 while items wait in `out` or the sweep is done, the
+    /// grid's [`Grid::inner_end`] otherwise.
+    open: usize,
+}
+
+impl<M: Mechanism, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("SweepIter")
+            .field("variable", &self.variable)
+            .field("next", &self.k)
+            .field("of", &self.grid.count)
+            .field("drive", &self.drive)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(
+        m: &'m M,
+        start: &M::Coords,
+        variable: &'static str,
+        grid: Result<Grid, Error>,
+        drive: D,
+        options: &Options,
+        wrap: Wrap,
+        change_points: ChangePoints,
+    ) -> Self {
+        let rate = drive.variable_rate();
+        let per_rate = if rate != 0.0 && rate.is_finite() {
+            1.0 / rate
+        } else {
+            0.0
+        };
+        let mut it = Self {
+            m,
+            drive,
+            options: *options,
+            grid: Grid::even(0.0, 0.0, 1, 0),
+            per_rate,
+            wrap,
+            change_points,
+            variable,
+            state: None,
+            k: 0,
+            rates: M::Coords::default(),
+            accels: M::Coords::default(),
+            history: [Head::default(); 4],
+            newest: 0,
+            falling: false,
+            gate: 0.0,
+            held: None,
+            out: VecDeque::with_capacity(2),
+            passed: Vec::new(),
+            done: false,
+            open: 0,
+        };
+        it.drive.start(&mut it.rates, &mut it.accels);
+        let checked = grid.and_then(|g| Ok((g, m.step_state(options)?)));
+        match checked {
+            Ok((grid, state)) => {
+                it.grid = grid;
+                it.state = Some(state);
+                if it.grid.count == 0 {
+                    it.done = true;
+                } else {
+                    it.first(start);
+                    it.regate();
+                }
+            }
+            Err(e) => it.finish(f64::NAN, StopReason::from_error(e)),
+        }
+        it.reopen();
+        it
+    }
+
+    /// Sets `open` after the slow path.
+    fn reopen(&mut self) {
+        self.open = if self.out.is_empty() && !self.done {
+            self.grid.inner_end()
+        } else {
+            0
+        };
+    }
+
+    /// The change points passed so far.
+    #[must_use]
+    pub fn change_points(&self) -> &[f64] {
+        &self.passed
+    }
+
+    pub(super) fn finish(&mut self, at: f64, reason: StopReason) {
+        self.out.push_back(Err(Stop {
+            variable: self.variable,
+            at,
+            reason,
+        }));
+        self.held = None;
+        self.done = true;
+    }
+
+    /// Solves grid sample `k` from `guess` (its drivers set here) with
+    /// `state`, off the hot path.
+    pub(super) fn solve(
+        &mut self,
+        k: usize,
+        guess: &M::Coords,
+        state: &mut M::StepState,
+    ) -> Result<S, Error> {
+        let at = self.grid.at(k);
+        let mut pose = *guess;
+        self.drive
+            .drive(at, &mut pose, &mut self.rates, &mut self.accels);
+        S::solve(self.m, at, &pose, &self.rates, &self.accels, state)
+    }
+
+    /// The first sample, from `start`: handed out as it is.
+    fn first(&mut self, start: &M::Coords) {
+        let Some(mut state) = self.state.take() else {
+            return;
+        };
+        match self.solve(0, start, &mut state) {
+            Ok(s) => {
+                self.push_head(&s);
+                let s = self.wrapped(s);
+                self.out.push_back(Ok(s));
+                self.k = 1;
+            }
+            Err(e) => {
+                let at = self.grid.at(0);
+                self.finish(at, StopReason::from_error(e));
+            }
+        }
+        self.state = Some(state);
+    }
+
+    /// The newest accepted sample.
+    #[inline(always)]
+    pub(super) fn head(&self) -> Option<&Head<M::Coords>> {
+        self.back(0)
+    }
+
+    /// The accepted sample `n` (at most 2) before the newest (0: the
+    /// newest).
+    #[inline(always)]
+    pub(super) fn back(&self, n: usize) -> Option<&Head<M::Coords>> {
+        debug_assert!(n <= 2, "the sweep keeps three samples");
+        let h = &self.history[self.newest.wrapping_sub(n) & 3];
+        (!h.at.is_nan()).then_some(h)
+    }
+
+    /// Makes `s` the newest accepted sample.
+    #[inline(always)]
+    pub(super) fn push_head(&mut self, s: &S) {
+        // NaN with no sample before (then the test is false).
+        let previous = self.history[self.newest & 3].conditioning;
+        let conditioning = s.conditioning();
+        let det_sign = s.det_sign();
+        self.falling = conditioning < 0.5 && 1.5 * conditioning < previous;
+        self.gate = if self.falling { 0.0 } else { det_sign };
+        self.newest = (self.newest + 1) & 3;
+        let h = &mut self.history[self.newest];
+        h.at = s.at();
+        h.q = *s.q();
+        // The rates only where the predictor uses them.
+        if M::NEWTON_GUESS {
+            if let Some(qd) = s.qd() {
+                h.qd = *qd;
+            }
+        }
+        h.conditioning = conditioning;
+        h.det_sign = det_sign;
+    }
+
+    /// Sets `gate` after the slow path: open (the newest sample's sign of
+    /// det Φ_u) only with a sample accepted, none held back and the
+    /// conditioning not falling fast.
+    fn regate(&mut self) {
+        self.gate = match self.head() {
+            Some(h) if !self.falling && self.held.is_none() => h.det_sign,
+            _ => 0.0,
+        };
+    }
+
+    /// Forgets every accepted sample.
+    pub(super) fn forget(&mut self) {
+        self.history = [Head::default(); 4];
+        self.falling = false;
+    }
+
+    /// The guess at `at`, where Newton–Raphson starts from it: the newest
+    /// pose advanced along its rates, u + (du/dt)·Δt, or without rates
+    /// along the secant from the pose before it; the newest pose where the
+    /// guess only names the branch.
+    #[inline(always)]
+    fn predicted(&self, at: f64) -> M::Coords {
+        let Some(h) = self.head() else {
+            return M::Coords::default();
+        };
+        let mut guess = h.q;
+        if !M::NEWTON_GUESS {
+            return guess;
+        }
+        let (rate, from) = if S::RATES {
+            (&h.qd, None)
+        } else {
+            match self.back(1) {
+                Some(p) if p.at != h.at => (&h.q, Some((p, 1.0 / (h.at - p.at)))),
+                _ => return guess,
+            }
+        };
+        let dt = (at - h.at) * if S::RATES { self.per_rate } else { 1.0 };
+        for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+            let (Some(u), Some(r)) = (guess.get(j), rate.get(j)) else {
+                continue;
+            };
+            // The secant's slope (u − u_prev) / (at_h − at_prev).
+            let slope = match from {
+                Some((p, inv)) => (r - p.q.get(j).unwrap_or(r)) * inv,
+                None => r,
+            };
+            guess.set(j, u + slope * dt);
+        }
+        guess
+    }
+
+    /// A sample as handed out: its angles wrapped as asked.
+    #[inline(always)]
+    pub(super) fn wrapped(&self, mut s: S) -> S {
+        self.wrap_angles(&mut s);
+        s
+    }
+
+    /// Wraps the angles of `s` as asked.
+    #[inline(always)]
+    fn wrap_angles(&self, s: &mut S) {
+        if self.wrap != Wrap::Continuous {
+            let q = s.q_mut();
+            for (j, c) in M::COORDINATES.iter().enumerate() {
+                if c.kind == Kind::Angle {
+                    if let Some(v) = q.get(j) {
+                        q.set(j, self.wrap.apply(v));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Queues the held sample to be handed out.
+    pub(super) fn release(&mut self) {
+        if let Some(s) = self.held.take() {
+            let s = self.wrapped(s);
+            self.out.push_back(Ok(s));
+        }
+    }
+
+    /// Solves grid sample `k` = `self.k`, of value `at`: the sample to hand
+    /// out, if one is ready.
+    #[inline(always)]
+    fn advance(&mut self, k: usize, at: f64) -> Option<Result<S, Stop>> {
+        let mut pose = self.predicted(at);
+        self.drive
+            .drive(at, &mut pose, &mut self.rates, &mut self.accels);
+        let state = self.state.as_mut()?;
+        match S::step(self.m, &pose, &self.rates, &self.accels, state) {
+            // The common case, handed out at once: det Φ_u keeps its sign,
+            // the conditioning was not falling so fast that it could reach
+            // zero before this sample, and nothing is held back (`gate`).
+            Ok(step) if self.gate * S::step_det_sign(&step) > 0.0 => {
+                self.k += 1;
+                let mut s = S::sample(at, step);
+                self.push_head(&s);
+                self.wrap_angles(&mut s);
+                Some(Ok(s))
+            }
+            Ok(step) => {
+                self.unusual(S::sample(at, step));
+                self.regate();
+                self.reopen();
+                None
+            }
+            Err(e) => {
+                self.failed(k, e);
+                self.regate();
+                self.reopen();
+                None
+            }
+        }
+    }
+}
+
+impl<M: Mechanism, D: Drive<M>, S: Solved<M>> Iterator for SweepIter<'_, M, D, S> {
+    type Item = Result<S, Stop>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        // One comparison on the common path: nothing waiting, not done,
+        // and the value is from + k·step.
+        let k = self.k;
+        if k < self.open {
+            let at = self.grid.inner(k);
+            if let Some(item) = self.advance(k, at) {
+                return Some(item);
+            }
+        }
+        self.next_slow()
+    }
+}
+
+impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
+    /// [`Iterator::next`] off the fast path: the items waiting, the end,
+    /// the last value of an even grid.
+    #[inline(never)]
+    fn next_slow(&mut self) -> Option<Result<S, Stop>> {
+        let item = loop {
+            if let Some(item) = self.out.pop_front() {
+                break Some(item);
+            }
+            if self.done {
+                break None;
+            }
+            if self.k >= self.grid.count {
+                // The end: the held sample, if any, is before any change
+                // point.
+                self.done = true;
+                break self.held.take().map(|s| Ok(self.wrapped(s)));
+            }
+            let k = self.k;
+            if let Some(item) = self.advance(k, self.grid.at(k)) {
+                break Some(item);
+            }
+        };
+        self.reopen();
+        item
+    }
+}

@@ -1,0 +1,279 @@
+//! The least-squares problem handed to Levenberg–Marquardt: the free
+//! variables mapped into their bounds, the residuals at the targets, and
+//! their exact Jacobian from the mechanism's sensitivities.
+
+use core::cell::{Cell, RefCell};
+use core::f64::consts::{PI, TAU};
+use std::vec;
+use std::vec::Vec;
+
+use levenberg_marquardt::LeastSquaresProblem;
+use nalgebra_lm::{storage::Owned, DMatrix, DVector, Dyn};
+
+use crate::error::Error;
+use crate::mechanism::{Coordinates, Kind, MotionState, PointState};
+use crate::tolerance::Sensitive;
+
+use super::design::{Output, Synthesis, Timing};
+
+/// The bounded parameter p for the free variable x.
+fn from_free(x: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
+    match (lo.is_finite(), hi.is_finite()) {
+        (true, true) => (
+            lo + (hi - lo) * 0.5 * (1.0 + (x).sin()),
+            (hi - lo) * 0.5 * (x).cos(),
+        ),
+        (true, false) => {
+            let r = (x * x + 1.0).sqrt();
+            (lo - 1.0 + r, x / r)
+        }
+        (false, true) => {
+            let r = (x * x + 1.0).sqrt();
+            (hi + 1.0 - r, -x / r)
+        }
+        (false, false) => (x, 1.0),
+    }
+}
+
+/// The free variable x of the bounded parameter p (p clamped into the
+/// bounds).
+pub(super) fn to_free(p: f64, (lo, hi): (f64, f64)) -> f64 {
+    match (lo.is_finite(), hi.is_finite()) {
+        (true, true) => {
+            let t = (2.0 * (p - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0);
+            (t).asin()
+        }
+        (true, false) => {
+            let r = (p - lo + 1.0).max(1.0);
+            (r * r - 1.0).sqrt()
+        }
+        (false, true) => {
+            let r = (hi + 1.0 - p).max(1.0);
+            -(r * r - 1.0).sqrt()
+        }
+        (false, false) => p,
+    }
+}
+
+pub(super) fn norm(v: &[f64]) -> f64 {
+    crate::math::sqrt(v.iter().map(|x| x * x).sum())
+}
+
+/// An angle difference in (−π, π].
+fn wrapped(d: f64) -> f64 {
+    PI - (PI - d).rem_euclid(TAU)
+}
+
+/// The least-squares problem handed to the solver.
+pub(super) struct Problem<'s, M: Sensitive> {
+    pub(super) s: &'s Synthesis<M>,
+    pub(super) n: usize,
+    pub(super) x: Vec<f64>,
+    /// The weight of the inequality residuals.
+    pub(super) weight: f64,
+    /// The size of the residual vector returned for a design that cannot
+    /// be assembled (larger than any the solver has accepted).
+    pub(super) reject: f64,
+    /// The last pose of each target (the guess of the next analysis).
+    pub(super) poses: RefCell<Vec<M::Coords>>,
+    /// The assembly modes (as the step state holds them).
+    pub(super) modes: Vec<f64>,
+    pub(super) evaluations: Cell<usize>,
+    pub(super) jacobians: Cell<usize>,
+    pub(super) rejected: Cell<usize>,
+}
+
+impl<M: Sensitive + Clone> Problem<'_, M> {
+    /// The design and driver values at x.
+    pub(super) fn design_at(&self, x: &[f64]) -> (M, Vec<f64>) {
+        let s = self.s;
+        let mut design = s.design.clone();
+        for (i, &k) in s.varied.iter().enumerate() {
+            design.set_parameter(k, from_free(x[i], s.bounds[k]).0);
+        }
+        let t = &x[s.varied.len()..];
+        let values = match &s.timing {
+            Timing::Free => t.to_vec(),
+            Timing::Prescribed(v) => v.clone(),
+            Timing::Relative(v) => v.iter().map(|d| t[0] + d).collect(),
+        };
+        (design, values)
+    }
+
+    /// The largest violation of a linear inequality.
+    pub(super) fn violation(&self) -> f64 {
+        let (design, _) = self.design_at(&self.x);
+        self.s
+            .linear
+            .iter()
+            .map(|(terms, h)| {
+                terms
+                    .iter()
+                    .map(|&(k, c)| c * design.parameter(k))
+                    .sum::<f64>()
+                    - h
+            })
+            .fold(0.0f64, f64::max)
+    }
+
+    /// E and the largest error from the residuals (the inequality
+    /// residuals left out).
+    pub(super) fn errors(&self, res: &[f64]) -> (f64, f64) {
+        let d = self.s.dim;
+        let fit = &res[..self.n * d];
+        let e = fit.iter().map(|r| r * r).sum();
+        let worst = fit.chunks(d).map(norm).fold(0.0f64, f64::max);
+        (e, worst)
+    }
+
+    /// The residuals at x and, if `jacobian`, the Jacobian (row-major,
+    /// residuals × unknowns).
+    pub(super) fn evaluate(
+        &self,
+        x: &[f64],
+        jacobian: bool,
+    ) -> Result<(Vec<f64>, Vec<f64>), Error> {
+        let s = self.s;
+        let (n, d, nv) = (self.n, s.dim, s.varied.len());
+        let nx = x.len();
+        let (design, values) = self.design_at(x);
+        let np = M::PARAMETERS.len();
+        let nrows = n * d + s.linear.len();
+        let mut res = vec![0.0; nrows];
+        let mut jac = if jacobian {
+            vec![0.0; nrows * nx]
+        } else {
+            Vec::new()
+        };
+        let mut rates = M::Coords::default();
+        rates.set(s.driver, 1.0);
+        let zeros = M::Coords::default();
+        let ncoord = M::COORDINATES.len();
+        let mut dq = vec![0.0; np * ncoord];
+        let mut dr = vec![0.0; np * M::POINTS * M::POINT_DIM];
+        let dpdx: Vec<f64> = s
+            .varied
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| from_free(x[i], s.bounds[k]).1)
+            .collect();
+        // A fresh state for the design (its scaling and the sines and
+        // cosines of its parameters), in the modes of the synthesis.
+        let mut fresh = design.step_state(&s.options)?;
+        M::step_modes(&mut fresh).copy_from_slice(&self.modes);
+        let mut poses = self.poses.borrow_mut();
+        for j in 0..n {
+            let mut pose = poses[j];
+            pose.set(s.driver, values[j]);
+            let mut state = fresh.clone();
+            let motion = design.step_carried(&pose, &rates, &zeros, &mut state)?;
+            poses[j] = *motion.q();
+            if jacobian {
+                design.position_sensitivities_into(&motion, &mut dq, &mut dr)?;
+            }
+            // ∂(output)/∂φ_j and ∂(output)/∂p_k per component.
+            for c in 0..d {
+                let row = j * d + c;
+                let (value, rate) = match s.output {
+                    Output::Point(i) => {
+                        let p = &motion.points()[i];
+                        (p.position()[c], p.velocity()[c])
+                    }
+                    Output::Coordinate(i, _) => (
+                        motion.q().get(i).unwrap_or(f64::NAN),
+                        motion.qd().get(i).unwrap_or(f64::NAN),
+                    ),
+                };
+                let target = s.targets[row];
+                res[row] = match s.output {
+                    Output::Coordinate(_, Kind::Angle) => wrapped(value - target),
+                    _ => value - target,
+                };
+                if !jacobian {
+                    continue;
+                }
+                let jr = &mut jac[row * nx..(row + 1) * nx];
+                for (i, &k) in s.varied.iter().enumerate() {
+                    let dp = match s.output {
+                        Output::Point(pi) => dr[(k * M::POINTS + pi) * M::POINT_DIM + c],
+                        Output::Coordinate(ci, _) => dq[k * ncoord + ci],
+                    };
+                    jr[i] = dp * dpdx[i];
+                }
+                match &s.timing {
+                    Timing::Free => jr[nv + j] = rate,
+                    Timing::Relative(_) => jr[nv] = rate,
+                    Timing::Prescribed(_) => {}
+                }
+            }
+        }
+        for (l, (terms, h)) in s.linear.iter().enumerate() {
+            let row = n * d + l;
+            let g = terms
+                .iter()
+                .map(|&(k, c)| c * design.parameter(k))
+                .sum::<f64>()
+                - h;
+            if g > 0.0 {
+                res[row] = self.weight * g;
+                if jacobian {
+                    for &(k, c) in terms {
+                        if let Some(i) = s.varied.iter().position(|&v| v == k) {
+                            jac[row * nx + i] += self.weight * c * dpdx[i];
+                        }
+                    }
+                }
+            }
+        }
+        if res.iter().chain(&jac).any(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                input: crate::Input::Computed,
+                name: "synthesis residual",
+                value: f64::NAN,
+            });
+        }
+        Ok((res, jac))
+    }
+
+    fn rows(&self) -> usize {
+        self.n * self.s.dim + self.s.linear.len()
+    }
+}
+
+impl<M: Sensitive + Clone> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, x: &DVector<f64>) {
+        self.x = x.iter().copied().collect();
+    }
+
+    fn params(&self) -> DVector<f64> {
+        DVector::from_column_slice(&self.x)
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        self.evaluations.set(self.evaluations.get() + 1);
+        let rows = self.rows();
+        match self.evaluate(&self.x, false) {
+            Ok((r, _)) => Some(DVector::from_vec(r)),
+            // A design that does not assemble: a residual larger than any
+            // accepted, so that the step is rejected.
+            #[allow(clippy::cast_precision_loss)]
+            Err(_) => {
+                self.rejected.set(self.rejected.get() + 1);
+                Some(DVector::from_element(
+                    rows,
+                    self.reject / (rows as f64).sqrt(),
+                ))
+            }
+        }
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        self.jacobians.set(self.jacobians.get() + 1);
+        let (_, j) = self.evaluate(&self.x, true).ok()?;
+        Some(DMatrix::from_row_slice(self.rows(), self.x.len(), &j))
+    }
+}
