@@ -525,6 +525,39 @@ pub fn carried_sin_cos(phi: f64, carried: &mut [f64; 3]) -> [f64; 2] {
     [c, s]
 }
 
+/// (cos x, sin x) of a guess x, from `carried` (cos θ, sin θ, θ) where
+/// θ is x itself (the stepper's last solution, or the guess's own values
+/// seeded by a stateless step), else computed: what the closed forms take
+/// to choose a mode from the guess. Used by generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn guess_trig(carried: &[f64; 3], x: f64) -> [f64; 2] {
+    if carried[2] == x {
+        [carried[0], carried[1]]
+    } else {
+        let (s, c) = crate::math::sin_cos(x);
+        [c, s]
+    }
+}
+
+/// (cos x, sin x, x) for a guess x: the carried values of an unknown angle
+/// seeded from the guess, so that [`near_carried`] takes the solution's
+/// angle from the guess's without an atan2 when the two are close (NaN,
+/// nothing carried, beyond 2²⁰ rad). Used by generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn seeded(x: f64) -> [f64; 3] {
+    // Beyond 2²⁰ rad an angle's ulp is too coarse to carry a solution
+    // near it: the solution is taken afresh (see `near`).
+    if x.abs() > 1_048_576.0 || x.is_nan() {
+        return [f64::NAN; 3];
+    }
+    let (s, c) = crate::math::sin_cos(x);
+    [c, s, x]
+}
+
 /// [`near`], from the previous solution of the same angle: `carried` holds
 /// its (cos θ, sin θ, θ), and the angle is θ + Δ with
 /// sin Δ = cos θ · `s` − sin θ · `c` and Δ = asin(sin Δ) by its series
@@ -566,23 +599,6 @@ pub fn near_carried(c: &mut f64, s: &mut f64, reference: f64, carried: &mut [f64
     theta
 }
 
-/// Whether max |Φ_i| w_i is within the tolerance of `options` and within
-/// 10⁻¹²: the check of a closed-form solution before it is returned (a
-/// larger residual, from cancellation in the closed form, is polished by
-/// Newton–Raphson). Used by generated code.
-#[doc(hidden)]
-#[inline(always)]
-#[must_use]
-pub fn at_round_off<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
-    let mut max = 0.0f64;
-    for i in 0..N {
-        let r = (phi[i] * w[i]).abs();
-        // A NaN fails the test below.
-        max = if r > max || r.is_nan() { r } else { max };
-    }
-    max <= options.tolerance.min(1e-12)
-}
-
 /// The combinations of N modes (±1) to try after `tried` put the
 /// solution on the other branch than asked: with `base` the modes of
 /// `tried` (NaN taken as +1), `base` itself where it differs from `tried`
@@ -608,6 +624,47 @@ pub fn other_modes<const N: usize>(tried: [f64; N]) -> impl Iterator<Item = [f64
         .filter(|i| i.count_ones() >= 2)
         .map(move |i| core::array::from_fn(|j| if i >> j & 1 == 1 { -base[j] } else { base[j] }));
     (!same).then_some(base).into_iter().chain(flips).chain(rest)
+}
+
+/// How a closed-form pose's residual stands: see [`closing`].
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Closing {
+    /// At round-off: the pose is returned.
+    Closed,
+    /// Within min(tolerance, 1e-12) but above the bound every step's pose
+    /// is brought to: polished by Newton–Raphson from the pose, in the
+    /// same modes.
+    Polish,
+    /// Beyond min(tolerance, 1e-12), or NaN: not trusted; Newton–Raphson
+    /// from the guess, in modes taken afresh.
+    Refuse,
+}
+
+/// The check of a closed-form pose, with r = max |Φ_i| w_i computed once:
+/// [`Closing::Closed`] for r ≤ the larger of [`POLISH`](crate::solve::POLISH)
+/// times the tolerance and [`CLOSED`](crate::solve::CLOSED) (and within
+/// min(tolerance, 1e-12)), [`Closing::Polish`] for r ≤ min(tolerance,
+/// 1e-12), [`Closing::Refuse`] beyond (or NaN). Used by generated code.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn closing<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> Closing {
+    let mut max = 0.0f64;
+    for i in 0..N {
+        let r = (phi[i] * w[i]).abs();
+        // A NaN fails both tests below.
+        max = if r > max || r.is_nan() { r } else { max };
+    }
+    let limit = options.tolerance.min(1e-12);
+    let bound = (crate::solve::POLISH * options.tolerance).max(crate::solve::CLOSED);
+    if max <= bound.min(limit) {
+        Closing::Closed
+    } else if max <= limit {
+        Closing::Polish
+    } else {
+        Closing::Refuse
+    }
 }
 
 /// max |x_i|, NaN if any x_i is NaN. Used by generated code.

@@ -56,11 +56,12 @@ const ARMIJO: f64 = 2e-4;
 /// gets one more Newton step.
 pub const POLISH: f64 = 1e-3;
 
-/// The relative residual max_i |Φ_i| / S_i (64 units of round-off) below
+/// The relative residual max_i |Φ_i| / S_i (16 units of round-off) below
 /// which a step's pose counts as closed: above it (and above [`POLISH`]
-/// times the tolerance), `step`, the stepper and sweeps polish the pose
-/// by Newton–Raphson as `assemble` does (see
-/// [`FastNewton::unclosed`]).
+/// times the tolerance), `step`, the stepper and sweeps take one more
+/// Newton step from the pose (see [`FastNewton::assess_closing`]; a
+/// closed-form pose there is handed to Newton–Raphson from itself, in the
+/// same modes).
 pub const CLOSED: f64 = 16.0 * f64::EPSILON;
 
 /// The largest relative residual max_i |Φ_i| / S_i that counts as the
@@ -251,6 +252,9 @@ pub struct FastNewton {
     /// f at the current iterate, once assessed.
     f: f64,
     iterations: usize,
+    /// Whether the last step was taken from a converged iterate above the
+    /// closing bound (see [`FastNewton::assess_closing`]).
+    polishing: bool,
 }
 
 impl Default for FastNewton {
@@ -268,6 +272,7 @@ impl FastNewton {
             f0: f64::INFINITY,
             f: f64::INFINITY,
             iterations: 0,
+            polishing: false,
         }
     }
 
@@ -299,6 +304,48 @@ impl FastNewton {
         Next::Continue
     }
 
+    /// [`FastNewton::assess`] for a step, which must close to round-off:
+    /// an iterate within the tolerance but above the larger of [`POLISH`]
+    /// times the tolerance and [`CLOSED`] gets one more full Newton step
+    /// ([`Next::Continue`]), whose result is kept if it is still within the
+    /// tolerance (at the equations' own round-off floor a step need not
+    /// decrease the residual further). Near a regular solution that one
+    /// step takes a pose at 1e-13 to round-off; from a closed form that
+    /// lost digits at extreme scales, likewise.
+    #[inline(always)]
+    pub fn assess_closing<const N: usize>(
+        &mut self,
+        phi: &[f64; N],
+        w: &[f64; N],
+        options: &Options,
+    ) -> Next {
+        let (f, max) = norms(phi, w);
+        if self.polishing {
+            return if max <= options.tolerance {
+                Next::Converged
+            } else {
+                Next::Fallback
+            };
+        }
+        let decreased = f <= (1.0 - ARMIJO) * self.f0;
+        if !decreased {
+            return Next::Fallback;
+        }
+        if max <= options.tolerance {
+            if max <= (POLISH * options.tolerance).max(CLOSED) {
+                return Next::Converged;
+            }
+            self.polishing = true;
+            self.f = f;
+            return Next::Continue;
+        }
+        if max == f64::INFINITY || self.iterations >= options.max_iterations {
+            return Next::Fallback;
+        }
+        self.f = f;
+        Next::Continue
+    }
+
     /// Whether a converged Φ is above [`POLISH`] times the tolerance in
     /// the weighted norm of [`FastNewton::assess`]: then [`newton`], from
     /// the converged iterate, takes the polishing steps that an assembly
@@ -308,21 +355,6 @@ impl FastNewton {
     pub fn unpolished<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
         let (_, max) = norms(phi, w);
         max > POLISH * options.tolerance || max.is_nan()
-    }
-
-    /// Whether Φ is above the bound every `Ok` pose of a step is brought
-    /// to, in the weighted norm of [`FastNewton::assess`]: the larger of
-    /// [`POLISH`] times the tolerance and [`CLOSED`]. Then [`newton`],
-    /// from that pose, takes the polishing steps an assembly takes. A
-    /// closed form or a Newton iteration that stops within the tolerance
-    /// is below it at ordinary scales; at extreme ones (lengths near
-    /// 10^±100) it can stop short by a few decades.
-    #[inline(always)]
-    #[must_use]
-    pub fn unclosed<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
-        let (_, max) = norms(phi, w);
-        let bound = (POLISH * options.tolerance).max(CLOSED);
-        max > bound || max.is_nan()
     }
 
     /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.

@@ -26,10 +26,10 @@ pub(super) fn assemble(cx: &Ctx<'_>) -> TokenStream {
     let (body, off_path) = if cx.closed_path() {
         // The closed-form blocks each in the mode of the guess, the others
         // by Newton on the block; Newton on the whole system off that path.
-        let (nm, na, ndt) = (cx.nm(), cx.na(), cx.driver_trig().len());
+        let (nm, ndt) = (cx.nm(), cx.driver_trig().len());
         let body = quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
-            let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
+            let mut angles = Self::__seeded(start);
             let mut dtrig = [[::core::primitive::f64::NAN; 3]; #ndt];
             let pt = self.__param_trig();
             let pose = match self.__assemble_closed(start, options, &__scaling, &mut modes, &mut angles, &pt, &mut dtrig, false) {

@@ -59,7 +59,7 @@ pub(super) fn solve_blocks(
         } else {
             TokenStream::new()
         };
-        let call = solve_call(cx, pr, b, p, mode);
+        let call = solve_call(cx, pr, b, p, mode, angle);
         let outs = outputs(cx, b, p);
         solve.extend(quote! {
             #block_lets
@@ -427,6 +427,7 @@ fn solve_call(
     b: &Closed,
     p: &Pattern,
     mode: TokenStream,
+    slot: usize,
 ) -> TokenStream {
     let pp = &cx.pp;
     let e = |id: &Id| pr.element(*id);
@@ -439,10 +440,9 @@ fn solve_call(
         quote!([#r0, #r1])
     };
     let first = &cx.id.coord[cx.nd + b.cols[0]];
-    let angle_guess = quote!(|| {
-        let (s, c) = #pp::math::sin_cos(start.#first);
-        [c, s]
-    });
+    // The guess's cosine and sine, from the carried values where they are
+    // the guess's (the block's first angle has carried slot `slot`).
+    let angle_guess = quote!(|| #pp::closed::guess_trig(&angles[#slot], start.#first));
     match p {
         Pattern::Angle { a, b, c } => {
             let (a, b, c) = (e(a), e(b), e(c));
@@ -455,9 +455,10 @@ fn solve_call(
         Pattern::CircleCircle { k, p, q } => {
             let (k, p, q) = (v(k), m(p), m(q));
             let second = &cx.id.coord[cx.nd + b.cols[1]];
+            let next = slot + 1;
             quote!(#pp::closed::circle_circle(#k, #p, #q, #mode || {
-                let (s0, c0) = #pp::math::sin_cos(start.#first);
-                let (s1, c1) = #pp::math::sin_cos(start.#second);
+                let [c0, s0] = #pp::closed::guess_trig(&angles[#slot], start.#first);
+                let [c1, s1] = #pp::closed::guess_trig(&angles[#next], start.#second);
                 [c0, s0, c1, s1]
             }))
         }

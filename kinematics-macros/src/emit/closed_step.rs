@@ -104,6 +104,28 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             }
         }
     };
+    // The carried values of the unknown angles, in slot order (block by
+    // block, each block's columns in order), seeded from a guess.
+    let seeded = {
+        let fields: Vec<&Ident> = cx
+            .closed
+            .iter()
+            .flat_map(|b| b.cols.iter().map(|&c| nd + c))
+            .filter(|&j| cx.model.kinds[j] == crate::lower::CoordKind::Angle)
+            .map(|j| &id.coord[j])
+            .collect();
+        quote! {
+            /// The carried (cos, sin, angle) of each unknown angle, seeded
+            /// from the guess `start`: a stateless step or assembly takes
+            /// the modes and the solution's angles from them (an angle
+            /// near the guess's without an atan2).
+            #[doc(hidden)]
+            #[inline(always)]
+            fn __seeded(start: &#coords) -> [[f64; 3]; #na] {
+                [#(#pp::closed::seeded(start.#fields)),*]
+            }
+        }
+    };
     let far_check = |fallback: &TokenStream| {
         if npt == 0 {
             TokenStream::new()
@@ -150,15 +172,17 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         let phi: Vec<_> = d.phi.iter().map(|&i| pr.element(i)).collect();
         quote! {
             let __phi = [#(#phi),*];
-            let __w = __scaling.weights(options);
-            if !#pp::closed::at_round_off(&__phi, &__w, options) {
-                *modes = [::core::primitive::f64::NAN; #nm];
-                let start = &#coords { #( #coord: #q ),* };
-                #fallback
-            }
-            if #pp::FastNewton::unclosed(&__phi, &__w, options) {
-                let start = &#coords { #( #coord: #q ),* };
-                #fallback
+            match #pp::closed::closing(&__phi, &__scaling.weights(options), options) {
+                #pp::closed::Closing::Closed => {}
+                #pp::closed::Closing::Polish => {
+                    let start = &#coords { #( #coord: #q ),* };
+                    #fallback
+                }
+                #pp::closed::Closing::Refuse => {
+                    *modes = [::core::primitive::f64::NAN; #nm];
+                    let start = &#coords { #( #coord: #q ),* };
+                    #fallback
+                }
             }
         }
     };
@@ -368,6 +392,8 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
         }
 
         #param_trig
+
+        #seeded
 
         /// The step again in the other combinations of modes, after the
         /// step in `modes` found its solution on the other branch than

@@ -51,7 +51,10 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
         &lets[1],
         &[&vel_stage, &acc_stage, &pt_stage],
         false,
-        quote!(#pp::FastNewton::unclosed(&__phi, &__weights, options)),
+        Judge {
+            assess: quote!(fast.assess_closing(&phi, &__weights, options)),
+            polish: quote!(false),
+        },
     );
     let tail = cx.analysis_tail(
         &pr,
@@ -73,7 +76,7 @@ pub(super) fn step(cx: &Ctx<'_>) -> TokenStream {
     let step_body = if cx.closed_path() {
         quote! {
             let mut modes = [::core::primitive::f64::NAN; #nm];
-            let mut angles = [[::core::primitive::f64::NAN; 3]; #na];
+            let mut angles = Self::__seeded(start);
             let mut dtrig = [[::core::primitive::f64::NAN; 3]; #ndt];
             let pt = self.__param_trig();
             let (r, a) = (rates.into_array(), accelerations.into_array());
@@ -544,12 +547,15 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
         &lets[1],
         &[&pos_stage],
         true,
-        quote! {
-            if polish {
-                #pp::FastNewton::unpolished(&__phi, &__weights, options)
-            } else {
-                #pp::FastNewton::unclosed(&__phi, &__weights, options)
-            }
+        Judge {
+            assess: quote! {
+                if polish {
+                    fast.assess(&phi, &__weights, options)
+                } else {
+                    fast.assess_closing(&phi, &__weights, options)
+                }
+            },
+            polish: quote!(polish && #pp::FastNewton::unpolished(&__phi, &__weights, options)),
         },
     );
     let inputs = guards::inputs(cx, "start", false);
@@ -582,15 +588,26 @@ fn pose_core(cx: &Ctx<'_>) -> TokenStream {
     }
 }
 
+/// How Newton's inline iteration judges its iterates: `assess`, the
+/// expression giving each iterate's `Next`, and `polish`, a `bool`
+/// expression of `__phi` for a converged pose to hand to the general
+/// solver for polishing (see [`newton_solve`]).
+struct Judge {
+    assess: TokenStream,
+    polish: TokenStream,
+}
+
 /// Newton's solve from the unknowns of `start` for a schedule whose
 /// first stages are the driver-only values and the Newton cone (`iterated`:
 /// its bindings under `pr`): the common path evaluated inline
 /// (`FastNewton`), anything off it (damping, round-off, failure) handed to
 /// the general solver from `start` again, which returns the failure from
-/// the enclosing function; a converged pose for which `polish` (a `bool`
-/// expression of `__phi`: `FastNewton::unclosed` for a step,
-/// `FastNewton::unpolished` for an assembly) holds is handed over too, to
-/// be polished by the general solver from there. Binds the unknowns at the solution,
+/// the enclosing function. `assess` judges each iterate (`FastNewton::
+/// assess_closing` for a step, which takes one more inline step from a
+/// converged pose above round-off; `FastNewton::assess` for an assembly);
+/// a converged pose for which `polish` (a `bool` expression of `__phi`)
+/// holds is handed to the general solver, to be polished from there as
+/// an assembly is. Binds the unknowns at the solution,
 /// `__phi` (Φ there), the values of the last evaluation that the `later`
 /// stages use and, with `keep_jac`, `jac` (Φ_u there), and updates
 /// `carry`; also returns the number of carried sines and cosines.
@@ -601,8 +618,9 @@ fn newton_solve(
     iterated: &TokenStream,
     later: &[&Vec<Id>],
     keep_jac: bool,
-    polish: TokenStream,
+    judge: Judge,
 ) -> (TokenStream, usize) {
+    let Judge { assess, polish } = judge;
     let fast_loop = FastLoop::new(cx, sched, pr);
     let cached = used_later(cx.g(), sched, 1, &cx.newton_roots(), later);
     let cached_names: Vec<&Ident> = cached.iter().filter_map(|id| pr.names.get(id)).collect();
@@ -662,7 +680,7 @@ fn newton_solve(
             __phi = phi;
             let jac: [f64; #nnz] = #jac;
             #keep_fast
-            match fast.assess(&phi, &__weights, options) {
+            match #assess {
                 #pp::Next::Continue => {}
                 #pp::Next::Converged => break true,
                 #pp::Next::Fallback => break false,
