@@ -26,10 +26,9 @@ fn close3(a: &Vector3<f64>, b: &Vector3<f64>, tol: f64) -> bool {
 
 #[test]
 fn example_3_1_rotations_about_the_coordinate_axes() {
-    // Eq. 32 with û = x, y, z reduces to the printed single-axis operators
-    // (with the library's sine and cosine, for the exact comparison).
+    // Eq. 32 with û = x, y, z reduces to the printed single-axis operators.
     for t in [0.3, -1.2, 2.9] {
-        let (s, c) = kinematics_core::math::sin_cos(t);
+        let (s, c) = f64::sin_cos(t);
         let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c);
         let ry = Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c);
         let rz = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);

@@ -287,21 +287,7 @@ impl FastNewton {
         w: &[f64; N],
         options: &Options,
     ) -> Next {
-        let (f, max) = norms(phi, w);
-        // The Armijo test of the full step that led here (vacuous at the
-        // first evaluation, where f0 is infinite and f is at most infinite).
-        let decreased = f <= (1.0 - ARMIJO) * self.f0;
-        if !decreased {
-            return Next::Fallback;
-        }
-        if max <= options.tolerance {
-            return Next::Converged;
-        }
-        if max == f64::INFINITY || self.iterations >= options.max_iterations {
-            return Next::Fallback;
-        }
-        self.f = f;
-        Next::Continue
+        self.judge(phi, w, options, false)
     }
 
     /// [`FastNewton::assess`] for a step, which must close to round-off:
@@ -319,27 +305,39 @@ impl FastNewton {
         w: &[f64; N],
         options: &Options,
     ) -> Next {
+        self.judge(phi, w, options, true)
+    }
+
+    /// [`FastNewton::assess`], or with `closing`
+    /// [`FastNewton::assess_closing`].
+    #[inline(always)]
+    fn judge<const N: usize>(
+        &mut self,
+        phi: &[f64; N],
+        w: &[f64; N],
+        options: &Options,
+        closing: bool,
+    ) -> Next {
         let (f, max) = norms(phi, w);
-        if self.polishing {
+        if closing && self.polishing {
             return if max <= options.tolerance {
                 Next::Converged
             } else {
                 Next::Fallback
             };
         }
+        // The Armijo test of the full step that led here (vacuous at the
+        // first evaluation, where f0 is infinite and f is at most infinite).
         let decreased = f <= (1.0 - ARMIJO) * self.f0;
         if !decreased {
             return Next::Fallback;
         }
         if max <= options.tolerance {
-            if max <= (POLISH * options.tolerance).max(CLOSED) {
+            if !closing || max <= (POLISH * options.tolerance).max(CLOSED) {
                 return Next::Converged;
             }
             self.polishing = true;
-            self.f = f;
-            return Next::Continue;
-        }
-        if max == f64::INFINITY || self.iterations >= options.max_iterations {
+        } else if max == f64::INFINITY || self.iterations >= options.max_iterations {
             return Next::Fallback;
         }
         self.f = f;

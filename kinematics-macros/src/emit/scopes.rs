@@ -116,23 +116,23 @@ fn split(local: &Local) -> Option<(Split, Expr)> {
             names.extend(n.map(|(s, d)| (s, d, ty)));
             lhs
         }
-        Pat::Slice(s) if matches!(local.pat, Pat::Slice(_)) => {
+        Pat::Slice(_) | Pat::Tuple(_) if !matches!(local.pat, Pat::Type(_)) => {
+            let elems = match pat {
+                Pat::Slice(s) => &s.elems,
+                Pat::Tuple(t) => &t.elems,
+                _ => return None,
+            };
             let mut parts = Vec::new();
-            for p in &s.elems {
+            for p in elems {
                 let (n, lhs) = one(p)?;
                 names.extend(n.map(|(s, d)| (s, d, quote!(_))));
                 parts.push(lhs);
             }
-            parse_quote!([#(#parts),*])
-        }
-        Pat::Tuple(t) if matches!(local.pat, Pat::Tuple(_)) => {
-            let mut parts = Vec::new();
-            for p in &t.elems {
-                let (n, lhs) = one(p)?;
-                names.extend(n.map(|(s, d)| (s, d, quote!(_))));
-                parts.push(lhs);
+            if matches!(pat, Pat::Slice(_)) {
+                parse_quote!([#(#parts),*])
+            } else {
+                parse_quote!((#(#parts,)*))
             }
-            parse_quote!((#(#parts,)*))
         }
         _ => return None,
     };
