@@ -426,7 +426,12 @@ pub fn expand(
     let blocks = closed::blocks_const(&cx);
     let modes = closed::modes_type(&cx);
     let closed_methods = closed_step::closed_methods(&cx);
-    scopes::shallow(quote! {
+    let shallow = if cx.g().len() > scopes::LARGE_GRAPH {
+        scopes::shallow
+    } else {
+        core::convert::identity
+    };
+    shallow(quote! {
         #types
 
         #modes

@@ -29,6 +29,11 @@ use syn::visit::Visit;
 use syn::visit_mut::VisitMut;
 use syn::{parse_quote, Block, Expr, ExprAssign, Ident, Local, Pat, Stmt, Token};
 
+/// The size of the expression graph above which the expansion is checked
+/// for long blocks: a smaller model cannot have one, and is neither
+/// walked nor parsed again.
+pub(super) const LARGE_GRAPH: usize = 2048;
+
 /// Blocks with more `let`s than this are rewritten.
 const MANY: usize = 256;
 
@@ -36,9 +41,10 @@ const MANY: usize = 256;
 const RUN: usize = 128;
 
 /// `tokens` with every long run of `let`s in a block declared at once
-/// (see the module docs); unchanged when no block is long.
+/// (see the module docs); unchanged, and not parsed, when no block is
+/// long.
 pub(super) fn shallow(tokens: TokenStream) -> TokenStream {
-    if count_lets(tokens.clone()) <= MANY {
+    if most_lets(tokens.clone()) <= MANY {
         return tokens;
     }
     let Ok(mut file) = syn::parse2::<syn::File>(tokens.clone()) else {
@@ -48,16 +54,20 @@ pub(super) fn shallow(tokens: TokenStream) -> TokenStream {
     file.into_token_stream()
 }
 
-/// The number of `let` keywords in `tokens`, at every depth.
-fn count_lets(tokens: TokenStream) -> usize {
-    tokens
-        .into_iter()
-        .map(|t| match t {
-            TokenTree::Ident(i) if i == "let" => 1,
-            TokenTree::Group(g) => count_lets(g.stream()),
-            _ => 0,
-        })
-        .sum()
+/// The most `let` keywords directly inside one group of `tokens` (a
+/// block's statements are the tokens of one brace group), over every
+/// group at every depth.
+fn most_lets(tokens: TokenStream) -> usize {
+    let mut here = 0;
+    let mut most = 0;
+    for t in tokens {
+        match t {
+            TokenTree::Ident(i) if i == "let" => here += 1,
+            TokenTree::Group(g) => most = most.max(most_lets(g.stream())),
+            _ => {}
+        }
+    }
+    most.max(here)
 }
 
 struct Shallow;
