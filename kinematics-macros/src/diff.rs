@@ -65,7 +65,7 @@ pub fn time_derivative_by_partials(
     // Only the coordinates `root` involves have nonzero partials: the
     // others are skipped rather than differentiated to zero (a loop of a
     // chain involves a few of its hundreds of coordinates).
-    let involved = leaves(g, root);
+    let involved: HashSet<Leaf> = g.leaves_under(root).collect();
     for j in 0..coords {
         if !involved.contains(&Leaf::Q(j)) && !involved.contains(&Leaf::Qd(j)) {
             continue;
@@ -87,25 +87,6 @@ pub fn time_derivative_by_partials(
         }
     }
     total
-}
-
-/// The leaves `root` depends on.
-pub fn leaves(g: &Graph, root: Id) -> HashSet<Leaf> {
-    let mut out = HashSet::new();
-    let mut seen = HashSet::new();
-    let mut stack = vec![root];
-    while let Some(id) = stack.pop() {
-        if !seen.insert(id) {
-            continue;
-        }
-        match g.node(id) {
-            Node::Leaf(l) => {
-                out.insert(l);
-            }
-            node => stack.extend(node.children()),
-        }
-    }
-    out
 }
 
 /// The derivative of a leaf along `along`.

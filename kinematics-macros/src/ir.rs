@@ -248,23 +248,31 @@ impl Graph {
             .count()
     }
 
-    /// Whether `id` depends on `leaf`.
-    ///
-    /// A walk of the nodes under `id` only, stopping at the first such
-    /// leaf: the cost is the size of the expression, not of the arena.
-    pub fn depends_on(&self, id: Id, pred: &dyn Fn(Leaf) -> bool) -> bool {
+    /// The leaves under `id`, each once, by a walk of the nodes under `id`
+    /// only: its cost is the size of the expression, not of the arena
+    /// (a model of hundreds of loops asks this of thousands of small
+    /// expressions).
+    pub fn leaves_under(&self, id: Id) -> impl Iterator<Item = Leaf> + '_ {
         let mut seen = std::collections::HashSet::new();
         let mut stack = vec![id];
-        while let Some(i) = stack.pop() {
-            if !seen.insert(i) {
-                continue;
+        core::iter::from_fn(move || {
+            while let Some(i) = stack.pop() {
+                if !seen.insert(i) {
+                    continue;
+                }
+                match self.node(i) {
+                    Node::Leaf(l) => return Some(l),
+                    n => stack.extend(n.children()),
+                }
             }
-            match self.node(i) {
-                Node::Leaf(l) if pred(l) => return true,
-                n => stack.extend(n.children()),
-            }
-        }
-        false
+            None
+        })
+    }
+
+    /// Whether `id` depends on a leaf for which `pred` holds (stopping at
+    /// the first).
+    pub fn depends_on(&self, id: Id, pred: &dyn Fn(Leaf) -> bool) -> bool {
+        self.leaves_under(id).any(pred)
     }
 }
 

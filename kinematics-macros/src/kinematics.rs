@@ -84,7 +84,7 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     let jac = phi
         .iter()
         .map(|&p| {
-            let involved = crate::diff::leaves(g, p);
+            let involved: std::collections::HashSet<Leaf> = g.leaves_under(p).collect();
             (nd..nq)
                 .map(|j| {
                     if involved.contains(&Leaf::Q(j)) {
