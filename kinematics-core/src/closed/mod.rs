@@ -147,12 +147,15 @@ fn sign(x: f64) -> f64 {
     }
 }
 
-/// A discriminant `d` computed from terms of size `size`: a negative value
-/// within its rounding error (8 ε · size) is taken as 0, a double root (the
-/// mechanism exactly at a limit position).
+/// A discriminant `d` computed from terms of size `size`: a value within
+/// its rounding error (|d| ≤ 8 ε · size, either sign) is taken as 0, a
+/// double root (the mechanism at a limit position to round-off). A
+/// positive `d` of that size would split the root by about √ε, which the
+/// data cannot tell from one root; its pose closes to round-off either
+/// way, the residual being quadratic in the split.
 #[inline(always)]
 fn clamp(d: f64, size: f64) -> f64 {
-    if d < 0.0 && d >= -8.0 * f64::EPSILON * size {
+    if d.abs() <= 8.0 * f64::EPSILON * size {
         0.0
     } else {
         d
@@ -518,7 +521,7 @@ pub fn carried_sin_cos(phi: f64, carried: &mut [f64; 3]) -> [f64; 2] {
         let vers = d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))));
         (c0 - (c0 * vers + s0 * sin), s0 - (s0 * vers - c0 * sin))
     } else {
-        let (s, c) = crate::math::sin_cos(phi);
+        let (s, c) = crate::math::table::sin_cos(phi);
         (c, s)
     };
     *carried = [c, s, phi];
@@ -536,7 +539,7 @@ pub fn guess_trig(carried: &[f64; 3], x: f64) -> [f64; 2] {
     if carried[2] == x {
         [carried[0], carried[1]]
     } else {
-        let (s, c) = crate::math::sin_cos(x);
+        let (s, c) = crate::math::table::sin_cos(x);
         [c, s]
     }
 }
@@ -554,7 +557,7 @@ pub fn seeded(x: f64) -> [f64; 3] {
     if x.abs() > 1_048_576.0 || x.is_nan() {
         return [f64::NAN; 3];
     }
-    let (s, c) = crate::math::sin_cos(x);
+    let (s, c) = crate::math::table::sin_cos(x);
     [c, s, x]
 }
 
@@ -723,6 +726,33 @@ mod tests {
         }
         assert!(super::unit_scale(0.0, 1.0).is_err());
         assert!(super::unit_scale(f64::NAN, 1.0).is_err());
+    }
+
+    /// a cos θ + b sin θ + c = 0 with c = −R (1 − 2⁻⁵³): the discriminant
+    /// R² − c² ≈ 2⁻⁵² R², positive but within its rounding error, is a
+    /// double root (the limit position θ = 0 to round-off): both modes give
+    /// the same solution, sin θ = 0 exactly. A root split by more than the
+    /// rounding (c = −R (1 − 10⁻⁹)) keeps its two solutions.
+    #[test]
+    fn a_discriminant_within_rounding_is_a_double_root() {
+        for r in [1.0, 3.7e-3, 2.5e4] {
+            let c = -r * (1.0 - f64::EPSILON / 2.0);
+            let solve = |c: f64, mut mode: f64| super::angle(r, 0.0, c, &mut mode, || [1.0, 0.0]);
+            let (plus, minus) = (solve(c, 1.0), solve(c, -1.0));
+            assert_eq!(plus, minus, "R = {r}");
+            assert!(
+                plus.is_ok_and(|[cos, sin]| sin == 0.0 && (cos - 1.0).abs() <= f64::EPSILON),
+                "{plus:?}"
+            );
+            let c = -r * (1.0 - 1e-9);
+            let (Ok([_, s1]), Ok([_, s2])) = (solve(c, 1.0), solve(c, -1.0)) else {
+                panic!("R = {r}: no solution");
+            };
+            // sin θ = ±√(1 − (1 − 10⁻⁹)²) ≈ ±√(2·10⁻⁹), to the relative
+            // error the cancellation in R² − c² leaves (about 10⁻⁷).
+            let split = 2e-9f64.sqrt();
+            assert!((s1 - split).abs() < 1e-6 * split && (s2 + split).abs() < 1e-6 * split);
+        }
     }
 
     /// For a few blocks, every other combination once; for many, the base

@@ -81,11 +81,52 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
             .collect::<std::collections::BTreeSet<Id>>()
             .into_iter()
             .collect();
-        let mut roots = pt.clone();
+        // Each distinct argument's sine and cosine from one call of the
+        // table's `sin_cos` (a stateless step pays for these at every
+        // call, where the platform's `sincos` would cost a third of it).
+        let mut args: Vec<Id> = Vec::new();
+        let mut which: Vec<Option<(usize, bool)>> = Vec::new();
+        for &i in &pt {
+            which.push(match g.node(i) {
+                Node::Call(f @ (Func::Sin | Func::Cos), x) => {
+                    let j = args.iter().position(|&a| a == x).unwrap_or_else(|| {
+                        args.push(x);
+                        args.len() - 1
+                    });
+                    Some((j, f == Func::Sin))
+                }
+                _ => None,
+            });
+        }
+        let mut roots: Vec<Id> = pt
+            .iter()
+            .zip(&which)
+            .filter(|(_, w)| w.is_none())
+            .map(|(&i, _)| i)
+            .collect();
+        roots.extend(&args);
         roots.extend(&ks);
         let sched = schedule(g, &[roots]);
         let (pr, lets) = super::print::bind(g, &sched, &leaf);
-        let values: Vec<_> = pt.iter().map(|&i| pr.expr(i)).collect();
+        let sc: Vec<Ident> = (0..args.len())
+            .map(|j| format_ident!("__sc_{}", j))
+            .collect();
+        let sc_values: Vec<_> = args.iter().map(|&x| pr.operand(x)).collect();
+        let values: Vec<_> = pt
+            .iter()
+            .zip(&which)
+            .map(|(&i, w)| match *w {
+                Some((j, true)) => {
+                    let v = &sc[j];
+                    quote!(#v.0)
+                }
+                Some((j, false)) => {
+                    let v = &sc[j];
+                    quote!(#v.1)
+                }
+                None => pr.expr(i),
+            })
+            .collect();
         let far: Vec<_> = ks.iter().map(|&k| pr.operand(k)).collect();
         let lets = &lets[0];
         quote! {
@@ -100,6 +141,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                 if false #( || #far.abs() > 1048576.0 )* {
                     return [::core::primitive::f64::NAN; #npt];
                 }
+                #( let #sc = #pp::math::table::sin_cos(#sc_values); )*
                 [#(#values),*]
             }
         }

@@ -57,6 +57,8 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     return libm::sincos(x);
 }
 
+pub mod table;
+
 /// atan2(y, x), the angle of (x, y).
 #[inline(always)]
 #[must_use]
