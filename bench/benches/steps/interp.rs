@@ -1,13 +1,12 @@
 //! The same step with the expression DAG of the definition evaluated at
 //! run time: what a symbolic library that interprets its expressions does.
-//! The DAG is built by the macro's own pipeline (parse, check, lower,
+//! The DAG is built by the macro's own compiler (parse, check, lower,
 //! differentiate); every node is evaluated once per stage, in topological
 //! order, into a register file.
 
 use kinematics_core::solve::Lu;
 
-use crate::ir::{Graph, Id, Leaf, Node};
-use crate::{check, kinematics, lower, parse};
+use kinematics_compiler::ir::{Graph, Id, Leaf, Node};
 
 /// A compiled definition with its evaluation schedule.
 pub struct Interp {
@@ -47,44 +46,41 @@ impl Interp {
     /// # Panics
     /// If the definition has errors.
     pub fn new(tokens: proc_macro2::TokenStream, params: Vec<f64>) -> Self {
-        let def: parse::Definition = syn::parse2(tokens).expect("a valid definition");
-        let mut errors = crate::names::Errors::default();
-        let names = check::check(&def, &mut errors);
-        let mut model = lower::lower(&def, &names, &mut errors);
-        assert!(errors.finish().is_ok(), "definition has errors");
-        let d = kinematics::derive(&mut model);
-        let g = model.graph;
-        let jac: Vec<Id> = d.jac.iter().flatten().copied().collect();
+        let c = kinematics_compiler::compile(tokens).expect("a valid definition");
+        let g = c.graph().clone();
+        let jac: Vec<Id> = c.jacobian().iter().flatten().copied().collect();
         // The point of interest is the last one declared (the others help
         // to write the loops).
-        let mut outputs: Vec<Id> = [d.pos.last(), d.vel.last(), d.acc.last()]
-            .into_iter()
-            .flatten()
-            .flatten()
-            .copied()
-            .collect();
-        for f in &d.frames {
+        let mut outputs: Vec<Id> = c
+            .points()
+            .last()
+            .map(|p| [p.position, p.velocity, p.acceleration].concat())
+            .unwrap_or_default();
+        for f in c.frames() {
+            let f = f.roots;
             outputs.extend(f.rotation.iter().flatten().chain(&f.omega).chain(&f.alpha));
         }
+        let phi: Vec<Id> = c.residuals().iter().map(|(id, _)| *id).collect();
+        let (vel_rhs, acc_rhs) = (c.velocity_rhs().to_vec(), c.acceleration_rhs().to_vec());
         let mut done = vec![false; g.len()];
-        let newton_roots: Vec<Id> = d.phi.iter().chain(&jac).copied().collect();
+        let newton_roots: Vec<Id> = phi.iter().chain(&jac).copied().collect();
         let newton = cone(&g, &newton_roots, &mut done);
-        let vel = cone(&g, &d.vel_rhs, &mut done);
-        let acc = cone(&g, &d.acc_rhs, &mut done);
+        let vel = cone(&g, &vel_rhs, &mut done);
+        let acc = cone(&g, &acc_rhs, &mut done);
         let out = cone(&g, &outputs, &mut done);
         Interp {
             regs: vec![0.0; g.len()],
             params,
-            nd: model.drivers as usize,
-            nu: model.unknowns as usize,
+            nd: c.drivers(),
+            nu: c.unknowns(),
             newton,
             vel,
             acc,
             out,
-            phi: d.phi,
+            phi,
             jac,
-            vel_rhs: d.vel_rhs,
-            acc_rhs: d.acc_rhs,
+            vel_rhs,
+            acc_rhs,
             outputs,
             g,
         }

@@ -25,58 +25,6 @@
 // numerical loops index several arrays in step, as in the formulas.
 #![allow(clippy::expect_used, clippy::panic, clippy::needless_range_loop)]
 
-// The macro's pipeline, compiled here to build the DAG for variant 5 and to
-// time the expansion. Its modules refer to each other through `crate::`,
-// so they sit at this crate's root.
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/blocks.rs"]
-mod blocks;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/check.rs"]
-mod check;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/closed/mod.rs"]
-mod closed;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/cse.rs"]
-mod cse;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/diff.rs"]
-mod diff;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/emit/mod.rs"]
-mod emit;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/expand.rs"]
-mod expand;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/ir.rs"]
-mod ir;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/kinematics.rs"]
-mod kinematics;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/lower/mod.rs"]
-mod lower;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/names.rs"]
-mod names;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/parse.rs"]
-mod parse;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/scale.rs"]
-mod scale;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/sensitivity.rs"]
-mod sensitivity;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/simplify.rs"]
-mod simplify;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../kinematics-macros/src/validate.rs"]
-mod validate;
-
 mod generic;
 mod hand;
 mod interp;
@@ -640,9 +588,9 @@ fn expansion_table() -> String {
     );
     for (name, tokens) in defs {
         let t = median_time(11, || {
-            black_box(expand::expand(black_box(tokens.clone())));
+            black_box(kinematics_compiler::expand(black_box(tokens.clone())));
         });
-        let counts = expand::op_counts(tokens).expect("a valid definition");
+        let counts = kinematics_compiler::op_counts(tokens).expect("a valid definition");
         let [(_, n), (_, a)] = counts;
         out += &format!(
             "| {name} | {:.2} ms | {} → {} | {} → {} |\n",

@@ -4,7 +4,7 @@
 //!
 //! For |x| ≤ 2²⁰: x = kπ/64 + d with k = round(64x/π) and |d| ≤ π/128,
 //! d reduced in three parts (Cody and Waite) so that it is exact to about
-//! one unit in its last place; (cos kπ/64, sin kπ/64) from [`TABLE`], the
+//! one unit in its last place; (cos kπ/64, sin kπ/64) from a table of the
 //! correctly rounded values; then the rotation by d,
 //!
 //! cos x = cos kπ/64 − (cos kπ/64 · (1 − cos d) + sin kπ/64 · sin d),

@@ -43,13 +43,21 @@ pub enum Leaf {
 /// Elementary functions of one argument.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub enum Func {
+    /// sin x.
     Sin,
+    /// cos x.
     Cos,
+    /// tan x.
     Tan,
+    /// asin x, in [−π/2, π/2].
     Asin,
+    /// acos x, in [0, π].
     Acos,
+    /// √x.
     Sqrt,
+    /// eˣ.
     Exp,
+    /// ln x.
     Ln,
     /// |x|: used only for the term scales of the equations (`scale.rs`),
     /// which are evaluated, never differentiated.
@@ -93,13 +101,21 @@ impl Func {
 pub enum Node {
     /// A constant, stored as the bits of an `f64` (never `-0.0`, never NaN).
     Const(u64),
+    /// An input: a parameter, a coordinate or one of its rates.
     Leaf(Leaf),
+    /// a + b.
     Add(Id, Id),
+    /// a · b.
     Mul(Id, Id),
+    /// a / b.
     Div(Id, Id),
+    /// −a.
     Neg(Id),
+    /// aⁿ for an integer n.
     Powi(Id, i32),
+    /// f(a) for an elementary function f.
     Call(Func, Id),
+    /// atan2(y, x), the angle of (x, y), in (−π, π].
     Atan2(Id, Id),
 }
 
@@ -141,6 +157,11 @@ impl Graph {
     /// Number of distinct nodes.
     pub fn len(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// Whether the graph has no node.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
     }
 
     /// The node behind an id.

@@ -155,7 +155,7 @@ pub fn accepted_expansions(seed: u64, count: usize) -> proc_macro2::TokenStream 
     let mut out = proc_macro2::TokenStream::new();
     let mut accepted = 0usize;
     for (k, ts) in mutants(seed, count).into_iter().enumerate() {
-        let code = crate::expand::expand(ts);
+        let code = crate::expand(ts);
         if code.to_string().contains("compile_error") {
             continue;
         }

@@ -6,15 +6,14 @@ use crate::fuzz::four_bar;
 
 #[test]
 fn four_bar_expansion_snapshot() {
-    let tokens = crate::expand::expand(four_bar());
+    let tokens = crate::expand(four_bar());
     let file: syn::File = syn::parse2(tokens).expect("the expansion is valid Rust");
     insta::assert_snapshot!(prettyplease::unparse(&file));
 }
 
 #[test]
 fn four_bar_operation_count_after_cse() {
-    let [(_, newton), (_, analysis)] =
-        crate::expand::op_counts(four_bar()).expect("valid definition");
+    let [(_, newton), (_, analysis)] = crate::op_counts(four_bar()).expect("valid definition");
     let (newton_tree, newton_shared) = (newton.tree, newton.shared as u64);
     let (analysis_tree, analysis_shared) = (analysis.tree, analysis.shared as u64);
     println!("residual and Jacobian: {newton_tree} operations as trees, {newton_shared} after CSE");
@@ -31,7 +30,7 @@ fn four_bar_operation_count_after_cse() {
 
 #[test]
 fn errors_come_back_as_compile_errors_not_panics() {
-    let out = crate::expand::expand(quote! {
+    let out = crate::expand(quote! {
         struct M {
             params { a }
             drivers { phi }
@@ -49,7 +48,7 @@ fn mutated_definitions_give_code_or_errors_never_a_panic() {
     let mut accepted = 0;
     for ts in crate::fuzz::mutants(0xF00D, 3000) {
         let input = ts.to_string();
-        let out = std::panic::catch_unwind(|| crate::expand::expand(ts))
+        let out = std::panic::catch_unwind(|| crate::expand(ts))
             .unwrap_or_else(|_| panic!("the macro panicked on: {input}"));
         let text = out.to_string();
         if text.contains("compile_error") {
@@ -69,7 +68,7 @@ fn mutated_definitions_give_code_or_errors_never_a_panic() {
 #[test]
 fn the_mutation_bases_are_valid_definitions() {
     for def in crate::fuzz::definitions() {
-        let text = crate::expand::expand(def.clone()).to_string();
+        let text = crate::expand(def.clone()).to_string();
         assert!(!text.contains("compile_error"), "{def}\n{text}");
     }
 }

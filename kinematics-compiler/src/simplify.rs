@@ -10,7 +10,7 @@
 use crate::ir::{Func, Graph, Id, Node};
 
 /// The constructors of the expression store, each applying the rewrites of
-/// [`rewrite`] (unless the graph is `raw`), so that every node is built
+/// `rewrite` (unless the graph is `raw`), so that every node is built
 /// simplified.
 impl Graph {
     /// Adds a node after applying the simplification rules.

@@ -1,0 +1,289 @@
+//! The whole pipeline, as pure functions over `proc_macro2` tokens: the
+//! front and middle end ([`compile`]: parse, checks, lowering,
+//! differentiation, scaling, closed forms, sensitivities), and the Rust back
+//! end over its result ([`expand`]).
+
+use proc_macro2::TokenStream;
+
+use crate::closed::{Closed, Offset};
+use crate::ir::{Graph, Id, OpCount};
+use crate::kinematics::{Derived, DerivedFrame};
+use crate::lower::{CoordKind, Model};
+use crate::parse::Definition;
+use crate::scale::Scales;
+use crate::sensitivity::Partials;
+use crate::{check, closed, emit, kinematics, lower, names, parse, scale, sensitivity, validate};
+
+/// A checked, lowered and differentiated mechanism definition: the
+/// expression graph and the roots each stage evaluates, what a back end
+/// turns into code (the Rust back end into the items `mechanism!`
+/// generates).
+///
+/// Every root is a node of [`Compiled::graph`], a directed acyclic graph
+/// of arithmetic over the leaves: the parameters p, the coordinates
+/// q = (d, u) (drivers d, then unknowns u), and their first and second
+/// time derivatives.
+pub struct Compiled {
+    def: Definition,
+    model: Model,
+    derived: Derived,
+    scales: Scales,
+    closed: Vec<Closed>,
+    offsets: Vec<Offset>,
+    sensitivities: Option<Partials>,
+}
+
+/// The kind of a coordinate: what its value measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// An angle (rad).
+    Angle,
+    /// A length, or any other non-angular quantity.
+    Length,
+}
+
+/// A point's position r, velocity v = dr/dt and acceleration a = d²r/dt²,
+/// each as 2 or 3 roots (planar or spatial components).
+pub struct PointRoots<'a> {
+    /// The point's name.
+    pub name: String,
+    /// r.
+    pub position: &'a [Id],
+    /// v.
+    pub velocity: &'a [Id],
+    /// a.
+    pub acceleration: &'a [Id],
+}
+
+/// A body frame's rotation R (row by row), angular velocity ω and
+/// acceleration α in the ground frame, and its origin's position, velocity
+/// and acceleration.
+pub struct FrameRoots<'a> {
+    /// The frame's name.
+    pub name: String,
+    /// The roots.
+    pub roots: &'a DerivedFrame,
+}
+
+impl Compiled {
+    /// The mechanism's name (the struct's).
+    #[must_use]
+    pub fn name(&self) -> String {
+        self.def.name.to_string()
+    }
+
+    /// The expression graph every root belongs to.
+    #[must_use]
+    pub fn graph(&self) -> &Graph {
+        &self.model.graph
+    }
+
+    /// The parameters' names, in declaration order (leaf `Param(i)` is the
+    /// i-th).
+    #[must_use]
+    pub fn parameters(&self) -> Vec<String> {
+        self.def.params.iter().map(|p| p.name.to_string()).collect()
+    }
+
+    /// The coordinates' names and kinds: the drivers, then the unknowns,
+    /// in declaration order (leaf `Q(j)` is the j-th).
+    #[must_use]
+    pub fn coordinates(&self) -> Vec<(String, Kind)> {
+        self.def
+            .drivers
+            .iter()
+            .chain(&self.def.unknowns)
+            .zip(&self.model.kinds)
+            .map(|(d, k)| {
+                let kind = match k {
+                    CoordKind::Angle => Kind::Angle,
+                    CoordKind::Length => Kind::Length,
+                };
+                (d.name.to_string(), kind)
+            })
+            .collect()
+    }
+
+    /// Number of drivers.
+    #[must_use]
+    pub fn drivers(&self) -> usize {
+        self.model.drivers as usize
+    }
+
+    /// Number of unknowns (and of scalar equations).
+    #[must_use]
+    pub fn unknowns(&self) -> usize {
+        self.model.unknowns as usize
+    }
+
+    /// The residuals Φ_i(p, q) of the scalar loop-closure equations, with
+    /// each equation's text as written.
+    #[must_use]
+    pub fn residuals(&self) -> Vec<(Id, &str)> {
+        self.model
+            .equations
+            .iter()
+            .map(|e| (e.residual, e.text.as_str()))
+            .collect()
+    }
+
+    /// The Jacobian Φ_u = ∂Φ/∂u: row i, column k is ∂Φ_i/∂u_k.
+    #[must_use]
+    pub fn jacobian(&self) -> &[Vec<Id>] {
+        &self.derived.jac
+    }
+
+    /// The right-hand side of the velocity equations Φ_u u' = −Φ_d d'.
+    #[must_use]
+    pub fn velocity_rhs(&self) -> &[Id] {
+        &self.derived.vel_rhs
+    }
+
+    /// The right-hand side of the acceleration equations
+    /// Φ_u u'' = −Φ_d d'' − γ, with γ the convective terms
+    /// (d/dt (Φ_q) q' at fixed q'').
+    #[must_use]
+    pub fn acceleration_rhs(&self) -> &[Id] {
+        &self.derived.acc_rhs
+    }
+
+    /// Every point of interest, in declaration order.
+    #[must_use]
+    pub fn points(&self) -> Vec<PointRoots<'_>> {
+        self.def
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, p)| PointRoots {
+                name: p.name.to_string(),
+                position: &self.derived.pos[k],
+                velocity: &self.derived.vel[k],
+                acceleration: &self.derived.acc[k],
+            })
+            .collect()
+    }
+
+    /// Every body frame, in declaration order.
+    #[must_use]
+    pub fn frames(&self) -> Vec<FrameRoots<'_>> {
+        self.def
+            .frames
+            .iter()
+            .zip(&self.derived.frames)
+            .map(|(f, roots)| FrameRoots {
+                name: f.name.to_string(),
+                roots,
+            })
+            .collect()
+    }
+
+    /// Floating-point operations of the Newton step (Φ and Φ_u) and of the
+    /// analysis (both right-hand sides, points and frames): written out as
+    /// trees, and after common-subexpression elimination.
+    #[must_use]
+    pub fn operation_counts(&self) -> [(&'static str, OpCount); 2] {
+        kinematics::operation_counts(&self.model, &self.derived)
+    }
+
+    /// The Rust items `mechanism!` generates for this definition.
+    #[must_use]
+    pub fn to_rust(&self) -> TokenStream {
+        emit::expand(
+            &self.def,
+            &self.model,
+            &self.derived,
+            &self.scales,
+            &self.closed,
+            &self.offsets,
+            self.sensitivities.as_ref(),
+        )
+    }
+}
+
+/// Why a definition did not compile: the errors, each spanned on the
+/// offending tokens, and the parsed definition when parsing succeeded
+/// (the macro emits stub types from it beside the errors).
+struct Failure {
+    def: Option<Box<Definition>>,
+    error: syn::Error,
+}
+
+/// The front and middle end.
+fn run(input: TokenStream) -> Result<Compiled, Failure> {
+    let def: parse::Definition =
+        syn::parse2(input).map_err(|error| Failure { def: None, error })?;
+    let mut errors = names::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    check::check_mobility(&def, model.spatial, &mut errors);
+    if errors.is_empty() {
+        validate::validate(&def, &model, &mut errors);
+    }
+    if let Err(error) = errors.finish() {
+        return Err(Failure {
+            def: Some(Box::new(def)),
+            error,
+        });
+    }
+    let derived = kinematics::derive(&mut model);
+    let scales = scale::scales(&mut model, def.params.len());
+    let closed = closed::closed_blocks(&mut model, &derived.jac);
+    let offsets = closed::offsets(&mut model);
+    let sensitivities = def.sensitivities.as_ref().map(|(_, names)| {
+        let params: Vec<u32> = names
+            .iter()
+            .filter_map(|n| def.params.iter().position(|p| p.name == *n))
+            .filter_map(|k| u32::try_from(k).ok())
+            .collect();
+        sensitivity::partials(&mut model, &derived, &params)
+    });
+    Ok(Compiled {
+        def,
+        model,
+        derived,
+        scales,
+        closed,
+        offsets,
+        sensitivities,
+    })
+}
+
+/// Compiles a definition, the tokens written inside `mechanism! { … }`.
+///
+/// # Errors
+/// Every error the definition has, combined into one `syn::Error` (iterate
+/// over it for each message and its span), worded as `mechanism!` reports
+/// them.
+pub fn compile(input: TokenStream) -> Result<Compiled, syn::Error> {
+    run(input).map_err(|f| f.error)
+}
+
+/// What `mechanism!` expands to: the generated items for a valid
+/// definition, or `compile_error!`s spanned on the offending tokens (with
+/// stub types, so that uses of the mechanism elsewhere add no knock-on
+/// errors).
+#[must_use]
+pub fn expand(input: TokenStream) -> TokenStream {
+    match run(input) {
+        Ok(compiled) => compiled.to_rust(),
+        Err(Failure {
+            def: Some(def),
+            error,
+        }) => emit::fallback(&def, error.into_compile_error()),
+        Err(Failure { def: None, error }) => error.into_compile_error(),
+    }
+}
+
+/// The operation counts of a definition (see [`Compiled::operation_counts`]),
+/// or `None` if it has errors. Unlike [`compile`], stops after
+/// differentiation.
+#[must_use]
+pub fn op_counts(input: TokenStream) -> Option<[(&'static str, OpCount); 2]> {
+    let def: parse::Definition = syn::parse2(input).ok()?;
+    let mut errors = names::Errors::default();
+    let names = check::check(&def, &mut errors);
+    let mut model = lower::lower(&def, &names, &mut errors);
+    errors.finish().ok()?;
+    let derived = kinematics::derive(&mut model);
+    Some(kinematics::operation_counts(&model, &derived))
+}
