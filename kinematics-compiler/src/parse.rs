@@ -416,7 +416,7 @@ fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
 fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
     let expr: Expr = input.parse()?;
     let tokens = quote::ToTokens::to_token_stream(&expr);
-    let text = tokens.to_string();
+    let text = expr_text(&expr);
     match expr {
         Expr::Binary(syn::ExprBinary {
             left,
@@ -433,6 +433,52 @@ fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
             other,
             "an equation must have the form `lhs == rhs`, e.g. `B + polar(b, th3) == C`",
         )),
+    }
+}
+
+/// An expression as text, the same whether the tokens come from rustc (in
+/// `mechanism!`) or from a string (at run time): calls and indexing
+/// without spaces, binary operators between single spaces, ", " between
+/// arguments, literals as written. Forms the language does not take are
+/// printed from their tokens.
+pub fn expr_text(e: &Expr) -> String {
+    let list = |args: &syn::punctuated::Punctuated<Expr, Token![,]>| {
+        args.iter().map(expr_text).collect::<Vec<_>>().join(", ")
+    };
+    match e {
+        Expr::Binary(b) => {
+            let op = quote::ToTokens::to_token_stream(&b.op)
+                .to_string()
+                .replace(' ', "");
+            format!("{} {op} {}", expr_text(&b.left), expr_text(&b.right))
+        }
+        Expr::Unary(u) => {
+            let op = quote::ToTokens::to_token_stream(&u.op).to_string();
+            format!("{op}{}", expr_text(&u.expr))
+        }
+        Expr::Paren(p) => format!("({})", expr_text(&p.expr)),
+        Expr::Call(c) => format!("{}({})", expr_text(&c.func), list(&c.args)),
+        Expr::MethodCall(m) => {
+            format!("{}.{}({})", expr_text(&m.receiver), m.method, list(&m.args))
+        }
+        Expr::Index(i) => format!("{}[{}]", expr_text(&i.expr), expr_text(&i.index)),
+        Expr::Field(f) => {
+            let member = match &f.member {
+                syn::Member::Named(n) => n.to_string(),
+                syn::Member::Unnamed(i) => i.index.to_string(),
+            };
+            format!("{}.{member}", expr_text(&f.base))
+        }
+        Expr::Path(p) if p.qself.is_none() => p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect::<Vec<_>>()
+            .join("::"),
+        Expr::Lit(l) => quote::ToTokens::to_token_stream(&l.lit).to_string(),
+        Expr::Group(g) => expr_text(&g.expr),
+        other => quote::ToTokens::to_token_stream(other).to_string(),
     }
 }
 

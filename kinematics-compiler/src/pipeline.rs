@@ -55,6 +55,19 @@ pub struct PointRoots<'a> {
     pub acceleration: &'a [Id],
 }
 
+/// One diagonal block of Φ_u in its block-triangular form: equations that
+/// determine their unknowns once the blocks before have been solved.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    /// Its equations (rows of Φ_u, ascending).
+    pub equations: Vec<usize>,
+    /// Its unknowns (0-based among the unknowns).
+    pub unknowns: Vec<usize>,
+    /// The closed form that solves it (`"angle"`, `"linear"`, `"RRR"`,
+    /// `"RRT"`, `"RTR"`, `"TRT"`), or `None` for Newton–Raphson.
+    pub closed_form: Option<&'static str>,
+}
+
 /// A body frame's rotation R (row by row), angular velocity ω and
 /// acceleration α in the ground frame, and its origin's position, velocity
 /// and acceleration.
@@ -83,6 +96,13 @@ impl Compiled {
     #[must_use]
     pub fn parameters(&self) -> Vec<String> {
         self.def.params.iter().map(|p| p.name.to_string()).collect()
+    }
+
+    /// Whether each parameter (in declaration order) is declared a length
+    /// (`name: length`), which must be positive.
+    #[must_use]
+    pub fn length_parameters(&self) -> Vec<bool> {
+        self.def.params.iter().map(|p| p.length).collect()
     }
 
     /// The coordinates' names and kinds: the drivers, then the unknowns,
@@ -145,6 +165,55 @@ impl Compiled {
     #[must_use]
     pub fn acceleration_rhs(&self) -> &[Id] {
         &self.derived.acc_rhs
+    }
+
+    /// The term scale S_i of each equation: the sum of the magnitudes of
+    /// its terms with the unknown lengths counted as 0 (a length that sets
+    /// the size of Φ_i, so that |Φ_i| / S_i is a relative residual; 0 for
+    /// an equation with no fixed term). Evaluated with the parameters and
+    /// the drivers.
+    #[must_use]
+    pub fn term_scales(&self) -> &[Id] {
+        &self.scales.fixed
+    }
+
+    /// The term scale of each equation with the unknown lengths counted
+    /// as the characteristic length L (the largest of
+    /// [`Compiled::term_scales`]), which the leaf `Param(n)` stands for, n
+    /// the number of parameters: the row scales of Φ_u and the weights of
+    /// the relative convergence test, as the generated code forms them.
+    #[must_use]
+    pub fn full_term_scales(&self) -> &[Id] {
+        &self.scales.full
+    }
+
+    /// Whether each unknown is a length (in declaration order of the
+    /// unknowns): its column of Φ_u is scaled by the characteristic length
+    /// when the conditioning is judged.
+    #[must_use]
+    pub fn length_unknowns(&self) -> &[bool] {
+        &self.scales.is_length
+    }
+
+    /// The diagonal blocks of Φ_u in solve order.
+    #[must_use]
+    pub fn blocks(&self) -> Vec<Block> {
+        use crate::closed::Pattern;
+        self.closed
+            .iter()
+            .map(|b| Block {
+                equations: b.rows.clone(),
+                unknowns: b.cols.clone(),
+                closed_form: b.pattern.as_ref().map(|p| match p {
+                    Pattern::Angle { .. } => "angle",
+                    Pattern::Linear { .. } => "linear",
+                    Pattern::CircleCircle { .. } => "RRR",
+                    Pattern::CircleLine { .. } => "RRT",
+                    Pattern::Slide { .. } => "RTR",
+                    Pattern::LineLine { .. } => "TRT",
+                }),
+            })
+            .collect()
     }
 
     /// Every point of interest, in declaration order.

@@ -202,6 +202,17 @@ pub enum Error {
         #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
         requirement: Name,
     },
+    /// An array handed to a model defined at run time has the wrong number
+    /// of values (the sizes of a generated mechanism are in its types).
+    WrongLength {
+        /// What the array holds ("coordinates", "driver rates", …).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
+        what: Name,
+        /// The number of values the model needs.
+        expected: usize,
+        /// The number given.
+        found: usize,
+    },
 }
 
 fn write_configuration(f: &mut fmt::Formatter<'_>, cfg: &[(&'static str, f64)]) -> fmt::Result {
@@ -307,6 +318,14 @@ impl fmt::Display for Error {
                 value,
                 requirement,
             } => write!(f, "option `{name}` = {value} is invalid: it {requirement}"),
+            Error::WrongLength {
+                what,
+                expected,
+                found,
+            } => write!(
+                f,
+                "{found} {what} given; this model has {expected} (in declaration order)"
+            ),
         }
     }
 }

@@ -87,6 +87,9 @@ mod options;
 #[cfg_attr(docsrs_nightly, doc(cfg(feature = "plot")))]
 pub mod plot;
 pub mod rigid;
+#[cfg(feature = "runtime")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "runtime")))]
+pub mod runtime;
 pub mod solve;
 pub mod sweep;
 #[cfg(feature = "synthesis")]

@@ -11,33 +11,37 @@ pub type Name = &'static str;
 /// Coordinates by name, with their values.
 pub type Configuration = alloc::vec::Vec<(Name, f64)>;
 
-#[cfg(feature = "serde")]
-mod de {
+/// `s` as a `&'static str`, allocated once per distinct name: the names of
+/// deserialized errors and of models defined at run time.
+#[cfg(any(feature = "serde", feature = "runtime"))]
+pub(crate) fn intern(s: &str) -> Name {
     use std::collections::BTreeSet;
     use std::string::String;
     use std::sync::Mutex;
+
+    static TABLE: Mutex<BTreeSet<Name>> = Mutex::new(BTreeSet::new());
+    let mut table = match TABLE.lock() {
+        Ok(t) => t,
+        // A panic elsewhere while holding the lock leaves the set
+        // intact: it only ever grows.
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    if let Some(&known) = table.get(s) {
+        return known;
+    }
+    let leaked: Name = std::boxed::Box::leak(String::from(s).into_boxed_str());
+    table.insert(leaked);
+    leaked
+}
+
+#[cfg(feature = "serde")]
+mod de {
+    use std::string::String;
     use std::vec::Vec;
 
     use serde::{Deserialize, Deserializer};
 
-    use super::{Configuration, Name};
-
-    /// `s` as a `&'static str`, allocated once per distinct name.
-    pub(crate) fn intern(s: &str) -> Name {
-        static TABLE: Mutex<BTreeSet<Name>> = Mutex::new(BTreeSet::new());
-        let mut table = match TABLE.lock() {
-            Ok(t) => t,
-            // A panic elsewhere while holding the lock leaves the set
-            // intact: it only ever grows.
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        if let Some(&known) = table.get(s) {
-            return known;
-        }
-        let leaked: Name = Box::leak(String::from(s).into_boxed_str());
-        table.insert(leaked);
-        leaked
-    }
+    use super::{intern, Configuration, Name};
 
     /// Deserializes a [`Name`].
     pub(crate) fn name<'de, D: Deserializer<'de>>(d: D) -> Result<Name, D::Error> {

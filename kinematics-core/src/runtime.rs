@@ -1,0 +1,869 @@
+//! Mechanisms defined at run time: the text of a definition, exactly as
+//! written inside `mechanism! { … }`, compiled by the compiler the macro
+//! uses (`kinematics-compiler`: the same checks, the same messages, the
+//! same exact derivatives) and turned into machine code by Cranelift
+//! (`kinematics-jit`).
+//!
+//! A [`Model`] holds the compiled stages and the parameter values. Its
+//! arrays are in declaration order: the coordinates q = (d, u), drivers
+//! first, then unknowns; the rates and accelerations of the drivers only.
+//!
+//! * [`Model::assemble`]: Newton–Raphson on Φ(q) = 0 for the unknowns,
+//!   the drivers held, from a guess, each step solving Φ_u Δu = −Φ by LU
+//!   with partial pivoting, halved while it does not decrease Σ (Φ_i/S_i)²;
+//!   converged when every |Φ_i| / S_i (S_i the equation's term scale) is at
+//!   most the tolerance, then one more step unless already at 16 ε;
+//! * [`Model::analyze`]: Φ_u u' = −Φ_d d', Φ_u u'' = −Φ_d d'' − γ, then
+//!   every point's r, v, a and every frame's motion;
+//! * [`Model::step`]: assembly, then analysis.
+//!
+//! This is the first part of the run-time path: the sweeps, steppers and
+//! the rest of the toolkit take generated mechanisms (`Mechanism`), whose
+//! sizes are in their types, and do not take a `Model` yet.
+//!
+//! ```
+//! use kinematics_core::runtime::Model;
+//! let mut m = Model::compile(
+//!     "/// Slider-crank.
+//!      pub struct SliderCrank {
+//!          params   { a, b }
+//!          drivers  { phi }
+//!          unknowns { th, x }
+//!          points   { B = polar(a, phi); }
+//!          loops    { B + polar(b, th) == vec2(x, 0.0); }
+//!      }",
+//! )?;
+//! m.set("a", 0.1)?;
+//! m.set("b", 0.3)?;
+//! let q = m.assemble(&[0.5, -0.1, 0.35])?;
+//! // x = a cos φ + √(b² − a² sin² φ).
+//! let x = 0.1 * 0.5f64.cos() + (0.09 - 0.01 * 0.5f64.sin().powi(2)).sqrt();
+//! assert!((q[2] - x).abs() < 1e-15);
+//! let motion = m.analyze(&q, &[10.0], &[0.0])?;
+//! // The crank pin B turns at a ω = 1 m/s.
+//! let v = &motion.points[0].velocity;
+//! assert!(((v[0] * v[0] + v[1] * v[1]).sqrt() - 1.0).abs() < 1e-14);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::fmt;
+
+use kinematics_compiler::{compile_str, Diagnostics};
+use kinematics_jit::{Inputs, JitError, Program};
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{Error, Input};
+use crate::mechanism::{Coordinate, FrameState, Kind, Role};
+use crate::names::{intern, Name};
+use crate::options::{Convergence, Options};
+use crate::solve::CLOSED;
+
+/// Why a definition given as text did not become a [`Model`].
+#[derive(Debug)]
+pub enum CompileError {
+    /// The definition has errors: each with its message (the one
+    /// `mechanism!` gives), line and column.
+    Definition(Diagnostics),
+    /// No machine code could be generated on this host.
+    Native(JitError),
+}
+
+impl fmt::Display for CompileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Definition(d) => write!(f, "{d}"),
+            Self::Native(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for CompileError {}
+
+/// A point's position r, velocity v and acceleration a (2 or 3
+/// components each).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointState {
+    /// r.
+    pub position: Vec<f64>,
+    /// v = dr/dt.
+    pub velocity: Vec<f64>,
+    /// a = dv/dt.
+    pub acceleration: Vec<f64>,
+}
+
+/// The motion at one pose: coordinates, rates and accelerations (drivers
+/// first, then unknowns), points, frames and diagnostics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion {
+    /// q.
+    pub q: Vec<f64>,
+    /// q'.
+    pub qd: Vec<f64>,
+    /// q''.
+    pub qdd: Vec<f64>,
+    /// Every point, in declaration order.
+    pub points: Vec<PointState>,
+    /// Every frame, in declaration order.
+    pub frames: Vec<FrameState>,
+    /// 1/‖Φ̃_u⁻¹‖∞ of the scaled Jacobian (rows by 1/S_i, length columns by
+    /// the characteristic length): 0 at a singular pose.
+    pub conditioning: f64,
+    /// The sign of det Φ_u (the assembly branch).
+    pub det_sign: f64,
+    /// max |Φ_i| / S_i at q.
+    pub residual: f64,
+}
+
+/// A mechanism compiled from text at run time, with its parameter values
+/// (NaN until set).
+pub struct Model {
+    name: String,
+    params: Vec<Name>,
+    length_params: Vec<bool>,
+    values: Vec<f64>,
+    coordinates: Vec<Coordinate>,
+    drivers: usize,
+    equations: Vec<Name>,
+    points: Vec<Name>,
+    point_dim: usize,
+    frames: Vec<Name>,
+    length_unknowns: Vec<bool>,
+    /// The diagonal blocks of Φ_u: equations and unknowns.
+    blocks: Vec<(Vec<usize>, Vec<usize>)>,
+    program: Program,
+}
+
+impl fmt::Debug for Model {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Model")
+            .field("name", &self.name)
+            .field(
+                "params",
+                &self.params.iter().zip(&self.values).collect::<Vec<_>>(),
+            )
+            .field("coordinates", &self.coordinates)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Scratch arrays of one solve.
+struct Work {
+    /// The parameters, then the characteristic length L.
+    params: Vec<f64>,
+    phi: Vec<f64>,
+    jac: Vec<f64>,
+    newton: Vec<f64>,
+    /// The row scales 1/S_i (S_i with the unknown lengths counted as L).
+    rows: Vec<f64>,
+    /// The convergence weights: `rows` for relative convergence, 1 for
+    /// absolute.
+    weights: Vec<f64>,
+}
+
+impl Model {
+    /// Compiles a definition given as text.
+    ///
+    /// # Errors
+    /// [`CompileError::Definition`] with every error of the definition,
+    /// located by line and column; [`CompileError::Native`] on a machine
+    /// Cranelift does not support.
+    pub fn compile(text: &str) -> Result<Self, CompileError> {
+        let c = compile_str(text).map_err(CompileError::Definition)?;
+        let program = Program::for_model(&c).map_err(CompileError::Native)?;
+        let drivers = c.drivers();
+        let coordinates = c
+            .coordinates()
+            .into_iter()
+            .enumerate()
+            .map(|(j, (name, kind))| Coordinate {
+                name: intern(&name),
+                role: if j < drivers {
+                    Role::Driver
+                } else {
+                    Role::Unknown
+                },
+                kind: match kind {
+                    kinematics_compiler::Kind::Angle => Kind::Angle,
+                    kinematics_compiler::Kind::Length => Kind::Length,
+                },
+            })
+            .collect();
+        let points = c.points();
+        let point_dim = points.first().map_or(2, |p| p.position.len());
+        let params: Vec<Name> = c.parameters().iter().map(|p| intern(p)).collect();
+        Ok(Self {
+            name: c.name(),
+            // The parameters, then the characteristic length L.
+            values: vec![f64::NAN; params.len() + 1],
+            params,
+            length_params: c.length_parameters(),
+            coordinates,
+            drivers,
+            equations: c.residuals().iter().map(|(_, t)| intern(t)).collect(),
+            points: points.iter().map(|p| intern(&p.name)).collect(),
+            point_dim,
+            frames: c.frames().iter().map(|f| intern(&f.name)).collect(),
+            length_unknowns: c.length_unknowns().to_vec(),
+            blocks: c
+                .blocks()
+                .into_iter()
+                .map(|b| (b.equations, b.unknowns))
+                .collect(),
+            program,
+        })
+    }
+
+    /// The mechanism's name.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The parameters' names, in declaration order.
+    #[must_use]
+    pub fn parameters(&self) -> &[Name] {
+        &self.params
+    }
+
+    /// The parameters' values, in declaration order (NaN where not set).
+    #[must_use]
+    pub fn values(&self) -> &[f64] {
+        &self.values[..self.params.len()]
+    }
+
+    /// Sets the parameter `name` to `value`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a name the model does not declare.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        match self.params.iter().position(|p| *p == name) {
+            Some(i) => {
+                self.values[i] = value;
+                Ok(())
+            }
+            None => Err(Error::InvalidParameter {
+                name: intern(name),
+                value,
+                requirement: "must be one of the model's parameters",
+            }),
+        }
+    }
+
+    /// The coordinates: drivers, then unknowns, in declaration order.
+    #[must_use]
+    pub fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    /// The position of coordinate `name` in the arrays.
+    #[must_use]
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.coordinates.iter().position(|c| c.name == name)
+    }
+
+    /// Number of drivers.
+    #[must_use]
+    pub fn drivers(&self) -> usize {
+        self.drivers
+    }
+
+    /// Number of unknowns (and of scalar equations).
+    #[must_use]
+    pub fn unknowns(&self) -> usize {
+        self.coordinates.len() - self.drivers
+    }
+
+    /// The points' names, in declaration order.
+    #[must_use]
+    pub fn point_names(&self) -> &[Name] {
+        &self.points
+    }
+
+    /// The frames' names, in declaration order.
+    #[must_use]
+    pub fn frame_names(&self) -> &[Name] {
+        &self.frames
+    }
+
+    /// The equations, as written in the definition.
+    #[must_use]
+    pub fn equation_names(&self) -> &[Name] {
+        &self.equations
+    }
+
+    /// Checks that every parameter is finite, and positive where it is
+    /// declared a length.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] or [`Error::InvalidParameter`] naming the first
+    /// parameter at fault.
+    pub fn validate(&self) -> Result<(), Error> {
+        for ((name, &value), &length) in self
+            .params
+            .iter()
+            .zip(&self.values)
+            .zip(&self.length_params)
+        {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    input: Input::Parameter,
+                    name,
+                    value,
+                });
+            }
+            if length && value <= 0.0 {
+                return Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    requirement: "must be positive: it is declared a length",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Φ(q), one value per equation.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless `q` has one value per coordinate; as
+    /// [`Model::validate`].
+    pub fn residual(&self, q: &[f64]) -> Result<Vec<f64>, Error> {
+        self.validate()?;
+        self.length("coordinates", self.coordinates.len(), q.len())?;
+        let mut w = self.work();
+        self.scaling(q, &mut w, &Options::DEFAULT);
+        self.newton_eval(q, &mut w);
+        Ok(w.phi)
+    }
+
+    /// Assembles at the drivers of `guess` from its unknowns, with the
+    /// default options (see the module's documentation).
+    ///
+    /// # Errors
+    /// As [`Model::assemble_with`].
+    pub fn assemble(&self, guess: &[f64]) -> Result<Vec<f64>, Error> {
+        self.assemble_with(guess, &Options::DEFAULT)
+    }
+
+    /// Assembles at the drivers of `guess` from its unknowns.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`], [`Error::NonFinite`] for a NaN or infinite
+    /// input, invalid options or parameters, [`Error::NotConverged`] when
+    /// Newton–Raphson stops above the tolerance, [`Error::Singular`] when
+    /// the solution's conditioning is at or below the threshold.
+    pub fn assemble_with(&self, guess: &[f64], options: &Options) -> Result<Vec<f64>, Error> {
+        options.validate()?;
+        self.validate()?;
+        let n = self.coordinates.len();
+        self.length("coordinates", n, guess.len())?;
+        for (c, &v) in self.coordinates.iter().zip(guess) {
+            if !v.is_finite() {
+                let input = match c.role {
+                    Role::Driver => Input::Driver,
+                    Role::Unknown => Input::Guess,
+                };
+                return Err(Error::NonFinite {
+                    input,
+                    name: c.name,
+                    value: v,
+                });
+            }
+        }
+        let mut q = guess.to_vec();
+        let mut w = self.work();
+        self.solve(&mut q, &mut w, options)?;
+        self.factor(&q, &mut w, options)?;
+        Ok(q)
+    }
+
+    /// The motion at the closed pose `q` with the drivers' rates and
+    /// accelerations.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`], [`Error::NonFinite`] for a NaN or infinite
+    /// input or output, invalid parameters, [`Error::Singular`] at a
+    /// singular pose.
+    pub fn analyze(
+        &self,
+        q: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Motion, Error> {
+        self.analyze_with(q, rates, accelerations, &Options::DEFAULT)
+    }
+
+    /// [`Model::analyze`] with explicit options.
+    ///
+    /// # Errors
+    /// As [`Model::analyze`], and invalid options.
+    pub fn analyze_with(
+        &self,
+        q: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        options: &Options,
+    ) -> Result<Motion, Error> {
+        options.validate()?;
+        self.validate()?;
+        let (n, nd) = (self.coordinates.len(), self.drivers);
+        self.length("coordinates", n, q.len())?;
+        self.length("driver rates", nd, rates.len())?;
+        self.length("driver accelerations", nd, accelerations.len())?;
+        let inputs = self.coordinates.iter().zip(q).map(|(c, &v)| {
+            let input = match c.role {
+                Role::Driver => Input::Driver,
+                Role::Unknown => Input::Guess,
+            };
+            (input, c.name, v)
+        });
+        let drivers = self.coordinates[..nd].iter();
+        let rates_in = drivers
+            .clone()
+            .zip(rates)
+            .map(|(c, &v)| (Input::DriverRate, c.name, v));
+        let accels_in = drivers
+            .zip(accelerations)
+            .map(|(c, &v)| (Input::DriverAcceleration, c.name, v));
+        for (input, name, value) in inputs.chain(rates_in).chain(accels_in) {
+            if !value.is_finite() {
+                return Err(Error::NonFinite { input, name, value });
+            }
+        }
+        let mut w = self.work();
+        self.analyze_at(q, rates, accelerations, &mut w, options)
+    }
+
+    /// Assembles at the drivers of `start` from its unknowns (as
+    /// [`Model::assemble`]) and analyses the motion there (as
+    /// [`Model::analyze`]).
+    ///
+    /// # Errors
+    /// As [`Model::assemble`] and [`Model::analyze`].
+    pub fn step(
+        &self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Motion, Error> {
+        let q = self.assemble(start)?;
+        self.analyze(&q, rates, accelerations)
+    }
+
+    fn length(&self, what: Name, expected: usize, found: usize) -> Result<(), Error> {
+        if expected == found {
+            Ok(())
+        } else {
+            Err(Error::WrongLength {
+                what,
+                expected,
+                found,
+            })
+        }
+    }
+
+    fn work(&self) -> Work {
+        let nu = self.unknowns();
+        Work {
+            params: self.values.clone(),
+            phi: vec![0.0; nu],
+            jac: vec![0.0; nu * nu],
+            newton: vec![0.0; self.program.outputs(Program::NEWTON)],
+            rows: vec![1.0; nu],
+            weights: vec![1.0; nu],
+        }
+    }
+
+    /// Evaluates a stage, whose lengths the model guarantees.
+    fn eval(
+        &self,
+        stage: usize,
+        params: &[f64],
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) {
+        let inputs = Inputs { params, q, qd, qdd };
+        // The arrays are the model's own, of its lengths.
+        let checked = self.program.eval(stage, &inputs, out);
+        debug_assert!(checked.is_ok(), "{checked:?}");
+    }
+
+    /// Φ and Φ_u at q into `w.phi`, `w.jac` (row-major).
+    fn newton_eval(&self, q: &[f64], w: &mut Work) {
+        let zeros = vec![0.0; q.len()];
+        let nu = w.phi.len();
+        self.eval(Program::NEWTON, &w.params, q, &zeros, &zeros, &mut w.newton);
+        w.phi.copy_from_slice(&w.newton[..nu]);
+        w.jac.copy_from_slice(&w.newton[nu..]);
+    }
+
+    /// The scaling at the drivers of q, as the generated code forms it:
+    /// the characteristic length L, the largest term scale with the
+    /// unknown lengths counted as 0 (1 if none is positive), into the
+    /// parameters' last slot; the row scales 1/S_i with the unknown
+    /// lengths counted as L (1 where S_i = 0); the convergence weights,
+    /// those for relative convergence, 1 for absolute. Returns L.
+    fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
+        let zeros = vec![0.0; q.len()];
+        let n = self.params.len();
+        w.params[n] = f64::NAN;
+        self.eval(Program::SCALES, &w.params, q, &zeros, &zeros, &mut w.rows);
+        let length = w
+            .rows
+            .iter()
+            .copied()
+            .fold(0.0f64, |m, v| if v > m { v } else { m });
+        let length = if length > 0.0 { length } else { 1.0 };
+        w.params[n] = length;
+        self.eval(
+            Program::FULL_SCALES,
+            &w.params,
+            q,
+            &zeros,
+            &zeros,
+            &mut w.rows,
+        );
+        for (r, wt) in w.rows.iter_mut().zip(&mut w.weights) {
+            *r = if *r > 0.0 && r.is_finite() {
+                1.0 / *r
+            } else {
+                1.0
+            };
+            *wt = match options.convergence {
+                Convergence::Relative => *r,
+                Convergence::Absolute => 1.0,
+            };
+        }
+        length
+    }
+
+    /// Newton–Raphson on the unknowns of q.
+    fn solve(&self, q: &mut [f64], w: &mut Work, options: &Options) -> Result<(), Error> {
+        let (nd, nu) = (self.drivers, self.unknowns());
+        self.scaling(q, w, options);
+        let merit = |w: &Work| -> (f64, f64) {
+            let mut sum = 0.0f64;
+            let mut max = 0.0f64;
+            for (p, s) in w.phi.iter().zip(&w.weights) {
+                let r = p * s;
+                sum += r * r;
+                max = max.max(r.abs());
+                if r.is_nan() {
+                    return (f64::NAN, f64::NAN);
+                }
+            }
+            (sum, max)
+        };
+        self.newton_eval(q, w);
+        let (mut f0, mut max) = merit(w);
+        let mut iterations = 0;
+        let mut polished = false;
+        loop {
+            if max <= options.tolerance && (polished || max <= CLOSED) {
+                return Ok(());
+            }
+            if max <= options.tolerance {
+                // One more step towards round-off, kept only if better.
+                polished = true;
+            }
+            if iterations >= options.max_iterations || !f0.is_finite() {
+                return Err(self.not_converged(q, w, iterations));
+            }
+            iterations += 1;
+            let Some(step) = lu_solve(&w.jac, &w.phi, nu) else {
+                return Err(self.not_converged(q, w, iterations));
+            };
+            let before: Vec<f64> = q[nd..].to_vec();
+            let mut t = 1.0;
+            loop {
+                for k in 0..nu {
+                    q[nd + k] = before[k] - t * step[k];
+                }
+                self.newton_eval(q, w);
+                let (f1, m1) = merit(w);
+                if f1 < f0 || (polished && m1 <= max) {
+                    f0 = f1;
+                    max = m1;
+                    break;
+                }
+                if polished {
+                    // Already within the tolerance: the step did not help;
+                    // keep the pose before it.
+                    q[nd..].copy_from_slice(&before);
+                    self.newton_eval(q, w);
+                    return Ok(());
+                }
+                t *= 0.5;
+                if t < 1e-3 {
+                    return Err(self.not_converged(q, w, iterations));
+                }
+            }
+        }
+    }
+
+    fn not_converged(&self, q: &[f64], w: &Work, iterations: usize) -> Error {
+        let (mut at, mut rel) = (0, f64::NEG_INFINITY);
+        for (i, (p, s)) in w.phi.iter().zip(&w.weights).enumerate() {
+            let r = (p * s).abs();
+            if r > rel || r.is_nan() {
+                at = i;
+                rel = r;
+                if r.is_nan() {
+                    break;
+                }
+            }
+        }
+        Error::NotConverged {
+            iterations,
+            residual: w.phi.get(at).copied().unwrap_or(f64::NAN),
+            relative: rel,
+            equation: self.equations.get(at).copied().unwrap_or(""),
+            configuration: self.configuration(q),
+        }
+    }
+
+    fn configuration(&self, q: &[f64]) -> crate::names::Configuration {
+        self.coordinates
+            .iter()
+            .zip(q)
+            .map(|(c, &v)| (c.name, v))
+            .collect()
+    }
+
+    /// The scaled Jacobian's conditioning and det sign at q (Φ_u already
+    /// in `w.jac`), or [`Error::Singular`].
+    fn factor(&self, q: &[f64], w: &mut Work, options: &Options) -> Result<(f64, f64), Error> {
+        let nu = self.unknowns();
+        let length = self.scaling(q, w, options);
+        self.newton_eval(q, w);
+        let mut a = w.jac.clone();
+        for i in 0..nu {
+            for k in 0..nu {
+                let col = if self.length_unknowns[k] { length } else { 1.0 };
+                a[i * nu + k] *= w.rows[i] * col;
+            }
+        }
+        // As the generated code judges it: block by block, the least
+        // conditioning of the diagonal blocks; the sign of det Φ_u.
+        let sign = det_sign(&a, nu);
+        let (mut conditioning_min, mut at) = (f64::INFINITY, 0);
+        for (rows, cols) in &self.blocks {
+            let m = cols.len();
+            let sub: Vec<f64> = rows
+                .iter()
+                .flat_map(|&r| cols.iter().map(move |&c| (r, c)))
+                .map(|(r, c)| a[r * nu + c])
+                .collect();
+            let (c, local) = conditioning(&sub, m);
+            if c < conditioning_min {
+                conditioning_min = c;
+                at = cols.get(local).copied().unwrap_or(0);
+            }
+        }
+        let conditioning = if nu == 0 { 1.0 } else { conditioning_min };
+        if conditioning > options.singularity_threshold {
+            Ok((conditioning, sign))
+        } else {
+            Err(Error::Singular {
+                unknown: self.coordinates[self.drivers + at].name,
+                conditioning,
+                configuration: self.configuration(q),
+            })
+        }
+    }
+
+    fn analyze_at(
+        &self,
+        q: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        w: &mut Work,
+        options: &Options,
+    ) -> Result<Motion, Error> {
+        let (n, nd, nu) = (self.coordinates.len(), self.drivers, self.unknowns());
+        let (conditioning, det_sign) = self.factor(q, w, options)?;
+        let residual = w
+            .phi
+            .iter()
+            .zip(&w.rows)
+            .map(|(p, s)| (p * s).abs())
+            .fold(0.0f64, f64::max);
+        let mut qd = vec![0.0; n];
+        let mut qdd = vec![0.0; n];
+        qd[..nd].copy_from_slice(rates);
+        qdd[..nd].copy_from_slice(accelerations);
+        let singular = |at: usize| Error::Singular {
+            unknown: self.coordinates[nd + at.min(nu.saturating_sub(1))].name,
+            conditioning: 0.0,
+            configuration: self.configuration(q),
+        };
+        let mut rhs = vec![0.0; nu];
+        self.eval(Program::VELOCITY, &w.params, q, &qd, &qdd, &mut rhs);
+        let ud = lu_solve(&w.jac, &rhs, nu).ok_or_else(|| singular(0))?;
+        qd[nd..].copy_from_slice(&ud);
+        self.eval(Program::ACCELERATION, &w.params, q, &qd, &qdd, &mut rhs);
+        let udd = lu_solve(&w.jac, &rhs, nu).ok_or_else(|| singular(0))?;
+        qdd[nd..].copy_from_slice(&udd);
+        let mut out = vec![0.0; self.program.outputs(Program::OUTPUTS)];
+        self.eval(Program::OUTPUTS, &w.params, q, &qd, &qdd, &mut out);
+        let d = self.point_dim;
+        let mut chunks = out.chunks_exact(3 * d);
+        let points: Vec<PointState> = chunks
+            .by_ref()
+            .take(self.points.len())
+            .map(|c| PointState {
+                position: c[..d].to_vec(),
+                velocity: c[d..2 * d].to_vec(),
+                acceleration: c[2 * d..].to_vec(),
+            })
+            .collect();
+        let frames: Vec<FrameState> = out[self.points.len() * 3 * d..]
+            .chunks_exact(24)
+            .map(|f| FrameState {
+                rotation: Matrix3::from_row_slice(&f[..9]),
+                angular_velocity: Vector3::new(f[9], f[10], f[11]),
+                angular_acceleration: Vector3::new(f[12], f[13], f[14]),
+                origin: Vector3::new(f[15], f[16], f[17]),
+                velocity: Vector3::new(f[18], f[19], f[20]),
+                acceleration: Vector3::new(f[21], f[22], f[23]),
+            })
+            .collect();
+        for (j, c) in self.coordinates.iter().enumerate() {
+            if !(qd[j].is_finite() && qdd[j].is_finite()) {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name: c.name,
+                    value: if qd[j].is_finite() { qdd[j] } else { qd[j] },
+                });
+            }
+        }
+        if let Some(bad) = out.iter().position(|v| !v.is_finite()) {
+            let point = bad / (3 * d);
+            let name = self
+                .points
+                .get(point)
+                .or_else(|| self.frames.get((bad - self.points.len() * 3 * d) / 24))
+                .copied()
+                .unwrap_or("");
+            return Err(Error::NonFinite {
+                input: Input::Computed,
+                name,
+                value: out[bad],
+            });
+        }
+        Ok(Motion {
+            q: q.to_vec(),
+            qd,
+            qdd,
+            points,
+            frames,
+            conditioning,
+            det_sign,
+            residual,
+        })
+    }
+}
+
+/// LU factorisation with partial pivoting of the n × n row-major `a`:
+/// the factors in place, the row permutation, and the sign of the
+/// permutation; `None` at a zero pivot.
+fn lu(a: &mut [f64], n: usize) -> Option<(Vec<usize>, f64)> {
+    let mut perm: Vec<usize> = (0..n).collect();
+    let mut sign = 1.0;
+    for k in 0..n {
+        let p = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))?;
+        let pivot = a[p * n + k];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return None;
+        }
+        if p != k {
+            for j in 0..n {
+                a.swap(p * n + j, k * n + j);
+            }
+            perm.swap(p, k);
+            sign = -sign;
+        }
+        for i in k + 1..n {
+            let f = a[i * n + k] / pivot;
+            a[i * n + k] = f;
+            for j in k + 1..n {
+                a[i * n + j] -= f * a[k * n + j];
+            }
+        }
+    }
+    Some((perm, sign))
+}
+
+/// Solves with the factors of [`lu`].
+fn lu_apply(lu: &[f64], perm: &[usize], b: &[f64], n: usize) -> Vec<f64> {
+    let mut x: Vec<f64> = perm.iter().map(|&p| b[p]).collect();
+    for i in 0..n {
+        for j in 0..i {
+            x[i] -= lu[i * n + j] * x[j];
+        }
+    }
+    for i in (0..n).rev() {
+        for j in i + 1..n {
+            x[i] -= lu[i * n + j] * x[j];
+        }
+        x[i] /= lu[i * n + i];
+    }
+    x
+}
+
+/// x with A x = b (A n × n, row-major), or `None` when A is singular.
+fn lu_solve(a: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
+    let mut f = a.to_vec();
+    let (perm, _) = lu(&mut f, n)?;
+    let x = lu_apply(&f, &perm, b, n);
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The sign of det A (A n × n, row-major): ±1, or 0 when A is singular.
+fn det_sign(a: &[f64], n: usize) -> f64 {
+    let mut f = a.to_vec();
+    let Some((_, mut sign)) = lu(&mut f, n) else {
+        return 0.0;
+    };
+    for i in 0..n {
+        if f[i * n + i] < 0.0 {
+            sign = -sign;
+        }
+    }
+    sign
+}
+
+/// 1/‖A⁻¹‖∞ and the row of A⁻¹ with the largest absolute sum (the unknown
+/// the equations determine worst); (0, 0) when A is singular.
+fn conditioning(a: &[f64], n: usize) -> (f64, usize) {
+    if n == 0 {
+        return (1.0, 0);
+    }
+    let mut f = a.to_vec();
+    let Some((perm, _)) = lu(&mut f, n) else {
+        return (0.0, 0);
+    };
+    let mut rows = vec![0.0f64; n];
+    let mut e = vec![0.0; n];
+    for j in 0..n {
+        e.iter_mut().for_each(|v| *v = 0.0);
+        e[j] = 1.0;
+        let col = lu_apply(&f, &perm, &e, n);
+        for (r, v) in rows.iter_mut().zip(&col) {
+            *r += v.abs();
+        }
+    }
+    let (at, worst) = rows
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((0, f64::INFINITY));
+    let c = 1.0 / worst;
+    (if c.is_finite() { c } else { 0.0 }, at)
+}

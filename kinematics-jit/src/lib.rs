@@ -1,0 +1,576 @@
+//! Native code, at run time, for the expression graph of a mechanism
+//! definition (`kinematics_compiler::Compiled`): each stage of the
+//! analysis becomes one machine-code function, compiled by Cranelift.
+//!
+//! A stage is a list of roots of the graph. Its function reads the leaves
+//! (parameters p, coordinates q, rates q', accelerations q'') from four
+//! arrays, evaluates every node the roots depend on once, in the graph's
+//! order (a topological order, shared subexpressions computed once, as
+//! the macro's straight-line Rust computes them), and writes the roots to
+//! an output array. Arithmetic is IEEE double precision, operation for
+//! operation as written in the graph (no fused multiply-add, no
+//! reassociation); sin, cos, tan, asin, acos, exp, ln and atan2 are the
+//! standard library's (the platform's libm), √ and |x| the processor's
+//! instructions, xⁿ the binary powering of the standard library's `powi`.
+//!
+//! ```
+//! use kinematics_jit::{Inputs, Program};
+//! let model = kinematics_compiler::compile_str(
+//!     "pub struct SliderCrank {
+//!          params   { a, b }
+//!          drivers  { phi }
+//!          unknowns { th, x }
+//!          loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+//!      }",
+//! )?;
+//! let program = Program::for_model(&model)?;
+//! // Φ and Φ_u at a closed pose: a = 1, b = 2, φ = 0, θ = π, x = −1.
+//! let q = [0.0, std::f64::consts::PI, -1.0];
+//! // The parameters, then the characteristic length (unused here).
+//! let inputs = Inputs { params: &[1.0, 2.0, 3.0], q: &q, qd: &[0.0; 3], qdd: &[0.0; 3] };
+//! let mut out = vec![0.0; program.outputs(Program::NEWTON)];
+//! program.eval(Program::NEWTON, &inputs, &mut out)?;
+//! let (phi, jac) = out.split_at(2);
+//! assert!(phi.iter().all(|r| r.abs() < 1e-15));
+//! // Φ_u = [[−b sin θ, −1], [b cos θ, 0]].
+//! assert!((jac[1] + 1.0).abs() < 1e-15 && (jac[2] + 2.0).abs() < 1e-15);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::fmt;
+use std::mem::ManuallyDrop;
+
+use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlags, UserFuncName, Value};
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
+use kinematics_compiler::ir::{Func, Graph, Id, Leaf, Node};
+use kinematics_compiler::Compiled;
+
+/// The machine-code signature of every stage: (p, q, q', q'', out).
+type Entry = unsafe extern "C" fn(*const f64, *const f64, *const f64, *const f64, *mut f64);
+
+/// Why a program could not be built.
+#[derive(Debug)]
+pub enum JitError {
+    /// Cranelift has no back end for this host, or refused a setting.
+    Host(String),
+    /// Cranelift could not compile or link a stage.
+    Codegen(String),
+    /// A leaf of the graph indexes past the declared parameters or
+    /// coordinates (a graph that does not belong to the lengths given).
+    Leaf(Leaf),
+}
+
+impl fmt::Display for JitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Host(m) => write!(f, "no native code generator for this machine: {m}"),
+            Self::Codegen(m) => write!(f, "native code generation failed: {m}"),
+            Self::Leaf(l) => write!(
+                f,
+                "the expression graph reads {l:?}, beyond the model's parameters or coordinates"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for JitError {}
+
+/// Arrays handed to a stage whose lengths are not the model's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LengthMismatch {
+    /// Which array: "params", "q", "qd", "qdd" or "out".
+    pub array: &'static str,
+    /// The length the program needs.
+    pub expected: usize,
+    /// The length given.
+    pub found: usize,
+}
+
+impl fmt::Display for LengthMismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "`{}` has {} values; this model needs {}",
+            self.array, self.found, self.expected
+        )
+    }
+}
+
+impl std::error::Error for LengthMismatch {}
+
+/// The leaves a stage reads: parameters in declaration order, and the
+/// coordinates, rates and accelerations (drivers first, then unknowns).
+#[derive(Clone, Copy, Debug)]
+pub struct Inputs<'a> {
+    /// p.
+    pub params: &'a [f64],
+    /// q.
+    pub q: &'a [f64],
+    /// q'.
+    pub qd: &'a [f64],
+    /// q''.
+    pub qdd: &'a [f64],
+}
+
+/// One compiled stage.
+struct Stage {
+    entry: Entry,
+    outputs: usize,
+}
+
+/// Machine code for the stages of one expression graph. The code lives as
+/// long as the program.
+pub struct Program {
+    module: ManuallyDrop<JITModule>,
+    stages: Vec<Stage>,
+    params: usize,
+    coords: usize,
+}
+
+impl fmt::Debug for Program {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Program")
+            .field(
+                "stages",
+                &self.stages.iter().map(|s| s.outputs).collect::<Vec<_>>(),
+            )
+            .field("params", &self.params)
+            .field("coords", &self.coords)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The functions of one argument the generated code calls, and atan2, as
+/// the standard library computes them.
+mod calls {
+    pub extern "C" fn sin(x: f64) -> f64 {
+        x.sin()
+    }
+    pub extern "C" fn cos(x: f64) -> f64 {
+        x.cos()
+    }
+    pub extern "C" fn tan(x: f64) -> f64 {
+        x.tan()
+    }
+    pub extern "C" fn asin(x: f64) -> f64 {
+        x.asin()
+    }
+    pub extern "C" fn acos(x: f64) -> f64 {
+        x.acos()
+    }
+    pub extern "C" fn exp(x: f64) -> f64 {
+        x.exp()
+    }
+    pub extern "C" fn ln(x: f64) -> f64 {
+        x.ln()
+    }
+    pub extern "C" fn atan2(y: f64, x: f64) -> f64 {
+        y.atan2(x)
+    }
+}
+
+/// The symbol each called function is registered under, with its address
+/// and arity.
+fn symbols() -> [(&'static str, *const u8, usize); 8] {
+    [
+        ("kinematics_sin", calls::sin as *const u8, 1),
+        ("kinematics_cos", calls::cos as *const u8, 1),
+        ("kinematics_tan", calls::tan as *const u8, 1),
+        ("kinematics_asin", calls::asin as *const u8, 1),
+        ("kinematics_acos", calls::acos as *const u8, 1),
+        ("kinematics_exp", calls::exp as *const u8, 1),
+        ("kinematics_ln", calls::ln as *const u8, 1),
+        ("kinematics_atan2", calls::atan2 as *const u8, 2),
+    ]
+}
+
+/// The symbol of a called function (`None`: an instruction instead).
+fn symbol(f: Func) -> Option<&'static str> {
+    Some(match f {
+        Func::Sin => "kinematics_sin",
+        Func::Cos => "kinematics_cos",
+        Func::Tan => "kinematics_tan",
+        Func::Asin => "kinematics_asin",
+        Func::Acos => "kinematics_acos",
+        Func::Exp => "kinematics_exp",
+        Func::Ln => "kinematics_ln",
+        Func::Sqrt | Func::Abs => return None,
+    })
+}
+
+impl Program {
+    /// The stage of [`Program::for_model`] that gives Φ (one value per
+    /// equation) then Φ_u row by row.
+    pub const NEWTON: usize = 0;
+    /// The stage that gives −Φ_d d', the velocity equations' right-hand side.
+    pub const VELOCITY: usize = 1;
+    /// The stage that gives −Φ_d d'' − γ, the acceleration equations'
+    /// right-hand side.
+    pub const ACCELERATION: usize = 2;
+    /// The stage that gives, for each point in declaration order, its
+    /// position, velocity and acceleration (2 or 3 components each), then
+    /// for each frame its rotation (row by row), ω, α, and its origin's
+    /// position, velocity and acceleration.
+    pub const OUTPUTS: usize = 3;
+    /// The stage that gives each equation's term scale S_i
+    /// (`Compiled::term_scales`).
+    pub const SCALES: usize = 4;
+    /// The stage that gives each equation's term scale with the unknown
+    /// lengths counted as the characteristic length L
+    /// (`Compiled::full_term_scales`), read as one more parameter after
+    /// the model's.
+    pub const FULL_SCALES: usize = 5;
+
+    /// The six stages of a compiled model ([`Program::NEWTON`],
+    /// [`Program::VELOCITY`], [`Program::ACCELERATION`],
+    /// [`Program::OUTPUTS`], [`Program::SCALES`],
+    /// [`Program::FULL_SCALES`]), reading one parameter more than the
+    /// model declares: the characteristic length L, last.
+    ///
+    /// # Errors
+    /// As [`Program::new`].
+    pub fn for_model(model: &Compiled) -> Result<Self, JitError> {
+        let newton: Vec<Id> = model
+            .residuals()
+            .iter()
+            .map(|(id, _)| *id)
+            .chain(model.jacobian().iter().flatten().copied())
+            .collect();
+        let mut outputs: Vec<Id> = Vec::new();
+        for p in model.points() {
+            outputs.extend(p.position.iter().chain(p.velocity).chain(p.acceleration));
+        }
+        for f in model.frames() {
+            let r = f.roots;
+            outputs.extend(r.rotation.iter().flatten());
+            outputs.extend(r.omega.iter().chain(&r.alpha));
+            outputs.extend(r.origin.iter().flatten());
+        }
+        Self::new(
+            model.graph(),
+            model.parameters().len() + 1,
+            model.coordinates().len(),
+            &[
+                &newton,
+                model.velocity_rhs(),
+                model.acceleration_rhs(),
+                &outputs,
+                model.term_scales(),
+                model.full_term_scales(),
+            ],
+        )
+    }
+
+    /// Compiles one function per stage of `graph`, each writing its roots
+    /// in order; the graph's leaves index `params` parameters and `coords`
+    /// coordinates.
+    ///
+    /// # Errors
+    /// [`JitError::Host`] where Cranelift has no back end for the machine,
+    /// [`JitError::Codegen`] if it fails, [`JitError::Leaf`] for a leaf
+    /// beyond the lengths given.
+    pub fn new(
+        graph: &Graph,
+        params: usize,
+        coords: usize,
+        stages: &[&[Id]],
+    ) -> Result<Self, JitError> {
+        let mut flags = settings::builder();
+        for (name, value) in [
+            ("opt_level", "speed"),
+            ("use_colocated_libcalls", "false"),
+            ("is_pic", "false"),
+        ] {
+            flags
+                .set(name, value)
+                .map_err(|e| JitError::Host(e.to_string()))?;
+        }
+        let isa = cranelift_native::builder()
+            .map_err(|e| JitError::Host(e.to_string()))?
+            .finish(settings::Flags::new(flags))
+            .map_err(|e| JitError::Host(e.to_string()))?;
+        let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
+        for (name, address, _) in symbols() {
+            builder.symbol(name, address);
+        }
+        let mut module = JITModule::new(builder);
+        let codegen = |e: &dyn fmt::Display| JitError::Codegen(e.to_string());
+
+        // The imported functions, declared once for the module.
+        let float = types::F64;
+        let mut imports: Vec<(&'static str, FuncId)> = Vec::new();
+        for (name, _, arity) in symbols() {
+            let mut sig = module.make_signature();
+            for _ in 0..arity {
+                sig.params.push(AbiParam::new(float));
+            }
+            sig.returns.push(AbiParam::new(float));
+            let id = module
+                .declare_function(name, Linkage::Import, &sig)
+                .map_err(|e| codegen(&e))?;
+            imports.push((name, id));
+        }
+
+        let pointer = module.target_config().pointer_type();
+        let mut sig = module.make_signature();
+        for _ in 0..5 {
+            sig.params.push(AbiParam::new(pointer));
+        }
+        let mut ids = Vec::with_capacity(stages.len());
+        let mut ctx = module.make_context();
+        let mut fcx = FunctionBuilderContext::new();
+        for (k, roots) in stages.iter().enumerate() {
+            let id = module
+                .declare_function(&format!("stage_{k}"), Linkage::Local, &sig)
+                .map_err(|e| codegen(&e))?;
+            ctx.func.signature = sig.clone();
+            ctx.func.name = UserFuncName::user(0, id.as_u32());
+            {
+                let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
+                let block = b.create_block();
+                b.append_block_params_for_function_params(block);
+                b.switch_to_block(block);
+                let args = b.block_params(block).to_vec();
+                let mut refs = Vec::with_capacity(imports.len());
+                for (name, fid) in &imports {
+                    refs.push((*name, module.declare_func_in_func(*fid, b.func)));
+                }
+                let call = |b: &mut FunctionBuilder<'_>, name: &str, xs: &[Value]| {
+                    let fref = refs
+                        .iter()
+                        .find(|(n, _)| *n == name)
+                        .map(|(_, r)| *r)
+                        .ok_or_else(|| JitError::Codegen(format!("`{name}` not declared")))?;
+                    let inst = b.ins().call(fref, xs);
+                    b.inst_results(inst)
+                        .first()
+                        .copied()
+                        .ok_or_else(|| JitError::Codegen(format!("`{name}` returned nothing")))
+                };
+                let live = graph.reachable(roots);
+                let mut values: Vec<Option<Value>> = vec![None; graph.len()];
+                let flags = MemFlags::trusted();
+                for i in 0..graph.len() {
+                    if !live[i] {
+                        continue;
+                    }
+                    let v = |id: Id| {
+                        values[id.index()].ok_or_else(|| {
+                            JitError::Codegen(format!(
+                                "node {} used before it is computed",
+                                id.index()
+                            ))
+                        })
+                    };
+                    let node = graph.node(Id::from_index(i));
+                    let value = match node {
+                        Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
+                        Node::Leaf(leaf) => {
+                            let (arg, index, len) = match leaf {
+                                Leaf::Param(j) => (0, j, params),
+                                Leaf::Q(j) => (1, j, coords),
+                                Leaf::Qd(j) => (2, j, coords),
+                                Leaf::Qdd(j) => (3, j, coords),
+                            };
+                            let j = index as usize;
+                            if j >= len {
+                                return Err(JitError::Leaf(leaf));
+                            }
+                            let offset = i32::try_from(j * 8).map_err(|_| JitError::Leaf(leaf))?;
+                            b.ins().load(float, flags, args[arg], offset)
+                        }
+                        Node::Add(x, y) => {
+                            let (x, y) = (v(x)?, v(y)?);
+                            b.ins().fadd(x, y)
+                        }
+                        Node::Mul(x, y) => {
+                            let (x, y) = (v(x)?, v(y)?);
+                            b.ins().fmul(x, y)
+                        }
+                        Node::Div(x, y) => {
+                            let (x, y) = (v(x)?, v(y)?);
+                            b.ins().fdiv(x, y)
+                        }
+                        Node::Neg(x) => {
+                            let x = v(x)?;
+                            b.ins().fneg(x)
+                        }
+                        Node::Powi(x, n) => {
+                            let x = v(x)?;
+                            powi(&mut b, x, n)
+                        }
+                        Node::Call(f, x) => {
+                            let x = v(x)?;
+                            match (f, symbol(f)) {
+                                (Func::Sqrt, _) => b.ins().sqrt(x),
+                                (Func::Abs, _) => b.ins().fabs(x),
+                                (_, Some(name)) => call(&mut b, name, &[x])?,
+                                (_, None) => {
+                                    return Err(JitError::Codegen(format!("no code for {f:?}")))
+                                }
+                            }
+                        }
+                        Node::Atan2(y, x) => {
+                            let (y, x) = (v(y)?, v(x)?);
+                            call(&mut b, "kinematics_atan2", &[y, x])?
+                        }
+                    };
+                    values[i] = Some(value);
+                }
+                for (k, root) in roots.iter().enumerate() {
+                    let value = values[root.index()]
+                        .ok_or_else(|| JitError::Codegen("a root was not computed".into()))?;
+                    let offset = i32::try_from(k * 8)
+                        .map_err(|_| JitError::Codegen("too many outputs".into()))?;
+                    b.ins().store(flags, value, args[4], offset);
+                }
+                b.ins().return_(&[]);
+                b.seal_all_blocks();
+                b.finalize();
+            }
+            module
+                .define_function(id, &mut ctx)
+                .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
+            module.clear_context(&mut ctx);
+            ids.push((id, roots.len()));
+        }
+        module.finalize_definitions().map_err(|e| codegen(&e))?;
+        let stages = ids
+            .into_iter()
+            .map(|(id, outputs)| Stage {
+                entry: entry(module.get_finalized_function(id)),
+                outputs,
+            })
+            .collect();
+        Ok(Self {
+            module: ManuallyDrop::new(module),
+            stages,
+            params,
+            coords,
+        })
+    }
+
+    /// Number of stages.
+    #[must_use]
+    pub fn stages(&self) -> usize {
+        self.stages.len()
+    }
+
+    /// Number of values stage `stage` writes (0 for no such stage).
+    #[must_use]
+    pub fn outputs(&self, stage: usize) -> usize {
+        self.stages.get(stage).map_or(0, |s| s.outputs)
+    }
+
+    /// Runs stage `stage` on `inputs`, writing its roots into `out`.
+    ///
+    /// # Errors
+    /// [`LengthMismatch`] for an array whose length is not the model's
+    /// (parameters, coordinates, or the stage's outputs); nothing is
+    /// evaluated then.
+    pub fn eval(
+        &self,
+        stage: usize,
+        inputs: &Inputs<'_>,
+        out: &mut [f64],
+    ) -> Result<(), LengthMismatch> {
+        let outputs = self.outputs(stage);
+        for (array, expected, found) in [
+            ("params", self.params, inputs.params.len()),
+            ("q", self.coords, inputs.q.len()),
+            ("qd", self.coords, inputs.qd.len()),
+            ("qdd", self.coords, inputs.qdd.len()),
+            ("out", outputs, out.len()),
+        ] {
+            if expected != found {
+                return Err(LengthMismatch {
+                    array,
+                    expected,
+                    found,
+                });
+            }
+        }
+        let Some(s) = self.stages.get(stage) else {
+            return Ok(());
+        };
+        call(s.entry, inputs, out);
+        Ok(())
+    }
+}
+
+/// xⁿ by binary powering, as the standard library's `powi` computes it
+/// (r = 1; for each bit of |n| from the lowest: r ← r·x where it is set,
+/// x ← x²), then 1/r for n < 0.
+fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
+    let mut bits = n.unsigned_abs();
+    let mut base = x;
+    let mut r: Option<Value> = None;
+    loop {
+        if bits & 1 == 1 {
+            r = Some(match r {
+                None => base,
+                Some(r) => b.ins().fmul(r, base),
+            });
+        }
+        bits >>= 1;
+        if bits == 0 {
+            break;
+        }
+        base = b.ins().fmul(base, base);
+    }
+    let r = match r {
+        Some(r) => r,
+        None => b.ins().f64const(1.0),
+    };
+    if n < 0 {
+        let one = b.ins().f64const(1.0);
+        b.ins().fdiv(one, r)
+    } else {
+        r
+    }
+}
+
+/// The finalized code of a stage as a function pointer.
+#[allow(unsafe_code)]
+fn entry(code: *const u8) -> Entry {
+    // SAFETY: `code` is the address of a function Cranelift compiled and
+    // linked with the signature `sig` built above, five pointer-sized
+    // arguments and no result in the host's default calling convention,
+    // which is `Entry`'s.
+    unsafe { std::mem::transmute::<*const u8, Entry>(code) }
+}
+
+/// Calls a stage.
+#[allow(unsafe_code)]
+fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
+    // SAFETY: the caller checked every array's length against the
+    // program's: the code reads parameters below `params`, coordinates,
+    // rates and accelerations below `coords`, and writes exactly
+    // `out.len()` values; the module holding the code lives as long as
+    // the program, which the caller borrows.
+    unsafe {
+        entry(
+            inputs.params.as_ptr(),
+            inputs.q.as_ptr(),
+            inputs.qd.as_ptr(),
+            inputs.qdd.as_ptr(),
+            out.as_mut_ptr(),
+        );
+    }
+}
+
+impl Drop for Program {
+    #[allow(unsafe_code)]
+    fn drop(&mut self) {
+        // SAFETY: the function pointers are private to the program and
+        // called only through `&self`; none can run or be called after it
+        // is dropped. The module is taken once.
+        unsafe {
+            let module = ManuallyDrop::take(&mut self.module);
+            module.free_memory();
+        }
+    }
+}

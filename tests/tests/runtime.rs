@@ -1,0 +1,416 @@
+//! Models defined at run time against the same definitions compiled by
+//! `mechanism!`: every definition of `examples/src/lib.rs`, read as text
+//! from that file, compiles at run time; six of them (planar and spatial,
+//! closed forms and Newton blocks, loops and a serial arm with frames) are
+//! stepped both ways over a turn of their drivers, and agree in q, q', q'',
+//! every point's r, v, a, every frame's motion and the conditioning.
+
+// Test code: a failed check should stop the test.
+#![allow(clippy::expect_used, clippy::panic)]
+
+use kinematics_core::runtime::{CompileError, Model};
+use kinematics_core::{Coordinates, Error, Mechanism, MotionState, Options, PointState};
+use kinematics_examples::{FourBar, RRtrRrt, Rssr, SixAxisArm, SliderCrank, Watt};
+
+/// The text inside each `mechanism! { … }` of the examples' source, with
+/// the struct's name: braces counted outside comments.
+fn example_definitions() -> Vec<(String, String)> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/src/lib.rs");
+    let source = std::fs::read_to_string(path).unwrap_or_default();
+    let mut out = Vec::new();
+    let mut rest = source.as_str();
+    while let Some(at) = rest.find("mechanism! {") {
+        let body = &rest[at + "mechanism! {".len()..];
+        let (mut depth, mut end, mut in_comment) = (1usize, None, false);
+        let mut prev = ' ';
+        for (i, c) in body.char_indices() {
+            match c {
+                '\n' => in_comment = false,
+                '/' if prev == '/' => in_comment = true,
+                '{' if !in_comment => depth += 1,
+                '}' if !in_comment => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = Some(i);
+                        break;
+                    }
+                }
+                _ => {}
+            }
+            prev = c;
+        }
+        let Some(end) = end else { break };
+        let text = &body[..end];
+        let name = text
+            .split("pub struct ")
+            .nth(1)
+            .and_then(|s| s.split_whitespace().next())
+            .unwrap_or("")
+            .to_string();
+        out.push((name, text.to_string()));
+        rest = &body[end..];
+    }
+    out
+}
+
+fn model(name: &str, params: &[(&str, f64)]) -> Model {
+    let defs = example_definitions();
+    let Some((_, text)) = defs.iter().find(|(n, _)| n == name) else {
+        panic!("no definition of {name} in the examples");
+    };
+    let mut m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for (p, v) in params {
+        m.set(p, *v).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+    m
+}
+
+/// |a − b| within 1e-13 of the larger magnitude (or of 1, near zero).
+fn close(a: f64, b: f64, scale: f64) -> bool {
+    (a - b).abs() <= 1e-13 * scale.max(a.abs()).max(b.abs())
+}
+
+/// Steps `m` (generated) and `r` (run time) from `start` through `steps`
+/// driver increments of `delta` each (all drivers together), with the
+/// drivers' rates and accelerations, and compares every output. Returns
+/// the number of steps compared.
+fn agree<M: Mechanism>(
+    m: &M,
+    r: &Model,
+    start: M::Coords,
+    delta: f64,
+    steps: usize,
+    rates: &[f64],
+    accelerations: &[f64],
+) -> usize {
+    let n = M::DRIVERS + M::UNKNOWNS;
+    let name = r.name().to_string();
+    let mut g_start = start;
+    let mut r_start: Vec<f64> = (0..n).map(|j| start.get(j).unwrap_or(f64::NAN)).collect();
+    let options = Options::DEFAULT;
+    for k in 0..steps {
+        let g = m
+            .step_slices(&g_start, rates, accelerations, &options)
+            .unwrap_or_else(|e| panic!("{name}, step {k}, generated: {e}"));
+        let s = r
+            .step(&r_start, rates, accelerations)
+            .unwrap_or_else(|e| panic!("{name}, step {k}, run time: {e}"));
+        // The length scale of the positions: the largest |q| and point
+        // coordinate; rates and accelerations compared at their own.
+        let qs = (0..n)
+            .map(|j| g.q().get(j).unwrap_or(0.0).abs())
+            .fold(1.0, f64::max);
+        let qds = (0..n)
+            .map(|j| g.qd().get(j).unwrap_or(0.0).abs())
+            .fold(1.0, f64::max);
+        let qdds = (0..n)
+            .map(|j| g.qdd().get(j).unwrap_or(0.0).abs())
+            .fold(1.0, f64::max);
+        for j in 0..n {
+            let (gq, gqd, gqdd) = (
+                g.q().get(j).unwrap_or(f64::NAN),
+                g.qd().get(j).unwrap_or(f64::NAN),
+                g.qdd().get(j).unwrap_or(f64::NAN),
+            );
+            assert!(
+                close(gq, s.q[j], qs),
+                "{name} {k}: q[{j}] {gq} against {}",
+                s.q[j]
+            );
+            assert!(
+                close(gqd, s.qd[j], qds),
+                "{name} {k}: q'[{j}] {gqd} against {}",
+                s.qd[j]
+            );
+            assert!(
+                close(gqdd, s.qdd[j], qdds),
+                "{name} {k}: q''[{j}] {gqdd} against {}",
+                s.qdd[j]
+            );
+        }
+        assert_eq!(g.points().len(), s.points.len());
+        // Each quantity at the scale of the mechanism's: the largest
+        // position, velocity or acceleration component of any point.
+        let largest = |f: fn(&<M::Motion as MotionState>::Point) -> &[f64]| {
+            g.points()
+                .iter()
+                .flat_map(|p| f(p).iter().map(|v| v.abs()))
+                .fold(1e-3, f64::max)
+        };
+        let scales = [
+            largest(|p| p.position()),
+            largest(|p| p.velocity()),
+            largest(|p| p.acceleration()),
+        ];
+        for (i, (gp, sp)) in g.points().iter().zip(&s.points).enumerate() {
+            for (scale, (what, a, b)) in scales.into_iter().zip([
+                ("r", gp.position(), &sp.position),
+                ("v", gp.velocity(), &sp.velocity),
+                ("a", gp.acceleration(), &sp.acceleration),
+            ]) {
+                for (x, y) in a.iter().zip(b) {
+                    assert!(
+                        close(*x, *y, scale),
+                        "{name} {k}: point {i} {what}: {a:?} against {b:?}"
+                    );
+                }
+            }
+        }
+        assert_eq!(g.frames().len(), s.frames.len());
+        for (i, (gf, sf)) in g.frames().iter().zip(&s.frames).enumerate() {
+            let pairs = [
+                (gf.rotation.as_slice(), sf.rotation.as_slice()),
+                (gf.origin.as_slice(), sf.origin.as_slice()),
+                (gf.velocity.as_slice(), sf.velocity.as_slice()),
+                (gf.acceleration.as_slice(), sf.acceleration.as_slice()),
+                (
+                    gf.angular_velocity.as_slice(),
+                    sf.angular_velocity.as_slice(),
+                ),
+                (
+                    gf.angular_acceleration.as_slice(),
+                    sf.angular_acceleration.as_slice(),
+                ),
+            ];
+            for (a, b) in pairs {
+                let scale = a.iter().map(|v| v.abs()).fold(1e-3, f64::max);
+                for (x, y) in a.iter().zip(b) {
+                    assert!(
+                        close(*x, *y, scale),
+                        "{name} {k}: frame {i}: {a:?} against {b:?}"
+                    );
+                }
+            }
+        }
+        // The same scaled diagonal blocks, inverted in another order.
+        assert!(
+            (g.conditioning() - s.conditioning).abs() <= 1e-12 * g.conditioning(),
+            "{name} {k}: conditioning {} against {}",
+            g.conditioning(),
+            s.conditioning
+        );
+        assert_eq!(g.det_sign(), s.det_sign, "{name} {k}: branch");
+        assert!(
+            s.residual <= 64.0 * f64::EPSILON,
+            "{name} {k}: |Φ|/S = {}",
+            s.residual
+        );
+        // The next start: this pose with the drivers advanced.
+        g_start = *g.q();
+        r_start.clone_from(&s.q);
+        for (j, r) in r_start.iter_mut().enumerate().take(M::DRIVERS) {
+            let d = g_start.get(j).unwrap_or(f64::NAN) + delta;
+            g_start.set(j, d);
+            *r = d;
+        }
+    }
+    steps
+}
+
+#[test]
+fn every_example_definition_compiles_at_run_time() {
+    let defs = example_definitions();
+    assert!(defs.len() >= 14, "{} definitions found", defs.len());
+    for (name, text) in &defs {
+        let m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(m.name(), name);
+    }
+}
+
+#[test]
+fn four_bar_agrees_with_the_generated_code_over_a_turn() {
+    let g = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: 0.5,
+    };
+    let r = model(
+        "FourBar",
+        &[
+            ("a", 0.04),
+            ("b", 0.12),
+            ("c", 0.10),
+            ("d", 0.11),
+            ("p", 0.06),
+            ("beta", 0.5),
+        ],
+    );
+    let start = g
+        .assemble(&[0.0, 1.0, 1.6].into())
+        .expect("the crank-rocker assembles");
+    let steps = agree(
+        &g,
+        &r,
+        start,
+        std::f64::consts::TAU / 72.0,
+        72,
+        &[10.0],
+        &[-3.0],
+    );
+    assert_eq!(steps, 72);
+}
+
+#[test]
+fn slider_crank_textbook_and_spatial_models_agree() {
+    let g = SliderCrank {
+        a: 0.1,
+        b: 0.3,
+        e: 0.02,
+    };
+    let r = model("SliderCrank", &[("a", 0.1), ("b", 0.3), ("e", 0.02)]);
+    let start = g.assemble(&[0.0, 0.0, 0.4].into()).expect("assembles");
+    agree(
+        &g,
+        &r,
+        start,
+        std::f64::consts::TAU / 72.0,
+        72,
+        &[5.0],
+        &[1.0],
+    );
+
+    let g = RRtrRrt::EXAMPLE_4_2;
+    let r = model(
+        "RRtrRrt",
+        &[("ab", 0.1), ("ac", 0.15), ("cd", 0.075), ("de", 0.2)],
+    );
+    let start = g
+        .assemble(&RRtrRrt::example_4_2_guess())
+        .expect("assembles");
+    agree(
+        &g,
+        &r,
+        start,
+        std::f64::consts::TAU / 72.0,
+        72,
+        &[5.0],
+        &[0.0],
+    );
+
+    let g = Rssr {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let r = model(
+        "Rssr",
+        &[("a", 0.04), ("b", 0.12), ("c", 0.10), ("d", 0.11)],
+    );
+    let start = g.assemble(&[0.0, 1.0].into()).expect("assembles");
+    agree(
+        &g,
+        &r,
+        start,
+        std::f64::consts::TAU / 72.0,
+        72,
+        &[10.0],
+        &[2.0],
+    );
+}
+
+#[test]
+fn six_bar_and_arm_agree() {
+    let g = Watt::EXAMPLE;
+    let r = model(
+        "Watt",
+        &[
+            ("a", 0.04),
+            ("b", 0.12),
+            ("c", 0.10),
+            ("d", 0.11),
+            ("e", 0.06),
+            ("gamma", 0.0),
+            ("f", 0.10),
+            ("g", 0.08),
+            ("gx", 0.20),
+            ("gy", 0.10),
+        ],
+    );
+    let start = g.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
+    agree(
+        &g,
+        &r,
+        start,
+        std::f64::consts::TAU / 72.0,
+        72,
+        &[10.0],
+        &[0.0],
+    );
+
+    let g = SixAxisArm {
+        d1: 0.4,
+        a2: 0.35,
+        a3: 0.3,
+        d5: 0.08,
+        d6: 0.1,
+    };
+    let r = model(
+        "SixAxisArm",
+        &[
+            ("d1", 0.4),
+            ("a2", 0.35),
+            ("a3", 0.3),
+            ("d5", 0.08),
+            ("d6", 0.1),
+        ],
+    );
+    let start = [0.1, -0.4, 0.7, 0.2, -0.3, 0.5].into();
+    let rates = [0.5, -0.2, 0.3, 1.0, -0.7, 0.4];
+    let accels = [0.1, 0.0, -0.2, 0.3, 0.05, -0.1];
+    agree(&g, &r, start, 0.05, 40, &rates, &accels);
+}
+
+/// Bad definitions, bad parameters and bad arrays are errors that say what
+/// is wrong, never panics or NaN.
+#[test]
+fn errors_are_reported_not_panics() {
+    let text = "pub struct M { params { a } drivers { phi } unknowns { x } \
+                loops { polar(a, phi) == vec2(x, b); } }";
+    match Model::compile(text) {
+        Err(CompileError::Definition(d)) => {
+            assert_eq!(d.0.len(), 1, "{d}");
+            assert!(d.0[0].message.contains("`b`"), "{d}");
+            assert_eq!((d.0[0].line, d.0[0].column), (1, 93), "{d}");
+        }
+        other => panic!("expected a definition error, got {other:?}"),
+    }
+    let mut m = model("SliderCrank", &[("a", 0.1), ("b", 0.3)]);
+    // `e` not set: NaN is refused by name.
+    assert!(matches!(
+        m.assemble(&[0.0, 0.0, 0.4]),
+        Err(Error::NonFinite { name: "e", .. })
+    ));
+    assert!(matches!(
+        m.set("f", 1.0),
+        Err(Error::InvalidParameter { name: "f", .. })
+    ));
+    m.set("e", 0.0).expect("e is a parameter");
+    assert!(matches!(
+        m.assemble(&[0.0, 0.0]),
+        Err(Error::WrongLength {
+            expected: 3,
+            found: 2,
+            ..
+        })
+    ));
+    assert!(matches!(
+        m.analyze(&[0.0, 0.0, 0.4], &[], &[0.0]),
+        Err(Error::WrongLength {
+            expected: 1,
+            found: 0,
+            ..
+        })
+    ));
+    // Past the crank's reach (a > b + |x| cannot close): no convergence,
+    // reported with the equation and the last iterate.
+    m.set("a", 1.0).expect("a is a parameter");
+    m.set("b", 0.3).expect("b is a parameter");
+    match m.assemble(&[std::f64::consts::FRAC_PI_2, 0.0, 0.4]) {
+        Err(Error::NotConverged { configuration, .. }) => assert_eq!(configuration.len(), 3),
+        other => panic!("expected no convergence, got {other:?}"),
+    }
+}
