@@ -45,10 +45,11 @@ pub fn __fuzz_accepted(input: proc_macro::TokenStream) -> proc_macro::TokenStrea
         .map(|p| p.iter().filter_map(|l| l.base10_parse().ok()).collect())
         .unwrap_or_default();
     match args.as_slice() {
-        [seed, count] => {
-            kinematics_compiler::fuzz::accepted_expansions(*seed, usize::try_from(*count).unwrap_or(0))
-                .into()
-        }
+        [seed, count] => kinematics_compiler::fuzz::accepted_expansions(
+            *seed,
+            usize::try_from(*count).unwrap_or(0),
+        )
+        .into(),
         _ => quote::quote!(::core::compile_error!("expected `seed, count`");).into(),
     }
 }
