@@ -6,6 +6,9 @@
 
 use kinematics_core::mechanism;
 
+mod definitions;
+pub use definitions::{definition, definitions, mechanism_bodies};
+
 /// Where the examples write their files: `target/kinematics/` of the
 /// workspace (or of `CARGO_TARGET_DIR`), created if need be.
 ///

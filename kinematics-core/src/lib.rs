@@ -118,6 +118,10 @@ pub mod guide {
     pub mod failures {}
     #[doc = include_str!("../docs/compile-errors.md")]
     pub mod compile_errors {}
+    #[cfg(feature = "runtime")]
+    #[cfg_attr(docsrs_nightly, doc(cfg(feature = "runtime")))]
+    #[doc = include_str!("../docs/runtime.md")]
+    pub mod runtime {}
 }
 pub use mechanism::{
     Coordinate, Coordinates, DriverValues, FrameState, Kind, Mechanism, MotionState, PointMotion,

@@ -12,50 +12,8 @@ use kinematics_core::runtime::{CompileError, Model};
 use kinematics_core::{Coordinates, Error, Mechanism, MotionState, Options, PointState};
 use kinematics_examples::{FourBar, RRtrRrt, Rssr, SixAxisArm, SliderCrank, Watt};
 
-/// The text inside each `mechanism! { … }` of the examples' source, with
-/// the struct's name: braces counted outside comments.
-fn example_definitions() -> Vec<(String, String)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/src/lib.rs");
-    let source = std::fs::read_to_string(path).unwrap_or_default();
-    let mut out = Vec::new();
-    let mut rest = source.as_str();
-    while let Some(at) = rest.find("mechanism! {") {
-        let body = &rest[at + "mechanism! {".len()..];
-        let (mut depth, mut end, mut in_comment) = (1usize, None, false);
-        let mut prev = ' ';
-        for (i, c) in body.char_indices() {
-            match c {
-                '\n' => in_comment = false,
-                '/' if prev == '/' => in_comment = true,
-                '{' if !in_comment => depth += 1,
-                '}' if !in_comment => {
-                    depth -= 1;
-                    if depth == 0 {
-                        end = Some(i);
-                        break;
-                    }
-                }
-                _ => {}
-            }
-            prev = c;
-        }
-        let Some(end) = end else { break };
-        let text = &body[..end];
-        let name = text
-            .split("pub struct ")
-            .nth(1)
-            .and_then(|s| s.split_whitespace().next())
-            .unwrap_or("")
-            .to_string();
-        out.push((name, text.to_string()));
-        rest = &body[end..];
-    }
-    out
-}
-
 fn model(name: &str, params: &[(&str, f64)]) -> Model {
-    let defs = example_definitions();
-    let Some((_, text)) = defs.iter().find(|(n, _)| n == name) else {
+    let Some(text) = kinematics_examples::definition(name) else {
         panic!("no definition of {name} in the examples");
     };
     let mut m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -209,7 +167,7 @@ fn agree<M: Mechanism>(
 
 #[test]
 fn every_example_definition_compiles_at_run_time() {
-    let defs = example_definitions();
+    let defs = kinematics_examples::definitions();
     assert!(defs.len() >= 14, "{} definitions found", defs.len());
     for (name, text) in &defs {
         let m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));

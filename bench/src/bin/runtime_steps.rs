@@ -1,0 +1,248 @@
+//! Models defined at run time (`kinematics_core::runtime::Model`, machine
+//! code from Cranelift) against the code `mechanism!` generates from the
+//! same definitions (the examples' text): a turn of 3600 steps of M1 (the
+//! four-bar), M2 (the RSSR), M3 (the Watt six-bar) and M4 (the six-axis
+//! arm), each step assembling from the previous pose and analysing the
+//! motion. Interleaved rounds (generated stepper, generated `step`, run-time
+//! `step`, in turn), thread CPU time; per mechanism the median ratio to the
+//! generated stepper and the range of the middle 80 % of rounds. Also the
+//! time to compile each definition at run time (text to machine code).
+//!
+//! ```sh
+//! cargo run --release -p kinematics-bench --bin runtime_steps
+//! ```
+// A measuring harness: a failed step should stop it.
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::cast_precision_loss
+)]
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use kinematics_core::runtime::Model;
+use kinematics_core::{Coordinates, Mechanism, MotionState, Options};
+use kinematics_examples::{FourBar, Rssr, SixAxisArm, Watt};
+
+const STEPS: usize = 3600;
+const ROUNDS: usize = 21;
+
+#[allow(unsafe_code)]
+fn thread_cpu_ns() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid timespec for the call to write into.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
+    t.tv_sec as f64 * 1e9 + t.tv_nsec as f64
+}
+
+/// The run-time model of the example `name` with `params`.
+fn model(name: &str, params: &[(&str, f64)]) -> Model {
+    let text = kinematics_examples::definition(name).expect("an example");
+    let mut m = Model::compile(text).expect("it compiles");
+    for (p, v) in params {
+        m.set(p, *v).expect("a parameter");
+    }
+    m
+}
+
+/// One turn: every driver advanced by `delta` per step from `start`;
+/// returns a checksum of the unknowns' accelerations.
+fn turn_generated<M: Mechanism>(
+    step: &mut dyn FnMut(&M::Coords) -> M::Motion,
+    start: M::Coords,
+    delta: f64,
+) -> f64 {
+    let mut pose = start;
+    let mut sum = 0.0;
+    for _ in 0..STEPS {
+        let s = step(&pose);
+        sum += (0..M::DRIVERS + M::UNKNOWNS)
+            .map(|j| s.qdd().get(j).unwrap_or(0.0))
+            .sum::<f64>();
+        pose = *s.q();
+        for j in 0..M::DRIVERS {
+            let d = pose.get(j).unwrap_or(0.0) + delta;
+            pose.set(j, d);
+        }
+    }
+    sum
+}
+
+fn turn_runtime(m: &Model, start: &[f64], rates: &[f64], delta: f64) -> f64 {
+    let accels = vec![0.0; rates.len()];
+    let mut pose = start.to_vec();
+    let mut sum = 0.0;
+    for _ in 0..STEPS {
+        let s = m.step(&pose, rates, &accels).expect("a step");
+        sum += s.qdd.iter().sum::<f64>();
+        pose = s.q;
+        for d in &mut pose[..m.drivers()] {
+            *d += delta;
+        }
+    }
+    sum
+}
+
+fn summary(mut r: Vec<f64>) -> String {
+    r.sort_by(f64::total_cmp);
+    let (lo, mid, hi) = (r[ROUNDS / 10], r[ROUNDS / 2], r[ROUNDS - 1 - ROUNDS / 10]);
+    format!("{mid:.2}× ({lo:.2}–{hi:.2})")
+}
+
+/// Times the three variants of one mechanism, interleaved, and prints its
+/// row.
+fn row<M: Mechanism>(label: &str, m: &M, r: &Model, start: M::Coords, rates: &[f64], delta: f64) {
+    let options = Options::DEFAULT;
+    let zeros = vec![0.0; rates.len()];
+    let start = m.assemble_with(&start, &options).expect("assembles");
+    let start_vec: Vec<f64> = (0..M::DRIVERS + M::UNKNOWNS)
+        .map(|j| start.get(j).unwrap_or(0.0))
+        .collect();
+    let mut state = m.step_state(&options).expect("a stepper");
+    // The stepper takes the drivers' rates in a coordinates value.
+    let mut rate_coords = M::Coords::default();
+    for (j, v) in rates.iter().enumerate() {
+        rate_coords.set(j, *v);
+    }
+    let zero_coords = M::Coords::default();
+    let mut stepper = |p: &M::Coords| {
+        m.step_carried(p, &rate_coords, &zero_coords, &mut state)
+            .expect("a step")
+    };
+    let mut plain = |p: &M::Coords| m.step_slices(p, rates, &zeros, &options).expect("a step");
+    // The three agree before they are timed.
+    let (a, b, c) = (
+        turn_generated::<M>(&mut stepper, start, delta),
+        turn_generated::<M>(&mut plain, start, delta),
+        turn_runtime(r, &start_vec, rates, delta),
+    );
+    assert!(
+        (a - c).abs() <= 1e-9 * a.abs().max(1.0) && (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+        "{label}: checksums {a} {b} {c}"
+    );
+    let (mut plain_ratio, mut runtime_ratio) = (Vec::new(), Vec::new());
+    let mut per_step = Vec::new();
+    for _ in 0..ROUNDS {
+        let t0 = thread_cpu_ns();
+        black_box(turn_generated::<M>(&mut stepper, black_box(start), delta));
+        let t1 = thread_cpu_ns();
+        black_box(turn_generated::<M>(&mut plain, black_box(start), delta));
+        let t2 = thread_cpu_ns();
+        black_box(turn_runtime(r, black_box(&start_vec), rates, delta));
+        let t3 = thread_cpu_ns();
+        plain_ratio.push((t2 - t1) / (t1 - t0));
+        runtime_ratio.push((t3 - t2) / (t1 - t0));
+        per_step.push((t3 - t2) / STEPS as f64);
+    }
+    per_step.sort_by(f64::total_cmp);
+    println!(
+        "| {label} | {} | {} | {:.0} ns |",
+        summary(plain_ratio),
+        summary(runtime_ratio),
+        per_step[ROUNDS / 2]
+    );
+}
+
+fn main() {
+    // Compile times: text to machine code, median of 11.
+    println!("| definition | compile at run time (median of 11) |\n|---|---|");
+    for name in ["FourBar", "Rssr", "Watt", "SixAxisArm"] {
+        let text = kinematics_examples::definition(name).expect("an example");
+        let mut t: Vec<f64> = (0..11)
+            .map(|_| {
+                let t0 = Instant::now();
+                black_box(Model::compile(black_box(text)).expect("compiles"));
+                t0.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        t.sort_by(f64::total_cmp);
+        println!("| {name} | {:.1} ms |", t[5]);
+    }
+    println!(
+        "\n| mechanism | generated `step` / stepper | run-time `step` / stepper | run-time per step |\n|---|---|---|---|"
+    );
+    let turn = std::f64::consts::TAU / STEPS as f64;
+    let g = FourBar::CRANK_ROCKER;
+    let r = model(
+        "FourBar",
+        &[
+            ("a", g.a),
+            ("b", g.b),
+            ("c", g.c),
+            ("d", g.d),
+            ("p", g.p),
+            ("beta", g.beta),
+        ],
+    );
+    row(
+        "M1 four-bar",
+        &g,
+        &r,
+        FourBar::CRANK_ROCKER_GUESS,
+        &[10.0],
+        turn,
+    );
+    let g = Rssr {
+        a: 0.102,
+        b: 0.381,
+        c: 0.254,
+        d: 0.314,
+    };
+    let r = model("Rssr", &[("a", g.a), ("b", g.b), ("c", g.c), ("d", g.d)]);
+    row("M2 RSSR", &g, &r, [0.0, 1.2].into(), &[25.0], turn);
+    let g = Watt::EXAMPLE;
+    let r = model(
+        "Watt",
+        &[
+            ("a", g.a),
+            ("b", g.b),
+            ("c", g.c),
+            ("d", g.d),
+            ("e", g.e),
+            ("gamma", g.gamma),
+            ("f", g.f),
+            ("g", g.g),
+            ("gx", g.gx),
+            ("gy", g.gy),
+        ],
+    );
+    row(
+        "M3 Watt six-bar",
+        &g,
+        &r,
+        Watt::EXAMPLE_GUESS,
+        &[10.0],
+        turn,
+    );
+    let g = SixAxisArm {
+        d1: 0.4,
+        a2: 0.35,
+        a3: 0.3,
+        d5: 0.08,
+        d6: 0.1,
+    };
+    let r = model(
+        "SixAxisArm",
+        &[
+            ("d1", g.d1),
+            ("a2", g.a2),
+            ("a3", g.a3),
+            ("d5", g.d5),
+            ("d6", g.d6),
+        ],
+    );
+    row(
+        "M4 six-axis arm",
+        &g,
+        &r,
+        [0.1, -0.4, 0.7, 0.2, -0.3, 0.5].into(),
+        &[0.5, -0.2, 0.3, 1.0, -0.7, 0.4],
+        turn,
+    );
+}
