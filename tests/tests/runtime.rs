@@ -171,7 +171,7 @@ fn every_example_definition_compiles_at_run_time() {
     assert!(defs.len() >= 14, "{} definitions found", defs.len());
     for (name, text) in &defs {
         let m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert_eq!(m.name(), name);
+        assert_eq!(m.name(), *name);
     }
 }
 

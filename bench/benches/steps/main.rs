@@ -31,6 +31,7 @@ mod interp;
 mod models;
 mod positions;
 
+pub(crate) use kinematics_bench::thread_cpu_ns;
 use std::f64::consts::TAU;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -669,22 +670,6 @@ fn main() {
             eprintln!("not all benchmarks ran (a filter was given?); README.md left unchanged");
         }
     }
-}
-
-/// CPU time of the calling thread, in nanoseconds (the one `unsafe` call of
-/// the project, a foreign function with a valid out-pointer).
-#[allow(unsafe_code)]
-pub(crate) fn thread_cpu_ns() -> f64 {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid timespec for the call to write into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
-    #[allow(clippy::cast_precision_loss)]
-    let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
-    ns
 }
 
 /// The ratios of `variants` to the hand-written code, measured interleaved:

@@ -19,6 +19,7 @@
     clippy::cast_precision_loss
 )]
 
+use kinematics_bench::thread_cpu_ns;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -28,18 +29,6 @@ use kinematics_examples::{FourBar, Rssr, SixAxisArm, Watt};
 
 const STEPS: usize = 3600;
 const ROUNDS: usize = 21;
-
-#[allow(unsafe_code)]
-fn thread_cpu_ns() -> f64 {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid timespec for the call to write into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
-    t.tv_sec as f64 * 1e9 + t.tv_nsec as f64
-}
 
 /// The run-time model of the example `name` with `params`.
 fn model(name: &str, params: &[(&str, f64)]) -> Model {

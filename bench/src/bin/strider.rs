@@ -15,6 +15,7 @@
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::cast_precision_loss)]
 
+use kinematics_bench::thread_cpu_ns;
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::hint::black_box;
 
@@ -46,19 +47,6 @@ fn turn(
     {
         use_pose(&s.expect("no stop").pose);
     }
-}
-
-/// CPU time of the calling thread, in nanoseconds.
-#[allow(unsafe_code)]
-fn thread_cpu_ns() -> f64 {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid timespec for the call to write into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
-    t.tv_sec as f64 * 1e9 + t.tv_nsec as f64
 }
 
 fn main() {
