@@ -51,7 +51,7 @@ impl fmt::Display for Diagnostic {
         let lead: String = self
             .excerpt
             .chars()
-            .take(self.column - 1)
+            .take(self.column.saturating_sub(1))
             .map(|c| if c == '\t' { '\t' } else { ' ' })
             .collect();
         write!(f, "{pad} | {lead}{}", "^".repeat(width))
