@@ -27,6 +27,11 @@ use kinematics_core::runtime::Model;
 use kinematics_core::{Coordinates, Mechanism, MotionState, Options};
 use kinematics_examples::{FourBar, Rssr, SixAxisArm, Watt};
 
+// The chains of four-bars of the large-model tests, as text.
+#[path = "../../../tests/src/four_bar_chain.rs"]
+#[allow(dead_code)]
+mod four_bar_chain;
+
 const STEPS: usize = 3600;
 const ROUNDS: usize = 21;
 
@@ -152,6 +157,26 @@ fn main() {
             .collect();
         t.sort_by(f64::total_cmp);
         println!("| {name} | {:.1} ms |", t[5]);
+    }
+    // The chains of 100 and 250 four-bars (200 and 500 unknowns), median
+    // of 5.
+    for n in [100, 250] {
+        let source = four_bar_chain::source("Chain", n);
+        let bodies = kinematics_examples::mechanism_bodies(&source);
+        let text = bodies.first().expect("a definition").0;
+        let mut t: Vec<f64> = (0..5)
+            .map(|_| {
+                let t0 = Instant::now();
+                black_box(Model::compile(black_box(text)).expect("compiles"));
+                t0.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        t.sort_by(f64::total_cmp);
+        println!(
+            "| chain of {n} four-bars ({} unknowns) | {:.0} ms |",
+            2 * n,
+            t[2]
+        );
     }
     println!(
         "\n| mechanism | generated `step` / stepper | run-time `step` / stepper | run-time per step |\n|---|---|---|---|"
