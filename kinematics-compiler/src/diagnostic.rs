@@ -24,6 +24,19 @@ pub struct Diagnostic {
     pub excerpt: String,
 }
 
+impl Diagnostic {
+    /// The diagnostic as rustc shows one, its location prefixed by the
+    /// name of the file the text came from (`fourbar.mech:7:40`); the
+    /// `Display` of a diagnostic has no file name.
+    #[must_use]
+    pub fn in_file<'a>(&'a self, file: &'a str) -> impl fmt::Display + 'a {
+        Shown {
+            diagnostic: self,
+            file: Some(file),
+        }
+    }
+}
+
 impl fmt::Display for Diagnostic {
     /// ```text
     /// error: unknown name `th5`; did you mean `th3`?
@@ -33,25 +46,45 @@ impl fmt::Display for Diagnostic {
     ///   |                                                  ^^^
     /// ```
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let number = self.line.to_string();
+        Shown {
+            diagnostic: self,
+            file: None,
+        }
+        .fmt(f)
+    }
+}
+
+/// A diagnostic shown with or without the name of its file.
+struct Shown<'a> {
+    diagnostic: &'a Diagnostic,
+    file: Option<&'a str>,
+}
+
+impl fmt::Display for Shown<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let d = self.diagnostic;
+        let number = d.line.to_string();
         let pad = " ".repeat(number.len());
-        writeln!(f, "error: {}", self.message)?;
-        writeln!(f, "{pad}--> {}:{}", self.line, self.column)?;
+        writeln!(f, "error: {}", d.message)?;
+        match self.file {
+            Some(file) => writeln!(f, "{pad}--> {file}:{}:{}", d.line, d.column)?,
+            None => writeln!(f, "{pad}--> {}:{}", d.line, d.column)?,
+        }
         writeln!(f, "{pad} |")?;
-        writeln!(f, "{number} | {}", self.excerpt)?;
-        let width = if self.end.0 == self.line {
-            self.end.1.saturating_sub(self.column).max(1)
+        writeln!(f, "{number} | {}", d.excerpt)?;
+        let width = if d.end.0 == d.line {
+            d.end.1.saturating_sub(d.column).max(1)
         } else {
             // To the end of the line.
-            (self.excerpt.chars().count() + 1)
-                .saturating_sub(self.column)
+            (d.excerpt.chars().count() + 1)
+                .saturating_sub(d.column)
                 .max(1)
         };
         // Tabs kept as tabs, so that the caret lines up in a terminal.
-        let lead: String = self
+        let lead: String = d
             .excerpt
             .chars()
-            .take(self.column.saturating_sub(1))
+            .take(d.column.saturating_sub(1))
             .map(|c| if c == '\t' { '\t' } else { ' ' })
             .collect();
         write!(f, "{pad} | {lead}{}", "^".repeat(width))

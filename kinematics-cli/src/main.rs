@@ -1,0 +1,388 @@
+//! `kinematics`: a mechanism definition in a text file (what would be
+//! written inside `mechanism! { … }`), checked and analysed with no Rust
+//! code of one's own.
+//!
+//! ```text
+//! kinematics check fourbar.mech
+//! kinematics analyze fourbar.mech --params fourbar.toml --at phi=0.5 \
+//!     --at th3=0.9 --at th4=1.7 --rate phi=10
+//! ```
+//!
+//! `check` prints the definition's coordinates, equations, the blocks of
+//! its loop equations in solve order (with the closed form of each) and
+//! its number of assemblies, or every error, located in the file as rustc
+//! locates them. `analyze` assembles the mechanism at the drivers given,
+//! from the guesses given for the unknowns (Newton–Raphson), and prints q,
+//! q', q'', every point's position, velocity and acceleration, and the
+//! conditioning. Exit status: 0 on success, 1 for a definition with errors
+//! or a mechanism that cannot be assembled or analysed there, 2 for wrong
+//! arguments.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use kinematics_core::runtime::{CompileError, Model};
+
+/// Check and analyse mechanism definitions given as text files.
+#[derive(Parser)]
+#[command(name = "kinematics", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile a definition; print its coordinates, equations, blocks and
+    /// number of assemblies, or its errors.
+    Check {
+        /// The definition (`pub struct Name { params { … } … }`).
+        file: PathBuf,
+    },
+    /// Assemble a definition at a pose and print the motion there.
+    Analyze {
+        /// The definition.
+        file: PathBuf,
+        /// Parameter values: a TOML file of `name = value` lines.
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// A parameter value (repeatable; after those of --params).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        param: Vec<String>,
+        /// A driver's value, or a guess of an unknown (every coordinate;
+        /// angles in radians).
+        #[arg(long = "at", value_name = "NAME=VALUE")]
+        at: Vec<String>,
+        /// A driver's rate (default 0).
+        #[arg(long = "rate", value_name = "NAME=VALUE")]
+        rate: Vec<String>,
+        /// A driver's acceleration (default 0).
+        #[arg(long = "acceleration", value_name = "NAME=VALUE")]
+        acceleration: Vec<String>,
+    },
+}
+
+/// A failure and its exit status.
+struct Failure {
+    message: String,
+    status: u8,
+}
+
+impl Failure {
+    /// Wrong arguments (status 2).
+    fn usage(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            status: 2,
+        }
+    }
+
+    /// A definition or a mechanism that does not work (status 1).
+    fn mechanism(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            status: 1,
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check { file } => check(&file),
+        Command::Analyze {
+            file,
+            params,
+            param,
+            at,
+            rate,
+            acceleration,
+        } => analyze(&file, params.as_deref(), &param, &at, &rate, &acceleration),
+    };
+    match result {
+        Ok(out) => {
+            print!("{out}");
+            ExitCode::SUCCESS
+        }
+        Err(f) => {
+            eprintln!("{}", f.message);
+            ExitCode::from(f.status)
+        }
+    }
+}
+
+fn read(file: &Path) -> Result<String, Failure> {
+    std::fs::read_to_string(file)
+        .map_err(|e| Failure::usage(format!("error: cannot read {}: {e}", file.display())))
+}
+
+/// The definition's errors, each located in `file`.
+fn located(file: &Path, errors: &kinematics_compiler::Diagnostics) -> Failure {
+    let name = file.display().to_string();
+    let shown: Vec<String> = errors
+        .0
+        .iter()
+        .map(|d| d.in_file(&name).to_string())
+        .collect();
+    let count = errors.0.len();
+    let plural = if count == 1 { "" } else { "s" };
+    Failure::mechanism(format!(
+        "{}\n\nerror: {name}: {count} error{plural} in the definition",
+        shown.join("\n\n")
+    ))
+}
+
+fn list(items: &[String]) -> String {
+    if items.is_empty() {
+        "–".to_string()
+    } else {
+        items.join(", ")
+    }
+}
+
+fn check(file: &Path) -> Result<String, Failure> {
+    let text = read(file)?;
+    let c = kinematics_compiler::compile_str(&text).map_err(|e| located(file, &e))?;
+    let coords = c.coordinates();
+    let nd = c.drivers();
+    let named = |(n, k): &(String, kinematics_compiler::Kind)| {
+        let kind = match k {
+            kinematics_compiler::Kind::Angle => "angle",
+            kinematics_compiler::Kind::Length => "length",
+        };
+        format!("{n} ({kind})")
+    };
+    let mut out = String::new();
+    let equations = c.residuals();
+    let _ = writeln!(
+        out,
+        "{}: {} driver{}, {} unknown{}, {} scalar equation{}",
+        c.name(),
+        nd,
+        if nd == 1 { "" } else { "s" },
+        c.unknowns(),
+        if c.unknowns() == 1 { "" } else { "s" },
+        equations.len(),
+        if equations.len() == 1 { "" } else { "s" },
+    );
+    let drivers: Vec<String> = coords[..nd].iter().map(named).collect();
+    let unknowns: Vec<String> = coords[nd..].iter().map(named).collect();
+    let points: Vec<String> = c.points().into_iter().map(|p| p.name).collect();
+    let frames: Vec<String> = c.frames().into_iter().map(|f| f.name).collect();
+    let _ = writeln!(out, "  parameters: {}", list(&c.parameters()));
+    let _ = writeln!(out, "  drivers:    {}", list(&drivers));
+    let _ = writeln!(out, "  unknowns:   {}", list(&unknowns));
+    let _ = writeln!(out, "  points:     {}", list(&points));
+    let _ = writeln!(out, "  frames:     {}", list(&frames));
+    let _ = writeln!(out, "equations:");
+    for (i, (_, text)) in equations.iter().enumerate() {
+        let _ = writeln!(out, "  {}. {text}", i + 1);
+    }
+    let blocks = c.blocks();
+    let mut two_modes = 0u32;
+    if !blocks.is_empty() {
+        let _ = writeln!(out, "blocks, in solve order:");
+    }
+    for b in &blocks {
+        let names: Vec<&str> = b
+            .unknowns
+            .iter()
+            .map(|&k| coords[nd + k].0.as_str())
+            .collect();
+        let rows: Vec<String> = b.equations.iter().map(|r| (r + 1).to_string()).collect();
+        let how = match b.closed_form {
+            Some(form) => {
+                // Every closed form but the linear one and the TRT dyad
+                // has two solutions: two assembly modes.
+                let modes = !matches!(form, "linear" | "TRT");
+                if modes {
+                    two_modes += 1;
+                }
+                let kind = if form == "angle" {
+                    "a cos θ + b sin θ + c = 0".to_string()
+                } else if form == "linear" {
+                    "linear".to_string()
+                } else {
+                    format!("{form} dyad")
+                };
+                format!(
+                    "closed form, {kind}{}",
+                    if modes { ", two modes" } else { "" }
+                )
+            }
+            None => "Newton–Raphson".to_string(),
+        };
+        let _ = writeln!(
+            out,
+            "  {} from equation{} {}: {how}",
+            names.join(", "),
+            if rows.len() == 1 { "" } else { "s" },
+            rows.join(", ")
+        );
+    }
+    let _ = writeln!(
+        out,
+        "assemblies: {}",
+        if two_modes < 64 {
+            (1u64 << two_modes).to_string()
+        } else {
+            format!("2^{two_modes}")
+        }
+    );
+    Ok(out)
+}
+
+/// `name=value` pairs.
+fn pairs(args: &[String], what: &str) -> Result<Vec<(String, f64)>, Failure> {
+    args.iter()
+        .map(|a| {
+            let (name, value) = a.split_once('=').ok_or_else(|| {
+                Failure::usage(format!("error: {what} `{a}` is not `name=value`"))
+            })?;
+            let value: f64 = value.trim().parse().map_err(|_| {
+                Failure::usage(format!("error: {what} `{a}`: `{value}` is not a number"))
+            })?;
+            Ok((name.trim().to_string(), value))
+        })
+        .collect()
+}
+
+/// The values of a TOML file of `name = number` lines.
+fn params_file(file: &Path) -> Result<Vec<(String, f64)>, Failure> {
+    let text = read(file)?;
+    let table: toml::Table = text
+        .parse()
+        .map_err(|e| Failure::usage(format!("error: {}: {e}", file.display())))?;
+    table
+        .into_iter()
+        .map(|(k, v)| {
+            let value = match v {
+                toml::Value::Float(x) => x,
+                #[allow(clippy::cast_precision_loss)]
+                toml::Value::Integer(i) => i as f64,
+                other => {
+                    return Err(Failure::usage(format!(
+                        "error: {}: `{k}` is {}, not a number",
+                        file.display(),
+                        other.type_str()
+                    )))
+                }
+            };
+            Ok((k, value))
+        })
+        .collect()
+}
+
+fn analyze(
+    file: &Path,
+    params: Option<&Path>,
+    param: &[String],
+    at: &[String],
+    rate: &[String],
+    acceleration: &[String],
+) -> Result<String, Failure> {
+    let text = read(file)?;
+    let mut m = match Model::compile(&text) {
+        Ok(m) => m,
+        Err(CompileError::Definition(e)) => return Err(located(file, &e)),
+        Err(e) => return Err(Failure::mechanism(format!("error: {e}"))),
+    };
+    let mut values = match params {
+        Some(p) => params_file(p)?,
+        None => Vec::new(),
+    };
+    values.extend(pairs(param, "parameter")?);
+    for (name, value) in &values {
+        m.set(name, *value)
+            .map_err(|e| Failure::usage(format!("error: {e}")))?;
+    }
+    if let Some(missing) = m
+        .parameters()
+        .iter()
+        .zip(m.values())
+        .find(|(_, v)| v.is_nan())
+    {
+        return Err(Failure::usage(format!(
+            "error: parameter `{}` has no value: give it with --param {}=<value> or in --params",
+            missing.0, missing.0
+        )));
+    }
+    let coordinate = |name: &str, what: &str| {
+        m.index(name).ok_or_else(|| {
+            let names: Vec<&str> = m.coordinates().iter().map(|c| c.name).collect();
+            Failure::usage(format!(
+                "error: {what} `{name}` is not a coordinate of {}; its coordinates are {}",
+                m.name(),
+                names.join(", ")
+            ))
+        })
+    };
+    let n = m.coordinates().len();
+    let nd = m.drivers();
+    let mut q = vec![f64::NAN; n];
+    for (name, value) in pairs(at, "coordinate")? {
+        q[coordinate(&name, "coordinate")?] = value;
+    }
+    if let Some(j) = q.iter().position(|v| v.is_nan()) {
+        let c = &m.coordinates()[j];
+        let what = if j < nd { "its value" } else { "a guess" };
+        return Err(Failure::usage(format!(
+            "error: give {what} for `{0}` with --at {0}=<value>",
+            c.name
+        )));
+    }
+    let mut rates = vec![0.0; nd];
+    let mut accels = vec![0.0; nd];
+    for (list, args, what) in [
+        (&mut rates, rate, "rate"),
+        (&mut accels, acceleration, "acceleration"),
+    ] {
+        for (name, value) in pairs(args, what)? {
+            let j = coordinate(&name, what)?;
+            if j >= nd {
+                return Err(Failure::usage(format!(
+                    "error: `{name}` is an unknown: only drivers are given a {what}"
+                )));
+            }
+            list[j] = value;
+        }
+    }
+    let s = m
+        .step(&q, &rates, &accels)
+        .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
+    let mut out = String::new();
+    let _ = writeln!(out, "{} at the assembled pose:", m.name());
+    let _ = writeln!(
+        out,
+        "{:<12} {:>24} {:>24} {:>24}",
+        "coordinate", "q", "q'", "q''"
+    );
+    for (j, c) in m.coordinates().iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "{:<12} {:>24.15e} {:>24.15e} {:>24.15e}",
+            c.name, s.q[j], s.qd[j], s.qdd[j]
+        );
+    }
+    if !s.points.is_empty() {
+        let _ = writeln!(out, "{:<12} {:<10} components", "point", "");
+    }
+    for (name, p) in m.point_names().iter().zip(&s.points) {
+        for (what, v) in [
+            ("position", &p.position),
+            ("velocity", &p.velocity),
+            ("accel.", &p.acceleration),
+        ] {
+            let comps: Vec<String> = v.iter().map(|x| format!("{x:>24.15e}")).collect();
+            let _ = writeln!(out, "{name:<12} {what:<10} {}", comps.join(" "));
+        }
+    }
+    let _ = writeln!(
+        out,
+        "conditioning {:.6e}, sign of det Φ_u {:+}, largest |Φ_i|/S_i {:.3e}",
+        s.conditioning, s.det_sign, s.residual
+    );
+    Ok(out)
+}
