@@ -161,6 +161,8 @@ struct Work {
     /// The convergence weights: `rows` for relative convergence, 1 for
     /// absolute.
     weights: Vec<f64>,
+    /// Rates and accelerations of zero, for the stages of positions.
+    zeros: Vec<f64>,
 }
 
 impl Model {
@@ -376,7 +378,7 @@ impl Model {
         let mut q = guess.to_vec();
         let mut w = self.work();
         self.solve(&mut q, &mut w, options)?;
-        self.factor(&q, &mut w, options)?;
+        self.factor(&q, &mut w, options, true)?;
         Ok(q)
     }
 
@@ -409,6 +411,34 @@ impl Model {
     ) -> Result<Motion, Error> {
         options.validate()?;
         self.validate()?;
+        self.check_inputs(q, rates, accelerations)?;
+        let mut w = self.work();
+        self.analyze_at(q, rates, accelerations, &mut w, options, false)
+    }
+
+    /// Assembles at the drivers of `start` from its unknowns (as
+    /// [`Model::assemble`]) and analyses the motion there (as
+    /// [`Model::analyze`]).
+    ///
+    /// # Errors
+    /// As [`Model::assemble`] and [`Model::analyze`].
+    pub fn step(
+        &self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Motion, Error> {
+        let options = Options::DEFAULT;
+        self.validate()?;
+        self.check_inputs(start, rates, accelerations)?;
+        let mut q = start.to_vec();
+        let mut w = self.work();
+        self.solve(&mut q, &mut w, &options)?;
+        self.analyze_at(&q, rates, accelerations, &mut w, &options, true)
+    }
+
+    /// The lengths of the arrays, and every value finite.
+    fn check_inputs(&self, q: &[f64], rates: &[f64], accelerations: &[f64]) -> Result<(), Error> {
         let (n, nd) = (self.coordinates.len(), self.drivers);
         self.length("coordinates", n, q.len())?;
         self.length("driver rates", nd, rates.len())?;
@@ -433,24 +463,7 @@ impl Model {
                 return Err(Error::NonFinite { input, name, value });
             }
         }
-        let mut w = self.work();
-        self.analyze_at(q, rates, accelerations, &mut w, options)
-    }
-
-    /// Assembles at the drivers of `start` from its unknowns (as
-    /// [`Model::assemble`]) and analyses the motion there (as
-    /// [`Model::analyze`]).
-    ///
-    /// # Errors
-    /// As [`Model::assemble`] and [`Model::analyze`].
-    pub fn step(
-        &self,
-        start: &[f64],
-        rates: &[f64],
-        accelerations: &[f64],
-    ) -> Result<Motion, Error> {
-        let q = self.assemble(start)?;
-        self.analyze(&q, rates, accelerations)
+        Ok(())
     }
 
     fn length(&self, what: Name, expected: usize, found: usize) -> Result<(), Error> {
@@ -474,6 +487,7 @@ impl Model {
             newton: vec![0.0; self.program.outputs(Program::NEWTON)],
             rows: vec![1.0; nu],
             weights: vec![1.0; nu],
+            zeros: vec![0.0; self.coordinates.len()],
         }
     }
 
@@ -495,9 +509,15 @@ impl Model {
 
     /// Φ and Φ_u at q into `w.phi`, `w.jac` (row-major).
     fn newton_eval(&self, q: &[f64], w: &mut Work) {
-        let zeros = vec![0.0; q.len()];
         let nu = w.phi.len();
-        self.eval(Program::NEWTON, &w.params, q, &zeros, &zeros, &mut w.newton);
+        self.eval(
+            Program::NEWTON,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &mut w.newton,
+        );
         w.phi.copy_from_slice(&w.newton[..nu]);
         w.jac.copy_from_slice(&w.newton[nu..]);
     }
@@ -509,10 +529,16 @@ impl Model {
     /// lengths counted as L (1 where S_i = 0); the convergence weights,
     /// those for relative convergence, 1 for absolute. Returns L.
     fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
-        let zeros = vec![0.0; q.len()];
         let n = self.params.len();
         w.params[n] = f64::NAN;
-        self.eval(Program::SCALES, &w.params, q, &zeros, &zeros, &mut w.rows);
+        self.eval(
+            Program::SCALES,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &mut w.rows,
+        );
         let length = w
             .rows
             .iter()
@@ -524,8 +550,8 @@ impl Model {
             Program::FULL_SCALES,
             &w.params,
             q,
-            &zeros,
-            &zeros,
+            &w.zeros,
+            &w.zeros,
             &mut w.rows,
         );
         for (r, wt) in w.rows.iter_mut().zip(&mut w.weights) {
@@ -637,10 +663,23 @@ impl Model {
 
     /// The scaled Jacobian's conditioning and det sign at q (Φ_u already
     /// in `w.jac`), or [`Error::Singular`].
-    fn factor(&self, q: &[f64], w: &mut Work, options: &Options) -> Result<(f64, f64), Error> {
+    /// With `evaluated`, `w` already holds the scaling and Φ, Φ_u at q
+    /// (as `solve` leaves them).
+    fn factor(
+        &self,
+        q: &[f64],
+        w: &mut Work,
+        options: &Options,
+        evaluated: bool,
+    ) -> Result<(f64, f64), Error> {
         let nu = self.unknowns();
-        let length = self.scaling(q, w, options);
-        self.newton_eval(q, w);
+        let length = if evaluated {
+            w.params[self.params.len()]
+        } else {
+            let length = self.scaling(q, w, options);
+            self.newton_eval(q, w);
+            length
+        };
         let mut a = w.jac.clone();
         for i in 0..nu {
             for k in 0..nu {
@@ -684,9 +723,10 @@ impl Model {
         accelerations: &[f64],
         w: &mut Work,
         options: &Options,
+        evaluated: bool,
     ) -> Result<Motion, Error> {
         let (n, nd, nu) = (self.coordinates.len(), self.drivers, self.unknowns());
-        let (conditioning, det_sign) = self.factor(q, w, options)?;
+        let (conditioning, det_sign) = self.factor(q, w, options, evaluated)?;
         let residual = w
             .phi
             .iter()

@@ -279,10 +279,19 @@ impl Program {
         stages: &[&[Id]],
     ) -> Result<Self, JitError> {
         let mut flags = settings::builder();
+        // Cranelift's verifier checks its own output: kept in debug builds
+        // (the tests), off in release builds, where it took a tenth of the
+        // time of compiling a large model.
+        let verifier = if cfg!(debug_assertions) {
+            "true"
+        } else {
+            "false"
+        };
         for (name, value) in [
             ("opt_level", "speed"),
             ("use_colocated_libcalls", "false"),
             ("is_pic", "false"),
+            ("enable_verifier", verifier),
         ] {
             flags
                 .set(name, value)
