@@ -254,6 +254,18 @@ impl Model {
         }
     }
 
+    /// Sets every parameter, in declaration order (as a generated
+    /// mechanism's `parameter_values` gives them).
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless there is one value per parameter.
+    pub fn set_values(&mut self, values: &[f64]) -> Result<(), Error> {
+        let n = self.params.len();
+        self.length("parameter values", n, values.len())?;
+        self.values[..n].copy_from_slice(values);
+        Ok(())
+    }
+
     /// The coordinates: drivers, then unknowns, in declaration order.
     #[must_use]
     pub fn coordinates(&self) -> &[Coordinate] {

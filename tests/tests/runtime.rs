@@ -16,14 +16,17 @@ use kinematics_examples::{FourBar, RRtrRrt, Rssr, SixAxisArm, SliderCrank, Watt}
 #[path = "../src/four_bar_chain.rs"]
 mod four_bar_chain;
 
-fn model(name: &str, params: &[(&str, f64)]) -> Model {
+/// The run-time model of the example `name` with the parameters of `g`,
+/// the generated mechanism of the same definition (its parameters' names
+/// checked against the model's).
+fn model<const N: usize>(name: &str, names: [&str; N], values: [f64; N]) -> Model {
     let Some(text) = kinematics_examples::definition(name) else {
         panic!("no definition of {name} in the examples");
     };
     let mut m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
-    for (p, v) in params {
-        m.set(p, *v).unwrap_or_else(|e| panic!("{name}: {e}"));
-    }
+    assert_eq!(m.parameters(), names);
+    m.set_values(&values)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
     m
 }
 
@@ -189,17 +192,7 @@ fn four_bar_agrees_with_the_generated_code_over_a_turn() {
         p: 0.06,
         beta: 0.5,
     };
-    let r = model(
-        "FourBar",
-        &[
-            ("a", 0.04),
-            ("b", 0.12),
-            ("c", 0.10),
-            ("d", 0.11),
-            ("p", 0.06),
-            ("beta", 0.5),
-        ],
-    );
+    let r = model("FourBar", FourBar::PARAMETERS, g.parameter_values());
     let start = g
         .assemble(&[0.0, 1.0, 1.6].into())
         .expect("the crank-rocker assembles");
@@ -222,7 +215,7 @@ fn slider_crank_textbook_and_spatial_models_agree() {
         b: 0.3,
         e: 0.02,
     };
-    let r = model("SliderCrank", &[("a", 0.1), ("b", 0.3), ("e", 0.02)]);
+    let r = model("SliderCrank", SliderCrank::PARAMETERS, g.parameter_values());
     let start = g.assemble(&[0.0, 0.0, 0.4].into()).expect("assembles");
     agree(
         &g,
@@ -235,10 +228,7 @@ fn slider_crank_textbook_and_spatial_models_agree() {
     );
 
     let g = RRtrRrt::EXAMPLE_4_2;
-    let r = model(
-        "RRtrRrt",
-        &[("ab", 0.1), ("ac", 0.15), ("cd", 0.075), ("de", 0.2)],
-    );
+    let r = model("RRtrRrt", RRtrRrt::PARAMETERS, g.parameter_values());
     let start = g
         .assemble(&RRtrRrt::example_4_2_guess())
         .expect("assembles");
@@ -258,10 +248,7 @@ fn slider_crank_textbook_and_spatial_models_agree() {
         c: 0.10,
         d: 0.11,
     };
-    let r = model(
-        "Rssr",
-        &[("a", 0.04), ("b", 0.12), ("c", 0.10), ("d", 0.11)],
-    );
+    let r = model("Rssr", Rssr::PARAMETERS, g.parameter_values());
     let start = g.assemble(&[0.0, 1.0].into()).expect("assembles");
     agree(
         &g,
@@ -277,21 +264,7 @@ fn slider_crank_textbook_and_spatial_models_agree() {
 #[test]
 fn six_bar_and_arm_agree() {
     let g = Watt::EXAMPLE;
-    let r = model(
-        "Watt",
-        &[
-            ("a", 0.04),
-            ("b", 0.12),
-            ("c", 0.10),
-            ("d", 0.11),
-            ("e", 0.06),
-            ("gamma", 0.0),
-            ("f", 0.10),
-            ("g", 0.08),
-            ("gx", 0.20),
-            ("gy", 0.10),
-        ],
-    );
+    let r = model("Watt", Watt::PARAMETERS, g.parameter_values());
     let start = g.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
     agree(
         &g,
@@ -310,16 +283,7 @@ fn six_bar_and_arm_agree() {
         d5: 0.08,
         d6: 0.1,
     };
-    let r = model(
-        "SixAxisArm",
-        &[
-            ("d1", 0.4),
-            ("a2", 0.35),
-            ("a3", 0.3),
-            ("d5", 0.08),
-            ("d6", 0.1),
-        ],
-    );
+    let r = model("SixAxisArm", SixAxisArm::PARAMETERS, g.parameter_values());
     let start = [0.1, -0.4, 0.7, 0.2, -0.3, 0.5].into();
     let rates = [0.5, -0.2, 0.3, 1.0, -0.7, 0.4];
     let accels = [0.1, 0.0, -0.2, 0.3, 0.05, -0.1];
@@ -340,7 +304,10 @@ fn errors_are_reported_not_panics() {
         }
         other => panic!("expected a definition error, got {other:?}"),
     }
-    let mut m = model("SliderCrank", &[("a", 0.1), ("b", 0.3)]);
+    let text = kinematics_examples::definition("SliderCrank").expect("an example");
+    let mut m = Model::compile(text).expect("compiles");
+    m.set("a", 0.1).expect("a parameter");
+    m.set("b", 0.3).expect("a parameter");
     // `e` not set: NaN is refused by name.
     assert!(matches!(
         m.assemble(&[0.0, 0.0, 0.4]),

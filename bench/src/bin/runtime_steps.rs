@@ -35,13 +35,13 @@ mod four_bar_chain;
 const STEPS: usize = 3600;
 const ROUNDS: usize = 21;
 
-/// The run-time model of the example `name` with `params`.
-fn model(name: &str, params: &[(&str, f64)]) -> Model {
+/// The run-time model of the example `name` with the parameters `values`
+/// of the generated mechanism, named `names`.
+fn model<const N: usize>(name: &str, names: [&str; N], values: [f64; N]) -> Model {
     let text = kinematics_examples::definition(name).expect("an example");
     let mut m = Model::compile(text).expect("it compiles");
-    for (p, v) in params {
-        m.set(p, *v).expect("a parameter");
-    }
+    assert_eq!(m.parameters(), names);
+    m.set_values(&values).expect("one value per parameter");
     m
 }
 
@@ -183,17 +183,7 @@ fn main() {
     );
     let turn = std::f64::consts::TAU / STEPS as f64;
     let g = FourBar::CRANK_ROCKER;
-    let r = model(
-        "FourBar",
-        &[
-            ("a", g.a),
-            ("b", g.b),
-            ("c", g.c),
-            ("d", g.d),
-            ("p", g.p),
-            ("beta", g.beta),
-        ],
-    );
+    let r = model("FourBar", FourBar::PARAMETERS, g.parameter_values());
     row(
         "M1 four-bar",
         &g,
@@ -208,24 +198,10 @@ fn main() {
         c: 0.254,
         d: 0.314,
     };
-    let r = model("Rssr", &[("a", g.a), ("b", g.b), ("c", g.c), ("d", g.d)]);
+    let r = model("Rssr", Rssr::PARAMETERS, g.parameter_values());
     row("M2 RSSR", &g, &r, [0.0, 1.2].into(), &[25.0], turn);
     let g = Watt::EXAMPLE;
-    let r = model(
-        "Watt",
-        &[
-            ("a", g.a),
-            ("b", g.b),
-            ("c", g.c),
-            ("d", g.d),
-            ("e", g.e),
-            ("gamma", g.gamma),
-            ("f", g.f),
-            ("g", g.g),
-            ("gx", g.gx),
-            ("gy", g.gy),
-        ],
-    );
+    let r = model("Watt", Watt::PARAMETERS, g.parameter_values());
     row(
         "M3 Watt six-bar",
         &g,
@@ -241,16 +217,7 @@ fn main() {
         d5: 0.08,
         d6: 0.1,
     };
-    let r = model(
-        "SixAxisArm",
-        &[
-            ("d1", g.d1),
-            ("a2", g.a2),
-            ("a3", g.a3),
-            ("d5", g.d5),
-            ("d6", g.d6),
-        ],
-    );
+    let r = model("SixAxisArm", SixAxisArm::PARAMETERS, g.parameter_values());
     row(
         "M4 six-axis arm",
         &g,

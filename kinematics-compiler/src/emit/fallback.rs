@@ -75,6 +75,12 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
         quote!(#pp::Vector2<f64>)
     };
     let unavailable = quote!(::core::unreachable!("the mechanism definition has errors"));
+    let param_names: Vec<String> = def
+        .params
+        .iter()
+        .map(|p| syn::ext::IdentExt::unraw(&p.name).to_string())
+        .collect();
+    let npar = param_names.len();
     quote! {
         #errors
         #types
@@ -90,6 +96,10 @@ pub fn fallback(def: &Definition, errors: TokenStream) -> TokenStream {
             pub const POINTS: usize = #np;
             /// Number of frames.
             pub const FRAMES: usize = #nf;
+            /// The parameters' names.
+            pub const PARAMETERS: [&'static str; #npar] = [#(#param_names),*];
+            /// Unavailable: the definition has errors.
+            pub fn parameter_values(&self) -> [f64; #npar] { #unavailable }
             /// Unavailable: the definition has errors.
             pub fn validate(&self) -> #pp::Result<(), #pp::Error> { #unavailable }
             /// Unavailable: the definition has errors.

@@ -410,6 +410,9 @@ pub fn expand(
     let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
     let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();
+    let params = &cx.id.params;
+    let param_names: Vec<String> = params.iter().map(|p| p.unraw().to_string()).collect();
+    let npar = params.len();
     let eq_names: Vec<&str> = model.equations.iter().map(|e| e.text.as_str()).collect();
     let counts = {
         let [(n0, n), (a0, a)] = operation_counts(model, d);
@@ -447,6 +450,16 @@ pub fn expand(
             pub const POINTS: usize = #np;
             /// Number of body frames.
             pub const FRAMES: usize = #nf;
+            /// The parameters' names, in declaration order (those of
+            /// [`Self::parameter_values`]).
+            pub const PARAMETERS: [&'static str; #npar] = [#(#param_names),*];
+
+            /// The parameters' values, in declaration order (named by
+            /// [`Self::PARAMETERS`]).
+            #[must_use]
+            pub fn parameter_values(&self) -> [f64; #npar] {
+                [#(self.#params),*]
+            }
             /// Floating-point operations of the generated code: for the Newton
             /// step and for the analysis, the count if every expression were
             /// written out as a tree, then the count after common-subexpression
