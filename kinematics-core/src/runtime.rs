@@ -17,6 +17,9 @@
 //!   every point's r, v, a and every frame's motion;
 //! * [`Model::step`]: assembly, then analysis.
 //!
+//! A model is `Send` and `Sync`: threads may share one and step it at
+//! once (each call has its own scratch arrays).
+//!
 //! This is the first part of the run-time path: the sweeps, steppers and
 //! the rest of the toolkit take generated mechanisms (`Mechanism`), whose
 //! sizes are in their types, and do not take a `Model` yet.

@@ -571,6 +571,20 @@ fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
     }
 }
 
+// SAFETY (Send): the program owns its module; the module is touched
+// only by `Drop`, which frees the code's pages, which any thread may do.
+// The stages are plain functions of their arguments.
+#[allow(unsafe_code)]
+unsafe impl Send for Program {}
+
+// SAFETY (Sync): through `&Program` only the stages are called and the
+// lengths read. A stage keeps no state: it reads its four input arrays and
+// writes its output array, both borrowed by the caller, and the code's
+// pages are not written after `finalize_definitions`. Several threads may
+// call the same stage at once.
+#[allow(unsafe_code)]
+unsafe impl Sync for Program {}
+
 impl Drop for Program {
     #[allow(unsafe_code)]
     fn drop(&mut self) {

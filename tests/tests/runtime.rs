@@ -391,3 +391,34 @@ fn a_chain_of_a_hundred_four_bars_assembles_at_run_time() {
     let residual = m.residual(&q).expect("evaluates");
     assert!(residual.iter().all(|r| r.abs() < 1e-13), "{residual:?}");
 }
+
+/// A model is shared by threads: the same steps from four threads at once
+/// give the same motions as from one.
+#[test]
+fn a_model_is_shared_by_threads() {
+    fn shared<T: Send + Sync>(_: &T) {}
+    let g = FourBar::CRANK_ROCKER;
+    let r = model("FourBar", FourBar::PARAMETERS, g.parameter_values());
+    shared(&r);
+    let start = g
+        .assemble(&[0.0, 1.0, 1.6].into())
+        .expect("the crank-rocker assembles");
+    let turn = |r: &Model| -> Vec<f64> {
+        let mut q: Vec<f64> = (0..3).map(|j| start.get(j).unwrap_or(0.0)).collect();
+        let mut out = Vec::new();
+        for _ in 0..100 {
+            let s = r.step(&q, &[10.0], &[0.0]).expect("a step");
+            out.extend(s.qdd.iter().chain(&s.points[4].velocity));
+            q = s.q;
+            q[0] += 0.05;
+        }
+        out
+    };
+    let alone = turn(&r);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..4).map(|_| scope.spawn(|| turn(&r))).collect();
+        for h in handles {
+            assert_eq!(h.join().expect("no panic"), alone);
+        }
+    });
+}
