@@ -9,8 +9,8 @@
 //! ```
 //!
 //! `check` prints the definition's coordinates, equations, the blocks of
-//! its loop equations in solve order (with the closed form of each) and
-//! its number of assemblies, or every error, located in the file as rustc
+//! its loop equations in solve order (with the closed form of each), its
+//! mobility (with a `joints` section) and its number of assemblies, or every error, located in the file as rustc
 //! locates them. `analyze` assembles the mechanism at the drivers given,
 //! from the guesses given for the unknowns (Newton–Raphson), and prints q,
 //! q', q'', every point's position, velocity and acceleration, and the
@@ -35,8 +35,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Compile a definition; print its coordinates, equations, blocks and
-    /// number of assemblies, or its errors.
+    /// Compile a definition; print its coordinates, equations, blocks,
+    /// mobility and number of assemblies, or its errors.
     Check {
         /// The definition (`pub struct Name { params { … } … }`).
         file: PathBuf,
@@ -221,6 +221,23 @@ fn check(file: &Path) -> Result<String, Failure> {
             if rows.len() == 1 { "" } else { "s" },
             rows.join(", ")
         );
+    }
+    match c.mobility() {
+        Some(m) => {
+            let passive = if m.passive > 0 {
+                format!(" − {}", m.passive)
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                out,
+                "mobility: F = {}({} − {} − 1) + {}{passive} = {} (Kutzbach–Gruebler)",
+                m.lambda, m.links, m.joints, m.freedoms, m.mobility
+            );
+        }
+        None => {
+            let _ = writeln!(out, "mobility: not counted (no `joints {{ … }}` section)");
+        }
     }
     let _ = writeln!(
         out,

@@ -89,6 +89,14 @@ fn check_prints_the_blocks_and_the_assemblies() {
         "{stdout}"
     );
     assert!(stdout.contains("assemblies: 2\n"), "{stdout}");
+    // The RSSR's joints section: 4 links, 2 revolute and 2 spherical
+    // joints, the coupler's spin passive.
+    let rssr = mechanisms().join("rssr.mech");
+    let stdout = text(&run(&["check", rssr.to_str().expect("a UTF-8 path")]).stdout);
+    assert!(
+        stdout.contains("mobility: F = 6(4 − 4 − 1) + 8 − 1 = 1 (Kutzbach–Gruebler)\n"),
+        "{stdout}"
+    );
     // The Watt six-bar: two RRR dyads, four assemblies.
     let watt = mechanisms().join("watt.mech");
     let stdout = text(&run(&["check", watt.to_str().expect("a UTF-8 path")]).stdout);

@@ -35,6 +35,24 @@ const JOINT_KINDS: &[(&str, u32, &str)] = &[
     ("PL", 3, "planar pair"),
 ];
 
+/// The Kutzbach–Gruebler count of a `joints { … }` section:
+/// F = λ (n − j − 1) + Σf − passive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mobility {
+    /// λ: 3 for a planar mechanism, 6 for a spatial one.
+    pub lambda: i64,
+    /// n, the links (the ground counted).
+    pub links: i64,
+    /// j, the joints.
+    pub joints: i64,
+    /// Σf, the joints' freedoms.
+    pub freedoms: i64,
+    /// The passive freedoms.
+    pub passive: i64,
+    /// F.
+    pub mobility: i64,
+}
+
 /// When joints are declared, the Kutzbach–Gruebler mobility
 /// F = λ(n − j − 1) + Σf_i − (passive freedoms) must equal the number of
 /// drivers (not counting those marked `#[allow(unused)]`, which move
@@ -42,10 +60,8 @@ const JOINT_KINDS: &[(&str, u32, &str)] = &[
 /// with any 3-D quantity). The number of links n is
 /// `links` when given; otherwise it follows from the independent loops,
 /// L = j − n + 1, taking each vector loop as one independent loop.
-pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
-    let Some(joints) = &def.joints else {
-        return;
-    };
+pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) -> Option<Mobility> {
+    let joints = def.joints.as_ref()?;
     let lambda: i64 = if spatial { 6 } else { 3 };
     let mut links: Option<i64> = None;
     let mut passive: i64 = 0;
@@ -87,7 +103,7 @@ pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
         }
     }
     if !ok {
-        return;
+        return None;
     }
     let n = match links {
         Some(n) => n,
@@ -101,7 +117,7 @@ pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
                  from the loops (n = j − L + 1) only when the model has vector loops and no \
                  scalar constraints",
             );
-            return;
+            return None;
         }
     };
     let f = lambda * (n - j - 1) + sum_f - passive;
@@ -138,6 +154,14 @@ pub fn check_mobility(def: &Definition, spatial: bool, errors: &mut Errors) {
             ),
         );
     }
+    Some(Mobility {
+        lambda,
+        links: n,
+        joints: j,
+        freedoms: sum_f,
+        passive,
+        mobility: f,
+    })
 }
 
 /// A mechanism needs at least one driver or one unknown to be analysed.

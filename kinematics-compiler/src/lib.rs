@@ -70,7 +70,9 @@ mod validate;
 
 pub use diagnostic::{compile_str, Diagnostic, Diagnostics};
 pub use kinematics::DerivedFrame;
-pub use pipeline::{compile, expand, op_counts, Block, Compiled, FrameRoots, Kind, PointRoots};
+pub use pipeline::{
+    compile, expand, op_counts, Block, Compiled, FrameRoots, Kind, Mobility, PointRoots,
+};
 
 /// Seeded mutations of valid definitions, for robustness tests. Not part of
 /// the API.

@@ -5,6 +5,7 @@
 
 use proc_macro2::TokenStream;
 
+pub use crate::check::Mobility;
 use crate::closed::{Closed, Offset};
 use crate::ir::{Graph, Id, OpCount};
 use crate::kinematics::{Derived, DerivedFrame};
@@ -31,6 +32,7 @@ pub struct Compiled {
     closed: Vec<Closed>,
     offsets: Vec<Offset>,
     sensitivities: Option<Partials>,
+    mobility: Option<Mobility>,
 }
 
 /// The kind of a coordinate: what its value measures.
@@ -195,6 +197,14 @@ impl Compiled {
         &self.scales.is_length
     }
 
+    /// The Kutzbach–Gruebler mobility of the definition's `joints { … }`
+    /// section (equal to the number of drivers, or the definition would
+    /// not have compiled); `None` without the section.
+    #[must_use]
+    pub fn mobility(&self) -> Option<Mobility> {
+        self.mobility
+    }
+
     /// The diagonal blocks of Φ_u in solve order.
     #[must_use]
     pub fn blocks(&self) -> Vec<Block> {
@@ -284,7 +294,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
     let mut errors = names::Errors::default();
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
-    check::check_mobility(&def, model.spatial, &mut errors);
+    let mobility = check::check_mobility(&def, model.spatial, &mut errors);
     if errors.is_empty() {
         validate::validate(&def, &model, &mut errors);
     }
@@ -314,6 +324,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
         closed,
         offsets,
         sensitivities,
+        mobility,
     })
 }
 
