@@ -686,7 +686,7 @@ impl Model {
         w: &mut Work,
         options: &Options,
         evaluated: bool,
-    ) -> Result<(f64, f64), Error> {
+    ) -> Result<(f64, f64, Factors), Error> {
         let nu = self.unknowns();
         let length = if evaluated {
             w.params[self.params.len()]
@@ -704,7 +704,21 @@ impl Model {
         }
         // As the generated code judges it: block by block, the least
         // conditioning of the diagonal blocks; the sign of det Φ_u.
-        let sign = det_sign(&a, nu);
+        // Φ_u factored once: its determinant's sign (the positive row and
+        // column scales do not change it), and the velocity and
+        // acceleration solves of `analyze_at`.
+        let mut factors = w.jac.clone();
+        let (perm, sign) = match lu(&mut factors, nu) {
+            Some((perm, mut sign)) => {
+                for i in 0..nu {
+                    if factors[i * nu + i] < 0.0 {
+                        sign = -sign;
+                    }
+                }
+                (perm, sign)
+            }
+            None => (Vec::new(), 0.0),
+        };
         let (mut conditioning_min, mut at) = (f64::INFINITY, 0);
         for (rows, cols) in &self.blocks {
             let m = cols.len();
@@ -721,7 +735,7 @@ impl Model {
         }
         let conditioning = if nu == 0 { 1.0 } else { conditioning_min };
         if conditioning > options.singularity_threshold {
-            Ok((conditioning, sign))
+            Ok((conditioning, sign, Factors { lu: factors, perm }))
         } else {
             Err(Error::Singular {
                 unknown: self.coordinates[self.drivers + at].name,
@@ -741,7 +755,7 @@ impl Model {
         evaluated: bool,
     ) -> Result<Motion, Error> {
         let (n, nd, nu) = (self.coordinates.len(), self.drivers, self.unknowns());
-        let (conditioning, det_sign) = self.factor(q, w, options, evaluated)?;
+        let (conditioning, det_sign, factors) = self.factor(q, w, options, evaluated)?;
         let residual = w
             .phi
             .iter()
@@ -759,10 +773,10 @@ impl Model {
         };
         let mut rhs = vec![0.0; nu];
         self.eval(Program::VELOCITY, &w.params, q, &qd, &qdd, &mut rhs);
-        let ud = lu_solve(&w.jac, &rhs, nu).ok_or_else(|| singular(0))?;
+        let ud = factors.solve(&rhs, nu).ok_or_else(|| singular(0))?;
         qd[nd..].copy_from_slice(&ud);
         self.eval(Program::ACCELERATION, &w.params, q, &qd, &qdd, &mut rhs);
-        let udd = lu_solve(&w.jac, &rhs, nu).ok_or_else(|| singular(0))?;
+        let udd = factors.solve(&rhs, nu).ok_or_else(|| singular(0))?;
         qdd[nd..].copy_from_slice(&udd);
         let mut out = vec![0.0; self.program.outputs(Program::OUTPUTS)];
         self.eval(Program::OUTPUTS, &w.params, q, &qd, &qdd, &mut out);
@@ -879,18 +893,22 @@ fn lu_solve(a: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-/// The sign of det A (A n × n, row-major): ±1, or 0 when A is singular.
-fn det_sign(a: &[f64], n: usize) -> f64 {
-    let mut f = a.to_vec();
-    let Some((_, mut sign)) = lu(&mut f, n) else {
-        return 0.0;
-    };
-    for i in 0..n {
-        if f[i * n + i] < 0.0 {
-            sign = -sign;
+/// The LU factors of Φ_u and their row permutation (empty when Φ_u is
+/// singular).
+struct Factors {
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+}
+
+impl Factors {
+    /// x with Φ_u x = b, or `None` when Φ_u is singular or x not finite.
+    fn solve(&self, b: &[f64], n: usize) -> Option<Vec<f64>> {
+        if self.perm.len() != n {
+            return None;
         }
+        let x = lu_apply(&self.lu, &self.perm, b, n);
+        x.iter().all(|v| v.is_finite()).then_some(x)
     }
-    sign
 }
 
 /// 1/‖A⁻¹‖∞ and the row of A⁻¹ with the largest absolute sum (the unknown
