@@ -6,6 +6,8 @@
 //! kinematics check fourbar.mech
 //! kinematics analyze fourbar.mech --params fourbar.toml --at phi=0.5 \
 //!     --at th3=0.9 --at th4=1.7 --rate phi=10
+//! kinematics sweep fourbar.mech --params fourbar.toml --turn --steps 360 \
+//!     --rpm 600 --out out/
 //! ```
 //!
 //! `check` prints the definition's coordinates, equations, the blocks of
@@ -14,8 +16,18 @@
 //! locates them. `analyze` assembles the mechanism at the drivers given,
 //! from the guesses given for the unknowns (Newton–Raphson), and prints q,
 //! q', q'', every point's position, velocity and acceleration, and the
-//! conditioning. Exit status: 0 on success, 1 for a definition with errors
-//! or a mechanism that cannot be assembled or analysed there, 2 for wrong
+//! conditioning. `sweep` sweeps a driver over a range from a start pose
+//! and writes the samples as CSV, the plots of the coordinates and of the
+//! points, the path of every moving point, and an HTML animation.
+//!
+//! A parameters file holds `name = value` lines, and may hold a `[start]`
+//! table (the start pose: every driver's value and a guess of every
+//! unknown, as `--at` gives them) and a `[draw]` table (`links = ["A-B",
+//! "B-C"]`, the point pairs the animation draws as links).
+//!
+//! Exit status: 0 on success, 1 for a definition with errors, a mechanism
+//! that cannot be assembled or analysed there, or a sweep that stopped
+//! early (its files hold the samples before the stop), 2 for wrong
 //! arguments.
 
 use std::fmt::Write as _;
@@ -24,6 +36,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use kinematics_core::runtime::{CompileError, Model};
+
+mod sweep;
 
 /// Check and analyse mechanism definitions given as text files.
 #[derive(Parser)]
@@ -62,6 +76,67 @@ enum Command {
         #[arg(long = "acceleration", value_name = "NAME=VALUE")]
         acceleration: Vec<String>,
     },
+    /// Sweep a driver over a range; write the CSV, the figures and the
+    /// animation.
+    Sweep(SweepArgs),
+}
+
+/// The arguments of `kinematics sweep`.
+#[derive(clap::Args)]
+#[allow(clippy::struct_excessive_bools)]
+struct SweepArgs {
+    /// The definition.
+    file: PathBuf,
+    /// Parameter values, and optionally `[start]` and `[draw]` tables: a
+    /// TOML file.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// A parameter value (repeatable; after those of --params).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    param: Vec<String>,
+    /// A coordinate of the start pose (repeatable; after the `[start]`
+    /// table of --params; angles in radians).
+    #[arg(long = "at", value_name = "NAME=VALUE")]
+    at: Vec<String>,
+    /// The driver swept (default: the only driver).
+    #[arg(long)]
+    driver: Option<String>,
+    /// The first value of the driver (default: its value in the start
+    /// pose).
+    #[arg(long, allow_negative_numbers = true)]
+    from: Option<f64>,
+    /// The last value of the driver, included.
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "turn")]
+    to: Option<f64>,
+    /// One full turn from the first value (the end, the start again, left
+    /// out); the default for an angle driver.
+    #[arg(long)]
+    turn: bool,
+    /// The number of equal steps.
+    #[arg(long, default_value_t = 360)]
+    steps: usize,
+    /// The driver's rate in revolutions per minute (an angle driver).
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "rate")]
+    rpm: Option<f64>,
+    /// The driver's rate (rad/s or length unit per second; default 1).
+    #[arg(long, allow_negative_numbers = true)]
+    rate: Option<f64>,
+    /// The driver's acceleration (default 0).
+    #[arg(long, allow_negative_numbers = true)]
+    acceleration: Option<f64>,
+    /// A link drawn in the animation, as two point names: `A-B`
+    /// (repeatable; after the `links` of the `[draw]` table).
+    #[arg(long = "link", value_name = "P-Q")]
+    link: Vec<String>,
+    /// The plane a spatial mechanism is drawn in: xy, xz or yz.
+    #[arg(long, default_value = "xy")]
+    projection: String,
+    /// The name of the length unit on the axes and in the CSV's headers.
+    #[arg(long, default_value = "m")]
+    unit: String,
+    /// The folder the files are written to (created if missing).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
 }
 
 /// A failure and its exit status.
@@ -100,6 +175,7 @@ fn main() -> ExitCode {
             rate,
             acceleration,
         } => analyze(&file, params.as_deref(), &param, &at, &rate, &acceleration),
+        Command::Sweep(args) => sweep::run(&args),
     };
     match result {
         Ok(out) => {
@@ -266,50 +342,91 @@ fn pairs(args: &[String], what: &str) -> Result<Vec<(String, f64)>, Failure> {
         .collect()
 }
 
-/// The values of a TOML file of `name = number` lines.
-fn params_file(file: &Path) -> Result<Vec<(String, f64)>, Failure> {
+/// What a parameters file holds: the parameters' values, the start pose
+/// (its `[start]` table) and the links to draw (`links` of its `[draw]`
+/// table).
+#[derive(Default)]
+struct ParamsFile {
+    values: Vec<(String, f64)>,
+    start: Vec<(String, f64)>,
+    links: Vec<String>,
+}
+
+/// A TOML number as f64, or a usage error naming `key` in `file`.
+fn number(file: &Path, key: &str, v: &toml::Value) -> Result<f64, Failure> {
+    match v {
+        toml::Value::Float(x) => Ok(*x),
+        #[allow(clippy::cast_precision_loss)]
+        toml::Value::Integer(i) => Ok(*i as f64),
+        other => Err(Failure::usage(format!(
+            "error: {}: `{key}` is {}, not a number",
+            file.display(),
+            other.type_str()
+        ))),
+    }
+}
+
+/// Reads a parameters file: `name = number` lines, an optional `[start]`
+/// table of the same, an optional `[draw]` table with `links`.
+fn params_file(file: &Path) -> Result<ParamsFile, Failure> {
     let text = read(file)?;
     let table: toml::Table = text
         .parse()
         .map_err(|e| Failure::usage(format!("error: {}: {e}", file.display())))?;
-    table
-        .into_iter()
-        .map(|(k, v)| {
-            let value = match v {
-                toml::Value::Float(x) => x,
-                #[allow(clippy::cast_precision_loss)]
-                toml::Value::Integer(i) => i as f64,
-                other => {
-                    return Err(Failure::usage(format!(
-                        "error: {}: `{k}` is {}, not a number",
-                        file.display(),
-                        other.type_str()
-                    )))
+    let mut out = ParamsFile::default();
+    for (k, v) in table {
+        match (k.as_str(), v) {
+            ("start", toml::Value::Table(t)) => {
+                for (name, v) in t {
+                    let value = number(file, &format!("start.{name}"), &v)?;
+                    out.start.push((name, value));
                 }
-            };
-            Ok((k, value))
-        })
-        .collect()
+            }
+            ("draw", toml::Value::Table(t)) => {
+                for (name, v) in t {
+                    let links = match (name.as_str(), v) {
+                        ("links", toml::Value::Array(a)) => a
+                            .into_iter()
+                            .map(|l| match l {
+                                toml::Value::String(s) => Ok(s),
+                                other => Err(other.type_str()),
+                            })
+                            .collect::<Result<Vec<String>, _>>()
+                            .ok(),
+                        _ => None,
+                    };
+                    out.links.extend(links.ok_or_else(|| {
+                        Failure::usage(format!(
+                            "error: {}: `draw.{name}`: the [draw] table holds only \
+                             `links = [\"A-B\", …]`",
+                            file.display()
+                        ))
+                    })?);
+                }
+            }
+            (_, v) => {
+                let value = number(file, &k, &v)?;
+                out.values.push((k, value));
+            }
+        }
+    }
+    Ok(out)
 }
 
-fn analyze(
-    file: &Path,
-    params: Option<&Path>,
-    param: &[String],
-    at: &[String],
-    rate: &[String],
-    acceleration: &[String],
-) -> Result<String, Failure> {
+/// Compiles the definition in `file`: its errors located in the file.
+fn compile(file: &Path) -> Result<Model, Failure> {
     let text = read(file)?;
-    let mut m = match Model::compile(&text) {
-        Ok(m) => m,
-        Err(CompileError::Definition(e)) => return Err(located(file, &e)),
-        Err(e) => return Err(Failure::mechanism(format!("error: {e}"))),
-    };
-    let mut values = match params {
-        Some(p) => params_file(p)?,
-        None => Vec::new(),
-    };
+    match Model::compile(&text) {
+        Ok(m) => Ok(m),
+        Err(CompileError::Definition(e)) => Err(located(file, &e)),
+        Err(e) => Err(Failure::mechanism(format!("error: {e}"))),
+    }
+}
+
+/// Sets the parameters from `file`'s values then the `--param` pairs;
+/// every parameter must have a value.
+fn set_parameters(m: &mut Model, file: &ParamsFile, param: &[String]) -> Result<(), Failure> {
+    let mut values = file.values.clone();
     values.extend(pairs(param, "parameter")?);
     for (name, value) in &values {
         m.set(name, *value)
@@ -326,30 +443,60 @@ fn analyze(
             missing.0, missing.0
         )));
     }
-    let coordinate = |name: &str, what: &str| {
-        m.index(name).ok_or_else(|| {
-            let names: Vec<&str> = m.coordinates().iter().map(|c| c.name).collect();
-            Failure::usage(format!(
-                "error: {what} `{name}` is not a coordinate of {}; its coordinates are {}",
-                m.name(),
-                names.join(", ")
-            ))
-        })
-    };
-    let n = m.coordinates().len();
-    let nd = m.drivers();
-    let mut q = vec![f64::NAN; n];
-    for (name, value) in pairs(at, "coordinate")? {
-        q[coordinate(&name, "coordinate")?] = value;
+    Ok(())
+}
+
+/// The index of coordinate `name`, or a usage error listing them.
+fn coordinate(m: &Model, name: &str, what: &str) -> Result<usize, Failure> {
+    m.index(name).ok_or_else(|| {
+        let names: Vec<&str> = m.coordinates().iter().map(|c| c.name).collect();
+        Failure::usage(format!(
+            "error: {what} `{name}` is not a coordinate of {}; its coordinates are {}",
+            m.name(),
+            names.join(", ")
+        ))
+    })
+}
+
+/// The pose given by `start` then `--at` pairs: every coordinate must
+/// have a value.
+fn pose(m: &Model, start: &[(String, f64)], at: &[String]) -> Result<Vec<f64>, Failure> {
+    let mut q = vec![f64::NAN; m.coordinates().len()];
+    for (name, value) in start.iter().cloned().chain(pairs(at, "coordinate")?) {
+        q[coordinate(m, &name, "coordinate")?] = value;
     }
     if let Some(j) = q.iter().position(|v| v.is_nan()) {
         let c = &m.coordinates()[j];
-        let what = if j < nd { "its value" } else { "a guess" };
+        let what = if j < m.drivers() {
+            "its value"
+        } else {
+            "a guess"
+        };
         return Err(Failure::usage(format!(
-            "error: give {what} for `{0}` with --at {0}=<value>",
+            "error: give {what} for `{0}` with --at {0}=<value> (or in the [start] table \
+             of --params)",
             c.name
         )));
     }
+    Ok(q)
+}
+
+fn analyze(
+    file: &Path,
+    params: Option<&Path>,
+    param: &[String],
+    at: &[String],
+    rate: &[String],
+    acceleration: &[String],
+) -> Result<String, Failure> {
+    let mut m = compile(file)?;
+    let file_values = match params {
+        Some(p) => params_file(p)?,
+        None => ParamsFile::default(),
+    };
+    set_parameters(&mut m, &file_values, param)?;
+    let nd = m.drivers();
+    let q = pose(&m, &file_values.start, at)?;
     let mut rates = vec![0.0; nd];
     let mut accels = vec![0.0; nd];
     for (list, args, what) in [
@@ -357,7 +504,7 @@ fn analyze(
         (&mut accels, acceleration, "acceleration"),
     ] {
         for (name, value) in pairs(args, what)? {
-            let j = coordinate(&name, what)?;
+            let j = coordinate(&m, &name, what)?;
             if j >= nd {
                 return Err(Failure::usage(format!(
                     "error: `{name}` is an unknown: only drivers are given a {what}"

@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use kinematics_examples::FourBar;
+use kinematics_core::sweep::Table;
+use kinematics_examples::{FourBar, Rssr};
 
 fn mechanisms() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
@@ -212,10 +213,12 @@ fn wrong_arguments_say_what_to_give() {
     let path = four_bar.to_str().expect("a UTF-8 path");
     let params = mechanisms().join("four_bar.toml");
     let params = params.to_str().expect("a UTF-8 path");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 9] = [
         (
             &[
-                "analyze", path, "--params", params, "--at", "phi=0.5", "--at", "th3=1",
+                "analyze", path, "--param", "a=0.04", "--param", "b=0.12", "--param", "c=0.1",
+                "--param", "d=0.11", "--param", "p=0.06", "--param", "beta=0.5", "--at", "phi=0.5",
+                "--at", "th3=1",
             ],
             "give a guess for `th4` with --at th4=<value>",
         ),
@@ -230,6 +233,26 @@ fn wrong_arguments_say_what_to_give() {
         (
             &["analyze", path, "--params", params, "--at", "phi=half"],
             "`half` is not a number",
+        ),
+        (
+            &["sweep", path, "--params", params, "--driver", "th3"],
+            "`th3` is not a driver of FourBar; its drivers are phi",
+        ),
+        (
+            &["sweep", path, "--params", params, "--unit", "furlong"],
+            "unit `furlong`: give one of m, cm, mm, km, in, ft",
+        ),
+        (
+            &["sweep", path, "--params", params, "--projection", "zx"],
+            "projection `zx`: give xy, xz or yz",
+        ),
+        (
+            &["sweep", path, "--params", params, "--link", "AB"],
+            "link `AB` is not `P-Q`",
+        ),
+        (
+            &["sweep", path, "--params", params, "--link", "A-Q"],
+            "link `A-Q`: FourBar has no point `Q`; its points are A, B, D, C, P",
         ),
     ];
     for (args, message) in cases {
@@ -255,4 +278,174 @@ fn the_readme_shows_checks_output() {
     let four_bar = mechanisms().join("four_bar.mech");
     let out = run(&["check", four_bar.to_str().expect("a UTF-8 path")]);
     assert_eq!(text(&out.stdout), block);
+}
+
+/// Reads a CSV the command wrote: its header and its rows of numbers.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let csv = std::fs::read_to_string(path).expect("the CSV is written");
+    let mut lines = csv.lines();
+    let header = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The command's CSV against the library's own sweep of the generated
+/// mechanism, read as the same table: the same header, and every column
+/// within 1e-11 of its largest magnitude (the CSV holds 13 significant
+/// digits).
+fn same_as_csv(table: &impl Table, path: &Path) {
+    let (header, rows) = read_csv(path);
+    assert_eq!(header, table.headers_in("m"));
+    assert_eq!(rows.len(), table.rows());
+    for (c, name) in header.iter().enumerate() {
+        let scale = (0..table.rows())
+            .map(|i| table.row(i)[c].abs())
+            .fold(1.0f64, f64::max);
+        for (i, row) in rows.iter().enumerate() {
+            let want = table.row(i)[c];
+            assert!(
+                (row[c] - want).abs() <= 1e-11 * scale,
+                "{name} at sample {i}: {} / {want}",
+                row[c]
+            );
+        }
+    }
+}
+
+/// The files of a sweep: the CSV, the figures (SVG with the titles they
+/// should have) and the animation (a page with a frame per sample).
+fn figures_are_written(out: &Path, moving: &[&str], samples: usize) {
+    let motion = std::fs::read_to_string(out.join("motion.svg")).expect("motion.svg");
+    assert!(motion.contains("angular velocities") && motion.contains("phi (deg)"));
+    let points = std::fs::read_to_string(out.join("points.svg")).expect("points.svg");
+    for p in moving {
+        assert!(points.contains(&format!("velocity of {p}")), "{p}");
+        let path = std::fs::read_to_string(out.join(format!("path-{p}.svg"))).expect("a path");
+        assert!(path.contains(&format!("path of {p}")));
+    }
+    let page = std::fs::read_to_string(out.join("animation.html")).expect("the animation");
+    let frames = page
+        .split("<script id=\"frames\" type=\"application/json\">")
+        .nth(1)
+        .and_then(|s| s.split("</script>").next())
+        .expect("the frames");
+    assert_eq!(frames.matches('[').count(), samples + 1);
+}
+
+/// `kinematics sweep` of the four-bar and of the RSSR, from their
+/// parameters files (with their start poses), against the library's own
+/// sweeps of the generated mechanisms.
+#[test]
+fn sweep_writes_the_library_sweep_as_csv_with_its_figures() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-sweep-{}", std::process::id()));
+    let four_bar = mechanisms().join("four_bar.mech");
+    let params = mechanisms().join("four_bar.toml");
+    let out = dir.join("four_bar");
+    let run_out = run(&[
+        "sweep",
+        four_bar.to_str().expect("a UTF-8 path"),
+        "--params",
+        params.to_str().expect("a UTF-8 path"),
+        "--turn",
+        "--steps",
+        "360",
+        "--rpm",
+        "600",
+        "--out",
+        out.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(run_out.status.success(), "{}", text(&run_out.stderr));
+    assert!(text(&run_out.stdout).starts_with("FourBar: 360 samples of phi"));
+    let g = FourBar::CRANK_ROCKER;
+    let start = g
+        .assemble(&[0.0, 1.0, 1.6].into())
+        .expect("the crank-rocker assembles");
+    let library = g
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(360)
+        .rpm(600.0)
+        .run();
+    assert!(library.stop.is_none());
+    same_as_csv(&library, &out.join("sweep.csv"));
+    figures_are_written(&out, &["B", "C", "P"], 360);
+
+    let rssr = mechanisms().join("rssr.mech");
+    let params = mechanisms().join("rssr.toml");
+    let out = dir.join("rssr");
+    let run_out = run(&[
+        "sweep",
+        rssr.to_str().expect("a UTF-8 path"),
+        "--params",
+        params.to_str().expect("a UTF-8 path"),
+        "--steps",
+        "180",
+        "--rpm",
+        "300",
+        "--acceleration",
+        "2",
+        "--projection",
+        "xz",
+        "--out",
+        out.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(run_out.status.success(), "{}", text(&run_out.stderr));
+    let g = Rssr {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let start = g.assemble(&[0.0, 1.0].into()).expect("assembles");
+    let library = g
+        .sweep(Rssr::PHI, &start)
+        .turn()
+        .steps(180)
+        .rpm(300.0)
+        .acceleration(2.0)
+        .run();
+    same_as_csv(&library, &out.join("sweep.csv"));
+    figures_are_written(&out, &["A", "B"], 180);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sweep past a limit position writes the samples before it and says
+/// where and why it stopped, with exit status 1.
+#[test]
+fn a_sweep_that_stops_early_says_so() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-stop-{}", std::process::id()));
+    let slider_crank = mechanisms().join("slider_crank.mech");
+    let out = run(&[
+        "sweep",
+        slider_crank.to_str().expect("a UTF-8 path"),
+        "--param",
+        "a=0.3",
+        "--param",
+        "b=0.2",
+        "--param",
+        "e=0",
+        "--at",
+        "phi=0",
+        "--at",
+        "th=0",
+        "--at",
+        "x=0.5",
+        "--out",
+        dir.to_str().expect("a UTF-8 path"),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("the sweep stopped early"), "{stderr}");
+    assert!(stderr.contains("the files hold the samples before the stop"));
+    let (_, rows) = read_csv(&dir.join("sweep.csv"));
+    // 0°, 1°, …, 41°: the limit is at asin(b/a) = 41.8°.
+    assert_eq!(rows.len(), 42);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -29,9 +29,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Error;
-use crate::mechanism::{Kind, Mechanism, MotionState, PointState};
-use crate::sweep::Sweep;
-use crate::view::{point_index, point_roles, PointRole, Projection};
+use crate::mechanism::{Kind, Mechanism, MotionState};
+use crate::sweep::{Sweep, Table};
+use crate::view::{point_roles, PointRole, Projection};
 
 /// Writes an HTML page at `path` that plays the sweep `sweep` of `m`: each
 /// link of `links` (pairs of point names) as a line, the path of every
@@ -50,17 +50,53 @@ pub fn write_html<M: Mechanism>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
-    let page = html(m, sweep, links, projection)?;
+    let Some(first) = sweep.samples.first() else {
+        return Err(no_samples());
+    };
+    let roles = point_roles(m, first.motion.q());
+    let name = core::any::type_name::<M>()
+        .rsplit("::")
+        .next()
+        .unwrap_or("mechanism");
+    write_table_html(sweep, name, &roles, links, projection, path)
+}
+
+/// [`write_html`] for any sweep read as a [`Table`] (of a model compiled
+/// at run time, say): `name` is the mechanism's name shown in the title,
+/// `roles` the role of every point (from
+/// [`point_roles_by`](crate::view::point_roles_by)), which marks the
+/// ground pivots and the sliders.
+///
+/// # Errors
+/// As [`write_html`]; [`Error::InvalidGeometry`] when `roles` does not
+/// have a role per point.
+pub fn write_table_html<T: Table + ?Sized>(
+    sweep: &T,
+    name: &str,
+    roles: &[PointRole],
+    links: &[(&str, &str)],
+    projection: Projection,
+    path: &Path,
+) -> Result<(), Error> {
+    let page = html(sweep, name, roles, links, projection)?;
     std::fs::write(path, page).map_err(|e| Error::Output {
         path: path.display().to_string(),
         detail: e.to_string(),
     })
 }
 
+fn no_samples() -> Error {
+    Error::InvalidGeometry {
+        what: "animation",
+        detail: "the sweep has no samples to play".to_owned(),
+    }
+}
+
 /// The page as a string.
-fn html<M: Mechanism>(
-    m: &M,
-    sweep: &Sweep<M>,
+fn html<T: Table + ?Sized>(
+    sweep: &T,
+    name: &str,
+    roles: &[PointRole],
     links: &[(&str, &str)],
     projection: Projection,
 ) -> Result<String, Error> {
@@ -68,27 +104,27 @@ fn html<M: Mechanism>(
         .iter()
         .map(|(p, q)| {
             Ok((
-                point_index::<M>(p, "animation")?,
-                point_index::<M>(q, "animation")?,
+                sweep.point_index(p, "animation")?,
+                sweep.point_index(q, "animation")?,
             ))
         })
         .collect::<Result<_, Error>>()?;
-    let Some(first) = sweep.samples.first() else {
+    if sweep.rows() == 0 {
+        return Err(no_samples());
+    }
+    let points = sweep.point_names().len();
+    if roles.len() != points {
         return Err(Error::InvalidGeometry {
             what: "animation",
-            detail: "the sweep has no samples to play".to_owned(),
+            detail: format!("{} point roles for {points} points", roles.len()),
         });
-    };
+    }
     let (a, b) = projection.axes();
-    let frames: Vec<Vec<(f64, f64)>> = sweep
-        .samples
-        .iter()
-        .map(|s| {
-            s.motion
-                .points()
-                .iter()
-                .map(|p| {
-                    let r = p.position();
+    let frames: Vec<Vec<(f64, f64)>> = (0..sweep.rows())
+        .map(|i| {
+            (0..points)
+                .map(|k| {
+                    let r = sweep.point(i, k)[0];
                     (
                         r.get(a).copied().unwrap_or(0.0),
                         r.get(b).copied().unwrap_or(0.0),
@@ -97,7 +133,6 @@ fn html<M: Mechanism>(
                 .collect()
         })
         .collect();
-    let roles = point_roles(m, first.motion.q());
     let (mut x0, mut x1, mut y0, mut y1) = (
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -125,24 +160,19 @@ fn html<M: Mechanism>(
     );
     let unit = span / 100.0;
     // The driver's value of each sample, as shown.
-    let label = |s: &crate::sweep::Sample<M>| -> String {
-        if sweep.variable == "t" {
-            format!("t = {:.4} s", s.at)
-        } else if sweep.kind == Kind::Angle {
-            format!("{} = {:.2}°", sweep.variable, s.at.to_degrees())
+    let variable = sweep.variable();
+    let label = |i: usize| -> String {
+        let at = sweep.at(i);
+        if variable == "t" {
+            format!("t = {at:.4} s")
+        } else if sweep.kind() == Kind::Angle {
+            format!("{variable} = {:.2}°", at.to_degrees())
         } else {
-            format!("{} = {:.5} m", sweep.variable, s.at)
+            format!("{variable} = {at:.5} m")
         }
     };
     let mut out = String::new();
-    let title = format!(
-        "{} over the sweep of {}",
-        core::any::type_name::<M>()
-            .rsplit("::")
-            .next()
-            .unwrap_or("mechanism"),
-        sweep.variable
-    );
+    let title = format!("{name} over the sweep of {variable}");
     let _ = write!(
         out,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n<title>{title}</title>\n\
@@ -218,7 +248,7 @@ fn html<M: Mechanism>(
         };
     }
     out.push_str("</g>\n");
-    for (k, name) in M::POINT_NAMES.iter().enumerate() {
+    for (k, name) in sweep.point_names().iter().enumerate() {
         let _ = writeln!(
             out,
             "<text id=\"name{k}\" font-size=\"{}\" fill=\"#333\">{name}</text>",
@@ -252,10 +282,8 @@ fn html<M: Mechanism>(
         out.push_str(if i + 1 == n { "\n" } else { ",\n" });
     }
     out.push_str("]\n</script>\n<script id=\"labels\" type=\"application/json\">\n[");
-    let labels: Vec<String> = sweep
-        .samples
-        .iter()
-        .map(|s| format!("\"{}\"", label(s)))
+    let labels: Vec<String> = (0..sweep.rows())
+        .map(|i| format!("\"{}\"", label(i)))
         .collect();
     out.push_str(&labels.join(","));
     out.push_str("]\n</script>\n");

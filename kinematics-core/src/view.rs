@@ -5,7 +5,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::mechanism::{Coordinates, Kind, Mechanism};
+use crate::mechanism::{Coordinate, Coordinates, Kind, Mechanism};
 
 /// The plane a spatial mechanism is projected on (planar mechanisms are
 /// drawn in their plane).
@@ -98,24 +98,44 @@ pub enum PointRole {
 /// ```
 #[must_use]
 pub fn point_roles<M: Mechanism>(m: &M, pose: &M::Coords) -> Vec<PointRole> {
-    let dim = M::POINT_DIM;
-    let at = |shift: f64| -> Vec<f64> {
-        let mut q = *pose;
-        for (j, c) in M::COORDINATES.iter().enumerate() {
-            if let Some(v) = q.get(j) {
-                // A different shift per coordinate, so that no two move
-                // alike.
-                #[allow(clippy::cast_precision_loss)]
-                let k = 1.0 + 0.37 * j as f64;
-                let moved = match c.kind {
-                    Kind::Angle => v + shift * k,
-                    Kind::Length => v + shift * k * (v.abs() + 1.0) / 3.0,
-                };
-                q.set(j, moved);
-            }
+    let q: Vec<f64> = (0..M::COORDINATES.len())
+        .map(|j| pose.get(j).unwrap_or(0.0))
+        .collect();
+    point_roles_by(M::COORDINATES, M::POINT_DIM, &q, |moved, out| {
+        let mut c = *pose;
+        for (j, &v) in moved.iter().enumerate() {
+            c.set(j, v);
         }
-        let mut out = vec![0.0; M::POINTS * dim];
-        m.point_positions_into(&q, &mut out);
+        *out = vec![0.0; M::POINTS * M::POINT_DIM];
+        m.point_positions_into(&c, out);
+    })
+}
+
+/// [`point_roles`] for any model: `coordinates` describe the pose `q`
+/// (drivers then unknowns), and `positions(q, out)` writes into `out` the
+/// positions of every point at `q`, `dim` components each (it sizes `out`).
+#[must_use]
+pub fn point_roles_by(
+    coordinates: &[Coordinate],
+    dim: usize,
+    q: &[f64],
+    positions: impl Fn(&[f64], &mut Vec<f64>),
+) -> Vec<PointRole> {
+    let dim = dim.max(1);
+    let at = |shift: f64| -> Vec<f64> {
+        let mut moved = q.to_vec();
+        for ((j, c), v) in coordinates.iter().enumerate().zip(&mut moved) {
+            // A different shift per coordinate, so that no two move
+            // alike.
+            #[allow(clippy::cast_precision_loss)]
+            let k = 1.0 + 0.37 * j as f64;
+            *v = match c.kind {
+                Kind::Angle => *v + shift * k,
+                Kind::Length => *v + shift * k * (v.abs() + 1.0) / 3.0,
+            };
+        }
+        let mut out = Vec::new();
+        positions(&moved, &mut out);
         out
     };
     let (p0, p1, p2, p3) = (at(0.0), at(0.3), at(0.6), at(0.9));
@@ -126,9 +146,12 @@ pub fn point_roles<M: Mechanism>(m: &M, pose: &M::Coords) -> Vec<PointRole> {
         .fold(0.0f64, |a, v| a.max(v.abs()))
         .max(1e-300);
     let tol = 1e-9 * size;
-    (0..M::POINTS)
+    (0..p0.len() / dim)
         .map(|k| {
-            let r = |p: &[f64]| -> Vec<f64> { p[k * dim..(k + 1) * dim].to_vec() };
+            let r = |p: &[f64]| -> Vec<f64> {
+                p.get(k * dim..(k + 1) * dim)
+                    .map_or_else(Vec::new, <[f64]>::to_vec)
+            };
             let (a, b, c, d) = (r(&p0), r(&p1), r(&p2), r(&p3));
             let d1: Vec<f64> = b.iter().zip(&a).map(|(x, y)| x - y).collect();
             let d2: Vec<f64> = c.iter().zip(&a).map(|(x, y)| x - y).collect();
@@ -161,14 +184,24 @@ pub(crate) fn point_index<M: Mechanism>(
     name: &str,
     what: &'static str,
 ) -> Result<usize, crate::error::Error> {
-    M::POINT_NAMES
+    index_of(M::POINT_NAMES, name, what)
+}
+
+/// The index of the point `name` among `names`, or an error naming the
+/// output `what` and listing the points.
+pub(crate) fn index_of(
+    names: &[&str],
+    name: &str,
+    what: &'static str,
+) -> Result<usize, crate::error::Error> {
+    names
         .iter()
         .position(|p| *p == name)
         .ok_or_else(|| crate::Error::InvalidGeometry {
             what,
             detail: alloc::format!(
                 "the mechanism has no point `{name}`; its points are {}",
-                M::POINT_NAMES.join(", ")
+                names.join(", ")
             ),
         })
 }

@@ -8,8 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::Error;
-use crate::mechanism::{Kind, Mechanism};
-use crate::sweep::Sweep;
+use crate::mechanism::Kind;
+use crate::sweep::Table;
 use crate::view::Projection;
 
 /// The length unit written on the axes (the values are plotted as
@@ -86,16 +86,14 @@ pub(super) fn tick(v: f64, span: f64) -> String {
 }
 
 /// The x axis of a sweep: its title and the factor from the swept value.
-pub(super) fn x_axis<M: Mechanism>(sweep: &Sweep<M>, units: Units) -> (String, f64) {
-    if sweep.variable == "t" {
+pub(super) fn x_axis<T: Table + ?Sized>(sweep: &T, units: Units) -> (String, f64) {
+    let variable = sweep.variable();
+    if variable == "t" {
         ("t (s)".to_owned(), 1.0)
-    } else if sweep.kind == Kind::Angle {
-        (
-            format!("{} (deg)", sweep.variable),
-            180.0 / std::f64::consts::PI,
-        )
+    } else if sweep.kind() == Kind::Angle {
+        (format!("{variable} (deg)"), 180.0 / std::f64::consts::PI)
     } else {
-        (format!("{} ({})", sweep.variable, units.length), 1.0)
+        (format!("{variable} ({})", units.length), 1.0)
     }
 }
 

@@ -7,10 +7,8 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, Mechanism, MotionState, PointState, Role};
-use crate::sweep::{Sample, Sweep};
-
-use crate::view::point_index;
+use crate::mechanism::{Kind, Role};
+use crate::sweep::Table;
 
 use super::chart::{output, panel, x_axis, Curve, Units, PALETTE};
 
@@ -44,7 +42,7 @@ use super::chart::{output, panel, x_axis, Curve, Units, PALETTE};
 ///
 /// # Errors
 /// [`Error::Output`] when the file cannot be written.
-pub fn plot_motion<M: Mechanism>(sweep: &Sweep<M>, path: &Path) -> Result<(), Error> {
+pub fn plot_motion<T: Table + ?Sized>(sweep: &T, path: &Path) -> Result<(), Error> {
     plot_motion_in(sweep, Units::METRES, path)
 }
 
@@ -52,8 +50,8 @@ pub fn plot_motion<M: Mechanism>(sweep: &Sweep<M>, path: &Path) -> Result<(), Er
 ///
 /// # Errors
 /// [`Error::Output`] when the file cannot be written.
-pub fn plot_motion_in<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub fn plot_motion_in<T: Table + ?Sized>(
+    sweep: &T,
     units: Units,
     path: &Path,
 ) -> Result<(), Error> {
@@ -61,7 +59,8 @@ pub fn plot_motion_in<M: Mechanism>(
     let kinds: Vec<Kind> = [Kind::Angle, Kind::Length]
         .into_iter()
         .filter(|k| {
-            M::COORDINATES
+            sweep
+                .coordinates()
                 .iter()
                 .any(|c| c.role == Role::Unknown && c.kind == *k)
         })
@@ -102,25 +101,16 @@ pub fn plot_motion_in<M: Mechanism>(
             ],
         };
         for (order, (caption, y_title, scale)) in titles.iter().enumerate() {
-            let value = |s: &Sample<M>, j: usize| {
-                let c = match order {
-                    0 => s.motion.q(),
-                    1 => s.motion.qd(),
-                    _ => s.motion.qdd(),
-                };
-                c.get(j).unwrap_or(f64::NAN) * scale
-            };
-            let curves: Vec<Curve> = M::COORDINATES
+            let curves: Vec<Curve> = sweep
+                .coordinates()
                 .iter()
                 .enumerate()
                 .filter(|(_, c)| c.role == Role::Unknown && c.kind == *kind)
                 .enumerate()
                 .map(|(n, (j, c))| Curve {
                     label: c.name.to_owned(),
-                    points: sweep
-                        .samples
-                        .iter()
-                        .map(|s| (s.at * x_scale, value(s, j)))
+                    points: (0..sweep.rows())
+                        .map(|i| (sweep.at(i) * x_scale, sweep.coordinate(i, j, order) * scale))
                         .collect(),
                     color: PALETTE[n % PALETTE.len()],
                     width: 2,
@@ -168,8 +158,8 @@ pub fn plot_motion_in<M: Mechanism>(
 /// # Errors
 /// [`Error::InvalidGeometry`] for an unknown point, [`Error::Output`] when
 /// the file cannot be written.
-pub fn plot_points<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub fn plot_points<T: Table + ?Sized>(
+    sweep: &T,
     points: &[&str],
     path: &Path,
 ) -> Result<(), Error> {
@@ -180,15 +170,15 @@ pub fn plot_points<M: Mechanism>(
 ///
 /// # Errors
 /// As [`plot_points`].
-pub fn plot_points_in<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub fn plot_points_in<T: Table + ?Sized>(
+    sweep: &T,
     points: &[&str],
     units: Units,
     path: &Path,
 ) -> Result<(), Error> {
     let indices: Vec<usize> = points
         .iter()
-        .map(|p| point_index::<M>(p, "plot"))
+        .map(|p| sweep.point_index(p, "plot"))
         .collect::<Result<_, _>>()?;
     let (x_title, x_scale) = x_axis(sweep, units);
     let columns = indices.len().max(1);
@@ -205,26 +195,15 @@ pub fn plot_points_in<M: Mechanism>(
             ("acceleration", format!("acceleration ({len}/s²)"), "a"),
         ];
         for (order, (what, y_title, prefix)) in rows.iter().enumerate() {
-            let vector = |s: &Sample<M>| -> Vec<f64> {
-                s.motion.points().get(k).map_or_else(Vec::new, |p| {
-                    match order {
-                        0 => p.position(),
-                        1 => p.velocity(),
-                        _ => p.acceleration(),
-                    }
-                    .to_vec()
-                })
-            };
-            let mut curves: Vec<Curve> = (0..M::POINT_DIM)
+            let vector = |i: usize| -> &[f64] { sweep.point(i, k)[order] };
+            let mut curves: Vec<Curve> = (0..sweep.point_dim())
                 .map(|c| Curve {
                     label: format!("{prefix}{}", axes.get(c).copied().unwrap_or("?")),
-                    points: sweep
-                        .samples
-                        .iter()
-                        .map(|s| {
+                    points: (0..sweep.rows())
+                        .map(|i| {
                             (
-                                s.at * x_scale,
-                                vector(s).get(c).copied().unwrap_or(f64::NAN),
+                                sweep.at(i) * x_scale,
+                                vector(i).get(c).copied().unwrap_or(f64::NAN),
                             )
                         })
                         .collect(),
@@ -235,13 +214,11 @@ pub fn plot_points_in<M: Mechanism>(
             if order > 0 {
                 curves.push(Curve {
                     label: format!("|{prefix}|"),
-                    points: sweep
-                        .samples
-                        .iter()
-                        .map(|s| {
+                    points: (0..sweep.rows())
+                        .map(|i| {
                             (
-                                s.at * x_scale,
-                                vector(s).iter().map(|v| v * v).sum::<f64>().sqrt(),
+                                sweep.at(i) * x_scale,
+                                vector(i).iter().map(|v| v * v).sum::<f64>().sqrt(),
                             )
                         })
                         .collect(),

@@ -6,11 +6,9 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::error::Error;
-use crate::mechanism::{Kind, Mechanism, MotionState, PointState};
-use crate::sweep::Sweep;
+use crate::mechanism::Kind;
+use crate::sweep::Table;
 use crate::view::Projection;
-
-use crate::view::point_index;
 
 use super::chart::{legend, output, plane_chart, range, tick, PALETTE};
 
@@ -44,8 +42,8 @@ use super::chart::{legend, output, plane_chart, range, tick, PALETTE};
 /// # Errors
 /// [`Error::InvalidGeometry`] for an unknown point, [`Error::Output`] when
 /// the file cannot be written.
-pub fn plot_path<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub fn plot_path<T: Table + ?Sized>(
+    sweep: &T,
     point: &str,
     projection: Projection,
     path: &Path,
@@ -69,17 +67,14 @@ pub fn plot_path<M: Mechanism>(
         .map_err(|e| output(path, e))?
         .label(format!("{point} over the sweep"))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], PALETTE[0].stroke_width(2)));
-    if let (Some(first), Some(s)) = (xy.first(), sweep.samples.first()) {
-        let label = if sweep.variable == "t" {
-            format!("start, t = {} s", tick(s.at, 1.0))
-        } else if sweep.kind == Kind::Angle {
-            format!(
-                "start, {} = {}°",
-                sweep.variable,
-                tick(s.at.to_degrees(), 100.0)
-            )
+    if let (Some(first), true) = (xy.first(), sweep.rows() > 0) {
+        let (variable, at) = (sweep.variable(), sweep.at(0));
+        let label = if variable == "t" {
+            format!("start, t = {} s", tick(at, 1.0))
+        } else if sweep.kind() == Kind::Angle {
+            format!("start, {variable} = {}°", tick(at.to_degrees(), 100.0))
         } else {
-            format!("start, {} = {}", sweep.variable, tick(s.at, 0.01))
+            format!("start, {variable} = {}", tick(at, 0.01))
         };
         chart
             .draw_series(std::iter::once(Circle::new(*first, 5, PALETTE[1].filled())))
@@ -93,19 +88,16 @@ pub fn plot_path<M: Mechanism>(
 
 /// The positions of point `point` over `sweep` in the plane of
 /// `projection`.
-pub(super) fn path_xy<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub(super) fn path_xy<T: Table + ?Sized>(
+    sweep: &T,
     point: &str,
     projection: Projection,
 ) -> Result<Vec<(f64, f64)>, Error> {
-    let k = point_index::<M>(point, "plot")?;
+    let k = sweep.point_index(point, "plot")?;
     let (a, b) = projection.axes();
-    Ok(sweep
-        .samples
-        .iter()
-        .filter_map(|s| s.motion.points().get(k))
-        .map(|p| {
-            let r = p.position();
+    Ok((0..sweep.rows())
+        .map(|i| {
+            let r = sweep.point(i, k)[0];
             (
                 r.get(a).copied().unwrap_or(0.0),
                 r.get(b).copied().unwrap_or(0.0),
@@ -145,22 +137,22 @@ pub(super) fn path_xy<M: Mechanism>(
 /// # Errors
 /// [`Error::InvalidGeometry`] for an unknown point or deviations not of
 /// this sweep, [`Error::Output`] when the file cannot be written.
-pub fn plot_band<M: Mechanism>(
-    sweep: &Sweep<M>,
+pub fn plot_band<T: Table + ?Sized>(
+    sweep: &T,
     point: &str,
     deviations: &[crate::tolerance::Deviation],
     magnify: f64,
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
-    let k = point_index::<M>(point, "plot")?;
-    if deviations.len() != sweep.samples.len() {
+    let k = sweep.point_index(point, "plot")?;
+    if deviations.len() != sweep.rows() {
         return Err(Error::InvalidGeometry {
             what: "plot",
             detail: format!(
                 "{} deviations for {} samples: compute them from this sweep",
                 deviations.len(),
-                sweep.samples.len()
+                sweep.rows()
             ),
         });
     }
@@ -171,21 +163,17 @@ pub fn plot_band<M: Mechanism>(
             v.get(b).copied().unwrap_or(0.0),
         )
     };
-    let nominal: Vec<(f64, f64)> = sweep
-        .samples
-        .iter()
-        .filter_map(|s| s.motion.points().get(k))
-        .map(|p| at(p.position()))
+    let nominal: Vec<(f64, f64)> = (0..sweep.rows())
+        .map(|i| at(sweep.point(i, k)[0]))
         .collect();
     // The unit normal of the path at each sample, from the velocity.
-    let edges: Vec<((f64, f64), (f64, f64))> = sweep
-        .samples
+    let edges: Vec<((f64, f64), (f64, f64))> = deviations
         .iter()
-        .zip(deviations)
-        .filter_map(|(s, d)| {
-            let p = s.motion.points().get(k)?;
-            let (x, y) = at(p.position());
-            let (vx, vy) = at(p.velocity());
+        .enumerate()
+        .map(|(i, d)| {
+            let [r, v, _] = sweep.point(i, k);
+            let (x, y) = at(r);
+            let (vx, vy) = at(v);
             let n = (vx * vx + vy * vy).sqrt();
             let (nx, ny) = if n > 0.0 {
                 (-vy / n, vx / n)
@@ -193,7 +181,7 @@ pub fn plot_band<M: Mechanism>(
                 (0.0, 0.0)
             };
             let w = magnify * d.position_worst;
-            Some(((x + nx * w, y + ny * w), (x - nx * w, y - ny * w)))
+            ((x + nx * w, y + ny * w), (x - nx * w, y - ny * w))
         })
         .collect();
     let all = || {

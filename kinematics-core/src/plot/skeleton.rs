@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use crate::error::Error;
 use crate::mechanism::{Coordinates, Kind, Mechanism, Role};
-use crate::sweep::Sweep;
+use crate::sweep::Table;
 use crate::view::Projection;
 
 use crate::view::{point_index, point_roles, PointRole};
@@ -75,9 +75,9 @@ impl Overlay {
     ///
     /// # Errors
     /// [`Error::InvalidGeometry`] for an unknown point.
-    pub fn path<M: Mechanism>(
+    pub fn path<T: Table + ?Sized>(
         mut self,
-        sweep: &Sweep<M>,
+        sweep: &T,
         point: &str,
         projection: Projection,
         label: &str,

@@ -17,7 +17,7 @@ use crate::options::Options;
 
 /// The range of a sweep, as given.
 #[derive(Debug, Clone, Copy)]
-enum End {
+pub(crate) enum End {
     /// Not given: one turn for an angle, an error for a length.
     Default,
     To(f64),
@@ -149,31 +149,38 @@ impl<'m, M: Mechanism, U> SweepBuilder<'m, M, U> {
             .from
             .or_else(|| self.start.get(self.driver.index))
             .unwrap_or(f64::NAN);
-        let steps = self.steps.max(1);
         let kind = M::COORDINATES
             .get(self.driver.index)
             .map_or(Kind::Length, |c| c.kind);
-        let (to, count) = match self.end {
-            End::To(to) => (to, steps + 1),
-            End::Turns(n) => (from + TAU * n, steps),
-            End::Default if kind == Kind::Angle => (from + TAU, steps),
-            End::Default => {
-                return Err(Error::InvalidOption {
-                    name: "to",
-                    value: f64::NAN,
-                    requirement: "must be given for a length driver: `.to(value)`",
-                })
-            }
-        };
-        if !(from.is_finite() && to.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "from/to",
-                value: if from.is_finite() { to } else { from },
-                requirement: "must be finite",
-            });
-        }
-        Ok(Grid::even(from, to, steps, count))
+        grid(from, self.end, self.steps, kind)
     }
+}
+
+/// The grid from `from` to `end` in `steps` equal steps, for a driver of
+/// `kind`: the number of samples and whether the end is left out; an
+/// error for a length driver with no end, or a range not finite.
+pub(crate) fn grid(from: f64, end: End, steps: usize, kind: Kind) -> Result<Grid, Error> {
+    let steps = steps.max(1);
+    let (to, count) = match end {
+        End::To(to) => (to, steps + 1),
+        End::Turns(n) => (from + TAU * n, steps),
+        End::Default if kind == Kind::Angle => (from + TAU, steps),
+        End::Default => {
+            return Err(Error::InvalidOption {
+                name: "to",
+                value: f64::NAN,
+                requirement: "must be given for a length driver: `.to(value)`",
+            })
+        }
+    };
+    if !(from.is_finite() && to.is_finite()) {
+        return Err(Error::InvalidOption {
+            name: "from/to",
+            value: if from.is_finite() { to } else { from },
+            requirement: "must be finite",
+        });
+    }
+    Ok(Grid::even(from, to, steps, count))
 }
 
 impl<M: Mechanism> SweepBuilder<'_, M, Angle> {

@@ -1,16 +1,16 @@
 //! A collected sweep: its samples and stop, and its output as CSV and as
 //! a text table.
 
-use alloc::borrow::ToOwned;
-use alloc::format;
 use alloc::string::String;
 use alloc::vec::Vec;
-use core::fmt::Write as _;
 
 use super::drive::Drive;
 use super::iter::SweepIter;
 use super::sample::{Sample, Stop};
-use crate::mechanism::{Coordinates, Kind, Mechanism, MotionState, PointState, Role};
+use super::table::Table;
+use crate::mechanism::{
+    Coordinate, Coordinates, FrameState, Kind, Mechanism, MotionState, PointState, Role,
+};
 use crate::names::Name;
 
 /// The samples of a sweep, and how it ended.
@@ -174,35 +174,7 @@ impl<M: Mechanism> Sweep<M> {
     /// mechanism's parameters.
     #[must_use]
     pub fn headers_in(&self, unit: &str) -> Vec<String> {
-        let mut h = Vec::new();
-        if self.variable == "t" {
-            h.push("t_s".to_owned());
-        }
-        for c in M::COORDINATES {
-            let u = match c.kind {
-                Kind::Angle => "rad",
-                Kind::Length => unit,
-            };
-            h.push(format!("{}_{u}", c.name));
-            h.push(format!("{}_{u}_s", c.name));
-            h.push(format!("{}_{u}_s2", c.name));
-        }
-        let axes = ["x", "y", "z"];
-        for p in M::POINT_NAMES {
-            for (prefix, suffix) in [("", ""), ("v", "_s"), ("a", "_s2")] {
-                for axis in axes.iter().take(M::POINT_DIM) {
-                    h.push(format!("{p}_{prefix}{axis}_{unit}{suffix}"));
-                }
-            }
-        }
-        for f in M::FRAME_NAMES {
-            for (short, suffix) in [("w", "rad_s"), ("alpha", "rad_s2")] {
-                for axis in axes {
-                    h.push(format!("{f}_{short}{axis}_{suffix}"));
-                }
-            }
-        }
-        h
+        Table::headers_in(self, unit)
     }
 
     /// The values of one sample, in the order of [`Sweep::headers`].
@@ -226,29 +198,11 @@ impl<M: Mechanism> Sweep<M> {
     /// ```
     #[must_use]
     pub fn row(&self, sample: &Sample<M>) -> Vec<f64> {
-        let mo = &sample.motion;
-        let mut r = Vec::new();
-        if self.variable == "t" {
-            r.push(sample.at);
+        One {
+            sweep: self,
+            sample,
         }
-        for j in 0..M::COORDINATES.len() {
-            for c in [mo.q(), mo.qd(), mo.qdd()] {
-                r.push(c.get(j).unwrap_or(f64::NAN));
-            }
-        }
-        for p in mo.points() {
-            r.extend_from_slice(p.position());
-            r.extend_from_slice(p.velocity());
-            r.extend_from_slice(p.acceleration());
-        }
-        for f in mo.frames() {
-            r.extend(
-                f.angular_velocity
-                    .iter()
-                    .chain(f.angular_acceleration.iter()),
-            );
-        }
-        r
+        .row(0)
     }
 
     /// The samples as CSV: a header line (see [`Sweep::headers`]), then one
@@ -273,14 +227,7 @@ impl<M: Mechanism> Sweep<M> {
     /// ```
     #[must_use]
     pub fn to_csv(&self) -> String {
-        let mut out = self.headers().join(",");
-        out.push('\n');
-        for s in &self.samples {
-            let row: Vec<String> = self.row(s).iter().map(|v| format!("{v:.12e}")).collect();
-            out += &row.join(",");
-            out.push('\n');
-        }
-        out
+        self.csv_in("m")
     }
 
     /// The samples as an aligned plain-text table, every `every`-th sample
@@ -305,28 +252,107 @@ impl<M: Mechanism> Sweep<M> {
     /// ```
     #[must_use]
     pub fn to_text(&self, every: usize) -> String {
-        let headers = self.headers();
-        let width = headers
-            .iter()
-            .map(|h| h.chars().count())
-            .max()
-            .unwrap_or(8)
-            .max(12);
-        let mut out = String::new();
-        for h in &headers {
-            let _ = write!(out, "{h:>width$} ");
-        }
-        out.push('\n');
-        let n = self.samples.len();
-        for (k, s) in self.samples.iter().enumerate() {
-            if k % every.max(1) != 0 && k + 1 != n {
-                continue;
-            }
-            for v in self.row(s) {
-                let _ = write!(out, "{v:>width$.5} ");
-            }
-            out.push('\n');
-        }
-        out
+        self.text(every)
+    }
+}
+
+/// Coordinate `j` of a sample: its value (`order` 0), rate (1) or
+/// acceleration (2); NaN for an index past the coordinates.
+fn coordinate_of<M: Mechanism>(sample: &Sample<M>, j: usize, order: usize) -> f64 {
+    let mo = &sample.motion;
+    let c = match order {
+        0 => mo.q(),
+        1 => mo.qd(),
+        _ => mo.qdd(),
+    };
+    c.get(j).unwrap_or(f64::NAN)
+}
+
+fn point_of<M: Mechanism>(sample: &Sample<M>, k: usize) -> [&[f64]; 3] {
+    let p = &sample.motion.points()[k];
+    [p.position(), p.velocity(), p.acceleration()]
+}
+
+impl<M: Mechanism> Table for Sweep<M> {
+    fn variable(&self) -> Name {
+        self.variable
+    }
+    fn kind(&self) -> Kind {
+        self.kind
+    }
+    fn coordinates(&self) -> &[Coordinate] {
+        M::COORDINATES
+    }
+    fn point_names(&self) -> &[Name] {
+        M::POINT_NAMES
+    }
+    fn frame_names(&self) -> &[Name] {
+        M::FRAME_NAMES
+    }
+    fn point_dim(&self) -> usize {
+        M::POINT_DIM
+    }
+    fn rows(&self) -> usize {
+        self.samples.len()
+    }
+    fn at(&self, i: usize) -> f64 {
+        self.samples[i].at
+    }
+    fn coordinate(&self, i: usize, j: usize, order: usize) -> f64 {
+        coordinate_of(&self.samples[i], j, order)
+    }
+    fn point(&self, i: usize, k: usize) -> [&[f64]; 3] {
+        point_of(&self.samples[i], k)
+    }
+    fn frame(&self, i: usize, f: usize) -> &FrameState {
+        &self.samples[i].motion.frames()[f]
+    }
+    fn stop(&self) -> Option<&Stop> {
+        self.stop.as_ref()
+    }
+}
+
+/// One sample of a sweep as a table of one row, for [`Sweep::row`].
+struct One<'a, M: Mechanism> {
+    sweep: &'a Sweep<M>,
+    sample: &'a Sample<M>,
+}
+
+impl<M: Mechanism> Table for One<'_, M> {
+    fn variable(&self) -> Name {
+        self.sweep.variable
+    }
+    fn kind(&self) -> Kind {
+        self.sweep.kind
+    }
+    fn coordinates(&self) -> &[Coordinate] {
+        M::COORDINATES
+    }
+    fn point_names(&self) -> &[Name] {
+        M::POINT_NAMES
+    }
+    fn frame_names(&self) -> &[Name] {
+        M::FRAME_NAMES
+    }
+    fn point_dim(&self) -> usize {
+        M::POINT_DIM
+    }
+    fn rows(&self) -> usize {
+        1
+    }
+    fn at(&self, _: usize) -> f64 {
+        self.sample.at
+    }
+    fn coordinate(&self, _: usize, j: usize, order: usize) -> f64 {
+        coordinate_of(self.sample, j, order)
+    }
+    fn point(&self, _: usize, k: usize) -> [&[f64]; 3] {
+        point_of(self.sample, k)
+    }
+    fn frame(&self, _: usize, f: usize) -> &FrameState {
+        &self.sample.motion.frames()[f]
+    }
+    fn stop(&self) -> Option<&Stop> {
+        None
     }
 }

@@ -288,13 +288,13 @@ pub fn constant_acceleration<M: Mechanism, U>(
 /// Equally spaced values, `count` of them from `from` by (to − from)/steps;
 /// or the given `values`.
 #[derive(Debug, Clone)]
-pub(super) struct Grid {
+pub(crate) struct Grid {
     pub(super) from: f64,
     pub(super) to: f64,
     /// (to − from)/steps.
     step: f64,
     steps: usize,
-    pub(super) count: usize,
+    pub(crate) count: usize,
     values: Option<Vec<f64>>,
 }
 
@@ -324,7 +324,7 @@ impl Grid {
 
     /// Value `k`: from + k·step (the last one exactly `to`).
     #[inline]
-    pub(super) fn at(&self, k: usize) -> f64 {
+    pub(crate) fn at(&self, k: usize) -> f64 {
         if k == self.steps && self.values.is_none() {
             self.to
         } else {

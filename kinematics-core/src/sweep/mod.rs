@@ -58,8 +58,11 @@ mod drive;
 mod handles;
 mod iter;
 mod sample;
+mod table;
 
 pub use builder::SweepBuilder;
+#[cfg(feature = "runtime")]
+pub(crate) use builder::{grid, End};
 pub use collected::Sweep;
 pub use drive::{
     constant_acceleration, constant_speed, AtRest, Drive, Profile, Simulation, SweepDrive,
@@ -68,3 +71,4 @@ pub use drive::{
 pub use handles::{Angle, ChangePoints, Driver, Length, Wrap};
 pub use iter::SweepIter;
 pub use sample::{PoseSample, Sample, Solved, Stop, StopReason};
+pub use table::Table;

@@ -302,7 +302,7 @@ pub enum StopReason {
 }
 
 impl StopReason {
-    pub(super) fn from_error(e: Error) -> Self {
+    pub(crate) fn from_error(e: Error) -> Self {
         match e {
             Error::Singular { .. } => Self::Singular(e),
             Error::InvalidParameter { .. }

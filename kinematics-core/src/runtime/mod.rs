@@ -64,6 +64,10 @@ use crate::names::{intern, Name};
 use crate::options::{Convergence, Options};
 use crate::solve::CLOSED;
 
+mod sweep;
+
+pub use sweep::{Sample, Sweep, SweepBuilder};
+
 /// Why a definition given as text did not become a [`Model`].
 #[derive(Debug)]
 pub enum CompileError {
@@ -450,6 +454,27 @@ impl Model {
         let mut w = self.work();
         self.solve(&mut q, &mut w, &options)?;
         self.analyze_at(&q, rates, accelerations, &mut w, &options, true)
+    }
+
+    /// The positions of the points at q (drivers first), `point_dim`
+    /// components each; NaN where q does not give one.
+    fn positions(&self, q: &[f64]) -> Vec<f64> {
+        let n = self.coordinates.len();
+        let d = self.point_dim;
+        let mut out = vec![0.0; self.program.outputs(Program::OUTPUTS)];
+        let zeros = vec![0.0; n];
+        let mut params = self.values.clone();
+        if let Some(l) = params.last_mut() {
+            // The characteristic length scales nothing the points read.
+            *l = 1.0;
+        }
+        if q.len() == n {
+            self.eval(Program::OUTPUTS, &params, q, &zeros, &zeros, &mut out);
+        }
+        out.chunks_exact(3 * d)
+            .take(self.points.len())
+            .flat_map(|c| c[..d].iter().copied())
+            .collect()
     }
 
     /// The lengths of the arrays, and every value finite.

@@ -1,0 +1,217 @@
+//! `kinematics sweep`: a driver swept over a range from a start pose, and
+//! the files written from the samples: the CSV, the plots of the
+//! coordinates and of the points, the path of every moving point, and the
+//! HTML animation.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use kinematics_core::animate::write_table_html;
+use kinematics_core::plot::{plot_motion_in, plot_path, plot_points_in, Units};
+use kinematics_core::sweep::Table;
+use kinematics_core::view::{PointRole, Projection};
+use kinematics_core::{Kind, Role};
+
+use super::{compile, params_file, pose, set_parameters, Failure, ParamsFile, SweepArgs};
+
+/// Runs `kinematics sweep`: the summary printed on success.
+pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
+    let mut m = compile(&args.file)?;
+    let file = match &args.params {
+        Some(p) => params_file(p)?,
+        None => ParamsFile::default(),
+    };
+    set_parameters(&mut m, &file, &args.param)?;
+    let start = pose(&m, &file.start, &args.at)?;
+    let drivers: Vec<&str> = m
+        .coordinates()
+        .iter()
+        .filter(|c| c.role == Role::Driver)
+        .map(|c| c.name)
+        .collect();
+    let driver = match (&args.driver, drivers.as_slice()) {
+        (Some(d), _) => d.clone(),
+        (None, [only]) => (*only).to_string(),
+        (None, _) => {
+            return Err(Failure::usage(format!(
+                "error: {} has {} drivers ({}): say which to sweep with --driver <name>",
+                m.name(),
+                drivers.len(),
+                drivers.join(", ")
+            )))
+        }
+    };
+    let projection = match args.projection.as_str() {
+        "xy" => Projection::XY,
+        "xz" => Projection::XZ,
+        "yz" => Projection::YZ,
+        other => {
+            return Err(Failure::usage(format!(
+                "error: projection `{other}`: give xy, xz or yz"
+            )))
+        }
+    };
+    let units = Units {
+        length: unit(&args.unit)?,
+    };
+    let links = file
+        .links
+        .iter()
+        .chain(&args.link)
+        .map(|l| {
+            l.split_once('-')
+                .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
+                .ok_or_else(|| Failure::usage(format!("error: link `{l}` is not `P-Q`")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for (a, b) in &links {
+        if let Some(unknown) = [a, b]
+            .into_iter()
+            .find(|p| !m.point_names().contains(&p.as_str()))
+        {
+            return Err(Failure::usage(format!(
+                "error: link `{a}-{b}`: {} has no point `{unknown}`; its points are {}",
+                m.name(),
+                m.point_names().join(", ")
+            )));
+        }
+    }
+    let mut builder = m.sweep(&driver, &start).map_err(|_| {
+        Failure::usage(format!(
+            "error: `{driver}` is not a driver of {}; its drivers are {}",
+            m.name(),
+            drivers.join(", ")
+        ))
+    })?;
+    let angle = m
+        .index(&driver)
+        .is_some_and(|j| m.coordinates()[j].kind == Kind::Angle);
+    if let Some(from) = args.from {
+        builder = builder.from(from);
+    }
+    builder = match (args.to, args.turn) {
+        (Some(to), _) => builder.to(to),
+        (None, true) if angle => builder.turn(),
+        (None, true) => {
+            return Err(Failure::usage(format!(
+                "error: --turn sweeps an angle; `{driver}` is a length: give --to <value>"
+            )))
+        }
+        (None, false) => builder,
+    };
+    builder = builder.steps(args.steps);
+    builder = match (args.rpm, args.rate) {
+        (Some(rpm), _) if angle => builder.rpm(rpm),
+        (Some(_), _) => {
+            return Err(Failure::usage(format!(
+                "error: --rpm is for an angle; `{driver}` is a length: give --rate <value>"
+            )))
+        }
+        (None, Some(rate)) => builder.rate(rate),
+        (None, None) => builder,
+    };
+    if let Some(a) = args.acceleration {
+        builder = builder.acceleration(a);
+    }
+    let sweep = builder.run();
+    if sweep.samples.is_empty() {
+        let why = sweep
+            .stop
+            .as_ref()
+            .map_or_else(|| "no samples".to_string(), ToString::to_string);
+        return Err(Failure::mechanism(format!("error: {why}")));
+    }
+    let roles = m
+        .point_roles(&sweep.samples[0].motion.q)
+        .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
+    let written = write(
+        &args.out,
+        &sweep,
+        &roles,
+        &links,
+        (projection, units),
+        m.name(),
+    )?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{}: {} samples of {driver} from {} to {}",
+        m.name(),
+        sweep.rows(),
+        sweep.samples[0].at,
+        sweep.samples[sweep.samples.len() - 1].at
+    );
+    for f in &written {
+        let _ = writeln!(out, "  wrote {}", f.display());
+    }
+    match &sweep.stop {
+        None => Ok(out),
+        Some(stop) => Err(Failure::mechanism(format!(
+            "{out}error: the sweep stopped early: {stop}\n(the files hold the samples before the stop)"
+        ))),
+    }
+}
+
+/// Writes the CSV, the figures and the animation into `dir`; returns
+/// the files written.
+fn write(
+    dir: &Path,
+    sweep: &impl Table,
+    roles: &[PointRole],
+    links: &[(String, String)],
+    (projection, units): (Projection, Units),
+    name: &str,
+) -> Result<Vec<PathBuf>, Failure> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Failure::mechanism(format!("error: cannot create {}: {e}", dir.display())))?;
+    let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
+    let mut written = Vec::new();
+    let path = |file: String| -> PathBuf { dir.join(file) };
+    let csv = path("sweep.csv".into());
+    std::fs::write(&csv, sweep.csv_in(units.length))
+        .map_err(|e| Failure::mechanism(format!("error: cannot write {}: {e}", csv.display())))?;
+    written.push(csv);
+    let motion = path("motion.svg".into());
+    plot_motion_in(sweep, units, &motion).map_err(failed)?;
+    written.push(motion);
+    // The points that move (a ground pivot's plots are flat lines).
+    let moving: Vec<&str> = sweep
+        .point_names()
+        .iter()
+        .zip(roles)
+        .filter(|(_, r)| **r != PointRole::Fixed)
+        .map(|(p, _)| *p)
+        .collect();
+    if !moving.is_empty() {
+        let file = path("points.svg".into());
+        plot_points_in(sweep, &moving, units, &file).map_err(failed)?;
+        written.push(file);
+    }
+    for p in &moving {
+        let file = path(format!("path-{p}.svg"));
+        plot_path(sweep, p, projection, &file).map_err(failed)?;
+        written.push(file);
+    }
+    let pairs: Vec<(&str, &str)> = links
+        .iter()
+        .map(|(a, b)| (a.as_str(), b.as_str()))
+        .collect();
+    let html = path("animation.html".into());
+    write_table_html(sweep, name, roles, &pairs, projection, &html).map_err(failed)?;
+    written.push(html);
+    Ok(written)
+}
+
+/// The length units the axes can be labelled in (the values are as
+/// computed, in the unit of the parameters).
+const UNITS: [&str; 6] = ["m", "cm", "mm", "km", "in", "ft"];
+
+/// `name` as one of [`UNITS`], or a usage error listing them.
+fn unit(name: &str) -> Result<&'static str, Failure> {
+    UNITS.iter().copied().find(|u| *u == name).ok_or_else(|| {
+        Failure::usage(format!(
+            "error: unit `{name}`: give one of {}",
+            UNITS.join(", ")
+        ))
+    })
+}

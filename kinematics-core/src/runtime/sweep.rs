@@ -1,0 +1,350 @@
+//! Sweeps of a run-time model over a driver's range, collected into a
+//! [`Sweep`] that the outputs read as a [`Table`]: CSV, text, the plots
+//! and the animation, the same as for a generated mechanism.
+
+use core::f64::consts::TAU;
+
+use super::{Model, Motion};
+use crate::error::Error;
+use crate::mechanism::{Coordinate, FrameState, Kind};
+use crate::names::{intern, Name};
+use crate::options::Options;
+use crate::sweep::{grid, End, Stop, StopReason, Table};
+use crate::view::{point_roles_by, PointRole};
+
+/// One sample of a run-time sweep: the driver's value and the motion
+/// there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// The swept driver's value.
+    pub at: f64,
+    /// q, q', q'', every point and frame, and the diagnostics.
+    pub motion: Motion,
+}
+
+/// The samples of a run-time sweep and how it ended; read it as a
+/// [`Table`] for its CSV, its text table, its plots and its animation.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The swept driver's name.
+    pub variable: Name,
+    /// The kind of the swept driver.
+    pub kind: Kind,
+    /// The samples, in order.
+    pub samples: Vec<Sample>,
+    /// `Some` when the sweep stopped early.
+    pub stop: Option<Stop>,
+    coordinates: Vec<Coordinate>,
+    points: Vec<Name>,
+    frames: Vec<Name>,
+    point_dim: usize,
+}
+
+impl Table for Sweep {
+    fn variable(&self) -> Name {
+        self.variable
+    }
+    fn kind(&self) -> Kind {
+        self.kind
+    }
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+    fn point_names(&self) -> &[Name] {
+        &self.points
+    }
+    fn frame_names(&self) -> &[Name] {
+        &self.frames
+    }
+    fn point_dim(&self) -> usize {
+        self.point_dim
+    }
+    fn rows(&self) -> usize {
+        self.samples.len()
+    }
+    fn at(&self, i: usize) -> f64 {
+        self.samples[i].at
+    }
+    fn coordinate(&self, i: usize, j: usize, order: usize) -> f64 {
+        let m = &self.samples[i].motion;
+        let c = match order {
+            0 => &m.q,
+            1 => &m.qd,
+            _ => &m.qdd,
+        };
+        c.get(j).copied().unwrap_or(f64::NAN)
+    }
+    fn point(&self, i: usize, k: usize) -> [&[f64]; 3] {
+        let p = &self.samples[i].motion.points[k];
+        [&p.position, &p.velocity, &p.acceleration]
+    }
+    fn frame(&self, i: usize, f: usize) -> &FrameState {
+        &self.samples[i].motion.frames[f]
+    }
+    fn stop(&self) -> Option<&Stop> {
+        self.stop.as_ref()
+    }
+}
+
+/// A sweep of one driver of a run-time model, built by [`Model::sweep`]:
+/// the other drivers stay at their values in the start pose, at rest.
+/// The range, steps, rate and options have the defaults of a generated
+/// mechanism's sweep: from the start's value, one turn for an angle (the
+/// end left out), 360 steps, a rate of 1 and an acceleration of 0.
+#[derive(Clone, Debug)]
+#[must_use = "a sweep does nothing until it is run"]
+pub struct SweepBuilder<'m> {
+    m: &'m Model,
+    driver: usize,
+    start: Vec<f64>,
+    from: Option<f64>,
+    end: End,
+    steps: usize,
+    rate: f64,
+    acceleration: f64,
+    options: Options,
+}
+
+impl Model {
+    /// A sweep of the driver named `driver` from the pose `start` (its
+    /// drivers, and the first guess of its unknowns, drivers first).
+    ///
+    /// Each sample's unknowns are predicted from the last three samples
+    /// (a parabola through them; a line or the last pose at the first
+    /// samples) and solved by Newton–Raphson, then analysed. The sweep
+    /// never changes assembly branch silently: it stops at a change in
+    /// the sign of det Φ_u between two samples
+    /// ([`StopReason::ChangePoint`], its `at` the midpoint), where Φ_u
+    /// is singular and where the mechanism does not assemble
+    /// ([`StopReason::NotAssembled`] at the first value that fails: past
+    /// a limit position, Newton–Raphson has no root to converge to).
+    ///
+    /// ```
+    /// use kinematics_core::runtime::Model;
+    /// use kinematics_core::sweep::Table;
+    /// let mut m = Model::compile(
+    ///     "struct SliderCrank {
+    ///          params   { a, b }
+    ///          drivers  { phi }
+    ///          unknowns { th, x }
+    ///          points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    ///          loops    { B + polar(b, th) == C; }
+    ///      }",
+    /// )?;
+    /// m.set_values(&[0.1, 0.3])?;
+    /// let s = m.sweep("phi", &[0.0, 0.0, 0.4])?.turn().steps(360).rpm(600.0).run();
+    /// assert!(s.stop.is_none());
+    /// assert_eq!(s.rows(), 360);
+    /// // The slider's stroke is twice the crank.
+    /// let x: Vec<f64> = s.samples.iter().map(|s| s.motion.q[2]).collect();
+    /// let stroke = x.iter().copied().fold(f64::MIN, f64::max) - x.iter().copied().fold(f64::MAX, f64::min);
+    /// assert!((stroke - 0.2).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a name that is not one of the
+    /// drivers; the other invalid inputs (the start's length, a
+    /// non-finite value, parameters not set) end the sweep with a stop
+    /// when it runs.
+    pub fn sweep(&self, driver: &str, start: &[f64]) -> Result<SweepBuilder<'_>, Error> {
+        let index = self.coordinates[..self.drivers]
+            .iter()
+            .position(|c| c.name == driver)
+            .ok_or_else(|| Error::InvalidOption {
+                name: intern(driver),
+                value: f64::NAN,
+                requirement: "must be one of the model's drivers",
+            })?;
+        Ok(SweepBuilder {
+            m: self,
+            driver: index,
+            start: start.to_vec(),
+            from: None,
+            end: End::Default,
+            steps: 360,
+            rate: 1.0,
+            acceleration: 0.0,
+            options: Options::DEFAULT,
+        })
+    }
+
+    /// The role of every point at the pose `q` (drivers first): a ground
+    /// pivot, a slider on a ground guide, or moving, as
+    /// [`point_roles_by`] finds them; for the skeleton of an animation.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] for a pose of the wrong length, and invalid
+    /// parameters.
+    pub fn point_roles(&self, q: &[f64]) -> Result<Vec<PointRole>, Error> {
+        self.validate()?;
+        self.length("coordinates", self.coordinates.len(), q.len())?;
+        Ok(point_roles_by(
+            &self.coordinates,
+            self.point_dim,
+            q,
+            |moved, out| *out = self.positions(moved),
+        ))
+    }
+}
+
+impl SweepBuilder<'_> {
+    /// The first value of the driver (rad or length unit); by default its
+    /// value in the start pose.
+    pub fn from(mut self, value: f64) -> Self {
+        self.from = Some(value);
+        self
+    }
+
+    /// The last value of the driver, included.
+    pub fn to(mut self, value: f64) -> Self {
+        self.end = End::To(value);
+        self
+    }
+
+    /// One full turn from the first value (an angle driver); with
+    /// `steps(n)`, n samples 360°/n apart, the end (the start again) left
+    /// out.
+    pub fn turn(self) -> Self {
+        self.turns(1.0)
+    }
+
+    /// `n` full turns (negative: clockwise), the end left out.
+    pub fn turns(mut self, n: f64) -> Self {
+        self.end = End::Turns(n);
+        self
+    }
+
+    /// The number of equal steps (at least 1).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.steps = steps;
+        self
+    }
+
+    /// The driver's rate d' at every sample.
+    pub fn rate(mut self, rate: f64) -> Self {
+        self.rate = rate;
+        self
+    }
+
+    /// The driver's rate in revolutions per minute (an angle driver).
+    pub fn rpm(self, rpm: f64) -> Self {
+        self.rate(rpm * TAU / 60.0)
+    }
+
+    /// The driver's acceleration d'' at every sample.
+    pub fn acceleration(mut self, acceleration: f64) -> Self {
+        self.acceleration = acceleration;
+        self
+    }
+
+    /// The solver options.
+    pub fn options(mut self, options: &Options) -> Self {
+        self.options = *options;
+        self
+    }
+
+    /// Runs the sweep, collecting its samples.
+    pub fn run(self) -> Sweep {
+        let m = self.m;
+        let coordinate = m.coordinates[self.driver];
+        let mut sweep = Sweep {
+            variable: coordinate.name,
+            kind: coordinate.kind,
+            samples: Vec::new(),
+            stop: None,
+            coordinates: m.coordinates.clone(),
+            points: m.points.clone(),
+            frames: m.frames.clone(),
+            point_dim: m.point_dim,
+        };
+        let from = self
+            .from
+            .or_else(|| self.start.get(self.driver).copied())
+            .unwrap_or(f64::NAN);
+        let stop = |at: f64, reason: StopReason| Stop {
+            variable: coordinate.name,
+            at,
+            reason,
+        };
+        let checked = grid(from, self.end, self.steps, coordinate.kind).and_then(|g| {
+            self.options.validate()?;
+            m.validate()?;
+            let mut rates = vec![0.0; m.drivers];
+            let mut accelerations = vec![0.0; m.drivers];
+            rates[self.driver] = self.rate;
+            accelerations[self.driver] = self.acceleration;
+            m.check_inputs(&self.start, &rates, &accelerations)?;
+            Ok((g, rates, accelerations))
+        });
+        let (g, rates, accelerations) = match checked {
+            Ok(c) => c,
+            Err(e) => {
+                sweep.stop = Some(stop(from, StopReason::from_error(e)));
+                return sweep;
+            }
+        };
+        sweep.samples.reserve(g.count);
+        let mut w = m.work();
+        let mut q = self.start.clone();
+        for k in 0..g.count {
+            let at = g.at(k);
+            predict(&sweep.samples, at, m.drivers, &mut q);
+            q[self.driver] = at;
+            let solved = m.solve(&mut q, &mut w, &self.options).and_then(|()| {
+                m.analyze_at(&q, &rates, &accelerations, &mut w, &self.options, true)
+            });
+            let motion = match solved {
+                Ok(motion) => motion,
+                Err(e) => {
+                    sweep.stop = Some(stop(at, StopReason::from_error(e)));
+                    return sweep;
+                }
+            };
+            if let Some(last) = sweep.samples.last() {
+                if last.motion.det_sign != motion.det_sign {
+                    sweep.stop = Some(stop(
+                        0.5 * (last.at + at),
+                        StopReason::ChangePoint {
+                            from: last.at,
+                            to: at,
+                        },
+                    ));
+                    return sweep;
+                }
+            }
+            sweep.samples.push(Sample { at, motion });
+        }
+        sweep
+    }
+}
+
+/// The guess of the unknowns at `at` (written into `q` past the
+/// `drivers`): the parabola through the last three samples, the line
+/// through the last two, or the last pose.
+fn predict(samples: &[Sample], at: f64, drivers: usize, q: &mut [f64]) {
+    let n = samples.len();
+    let last = |k: usize| &samples[n - k];
+    match n {
+        0 => {}
+        1 => q[drivers..].copy_from_slice(&last(1).motion.q[drivers..]),
+        _ => {
+            let (a, b) = (last(2), last(1));
+            let c = (n >= 3).then(|| last(3));
+            for (j, qj) in q.iter_mut().enumerate().skip(drivers) {
+                // Newton's divided differences through the known values.
+                let (xb, yb) = (b.at, b.motion.q[j]);
+                let (xa, ya) = (a.at, a.motion.q[j]);
+                let d1 = (yb - ya) / (xb - xa);
+                let mut y = yb + d1 * (at - xb);
+                if let Some(c) = c {
+                    let (xc, yc) = (c.at, c.motion.q[j]);
+                    let d0 = (ya - yc) / (xa - xc);
+                    let d2 = (d1 - d0) / (xb - xc);
+                    y += d2 * (at - xb) * (at - xa);
+                }
+                *qj = if y.is_finite() { y } else { yb };
+            }
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! Sweeps of models defined at run time against the sweeps of the same
+//! definitions compiled by `mechanism!`, both read through the one
+//! `Table` trait that the CSV, the text table, the plots and the
+//! animation read: the same columns, the same values to 1e-12 of each
+//! column's largest magnitude; and the stops at a limit position and at a
+//! change point.
+
+// Test code: a failed check should stop the test.
+#![allow(clippy::expect_used, clippy::panic)]
+
+use kinematics_core::runtime::Model;
+use kinematics_core::sweep::{StopReason, Table};
+use kinematics_examples::{FourBar, Rssr, SliderCrank, Watt};
+
+/// The run-time model of the example `name` with the values `values`.
+fn model(name: &str, values: &[f64]) -> Model {
+    let text = kinematics_examples::definition(name).expect("an example definition");
+    let mut m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    m.set_values(values)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    m
+}
+
+/// Every column of `a` and `b` agrees within 1e-12 of its largest
+/// magnitude over the sweep (1 at least), and the headers are identical.
+fn same_table(a: &impl Table, b: &impl Table) {
+    assert_eq!(a.headers_in("m"), b.headers_in("m"));
+    assert_eq!(a.rows(), b.rows(), "{:?} / {:?}", a.stop(), b.stop());
+    let rows_a: Vec<Vec<f64>> = (0..a.rows()).map(|i| a.row(i)).collect();
+    let rows_b: Vec<Vec<f64>> = (0..b.rows()).map(|i| b.row(i)).collect();
+    let headers = a.headers_in("m");
+    for (c, name) in headers.iter().enumerate() {
+        let scale = rows_a.iter().map(|r| r[c].abs()).fold(1.0f64, f64::max);
+        for (i, (ra, rb)) in rows_a.iter().zip(&rows_b).enumerate() {
+            assert!(
+                (ra[c] - rb[c]).abs() <= 1e-12 * scale,
+                "{name} at sample {i}: {} / {}",
+                ra[c],
+                rb[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn four_bar_sweeps_agree_both_ways() {
+    let g = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        p: 0.06,
+        beta: 0.5,
+    };
+    let r = model("FourBar", &g.parameter_values());
+    let start = g.assemble(&[0.0, 1.0, 1.6].into()).expect("assembles");
+    let generated = g
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(360)
+        .rpm(600.0)
+        .acceleration(-3.0)
+        .run();
+    let run_time = r
+        .sweep("phi", &[start.phi, start.th3, start.th4])
+        .expect("phi is a driver")
+        .turn()
+        .steps(360)
+        .rpm(600.0)
+        .acceleration(-3.0)
+        .run();
+    assert!(generated.stop.is_none() && run_time.stop.is_none());
+    assert_eq!(run_time.rows(), 360);
+    same_table(&generated, &run_time);
+    assert_eq!(
+        generated.to_csv().lines().next(),
+        run_time.csv_in("m").lines().next()
+    );
+}
+
+#[test]
+fn slider_crank_spatial_and_six_bar_sweeps_agree() {
+    let g = SliderCrank {
+        a: 0.1,
+        b: 0.3,
+        e: 0.02,
+    };
+    let r = model("SliderCrank", &g.parameter_values());
+    let start = g.assemble(&[0.0, 0.0, 0.4].into()).expect("assembles");
+    let generated = g
+        .sweep(SliderCrank::PHI, &start)
+        .turn()
+        .steps(180)
+        .rate(5.0)
+        .run();
+    let run_time = r
+        .sweep("phi", &[start.phi, start.th, start.x])
+        .expect("phi is a driver")
+        .turn()
+        .steps(180)
+        .rate(5.0)
+        .run();
+    same_table(&generated, &run_time);
+
+    let g = Rssr {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let r = model("Rssr", &g.parameter_values());
+    let start = g.assemble(&[0.0, 1.0].into()).expect("assembles");
+    let generated = g
+        .sweep(Rssr::PHI, &start)
+        .turn()
+        .steps(180)
+        .rpm(300.0)
+        .run();
+    let run_time = r
+        .sweep("phi", &[start.phi, start.psi])
+        .expect("phi is a driver")
+        .turn()
+        .steps(180)
+        .rpm(300.0)
+        .run();
+    same_table(&generated, &run_time);
+
+    let g = Watt::EXAMPLE;
+    let r = model("Watt", &g.parameter_values());
+    let start = g.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
+    let q: Vec<f64> = (0..5)
+        .map(|j| kinematics_core::Coordinates::get(&start, j).expect("a coordinate"))
+        .collect();
+    let generated = g.sweep(Watt::PHI, &start).turn().steps(120).rate(2.0).run();
+    let run_time = r
+        .sweep("phi", &q)
+        .expect("phi is a driver")
+        .turn()
+        .steps(120)
+        .rate(2.0)
+        .run();
+    same_table(&generated, &run_time);
+}
+
+/// A slider-crank whose crank is longer than its rod: past sin φ = b/a the
+/// rod cannot reach the guide. The run-time sweep stops at the first
+/// value past the limit, with the samples before it.
+#[test]
+fn a_run_time_sweep_stops_past_a_limit_position() {
+    let r = model("SliderCrank", &[0.3, 0.2, 0.0]);
+    let s = r
+        .sweep("phi", &[0.0, 0.0, 0.5])
+        .expect("phi is a driver")
+        .turn()
+        .steps(360)
+        .run();
+    let limit = (0.2f64 / 0.3).asin();
+    let stop = s.stop.as_ref().expect("stops at the limit");
+    assert!(matches!(stop.reason, StopReason::NotAssembled(_)), "{stop}");
+    let step = std::f64::consts::TAU / 360.0;
+    assert!(
+        stop.at > limit && stop.at <= limit + step,
+        "{} / {limit}",
+        stop.at
+    );
+    assert!(s.samples.iter().all(|x| x.at < limit));
+    assert_eq!(s.samples.len(), 42); // 0°, 1°, …, 41° (the limit is at 41.8°)
+}
+
+/// A parallelogram four-bar (a = c, b = d) folds at φ = 0, where its two
+/// branches meet and det Φ_u = b c sin(θ3 − θ4) changes sign along the
+/// parallelogram branch (θ3 = 0, θ4 = φ): the sweep stops there instead
+/// of crossing silently (nine steps, so that no sample falls on the
+/// fold itself, where Φ_u is singular).
+#[test]
+fn a_run_time_sweep_stops_at_a_change_point() {
+    let r = model("FourBar", &[0.05, 0.12, 0.05, 0.12, 0.0, 0.0]);
+    let s = r
+        .sweep("phi", &[-0.5, 0.0, -0.5])
+        .expect("phi is a driver")
+        .to(0.5)
+        .steps(9)
+        .run();
+    let stop = s.stop.as_ref().expect("stops at the fold");
+    match stop.reason {
+        StopReason::ChangePoint { from, to } => {
+            assert!(from < 1e-12 && to > -1e-12 && from < to, "{from} {to}");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    assert!(s.samples.iter().all(|x| x.at <= 1e-12));
+}
+
+#[test]
+fn a_run_time_sweep_reports_bad_input_as_a_stop_or_an_error() {
+    let r = model("FourBar", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
+    assert!(r.sweep("th3", &[0.0, 1.0, 1.6]).is_err());
+    let s = r.sweep("phi", &[0.0, 1.0]).expect("phi is a driver").run();
+    assert!(s.samples.is_empty());
+    assert!(matches!(
+        s.stop.expect("a pose of the wrong length").reason,
+        StopReason::Invalid(_) | StopReason::NotAssembled(_)
+    ));
+    let s = r
+        .sweep("phi", &[0.0, 1.0, 1.6])
+        .expect("phi is a driver")
+        .to(f64::NAN)
+        .run();
+    assert!(matches!(
+        s.stop.expect("a range not finite").reason,
+        StopReason::Invalid(_)
+    ));
+}
