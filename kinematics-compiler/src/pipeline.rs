@@ -15,6 +15,9 @@ use crate::scale::Scales;
 use crate::sensitivity::Partials;
 use crate::{check, closed, emit, kinematics, lower, names, parse, scale, sensitivity, validate};
 
+/// How a block with no closed form is solved, in words.
+pub(crate) const NEWTON: &str = "Newton–Raphson";
+
 /// A checked, lowered and differentiated mechanism definition: the
 /// expression graph and the roots each stage evaluates, what a back end
 /// turns into code (the Rust back end into the items `mechanism!`
@@ -68,6 +71,11 @@ pub struct Block {
     /// The closed form that solves it (`"angle"`, `"linear"`, `"RRR"`,
     /// `"RRT"`, `"RTR"`, `"TRT"`), or `None` for Newton–Raphson.
     pub closed_form: Option<&'static str>,
+    /// How it is solved, in words, as a generated mechanism's `BLOCKS`
+    /// says it: "closed form: …" or "Newton–Raphson".
+    pub method: &'static str,
+    /// Whether its closed form has two solutions (two assembly modes).
+    pub modes: bool,
 }
 
 /// A body frame's rotation R (row by row), angular velocity ω and
@@ -222,6 +230,8 @@ impl Compiled {
                     Pattern::Slide { .. } => "RTR",
                     Pattern::LineLine { .. } => "TRT",
                 }),
+                method: b.pattern.as_ref().map_or(NEWTON, Pattern::describe),
+                modes: b.pattern.as_ref().is_some_and(Pattern::has_modes),
             })
             .collect()
     }

@@ -34,6 +34,27 @@ pub(crate) fn intern(s: &str) -> Name {
     leaked
 }
 
+/// `names` as a `&'static [Name]`, allocated once per distinct list: the
+/// unknowns of the blocks of models defined at run time.
+#[cfg(feature = "runtime")]
+pub(crate) fn intern_list(names: &[Name]) -> &'static [Name] {
+    use std::collections::BTreeSet;
+    use std::sync::Mutex;
+
+    static TABLE: Mutex<BTreeSet<&'static [Name]>> = Mutex::new(BTreeSet::new());
+    let mut table = match TABLE.lock() {
+        Ok(t) => t,
+        // As for `intern`: the set only ever grows.
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    if let Some(&known) = table.get(names) {
+        return known;
+    }
+    let leaked: &'static [Name] = std::boxed::Box::leak(names.to_vec().into_boxed_slice());
+    table.insert(leaked);
+    leaked
+}
+
 #[cfg(feature = "serde")]
 mod de {
     use std::string::String;

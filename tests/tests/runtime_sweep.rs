@@ -211,3 +211,50 @@ fn a_run_time_sweep_reports_bad_input_as_a_stop_or_an_error() {
         StopReason::Invalid(_)
     ));
 }
+
+/// Every example compiled at run time describes its blocks as the
+/// generated mechanism's `BLOCKS` does: the same unknowns, method and
+/// modes, block by block in solve order.
+#[test]
+fn every_example_describes_its_blocks_as_blocks_does() {
+    use kinematics_examples::{
+        Crane, FiveBar, PlacedFourBar, RRtrRrt, RTrr, RobotArm, SatelliteDish, SixAxisArm,
+        SpatialSlider, Strider,
+    };
+    let generated: [(&str, &[kinematics_core::closed::Block]); 14] = [
+        ("FourBar", FourBar::BLOCKS),
+        ("SliderCrank", SliderCrank::BLOCKS),
+        ("RTrr", RTrr::BLOCKS),
+        ("RRtrRrt", RRtrRrt::BLOCKS),
+        ("Rssr", Rssr::BLOCKS),
+        ("SpatialSlider", SpatialSlider::BLOCKS),
+        ("SatelliteDish", SatelliteDish::BLOCKS),
+        ("Crane", Crane::BLOCKS),
+        ("RobotArm", RobotArm::BLOCKS),
+        ("SixAxisArm", SixAxisArm::BLOCKS),
+        ("Watt", Watt::BLOCKS),
+        ("FiveBar", FiveBar::BLOCKS),
+        ("Strider", Strider::BLOCKS),
+        ("PlacedFourBar", PlacedFourBar::BLOCKS),
+    ];
+    assert_eq!(generated.len(), kinematics_examples::definitions().len());
+    for (name, blocks) in generated {
+        let text = kinematics_examples::definition(name).expect("an example definition");
+        let m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(m.blocks(), blocks, "{name}");
+    }
+    // Not a vacuous comparison: the examples have blocks of every kind.
+    let all: Vec<String> = generated
+        .iter()
+        .flat_map(|(_, b)| b.iter().map(ToString::to_string))
+        .collect();
+    for method in [
+        "RRR dyad",
+        "RRT dyad",
+        "RTR dyad",
+        "a cos θ",
+        "Newton–Raphson",
+    ] {
+        assert!(all.iter().any(|b| b.contains(method)), "{method}: {all:?}");
+    }
+}

@@ -121,7 +121,7 @@ pub(super) fn blocks_const(cx: &Ctx<'_>) -> TokenStream {
         let names = cx.block_names(b);
         let (method, modes) = match &b.pattern {
             Some(p) => (p.describe(), p.has_modes()),
-            None => ("Newton–Raphson", false),
+            None => (crate::pipeline::NEWTON, false),
         };
         quote!(#pp::closed::Block { unknowns: &[#(#names),*], method: #method, modes: #modes })
     });

@@ -58,9 +58,10 @@ use kinematics_compiler::{compile_str, Diagnostics};
 use kinematics_jit::{Inputs, JitError, Program};
 use nalgebra::{Matrix3, Vector3};
 
+use crate::closed::Block;
 use crate::error::{Error, Input};
 use crate::mechanism::{Coordinate, FrameState, Kind, Role};
-use crate::names::{intern, Name};
+use crate::names::{intern, intern_list, Name};
 use crate::options::{Convergence, Options};
 use crate::solve::CLOSED;
 
@@ -140,6 +141,8 @@ pub struct Model {
     length_unknowns: Vec<bool>,
     /// The diagonal blocks of Φ_u: equations and unknowns.
     blocks: Vec<(Vec<usize>, Vec<usize>)>,
+    /// How each block is solved, as a generated mechanism's `BLOCKS`.
+    described: Vec<Block>,
     program: Program,
 }
 
@@ -199,6 +202,22 @@ impl Model {
                     kinematics_compiler::Kind::Length => Kind::Length,
                 },
             })
+            .collect::<Vec<Coordinate>>();
+        let described = c
+            .blocks()
+            .iter()
+            .map(|b| {
+                let names: Vec<Name> = b
+                    .unknowns
+                    .iter()
+                    .map(|&k| coordinates[drivers + k].name)
+                    .collect();
+                Block {
+                    unknowns: intern_list(&names),
+                    method: b.method,
+                    modes: b.modes,
+                }
+            })
             .collect();
         let points = c.points();
         let point_dim = points.first().map_or(2, |p| p.position.len());
@@ -216,6 +235,7 @@ impl Model {
             point_dim,
             frames: c.frames().iter().map(|f| intern(&f.name)).collect(),
             length_unknowns: c.length_unknowns().to_vec(),
+            described,
             blocks: c
                 .blocks()
                 .into_iter()
@@ -223,6 +243,16 @@ impl Model {
                 .collect(),
             program,
         })
+    }
+
+    /// How each diagonal block of the loop equations is solved, in solve
+    /// order, described as a generated mechanism's `BLOCKS` describes it
+    /// (the same compiler finds them). A run-time model solves every
+    /// block by Newton–Raphson on all the unknowns together for now; the
+    /// description says which have a closed form.
+    #[must_use]
+    pub fn blocks(&self) -> &[Block] {
+        &self.described
     }
 
     /// The mechanism's name.
