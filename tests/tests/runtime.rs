@@ -3,7 +3,8 @@
 //! from that file, compiles at run time; six of them (planar and spatial,
 //! closed forms and Newton blocks, loops and a serial arm with frames) are
 //! stepped both ways over a turn of their drivers, and agree in q, q', q'',
-//! every point's r, v, a, every frame's motion and the conditioning.
+//! every point's r, v, a, every frame's motion and the conditioning; the
+//! run-time stepper takes the same steps as the run-time `step`, exactly.
 
 // Test code: a failed check should stop the test.
 #![allow(clippy::expect_used, clippy::panic)]
@@ -53,6 +54,7 @@ fn agree<M: Mechanism>(
     let mut g_start = start;
     let mut r_start: Vec<f64> = (0..n).map(|j| start.get(j).unwrap_or(f64::NAN)).collect();
     let options = Options::DEFAULT;
+    let mut stepper = r.stepper(&options).expect("valid options and parameters");
     for k in 0..steps {
         let g = m
             .step_slices(&g_start, rates, accelerations, &options)
@@ -60,6 +62,11 @@ fn agree<M: Mechanism>(
         let s = r
             .step(&r_start, rates, accelerations)
             .unwrap_or_else(|e| panic!("{name}, step {k}, run time: {e}"));
+        // The stepper, which keeps its arrays, takes the same step.
+        let kept = stepper
+            .step(&r_start, rates, accelerations)
+            .unwrap_or_else(|e| panic!("{name}, step {k}, run-time stepper: {e}"));
+        assert_eq!(*kept, s, "{name}, step {k}: the stepper and `step` differ");
         // The length scale of the positions: the largest |q| and point
         // coordinate; rates and accelerations compared at their own.
         let qs = (0..n)

@@ -4,7 +4,7 @@
 //! four-bar), M2 (the RSSR), M3 (the Watt six-bar) and M4 (the six-axis
 //! arm), each step assembling from the previous pose and analysing the
 //! motion. Interleaved rounds (generated stepper, generated `step`, run-time
-//! `step`, in turn), thread CPU time; per mechanism the median ratio to the
+//! `step`, run-time stepper, in turn), thread CPU time; per mechanism the median ratio to the
 //! generated stepper and the range of the middle 80 % of rounds. Also the
 //! time to compile each definition at run time (text to machine code).
 //!
@@ -83,6 +83,23 @@ fn turn_runtime(m: &Model, start: &[f64], rates: &[f64], delta: f64) -> f64 {
     sum
 }
 
+/// As [`turn_runtime`], with the run-time stepper (its arrays kept).
+fn turn_runtime_stepper(m: &Model, start: &[f64], rates: &[f64], delta: f64) -> f64 {
+    let accels = vec![0.0; rates.len()];
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose = start.to_vec();
+    let mut sum = 0.0;
+    for _ in 0..STEPS {
+        let s = stepper.step(&pose, rates, &accels).expect("a step");
+        sum += s.qdd.iter().sum::<f64>();
+        pose.copy_from_slice(&s.q);
+        for d in &mut pose[..m.drivers()] {
+            *d += delta;
+        }
+    }
+    sum
+}
+
 fn summary(mut r: Vec<f64>) -> String {
     r.sort_by(f64::total_cmp);
     let (lo, mid, hi) = (r[ROUNDS / 10], r[ROUNDS / 2], r[ROUNDS - 1 - ROUNDS / 10]);
@@ -110,17 +127,19 @@ fn row<M: Mechanism>(label: &str, m: &M, r: &Model, start: M::Coords, rates: &[f
             .expect("a step")
     };
     let mut plain = |p: &M::Coords| m.step_slices(p, rates, &zeros, &options).expect("a step");
-    // The three agree before they are timed.
-    let (a, b, c) = (
+    // The four agree before they are timed.
+    let (a, b, c, d) = (
         turn_generated::<M>(&mut stepper, start, delta),
         turn_generated::<M>(&mut plain, start, delta),
         turn_runtime(r, &start_vec, rates, delta),
+        turn_runtime_stepper(r, &start_vec, rates, delta),
     );
+    let near = |x: f64| (a - x).abs() <= 1e-9 * a.abs().max(1.0);
     assert!(
-        (a - c).abs() <= 1e-9 * a.abs().max(1.0) && (a - b).abs() <= 1e-9 * a.abs().max(1.0),
-        "{label}: checksums {a} {b} {c}"
+        near(b) && near(c) && near(d),
+        "{label}: checksums {a} {b} {c} {d}"
     );
-    let (mut plain_ratio, mut runtime_ratio) = (Vec::new(), Vec::new());
+    let (mut plain_ratio, mut runtime_ratio, mut kept_ratio) = (Vec::new(), Vec::new(), Vec::new());
     let mut per_step = Vec::new();
     for _ in 0..ROUNDS {
         let t0 = thread_cpu_ns();
@@ -130,15 +149,19 @@ fn row<M: Mechanism>(label: &str, m: &M, r: &Model, start: M::Coords, rates: &[f
         let t2 = thread_cpu_ns();
         black_box(turn_runtime(r, black_box(&start_vec), rates, delta));
         let t3 = thread_cpu_ns();
+        black_box(turn_runtime_stepper(r, black_box(&start_vec), rates, delta));
+        let t4 = thread_cpu_ns();
         plain_ratio.push((t2 - t1) / (t1 - t0));
         runtime_ratio.push((t3 - t2) / (t1 - t0));
-        per_step.push((t3 - t2) / STEPS as f64);
+        kept_ratio.push((t4 - t3) / (t1 - t0));
+        per_step.push((t4 - t3) / STEPS as f64);
     }
     per_step.sort_by(f64::total_cmp);
     println!(
-        "| {label} | {} | {} | {:.0} ns |",
+        "| {label} | {} | {} | {} | {:.0} ns |",
         summary(plain_ratio),
         summary(runtime_ratio),
+        summary(kept_ratio),
         per_step[ROUNDS / 2]
     );
 }
@@ -179,7 +202,7 @@ fn main() {
         );
     }
     println!(
-        "\n| mechanism | generated `step` / stepper | run-time `step` / stepper | run-time per step |\n|---|---|---|---|"
+        "\n| mechanism | generated `step` / stepper | run-time `step` / stepper | run-time stepper / stepper | run-time stepper per step |\n|---|---|---|---|---|"
     );
     let turn = std::f64::consts::TAU / STEPS as f64;
     let g = FourBar::CRANK_ROCKER;

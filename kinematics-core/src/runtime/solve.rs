@@ -1,0 +1,565 @@
+//! The numerical core of run-time models: the scaling, Newton–Raphson on
+//! the unknowns, Φ_u's factors and conditioning, and the velocity and
+//! acceleration solves, all in the arrays of one [`Work`], which a
+//! stepper keeps from step to step so that a step allocates nothing.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use kinematics_jit::{Inputs, Program};
+use nalgebra::{Matrix3, Vector3};
+
+use super::{Model, Motion, PointState};
+use crate::error::{Error, Input};
+use crate::mechanism::FrameState;
+use crate::options::{Convergence, Options};
+use crate::solve::CLOSED;
+
+/// The arrays of a solve and an analysis, sized for one model.
+pub(super) struct Work {
+    /// The parameters, then the characteristic length L.
+    pub(super) params: Vec<f64>,
+    pub(super) phi: Vec<f64>,
+    jac: Vec<f64>,
+    newton: Vec<f64>,
+    /// The row scales 1/S_i (S_i with the unknown lengths counted as L).
+    pub(super) rows: Vec<f64>,
+    /// The convergence weights: `rows` for relative convergence, 1 for
+    /// absolute.
+    weights: Vec<f64>,
+    /// Rates and accelerations of zero, for the stages of positions.
+    zeros: Vec<f64>,
+    /// LU factors of Φ_u (Newton's, then the analysis's) and their row
+    /// permutation.
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    /// Newton's step, and the unknowns before it.
+    step: Vec<f64>,
+    before: Vec<f64>,
+    /// Φ_u scaled (rows by 1/S_i, length columns by L); one diagonal block
+    /// of it with its permutation; a column of the block's inverse, a unit
+    /// vector and the inverse's absolute row sums.
+    scaled: Vec<f64>,
+    sub: Vec<f64>,
+    sub_perm: Vec<usize>,
+    col: Vec<f64>,
+    unit: Vec<f64>,
+    sums: Vec<f64>,
+    /// A right-hand side, and the outputs' stage.
+    rhs: Vec<f64>,
+    out: Vec<f64>,
+}
+
+impl Model {
+    pub(super) fn work(&self) -> Work {
+        let nu = self.unknowns();
+        let widest = self.blocks.iter().map(|(_, c)| c.len()).max().unwrap_or(0);
+        Work {
+            params: self.values.clone(),
+            phi: vec![0.0; nu],
+            jac: vec![0.0; nu * nu],
+            newton: vec![0.0; self.program.outputs(Program::NEWTON)],
+            rows: vec![1.0; nu],
+            weights: vec![1.0; nu],
+            zeros: vec![0.0; self.coordinates.len()],
+            lu: vec![0.0; nu * nu],
+            perm: vec![0; nu],
+            step: vec![0.0; nu],
+            before: vec![0.0; nu],
+            scaled: vec![0.0; nu * nu],
+            sub: vec![0.0; widest * widest],
+            sub_perm: vec![0; widest],
+            col: vec![0.0; widest],
+            unit: vec![0.0; widest],
+            sums: vec![0.0; widest],
+            rhs: vec![0.0; nu],
+            out: vec![0.0; self.program.outputs(Program::OUTPUTS)],
+        }
+    }
+
+    /// A motion with the model's shape (every value 0), for a stepper to
+    /// write its steps into.
+    pub(super) fn shaped_motion(&self) -> Motion {
+        let n = self.coordinates.len();
+        let d = self.point_dim;
+        let zero = FrameState {
+            rotation: Matrix3::identity(),
+            origin: Vector3::zeros(),
+            velocity: Vector3::zeros(),
+            acceleration: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+            angular_acceleration: Vector3::zeros(),
+        };
+        Motion {
+            q: vec![0.0; n],
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+            points: vec![
+                PointState {
+                    position: vec![0.0; d],
+                    velocity: vec![0.0; d],
+                    acceleration: vec![0.0; d],
+                };
+                self.points.len()
+            ],
+            frames: vec![zero; self.frames.len()],
+            conditioning: 0.0,
+            det_sign: 0.0,
+            residual: 0.0,
+        }
+    }
+
+    /// Evaluates a stage, whose lengths the model guarantees.
+    pub(super) fn eval(
+        &self,
+        stage: usize,
+        params: &[f64],
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) {
+        let inputs = Inputs { params, q, qd, qdd };
+        // The arrays are the model's own, of its lengths.
+        let checked = self.program.eval(stage, &inputs, out);
+        debug_assert!(checked.is_ok(), "{checked:?}");
+    }
+
+    /// Φ and Φ_u at q into `w.phi`, `w.jac` (row-major).
+    pub(super) fn newton_eval(&self, q: &[f64], w: &mut Work) {
+        let nu = w.phi.len();
+        self.eval(
+            Program::NEWTON,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &mut w.newton,
+        );
+        w.phi.copy_from_slice(&w.newton[..nu]);
+        w.jac.copy_from_slice(&w.newton[nu..]);
+    }
+
+    /// The scaling at the drivers of q, as the generated code forms it:
+    /// the characteristic length L, the largest term scale with the
+    /// unknown lengths counted as 0 (1 if none is positive), into the
+    /// parameters' last slot; the row scales 1/S_i with the unknown
+    /// lengths counted as L (1 where S_i = 0); the convergence weights,
+    /// those for relative convergence, 1 for absolute. Returns L.
+    pub(super) fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
+        let n = self.params.len();
+        w.params[n] = f64::NAN;
+        self.eval(
+            Program::SCALES,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &mut w.rows,
+        );
+        let length = w
+            .rows
+            .iter()
+            .copied()
+            .fold(0.0f64, |m, v| if v > m { v } else { m });
+        let length = if length > 0.0 { length } else { 1.0 };
+        w.params[n] = length;
+        self.eval(
+            Program::FULL_SCALES,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &mut w.rows,
+        );
+        for (r, wt) in w.rows.iter_mut().zip(&mut w.weights) {
+            *r = if *r > 0.0 && r.is_finite() {
+                1.0 / *r
+            } else {
+                1.0
+            };
+            *wt = match options.convergence {
+                Convergence::Relative => *r,
+                Convergence::Absolute => 1.0,
+            };
+        }
+        length
+    }
+
+    /// Newton–Raphson on the unknowns of q: step halving while the
+    /// scaled residual does not decrease; converged at the tolerance, then
+    /// one more step unless already at [`CLOSED`].
+    pub(super) fn solve(
+        &self,
+        q: &mut [f64],
+        w: &mut Work,
+        options: &Options,
+    ) -> Result<(), Error> {
+        let (nd, nu) = (self.drivers, self.unknowns());
+        self.scaling(q, w, options);
+        let merit = |w: &Work| -> (f64, f64) {
+            let mut sum = 0.0f64;
+            let mut max = 0.0f64;
+            for (p, s) in w.phi.iter().zip(&w.weights) {
+                let r = p * s;
+                sum += r * r;
+                max = max.max(r.abs());
+                if r.is_nan() {
+                    return (f64::NAN, f64::NAN);
+                }
+            }
+            (sum, max)
+        };
+        self.newton_eval(q, w);
+        let (mut f0, mut max) = merit(w);
+        let mut iterations = 0;
+        let mut polished = false;
+        loop {
+            if max <= options.tolerance && (polished || max <= CLOSED) {
+                return Ok(());
+            }
+            if max <= options.tolerance {
+                // One more step towards round-off, kept only if better.
+                polished = true;
+            }
+            if iterations >= options.max_iterations || !f0.is_finite() {
+                return Err(self.not_converged(q, w, iterations));
+            }
+            iterations += 1;
+            w.lu.copy_from_slice(&w.jac);
+            let solved = lu(&mut w.lu, &mut w.perm, nu).is_some() && {
+                lu_apply(&w.lu, &w.perm, &w.phi, &mut w.step, nu);
+                w.step.iter().all(|v| v.is_finite())
+            };
+            if !solved {
+                return Err(self.not_converged(q, w, iterations));
+            }
+            w.before.copy_from_slice(&q[nd..]);
+            let mut t = 1.0;
+            loop {
+                for ((x, b), s) in q[nd..].iter_mut().zip(&w.before).zip(&w.step) {
+                    *x = b - t * s;
+                }
+                self.newton_eval(q, w);
+                let (f1, m1) = merit(w);
+                if f1 < f0 || (polished && m1 <= max) {
+                    f0 = f1;
+                    max = m1;
+                    break;
+                }
+                if polished {
+                    // Already within the tolerance: the step did not help;
+                    // keep the pose before it.
+                    q[nd..].copy_from_slice(&w.before);
+                    self.newton_eval(q, w);
+                    return Ok(());
+                }
+                t *= 0.5;
+                if t < 1e-3 {
+                    return Err(self.not_converged(q, w, iterations));
+                }
+            }
+        }
+    }
+
+    fn not_converged(&self, q: &[f64], w: &Work, iterations: usize) -> Error {
+        let (mut at, mut rel) = (0, f64::NEG_INFINITY);
+        for (i, (p, s)) in w.phi.iter().zip(&w.weights).enumerate() {
+            let r = (p * s).abs();
+            if r > rel || r.is_nan() {
+                at = i;
+                rel = r;
+                if r.is_nan() {
+                    break;
+                }
+            }
+        }
+        Error::NotConverged {
+            iterations,
+            residual: w.phi.get(at).copied().unwrap_or(f64::NAN),
+            relative: rel,
+            equation: self.equations.get(at).copied().unwrap_or(""),
+            configuration: self.configuration(q),
+        }
+    }
+
+    pub(super) fn configuration(&self, q: &[f64]) -> crate::names::Configuration {
+        self.coordinates
+            .iter()
+            .zip(q)
+            .map(|(c, &v)| (c.name, v))
+            .collect()
+    }
+
+    /// Φ_u at q factored into `w.lu` and `w.perm` (for the velocity and
+    /// acceleration solves), its conditioning judged as the generated code
+    /// judges it (block by block, the least conditioning of the scaled
+    /// diagonal blocks) and the sign of det Φ_u (the positive row and
+    /// column scales do not change it); or [`Error::Singular`]. With
+    /// `evaluated`, `w` already holds the scaling and Φ, Φ_u at q (as
+    /// `solve` leaves them).
+    pub(super) fn factor(
+        &self,
+        q: &[f64],
+        w: &mut Work,
+        options: &Options,
+        evaluated: bool,
+    ) -> Result<(f64, f64), Error> {
+        let nu = self.unknowns();
+        let length = if evaluated {
+            w.params[self.params.len()]
+        } else {
+            let length = self.scaling(q, w, options);
+            self.newton_eval(q, w);
+            length
+        };
+        for i in 0..nu {
+            for k in 0..nu {
+                let col = if self.length_unknowns[k] { length } else { 1.0 };
+                w.scaled[i * nu + k] = w.jac[i * nu + k] * w.rows[i] * col;
+            }
+        }
+        w.lu.copy_from_slice(&w.jac);
+        let sign = match lu(&mut w.lu, &mut w.perm, nu) {
+            Some(mut sign) => {
+                for i in 0..nu {
+                    if w.lu[i * nu + i] < 0.0 {
+                        sign = -sign;
+                    }
+                }
+                sign
+            }
+            None => 0.0,
+        };
+        let (mut conditioning_min, mut at) = (f64::INFINITY, 0);
+        for (rows, cols) in &self.blocks {
+            let m = cols.len();
+            for (a, &r) in rows.iter().enumerate() {
+                for (b, &c) in cols.iter().enumerate() {
+                    w.sub[a * m + b] = w.scaled[r * nu + c];
+                }
+            }
+            let (c, local) = conditioning(
+                &mut w.sub[..m * m],
+                m,
+                &mut w.sub_perm[..m],
+                [&mut w.col[..m], &mut w.unit[..m], &mut w.sums[..m]],
+            );
+            if c < conditioning_min {
+                conditioning_min = c;
+                at = cols.get(local).copied().unwrap_or(0);
+            }
+        }
+        let conditioning = if nu == 0 { 1.0 } else { conditioning_min };
+        if conditioning > options.singularity_threshold && sign != 0.0 {
+            Ok((conditioning, sign))
+        } else {
+            Err(Error::Singular {
+                unknown: self.coordinates[self.drivers + at].name,
+                conditioning,
+                configuration: self.configuration(q),
+            })
+        }
+    }
+
+    /// The motion at the closed pose `q`, into `out` (of the model's
+    /// shape, from [`Model::shaped_motion`]): Φ_u factored, q' and q''
+    /// solved, every point and frame evaluated, every output checked
+    /// finite. `evaluated` as for [`Model::factor`].
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn analyze_into(
+        &self,
+        q: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        w: &mut Work,
+        options: &Options,
+        evaluated: bool,
+        out: &mut Motion,
+    ) -> Result<(), Error> {
+        let (nd, nu) = (self.drivers, self.unknowns());
+        let (conditioning, det_sign) = self.factor(q, w, options, evaluated)?;
+        let residual = w
+            .phi
+            .iter()
+            .zip(&w.rows)
+            .map(|(p, s)| (p * s).abs())
+            .fold(0.0f64, f64::max);
+        out.q.copy_from_slice(q);
+        out.qd[..nd].copy_from_slice(rates);
+        out.qdd[..nd].copy_from_slice(accelerations);
+        out.qd[nd..].fill(0.0);
+        out.qdd[nd..].fill(0.0);
+        self.eval(
+            Program::VELOCITY,
+            &w.params,
+            q,
+            &out.qd,
+            &out.qdd,
+            &mut w.rhs,
+        );
+        lu_apply(&w.lu, &w.perm, &w.rhs, &mut out.qd[nd..], nu);
+        self.eval(
+            Program::ACCELERATION,
+            &w.params,
+            q,
+            &out.qd,
+            &out.qdd,
+            &mut w.rhs,
+        );
+        lu_apply(&w.lu, &w.perm, &w.rhs, &mut out.qdd[nd..], nu);
+        self.eval(
+            Program::OUTPUTS,
+            &w.params,
+            q,
+            &out.qd,
+            &out.qdd,
+            &mut w.out,
+        );
+        let d = self.point_dim;
+        for (p, c) in out.points.iter_mut().zip(w.out.chunks_exact(3 * d)) {
+            p.position.copy_from_slice(&c[..d]);
+            p.velocity.copy_from_slice(&c[d..2 * d]);
+            p.acceleration.copy_from_slice(&c[2 * d..]);
+        }
+        let frames = w.out.get(self.points.len() * 3 * d..).unwrap_or(&[]);
+        for (fr, f) in out.frames.iter_mut().zip(frames.chunks_exact(24)) {
+            *fr = FrameState {
+                rotation: Matrix3::from_row_slice(&f[..9]),
+                angular_velocity: Vector3::new(f[9], f[10], f[11]),
+                angular_acceleration: Vector3::new(f[12], f[13], f[14]),
+                origin: Vector3::new(f[15], f[16], f[17]),
+                velocity: Vector3::new(f[18], f[19], f[20]),
+                acceleration: Vector3::new(f[21], f[22], f[23]),
+            };
+        }
+        out.conditioning = conditioning;
+        out.det_sign = det_sign;
+        out.residual = residual;
+        for (j, c) in self.coordinates.iter().enumerate() {
+            let (v, a) = (out.qd[j], out.qdd[j]);
+            if !(v.is_finite() && a.is_finite()) {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name: c.name,
+                    value: if v.is_finite() { a } else { v },
+                });
+            }
+        }
+        if let Some(bad) = w.out.iter().position(|v| !v.is_finite()) {
+            let point = bad / (3 * d);
+            let name = self
+                .points
+                .get(point)
+                .or_else(|| self.frames.get((bad - self.points.len() * 3 * d) / 24))
+                .copied()
+                .unwrap_or("");
+            return Err(Error::NonFinite {
+                input: Input::Computed,
+                name,
+                value: w.out[bad],
+            });
+        }
+        Ok(())
+    }
+
+    /// [`Model::analyze_into`] into a new motion.
+    pub(super) fn analyze_at(
+        &self,
+        q: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        w: &mut Work,
+        options: &Options,
+        evaluated: bool,
+    ) -> Result<Motion, Error> {
+        let mut out = self.shaped_motion();
+        self.analyze_into(q, rates, accelerations, w, options, evaluated, &mut out)?;
+        Ok(out)
+    }
+}
+
+/// LU factorisation with partial pivoting of the n × n row-major `a`:
+/// the factors in place, the row permutation into `perm`; the sign of the
+/// permutation, or `None` at a zero or non-finite pivot.
+fn lu(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    let mut sign = 1.0;
+    for k in 0..n {
+        let p = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))?;
+        let pivot = a[p * n + k];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return None;
+        }
+        if p != k {
+            for j in 0..n {
+                a.swap(p * n + j, k * n + j);
+            }
+            perm.swap(p, k);
+            sign = -sign;
+        }
+        for i in k + 1..n {
+            let f = a[i * n + k] / pivot;
+            a[i * n + k] = f;
+            for j in k + 1..n {
+                a[i * n + j] -= f * a[k * n + j];
+            }
+        }
+    }
+    Some(sign)
+}
+
+/// x with A x = b, from the factors of [`lu`] (NaN where A is singular).
+fn lu_apply(lu: &[f64], perm: &[usize], b: &[f64], x: &mut [f64], n: usize) {
+    for (xi, &p) in x.iter_mut().zip(perm) {
+        *xi = b[p];
+    }
+    for i in 0..n {
+        for j in 0..i {
+            x[i] -= lu[i * n + j] * x[j];
+        }
+    }
+    for i in (0..n).rev() {
+        for j in i + 1..n {
+            x[i] -= lu[i * n + j] * x[j];
+        }
+        x[i] /= lu[i * n + i];
+    }
+}
+
+/// 1/‖A⁻¹‖∞ and the row of A⁻¹ with the largest absolute sum (the unknown
+/// the equations determine worst); (0, 0) when A is singular. `a` is
+/// overwritten by its factors; `scratch` holds three arrays of n.
+fn conditioning(
+    a: &mut [f64],
+    n: usize,
+    perm: &mut [usize],
+    scratch: [&mut [f64]; 3],
+) -> (f64, usize) {
+    if n == 0 {
+        return (1.0, 0);
+    }
+    let [col, unit, sums] = scratch;
+    if lu(a, perm, n).is_none() {
+        return (0.0, 0);
+    }
+    sums.fill(0.0);
+    for j in 0..n {
+        unit.fill(0.0);
+        unit[j] = 1.0;
+        lu_apply(a, perm, unit, col, n);
+        for (r, v) in sums.iter_mut().zip(col.iter()) {
+            *r += v.abs();
+        }
+    }
+    let (at, worst) = sums
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((0, f64::INFINITY));
+    let c = 1.0 / worst;
+    (if c.is_finite() { c } else { 0.0 }, at)
+}
