@@ -4,14 +4,18 @@
 //!
 //! A stage is a list of roots of the graph. Its function reads the leaves
 //! (parameters p, coordinates q, rates q', accelerations q'') from four
-//! arrays, evaluates every node the roots depend on once, in the graph's
-//! order (a topological order, shared subexpressions computed once, as
-//! the macro's straight-line Rust computes them), and writes the roots to
-//! an output array. Arithmetic is IEEE double precision, operation for
-//! operation as written in the graph (no fused multiply-add, no
-//! reassociation); sin, cos, tan, asin, acos, exp, ln and atan2 are the
-//! standard library's (the platform's libm), √ and |x| the processor's
-//! instructions, xⁿ the binary powering of the standard library's `powi`.
+//! arrays, and the cosine and sine of each coordinate from a fifth (the
+//! caller computes them once per pose, [`Program::trig`], where the
+//! stages would each call sin and cos of the same coordinates: as the
+//! macro's code computes each coordinate's sine and cosine once). It
+//! evaluates every node the roots depend on once, in the graph's order (a
+//! topological order, shared subexpressions computed once, as the macro's
+//! straight-line Rust computes them), and writes the roots to an output
+//! array. Arithmetic is IEEE double precision, operation for operation as
+//! written in the graph (no fused multiply-add, no reassociation); sin,
+//! cos, tan, asin, acos, exp, ln and atan2 are the standard library's (the
+//! platform's libm), √ and |x| the processor's instructions, xⁿ the binary
+//! powering of the standard library's `powi`.
 //!
 //! ```
 //! use kinematics_jit::{Inputs, Program};
@@ -26,8 +30,17 @@
 //! let program = Program::for_model(&model)?;
 //! // Φ and Φ_u at a closed pose: a = 1, b = 2, φ = 0, θ = π, x = −1.
 //! let q = [0.0, std::f64::consts::PI, -1.0];
+//! // cos and sin of every coordinate the stages read them of.
+//! let mut trig = [0.0; 6];
+//! program.trig(&q, &mut trig, 0);
 //! // The parameters, then the characteristic length (unused here).
-//! let inputs = Inputs { params: &[1.0, 2.0, 3.0], q: &q, qd: &[0.0; 3], qdd: &[0.0; 3] };
+//! let inputs = Inputs {
+//!     params: &[1.0, 2.0, 3.0],
+//!     q: &q,
+//!     qd: &[0.0; 3],
+//!     qdd: &[0.0; 3],
+//!     trig: &trig,
+//! };
 //! let mut out = vec![0.0; program.outputs(Program::NEWTON)];
 //! program.eval(Program::NEWTON, &inputs, &mut out)?;
 //! let (phi, jac) = out.split_at(2);
@@ -48,8 +61,10 @@ use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
 use kinematics_compiler::ir::{Func, Graph, Id, Leaf, Node};
 use kinematics_compiler::Compiled;
 
-/// The machine-code signature of every stage: (p, q, q', q'', out).
-type Entry = unsafe extern "C" fn(*const f64, *const f64, *const f64, *const f64, *mut f64);
+/// The machine-code signature of every stage: (p, q, q', q'', out, the
+/// cosines and sines of q).
+type Entry =
+    unsafe extern "C" fn(*const f64, *const f64, *const f64, *const f64, *mut f64, *const f64);
 
 /// Why a program could not be built.
 #[derive(Debug)]
@@ -81,7 +96,7 @@ impl std::error::Error for JitError {}
 /// Arrays handed to a stage whose lengths are not the model's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LengthMismatch {
-    /// Which array: "params", "q", "qd", "qdd" or "out".
+    /// Which array: "params", "q", "qd", "qdd", "trig" or "out".
     pub array: &'static str,
     /// The length the program needs.
     pub expected: usize,
@@ -113,6 +128,10 @@ pub struct Inputs<'a> {
     pub qd: &'a [f64],
     /// q''.
     pub qdd: &'a [f64],
+    /// cos q_j and sin q_j at entries 2j and 2j + 1, for every coordinate
+    /// j of [`Program::trig_coordinates`] (the others are not read), as
+    /// [`Program::trig`] writes them.
+    pub trig: &'a [f64],
 }
 
 /// One compiled stage.
@@ -128,6 +147,8 @@ pub struct Program {
     stages: Vec<Stage>,
     params: usize,
     coords: usize,
+    /// The coordinates whose cosine and sine some stage reads, ascending.
+    trig: Vec<usize>,
 }
 
 impl fmt::Debug for Program {
@@ -139,6 +160,7 @@ impl fmt::Debug for Program {
             )
             .field("params", &self.params)
             .field("coords", &self.coords)
+            .field("trig", &self.trig)
             .finish_non_exhaustive()
     }
 }
@@ -325,9 +347,10 @@ impl Program {
 
         let pointer = module.target_config().pointer_type();
         let mut sig = module.make_signature();
-        for _ in 0..5 {
+        for _ in 0..6 {
             sig.params.push(AbiParam::new(pointer));
         }
+        let mut trig = std::collections::BTreeSet::new();
         let mut ids = Vec::with_capacity(stages.len());
         let mut ctx = module.make_context();
         let mut fcx = FunctionBuilderContext::new();
@@ -375,6 +398,22 @@ impl Program {
                         })
                     };
                     let node = graph.node(Id::from_index(i));
+                    // The cosine or sine of a coordinate: read from the
+                    // array of them, computed once per pose by the caller.
+                    if let Node::Call(f @ (Func::Sin | Func::Cos), x) = node {
+                        if let Node::Leaf(Leaf::Q(j)) = graph.node(x) {
+                            let j = j as usize;
+                            if j < coords {
+                                trig.insert(j);
+                                let slot = 2 * j + usize::from(f == Func::Sin);
+                                let offset = i32::try_from(slot * 8).map_err(|_| {
+                                    JitError::Codegen("too many coordinates".into())
+                                })?;
+                                values[i] = Some(b.ins().load(float, flags, args[5], offset));
+                                continue;
+                            }
+                        }
+                    }
                     let value = match node {
                         Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
                         Node::Leaf(leaf) => {
@@ -459,6 +498,7 @@ impl Program {
             stages,
             params,
             coords,
+            trig: trig.into_iter().collect(),
         })
     }
 
@@ -472,6 +512,29 @@ impl Program {
     #[must_use]
     pub fn outputs(&self, stage: usize) -> usize {
         self.stages.get(stage).map_or(0, |s| s.outputs)
+    }
+
+    /// The coordinates whose cosine and sine the stages read from
+    /// [`Inputs::trig`], ascending.
+    #[must_use]
+    pub fn trig_coordinates(&self) -> &[usize] {
+        &self.trig
+    }
+
+    /// Writes cos q_j and sin q_j at `trig[2j]` and `trig[2j + 1]` for
+    /// every coordinate j ≥ `from` of [`Program::trig_coordinates`] (the
+    /// standard library's `sin_cos`): the [`Inputs::trig`] of the pose
+    /// `q`. With `from` the number of drivers, it updates a pose whose
+    /// drivers have not changed. Entries past either array are skipped.
+    pub fn trig(&self, q: &[f64], trig: &mut [f64], from: usize) {
+        let start = self.trig.partition_point(|&j| j < from);
+        for &j in &self.trig[start..] {
+            if let (Some(&x), Some(pair)) = (q.get(j), trig.get_mut(2 * j..2 * j + 2)) {
+                let (s, c) = x.sin_cos();
+                pair[0] = c;
+                pair[1] = s;
+            }
+        }
     }
 
     /// Runs stage `stage` on `inputs`, writing its roots into `out`.
@@ -492,6 +555,7 @@ impl Program {
             ("q", self.coords, inputs.q.len()),
             ("qd", self.coords, inputs.qd.len()),
             ("qdd", self.coords, inputs.qdd.len()),
+            ("trig", 2 * self.coords, inputs.trig.len()),
             ("out", outputs, out.len()),
         ] {
             if expected != found {
@@ -546,7 +610,7 @@ fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
 #[allow(unsafe_code)]
 fn entry(code: *const u8) -> Entry {
     // SAFETY: `code` is the address of a function Cranelift compiled and
-    // linked with the signature `sig` built above, five pointer-sized
+    // linked with the signature `sig` built above, six pointer-sized
     // arguments and no result in the host's default calling convention,
     // which is `Entry`'s.
     unsafe { std::mem::transmute::<*const u8, Entry>(code) }
@@ -557,7 +621,8 @@ fn entry(code: *const u8) -> Entry {
 fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
     // SAFETY: the caller checked every array's length against the
     // program's: the code reads parameters below `params`, coordinates,
-    // rates and accelerations below `coords`, and writes exactly
+    // rates and accelerations below `coords`, cosines and sines below
+    // `2 coords`, and writes exactly
     // `out.len()` values; the module holding the code lives as long as
     // the program, which the caller borrows.
     unsafe {
@@ -567,6 +632,7 @@ fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
             inputs.qd.as_ptr(),
             inputs.qdd.as_ptr(),
             out.as_mut_ptr(),
+            inputs.trig.as_ptr(),
         );
     }
 }
@@ -578,7 +644,7 @@ fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
 unsafe impl Send for Program {}
 
 // SAFETY (Sync): through `&Program` only the stages are called and the
-// lengths read. A stage keeps no state: it reads its four input arrays and
+// lengths read. A stage keeps no state: it reads its five input arrays and
 // writes its output array, both borrowed by the caller, and the code's
 // pages are not written after `finalize_definitions`. Several threads may
 // call the same stage at once.

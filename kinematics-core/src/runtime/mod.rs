@@ -484,7 +484,17 @@ impl Model {
             *l = 1.0;
         }
         if q.len() == n {
-            self.eval(Program::OUTPUTS, &params, q, &zeros, &zeros, &mut out);
+            let mut trig = vec![0.0; 2 * n];
+            self.program.trig(q, &mut trig, 0);
+            self.eval(
+                Program::OUTPUTS,
+                &params,
+                q,
+                &zeros,
+                &zeros,
+                &trig,
+                &mut out,
+            );
         }
         out.chunks_exact(3 * d)
             .take(self.points.len())

@@ -48,6 +48,8 @@ pub(super) struct Work {
     /// A right-hand side, and the outputs' stage.
     rhs: Vec<f64>,
     out: Vec<f64>,
+    /// cos q_j, sin q_j of the current pose (the stages' `trig` input).
+    trig: Vec<f64>,
 }
 
 impl Model {
@@ -74,6 +76,7 @@ impl Model {
             sums: vec![0.0; widest],
             rhs: vec![0.0; nu],
             out: vec![0.0; self.program.outputs(Program::OUTPUTS)],
+            trig: vec![0.0; 2 * self.coordinates.len()],
         }
     }
 
@@ -109,7 +112,9 @@ impl Model {
         }
     }
 
-    /// Evaluates a stage, whose lengths the model guarantees.
+    /// Evaluates a stage, whose lengths the model guarantees; `trig`
+    /// holds the cosines and sines of q ([`Program::trig`]).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn eval(
         &self,
         stage: usize,
@@ -117,23 +122,35 @@ impl Model {
         q: &[f64],
         qd: &[f64],
         qdd: &[f64],
+        trig: &[f64],
         out: &mut [f64],
     ) {
-        let inputs = Inputs { params, q, qd, qdd };
+        let inputs = Inputs {
+            params,
+            q,
+            qd,
+            qdd,
+            trig,
+        };
         // The arrays are the model's own, of its lengths.
         let checked = self.program.eval(stage, &inputs, out);
         debug_assert!(checked.is_ok(), "{checked:?}");
     }
 
     /// Φ and Φ_u at q into `w.phi`, `w.jac` (row-major).
+    /// The cosines and sines of the unknowns are brought up to q first
+    /// (the drivers' are those of the last [`Model::scaling`], at the same
+    /// drivers).
     pub(super) fn newton_eval(&self, q: &[f64], w: &mut Work) {
         let nu = w.phi.len();
+        self.program.trig(q, &mut w.trig, self.drivers);
         self.eval(
             Program::NEWTON,
             &w.params,
             q,
             &w.zeros,
             &w.zeros,
+            &w.trig,
             &mut w.newton,
         );
         w.phi.copy_from_slice(&w.newton[..nu]);
@@ -146,15 +163,18 @@ impl Model {
     /// parameters' last slot; the row scales 1/S_i with the unknown
     /// lengths counted as L (1 where S_i = 0); the convergence weights,
     /// those for relative convergence, 1 for absolute. Returns L.
+    /// The cosines and sines of every coordinate are brought up to q.
     pub(super) fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
         let n = self.params.len();
         w.params[n] = f64::NAN;
+        self.program.trig(q, &mut w.trig, 0);
         self.eval(
             Program::SCALES,
             &w.params,
             q,
             &w.zeros,
             &w.zeros,
+            &w.trig,
             &mut w.rows,
         );
         let length = w
@@ -170,6 +190,7 @@ impl Model {
             q,
             &w.zeros,
             &w.zeros,
+            &w.trig,
             &mut w.rows,
         );
         for (r, wt) in w.rows.iter_mut().zip(&mut w.weights) {
@@ -390,12 +411,14 @@ impl Model {
         out.qdd[..nd].copy_from_slice(accelerations);
         out.qd[nd..].fill(0.0);
         out.qdd[nd..].fill(0.0);
+        // `factor` left the cosines and sines at q.
         self.eval(
             Program::VELOCITY,
             &w.params,
             q,
             &out.qd,
             &out.qdd,
+            &w.trig,
             &mut w.rhs,
         );
         lu_apply(&w.lu, &w.perm, &w.rhs, &mut out.qd[nd..], nu);
@@ -405,6 +428,7 @@ impl Model {
             q,
             &out.qd,
             &out.qdd,
+            &w.trig,
             &mut w.rhs,
         );
         lu_apply(&w.lu, &w.perm, &w.rhs, &mut out.qdd[nd..], nu);
@@ -414,6 +438,7 @@ impl Model {
             q,
             &out.qd,
             &out.qdd,
+            &w.trig,
             &mut w.out,
         );
         let d = self.point_dim;
