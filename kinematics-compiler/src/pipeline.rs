@@ -76,6 +76,15 @@ pub struct Block {
     pub method: &'static str,
     /// Whether its closed form has two solutions (two assembly modes).
     pub modes: bool,
+    /// The closed form's coefficients, roots of [`Compiled::graph`]
+    /// (expressions of the parameters, the drivers and the unknowns of
+    /// the blocks before), in the order the forms of
+    /// `kinematics_core::closed` take them, matrices row by row:
+    /// `angle` a, b, c; `linear` a, c; `RRR` k, P, Q; `RRT` k, P, v;
+    /// `RTR` k, P, W; `TRT` k, v₀, v₁. Empty for Newton–Raphson. The
+    /// unknowns are in the order of the form's results (the angle first
+    /// for the RRT and RTR dyads).
+    pub coefficients: Vec<Id>,
 }
 
 /// A body frame's rotation R (row by row), angular velocity ω and
@@ -232,6 +241,19 @@ impl Compiled {
                 }),
                 method: b.pattern.as_ref().map_or(NEWTON, Pattern::describe),
                 modes: b.pattern.as_ref().is_some_and(Pattern::has_modes),
+                coefficients: b.pattern.as_ref().map_or_else(Vec::new, |p| {
+                    let flat = |m: &[[Id; 2]; 2]| [m[0][0], m[0][1], m[1][0], m[1][1]];
+                    match p {
+                        Pattern::Angle { a, b, c } => vec![*a, *b, *c],
+                        Pattern::Linear { a, c } => vec![*a, *c],
+                        Pattern::CircleCircle { k, p, q } => {
+                            [k.as_slice(), &flat(p), &flat(q)].concat()
+                        }
+                        Pattern::CircleLine { k, p, v } => [k.as_slice(), &flat(p), v].concat(),
+                        Pattern::Slide { k, p, w } => [k.as_slice(), &flat(p), &flat(w)].concat(),
+                        Pattern::LineLine { k, v0, v1 } => [k.as_slice(), v0, v1].concat(),
+                    }
+                }),
             })
             .collect()
     }

@@ -246,11 +246,20 @@ impl Program {
     /// the model's.
     pub const FULL_SCALES: usize = 5;
 
-    /// The six stages of a compiled model ([`Program::NEWTON`],
+    /// The stage of diagonal block `i`'s closed-form coefficients
+    /// (`Block::coefficients` of [`Program::for_model`]'s model; no
+    /// outputs for a block solved by Newton–Raphson).
+    #[must_use]
+    pub const fn block(i: usize) -> usize {
+        6 + i
+    }
+
+    /// The stages of a compiled model ([`Program::NEWTON`],
     /// [`Program::VELOCITY`], [`Program::ACCELERATION`],
     /// [`Program::OUTPUTS`], [`Program::SCALES`],
-    /// [`Program::FULL_SCALES`]), reading one parameter more than the
-    /// model declares: the characteristic length L, last.
+    /// [`Program::FULL_SCALES`], then [`Program::block`] of each diagonal
+    /// block), reading one parameter more than the model declares: the
+    /// characteristic length L, last.
     ///
     /// # Errors
     /// As [`Program::new`].
@@ -271,18 +280,21 @@ impl Program {
             outputs.extend(r.omega.iter().chain(&r.alpha));
             outputs.extend(r.origin.iter().flatten());
         }
+        let blocks = model.blocks();
+        let mut stages: Vec<&[Id]> = vec![
+            &newton,
+            model.velocity_rhs(),
+            model.acceleration_rhs(),
+            &outputs,
+            model.term_scales(),
+            model.full_term_scales(),
+        ];
+        stages.extend(blocks.iter().map(|b| b.coefficients.as_slice()));
         Self::new(
             model.graph(),
             model.parameters().len() + 1,
             model.coordinates().len(),
-            &[
-                &newton,
-                model.velocity_rhs(),
-                model.acceleration_rhs(),
-                &outputs,
-                model.term_scales(),
-                model.full_term_scales(),
-            ],
+            &stages,
         )
     }
 

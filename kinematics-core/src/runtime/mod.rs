@@ -63,6 +63,7 @@ use crate::mechanism::{Coordinate, FrameState, Kind, Role};
 use crate::names::{intern, intern_list, Name};
 use crate::options::Options;
 
+mod closed;
 mod solve;
 mod stepper;
 mod sweep;
@@ -144,6 +145,10 @@ pub struct Model {
     blocks: Vec<(Vec<usize>, Vec<usize>)>,
     /// How each block is solved, as a generated mechanism's `BLOCKS`.
     described: Vec<Block>,
+    /// The blocks as the assembly solves them, in solve order.
+    parts: Vec<closed::Part>,
+    /// 0, 1, …: every equation, and every unknown.
+    all: Vec<usize>,
     program: Program,
 }
 
@@ -204,6 +209,23 @@ impl Model {
                 }
             })
             .collect();
+        let parts = c
+            .blocks()
+            .iter()
+            .map(|b| {
+                let names: Vec<&str> = b
+                    .unknowns
+                    .iter()
+                    .map(|&k| coordinates[drivers + k].name)
+                    .collect();
+                closed::Part {
+                    form: b.closed_form.and_then(closed::Form::named),
+                    rows: b.equations.clone(),
+                    cols: b.unknowns.clone(),
+                    names: intern(&names.join(", ")),
+                }
+            })
+            .collect();
         let points = c.points();
         let point_dim = points.first().map_or(2, |p| p.position.len());
         let params: Vec<Name> = c.parameters().iter().map(|p| intern(p)).collect();
@@ -221,6 +243,8 @@ impl Model {
             frames: c.frames().iter().map(|f| intern(&f.name)).collect(),
             length_unknowns: c.length_unknowns().to_vec(),
             described,
+            parts,
+            all: (0..c.unknowns()).collect(),
             blocks: c
                 .blocks()
                 .into_iter()
@@ -394,24 +418,11 @@ impl Model {
     pub fn assemble_with(&self, guess: &[f64], options: &Options) -> Result<Vec<f64>, Error> {
         options.validate()?;
         self.validate()?;
-        let n = self.coordinates.len();
-        self.length("coordinates", n, guess.len())?;
-        for (c, &v) in self.coordinates.iter().zip(guess) {
-            if !v.is_finite() {
-                let input = match c.role {
-                    Role::Driver => Input::Driver,
-                    Role::Unknown => Input::Guess,
-                };
-                return Err(Error::NonFinite {
-                    input,
-                    name: c.name,
-                    value: v,
-                });
-            }
-        }
+        self.check_pose(guess)?;
         let mut q = guess.to_vec();
         let mut w = self.work();
-        self.solve(&mut q, &mut w, options)?;
+        let mut modes = vec![f64::NAN; self.mode_count()];
+        self.assemble_into(&mut q, &mut w, &mut modes, options, false)?;
         self.factor(&q, &mut w, options, true)?;
         Ok(q)
     }
@@ -467,7 +478,8 @@ impl Model {
         self.check_inputs(start, rates, accelerations)?;
         let mut q = start.to_vec();
         let mut w = self.work();
-        self.solve(&mut q, &mut w, &options)?;
+        let mut modes = vec![f64::NAN; self.mode_count()];
+        self.assemble_into(&mut q, &mut w, &mut modes, &options, false)?;
         self.analyze_at(&q, rates, accelerations, &mut w, &options, true)
     }
 

@@ -26,9 +26,9 @@ pub(super) struct Work {
     pub(super) rows: Vec<f64>,
     /// The convergence weights: `rows` for relative convergence, 1 for
     /// absolute.
-    weights: Vec<f64>,
+    pub(super) weights: Vec<f64>,
     /// Rates and accelerations of zero, for the stages of positions.
-    zeros: Vec<f64>,
+    pub(super) zeros: Vec<f64>,
     /// LU factors of Φ_u (Newton's, then the analysis's) and their row
     /// permutation.
     lu: Vec<f64>,
@@ -49,7 +49,11 @@ pub(super) struct Work {
     rhs: Vec<f64>,
     out: Vec<f64>,
     /// cos q_j, sin q_j of the current pose (the stages' `trig` input).
-    trig: Vec<f64>,
+    pub(super) trig: Vec<f64>,
+    /// The guess a block-by-block assembly started from.
+    pub(super) guess: Vec<f64>,
+    /// A closed-form block's coefficients.
+    pub(super) coef: Vec<f64>,
 }
 
 impl Model {
@@ -77,6 +81,8 @@ impl Model {
             rhs: vec![0.0; nu],
             out: vec![0.0; self.program.outputs(Program::OUTPUTS)],
             trig: vec![0.0; 2 * self.coordinates.len()],
+            guess: vec![0.0; self.coordinates.len()],
+            coef: vec![0.0; 12],
         }
     }
 
@@ -207,22 +213,25 @@ impl Model {
         length
     }
 
-    /// Newton–Raphson on the unknowns of q: step halving while the
-    /// scaled residual does not decrease; converged at the tolerance, then
-    /// one more step unless already at [`CLOSED`].
-    pub(super) fn solve(
+    /// Newton–Raphson on the equations `rows` for the unknowns `cols`
+    /// (0-based among the unknowns; the others fixed), from q, with Φ and
+    /// Φ_u at q in `w` (as [`Model::newton_eval`] leaves them) and the
+    /// scaling at its drivers: a diagonal block, or the whole system.
+    pub(super) fn solve_part(
         &self,
         q: &mut [f64],
         w: &mut Work,
         options: &Options,
+        rows: &[usize],
+        cols: &[usize],
     ) -> Result<(), Error> {
-        let (nd, nu) = (self.drivers, self.unknowns());
-        self.scaling(q, w, options);
+        let (nd, m) = (self.drivers, cols.len());
+        let nu = self.unknowns();
         let merit = |w: &Work| -> (f64, f64) {
             let mut sum = 0.0f64;
             let mut max = 0.0f64;
-            for (p, s) in w.phi.iter().zip(&w.weights) {
-                let r = p * s;
+            for &i in rows {
+                let r = w.phi[i] * w.weights[i];
                 sum += r * r;
                 max = max.max(r.abs());
                 if r.is_nan() {
@@ -231,7 +240,6 @@ impl Model {
             }
             (sum, max)
         };
-        self.newton_eval(q, w);
         let (mut f0, mut max) = merit(w);
         let mut iterations = 0;
         let mut polished = false;
@@ -247,19 +255,26 @@ impl Model {
                 return Err(self.not_converged(q, w, iterations));
             }
             iterations += 1;
-            w.lu.copy_from_slice(&w.jac);
-            let solved = lu(&mut w.lu, &mut w.perm, nu).is_some() && {
-                lu_apply(&w.lu, &w.perm, &w.phi, &mut w.step, nu);
-                w.step.iter().all(|v| v.is_finite())
+            for (a, &r) in rows.iter().enumerate() {
+                w.rhs[a] = w.phi[r];
+                for (b, &c) in cols.iter().enumerate() {
+                    w.lu[a * m + b] = w.jac[r * nu + c];
+                }
+            }
+            let solved = lu(&mut w.lu[..m * m], &mut w.perm[..m], m).is_some() && {
+                lu_apply(&w.lu, &w.perm, &w.rhs, &mut w.step[..m], m);
+                w.step[..m].iter().all(|v| v.is_finite())
             };
             if !solved {
                 return Err(self.not_converged(q, w, iterations));
             }
-            w.before.copy_from_slice(&q[nd..]);
+            for (b, &c) in w.before.iter_mut().zip(cols) {
+                *b = q[nd + c];
+            }
             let mut t = 1.0;
             loop {
-                for ((x, b), s) in q[nd..].iter_mut().zip(&w.before).zip(&w.step) {
-                    *x = b - t * s;
+                for ((&c, b), s) in cols.iter().zip(&w.before).zip(&w.step) {
+                    q[nd + c] = b - t * s;
                 }
                 self.newton_eval(q, w);
                 let (f1, m1) = merit(w);
@@ -271,7 +286,9 @@ impl Model {
                 if polished {
                     // Already within the tolerance: the step did not help;
                     // keep the pose before it.
-                    q[nd..].copy_from_slice(&w.before);
+                    for (&c, b) in cols.iter().zip(&w.before) {
+                        q[nd + c] = *b;
+                    }
                     self.newton_eval(q, w);
                     return Ok(());
                 }

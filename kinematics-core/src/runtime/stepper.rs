@@ -4,15 +4,19 @@
 
 use super::solve::Work;
 use super::{Model, Motion};
+use crate::closed::Mode;
 use crate::error::Error;
 use crate::options::Options;
 
 /// Steps of one run-time model with its arrays kept: made by
 /// [`Model::stepper`], which checks the options and the parameters once
 /// (the model is borrowed, so they cannot change while it steps). Each
-/// [`Stepper::step`] assembles at the drivers of its start from the
-/// start's unknowns and analyses the motion there, as [`Model::step`]
-/// does, into a motion the stepper owns: no allocation per step.
+/// [`Stepper::step`] assembles at the drivers of its start and analyses
+/// the motion there, as [`Model::step`] does, into a motion the stepper
+/// owns: no allocation per step. Blocks with a closed form are solved in
+/// the assembly modes of the first step's start, carried from step to
+/// step ([`Stepper::modes`]); the other blocks by Newton–Raphson from the
+/// start's unknowns.
 ///
 /// ```
 /// use kinematics_core::runtime::Model;
@@ -44,6 +48,8 @@ pub struct Stepper<'m> {
     work: Work,
     motion: Motion,
     q: Vec<f64>,
+    /// The assembly modes followed (NaN: from the next start).
+    modes: Vec<f64>,
 }
 
 impl core::fmt::Debug for Stepper<'_> {
@@ -69,11 +75,35 @@ impl Model {
             work: self.work(),
             motion: self.shaped_motion(),
             q: vec![0.0; self.coordinates.len()],
+            modes: vec![f64::NAN; self.mode_count()],
         })
     }
 }
 
 impl Stepper<'_> {
+    /// The assembly modes the steps follow, one per block with two
+    /// closed-form solutions (see [`Model::blocks`]): those of the first
+    /// step's start until [`Stepper::set_modes`]; `None` before the first
+    /// step.
+    #[must_use]
+    pub fn modes(&self) -> Option<Vec<Mode>> {
+        (!self.modes.iter().any(|m| m.is_nan()))
+            .then(|| self.modes.iter().map(|&s| Mode::from_sign(s)).collect())
+    }
+
+    /// Follows the assembly modes `modes` from the next step on.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless there is one mode per block with
+    /// two ([`Model::mode_count`]).
+    pub fn set_modes(&mut self, modes: &[Mode]) -> Result<(), Error> {
+        self.m.length("modes", self.modes.len(), modes.len())?;
+        for (s, m) in self.modes.iter_mut().zip(modes) {
+            *s = m.sign();
+        }
+        Ok(())
+    }
+
     /// Assembles at the drivers of `start` from its unknowns and analyses
     /// the motion there with the drivers' `rates` and `accelerations`: the
     /// same numbers as [`Model::step`]. The motion is the stepper's, until
@@ -91,7 +121,13 @@ impl Stepper<'_> {
         let m = self.m;
         m.check_inputs(start, rates, accelerations)?;
         self.q.copy_from_slice(start);
-        m.solve(&mut self.q, &mut self.work, &self.options)?;
+        m.assemble_into(
+            &mut self.q,
+            &mut self.work,
+            &mut self.modes,
+            &self.options,
+            false,
+        )?;
         m.analyze_into(
             &self.q,
             rates,

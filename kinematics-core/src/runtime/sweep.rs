@@ -109,15 +109,20 @@ impl Model {
     /// A sweep of the driver named `driver` from the pose `start` (its
     /// drivers, and the first guess of its unknowns, drivers first).
     ///
-    /// Each sample's unknowns are predicted from the last three samples
-    /// (a parabola through them; a line or the last pose at the first
-    /// samples) and solved by Newton–Raphson, then analysed. The sweep
-    /// never changes assembly branch silently: it stops at a change in
-    /// the sign of det Φ_u between two samples
-    /// ([`StopReason::ChangePoint`], its `at` the midpoint), where Φ_u
-    /// is singular and where the mechanism does not assemble
-    /// ([`StopReason::NotAssembled`] at the first value that fails: past
-    /// a limit position, Newton–Raphson has no root to converge to).
+    /// Each sample is assembled as [`Model::assemble`] does (the
+    /// closed-form blocks in the assembly modes of the start, carried
+    /// from sample to sample; the other blocks by Newton–Raphson from the
+    /// parabola through the last three samples, a line or the last pose
+    /// at the first samples), then analysed. The sweep never changes
+    /// assembly branch silently: it stops at a change in the sign of
+    /// det Φ_u between two samples ([`StopReason::ChangePoint`], its `at`
+    /// the midpoint), where Φ_u is singular, at a limit position of a
+    /// closed-form block ([`StopReason::LimitPosition`], its `at` the
+    /// last value that assembles, by bisection to the resolution of
+    /// `f64`, as a generated sweep finds it) and where the mechanism does
+    /// not assemble ([`StopReason::NotAssembled`] at the first value that
+    /// fails: past a limit position of a Newton block, Newton–Raphson has
+    /// no root to converge to).
     ///
     /// ```
     /// use kinematics_core::runtime::Model;
@@ -287,20 +292,47 @@ impl SweepBuilder<'_> {
         sweep.samples.reserve(g.count);
         let mut w = m.work();
         let mut q = self.start.clone();
+        // The assembly modes of the closed-form blocks: the start's, then
+        // carried from sample to sample.
+        let mut modes = vec![f64::NAN; m.mode_count()];
+        let mut predicted = q.clone();
         for k in 0..g.count {
             let at = g.at(k);
             predict(&sweep.samples, at, m.drivers, &mut q);
             q[self.driver] = at;
-            let solved = m.solve(&mut q, &mut w, &self.options).and_then(|()| {
-                m.analyze_at(&q, &rates, &accelerations, &mut w, &self.options, true)
-            });
+            predicted.copy_from_slice(&q);
+            let solved = m
+                .assemble_into(&mut q, &mut w, &mut modes, &self.options, false)
+                .and_then(|()| {
+                    m.analyze_at(&q, &rates, &accelerations, &mut w, &self.options, true)
+                });
             let motion = match solved {
                 Ok(motion) => motion,
+                Err(Error::CannotAssemble { unknowns, .. }) if !sweep.samples.is_empty() => {
+                    // A limit position between the last sample and this
+                    // value: the last value that assembles, by bisection.
+                    let last = &sweep.samples[sweep.samples.len() - 1];
+                    let limit = self.limit(last, at, &modes, &mut w);
+                    sweep.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
+                    return sweep;
+                }
                 Err(e) => {
                     sweep.stop = Some(stop(at, StopReason::from_error(e)));
                     return sweep;
                 }
             };
+            if let Some(from) = folded(&sweep.samples, &motion, &predicted, m.drivers) {
+                // Two branches met between the samples.
+                let last = &sweep.samples[sweep.samples.len() - 1];
+                sweep.stop = Some(stop(
+                    from.clamp(last.at.min(at), last.at.max(at)),
+                    StopReason::ChangePoint {
+                        from: last.at,
+                        to: at,
+                    },
+                ));
+                return sweep;
+            }
             if let Some(last) = sweep.samples.last() {
                 if last.motion.det_sign != motion.det_sign {
                     sweep.stop = Some(stop(
@@ -317,6 +349,69 @@ impl SweepBuilder<'_> {
         }
         sweep
     }
+}
+
+impl SweepBuilder<'_> {
+    /// The last value of the driver between the sample `last`, which
+    /// assembles, and `failed`, which does not (a closed-form block has no
+    /// real solution there), in the modes `modes`: by bisection, to the
+    /// resolution of `f64`.
+    fn limit(&self, last: &Sample, failed: f64, modes: &[f64], w: &mut super::solve::Work) -> f64 {
+        let m = self.m;
+        let (mut good, mut bad) = (last.at, failed);
+        let mut q = last.motion.q.clone();
+        let mut trial_modes = modes.to_vec();
+        for _ in 0..200 {
+            let mid = 0.5 * (good + bad);
+            if mid == good || mid == bad {
+                break;
+            }
+            q.copy_from_slice(&last.motion.q);
+            q[self.driver] = mid;
+            trial_modes.copy_from_slice(modes);
+            match m.assemble_into(&mut q, w, &mut trial_modes, &self.options, false) {
+                Err(Error::CannotAssemble { .. }) => bad = mid,
+                _ => good = mid,
+            }
+        }
+        good
+    }
+}
+
+/// Whether two branches met between the last sample and `new`, solved
+/// from the guess `predicted`: the conditioning of the last two samples
+/// falls (by the line through them) to zero less than two steps past the
+/// last, the last is below 0.5 (a regular pose is of order one), and the
+/// new pose is off the prediction by more than half the last step's
+/// change (on a smooth branch the parabola through three samples is off
+/// by the step cubed: a jump of the order of the step is a change of
+/// branch, as at a parallelogram's fold, where a closed form in its mode
+/// passes from one branch to the other). Returns where the line meets
+/// zero.
+fn folded(samples: &[Sample], new: &Motion, predicted: &[f64], drivers: usize) -> Option<f64> {
+    let n = samples.len();
+    let (a, b) = (&samples.get(n.checked_sub(2)?)?, &samples[n - 1]);
+    let (ca, cb) = (a.motion.conditioning, b.motion.conditioning);
+    let step = b.at - a.at;
+    if !(cb < ca && cb < 0.5 && step != 0.0) {
+        return None;
+    }
+    // The line through (a, ca) and (b, cb) meets zero at b + t·step.
+    let t = cb / (ca - cb);
+    let largest = |x: &mut dyn Iterator<Item = f64>| x.fold(0.0f64, f64::max);
+    let change = largest(
+        &mut a.motion.q[drivers..]
+            .iter()
+            .zip(&b.motion.q[drivers..])
+            .map(|(x, y)| (x - y).abs()),
+    );
+    let off = largest(
+        &mut new.q[drivers..]
+            .iter()
+            .zip(&predicted[drivers..])
+            .map(|(x, y)| (x - y).abs()),
+    );
+    (t < 2.0 && off > 0.5 * change).then_some(b.at + t * step)
 }
 
 /// The guess of the unknowns at `at` (written into `q` past the

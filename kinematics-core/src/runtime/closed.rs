@@ -1,0 +1,349 @@
+//! Closed-form assembly of run-time models: block by block in solve
+//! order, each block with a closed form solved exactly by the form of
+//! [`crate::closed`] that a generated mechanism calls (its coefficients
+//! from the block's machine-code stage), each other block by
+//! Newton–Raphson on that block alone; the assembly modes, and every
+//! assembly at given drivers.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use kinematics_jit::Program;
+
+use super::solve::Work;
+use super::Model;
+use crate::closed::{self, Mode};
+use crate::error::Error;
+use crate::names::Name;
+use crate::options::Options;
+use crate::solve::{CLOSED, POLISH};
+
+/// The closed forms of [`crate::closed`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Form {
+    /// a cos θ + b sin θ + c = 0.
+    Angle,
+    /// a λ + c = 0.
+    Linear,
+    /// The RRR dyad.
+    Rrr,
+    /// The RRT dyad.
+    Rrt,
+    /// The RTR dyad.
+    Rtr,
+    /// The TRT dyad.
+    Trt,
+}
+
+impl Form {
+    /// The form the compiler names `name`.
+    pub(super) fn named(name: &str) -> Option<Self> {
+        Some(match name {
+            "angle" => Self::Angle,
+            "linear" => Self::Linear,
+            "RRR" => Self::Rrr,
+            "RRT" => Self::Rrt,
+            "RTR" => Self::Rtr,
+            "TRT" => Self::Trt,
+            _ => return None,
+        })
+    }
+
+    /// Whether the form has two solutions.
+    pub(super) fn has_modes(self) -> bool {
+        !matches!(self, Self::Linear | Self::Trt)
+    }
+}
+
+/// One diagonal block as the run-time assembly solves it.
+#[derive(Clone, Debug)]
+pub(super) struct Part {
+    /// Its closed form, or `None` for Newton–Raphson.
+    pub(super) form: Option<Form>,
+    /// Its equations.
+    pub(super) rows: Vec<usize>,
+    /// Its unknowns (0-based among the unknowns), in the order of the
+    /// form's results.
+    pub(super) cols: Vec<usize>,
+    /// Its unknowns' names, joined by ", " (for the errors).
+    pub(super) names: Name,
+}
+
+/// How a block-by-block assembly ended, short of an error.
+pub(super) enum Assembled {
+    /// Every block solved and the pose at round-off (or polished there).
+    Closed,
+    /// A closed form was degenerate at this pose, or the pose does not
+    /// close: the caller solves the whole system by Newton–Raphson.
+    Degenerate,
+}
+
+impl Model {
+    /// The number of blocks with two assembly modes (2^k assemblies).
+    #[must_use]
+    pub fn mode_count(&self) -> usize {
+        self.parts
+            .iter()
+            .filter(|p| p.form.is_some_and(Form::has_modes))
+            .count()
+    }
+
+    /// Whether some block has a closed form: then a model assembles block
+    /// by block, as a generated mechanism does.
+    pub(super) fn closed_path(&self) -> bool {
+        self.parts.iter().any(|p| p.form.is_some())
+    }
+
+    /// Assembles q block by block in solve order from the guess q, in
+    /// `modes` (one sign per two-mode block; NaN: the mode the guess lies
+    /// in, then stored). The scaling must be that of q's drivers
+    /// ([`Model::scaling`]). With `strict`, a Newton block that does not
+    /// converge is an error; without, it hands over to Newton–Raphson on
+    /// the whole system ([`Assembled::Degenerate`]).
+    pub(super) fn assemble_blocks(
+        &self,
+        q: &mut [f64],
+        w: &mut Work,
+        modes: &mut [f64],
+        options: &Options,
+        strict: bool,
+    ) -> Result<Assembled, Error> {
+        let nd = self.drivers;
+        w.guess.copy_from_slice(q);
+        let mut mode = 0;
+        for (i, part) in self.parts.iter().enumerate() {
+            let Some(form) = part.form else {
+                match self.solve_part(q, w, options, &part.rows, &part.cols) {
+                    Ok(()) => continue,
+                    Err(e) if strict => return Err(e),
+                    Err(_) => return Ok(Assembled::Degenerate),
+                }
+            };
+            let n = self.program.outputs(Program::block(i));
+            self.eval(
+                Program::block(i),
+                &w.params,
+                q,
+                &w.zeros,
+                &w.zeros,
+                &w.trig,
+                &mut w.coef[..n],
+            );
+            let k = &w.coef;
+            let v = |at: usize| [k[at], k[at + 1]];
+            let m = |at: usize| [[k[at], k[at + 1]], [k[at + 2], k[at + 3]]];
+            let mut none = f64::NAN;
+            let sign = if form.has_modes() {
+                mode += 1;
+                &mut modes[mode - 1]
+            } else {
+                &mut none
+            };
+            let guess = &w.guess;
+            let trig_of = |c: usize| {
+                let (s, c) = guess[nd + part.cols[c]].sin_cos();
+                [c, s]
+            };
+            // The results: (cos, sin) of each angle, then the lengths, in
+            // the order of `part.cols`.
+            let solved: Result<[f64; 4], f64> = match form {
+                Form::Angle => closed::angle(k[0], k[1], k[2], sign, || trig_of(0))
+                    .map(|[c, s]| [c, s, 0.0, 0.0]),
+                Form::Linear => closed::linear(k[0], k[1]).map(|l| [l, 0.0, 0.0, 0.0]),
+                Form::Rrr => closed::circle_circle(v(0), m(2), m(6), sign, || {
+                    let ([c0, s0], [c1, s1]) = (trig_of(0), trig_of(1));
+                    [c0, s0, c1, s1]
+                }),
+                Form::Rrt => closed::circle_line(v(0), m(2), v(6), sign, || trig_of(0))
+                    .map(|[c, s, l]| [c, s, l, 0.0]),
+                Form::Rtr => {
+                    closed::slide(v(0), m(2), m(6), sign, || [guess[nd + part.cols[1]], 0.0])
+                        .map(|[c, s, l]| [c, s, l, 0.0])
+                }
+                Form::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
+            };
+            let x = match solved {
+                Ok(x) => x,
+                Err(disc) if disc < 0.0 => {
+                    return Err(Error::CannotAssemble {
+                        unknowns: part.names,
+                        discriminant: disc,
+                        drivers: self.configuration(&q[..nd]),
+                    })
+                }
+                Err(_) => return Ok(Assembled::Degenerate),
+            };
+            let mut angle = |slot: usize, (mut c, mut s): (f64, f64), w: &mut Work| {
+                let j = nd + part.cols[slot];
+                q[j] = closed::near(&mut c, &mut s, w.guess[j]);
+                w.trig[2 * j] = c;
+                w.trig[2 * j + 1] = s;
+            };
+            match form {
+                Form::Angle => angle(0, (x[0], x[1]), w),
+                Form::Rrr => {
+                    angle(0, (x[0], x[1]), w);
+                    angle(1, (x[2], x[3]), w);
+                }
+                Form::Rrt | Form::Rtr => {
+                    angle(0, (x[0], x[1]), w);
+                    q[nd + part.cols[1]] = x[2];
+                }
+                Form::Linear => q[nd + part.cols[0]] = x[0],
+                Form::Trt => {
+                    q[nd + part.cols[0]] = x[0];
+                    q[nd + part.cols[1]] = x[1];
+                }
+            }
+        }
+        // The pose's residual: at round-off it is returned; within the
+        // tolerance it is polished by Newton–Raphson from itself (in the
+        // same modes); beyond it, or NaN, it is not trusted.
+        self.newton_eval(q, w);
+        let r = w.phi.iter().zip(&w.weights).fold(0.0f64, |m, (p, s)| {
+            let r = (p * s).abs();
+            if r > m || r.is_nan() {
+                r
+            } else {
+                m
+            }
+        });
+        let limit = options.tolerance.min(1e-12);
+        let bound = (POLISH * options.tolerance).max(CLOSED);
+        if r <= bound.min(limit) {
+            Ok(Assembled::Closed)
+        } else if r <= limit {
+            self.solve_part(q, w, options, &self.all, &self.all)?;
+            Ok(Assembled::Closed)
+        } else {
+            Ok(Assembled::Degenerate)
+        }
+    }
+
+    /// Assembles q from the guess q: block by block where a block has a
+    /// closed form (in `modes`, NaN: from the guess), else by
+    /// Newton–Raphson on the whole system; a degenerate closed form hands
+    /// over to Newton–Raphson on the whole system from the guess (the
+    /// modes then NaN again).
+    pub(super) fn assemble_into(
+        &self,
+        q: &mut [f64],
+        w: &mut Work,
+        modes: &mut [f64],
+        options: &Options,
+        strict: bool,
+    ) -> Result<(), Error> {
+        self.scaling(q, w, options);
+        if self.closed_path() {
+            if let Assembled::Closed = self.assemble_blocks(q, w, modes, options, strict)? {
+                return Ok(());
+            }
+            modes.fill(f64::NAN);
+            q.copy_from_slice(&w.guess);
+            self.program.trig(q, &mut w.trig, 0);
+        }
+        self.newton_eval(q, w);
+        self.solve_part(q, w, options, &self.all, &self.all)
+    }
+
+    /// Assembles at the drivers of `start` in the assembly modes `modes`
+    /// (one per block with two modes, in solve order: see
+    /// [`Model::blocks`]): each closed-form block exactly, with no guess;
+    /// each other block by Newton–Raphson from the values of its unknowns
+    /// in `start`, which is all of `start` read besides the drivers.
+    /// Unknown angles of closed-form blocks are returned near their
+    /// values in `start` (to a multiple of 2π).
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless `modes` has
+    /// [`Model::mode_count`] entries; [`Error::CannotAssemble`] when the
+    /// links cannot close a closed-form block there (past a limit
+    /// position); when a Newton block does not converge, its error; as
+    /// [`Model::assemble`] otherwise.
+    pub fn assemble_in(&self, start: &[f64], modes: &[Mode]) -> Result<Vec<f64>, Error> {
+        let options = Options::DEFAULT;
+        self.validate()?;
+        self.length("modes", self.mode_count(), modes.len())?;
+        self.check_pose(start)?;
+        let mut q = start.to_vec();
+        let mut signs: Vec<f64> = modes.iter().map(|m| m.sign()).collect();
+        let mut w = self.work();
+        self.assemble_into(&mut q, &mut w, &mut signs, &options, true)?;
+        self.factor(&q, &mut w, &options, true)?;
+        Ok(q)
+    }
+
+    /// Every assembly at the drivers of `start`, lazily: for each
+    /// combination of modes (combination i has block j in
+    /// [`Mode::Minus`] where bit j of i is set, as a generated
+    /// mechanism's `assemble_all` orders them), the modes and the
+    /// assembly in them, as [`Model::assemble_in`]. Nothing is assembled
+    /// until asked for.
+    ///
+    /// ```
+    /// use kinematics_core::closed::Mode;
+    /// use kinematics_core::runtime::Model;
+    /// let mut m = Model::compile(
+    ///     "struct FourBar {
+    ///          params   { a, b, c, d }
+    ///          drivers  { phi }
+    ///          unknowns { th3, th4 }
+    ///          loops    { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    ///      }",
+    /// )?;
+    /// m.set_values(&[0.04, 0.12, 0.10, 0.11])?;
+    /// let all: Vec<_> = m.assemble_all(&[0.5, 0.0, 0.0]).collect();
+    /// assert_eq!(all.len(), 2); // the open and the crossed assembly
+    /// assert_eq!(all[1].0, [Mode::Minus]);
+    /// for (_, pose) in &all {
+    ///     let q = pose.as_ref().expect("assembles");
+    ///     assert!(m.residual(q)?.iter().all(|r| r.abs() < 1e-15));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn assemble_all<'m>(
+        &'m self,
+        start: &[f64],
+    ) -> impl Iterator<Item = (Vec<Mode>, Result<Vec<f64>, Error>)> + 'm {
+        let start = start.to_vec();
+        let k = self.mode_count();
+        let mut next = Some(vec![Mode::Plus; k]);
+        core::iter::from_fn(move || {
+            let modes = next.take()?;
+            // The next combination: a binary counter over the blocks.
+            let mut following = modes.clone();
+            let mut carried = false;
+            for m in &mut following {
+                if *m == Mode::Plus {
+                    *m = Mode::Minus;
+                    carried = true;
+                    break;
+                }
+                *m = Mode::Plus;
+            }
+            next = carried.then_some(following);
+            let pose = self.assemble_in(&start, &modes);
+            Some((modes, pose))
+        })
+    }
+
+    /// A pose of the model's length with every value finite (drivers,
+    /// then guesses).
+    pub(super) fn check_pose(&self, q: &[f64]) -> Result<(), Error> {
+        self.length("coordinates", self.coordinates.len(), q.len())?;
+        for (c, &v) in self.coordinates.iter().zip(q) {
+            if !v.is_finite() {
+                let input = match c.role {
+                    crate::mechanism::Role::Driver => crate::error::Input::Driver,
+                    crate::mechanism::Role::Unknown => crate::error::Input::Guess,
+                };
+                return Err(Error::NonFinite {
+                    input,
+                    name: c.name,
+                    value: v,
+                });
+            }
+        }
+        Ok(())
+    }
+}
