@@ -138,6 +138,8 @@ pub struct Inputs<'a> {
 struct Stage {
     entry: Entry,
     outputs: usize,
+    /// Whether it reads a coordinate (or its cosine or sine).
+    reads_q: bool,
 }
 
 /// Machine code for the stages of one expression graph. The code lives as
@@ -372,6 +374,10 @@ impl Program {
                 .map_err(|e| codegen(&e))?;
             ctx.func.signature = sig.clone();
             ctx.func.name = UserFuncName::user(0, id.as_u32());
+            let live = graph.reachable(roots);
+            let reads_q = (0..graph.len()).any(|i| {
+                live[i] && matches!(graph.node(Id::from_index(i)), Node::Leaf(Leaf::Q(_)))
+            });
             {
                 let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
                 let block = b.create_block();
@@ -394,7 +400,6 @@ impl Program {
                         .copied()
                         .ok_or_else(|| JitError::Codegen(format!("`{name}` returned nothing")))
                 };
-                let live = graph.reachable(roots);
                 let mut values: Vec<Option<Value>> = vec![None; graph.len()];
                 let flags = MemFlags::trusted();
                 for i in 0..graph.len() {
@@ -495,14 +500,15 @@ impl Program {
                 .define_function(id, &mut ctx)
                 .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
             module.clear_context(&mut ctx);
-            ids.push((id, roots.len()));
+            ids.push((id, roots.len(), reads_q));
         }
         module.finalize_definitions().map_err(|e| codegen(&e))?;
         let stages = ids
             .into_iter()
-            .map(|(id, outputs)| Stage {
+            .map(|(id, outputs, reads_q)| Stage {
                 entry: entry(module.get_finalized_function(id)),
                 outputs,
+                reads_q,
             })
             .collect();
         Ok(Self {
@@ -524,6 +530,14 @@ impl Program {
     #[must_use]
     pub fn outputs(&self, stage: usize) -> usize {
         self.stages.get(stage).map_or(0, |s| s.outputs)
+    }
+
+    /// Whether stage `stage` reads a coordinate q_j or its cosine or
+    /// sine (`false` for no such stage): a stage that reads none gives
+    /// the same values at every pose.
+    #[must_use]
+    pub fn reads_coordinates(&self, stage: usize) -> bool {
+        self.stages.get(stage).is_some_and(|s| s.reads_q)
     }
 
     /// The coordinates whose cosine and sine the stages read from

@@ -379,3 +379,75 @@ fn assembling_from_a_guess_agrees_both_ways() {
     let got = r.assemble(&[0.7, -1.0, -1.5]).expect("assembles");
     assert!((got[1] - want.th3).abs() < 1e-13 && (got[2] - want.th4).abs() < 1e-13);
 }
+
+/// Declares a mechanism with `mechanism!` and keeps the text of its
+/// definition, for the same model built both ways.
+macro_rules! both {
+    ($text:ident, $($t:tt)*) => {
+        kinematics_core::mechanism! { $($t)* }
+        const $text: &str = stringify!($($t)*);
+    };
+}
+
+both! {
+    MIXED,
+    /// A four-bar whose rocker angle drives a third unknown through a
+    /// cubic: a closed-form block, then a block solved by Newton–Raphson.
+    pub struct Mixed {
+        params   { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4, y }
+        loops    { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+        constraints { y * y * y + y == th4; }
+    }
+}
+
+/// A model with a closed-form block and a Newton block, both ways: the
+/// same blocks, the same assemblies from a guess and in both modes, and
+/// y solving y³ + y = θ4 (checked here by the cubic's own residual).
+#[test]
+fn a_mixed_model_assembles_block_by_block_both_ways() {
+    let g = Mixed {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let mut r = Model::compile(MIXED).expect("compiles");
+    r.set_values(&g.parameter_values()).expect("four values");
+    assert_eq!(r.blocks(), Mixed::BLOCKS);
+    assert!(r.blocks()[1].method == "Newton–Raphson");
+    let guess = [0.7, 1.0, 1.6, 0.5];
+    let want = g
+        .assemble(&MixedCoords {
+            phi: 0.7,
+            th3: 1.0,
+            th4: 1.6,
+            y: 0.5,
+        })
+        .expect("assembles");
+    let got = r.assemble(&guess).expect("assembles");
+    let want = [want.phi, want.th3, want.th4, want.y];
+    for (v, w) in got.iter().zip(want) {
+        assert!((v - w).abs() < 1e-13, "{got:?} / {want:?}");
+    }
+    assert!((got[3].powi(3) + got[3] - got[2]).abs() < 1e-15);
+    use kinematics_core::closed::{Mode, ModeSet};
+    for mode in [Mode::Plus, Mode::Minus] {
+        let q = r.assemble_in(&guess, &[mode]).expect("assembles");
+        let mut modes = MixedModes::all_plus();
+        modes.set_mode(0, mode);
+        let start = MixedCoords {
+            phi: 0.7,
+            th3: 1.0,
+            th4: 1.6,
+            y: 0.5,
+        };
+        let w = g.assemble_in(&start, &modes).expect("assembles");
+        assert!(
+            (q[2] - w.th4).abs() < 1e-13 && (q[3] - w.y).abs() < 1e-13,
+            "{mode:?}"
+        );
+        assert!((q[3].powi(3) + q[3] - q[2]).abs() < 1e-15);
+    }
+}

@@ -113,6 +113,7 @@ impl Model {
         let mut mode = 0;
         for (i, part) in self.parts.iter().enumerate() {
             let Some(form) = part.form else {
+                self.newton_eval(q, w);
                 match self.solve_part(q, w, options, &part.rows, &part.cols) {
                     Ok(()) => continue,
                     Err(e) if strict => return Err(e),
@@ -198,8 +199,9 @@ impl Model {
         }
         // The pose's residual: at round-off it is returned; within the
         // tolerance it is polished by Newton–Raphson from itself (in the
-        // same modes); beyond it, or NaN, it is not trusted.
-        self.newton_eval(q, w);
+        // same modes); beyond it, or NaN, it is not trusted. The blocks
+        // left the cosines and sines of their angles, exactly as solved.
+        self.newton_stage(q, w);
         let r = w.phi.iter().zip(&w.weights).fold(0.0f64, |m, (p, s)| {
             let r = (p * s).abs();
             if r > m || r.is_nan() {

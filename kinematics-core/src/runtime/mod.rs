@@ -149,6 +149,9 @@ pub struct Model {
     parts: Vec<closed::Part>,
     /// 0, 1, …: every equation, and every unknown.
     all: Vec<usize>,
+    /// Whether the term scales read no coordinate (then a stepper or a
+    /// sweep computes the scaling once).
+    fixed_scaling: bool,
     program: Program,
 }
 
@@ -245,6 +248,8 @@ impl Model {
             described,
             parts,
             all: (0..c.unknowns()).collect(),
+            fixed_scaling: !program.reads_coordinates(Program::SCALES)
+                && !program.reads_coordinates(Program::FULL_SCALES),
             blocks: c
                 .blocks()
                 .into_iter()

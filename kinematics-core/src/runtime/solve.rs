@@ -54,6 +54,9 @@ pub(super) struct Work {
     pub(super) guess: Vec<f64>,
     /// A closed-form block's coefficients.
     pub(super) coef: Vec<f64>,
+    /// Whether `rows`, `weights` and the characteristic length hold the
+    /// scaling of every pose (the model's term scales read no coordinate).
+    scaling_kept: bool,
 }
 
 impl Model {
@@ -83,6 +86,7 @@ impl Model {
             trig: vec![0.0; 2 * self.coordinates.len()],
             guess: vec![0.0; self.coordinates.len()],
             coef: vec![0.0; 12],
+            scaling_kept: false,
         }
     }
 
@@ -148,8 +152,14 @@ impl Model {
     /// (the drivers' are those of the last [`Model::scaling`], at the same
     /// drivers).
     pub(super) fn newton_eval(&self, q: &[f64], w: &mut Work) {
-        let nu = w.phi.len();
         self.program.trig(q, &mut w.trig, self.drivers);
+        self.newton_stage(q, w);
+    }
+
+    /// [`Model::newton_eval`] with the cosines and sines in `w` already
+    /// those of q (as the closed forms leave them).
+    pub(super) fn newton_stage(&self, q: &[f64], w: &mut Work) {
+        let nu = w.phi.len();
         self.eval(
             Program::NEWTON,
             &w.params,
@@ -170,10 +180,15 @@ impl Model {
     /// lengths counted as L (1 where S_i = 0); the convergence weights,
     /// those for relative convergence, 1 for absolute. Returns L.
     /// The cosines and sines of every coordinate are brought up to q.
+    /// Where the term scales read no coordinate, they are computed once
+    /// per `w` (whose options and parameters do not change).
     pub(super) fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
         let n = self.params.len();
-        w.params[n] = f64::NAN;
         self.program.trig(q, &mut w.trig, 0);
+        if w.scaling_kept {
+            return w.params[n];
+        }
+        w.params[n] = f64::NAN;
         self.eval(
             Program::SCALES,
             &w.params,
@@ -210,6 +225,7 @@ impl Model {
                 Convergence::Absolute => 1.0,
             };
         }
+        w.scaling_kept = self.fixed_scaling;
         length
     }
 
@@ -580,8 +596,20 @@ fn conditioning(
     perm: &mut [usize],
     scratch: [&mut [f64]; 3],
 ) -> (f64, usize) {
-    if n == 0 {
-        return (1.0, 0);
+    match n {
+        0 => return (1.0, 0),
+        // |A⁻¹| = 1/|a|.
+        1 => return (if a[0].is_finite() { a[0].abs() } else { 0.0 }, 0),
+        // A⁻¹ = [[d, −b], [−c, a]] / det: its rows' absolute sums are
+        // (|d| + |b|) / |det| and (|c| + |a|) / |det|.
+        2 => {
+            let det = a[0] * a[3] - a[1] * a[2];
+            let (r0, r1) = (a[3].abs() + a[1].abs(), a[2].abs() + a[0].abs());
+            let (at, worst) = if r1 >= r0 { (1, r1) } else { (0, r0) };
+            let c = det.abs() / worst;
+            return (if c.is_finite() { c } else { 0.0 }, at);
+        }
+        _ => {}
     }
     let [col, unit, sums] = scratch;
     if lu(a, perm, n).is_none() {
