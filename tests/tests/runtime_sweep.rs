@@ -394,9 +394,28 @@ both! {
     /// A four-bar whose rocker angle drives a third unknown through a
     /// cubic: a closed-form block, then a block solved by Newton–Raphson.
     pub struct Mixed {
-        params   { a, b, c, d }
-        drivers  { phi }
-        unknowns { th3, th4, y }
+        params {
+            /// Crank.
+            a,
+            /// Coupler.
+            b,
+            /// Rocker.
+            c,
+            /// Ground.
+            d
+        }
+        drivers {
+            /// Crank angle.
+            phi
+        }
+        unknowns {
+            /// Coupler angle.
+            th3,
+            /// Rocker angle.
+            th4,
+            /// The root of y³ + y = θ4.
+            y
+        }
         loops    { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
         constraints { y * y * y + y == th4; }
     }
