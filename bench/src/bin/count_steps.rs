@@ -11,7 +11,10 @@
 //! `m2s`, `m3s` and `m4s` through the stepping handle (`stepper().step`), `m1w`
 //! and `m2w` through a sweep collected (`run()`), `m1i` and `m2i` through a
 //! sweep streamed (its iterator), `m1p`, `m2p` and `m3p` through a sweep of
-//! positions only (`poses()`). `n`, `np` and `na` run a slider-crank in a
+//! positions only (`poses()`); `r1s`–`r4s` run M1–M4 compiled at run time
+//! from the examples' text through the run-time stepper (the model is
+//! compiled before the turns: count two runs with different repeats and
+//! take the difference). `n`, `np` and `na` run a slider-crank in a
 //! curved guide, which no closed form covers (Newton–Raphson on the whole
 //! system), through a sweep, a sweep of poses, and `assemble` from the
 //! previous pose. A second argument repeats the turn and prints the wall
@@ -293,6 +296,62 @@ fn turn(which: &str) -> f64 {
     }
 }
 
+/// The run-time model of the example `name` (compiled from its text)
+/// with `values`, its start pose and the drivers' rates, for `r1s`–`r4s`.
+fn runtime_model(which: &str) -> (kinematics_core::runtime::Model, Vec<f64>, Vec<f64>) {
+    let (name, values, start, rates): (&str, Vec<f64>, Vec<f64>, Vec<f64>) = match which {
+        "r1s" => (
+            "FourBar",
+            FourBar::CRANK_ROCKER.parameter_values().to_vec(),
+            vec![0.0, 1.0, 1.6],
+            vec![10.0],
+        ),
+        "r2s" => (
+            "Rssr",
+            vec![0.102, 0.381, 0.254, 0.314],
+            vec![0.0, 1.0],
+            vec![10.0],
+        ),
+        "r3s" => (
+            "Watt",
+            Watt::EXAMPLE.parameter_values().to_vec(),
+            (0..5)
+                .map(|j| kinematics_core::Coordinates::get(&Watt::EXAMPLE_GUESS, j).unwrap())
+                .collect(),
+            vec![10.0],
+        ),
+        _ => (
+            "SixAxisArm",
+            vec![0.4, 0.35, 0.3, 0.08, 0.1],
+            vec![0.1, -0.4, 0.7, 0.2, -0.3, 0.5],
+            vec![0.5, -0.2, 0.3, 1.0, -0.7, 0.4],
+        ),
+    };
+    let text = kinematics_examples::definition(name).unwrap();
+    let mut m = kinematics_core::runtime::Model::compile(text).unwrap();
+    m.set_values(&values).unwrap();
+    let start = m.assemble(&start).unwrap();
+    (m, start, rates)
+}
+
+/// One turn of a run-time model through its stepper (every driver set
+/// to the turn's angle); returns a checksum.
+fn runtime_turn(m: &kinematics_core::runtime::Model, start: &[f64], rates: &[f64]) -> f64 {
+    let accels = vec![0.0; rates.len()];
+    let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+    let mut q = start.to_vec();
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        for d in &mut q[..m.drivers()] {
+            *d = angle(k);
+        }
+        let s = stepper.step(black_box(&q), rates, &accels).unwrap();
+        q.copy_from_slice(&s.q);
+        sum += s.qdd.iter().sum::<f64>();
+    }
+    sum
+}
+
 fn main() {
     let which = std::env::args().nth(1).unwrap_or_else(|| "m1".into());
     let reps: usize = std::env::args()
@@ -301,6 +360,21 @@ fn main() {
         .unwrap_or(1);
     let start = std::time::Instant::now();
     let mut sum = 0.0;
+    if which.starts_with('r') {
+        // The model is compiled once, before the turns (whose instruction
+        // count is the difference of two runs with different repeats).
+        let (m, q, rates) = runtime_model(&which);
+        let start = std::time::Instant::now();
+        for _ in 0..reps {
+            sum += runtime_turn(&m, &q, &rates);
+        }
+        black_box(sum);
+        if reps > 1 {
+            let ns = start.elapsed().as_nanos() as f64 / (reps * STEPS) as f64;
+            println!("{ns:.1} ns per step");
+        }
+        return;
+    }
     for _ in 0..reps {
         sum += turn(&which);
     }
