@@ -73,6 +73,7 @@ pub use kinematics::DerivedFrame;
 pub use pipeline::{
     compile, expand, op_counts, Block, Compiled, FrameRoots, Kind, Mobility, PointRoots,
 };
+pub use sensitivity::Partials;
 
 /// Seeded mutations of valid definitions, for robustness tests. Not part of
 /// the API.

@@ -222,6 +222,13 @@ impl Compiled {
         self.mobility
     }
 
+    /// The partial derivatives behind the `sensitivities` section, when
+    /// the definition has one.
+    #[must_use]
+    pub fn sensitivities(&self) -> Option<&Partials> {
+        self.sensitivities.as_ref()
+    }
+
     /// The diagonal blocks of Φ_u in solve order.
     #[must_use]
     pub fn blocks(&self) -> Vec<Block> {

@@ -37,33 +37,46 @@ use crate::lower::Model;
 pub struct Partials {
     /// The chosen parameters' indices among the parameters.
     pub params: Vec<u32>,
-    /// Φ_p: [k][i].
+    /// Φ_p: `[k][i]`.
     pub phi_p: Vec<Vec<Id>>,
-    /// V_p: [k][i].
+    /// V_p: `[k][i]`.
     pub vel_p: Vec<Vec<Id>>,
-    /// V_u: [i][j].
+    /// V_u: `[i][j]`.
     pub vel_u: Vec<Vec<Id>>,
-    /// A_p: [k][i].
+    /// A_p: `[k][i]`.
     pub acc_p: Vec<Vec<Id>>,
-    /// A_u, A_u': [i][j].
+    /// A_u: `[i][j]`.
     pub acc_u: Vec<Vec<Id>>,
+    /// A_u': `[i][j]`.
     pub acc_ud: Vec<Vec<Id>>,
-    /// r_p: [k][n][c]; r_u: [n][c][j].
+    /// r_p: `[k][n][c]`.
     pub pos_p: Vec<Vec<Vec<Id>>>,
+    /// r_u: `[n][c][j]`.
     pub pos_u: Vec<Vec<Vec<Id>>>,
-    /// v_p: [k][n][c]; v_u, v_u': [n][c][j].
+    /// v_p: `[k][n][c]`.
     pub vel_pt_p: Vec<Vec<Vec<Id>>>,
+    /// v_u: `[n][c][j]`.
     pub vel_pt_u: Vec<Vec<Vec<Id>>>,
+    /// v_u': `[n][c][j]`.
     pub vel_pt_ud: Vec<Vec<Vec<Id>>>,
-    /// a_p: [k][n][c]; a_u, a_u', a_u'': [n][c][j].
+    /// a_p: `[k][n][c]`.
     pub acc_pt_p: Vec<Vec<Vec<Id>>>,
+    /// a_u: `[n][c][j]`.
     pub acc_pt_u: Vec<Vec<Vec<Id>>>,
+    /// a_u': `[n][c][j]`.
     pub acc_pt_ud: Vec<Vec<Vec<Id>>>,
+    /// a_u'': `[n][c][j]`.
     pub acc_pt_udd: Vec<Vec<Vec<Id>>>,
 }
 
 impl Partials {
-    /// Every root, for the schedule of the generated pass.
+    /// Every root, for the schedule of the generated pass, and the layout
+    /// of a run-time model's sensitivity stage: Φ_p `[k][i]`, V_p `[k][i]`,
+    /// V_u `[i][j]`, A_p `[k][i]`, A_u `[i][j]`, A_u' `[i][j]`, then r_p `[k][n][c]`,
+    /// r_u `[n][c][j]`, v_p `[k][n][c]`, v_u `[n][c][j]`, v_u' `[n][c][j]`,
+    /// a_p `[k][n][c]`, a_u `[n][c][j]`, a_u' `[n][c][j]`, a_u'' `[n][c][j]`, each
+    /// flattened with its last index fastest.
+    #[must_use]
     pub fn roots(&self) -> Vec<Id> {
         let mut out = Vec::new();
         for m in [

@@ -248,19 +248,24 @@ impl Program {
     /// the model's.
     pub const FULL_SCALES: usize = 5;
 
+    /// The stage that gives the partial derivatives behind the design
+    /// sensitivities (`Partials::roots`, in its order; no outputs for a
+    /// definition without a `sensitivities` section).
+    pub const SENSITIVITIES: usize = 6;
+
     /// The stage of diagonal block `i`'s closed-form coefficients
     /// (`Block::coefficients` of [`Program::for_model`]'s model; no
     /// outputs for a block solved by Newton–Raphson).
     #[must_use]
     pub const fn block(i: usize) -> usize {
-        6 + i
+        7 + i
     }
 
     /// The stages of a compiled model ([`Program::NEWTON`],
     /// [`Program::VELOCITY`], [`Program::ACCELERATION`],
     /// [`Program::OUTPUTS`], [`Program::SCALES`],
-    /// [`Program::FULL_SCALES`], then [`Program::block`] of each diagonal
-    /// block), reading one parameter more than the model declares: the
+    /// [`Program::FULL_SCALES`], [`Program::SENSITIVITIES`], then
+    /// [`Program::block`] of each diagonal block), reading one parameter more than the model declares: the
     /// characteristic length L, last.
     ///
     /// # Errors
@@ -283,6 +288,7 @@ impl Program {
             outputs.extend(r.origin.iter().flatten());
         }
         let blocks = model.blocks();
+        let partials = model.sensitivities().map(|s| s.roots()).unwrap_or_default();
         let mut stages: Vec<&[Id]> = vec![
             &newton,
             model.velocity_rhs(),
@@ -290,6 +296,7 @@ impl Program {
             &outputs,
             model.term_scales(),
             model.full_term_scales(),
+            &partials,
         ];
         stages.extend(blocks.iter().map(|b| b.coefficients.as_slice()));
         Self::new(

@@ -470,3 +470,158 @@ fn a_mixed_model_assembles_block_by_block_both_ways() {
         assert!((q[3].powi(3) + q[3] - q[2]).abs() < 1e-15);
     }
 }
+
+/// The design sensitivities both ways, at every sample of a turn: the
+/// four-bar (six parameters) and the placed four-bar (nine, with the
+/// ground pivot's place and angle), in every coordinate, rate and
+/// acceleration and every point's position, velocity and acceleration, to
+/// 1e-12 of the largest value of each quantity over the turn.
+#[test]
+fn sensitivities_agree_both_ways() {
+    use kinematics_core::{Coordinates, Mechanism, MotionState};
+    use kinematics_examples::PlacedFourBar;
+
+    /// Compares the sensitivities of every sample of `generated` (a sweep
+    /// of `g`) with those of the run-time model `r` at the same motions.
+    fn compare<M: Mechanism>(
+        name: &str,
+        r: &Model,
+        generated: &kinematics_core::sweep::Sweep<M>,
+        of: impl Fn(&M::Motion) -> Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<[Vec<f64>; 3]>)>,
+    ) {
+        let n = M::COORDINATES.len();
+        let mut rows: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
+        for sample in &generated.samples {
+            let m = &sample.motion;
+            let motion = kinematics_core::runtime::Motion {
+                q: (0..n).map(|j| m.q().get(j).expect("q")).collect(),
+                qd: (0..n).map(|j| m.qd().get(j).expect("q'")).collect(),
+                qdd: (0..n).map(|j| m.qdd().get(j).expect("q''")).collect(),
+                points: Vec::new(),
+                frames: Vec::new(),
+                conditioning: m.conditioning(),
+                det_sign: m.det_sign(),
+                residual: m.residual(),
+            };
+            let run_time = r.sensitivities(&motion).expect("sensitivities");
+            let want = of(m);
+            assert_eq!(run_time.len(), want.len(), "{name}");
+            let flat = |q: &[f64], qd: &[f64], qdd: &[f64], pts: &[[Vec<f64>; 3]]| -> Vec<f64> {
+                let mut v: Vec<f64> = q.iter().chain(qd).chain(qdd).copied().collect();
+                for p in pts {
+                    for x in p {
+                        v.extend(x);
+                    }
+                }
+                v
+            };
+            for (got, (q, qd, qdd, pts)) in run_time.iter().zip(&want) {
+                let got_pts: Vec<[Vec<f64>; 3]> = got
+                    .points
+                    .iter()
+                    .map(|p| {
+                        [
+                            p.position.clone(),
+                            p.velocity.clone(),
+                            p.acceleration.clone(),
+                        ]
+                    })
+                    .collect();
+                rows.push((
+                    flat(&got.q, &got.qd, &got.qdd, &got_pts),
+                    flat(q, qd, qdd, pts),
+                ));
+            }
+        }
+        let width = rows[0].0.len();
+        for c in 0..width {
+            let scale = rows.iter().map(|(_, w)| w[c].abs()).fold(1.0f64, f64::max);
+            for (i, (got, want)) in rows.iter().enumerate() {
+                assert!(
+                    (got[c] - want[c]).abs() <= 1e-12 * scale,
+                    "{name}, row {i}, column {c}: {} / {}",
+                    got[c],
+                    want[c]
+                );
+            }
+        }
+    }
+
+    fn point(p: &impl kinematics_core::PointState) -> [Vec<f64>; 3] {
+        [
+            p.position().to_vec(),
+            p.velocity().to_vec(),
+            p.acceleration().to_vec(),
+        ]
+    }
+
+    let g = FourBar::CRANK_ROCKER;
+    let r = model("FourBar", &g.parameter_values());
+    assert_eq!(
+        r.sensitivity_parameters(),
+        ["a", "b", "c", "d", "p", "beta"]
+    );
+    let start = g.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let sweep = g
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(72)
+        .rpm(600.0)
+        .acceleration(50.0)
+        .run();
+    compare("FourBar", &r, &sweep, |m| {
+        let all = g.sensitivities(m).expect("sensitivities");
+        all.to_array()
+            .iter()
+            .map(|s| {
+                let get = |c: &kinematics_examples::FourBarCoords| -> Vec<f64> {
+                    (0..3).map(|j| c.get(j).expect("a coordinate")).collect()
+                };
+                (
+                    get(&s.q),
+                    get(&s.qd),
+                    get(&s.qdd),
+                    s.points.iter().map(point).collect(),
+                )
+            })
+            .collect()
+    });
+
+    let g = PlacedFourBar {
+        x0: 0.2,
+        y0: -0.1,
+        theta0: 0.3,
+        d: 0.11,
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        p: 0.06,
+        beta: 0.5,
+    };
+    let r = model("PlacedFourBar", &g.parameter_values());
+    let start = g.assemble(&[0.0, 1.3, 1.9].into()).expect("assembles");
+    let sweep = g
+        .sweep(PlacedFourBar::PHI, &start)
+        .turn()
+        .steps(72)
+        .rate(5.0)
+        .run();
+    assert!(sweep.stop.is_none());
+    compare("PlacedFourBar", &r, &sweep, |m| {
+        let all = g.sensitivities(m).expect("sensitivities");
+        all.to_array()
+            .iter()
+            .map(|s| {
+                let get = |c: &kinematics_examples::PlacedFourBarCoords| -> Vec<f64> {
+                    (0..3).map(|j| c.get(j).expect("a coordinate")).collect()
+                };
+                (
+                    get(&s.q),
+                    get(&s.qd),
+                    get(&s.qdd),
+                    s.points.iter().map(point).collect(),
+                )
+            })
+            .collect()
+    });
+}

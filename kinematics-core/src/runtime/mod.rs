@@ -64,10 +64,12 @@ use crate::names::{intern, intern_list, Name};
 use crate::options::Options;
 
 mod closed;
+mod sensitivity;
 mod solve;
 mod stepper;
 mod sweep;
 
+pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
 pub use sweep::{Sample, Sweep, SweepBuilder};
 
@@ -152,6 +154,8 @@ pub struct Model {
     /// Whether the term scales read no coordinate (then a stepper or a
     /// sweep computes the scaling once).
     fixed_scaling: bool,
+    /// The parameters of the `sensitivities` section, in its order.
+    sensitivity_params: Vec<Name>,
     program: Program,
 }
 
@@ -232,6 +236,15 @@ impl Model {
         let points = c.points();
         let point_dim = points.first().map_or(2, |p| p.position.len());
         let params: Vec<Name> = c.parameters().iter().map(|p| intern(p)).collect();
+        let sensitivity_params = c
+            .sensitivities()
+            .map(|s| {
+                s.params
+                    .iter()
+                    .filter_map(|&i| params.get(i as usize).copied())
+                    .collect()
+            })
+            .unwrap_or_default();
         Ok(Self {
             name: c.name(),
             // The parameters, then the characteristic length L.
@@ -248,6 +261,7 @@ impl Model {
             described,
             parts,
             all: (0..c.unknowns()).collect(),
+            sensitivity_params,
             fixed_scaling: !program.reads_coordinates(Program::SCALES)
                 && !program.reads_coordinates(Program::FULL_SCALES),
             blocks: c

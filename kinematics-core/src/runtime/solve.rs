@@ -537,6 +537,21 @@ impl Model {
     }
 }
 
+/// Φ_u (as [`Model::newton_eval`] left it in `w`) factored into `w`'s LU
+/// arrays; `false` when it is singular.
+pub(super) fn factor_jacobian(w: &mut Work, nu: usize) -> bool {
+    w.lu.copy_from_slice(&w.jac);
+    lu(&mut w.lu, &mut w.perm, nu).is_some()
+}
+
+/// x with Φ_u x = b, from the factors of [`factor_jacobian`]; `None`
+/// when x is not finite.
+pub(super) fn apply_factors(w: &Work, b: &[f64], nu: usize) -> Option<Vec<f64>> {
+    let mut x = vec![0.0; nu];
+    lu_apply(&w.lu, &w.perm, b, &mut x, nu);
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
 /// LU factorisation with partial pivoting of the n × n row-major `a`:
 /// the factors in place, the row permutation into `perm`; the sign of the
 /// permutation, or `None` at a zero or non-finite pivot.
