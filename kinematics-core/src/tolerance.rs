@@ -34,7 +34,6 @@
 //! # Ok::<(), kinematics_core::Error>(())
 //! ```
 
-use alloc::format;
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -117,20 +116,37 @@ pub fn point_deviations<M: Sensitive>(
     point: &str,
     tolerances: &[(&str, f64)],
 ) -> Result<Vec<Deviation>, Error> {
-    let n = M::POINT_NAMES
-        .iter()
-        .position(|p| *p == point)
-        .ok_or_else(|| Error::InvalidGeometry {
-            what: "tolerance analysis",
-            detail: format!(
-                "the mechanism has no point `{point}`; its points are {}",
-                M::POINT_NAMES.join(", ")
-            ),
-        })?;
-    let np = M::PARAMETERS.len();
+    deviations_by(
+        (M::POINT_NAMES, M::PARAMETERS, M::POINT_DIM),
+        point,
+        tolerances,
+        sweep.samples.len(),
+        |i, buf| {
+            let s = &sweep.samples[i];
+            m.point_sensitivities_into(&s.motion, buf)?;
+            Ok(s.at)
+        },
+    )
+}
+
+/// [`point_deviations`] for any model: `points`, `parameters` and `dim`
+/// name its points, the parameters of its `sensitivities` section and the
+/// points' dimension; `sample(i, buf)` writes into `buf` the
+/// sensitivities of every point at sample i as
+/// `[parameter][point][position, velocity, acceleration][component]` and
+/// returns the sample's swept value.
+pub(crate) fn deviations_by(
+    (points, parameters, dim): (&[&str], &[&str], usize),
+    point: &str,
+    tolerances: &[(&str, f64)],
+    samples: usize,
+    mut sample: impl FnMut(usize, &mut [f64]) -> Result<f64, Error>,
+) -> Result<Vec<Deviation>, Error> {
+    let n = crate::view::index_of(points, point, "tolerance analysis")?;
+    let np = parameters.len();
     let mut t = vec![0.0; np];
     for (name, tol) in tolerances {
-        let Some(k) = M::PARAMETERS.iter().position(|p| p == name) else {
+        let Some(k) = parameters.iter().position(|p| p == name) else {
             return Err(Error::InvalidOption {
                 name: "tolerances",
                 value: *tol,
@@ -146,12 +162,11 @@ pub fn point_deviations<M: Sensitive>(
         }
         t[k] = *tol;
     }
-    let dim = M::POINT_DIM;
-    let per_param = M::POINTS * 3 * dim;
+    let per_param = points.len() * 3 * dim;
     let mut buf = vec![0.0; np * per_param];
-    let mut out = Vec::with_capacity(sweep.samples.len());
-    for s in &sweep.samples {
-        m.point_sensitivities_into(&s.motion, &mut buf)?;
+    let mut out = Vec::with_capacity(samples);
+    for i in 0..samples {
+        let at = sample(i, &mut buf)?;
         // ∂r/∂p_k t_k and ∂v/∂p_k t_k of the point, per parameter.
         let part = |k: usize, which: usize| -> Vec<f64> {
             let o = k * per_param + (n * 3 + which) * dim;
@@ -170,7 +185,7 @@ pub fn point_deviations<M: Sensitive>(
                 .collect()
         };
         out.push(Deviation {
-            at: s.at,
+            at,
             position_components: components(&pos),
             position_rss: rss(&pos),
             position_worst: corner_max(&pos, dim),

@@ -625,3 +625,107 @@ fn sensitivities_agree_both_ways() {
             .collect()
     });
 }
+
+/// Tolerance analysis both ways: the worst-case and root-sum-square
+/// deviations of the four-bar's coupler point over a turn, for tolerances
+/// on every length and on β, agree to 1e-12 of their largest value.
+#[test]
+fn tolerance_analysis_agrees_both_ways() {
+    use kinematics_core::tolerance::point_deviations;
+    let g = FourBar::CRANK_ROCKER;
+    let r = model("FourBar", &g.parameter_values());
+    let start = g.assemble(&FourBar::CRANK_ROCKER_GUESS).expect("assembles");
+    let tolerances = [
+        ("a", 1e-4),
+        ("b", 1e-4),
+        ("c", 2e-4),
+        ("d", 1e-4),
+        ("p", 5e-5),
+        ("beta", 0.002),
+    ];
+    let generated = g
+        .sweep(FourBar::PHI, &start)
+        .turn()
+        .steps(72)
+        .rate(10.0)
+        .run();
+    let want = point_deviations(&g, &generated, "P", &tolerances).expect("deviations");
+    let sweep = r
+        .sweep("phi", &[start.phi, start.th3, start.th4])
+        .expect("phi is a driver")
+        .turn()
+        .steps(72)
+        .rate(10.0)
+        .run();
+    let got = r
+        .point_deviations(&sweep, "P", &tolerances)
+        .expect("deviations");
+    assert_eq!(got.len(), want.len());
+    let flat = |d: &kinematics_core::tolerance::Deviation| -> Vec<f64> {
+        let mut v = vec![d.at, d.position_worst, d.velocity_worst];
+        v.extend(&d.position_components);
+        v.extend(&d.position_rss);
+        v.extend(&d.velocity_components);
+        v.extend(&d.velocity_rss);
+        v
+    };
+    let (got, want): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (
+        got.iter().map(flat).collect(),
+        want.iter().map(flat).collect(),
+    );
+    for c in 0..want[0].len() {
+        let scale = want.iter().map(|w| w[c].abs()).fold(0.0f64, f64::max);
+        assert!(scale > 0.0, "column {c} is zero throughout");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g[c] - w[c]).abs() <= 1e-12 * scale,
+                "column {c}: {} / {}",
+                g[c],
+                w[c]
+            );
+        }
+    }
+    assert!(r.point_deviations(&sweep, "Q", &tolerances).is_err());
+    assert!(r.point_deviations(&sweep, "P", &[("e", 1e-4)]).is_err());
+}
+
+/// Many designs of one definition compiled once: `with_values` shares the
+/// machine code, and `batch` runs the designs on all cores, each result
+/// equal to the generated mechanism's (to 1e-13), the designs whose links
+/// cannot close failing alike.
+#[test]
+fn a_batch_of_run_time_designs_agrees_with_the_generated_one() {
+    use kinematics_core::batch;
+    let base = model("FourBar", &FourBar::CRANK_ROCKER.parameter_values());
+    let designs: Vec<FourBar> = (0..200)
+        // |b − c| = 0.18 − 0.001 k: beyond |BD| ≈ 0.0835 at φ = 0.7 (k
+        // below 97) the coupler and rocker cannot meet.
+        .map(|k| FourBar {
+            b: 0.2 - 0.0005 * f64::from(k),
+            c: 0.02 + 0.0005 * f64::from(k),
+            ..FourBar::CRANK_ROCKER
+        })
+        .collect();
+    let models: Vec<Model> = designs
+        .iter()
+        .map(|g| base.with_values(&g.parameter_values()).expect("six values"))
+        .collect();
+    let guess = [0.7, 1.0, 1.6];
+    let run_time = batch(&models, |m| m.assemble(&guess));
+    let generated = batch(&designs, |g| g.assemble(&guess.into()));
+    let (mut ok, mut failed) = (0, 0);
+    for (r, g) in run_time.iter().zip(&generated) {
+        match (r, g) {
+            (Ok(q), Ok(w)) => {
+                ok += 1;
+                assert!((q[1] - w.th3).abs() < 1e-13 && (q[2] - w.th4).abs() < 1e-13);
+            }
+            (Err(a), Err(b)) => {
+                failed += 1;
+                assert_eq!(std::mem::discriminant(a), std::mem::discriminant(b));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    assert!(ok > 50 && failed > 10, "{ok} assembled, {failed} did not");
+}

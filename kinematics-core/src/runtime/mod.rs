@@ -53,6 +53,7 @@ use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
+use std::sync::Arc;
 
 use kinematics_compiler::{compile_str, Diagnostics};
 use kinematics_jit::{JitError, Program};
@@ -130,7 +131,9 @@ pub struct Motion {
 }
 
 /// A mechanism compiled from text at run time, with its parameter values
-/// (NaN until set).
+/// (NaN until set). A clone shares the machine code
+/// ([`Model::with_values`]).
+#[derive(Clone)]
 pub struct Model {
     name: String,
     params: Vec<Name>,
@@ -156,7 +159,8 @@ pub struct Model {
     fixed_scaling: bool,
     /// The parameters of the `sensitivities` section, in its order.
     sensitivity_params: Vec<Name>,
-    program: Program,
+    /// The machine code, shared by the clones of the model.
+    program: Arc<Program>,
 }
 
 impl fmt::Debug for Model {
@@ -269,7 +273,7 @@ impl Model {
                 .into_iter()
                 .map(|b| (b.equations, b.unknowns))
                 .collect(),
-            program,
+            program: Arc::new(program),
         })
     }
 
@@ -317,6 +321,19 @@ impl Model {
                 requirement: "must be one of the model's parameters",
             }),
         }
+    }
+
+    /// A copy of the model with the parameter values `values` (in
+    /// declaration order): the machine code is shared, not compiled again,
+    /// so that many designs of one definition cost one compilation (for
+    /// [`batch`](crate::batch), say).
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless there is one value per parameter.
+    pub fn with_values(&self, values: &[f64]) -> Result<Self, Error> {
+        let mut m = self.clone();
+        m.set_values(values)?;
+        Ok(m)
     }
 
     /// Sets every parameter, in declaration order (as a generated

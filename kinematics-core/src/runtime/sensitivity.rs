@@ -9,10 +9,11 @@ use alloc::vec::Vec;
 use kinematics_jit::Program;
 
 use super::solve::{apply_factors, factor_jacobian};
-use super::{Model, Motion, PointState};
+use super::{Model, Motion, PointState, Sweep};
 use crate::error::{Error, Input};
 use crate::names::Name;
 use crate::options::Options;
+use crate::tolerance::{deviations_by, Deviation};
 
 /// The derivatives of a motion with respect to one parameter p: of the
 /// coordinates, their rates and accelerations (zero for the drivers), and
@@ -213,5 +214,45 @@ impl Model {
             all.push(one);
         }
         Ok(all)
+    }
+
+    /// The first-order deviations of point `point` over the run-time
+    /// sweep `sweep` for the parameter tolerances `tolerances` (name, ±t),
+    /// as [`point_deviations`](crate::tolerance::point_deviations) gives
+    /// them for a generated mechanism (the same formulas, worst case and
+    /// root-sum-square; see [`tolerance`](crate::tolerance)), from
+    /// [`Model::sensitivities`] at each sample.
+    ///
+    /// # Errors
+    /// As [`point_deviations`](crate::tolerance::point_deviations).
+    pub fn point_deviations(
+        &self,
+        sweep: &Sweep,
+        point: &str,
+        tolerances: &[(&str, f64)],
+    ) -> Result<Vec<Deviation>, Error> {
+        deviations_by(
+            (&self.points, &self.sensitivity_params, self.point_dim),
+            point,
+            tolerances,
+            sweep.samples.len(),
+            |i, buf| {
+                let sample = &sweep.samples[i];
+                let all = self.sensitivities(&sample.motion)?;
+                let values = all.iter().flat_map(|one| {
+                    one.points.iter().flat_map(|p| {
+                        p.position
+                            .iter()
+                            .chain(&p.velocity)
+                            .chain(&p.acceleration)
+                            .copied()
+                    })
+                });
+                for (b, v) in buf.iter_mut().zip(values) {
+                    *b = v;
+                }
+                Ok(sample.at)
+            },
+        )
     }
 }
