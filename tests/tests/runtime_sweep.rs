@@ -729,3 +729,38 @@ fn a_batch_of_run_time_designs_agrees_with_the_generated_one() {
     }
     assert!(ok > 50 && failed > 10, "{ok} assembled, {failed} did not");
 }
+
+/// A simulation in time both ways: the Watt six-bar's crank from rest with
+/// constant angular acceleration for half a second, as the generated
+/// `simulate` with `constant_acceleration` and as a run-time profile; the
+/// same table (time first) to 1e-12 of each column's largest value.
+#[test]
+fn a_simulation_agrees_both_ways() {
+    use kinematics_core::sweep::constant_acceleration;
+    let g = Watt::EXAMPLE;
+    let r = model("Watt", &g.parameter_values());
+    let start = g.assemble(&Watt::EXAMPLE_GUESS).expect("assembles");
+    let q: Vec<f64> = (0..5)
+        .map(|j| kinematics_core::Coordinates::get(&start, j).expect("a coordinate"))
+        .collect();
+    let phi0 = start.phi;
+    let generated = g
+        .simulate(&start)
+        .duration(0.5)
+        .steps(200)
+        .profile(constant_acceleration(Watt::PHI, phi0, 0.0, 40.0))
+        .run();
+    let run_time = r
+        .simulate(&q)
+        .duration(0.5)
+        .steps(200)
+        .profile(|t, d, dd, ddd| {
+            d[0] = phi0 + 20.0 * t * t;
+            dd[0] = 40.0 * t;
+            ddd[0] = 40.0;
+        })
+        .run();
+    assert!(generated.stop.is_none() && run_time.stop.is_none());
+    assert_eq!(run_time.headers_in("m")[0], "t_s");
+    same_table(&generated, &run_time);
+}

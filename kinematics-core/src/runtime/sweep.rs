@@ -253,79 +253,256 @@ impl SweepBuilder<'_> {
     pub fn run(self) -> Sweep {
         let m = self.m;
         let coordinate = m.coordinates[self.driver];
-        let mut sweep = Sweep {
-            variable: coordinate.name,
-            kind: coordinate.kind,
-            samples: Vec::new(),
-            stop: None,
-            coordinates: m.coordinates.clone(),
-            points: m.points.clone(),
-            frames: m.frames.clone(),
-            point_dim: m.point_dim,
-        };
         let from = self
             .from
             .or_else(|| self.start.get(self.driver).copied())
             .unwrap_or(f64::NAN);
-        let stop = |at: f64, reason: StopReason| Stop {
-            variable: coordinate.name,
-            at,
-            reason,
+        let (j, rate, acceleration) = (self.driver, self.rate, self.acceleration);
+        let grid = grid(from, self.end, self.steps, coordinate.kind);
+        drive(
+            m,
+            (coordinate.name, coordinate.kind, from),
+            &self.start,
+            &self.options,
+            grid.map(|g| (0..g.count).map(|k| g.at(k)).collect()),
+            |at, d, rates, accelerations| {
+                d[j] = at;
+                rates[j] = rate;
+                accelerations[j] = acceleration;
+            },
+        )
+    }
+}
+
+/// A simulation in time of a run-time model, built by [`Model::simulate`]:
+/// the drivers follow a profile of time (by default they stay at rest at
+/// their values in the start pose); every sample is assembled and
+/// analysed as a sweep's, and the result is a [`Sweep`] whose variable is
+/// the time `t`.
+///
+/// ```
+/// use kinematics_core::runtime::Model;
+/// let mut m = Model::compile(
+///     "struct SliderCrank {
+///          params   { a, b }
+///          drivers  { phi }
+///          unknowns { th, x }
+///          loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+///      }",
+/// )?;
+/// m.set_values(&[0.1, 0.3])?;
+/// // The crank starts from rest with φ'' = 20 rad/s², for one second.
+/// let s = m
+///     .simulate(&[0.0, 0.0, 0.4])
+///     .duration(1.0)
+///     .steps(100)
+///     .profile(|t, d, dd, ddd| {
+///         d[0] = 10.0 * t * t;
+///         dd[0] = 20.0 * t;
+///         ddd[0] = 20.0;
+///     })
+///     .run();
+/// let last = &s.samples[100].motion;
+/// assert!((last.qd[0] - 20.0).abs() < 1e-12 && (last.q[0] - 10.0).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[must_use = "a simulation does nothing until it is run"]
+pub struct Simulation<'m, P> {
+    m: &'m Model,
+    start: Vec<f64>,
+    duration: f64,
+    steps: usize,
+    profile: P,
+    options: Options,
+}
+
+impl<P> core::fmt::Debug for Simulation<'_, P> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Simulation")
+            .field("duration", &self.duration)
+            .field("steps", &self.steps)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The profile of drivers at rest.
+fn at_rest(_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]) {}
+
+impl Model {
+    /// A simulation from the pose `start` (drivers, then guesses of the
+    /// unknowns), the drivers at rest until [`Simulation::profile`] says
+    /// how they move; one second in 100 steps by default.
+    pub fn simulate(
+        &self,
+        start: &[f64],
+    ) -> Simulation<'_, fn(f64, &mut [f64], &mut [f64], &mut [f64])> {
+        Simulation {
+            m: self,
+            start: start.to_vec(),
+            duration: 1.0,
+            steps: 100,
+            profile: at_rest,
+            options: Options::DEFAULT,
+        }
+    }
+}
+
+impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
+    /// The drivers' motion: `profile(t, d, d', d'')` writes the drivers'
+    /// values, rates and accelerations at time t (each slice one entry
+    /// per driver, in declaration order). A driver it does not write keeps
+    /// its start value, at rest.
+    pub fn profile<Q: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])>(
+        self,
+        profile: Q,
+    ) -> Simulation<'m, Q> {
+        Simulation {
+            m: self.m,
+            start: self.start,
+            duration: self.duration,
+            steps: self.steps,
+            profile,
+            options: self.options,
+        }
+    }
+
+    /// The simulated time, from t = 0 (seconds).
+    pub fn duration(mut self, seconds: f64) -> Self {
+        self.duration = seconds;
+        self
+    }
+
+    /// The number of equal time steps (`steps + 1` samples).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.steps = steps;
+        self
+    }
+
+    /// The solver options.
+    pub fn options(mut self, options: &Options) -> Self {
+        self.options = *options;
+        self
+    }
+
+    /// Runs the simulation, collecting its samples.
+    pub fn run(self) -> Sweep {
+        let times = if self.duration.is_finite() && self.duration > 0.0 {
+            let steps = self.steps.max(1);
+            #[allow(clippy::cast_precision_loss)]
+            Ok((0..=steps)
+                .map(|k| self.duration * k as f64 / steps as f64)
+                .collect())
+        } else {
+            Err(Error::InvalidOption {
+                name: "duration",
+                value: self.duration,
+                requirement: "must be finite and positive",
+            })
         };
-        let checked = grid(from, self.end, self.steps, coordinate.kind).and_then(|g| {
-            self.options.validate()?;
-            m.validate()?;
-            let mut rates = vec![0.0; m.drivers];
-            let mut accelerations = vec![0.0; m.drivers];
-            rates[self.driver] = self.rate;
-            accelerations[self.driver] = self.acceleration;
-            m.check_inputs(&self.start, &rates, &accelerations)?;
-            Ok((g, rates, accelerations))
-        });
-        let (g, rates, accelerations) = match checked {
-            Ok(c) => c,
+        let nd = self.m.drivers;
+        let start = self.start.clone();
+        let mut profile = self.profile;
+        drive(
+            self.m,
+            ("t", Kind::Length, 0.0),
+            &self.start,
+            &self.options,
+            times,
+            |t, d, rates, accelerations| {
+                if d.len() == nd && start.len() >= nd {
+                    d.copy_from_slice(&start[..nd]);
+                }
+                rates.fill(0.0);
+                accelerations.fill(0.0);
+                profile(t, d, rates, accelerations);
+            },
+        )
+    }
+}
+
+/// The samples at the values `ats` of the swept variable (`variable`, of
+/// `kind`, whose first value is `first`), the drivers, their rates and their accelerations at each set
+/// by `set(at, d, d', d'')`; from the pose `start`. Each sample is
+/// assembled (the closed forms in the modes of the start, carried; the
+/// Newton blocks from the parabola through the last three samples) and
+/// analysed; the sweep stops at a limit position (by bisection), where two
+/// branches meet, and at any error.
+fn drive(
+    m: &Model,
+    (variable, kind, first): (Name, Kind, f64),
+    start: &[f64],
+    options: &Options,
+    ats: Result<Vec<f64>, Error>,
+    mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+) -> Sweep {
+    let mut sweep = Sweep {
+        variable,
+        kind,
+        samples: Vec::new(),
+        stop: None,
+        coordinates: m.coordinates.clone(),
+        points: m.points.clone(),
+        frames: m.frames.clone(),
+        point_dim: m.point_dim,
+    };
+    let stop = |at: f64, reason: StopReason| Stop {
+        variable,
+        at,
+        reason,
+    };
+    let nd = m.drivers;
+    let mut rates = vec![0.0; nd];
+    let mut accelerations = vec![0.0; nd];
+    let checked = ats.and_then(|ats| {
+        options.validate()?;
+        m.validate()?;
+        m.check_inputs(start, &rates, &accelerations)?;
+        Ok(ats)
+    });
+    let ats = match checked {
+        Ok(a) => a,
+        Err(e) => {
+            sweep.stop = Some(stop(first, StopReason::from_error(e)));
+            return sweep;
+        }
+    };
+    sweep.samples.reserve(ats.len());
+    let mut w = m.work();
+    let mut q = start.to_vec();
+    // The assembly modes of the closed-form blocks: the start's, then
+    // carried from sample to sample.
+    let mut modes = vec![f64::NAN; m.mode_count()];
+    let mut predicted = q.clone();
+    for &at in &ats {
+        predict(&sweep.samples, at, nd, &mut q);
+        set(at, &mut q[..nd], &mut rates, &mut accelerations);
+        predicted.copy_from_slice(&q);
+        let solved = m
+            .check_inputs(&q, &rates, &accelerations)
+            .and_then(|()| m.assemble_into(&mut q, &mut w, &mut modes, options, false))
+            .and_then(|()| m.analyze_at(&q, &rates, &accelerations, &mut w, options, true));
+        let motion = match solved {
+            Ok(motion) => motion,
+            Err(Error::CannotAssemble { unknowns, .. }) if !sweep.samples.is_empty() => {
+                // A limit position between the last sample and this
+                // value: the last value that assembles, by bisection.
+                let last = &sweep.samples[sweep.samples.len() - 1];
+                let limit = limit(m, last, at, &modes, options, &mut set, &mut w);
+                sweep.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
+                return sweep;
+            }
             Err(e) => {
-                sweep.stop = Some(stop(from, StopReason::from_error(e)));
+                sweep.stop = Some(stop(at, StopReason::from_error(e)));
                 return sweep;
             }
         };
-        sweep.samples.reserve(g.count);
-        let mut w = m.work();
-        let mut q = self.start.clone();
-        // The assembly modes of the closed-form blocks: the start's, then
-        // carried from sample to sample.
-        let mut modes = vec![f64::NAN; m.mode_count()];
-        let mut predicted = q.clone();
-        for k in 0..g.count {
-            let at = g.at(k);
-            predict(&sweep.samples, at, m.drivers, &mut q);
-            q[self.driver] = at;
-            predicted.copy_from_slice(&q);
-            let solved = m
-                .assemble_into(&mut q, &mut w, &mut modes, &self.options, false)
-                .and_then(|()| {
-                    m.analyze_at(&q, &rates, &accelerations, &mut w, &self.options, true)
-                });
-            let motion = match solved {
-                Ok(motion) => motion,
-                Err(Error::CannotAssemble { unknowns, .. }) if !sweep.samples.is_empty() => {
-                    // A limit position between the last sample and this
-                    // value: the last value that assembles, by bisection.
-                    let last = &sweep.samples[sweep.samples.len() - 1];
-                    let limit = self.limit(last, at, &modes, &mut w);
-                    sweep.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
-                    return sweep;
-                }
-                Err(e) => {
-                    sweep.stop = Some(stop(at, StopReason::from_error(e)));
-                    return sweep;
-                }
-            };
-            if let Some(from) = folded(&sweep.samples, &motion, &predicted, m.drivers) {
+        if let Some(last) = sweep.samples.last() {
+            let at_fold = folded(&sweep.samples, &motion, &predicted, nd);
+            if at_fold.is_some() || last.motion.det_sign != motion.det_sign {
                 // Two branches met between the samples.
-                let last = &sweep.samples[sweep.samples.len() - 1];
+                let estimate = at_fold.unwrap_or(0.5 * (last.at + at));
                 sweep.stop = Some(stop(
-                    from.clamp(last.at.min(at), last.at.max(at)),
+                    estimate.clamp(last.at.min(at), last.at.max(at)),
                     StopReason::ChangePoint {
                         from: last.at,
                         to: at,
@@ -333,49 +510,44 @@ impl SweepBuilder<'_> {
                 ));
                 return sweep;
             }
-            if let Some(last) = sweep.samples.last() {
-                if last.motion.det_sign != motion.det_sign {
-                    sweep.stop = Some(stop(
-                        0.5 * (last.at + at),
-                        StopReason::ChangePoint {
-                            from: last.at,
-                            to: at,
-                        },
-                    ));
-                    return sweep;
-                }
-            }
-            sweep.samples.push(Sample { at, motion });
         }
-        sweep
+        sweep.samples.push(Sample { at, motion });
     }
+    sweep
 }
 
-impl SweepBuilder<'_> {
-    /// The last value of the driver between the sample `last`, which
-    /// assembles, and `failed`, which does not (a closed-form block has no
-    /// real solution there), in the modes `modes`: by bisection, to the
-    /// resolution of `f64`.
-    fn limit(&self, last: &Sample, failed: f64, modes: &[f64], w: &mut super::solve::Work) -> f64 {
-        let m = self.m;
-        let (mut good, mut bad) = (last.at, failed);
-        let mut q = last.motion.q.clone();
-        let mut trial_modes = modes.to_vec();
-        for _ in 0..200 {
-            let mid = 0.5 * (good + bad);
-            if mid == good || mid == bad {
-                break;
-            }
-            q.copy_from_slice(&last.motion.q);
-            q[self.driver] = mid;
-            trial_modes.copy_from_slice(modes);
-            match m.assemble_into(&mut q, w, &mut trial_modes, &self.options, false) {
-                Err(Error::CannotAssemble { .. }) => bad = mid,
-                _ => good = mid,
-            }
+/// The last value of the swept variable between the sample `last`, which
+/// assembles, and `failed`, which does not (a closed-form block has no
+/// real solution there), in the modes `modes`: by bisection, to the
+/// resolution of `f64`.
+fn limit(
+    m: &Model,
+    last: &Sample,
+    failed: f64,
+    modes: &[f64],
+    options: &Options,
+    set: &mut impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+    w: &mut super::solve::Work,
+) -> f64 {
+    let nd = m.drivers;
+    let (mut good, mut bad) = (last.at, failed);
+    let mut q = last.motion.q.clone();
+    let (mut rates, mut accelerations) = (vec![0.0; nd], vec![0.0; nd]);
+    let mut trial_modes = modes.to_vec();
+    for _ in 0..200 {
+        let mid = 0.5 * (good + bad);
+        if mid == good || mid == bad {
+            break;
         }
-        good
+        q.copy_from_slice(&last.motion.q);
+        set(mid, &mut q[..nd], &mut rates, &mut accelerations);
+        trial_modes.copy_from_slice(modes);
+        match m.assemble_into(&mut q, w, &mut trial_modes, options, false) {
+            Err(Error::CannotAssemble { .. }) => bad = mid,
+            _ => good = mid,
+        }
     }
+    good
 }
 
 /// Whether two branches met between the last sample and `new`, solved
