@@ -72,7 +72,7 @@ mod sweep;
 
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
-pub use sweep::{Sample, Simulation, Sweep, SweepBuilder};
+pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder};
 
 /// Why a definition given as text did not become a [`Model`].
 #[derive(Debug)]

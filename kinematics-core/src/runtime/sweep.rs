@@ -328,20 +328,20 @@ impl<P> core::fmt::Debug for Simulation<'_, P> {
 /// The profile of drivers at rest.
 fn at_rest(_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]) {}
 
+/// The type of a profile given as a function: `(t, d, d', d'')`.
+pub type ProfileFn = fn(f64, &mut [f64], &mut [f64], &mut [f64]);
+
 impl Model {
     /// A simulation from the pose `start` (drivers, then guesses of the
     /// unknowns), the drivers at rest until [`Simulation::profile`] says
     /// how they move; one second in 100 steps by default.
-    pub fn simulate(
-        &self,
-        start: &[f64],
-    ) -> Simulation<'_, fn(f64, &mut [f64], &mut [f64], &mut [f64])> {
+    pub fn simulate(&self, start: &[f64]) -> Simulation<'_, ProfileFn> {
         Simulation {
             m: self,
             start: start.to_vec(),
             duration: 1.0,
             steps: 100,
-            profile: at_rest,
+            profile: at_rest as ProfileFn,
             options: Options::DEFAULT,
         }
     }
