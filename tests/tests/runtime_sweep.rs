@@ -547,12 +547,28 @@ fn sensitivities_agree_both_ways() {
         }
     }
 
-    fn point(p: &impl kinematics_core::PointState) -> [Vec<f64>; 3] {
-        [
-            p.position().to_vec(),
-            p.velocity().to_vec(),
-            p.acceleration().to_vec(),
-        ]
+    /// A generated sensitivity as the rows `compare` reads.
+    fn flatten<C: Coordinates>(
+        q: &C,
+        qd: &C,
+        qdd: &C,
+        points: &[kinematics_core::PointMotion],
+    ) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<[Vec<f64>; 3]>) {
+        let get = |c: &C| -> Vec<f64> { (0..3).map(|j| c.get(j).expect("a coordinate")).collect() };
+        let point = |p: &kinematics_core::PointMotion| {
+            use kinematics_core::PointState as _;
+            [
+                p.position().to_vec(),
+                p.velocity().to_vec(),
+                p.acceleration().to_vec(),
+            ]
+        };
+        (
+            get(q),
+            get(qd),
+            get(qdd),
+            points.iter().map(point).collect(),
+        )
     }
 
     let g = FourBar::CRANK_ROCKER;
@@ -573,17 +589,7 @@ fn sensitivities_agree_both_ways() {
         let all = g.sensitivities(m).expect("sensitivities");
         all.to_array()
             .iter()
-            .map(|s| {
-                let get = |c: &kinematics_examples::FourBarCoords| -> Vec<f64> {
-                    (0..3).map(|j| c.get(j).expect("a coordinate")).collect()
-                };
-                (
-                    get(&s.q),
-                    get(&s.qd),
-                    get(&s.qdd),
-                    s.points.iter().map(point).collect(),
-                )
-            })
+            .map(|s| flatten(&s.q, &s.qd, &s.qdd, &s.points))
             .collect()
     });
 
@@ -611,17 +617,7 @@ fn sensitivities_agree_both_ways() {
         let all = g.sensitivities(m).expect("sensitivities");
         all.to_array()
             .iter()
-            .map(|s| {
-                let get = |c: &kinematics_examples::PlacedFourBarCoords| -> Vec<f64> {
-                    (0..3).map(|j| c.get(j).expect("a coordinate")).collect()
-                };
-                (
-                    get(&s.q),
-                    get(&s.qd),
-                    get(&s.qdd),
-                    s.points.iter().map(point).collect(),
-                )
-            })
+            .map(|s| flatten(&s.q, &s.qd, &s.qdd, &s.points))
             .collect()
     });
 }

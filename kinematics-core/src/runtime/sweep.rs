@@ -9,7 +9,7 @@ use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::{intern, Name};
 use crate::options::Options;
-use crate::sweep::{grid, End, Stop, StopReason, Table};
+use crate::sweep::{grid, End, Layout, Stop, StopReason, Table};
 use crate::view::{point_roles_by, PointRole};
 
 /// One sample of a run-time sweep: the driver's value and the motion
@@ -41,23 +41,15 @@ pub struct Sweep {
 }
 
 impl Table for Sweep {
-    fn variable(&self) -> Name {
-        self.variable
-    }
-    fn kind(&self) -> Kind {
-        self.kind
-    }
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn point_names(&self) -> &[Name] {
-        &self.points
-    }
-    fn frame_names(&self) -> &[Name] {
-        &self.frames
-    }
-    fn point_dim(&self) -> usize {
-        self.point_dim
+    fn layout(&self) -> Layout<'_> {
+        Layout {
+            variable: self.variable,
+            kind: self.kind,
+            coordinates: &self.coordinates,
+            points: &self.points,
+            frames: &self.frames,
+            point_dim: self.point_dim,
+        }
     }
     fn rows(&self) -> usize {
         self.samples.len()

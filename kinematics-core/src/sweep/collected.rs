@@ -7,10 +7,8 @@ use alloc::vec::Vec;
 use super::drive::Drive;
 use super::iter::SweepIter;
 use super::sample::{Sample, Stop};
-use super::table::Table;
-use crate::mechanism::{
-    Coordinate, Coordinates, FrameState, Kind, Mechanism, MotionState, PointState, Role,
-};
+use super::table::{Layout, Table};
+use crate::mechanism::{Coordinates, FrameState, Kind, Mechanism, MotionState, PointState, Role};
 use crate::names::Name;
 
 /// The samples of a sweep, and how it ended.
@@ -274,23 +272,15 @@ fn point_of<M: Mechanism>(sample: &Sample<M>, k: usize) -> [&[f64]; 3] {
 }
 
 impl<M: Mechanism> Table for Sweep<M> {
-    fn variable(&self) -> Name {
-        self.variable
-    }
-    fn kind(&self) -> Kind {
-        self.kind
-    }
-    fn coordinates(&self) -> &[Coordinate] {
-        M::COORDINATES
-    }
-    fn point_names(&self) -> &[Name] {
-        M::POINT_NAMES
-    }
-    fn frame_names(&self) -> &[Name] {
-        M::FRAME_NAMES
-    }
-    fn point_dim(&self) -> usize {
-        M::POINT_DIM
+    fn layout(&self) -> Layout<'_> {
+        Layout {
+            variable: self.variable,
+            kind: self.kind,
+            coordinates: M::COORDINATES,
+            points: M::POINT_NAMES,
+            frames: M::FRAME_NAMES,
+            point_dim: M::POINT_DIM,
+        }
     }
     fn rows(&self) -> usize {
         self.samples.len()
@@ -319,23 +309,8 @@ struct One<'a, M: Mechanism> {
 }
 
 impl<M: Mechanism> Table for One<'_, M> {
-    fn variable(&self) -> Name {
-        self.sweep.variable
-    }
-    fn kind(&self) -> Kind {
-        self.sweep.kind
-    }
-    fn coordinates(&self) -> &[Coordinate] {
-        M::COORDINATES
-    }
-    fn point_names(&self) -> &[Name] {
-        M::POINT_NAMES
-    }
-    fn frame_names(&self) -> &[Name] {
-        M::FRAME_NAMES
-    }
-    fn point_dim(&self) -> usize {
-        M::POINT_DIM
+    fn layout(&self) -> Layout<'_> {
+        self.sweep.layout()
     }
     fn rows(&self) -> usize {
         1

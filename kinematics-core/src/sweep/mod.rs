@@ -71,4 +71,4 @@ pub use drive::{
 pub use handles::{Angle, ChangePoints, Driver, Length, Wrap};
 pub use iter::SweepIter;
 pub use sample::{PoseSample, Sample, Solved, Stop, StopReason};
-pub use table::Table;
+pub use table::{Layout, Table};

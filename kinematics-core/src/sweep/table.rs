@@ -12,6 +12,24 @@ use super::sample::Stop;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::Name;
 
+/// What the columns of a [`Table`] are: the swept variable, and the
+/// model's coordinates, points, frames and points' dimension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layout<'a> {
+    /// The swept driver's name, or "t" for a simulation.
+    pub variable: Name,
+    /// The kind of the swept driver.
+    pub kind: Kind,
+    /// The coordinates, drivers first.
+    pub coordinates: &'a [Coordinate],
+    /// The points' names, in declaration order.
+    pub points: &'a [Name],
+    /// The frames' names, in declaration order.
+    pub frames: &'a [Name],
+    /// The points' dimension: 2 (planar) or 3 (spatial).
+    pub point_dim: usize,
+}
+
 /// The samples of a sweep as rows of a table, with the names of what they
 /// hold. Sample `i` has the swept value [`Table::at`], the coordinates
 /// q, q', q'' (drivers then unknowns, [`Table::coordinate`]), every
@@ -46,18 +64,32 @@ use crate::names::Name;
 /// assert!((v[0].hypot(v[1]) - 0.2).abs() < 1e-15);
 /// ```
 pub trait Table {
+    /// What the columns are.
+    fn layout(&self) -> Layout<'_>;
     /// The swept driver's name, or "t" for a simulation.
-    fn variable(&self) -> Name;
+    fn variable(&self) -> Name {
+        self.layout().variable
+    }
     /// The kind of the swept driver.
-    fn kind(&self) -> Kind;
+    fn kind(&self) -> Kind {
+        self.layout().kind
+    }
     /// The coordinates, drivers first.
-    fn coordinates(&self) -> &[Coordinate];
+    fn coordinates(&self) -> &[Coordinate] {
+        self.layout().coordinates
+    }
     /// The points' names, in declaration order.
-    fn point_names(&self) -> &[Name];
+    fn point_names(&self) -> &[Name] {
+        self.layout().points
+    }
     /// The frames' names, in declaration order.
-    fn frame_names(&self) -> &[Name];
+    fn frame_names(&self) -> &[Name] {
+        self.layout().frames
+    }
     /// The points' dimension: 2 (planar) or 3 (spatial).
-    fn point_dim(&self) -> usize;
+    fn point_dim(&self) -> usize {
+        self.layout().point_dim
+    }
     /// The number of samples.
     fn rows(&self) -> usize;
     /// The swept value of sample `i` (the driver's value, or the time).
