@@ -28,19 +28,29 @@ fn same_table(a: &impl Table, b: &impl Table) {
     assert_eq!(a.rows(), b.rows(), "{:?} / {:?}", a.stop(), b.stop());
     let rows_a: Vec<Vec<f64>> = (0..a.rows()).map(|i| a.row(i)).collect();
     let rows_b: Vec<Vec<f64>> = (0..b.rows()).map(|i| b.row(i)).collect();
-    let headers = a.headers_in("m");
-    for (c, name) in headers.iter().enumerate() {
-        let scale = rows_a.iter().map(|r| r[c].abs()).fold(1.0f64, f64::max);
-        for (i, (ra, rb)) in rows_a.iter().zip(&rows_b).enumerate() {
+    columns_agree(&a.headers_in("m"), &rows_a, &rows_b);
+}
+
+/// Every column c of `got` within 1e-12 of the largest |want[·][c]| (1 at
+/// least) of `want`; `names` name the columns in the messages.
+fn columns_agree(names: &[String], want: &[Vec<f64>], got: &[Vec<f64>]) {
+    assert_eq!(want.len(), got.len());
+    for (c, name) in names.iter().enumerate() {
+        let scale = want.iter().map(|r| r[c].abs()).fold(1.0f64, f64::max);
+        for (i, (w, g)) in want.iter().zip(got).enumerate() {
             assert!(
-                (ra[c] - rb[c]).abs() <= 1e-12 * scale,
-                "{name} at sample {i}: {} / {}",
-                ra[c],
-                rb[c]
+                (w[c] - g[c]).abs() <= 1e-12 * scale,
+                "{name} at row {i}: {} / {}",
+                w[c],
+                g[c]
             );
         }
     }
 }
+
+/// One parameter's sensitivities as compared: ∂q, ∂q', ∂q'' and every
+/// point's ∂r, ∂v, ∂a.
+type Derivatives = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<[Vec<f64>; 3]>);
 
 #[test]
 fn four_bar_sweeps_agree_both_ways() {
@@ -487,7 +497,7 @@ fn sensitivities_agree_both_ways() {
         name: &str,
         r: &Model,
         generated: &kinematics_core::sweep::Sweep<M>,
-        of: impl Fn(&M::Motion) -> Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<[Vec<f64>; 3]>)>,
+        of: impl Fn(&M::Motion) -> Vec<Derivatives>,
     ) {
         let n = M::COORDINATES.len();
         let mut rows: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
@@ -533,18 +543,11 @@ fn sensitivities_agree_both_ways() {
                 ));
             }
         }
-        let width = rows[0].0.len();
-        for c in 0..width {
-            let scale = rows.iter().map(|(_, w)| w[c].abs()).fold(1.0f64, f64::max);
-            for (i, (got, want)) in rows.iter().enumerate() {
-                assert!(
-                    (got[c] - want[c]).abs() <= 1e-12 * scale,
-                    "{name}, row {i}, column {c}: {} / {}",
-                    got[c],
-                    want[c]
-                );
-            }
-        }
+        let (got, want): (Vec<Vec<f64>>, Vec<Vec<f64>>) = rows.into_iter().unzip();
+        let names: Vec<String> = (0..want[0].len())
+            .map(|c| format!("{name}, column {c}"))
+            .collect();
+        columns_agree(&names, &want, &got);
     }
 
     /// A generated sensitivity as the rows `compare` reads.
@@ -553,7 +556,7 @@ fn sensitivities_agree_both_ways() {
         qd: &C,
         qdd: &C,
         points: &[kinematics_core::PointMotion],
-    ) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<[Vec<f64>; 3]>) {
+    ) -> Derivatives {
         let get = |c: &C| -> Vec<f64> { (0..3).map(|j| c.get(j).expect("a coordinate")).collect() };
         let point = |p: &kinematics_core::PointMotion| {
             use kinematics_core::PointState as _;
