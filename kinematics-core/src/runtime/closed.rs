@@ -10,12 +10,12 @@ use alloc::vec::Vec;
 
 use kinematics_jit::Program;
 
-use super::solve::Work;
+use super::solve::{det_sign, Work};
 use super::Model;
 use crate::closed::{self, Mode};
 use crate::error::Error;
 use crate::names::Name;
-use crate::options::Options;
+use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
 
 /// The closed forms of [`crate::closed`].
@@ -227,7 +227,55 @@ impl Model {
     /// Newton–Raphson on the whole system; a degenerate closed form hands
     /// over to Newton–Raphson on the whole system from the guess (the
     /// modes then NaN again).
+    ///
+    /// With [`Options::branch`] asking for a sign of det Φ_u, a solution on
+    /// the other branch is assembled again in the other combinations of
+    /// modes (the first that gives the branch asked for is kept, for up to
+    /// 16 two-mode blocks), as a generated mechanism does: for closed-form
+    /// blocks the branch is a choice; without them it is
+    /// [`Error::WrongBranch`].
     pub(super) fn assemble_into(
+        &self,
+        q: &mut [f64],
+        w: &mut Work,
+        modes: &mut [f64],
+        options: &Options,
+        strict: bool,
+    ) -> Result<(), Error> {
+        self.assemble_any(q, w, modes, options, strict)?;
+        let wanted = match options.branch {
+            Branch::Any => return Ok(()),
+            Branch::Positive => 1.0,
+            Branch::Negative => -1.0,
+        };
+        let nu = self.unknowns();
+        if det_sign(w, nu) == wanted {
+            return Ok(());
+        }
+        let k = modes.len();
+        if self.closed_path() && (1..=16).contains(&k) && !modes.iter().any(|m| m.is_nan()) {
+            let (base, guess) = (modes.to_vec(), w.guess.clone());
+            let mut trial = base.clone();
+            for flips in 1..1usize << k {
+                for (j, (t, b)) in trial.iter_mut().zip(&base).enumerate() {
+                    *t = if flips >> j & 1 == 1 { -b } else { *b };
+                }
+                q.copy_from_slice(&guess);
+                if self.assemble_any(q, w, &mut trial, options, strict).is_ok()
+                    && det_sign(w, nu) == wanted
+                {
+                    modes.copy_from_slice(&trial);
+                    return Ok(());
+                }
+            }
+        }
+        Err(Error::WrongBranch {
+            configuration: self.configuration(q),
+        })
+    }
+
+    /// [`Model::assemble_into`] on whichever branch it lands.
+    fn assemble_any(
         &self,
         q: &mut [f64],
         w: &mut Work,

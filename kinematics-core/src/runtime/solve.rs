@@ -373,18 +373,7 @@ impl Model {
                 w.scaled[i * nu + k] = w.jac[i * nu + k] * w.rows[i] * col;
             }
         }
-        w.lu.copy_from_slice(&w.jac);
-        let sign = match lu(&mut w.lu, &mut w.perm, nu) {
-            Some(mut sign) => {
-                for i in 0..nu {
-                    if w.lu[i * nu + i] < 0.0 {
-                        sign = -sign;
-                    }
-                }
-                sign
-            }
-            None => 0.0,
-        };
+        let sign = det_sign(w, nu);
         let (mut conditioning_min, mut at) = (f64::INFINITY, 0);
         for (rows, cols) in &self.blocks {
             let m = cols.len();
@@ -534,6 +523,23 @@ impl Model {
         let mut out = self.shaped_motion();
         self.analyze_into(q, rates, accelerations, w, options, evaluated, &mut out)?;
         Ok(out)
+    }
+}
+
+/// The sign of det Φ_u (Φ_u as [`Model::newton_eval`] left it in `w`),
+/// 0 when it is singular; Φ_u factored into `w`'s LU arrays.
+pub(super) fn det_sign(w: &mut Work, nu: usize) -> f64 {
+    w.lu.copy_from_slice(&w.jac);
+    match lu(&mut w.lu, &mut w.perm, nu) {
+        Some(mut sign) => {
+            for i in 0..nu {
+                if w.lu[i * nu + i] < 0.0 {
+                    sign = -sign;
+                }
+            }
+            sign
+        }
+        None => 0.0,
     }
 }
 
