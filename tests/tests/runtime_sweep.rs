@@ -24,22 +24,32 @@ fn model(name: &str, values: &[f64]) -> Model {
 /// Every column of `a` and `b` agrees within 1e-12 of its largest
 /// magnitude over the sweep (1 at least), and the headers are identical.
 fn same_table(a: &impl Table, b: &impl Table) {
+    same_table_within(a, b, 1e-12);
+}
+
+/// [`same_table`] within `tolerance` of each column's largest magnitude.
+fn same_table_within(a: &impl Table, b: &impl Table, tolerance: f64) {
     assert_eq!(a.headers_in("m"), b.headers_in("m"));
     assert_eq!(a.rows(), b.rows(), "{:?} / {:?}", a.stop(), b.stop());
     let rows_a: Vec<Vec<f64>> = (0..a.rows()).map(|i| a.row(i)).collect();
     let rows_b: Vec<Vec<f64>> = (0..b.rows()).map(|i| b.row(i)).collect();
-    columns_agree(&a.headers_in("m"), &rows_a, &rows_b);
+    columns_agree_within(&a.headers_in("m"), &rows_a, &rows_b, tolerance);
 }
 
 /// Every column c of `got` within 1e-12 of the largest |want[·][c]| (1 at
 /// least) of `want`; `names` name the columns in the messages.
 fn columns_agree(names: &[String], want: &[Vec<f64>], got: &[Vec<f64>]) {
+    columns_agree_within(names, want, got, 1e-12);
+}
+
+/// [`columns_agree`] within `tolerance`.
+fn columns_agree_within(names: &[String], want: &[Vec<f64>], got: &[Vec<f64>], tolerance: f64) {
     assert_eq!(want.len(), got.len());
     for (c, name) in names.iter().enumerate() {
         let scale = want.iter().map(|r| r[c].abs()).fold(1.0f64, f64::max);
         for (i, (w, g)) in want.iter().zip(got).enumerate() {
             assert!(
-                (w[c] - g[c]).abs() <= 1e-12 * scale,
+                (w[c] - g[c]).abs() <= tolerance * scale,
                 "{name} at row {i}: {} / {}",
                 w[c],
                 g[c]
@@ -810,4 +820,173 @@ fn the_branch_asked_for_is_kept_both_ways() {
         .assemble_with(&[1.0, 0.0, 0.3], &wants(Branch::Negative))
         .expect("assembles");
     assert!(positive[2] > 0.0 && negative[2] < 0.0);
+}
+
+/// Sweeps the generated mechanism `$g` (from the pose `$guess`, assembled)
+/// and the run-time model of the example `$name` with the same values,
+/// over `$range` of the driver `$handle`, and compares the two tables.
+macro_rules! swept_both_ways {
+    ($name:literal, $g:expr, $handle:expr, $guess:expr, |$b:ident| $range:expr) => {
+        swept_both_ways!($name, $g, $handle, $guess, |$b| $range, 1e-12)
+    };
+    ($name:literal, $g:expr, $handle:expr, $guess:expr, |$b:ident| $range:expr, $tolerance:expr) => {{
+        use kinematics_core::Coordinates as _;
+        let g = $g;
+        let r = model($name, &g.parameter_values());
+        let start = g.assemble(&$guess).expect("assembles");
+        let n = r.coordinates().len();
+        let q: Vec<f64> = (0..n)
+            .map(|j| start.get(j).expect("a coordinate"))
+            .collect();
+        let generated = {
+            let $b = g.sweep($handle, &start);
+            $range.run()
+        };
+        let run_time = {
+            let $b = r.sweep($handle.name(), &q).expect("a driver");
+            $range.run()
+        };
+        assert!(generated.stop.is_none(), "{}: {:?}", $name, generated.stop);
+        same_table_within(&generated, &run_time, $tolerance);
+        generated.samples.len()
+    }};
+}
+
+/// Every example not swept above, swept both ways over a turn (or a range
+/// it assembles over), each with its parameter values from its tests:
+/// the same table to 1e-12 of each column's largest value. With the four
+/// above, all fourteen examples.
+#[test]
+fn every_example_sweeps_alike_both_ways() {
+    use kinematics_examples::{
+        Crane, CraneCoords, FiveBar, FiveBarCoords, PlacedFourBar, RRtrRrt, RTrr, RobotArm,
+        RobotArmCoords, SatelliteDish, SatelliteDishCoords, SixAxisArm, SixAxisArmCoords,
+        SpatialSlider, SpatialSliderCoords, Strider,
+    };
+    let mut swept = 0;
+    swept += swept_both_ways!(
+        "RTrr",
+        RTrr::EXAMPLE_4_1,
+        RTrr::PHI,
+        RTrr::example_4_1_guess(),
+        |b| b.from(0.2).to(1.2).steps(50).rate(3.0)
+    );
+    swept += swept_both_ways!(
+        "RRtrRrt",
+        RRtrRrt::EXAMPLE_4_2,
+        RRtrRrt::PHI,
+        RRtrRrt::example_4_2_guess(),
+        |b| b.turn().steps(120).rate(5.0)
+    );
+    swept += swept_both_ways!(
+        "SpatialSlider",
+        SpatialSlider {
+            a: 50.0,
+            b: 175.0,
+            h: 75.0
+        },
+        SpatialSlider::PHI,
+        SpatialSliderCoords {
+            phi: std::f64::consts::FRAC_PI_2,
+            y: 140.0
+        },
+        |b| b.turn().steps(120).rate(10.0),
+        // The generated sweep stops Newton–Raphson on this constraint's
+        // scaled residual (|Φ|/S ≤ 1.6e-15, S being large for
+        // |B − A| = b), up to 1e-8 mm off the root that the run-time
+        // sweep's polishing step reaches (its residual is exactly 0).
+        1e-9
+    );
+    swept += swept_both_ways!(
+        "SatelliteDish",
+        SatelliteDish { r: 1.4 },
+        SatelliteDish::PHI,
+        SatelliteDishCoords { phi: 0.0, th: 0.4 },
+        |b| b.turn().steps(90).rate(6.0).acceleration(3.0)
+    );
+    swept += swept_both_ways!(
+        "Crane",
+        Crane { l: 12.0 },
+        Crane::PHI,
+        CraneCoords { phi: 0.0, th: 0.5 },
+        |b| b.turn().steps(90).rate(0.3)
+    );
+    swept += swept_both_ways!(
+        "RobotArm",
+        RobotArm {
+            l1: 1.2,
+            l2: 0.6,
+            l3: 0.2,
+            alpha: std::f64::consts::FRAC_PI_3
+        },
+        RobotArm::Q1,
+        RobotArmCoords {
+            q1: 0.0,
+            q4: 0.3,
+            q5: -0.2
+        },
+        |b| b.turn().steps(90).rate(1.0)
+    );
+    swept += swept_both_ways!(
+        "SixAxisArm",
+        SixAxisArm {
+            d1: 0.4,
+            a2: 0.35,
+            a3: 0.3,
+            d5: 0.08,
+            d6: 0.1
+        },
+        SixAxisArm::Q1,
+        SixAxisArmCoords {
+            q1: 0.1,
+            q2: -0.4,
+            q3: 0.7,
+            q4: 0.2,
+            q5: -0.3,
+            q6: 0.5
+        },
+        |b| b.turn().steps(90).rate(2.0)
+    );
+    // The five-bar of the simulation tests, closed at φ1 = 1, φ2 = 2.
+    let (a, b, c, d) = (0.05, 0.12, 0.12, 0.05);
+    let (phi1, phi2, th2, th3) = (1.0f64, 2.0f64, 0.9f64, 2.2f64);
+    let ex = a * phi1.cos() + b * th2.cos() - c * th3.cos() - d * phi2.cos();
+    let ey = a * phi1.sin() + b * th2.sin() - c * th3.sin() - d * phi2.sin();
+    swept += swept_both_ways!(
+        "FiveBar",
+        FiveBar { a, b, c, d, ex, ey },
+        FiveBar::PHI1,
+        FiveBarCoords {
+            phi1,
+            phi2,
+            th2,
+            th3
+        },
+        |b| b.to(1.3).steps(30).rate(2.0)
+    );
+    swept += swept_both_ways!(
+        "Strider",
+        Strider::PYLINKAGE,
+        Strider::TH,
+        Strider::pylinkage_guess(0.0),
+        |b| b.turn().steps(180).rate(4.0)
+    );
+    swept += swept_both_ways!(
+        "PlacedFourBar",
+        PlacedFourBar {
+            x0: 0.2,
+            y0: -0.1,
+            theta0: 0.3,
+            d: 0.11,
+            a: 0.04,
+            b: 0.12,
+            c: 0.10,
+            p: 0.06,
+            beta: 0.5
+        },
+        PlacedFourBar::PHI,
+        [0.0, 1.3, 1.9].into(),
+        |b| b.turn().steps(120).rate(5.0)
+    );
+    assert!(swept > 900, "{swept} samples");
 }
