@@ -1040,3 +1040,60 @@ fn the_spatial_sliders_inflated_scale_is_as_the_readme_says() {
     assert!(raw_max > 1e-12 * terms, "{raw_max:e} mm²");
     assert!(off > 1e-10 && off < 1e-7, "{off:e} mm");
 }
+
+/// Past a parallelogram's fold both ways: with `ChangePoints::Smooth` the
+/// four-bar stays a parallelogram (θ3 = 0, θ4 = φ), with `Switch` it folds
+/// into the crossed form; each the same table as the generated sweep's (to
+/// 1e-12) and one change point, near φ = 0, passed. (19 steps: with 9,
+/// the generated sweep passes the fold without seeing it, which the
+/// run-time sweep does see; see `a_run_time_sweep_stops_at_a_change_point`.)
+#[test]
+fn change_points_are_passed_both_ways() {
+    use kinematics_core::sweep::ChangePoints;
+    let g = FourBar {
+        a: 0.05,
+        b: 0.12,
+        c: 0.05,
+        d: 0.12,
+        p: 0.0,
+        beta: 0.0,
+    };
+    let r = model("FourBar", &g.parameter_values());
+    let start = g.assemble(&[-0.5, 0.0, -0.5].into()).expect("assembles");
+    for how in [ChangePoints::Smooth, ChangePoints::Switch] {
+        let generated = g
+            .sweep(FourBar::PHI, &start)
+            .to(0.5)
+            .steps(19)
+            .rate(2.0)
+            .change_points(how)
+            .run();
+        let run_time = r
+            .sweep("phi", &[start.phi, start.th3, start.th4])
+            .expect("a driver")
+            .to(0.5)
+            .steps(19)
+            .rate(2.0)
+            .change_points(how)
+            .run();
+        assert!(
+            generated.stop.is_none() && run_time.stop.is_none(),
+            "{how:?}"
+        );
+        same_table(&generated, &run_time);
+        assert_eq!(run_time.change_points.len(), 1, "{how:?}");
+        assert!(
+            run_time.change_points[0].abs() < 0.06,
+            "{:?}",
+            run_time.change_points
+        );
+        let last = &run_time.samples[19].motion;
+        let parallelogram = last.q[1].abs() < 1e-12 && (last.q[2] - 0.5).abs() < 1e-12;
+        assert_eq!(
+            parallelogram,
+            how == ChangePoints::Smooth,
+            "{how:?}: {:?}",
+            last.q
+        );
+    }
+}

@@ -9,7 +9,7 @@ use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::{intern, Name};
 use crate::options::Options;
-use crate::sweep::{grid, End, Layout, Stop, StopReason, Table};
+use crate::sweep::{grid, ChangePoints, End, Layout, Stop, StopReason, Table};
 use crate::view::{point_roles_by, PointRole};
 
 /// One sample of a run-time sweep: the driver's value and the motion
@@ -34,6 +34,10 @@ pub struct Sweep {
     pub samples: Vec<Sample>,
     /// `Some` when the sweep stopped early.
     pub stop: Option<Stop>,
+    /// The change points passed on the branch chosen by
+    /// [`SweepBuilder::change_points`] (estimates of the driver value of
+    /// each).
+    pub change_points: Vec<f64>,
     coordinates: Vec<Coordinate>,
     points: Vec<Name>,
     frames: Vec<Name>,
@@ -95,6 +99,7 @@ pub struct SweepBuilder<'m> {
     rate: f64,
     acceleration: f64,
     options: Options,
+    change_points: ChangePoints,
 }
 
 impl Model {
@@ -163,6 +168,7 @@ impl Model {
             rate: 1.0,
             acceleration: 0.0,
             options: Options::DEFAULT,
+            change_points: ChangePoints::Stop,
         })
     }
 
@@ -241,6 +247,16 @@ impl SweepBuilder<'_> {
         self
     }
 
+    /// What to do at a change point, where two assembly branches meet:
+    /// stop there (the default), continue on the branch on which the
+    /// motion is smooth, or switch to the other (which needs the block
+    /// that meets the other branch to be solved in closed form), as for a
+    /// generated sweep.
+    pub fn change_points(mut self, change_points: ChangePoints) -> Self {
+        self.change_points = change_points;
+        self
+    }
+
     /// Runs the sweep, collecting its samples.
     pub fn run(self) -> Sweep {
         let m = self.m;
@@ -255,7 +271,7 @@ impl SweepBuilder<'_> {
             m,
             (coordinate.name, coordinate.kind, from),
             &self.start,
-            &self.options,
+            (&self.options, self.change_points),
             grid.map(|g| (0..g.count).map(|k| g.at(k)).collect()),
             |at, d, rates, accelerations| {
                 d[j] = at;
@@ -398,7 +414,7 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
             self.m,
             ("t", Kind::Length, 0.0),
             &self.start,
-            &self.options,
+            (&self.options, ChangePoints::Stop),
             times,
             |t, d, rates, accelerations| {
                 if d.len() == nd && start.len() >= nd {
@@ -423,7 +439,7 @@ fn drive(
     m: &Model,
     (variable, kind, first): (Name, Kind, f64),
     start: &[f64],
-    options: &Options,
+    (options, change_points): (&Options, ChangePoints),
     ats: Result<Vec<f64>, Error>,
     mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
 ) -> Sweep {
@@ -432,6 +448,7 @@ fn drive(
         kind,
         samples: Vec::new(),
         stop: None,
+        change_points: Vec::new(),
         coordinates: m.coordinates.clone(),
         points: m.points.clone(),
         frames: m.frames.clone(),
@@ -473,7 +490,7 @@ fn drive(
             .check_inputs(&q, &rates, &accelerations)
             .and_then(|()| m.assemble_into(&mut q, &mut w, &mut modes, options, false))
             .and_then(|()| m.analyze_at(&q, &rates, &accelerations, &mut w, options, true));
-        let motion = match solved {
+        let mut motion = match solved {
             Ok(motion) => motion,
             Err(Error::CannotAssemble { unknowns, .. }) if !sweep.samples.is_empty() => {
                 // A limit position between the last sample and this
@@ -492,20 +509,103 @@ fn drive(
             let at_fold = folded(&sweep.samples, &motion, &predicted, nd);
             if at_fold.is_some() || last.motion.det_sign != motion.det_sign {
                 // Two branches met between the samples.
-                let estimate = at_fold.unwrap_or(0.5 * (last.at + at));
-                sweep.stop = Some(stop(
-                    estimate.clamp(last.at.min(at), last.at.max(at)),
-                    StopReason::ChangePoint {
-                        from: last.at,
-                        to: at,
-                    },
-                ));
-                return sweep;
+                let estimate = at_fold
+                    .unwrap_or(0.5 * (last.at + at))
+                    .clamp(last.at.min(at), last.at.max(at));
+                let branch = (change_points != ChangePoints::Stop)
+                    .then(|| {
+                        let rates = (&rates[..], &accelerations[..]);
+                        past(
+                            m,
+                            &predicted,
+                            &mut modes,
+                            rates,
+                            options,
+                            change_points,
+                            &mut w,
+                        )
+                    })
+                    .flatten();
+                let Some(chosen) = branch else {
+                    sweep.stop = Some(stop(
+                        estimate,
+                        StopReason::ChangePoint {
+                            from: last.at,
+                            to: at,
+                        },
+                    ));
+                    return sweep;
+                };
+                motion = chosen;
+                q.copy_from_slice(&motion.q);
+                sweep.change_points.push(estimate);
             }
         }
         sweep.samples.push(Sample { at, motion });
     }
     sweep
+}
+
+/// The pose past a change point on the branch `change_points` asks for:
+/// every combination of the closed forms' modes is assembled from the
+/// extrapolated pose `predicted` (for up to 16 two-mode blocks); `Smooth`
+/// takes the assembly nearest it, `Switch` the nearest of the others.
+/// `modes` is set to the chosen combination. `None` where there is no
+/// choice to make (no two-mode block, or no assembly but one).
+fn past(
+    m: &Model,
+    predicted: &[f64],
+    modes: &mut [f64],
+    (rates, accelerations): (&[f64], &[f64]),
+    options: &Options,
+    change_points: ChangePoints,
+    w: &mut super::solve::Work,
+) -> Option<Motion> {
+    let k = modes.len();
+    if !(1..=16).contains(&k) || !m.closed_path() {
+        return None;
+    }
+    let nd = m.drivers;
+    let mut candidates: Vec<(f64, Vec<f64>, Vec<f64>)> = Vec::new();
+    for combination in 0..1usize << k {
+        let mut trial: Vec<f64> = (0..k)
+            .map(|j| if combination >> j & 1 == 1 { -1.0 } else { 1.0 })
+            .collect();
+        let mut q = predicted.to_vec();
+        if m.assemble_into(&mut q, w, &mut trial, options, true)
+            .is_err()
+        {
+            continue;
+        }
+        // The distance from the extrapolated pose, angles and lengths
+        // alike (as the generated sweep measures it).
+        let d = q[nd..]
+            .iter()
+            .zip(&predicted[nd..])
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>();
+        let same = candidates.iter().any(|(_, c, _)| {
+            c.iter()
+                .zip(&q)
+                .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        });
+        if !same {
+            candidates.push((d, q, trial));
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let chosen = match change_points {
+        ChangePoints::Smooth => candidates.first(),
+        ChangePoints::Switch => candidates.get(1),
+        ChangePoints::Stop => None,
+    }?;
+    if candidates.len() < 2 {
+        return None;
+    }
+    let (_, q, trial) = chosen;
+    modes.copy_from_slice(trial);
+    m.analyze_at(q, rates, accelerations, w, options, false)
+        .ok()
 }
 
 /// The last value of the swept variable between the sample `last`, which
