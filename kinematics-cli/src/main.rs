@@ -134,9 +134,24 @@ struct SweepArgs {
     /// The name of the length unit on the axes and in the CSV's headers.
     #[arg(long, default_value = "m")]
     unit: String,
+    /// At a change point, where two assembly branches meet: stop there,
+    /// continue on the smooth branch, or switch to the other.
+    #[arg(long = "change-points", value_enum, default_value = "stop")]
+    change_points: ChangePointsArg,
     /// The folder the files are written to (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
+}
+
+/// `--change-points`: what a sweep does where two branches meet.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ChangePointsArg {
+    /// Stop there.
+    Stop,
+    /// Continue on the branch on which the motion is smooth.
+    Smooth,
+    /// Continue on the other branch.
+    Switch,
 }
 
 /// A failure and its exit status.

@@ -8,11 +8,13 @@ use std::path::{Path, PathBuf};
 
 use kinematics_core::animate::write_table_html;
 use kinematics_core::plot::{plot_motion_in, plot_path, plot_points_in, Units};
-use kinematics_core::sweep::Table;
+use kinematics_core::sweep::{ChangePoints, Table};
 use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Kind, Role};
 
-use super::{compile, params_file, pose, set_parameters, Failure, ParamsFile, SweepArgs};
+use super::{
+    compile, params_file, pose, set_parameters, ChangePointsArg, Failure, ParamsFile, SweepArgs,
+};
 
 /// Runs `kinematics sweep`: the summary printed on success.
 pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
@@ -113,6 +115,11 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     if let Some(a) = args.acceleration {
         builder = builder.acceleration(a);
     }
+    builder = builder.change_points(match args.change_points {
+        ChangePointsArg::Stop => ChangePoints::Stop,
+        ChangePointsArg::Smooth => ChangePoints::Smooth,
+        ChangePointsArg::Switch => ChangePoints::Switch,
+    });
     let sweep = builder.run();
     if sweep.samples.is_empty() {
         let why = sweep
@@ -141,6 +148,9 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         sweep.samples[0].at,
         sweep.samples[sweep.samples.len() - 1].at
     );
+    for at in &sweep.change_points {
+        let _ = writeln!(out, "  passed a change point near {driver} = {at}");
+    }
     for f in &written {
         let _ = writeln!(out, "  wrote {}", f.display());
     }

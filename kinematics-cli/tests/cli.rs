@@ -449,3 +449,49 @@ fn a_sweep_that_stops_early_says_so() {
     assert_eq!(rows.len(), 42);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A parallelogram four-bar swept through its fold at φ = 0: by default
+/// the sweep stops there (status 1, the change point said); with
+/// `--change-points smooth` it passes it on the parallelogram branch
+/// (θ3 = 0, θ4 = φ, to the CSV's 13 digits) and says so; with `switch` it
+/// folds into the crossed form.
+#[test]
+fn sweep_passes_a_change_point_as_asked() {
+    let four_bar = mechanisms().join("four_bar.mech");
+    let path = four_bar.to_str().expect("a UTF-8 path");
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-fold-{}", std::process::id()));
+    let out = dir.to_str().expect("a UTF-8 path");
+    let args = |extra: &[&'static str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "sweep", path, "--param", "a=0.05", "--param", "b=0.12", "--param", "c=0.05",
+            "--param", "d=0.12", "--param", "p=0", "--param", "beta=0", "--at", "phi=-0.5", "--at",
+            "th3=0", "--at", "th4=-0.5", "--to", "0.5", "--steps", "19", "--out", out,
+        ]
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+        a.extend(extra.iter().map(ToString::to_string));
+        a
+    };
+    let run_with = |a: &[String]| run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let stopped = run_with(&args(&[]));
+    assert_eq!(stopped.status.code(), Some(1));
+    assert!(
+        text(&stopped.stderr).contains("change point near phi"),
+        "{}",
+        text(&stopped.stderr)
+    );
+    for (how, parallelogram) in [("smooth", true), ("switch", false)] {
+        let passed = run_with(&args(&["--change-points", how]));
+        assert!(passed.status.success(), "{how}: {}", text(&passed.stderr));
+        assert!(text(&passed.stdout).contains("passed a change point near phi"));
+        let (header, rows) = read_csv(&dir.join("sweep.csv"));
+        assert_eq!(rows.len(), 20);
+        let col = |name: &str| header.iter().position(|h| h == name).expect("a column");
+        let last = &rows[19];
+        let on_it =
+            last[col("th3_rad")].abs() < 1e-12 && (last[col("th4_rad")] - 0.5).abs() < 1e-12;
+        assert_eq!(on_it, parallelogram, "{how}: {last:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
