@@ -376,24 +376,4 @@ impl Model {
             Some((modes, pose))
         })
     }
-
-    /// A pose of the model's length with every value finite (drivers,
-    /// then guesses).
-    pub(super) fn check_pose(&self, q: &[f64]) -> Result<(), Error> {
-        self.length("coordinates", self.coordinates.len(), q.len())?;
-        for (c, &v) in self.coordinates.iter().zip(q) {
-            if !v.is_finite() {
-                let input = match c.role {
-                    crate::mechanism::Role::Driver => crate::error::Input::Driver,
-                    crate::mechanism::Role::Unknown => crate::error::Input::Guess,
-                };
-                return Err(Error::NonFinite {
-                    input,
-                    name: c.name,
-                    value: v,
-                });
-            }
-        }
-        Ok(())
-    }
 }

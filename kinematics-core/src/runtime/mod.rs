@@ -552,17 +552,10 @@ impl Model {
 
     /// The lengths of the arrays, and every value finite.
     fn check_inputs(&self, q: &[f64], rates: &[f64], accelerations: &[f64]) -> Result<(), Error> {
-        let (n, nd) = (self.coordinates.len(), self.drivers);
-        self.length("coordinates", n, q.len())?;
+        let nd = self.drivers;
+        self.check_pose(q)?;
         self.length("driver rates", nd, rates.len())?;
         self.length("driver accelerations", nd, accelerations.len())?;
-        let inputs = self.coordinates.iter().zip(q).map(|(c, &v)| {
-            let input = match c.role {
-                Role::Driver => Input::Driver,
-                Role::Unknown => Input::Guess,
-            };
-            (input, c.name, v)
-        });
         let drivers = self.coordinates[..nd].iter();
         let rates_in = drivers
             .clone()
@@ -571,9 +564,29 @@ impl Model {
         let accels_in = drivers
             .zip(accelerations)
             .map(|(c, &v)| (Input::DriverAcceleration, c.name, v));
-        for (input, name, value) in inputs.chain(rates_in).chain(accels_in) {
+        for (input, name, value) in rates_in.chain(accels_in) {
             if !value.is_finite() {
                 return Err(Error::NonFinite { input, name, value });
+            }
+        }
+        Ok(())
+    }
+
+    /// A pose of the model's length with every value finite (drivers,
+    /// then guesses of the unknowns).
+    fn check_pose(&self, q: &[f64]) -> Result<(), Error> {
+        self.length("coordinates", self.coordinates.len(), q.len())?;
+        for (c, &value) in self.coordinates.iter().zip(q) {
+            if !value.is_finite() {
+                let input = match c.role {
+                    Role::Driver => Input::Driver,
+                    Role::Unknown => Input::Guess,
+                };
+                return Err(Error::NonFinite {
+                    input,
+                    name: c.name,
+                    value,
+                });
             }
         }
         Ok(())

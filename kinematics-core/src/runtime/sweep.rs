@@ -635,8 +635,8 @@ fn limit(
         set(mid, &mut q[..nd], &mut rates, &mut accelerations);
         trial_modes.copy_from_slice(modes);
         match m.assemble_into(&mut q, w, &mut trial_modes, options, false) {
-            Err(Error::CannotAssemble { .. }) => bad = mid,
-            _ => good = mid,
+            Ok(()) => good = mid,
+            Err(_) => bad = mid,
         }
     }
     good
