@@ -36,10 +36,9 @@ pub(super) struct Work {
     /// Newton's step, and the unknowns before it.
     step: Vec<f64>,
     before: Vec<f64>,
-    /// Φ_u scaled (rows by 1/S_i, length columns by L); one diagonal block
-    /// of it with its permutation; a column of the block's inverse, a unit
+    /// One diagonal block of Φ_u scaled (rows by 1/S_i, length columns by
+    /// L) with its permutation; a column of the block's inverse, a unit
     /// vector and the inverse's absolute row sums.
-    scaled: Vec<f64>,
     sub: Vec<f64>,
     sub_perm: Vec<usize>,
     col: Vec<f64>,
@@ -75,7 +74,6 @@ impl Model {
             perm: vec![0; nu],
             step: vec![0.0; nu],
             before: vec![0.0; nu],
-            scaled: vec![0.0; nu * nu],
             sub: vec![0.0; widest * widest],
             sub_perm: vec![0; widest],
             col: vec![0.0; widest],
@@ -367,19 +365,15 @@ impl Model {
             self.newton_eval(q, w);
             length
         };
-        for i in 0..nu {
-            for k in 0..nu {
-                let col = if self.length_unknowns[k] { length } else { 1.0 };
-                w.scaled[i * nu + k] = w.jac[i * nu + k] * w.rows[i] * col;
-            }
-        }
         let sign = det_sign(w, nu);
         let (mut conditioning_min, mut at) = (f64::INFINITY, 0);
         for (rows, cols) in &self.blocks {
             let m = cols.len();
             for (a, &r) in rows.iter().enumerate() {
                 for (b, &c) in cols.iter().enumerate() {
-                    w.sub[a * m + b] = w.scaled[r * nu + c];
+                    // Φ_u scaled: rows by 1/S_i, length columns by L.
+                    let col = if self.length_unknowns[c] { length } else { 1.0 };
+                    w.sub[a * m + b] = w.jac[r * nu + c] * w.rows[r] * col;
                 }
             }
             let (c, local) = conditioning(
