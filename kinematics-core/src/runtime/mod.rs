@@ -279,9 +279,9 @@ impl Model {
 
     /// How each diagonal block of the loop equations is solved, in solve
     /// order, described as a generated mechanism's `BLOCKS` describes it
-    /// (the same compiler finds them). A run-time model solves every
-    /// block by Newton–Raphson on all the unknowns together for now; the
-    /// description says which have a closed form.
+    /// (the same compiler finds them, and the run-time model solves them
+    /// the same way: each closed-form block by its form, each other block
+    /// by Newton–Raphson on its own unknowns).
     #[must_use]
     pub fn blocks(&self) -> &[Block] {
         &self.described
@@ -376,6 +376,12 @@ impl Model {
     #[must_use]
     pub fn point_names(&self) -> &[Name] {
         &self.points
+    }
+
+    /// The points' dimension: 2 for a planar model, 3 for a spatial one.
+    #[must_use]
+    pub fn point_dimension(&self) -> usize {
+        self.point_dim
     }
 
     /// The frames' names, in declaration order.

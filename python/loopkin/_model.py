@@ -1,0 +1,751 @@
+"""Mechanisms compiled from text: the class a definition becomes, its poses,
+motions, sweeps and batches."""
+
+from __future__ import annotations
+
+import copyreg
+import math
+import os
+import threading
+from typing import (
+    Any,
+    Dict,
+    Iterable,
+    Iterator,
+    List,
+    Mapping,
+    Optional,
+    Sequence,
+    Tuple,
+    Type,
+    TypeVar,
+    Union,
+)
+
+import numpy as np
+
+from . import _native
+from .errors import CannotAssembleError
+
+__all__ = [
+    "compile",
+    "load",
+    "Mechanism",
+    "Pose",
+    "Motion",
+    "PointMotion",
+    "FrameMotion",
+    "Sensitivity",
+    "Options",
+]
+
+ArrayLike = Union[Sequence[float], np.ndarray]
+M = TypeVar("M", bound="Mechanism")
+
+_classes: Dict[str, Type["Mechanism"]] = {}
+_lock = threading.Lock()
+
+
+def compile(text: str) -> Type["Mechanism"]:  # noqa: A001 (the language's word)
+    """Compiles a mechanism definition into a class.
+
+    ``text`` is a definition exactly as written inside ``mechanism! { … }``
+    in Rust: a ``struct Name { params {…} drivers {…} unknowns {…} points
+    {…} loops {…} … }``. The definition is checked, differentiated exactly
+    (the velocity Jacobian and the convective terms of the accelerations),
+    split into blocks solved in closed form where a form is known, and
+    compiled to machine code, all in this process.
+
+    The result is a subclass of :class:`Mechanism` named after the struct;
+    an instance holds one design (the parameter values, as keywords). The
+    same text compiles once per process: compiling it again returns the same
+    class.
+
+    Raises:
+        DefinitionError: with every error of the definition, the line and
+            column of the first, and the message the Rust macro gives.
+    """
+    with _lock:
+        cls = _classes.get(text)
+    if cls is not None:
+        return cls
+    native = _native.compile(text)
+    names = ", ".join(native.parameters)
+    doc = (
+        f"The mechanism {native.name}, compiled from its definition.\n\n"
+        f"Construct a design with its parameters as keywords: "
+        f"{native.name}({names}).\n"
+    )
+    cls = MechanismType(
+        native.name,
+        (Mechanism,),
+        {"__doc__": doc, "_native": native, "__module__": __name__.rsplit(".", 1)[0]},
+    )
+    with _lock:
+        return _classes.setdefault(text, cls)
+
+
+def load(path: Union[str, "os.PathLike[str]"]) -> Type["Mechanism"]:
+    """Compiles the definition in the file ``path`` (a ``.mech`` file)."""
+    with open(path, encoding="utf-8") as f:
+        return compile(f.read())
+
+
+def _native_model(text: str, values: List[float]) -> "_native.Model":
+    """Rebuilds a native model from its text and values (for pickle)."""
+    return compile(text)._native.with_values(values)
+
+
+def _rebuild(text: str, params: Dict[str, float]) -> "Mechanism":
+    """Rebuilds a design from its text and parameters (for pickle)."""
+    return compile(text)(**params)
+
+
+class MechanismType(type):
+    """The metaclass of compiled mechanisms: a class pickles as its text."""
+
+    _native: "_native.Model"
+
+    @property
+    def text(cls) -> str:
+        """The definition the class was compiled from."""
+        return cls._native.text
+
+    def __repr__(cls) -> str:
+        return f"<mechanism class {cls.__name__}>"
+
+
+copyreg.pickle(MechanismType, lambda cls: (compile, (cls._native.text,)))
+
+
+class Options:
+    """Solver options, shared by assembly, analysis, sweeps and batches.
+
+    Attributes:
+        tolerance: Newton–Raphson has converged when every |Φ_i| is at most
+            ``tolerance`` times its equation's term scale S_i (relative), or
+            at most ``tolerance`` in the equation's units when ``absolute``.
+        max_iterations: the largest number of Newton iterations.
+        singularity_threshold: Φ_u is singular when its conditioning (the
+            distance of the scaled Jacobian to the nearest singular matrix)
+            is at or below this.
+        branch: "any" (the branch nearest the guess), "positive" or
+            "negative" (by the sign of det Φ_u).
+        absolute: whether ``tolerance`` is absolute.
+    """
+
+    __slots__ = ("tolerance", "max_iterations", "singularity_threshold", "branch", "absolute")
+
+    def __init__(
+        self,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+        singularity_threshold: Optional[float] = None,
+        branch: str = "any",
+        absolute: bool = False,
+    ) -> None:
+        t, n, s, _, _ = _native.default_options()
+        self.tolerance = float(t if tolerance is None else tolerance)
+        self.max_iterations = int(n if max_iterations is None else max_iterations)
+        self.singularity_threshold = float(s if singularity_threshold is None else singularity_threshold)
+        self.branch = branch
+        self.absolute = bool(absolute)
+
+    def _tuple(self) -> Tuple[float, int, float, str, bool]:
+        return (self.tolerance, self.max_iterations, self.singularity_threshold, self.branch, self.absolute)
+
+    def __repr__(self) -> str:
+        return (
+            f"Options(tolerance={self.tolerance!r}, max_iterations={self.max_iterations!r}, "
+            f"singularity_threshold={self.singularity_threshold!r}, branch={self.branch!r}, "
+            f"absolute={self.absolute!r})"
+        )
+
+
+def _opts(options: Optional[Options]) -> Tuple[float, int, float, str, bool]:
+    return (options or Options())._tuple()
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+class Values(Mapping[str, float]):
+    """Values by name (coordinates, or their rates or accelerations); the
+    array, in the mechanism's order, is :attr:`array`."""
+
+    __slots__ = ("_names", "array")
+
+    def __init__(self, names: Sequence[str], array: np.ndarray) -> None:
+        self._names = tuple(names)
+        self.array = _readonly(np.asarray(array, dtype=float))
+
+    def __getitem__(self, name: str) -> float:
+        try:
+            return float(self.array[self._names.index(name)])
+        except ValueError:
+            raise KeyError(f"{name!r} is not one of {list(self._names)}") from None
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return np.asarray(self.array, dtype=dtype)
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{n}={v:.12g}" for n, v in zip(self._names, self.array))
+        return f"{{{inner}}}"
+
+
+class Pose(Values):
+    """A pose of a mechanism: every coordinate (drivers first) by name, and
+    the assembly modes it was assembled in (``None`` when unknown).
+
+    ``pose["th3"]`` is a coordinate; ``pose.array`` all of them in order;
+    ``pose.modes`` a tuple of "+"/"-", one per block with two modes.
+    """
+
+    __slots__ = ("modes",)
+
+    def __init__(self, names: Sequence[str], array: np.ndarray, modes: Optional[Sequence[str]] = None) -> None:
+        super().__init__(names, array)
+        self.modes = None if modes is None else tuple(modes)
+
+    def __repr__(self) -> str:
+        m = "" if self.modes is None else f" modes={''.join(self.modes)}"
+        return f"Pose({super().__repr__()}{m})"
+
+
+class PointMotion:
+    """A point's position r, velocity v and acceleration a (numpy arrays of
+    2 or 3 components), with the speed |v| and |a|."""
+
+    __slots__ = ("position", "velocity", "acceleration")
+
+    def __init__(self, values: np.ndarray) -> None:
+        self.position = _readonly(values[0].copy())
+        self.velocity = _readonly(values[1].copy())
+        self.acceleration = _readonly(values[2].copy())
+
+    @property
+    def speed(self) -> float:
+        """|v|."""
+        return float(np.linalg.norm(self.velocity))
+
+    def __repr__(self) -> str:
+        return f"PointMotion(position={self.position}, velocity={self.velocity}, acceleration={self.acceleration})"
+
+
+class FrameMotion:
+    """A body frame's motion: rotation matrix R (its axes in fixed
+    coordinates), origin o, the origin's velocity and acceleration, angular
+    velocity ω and angular acceleration α."""
+
+    __slots__ = ("rotation", "origin", "velocity", "acceleration", "angular_velocity", "angular_acceleration")
+
+    def __init__(self, values: np.ndarray) -> None:
+        v = np.asarray(values, dtype=float)
+        self.rotation = _readonly(v[..., 0:9].reshape(v.shape[:-1] + (3, 3)).copy())
+        self.origin = _readonly(v[..., 9:12].copy())
+        self.velocity = _readonly(v[..., 12:15].copy())
+        self.acceleration = _readonly(v[..., 15:18].copy())
+        self.angular_velocity = _readonly(v[..., 18:21].copy())
+        self.angular_acceleration = _readonly(v[..., 21:24].copy())
+
+    def __repr__(self) -> str:
+        return f"FrameMotion(origin={self.origin}, angular_velocity={self.angular_velocity})"
+
+
+class Motion:
+    """The motion at one pose: ``q``, ``qd`` (q') and ``qdd`` (q'') by
+    name, every point and frame by name, and the diagnostics.
+
+    Attributes:
+        q, qd, qdd: :class:`Values` of every coordinate, drivers first.
+        points: ``{name: PointMotion}``.
+        frames: ``{name: FrameMotion}``.
+        conditioning: 1/‖Φ̃_u⁻¹‖∞ of the scaled Jacobian, 0 at a singular
+            pose.
+        det_sign: the sign of det Φ_u (the assembly branch).
+        residual: max |Φ_i| / S_i at q.
+    """
+
+    __slots__ = ("q", "qd", "qdd", "points", "frames", "conditioning", "det_sign", "residual")
+
+    def __init__(self, cls: "MechanismType", d: Dict[str, Any]) -> None:
+        names = [c[0] for c in cls._native.coordinates]
+        self.q = Pose(names, d["q"])
+        self.qd = Values(names, d["qd"])
+        self.qdd = Values(names, d["qdd"])
+        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
+        self.frames = {n: FrameMotion(v) for n, v in zip(cls._native.frames, d["frames"])}
+        self.conditioning = float(d["conditioning"])
+        self.det_sign = float(d["det_sign"])
+        self.residual = float(d["residual"])
+
+    @property
+    def pose(self) -> Pose:
+        """The pose, as :class:`Pose`."""
+        return self.q
+
+    def __repr__(self) -> str:
+        return f"Motion(q={self.q!r}, qd={self.qd!r}, qdd={self.qdd!r})"
+
+
+class Sensitivity:
+    """The derivatives of a motion with respect to one parameter p:
+    ∂q/∂p, ∂q'/∂p, ∂q''/∂p (:class:`Values`) and each point's ∂r/∂p,
+    ∂v/∂p, ∂a/∂p (:class:`PointMotion`, in the point's units per unit of
+    p)."""
+
+    __slots__ = ("parameter", "q", "qd", "qdd", "points")
+
+    def __init__(self, cls: "MechanismType", parameter: str, d: Dict[str, Any]) -> None:
+        names = [c[0] for c in cls._native.coordinates]
+        self.parameter = parameter
+        self.q = Values(names, d["q"])
+        self.qd = Values(names, d["qd"])
+        self.qdd = Values(names, d["qdd"])
+        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
+
+    def __repr__(self) -> str:
+        return f"Sensitivity({self.parameter}: q={self.q!r})"
+
+
+class Mechanism(metaclass=MechanismType):
+    """A design of a compiled mechanism: the class :func:`compile` returns,
+    with one value per parameter.
+
+    ``FourBar(a=0.04, b=0.12, …)`` checks every value (finite; lengths
+    positive) and raises :class:`~loopkin.errors.InvalidParameterError` or
+    :class:`~loopkin.errors.NonFiniteError` otherwise; a missing or unknown
+    keyword is a ``TypeError``. A design is immutable: :meth:`replace` makes
+    another. A design pickles as its definition and parameters, so that a
+    worker process recompiles it (once per process).
+    """
+
+    _native: "_native.Model"
+    __slots__ = ("_m",)
+
+    def __init__(self, **params: float) -> None:
+        cls = type(self)
+        if cls is Mechanism:
+            raise TypeError("Mechanism is abstract: make a class with loopkin.compile(text)")
+        names = cls._native.parameters
+        unknown = [k for k in params if k not in names]
+        if unknown:
+            raise TypeError(f"{cls.__name__} has no parameter {unknown[0]!r}; its parameters are {list(names)}")
+        missing = [n for n in names if n not in params]
+        if missing:
+            raise TypeError(f"{cls.__name__}() missing parameter(s): {', '.join(missing)}")
+        values = [float(params[n]) for n in names]
+        m = cls._native.with_values(values)
+        m.validate()
+        object.__setattr__(self, "_m", m)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(f"a design is immutable: use .replace({name}=…)")
+
+    # -- the definition ---------------------------------------------------
+
+    @classmethod
+    def definition(cls) -> str:
+        """The text the class was compiled from."""
+        return cls._native.text
+
+    @classmethod
+    def parameter_names(cls) -> Tuple[str, ...]:
+        """The parameters, in declaration order."""
+        return tuple(cls._native.parameters)
+
+    @classmethod
+    def coordinate_names(cls) -> Tuple[str, ...]:
+        """Every coordinate, drivers first."""
+        return tuple(c[0] for c in cls._native.coordinates)
+
+    @classmethod
+    def driver_names(cls) -> Tuple[str, ...]:
+        """The drivers."""
+        return cls.coordinate_names()[: cls._native.drivers]
+
+    @classmethod
+    def unknown_names(cls) -> Tuple[str, ...]:
+        """The unknowns."""
+        return cls.coordinate_names()[cls._native.drivers :]
+
+    @classmethod
+    def kinds(cls) -> Dict[str, str]:
+        """Each coordinate's kind: "angle" (radians) or "length"."""
+        return {c[0]: c[2] for c in cls._native.coordinates}
+
+    @classmethod
+    def point_names(cls) -> Tuple[str, ...]:
+        """The points of interest."""
+        return tuple(cls._native.points)
+
+    @classmethod
+    def frame_names(cls) -> Tuple[str, ...]:
+        """The body frames."""
+        return tuple(cls._native.frames)
+
+    @classmethod
+    def blocks(cls) -> List[Dict[str, Any]]:
+        """How the loop equations are solved, block by block in solve order:
+        ``{"unknowns": […], "method": "closed form: …" or "Newton–Raphson",
+        "modes": bool}``."""
+        return [{"unknowns": list(u), "method": m, "modes": k} for u, m, k in cls._native.blocks]
+
+    @classmethod
+    def sensitivity_parameters(cls) -> Tuple[str, ...]:
+        """The parameters of the definition's ``sensitivities`` section."""
+        return tuple(cls._native.sensitivity_parameters)
+
+    # -- the design -------------------------------------------------------
+
+    @property
+    def params(self) -> Dict[str, float]:
+        """The parameter values by name."""
+        return dict(zip(self._native.parameters, self._m.values))
+
+    def replace(self: M, **changes: float) -> M:
+        """A copy of the design with some parameters changed."""
+        p = self.params
+        p.update(changes)
+        return type(self)(**p)
+
+    def __reduce__(self) -> Tuple[Any, Tuple[str, Dict[str, float]]]:
+        return (_rebuild, (self._native.text, self.params))
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and other.params == self.params  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash((type(self).__name__, tuple(self._m.values)))
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
+        return f"{type(self).__name__}({inner})"
+
+    # -- poses ------------------------------------------------------------
+
+    def pose(self, pose: Optional[Mapping[str, float]] = None, **values: float) -> Pose:
+        """A pose from values by name: drivers and guesses of the unknowns
+        (a coordinate not given is 0, or its value in ``pose``).
+
+        Raises:
+            KeyError: for a name that is not a coordinate.
+        """
+        names = self.coordinate_names()
+        q = np.zeros(len(names))
+        if pose is not None:
+            for k, v in pose.items():
+                q[self._index(k)] = v
+        for k, v in values.items():
+            q[self._index(k)] = v
+        return Pose(names, q, getattr(pose, "modes", None))
+
+    def _index(self, name: str) -> int:
+        names = self.coordinate_names()
+        try:
+            return names.index(name)
+        except ValueError:
+            raise KeyError(f"{name!r} is not a coordinate of {type(self).__name__}: they are {list(names)}") from None
+
+    def residual(self, pose: Mapping[str, float]) -> np.ndarray:
+        """Φ(q), one value per loop equation (0 where the loops close)."""
+        return self._m.residual(list(self.pose(pose).array))
+
+    def assemble(
+        self,
+        pose: Optional[Mapping[str, float]] = None,
+        *,
+        modes: Optional[Sequence[str]] = None,
+        options: Optional[Options] = None,
+        **values: float,
+    ) -> Pose:
+        """Assembles the mechanism at the drivers given (by keyword, or in
+        ``pose``), from the guesses of the unknowns there.
+
+        With ``modes`` ("+" or "-" per block with two modes, see
+        :meth:`blocks`), the closed-form blocks are solved in those modes
+        with no guess; without, each closed-form block takes the mode
+        nearest the guess.
+
+        Raises:
+            CannotAssembleError: the links cannot close a loop there.
+            NotConvergedError: Newton–Raphson found no pose near the guess.
+            SingularError: the pose found is singular.
+            NonFiniteError, WrongLengthError: bad input.
+        """
+        q = self.pose(pose, **values)
+        if modes is not None:
+            out = self._m.assemble_in(list(q.array), list(modes))
+            return Pose(q._names, out, modes)
+        out = self._m.assemble(list(q.array), _opts(options))
+        return Pose(q._names, out)
+
+    def assemble_all(self, pose: Optional[Mapping[str, float]] = None, **values: float) -> List[Pose]:
+        """Every assembly at the drivers given, one per combination of
+        modes that closes (in the order of :meth:`assemblies`), each with
+        its ``modes``.
+
+        Raises:
+            CannotAssembleError (or the error of the first combination): when
+                no combination closes.
+        """
+        found = []
+        first_error: Optional[BaseException] = None
+        for modes, result in self.assemblies(pose, **values):
+            if isinstance(result, BaseException):
+                first_error = first_error or result
+            else:
+                found.append(result)
+        if not found:
+            raise first_error or CannotAssembleError("the mechanism does not assemble there")
+        return found
+
+    def assemblies(
+        self, pose: Optional[Mapping[str, float]] = None, **values: float
+    ) -> List[Tuple[Tuple[str, ...], Union[Pose, BaseException]]]:
+        """Every combination of modes with its pose, or the exception that
+        says why it does not close: combination i has block j in mode "-"
+        where bit j of i is set."""
+        q = self.pose(pose, **values)
+        out: List[Tuple[Tuple[str, ...], Union[Pose, BaseException]]] = []
+        for modes, result in self._m.assemble_all(list(q.array)):
+            if isinstance(result, BaseException):
+                out.append((tuple(modes), result))
+            else:
+                out.append((tuple(modes), Pose(q._names, result, modes)))
+        return out
+
+    # -- motion -----------------------------------------------------------
+
+    def _driver_values(
+        self, what: str, one: Optional[float], many: Optional[Mapping[str, float]], default: float
+    ) -> List[float]:
+        drivers = self.driver_names()
+        if one is not None and many is not None:
+            raise TypeError(f"give {what} or {what}s, not both")
+        if one is not None:
+            if len(drivers) != 1:
+                raise TypeError(
+                    f"{type(self).__name__} has {len(drivers)} drivers: give {what}s={{name: value}} for {list(drivers)}"
+                )
+            return [float(one)]
+        out = [default] * len(drivers)
+        for k, v in (many or {}).items():
+            if k not in drivers:
+                raise KeyError(f"{k!r} is not a driver of {type(self).__name__}: they are {list(drivers)}")
+            out[drivers.index(k)] = float(v)
+        return out
+
+    def analyze(
+        self,
+        pose: Mapping[str, float],
+        *,
+        rate: Optional[float] = None,
+        acceleration: Optional[float] = None,
+        rates: Optional[Mapping[str, float]] = None,
+        accelerations: Optional[Mapping[str, float]] = None,
+        options: Optional[Options] = None,
+    ) -> Motion:
+        """The motion at the closed pose ``pose`` (from :meth:`assemble`):
+        the unknowns' rates q' from Φ_u u' = −Φ_d d' and accelerations q''
+        from Φ_u u'' = −Φ_d d'' − (Φ_q q')_q q', every point's and frame's
+        position, velocity and acceleration, with exact derivatives.
+
+        ``rate``/``acceleration`` for a mechanism with one driver, or
+        ``rates``/``accelerations`` by driver name (a driver not given is at
+        rest).
+
+        Raises:
+            SingularError: at a singular pose.
+            NonFiniteError, WrongLengthError: bad input.
+        """
+        q = self.pose(pose)
+        d = self._m.analyze(
+            list(q.array),
+            self._driver_values("rate", rate, rates, 0.0),
+            self._driver_values("acceleration", acceleration, accelerations, 0.0),
+            _opts(options),
+        )
+        return Motion(type(self), d)
+
+    def step(
+        self,
+        pose: Mapping[str, float],
+        *,
+        rate: Optional[float] = None,
+        acceleration: Optional[float] = None,
+        rates: Optional[Mapping[str, float]] = None,
+        accelerations: Optional[Mapping[str, float]] = None,
+    ) -> Motion:
+        """Assembles at the drivers of ``pose`` from its unknowns (as
+        :meth:`assemble`) and analyses the motion there (as :meth:`analyze`)
+        in one call."""
+        q = self.pose(pose)
+        d = self._m.step(
+            list(q.array),
+            self._driver_values("rate", rate, rates, 0.0),
+            self._driver_values("acceleration", acceleration, accelerations, 0.0),
+        )
+        return Motion(type(self), d)
+
+    def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
+        """Design sensitivities of a motion of this design: for each
+        parameter p of the definition's ``sensitivities`` section, ∂u/∂p
+        from Φ_u ∂u/∂p = −Φ_p, and likewise the rates', accelerations' and
+        points' derivatives, all exact. Empty without the section."""
+        nd = self._native.drivers
+        d = self._m.sensitivities(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
+        return {p: Sensitivity(type(self), p, v) for p, v in d.items()}
+
+    def sweep(
+        self,
+        driver: str,
+        *,
+        start: Mapping[str, float],
+        from_: Optional[float] = None,
+        to: Optional[float] = None,
+        turn: bool = False,
+        turns: Optional[float] = None,
+        steps: int = 360,
+        rate: float = 1.0,
+        rpm: Optional[float] = None,
+        acceleration: float = 0.0,
+        change_points: str = "stop",
+        options: Optional[Options] = None,
+    ) -> "Sweep":
+        """Sweeps the driver ``driver`` from the pose ``start`` (the other
+        drivers stay at their values there, at rest), assembling and
+        analysing every sample; runs in native code with the interpreter
+        released.
+
+        The range: ``from_`` (default: the start's value) to ``to``
+        (included, ``steps + 1`` samples), or ``turn=True`` / ``turns=n``
+        (whole turns, the end left out, ``steps`` samples); an angle driver
+        makes one turn by default. ``rate`` (or ``rpm`` for an angle) and
+        ``acceleration`` are the driver's rate and acceleration.
+
+        The sweep stops early, with :attr:`Sweep.stop` saying why, at a
+        limit position, a singular pose or a change point (two branches
+        meeting); ``change_points="smooth"`` or ``"switch"`` passes a change
+        point on the branch where the motion is smooth, or on the other.
+
+        Raises:
+            KeyError: ``driver`` is not a driver.
+            ValueError: bad range or options.
+        """
+        if driver not in self.driver_names():
+            raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
+        if rpm is not None:
+            rate = rpm * 2.0 * math.pi / 60.0
+        if turn and turns is None:
+            turns = 1.0
+        if to is not None and turns is not None:
+            raise TypeError("give either to= or turn/turns=, not both")
+        q = self.pose(start)
+        native = self._m.sweep(
+            driver,
+            list(q.array),
+            (from_, to, turns, int(steps), float(rate), float(acceleration), change_points),
+            _opts(options),
+        )
+        from ._sweep import Sweep
+
+        return Sweep(type(self), self, native)
+
+    def batch(
+        self,
+        params: Mapping[str, ArrayLike],
+        *,
+        start: Mapping[str, float],
+        sweep: Optional[Mapping[str, Any]] = None,
+        rate: Optional[float] = None,
+        acceleration: Optional[float] = None,
+        rates: Optional[Mapping[str, float]] = None,
+        accelerations: Optional[Mapping[str, float]] = None,
+        outputs: Optional[Iterable[str]] = None,
+        options: Optional[Options] = None,
+    ) -> "Batch":
+        """Runs many designs on every core, in native code with the
+        interpreter released.
+
+        ``params`` maps parameter names to arrays of one value per design
+        (a parameter not given keeps this design's value). Each design is
+        assembled at ``start`` and analysed (one sample), or swept when
+        ``sweep`` is given: ``dict(driver="phi", turn=True, steps=360)``
+        with the keys of :meth:`sweep` (``from_``, ``to``, ``turn``,
+        ``turns``, ``steps``, ``rpm``, ``change_points``), the rate and
+        acceleration of the driver from ``rate``/``rpm``, ``acceleration``.
+
+        ``outputs`` names what to keep: a coordinate ("th3"), its rate
+        ("th3.rate") or acceleration ("th3.acceleration"), a point's
+        position ("P"), velocity ("P.velocity") or acceleration
+        ("P.acceleration"), or "conditioning". By default every
+        coordinate and every point's position.
+
+        Returns a :class:`Batch` whose arrays have a row per design (and a
+        column per sample of a sweep); a design that stops early has NaN
+        past its last sample, and says why in :attr:`Batch.stops`.
+        """
+        from ._sweep import Batch, _outputs
+
+        names = self.parameter_names()
+        arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in params.items()}
+        for k in arrays:
+            if k not in names:
+                raise KeyError(f"{k!r} is not a parameter of {type(self).__name__}: they are {list(names)}")
+        sizes = {a.size for a in arrays.values()}
+        if len(sizes) > 1:
+            raise ValueError(f"every parameter array must have one value per design; the sizes are {sorted(sizes)}")
+        n = sizes.pop() if sizes else 1
+        table = np.empty((n, len(names)))
+        base = self._m.values
+        for i, name in enumerate(names):
+            table[:, i] = arrays[name] if name in arrays else base[i]
+        spec = None
+        kept = _outputs(type(self), outputs)
+        rate_values = self._driver_values("rate", rate, rates, 0.0)
+        if sweep is not None:
+            s = dict(sweep)
+            driver = s.pop("driver")
+            if driver not in self.driver_names():
+                raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}")
+            j = self.driver_names().index(driver)
+            rpm = s.pop("rpm", None)
+            if rpm is not None:
+                rate_values[j] = rpm * 2.0 * math.pi / 60.0
+            elif "rate" in s:
+                rate_values[j] = float(s.pop("rate"))
+            if "acceleration" in s and accelerations is None and acceleration is None:
+                accelerations = {driver: float(s.pop("acceleration"))}
+            turns = s.pop("turns", None)
+            if s.pop("turn", False) and turns is None:
+                turns = 1.0
+            spec = (
+                driver,
+                s.pop("from_", None),
+                s.pop("to", None),
+                turns,
+                int(s.pop("steps", 360)),
+                s.pop("change_points", "stop"),
+            )
+            if s:
+                raise TypeError(f"unknown sweep key(s): {sorted(s)}")
+        q = self.pose(start)
+        d = self._m.batch(
+            np.ascontiguousarray(table),
+            list(q.array),
+            rate_values,
+            self._driver_values("acceleration", acceleration, accelerations, 0.0),
+            spec,
+            [k for _, k in kept],
+            _opts(options),
+        )
+        return Batch(table, names, [name for name, _ in kept], d)

@@ -1,0 +1,287 @@
+"""Sweeps and batches: their columns as numpy arrays."""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._model import FrameMotion, Values, _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas
+
+    from ._model import Mechanism, MechanismType
+
+__all__ = ["Sweep", "Stop", "PointColumns", "Deviations", "Batch"]
+
+
+class Stop:
+    """Why a sweep stopped before its end.
+
+    Attributes:
+        kind: "limit_position" (past ``at`` the block of ``unknowns`` has no
+            real solution), "change_point" (two branches meet between
+            ``from_`` and ``to``), "singular", "not_assembled" or "invalid".
+        at: the driver's value where it stopped.
+        message: the library's explanation.
+        unknowns: the block's unknowns, for a limit position.
+        from_, to: the last sample before a change point and the first
+            value past it.
+    """
+
+    __slots__ = ("kind", "at", "message", "unknowns", "from_", "to")
+
+    def __init__(self, d: Mapping[str, Any]) -> None:
+        self.kind: str = d["kind"]
+        self.at: float = float(d["at"])
+        self.message: str = d["message"]
+        self.unknowns: Optional[str] = d.get("unknowns")
+        self.from_: Optional[float] = d.get("from")
+        self.to: Optional[float] = d.get("to")
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __repr__(self) -> str:
+        return f"Stop(kind={self.kind!r}, at={self.at!r})"
+
+
+class PointColumns:
+    """A point over a sweep: position, velocity and acceleration as arrays
+    of shape (samples, dim)."""
+
+    __slots__ = ("position", "velocity", "acceleration")
+
+    def __init__(self, values: np.ndarray) -> None:
+        self.position = _readonly(values[:, 0, :].copy())
+        self.velocity = _readonly(values[:, 1, :].copy())
+        self.acceleration = _readonly(values[:, 2, :].copy())
+
+    @property
+    def speed(self) -> np.ndarray:
+        """|v| per sample."""
+        return np.linalg.norm(self.velocity, axis=1)
+
+    @property
+    def acceleration_magnitude(self) -> np.ndarray:
+        """|a| per sample."""
+        return np.linalg.norm(self.acceleration, axis=1)
+
+
+class Deviations:
+    """First-order deviations of a point over a sweep for parameter
+    tolerances ±t_k: worst case Σ_k |∂r_c/∂p_k| t_k and root-sum-square
+    √(Σ_k (∂r_c/∂p_k t_k)²) per component, and the worst case of the
+    distance from the nominal position (and the same for the velocity).
+    Arrays of shape (samples,) or (samples, dim)."""
+
+    __slots__ = (
+        "at",
+        "position_worst",
+        "position_components",
+        "position_rss",
+        "velocity_worst",
+        "velocity_components",
+        "velocity_rss",
+    )
+
+    def __init__(self, d: Mapping[str, np.ndarray]) -> None:
+        for k in self.__slots__:
+            object.__setattr__(self, k, _readonly(np.asarray(d[k])))
+
+
+class _Columns(Mapping[str, np.ndarray]):
+    """Columns by coordinate name (values, rates or accelerations)."""
+
+    def __init__(self, names: Sequence[str], table: np.ndarray) -> None:
+        self._names = tuple(names)
+        self._table = table
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self._table[:, self._names.index(name)]
+        except ValueError:
+            raise KeyError(f"{name!r} is not a coordinate: they are {list(self._names)}") from None
+
+    def __iter__(self):  # type: ignore[no-untyped-def]
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+
+class Sweep:
+    """The samples of a sweep, as numpy columns.
+
+    ``sw["th3"]`` is a coordinate's values (``sw.qd["th3"]``,
+    ``sw.qdd["th3"]`` its rates and accelerations); ``sw.at`` the swept
+    driver's values; ``sw.point("P")`` a point's position, velocity and
+    acceleration; ``sw.stop`` ``None`` or the :class:`Stop` that ended it
+    early; ``sw.to_pandas()`` a DataFrame with units in the column names.
+    """
+
+    def __init__(self, cls: "MechanismType", design: "Mechanism", native: "_native.Sweep") -> None:
+        self._cls = cls
+        self.design = design
+        self._native = native
+        c = native.columns()
+        names = [x[0] for x in cls._native.coordinates]
+        self.variable: str = native.variable
+        self.at: np.ndarray = _readonly(c["at"])
+        self.q = _Columns(names, _readonly(c["q"]))
+        self.qd = _Columns(names, _readonly(c["qd"]))
+        self.qdd = _Columns(names, _readonly(c["qdd"]))
+        self._points = c["points"]
+        self._frames = c["frames"]
+        self.conditioning: np.ndarray = _readonly(c["conditioning"])
+        self.det_sign: np.ndarray = _readonly(c["det_sign"])
+        self.residual: np.ndarray = _readonly(c["residual"])
+        s = native.stop()
+        self.stop: Optional[Stop] = None if s is None else Stop(s)
+        self.change_points: List[float] = list(native.change_points)
+
+    def __len__(self) -> int:
+        return len(self.at)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.q[name]
+
+    def point(self, name: str) -> PointColumns:
+        """The point ``name`` over the sweep."""
+        names = self._cls._native.points
+        if name not in names:
+            raise KeyError(f"{name!r} is not a point: they are {list(names)}")
+        return PointColumns(self._points[:, names.index(name)])
+
+    def frame(self, name: str) -> FrameMotion:
+        """The frame ``name`` over the sweep (each attribute with a leading
+        axis of samples)."""
+        names = self._cls._native.frames
+        if name not in names:
+            raise KeyError(f"{name!r} is not a frame: they are {list(names)}")
+        return FrameMotion(self._frames[:, names.index(name)])
+
+    def pose(self, i: int) -> "Values":
+        """The pose of sample ``i``."""
+        from ._model import Pose
+
+        return Pose(self.q._names, np.asarray(self.q._table[i]))
+
+    def to_csv(self, path: Optional[Union[str, "os.PathLike[str]"]] = None, unit: str = "m") -> str:
+        """The samples as CSV (a header with units, lengths in ``unit``; 13
+        significant digits), written to ``path`` when given."""
+        text = self._native.to_csv(unit)
+        if path is not None:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+        return text
+
+    def to_text(self, every: int = 1) -> str:
+        """An aligned text table of every ``every``-th sample."""
+        return self._native.to_text(int(every))
+
+    def to_pandas(self, unit: str = "m") -> "pandas.DataFrame":
+        """The samples as a pandas DataFrame, the CSV's columns (units in
+        their names). Needs pandas (``pip install loopkin[pandas]``)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover
+            raise ImportError("to_pandas needs pandas: pip install pandas") from e
+        headers, rows = self._native.table(unit)
+        return pd.DataFrame(np.asarray(rows), columns=headers)
+
+    def write_animation(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        links: Iterable[Tuple[str, str]] = (),
+        projection: str = "xy",
+    ) -> None:
+        """Writes a self-contained HTML animation of the sweep (no network
+        needed): the points, ground pivots and sliders, and the links
+        ``links`` (pairs of point names) drawn between them."""
+        self._native.write_animation(os.fspath(path), [tuple(x) for x in links], projection)
+
+    def deviations(self, point: str, tolerances: Mapping[str, float]) -> Deviations:
+        """The first-order deviations of ``point`` over the sweep for the
+        parameter tolerances ``{name: ±t}`` (parameters of the
+        ``sensitivities`` section; one not given is exact)."""
+        return Deviations(self._native.deviations(point, [(k, float(v)) for k, v in tolerances.items()]))
+
+    def __repr__(self) -> str:
+        end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"
+        return f"<Sweep of {self.variable}: {len(self)} samples{end}>"
+
+
+def _outputs(cls: "MechanismType", outputs: Optional[Iterable[str]]) -> List[Tuple[str, Tuple[str, int]]]:
+    """The batch outputs asked for, as (name, (kind, index))."""
+    coords = [c[0] for c in cls._native.coordinates]
+    points = list(cls._native.points)
+    if outputs is None:
+        outputs = coords + points
+    kept = []
+    for name in outputs:
+        base, _, what = name.partition(".")
+        if name == "conditioning":
+            kept.append((name, ("conditioning", 0)))
+        elif base in coords and what in ("", "rate", "acceleration"):
+            kind = {"": "q", "rate": "qd", "acceleration": "qdd"}[what]
+            kept.append((name, (kind, coords.index(base))))
+        elif base in points and what in ("", "position", "velocity", "acceleration"):
+            kept.append((name, (what or "position", points.index(base))))
+        else:
+            raise KeyError(
+                f"{name!r} is not an output: give a coordinate {coords} (with .rate or .acceleration), "
+                f"a point {points} (with .velocity or .acceleration) or 'conditioning'"
+            )
+    return kept
+
+
+class Batch(Mapping[str, np.ndarray]):
+    """The results of :meth:`Mechanism.batch`: ``batch["P"]`` is an output
+    with a row per design; ``params`` the designs' parameters (a row each,
+    columns in :attr:`parameter_names`); ``samples`` how many samples each
+    design has; ``stops`` why a design ended early (``None`` if it did not);
+    ``ok`` the designs that ran to their end."""
+
+    def __init__(self, table: np.ndarray, names: Sequence[str], outputs: Sequence[str], d: Mapping[str, Any]) -> None:
+        self.params = _readonly(table)
+        self.parameter_names = tuple(names)
+        self._outputs = {k: _readonly(v) for k, v in zip(outputs, d["outputs"])}
+        self.samples = _readonly(np.asarray(d["samples"]).astype(int))
+        self.stops: List[Optional[str]] = list(d["stops"])
+        self.ok = _readonly(np.array([s is None for s in self.stops], dtype=bool))
+
+    @classmethod
+    def concatenate(cls, batches: Sequence["Batch"]) -> "Batch":
+        """The batches' designs one after the other, as one batch (they
+        must have the same outputs)."""
+        if not batches:
+            raise ValueError("no batch to concatenate")
+        first = batches[0]
+        names = list(first._outputs)
+        for b in batches:
+            if list(b._outputs) != names or b.parameter_names != first.parameter_names:
+                raise ValueError("the batches have different outputs or parameters")
+        out = cls.__new__(cls)
+        out.params = _readonly(np.concatenate([b.params for b in batches]))
+        out.parameter_names = first.parameter_names
+        out._outputs = {k: _readonly(np.concatenate([b._outputs[k] for b in batches])) for k in names}
+        out.samples = _readonly(np.concatenate([b.samples for b in batches]))
+        out.stops = [s for b in batches for s in b.stops]
+        out.ok = _readonly(np.concatenate([b.ok for b in batches]))
+        return out
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self._outputs[name]
+
+    def __iter__(self):  # type: ignore[no-untyped-def]
+        return iter(self._outputs)
+
+    def __len__(self) -> int:
+        return len(self._outputs)
+
+    def __repr__(self) -> str:
+        return f"<Batch of {len(self.samples)} designs, {int(self.ok.sum())} complete; outputs {list(self._outputs)}>"

@@ -1,0 +1,795 @@
+//! The native module of the `loopkin` Python package (`loopkin._native`):
+//! a mechanism compiled from text at run time ([`runtime::Model`]), its
+//! assembly, analysis, sweeps, sensitivities and batches, with arrays
+//! passed as numpy arrays.
+//!
+//! This module is the thin layer under the Python API of `loopkin`
+//! (`python/loopkin/`), which names things, checks keyword arguments and
+//! builds the result objects. Everything numerical happens in
+//! `kinematics-core`; sweeps and batches run with the interpreter released,
+//! batches on every core.
+
+use kinematics_core::closed::Mode;
+use kinematics_core::runtime::{CompileError, Model as Runtime, Motion, Sweep as RuntimeSweep};
+use kinematics_core::sweep::{ChangePoints, StopReason, Table};
+use kinematics_core::view::Projection;
+use kinematics_core::{Branch, Convergence, Error, Options};
+use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+
+mod batch;
+mod convert;
+
+use convert::{array, motion_dict, shaped};
+
+/// The exception for `e`: the class of `loopkin.errors` named after its
+/// kind, with the library's message, and the name and value at fault as
+/// attributes where the error has them.
+fn error(py: Python<'_>, e: &Error) -> PyErr {
+    let (class, name, value): (&str, Option<&str>, Option<f64>) = match e {
+        Error::NotConverged { .. } => ("NotConvergedError", None, None),
+        Error::Singular { .. } => ("SingularError", None, None),
+        Error::NonFinite { name, value, .. } => ("NonFiniteError", Some(name), Some(*value)),
+        Error::InvalidGeometry { .. } => ("InvalidGeometryError", None, None),
+        Error::WrongBranch { .. } => ("WrongBranchError", None, None),
+        Error::CannotAssemble { .. } => ("CannotAssembleError", None, None),
+        Error::Output { .. } => ("OutputError", None, None),
+        Error::InvalidParameter { name, value, .. } => {
+            ("InvalidParameterError", Some(name), Some(*value))
+        }
+        Error::InvalidOption { .. } => ("InvalidOptionError", None, None),
+        Error::WrongLength { .. } => ("WrongLengthError", None, None),
+        _ => ("KinematicsError", None, None),
+    };
+    raise(py, class, &e.to_string(), |inst| {
+        if let Some(name) = name {
+            inst.setattr("name", name)?;
+        }
+        if let Some(value) = value {
+            inst.setattr("value", value)?;
+        }
+        Ok(())
+    })
+}
+
+/// An instance of the exception class `class` of `loopkin.errors` with the
+/// message `message`, its attributes set by `attributes`.
+fn raise(
+    py: Python<'_>,
+    class: &str,
+    message: &str,
+    attributes: impl FnOnce(&Bound<'_, PyAny>) -> PyResult<()>,
+) -> PyErr {
+    let made = (|| -> PyResult<PyErr> {
+        let cls = py.import("loopkin.errors")?.getattr(class)?;
+        let inst = cls.call1((message,))?;
+        attributes(&inst)?;
+        Ok(PyErr::from_value(inst))
+    })();
+    made.unwrap_or_else(|e| e)
+}
+
+/// The options of a call, from the tuple the Python layer passes:
+/// (tolerance, max_iterations, singularity_threshold, branch, absolute),
+/// branch one of "any", "positive", "negative".
+type OptionsTuple = (f64, usize, f64, String, bool);
+
+fn options(py: Python<'_>, o: &OptionsTuple) -> PyResult<Options> {
+    let branch = match o.3.as_str() {
+        "any" => Branch::Any,
+        "positive" => Branch::Positive,
+        "negative" => Branch::Negative,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "branch must be \"any\", \"positive\" or \"negative\", not {other:?}"
+            )))
+        }
+    };
+    let opts = Options {
+        tolerance: o.0,
+        max_iterations: o.1,
+        singularity_threshold: o.2,
+        branch,
+        convergence: if o.4 {
+            Convergence::Absolute
+        } else {
+            Convergence::Relative
+        },
+    };
+    opts.validate().map_err(|e| error(py, &e))?;
+    Ok(opts)
+}
+
+/// The default options as the tuple [`options`] reads.
+#[pyfunction]
+fn default_options() -> OptionsTuple {
+    let o = Options::DEFAULT;
+    (
+        o.tolerance,
+        o.max_iterations,
+        o.singularity_threshold,
+        "any".to_owned(),
+        false,
+    )
+}
+
+/// What `__reduce__` gives pickle: the function that rebuilds a model,
+/// and its arguments (the text and the parameter values).
+type Reduced<'py> = (Bound<'py, PyAny>, (String, Vec<f64>));
+
+fn modes_text(modes: &[Mode]) -> Vec<&'static str> {
+    modes
+        .iter()
+        .map(|m| match m {
+            Mode::Plus => "+",
+            Mode::Minus => "-",
+        })
+        .collect()
+}
+
+/// A mechanism compiled from the text of its definition, with its
+/// parameter values (NaN until set). Immutable: `with_values` makes a
+/// design that shares the machine code.
+#[pyclass(frozen, module = "loopkin._native")]
+struct Model {
+    model: Runtime,
+    text: String,
+}
+
+/// Compiles the definition `text` (as written inside `mechanism! { … }`),
+/// raising `loopkin.errors.DefinitionError` with every error, its line and
+/// column.
+#[pyfunction]
+fn compile(py: Python<'_>, text: &str) -> PyResult<Model> {
+    let owned = text.to_owned();
+    let compiled = py.detach(move || Runtime::compile(&owned));
+    match compiled {
+        Ok(model) => Ok(Model {
+            model,
+            text: text.to_owned(),
+        }),
+        Err(CompileError::Definition(d)) => {
+            let message = d.to_string();
+            let list: Vec<(String, usize, usize, String)> =
+                d.0.iter()
+                    .map(|x| (x.message.clone(), x.line, x.column, x.excerpt.clone()))
+                    .collect();
+            Err(raise(py, "DefinitionError", &message, |inst| {
+                let first = list.first().cloned();
+                inst.setattr("diagnostics", list)?;
+                if let Some((msg, line, column, excerpt)) = first {
+                    inst.setattr("line", line)?;
+                    inst.setattr("column", column)?;
+                    inst.setattr("excerpt", excerpt)?;
+                    inst.setattr("first", msg)?;
+                }
+                Ok(())
+            }))
+        }
+        Err(CompileError::Native(e)) => {
+            Err(raise(py, "NativeCodeError", &e.to_string(), |_| Ok(())))
+        }
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// The definition's text.
+    #[getter]
+    fn text(&self) -> &str {
+        &self.text
+    }
+    /// The mechanism's name.
+    #[getter]
+    fn name(&self) -> &str {
+        self.model.name()
+    }
+    /// The parameters' names, in declaration order.
+    #[getter]
+    fn parameters(&self) -> Vec<&'static str> {
+        self.model.parameters().to_vec()
+    }
+    /// The parameters' values, in declaration order.
+    #[getter]
+    fn values(&self) -> Vec<f64> {
+        self.model.values().to_vec()
+    }
+    /// (name, "driver" or "unknown", "angle" or "length") per coordinate,
+    /// drivers first.
+    #[getter]
+    fn coordinates(&self) -> Vec<(&'static str, &'static str, &'static str)> {
+        let nd = self.model.drivers();
+        self.model
+            .coordinates()
+            .iter()
+            .enumerate()
+            .map(|(j, c)| {
+                let role = if j < nd { "driver" } else { "unknown" };
+                let kind = match c.kind {
+                    kinematics_core::Kind::Angle => "angle",
+                    kinematics_core::Kind::Length => "length",
+                };
+                (c.name, role, kind)
+            })
+            .collect()
+    }
+    /// The number of drivers.
+    #[getter]
+    fn drivers(&self) -> usize {
+        self.model.drivers()
+    }
+    /// The points' names.
+    #[getter]
+    fn points(&self) -> Vec<&'static str> {
+        self.model.point_names().to_vec()
+    }
+    /// The frames' names.
+    #[getter]
+    fn frames(&self) -> Vec<&'static str> {
+        self.model.frame_names().to_vec()
+    }
+    /// 2 (planar) or 3 (spatial).
+    #[getter]
+    fn point_dim(&self) -> usize {
+        self.dim()
+    }
+    /// The equations' names.
+    #[getter]
+    fn equations(&self) -> Vec<&'static str> {
+        self.model.equation_names().to_vec()
+    }
+    /// (unknowns, method, has two modes) per block, in solve order.
+    #[getter]
+    fn blocks(&self) -> Vec<(Vec<&'static str>, &'static str, bool)> {
+        self.model
+            .blocks()
+            .iter()
+            .map(|b| (b.unknowns.to_vec(), b.method, b.modes))
+            .collect()
+    }
+    /// The number of blocks with two assembly modes.
+    #[getter]
+    fn mode_count(&self) -> usize {
+        self.model.mode_count()
+    }
+    /// The parameters of the `sensitivities` section.
+    #[getter]
+    fn sensitivity_parameters(&self) -> Vec<&'static str> {
+        self.model.sensitivity_parameters().to_vec()
+    }
+
+    /// A design of the same definition with the parameter values `values`
+    /// (in declaration order), sharing the machine code.
+    fn with_values(&self, py: Python<'_>, values: Vec<f64>) -> PyResult<Model> {
+        let model = self.model.with_values(&values).map_err(|e| error(py, &e))?;
+        Ok(Model {
+            model,
+            text: self.text.clone(),
+        })
+    }
+
+    /// Checks the parameter values (finite; lengths positive).
+    fn validate(&self, py: Python<'_>) -> PyResult<()> {
+        self.model.validate().map_err(|e| error(py, &e))
+    }
+
+    /// Φ(q).
+    fn residual<'py>(&self, py: Python<'py>, q: Vec<f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let r = self.model.residual(&q).map_err(|e| error(py, &e))?;
+        Ok(array(py, r))
+    }
+
+    /// Assembles at the drivers of `q` from its unknowns.
+    fn assemble<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        opts: OptionsTuple,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let o = options(py, &opts)?;
+        let q = self
+            .model
+            .assemble_with(&q, &o)
+            .map_err(|e| error(py, &e))?;
+        Ok(array(py, q))
+    }
+
+    /// Assembles at the drivers of `q` in the modes `modes` ("+" or "-" per
+    /// block with two modes).
+    fn assemble_in<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        modes: Vec<String>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let modes = modes
+            .iter()
+            .map(|m| match m.as_str() {
+                "+" => Ok(Mode::Plus),
+                "-" => Ok(Mode::Minus),
+                other => Err(PyValueError::new_err(format!(
+                    "a mode is \"+\" or \"-\", not {other:?}"
+                ))),
+            })
+            .collect::<PyResult<Vec<Mode>>>()?;
+        let q = self
+            .model
+            .assemble_in(&q, &modes)
+            .map_err(|e| error(py, &e))?;
+        Ok(array(py, q))
+    }
+
+    /// Every combination of modes at the drivers of `q`: (modes, pose or
+    /// the exception saying why it does not assemble).
+    fn assemble_all<'py>(&self, py: Python<'py>, q: Vec<f64>) -> PyResult<Bound<'py, PyList>> {
+        self.model.validate().map_err(|e| error(py, &e))?;
+        let out = PyList::empty(py);
+        for (modes, pose) in self.model.assemble_all(&q) {
+            let value: Bound<'py, PyAny> = match pose {
+                Ok(p) => array(py, p).into_any(),
+                Err(e) => error(py, &e).into_value(py).into_bound(py).into_any(),
+            };
+            out.append((modes_text(&modes), value))?;
+        }
+        Ok(out)
+    }
+
+    /// The motion at the closed pose `q` with the drivers' rates and
+    /// accelerations, as a dict of arrays.
+    fn analyze<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+        opts: OptionsTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(py, &opts)?;
+        let m = self
+            .model
+            .analyze_with(&q, &rates, &accelerations, &o)
+            .map_err(|e| error(py, &e))?;
+        motion_dict(py, &m, self.dim())
+    }
+
+    /// Assembles at the drivers of `start` and analyses the motion there.
+    fn step<'py>(
+        &self,
+        py: Python<'py>,
+        start: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let m = self
+            .model
+            .step(&start, &rates, &accelerations)
+            .map_err(|e| error(py, &e))?;
+        motion_dict(py, &m, self.dim())
+    }
+
+    /// The design sensitivities at the closed pose `q` with the drivers'
+    /// rates and accelerations: a dict from each parameter of the
+    /// `sensitivities` section to a dict of ∂q/∂p, ∂q'/∂p, ∂q''/∂p and the
+    /// points' derivatives.
+    fn sensitivities<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let m = self
+            .model
+            .analyze(&q, &rates, &accelerations)
+            .map_err(|e| error(py, &e))?;
+        let all = self.model.sensitivities(&m).map_err(|e| error(py, &e))?;
+        let out = PyDict::new(py);
+        let dim = self.dim();
+        for s in all {
+            let d = PyDict::new(py);
+            d.set_item("q", array(py, s.q))?;
+            d.set_item("qd", array(py, s.qd))?;
+            d.set_item("qdd", array(py, s.qdd))?;
+            let flat: Vec<f64> = s
+                .points
+                .iter()
+                .flat_map(|p| {
+                    p.position
+                        .iter()
+                        .chain(&p.velocity)
+                        .chain(&p.acceleration)
+                        .copied()
+                })
+                .collect();
+            d.set_item("points", shaped(py, flat, vec![s.points.len(), 3, dim])?)?;
+            out.set_item(s.parameter, d)?;
+        }
+        Ok(out)
+    }
+
+    /// A sweep of the driver `driver` from the pose `start`; `spec` is
+    /// (from or None, to or None, turns or None, steps, rate,
+    /// acceleration, change points "stop" | "smooth" | "switch").
+    #[allow(clippy::type_complexity)]
+    fn sweep(
+        &self,
+        py: Python<'_>,
+        driver: &str,
+        start: Vec<f64>,
+        spec: (
+            Option<f64>,
+            Option<f64>,
+            Option<f64>,
+            usize,
+            f64,
+            f64,
+            String,
+        ),
+        opts: OptionsTuple,
+    ) -> PyResult<Sweep> {
+        let o = options(py, &opts)?;
+        let change = change_points(&spec.6)?;
+        let builder = self
+            .model
+            .sweep(driver, &start)
+            .map_err(|e| error(py, &e))?;
+        let builder = builder
+            .steps(spec.3)
+            .rate(spec.4)
+            .acceleration(spec.5)
+            .options(&o)
+            .change_points(change);
+        let builder = match spec.0 {
+            Some(f) => builder.from(f),
+            None => builder,
+        };
+        let builder = match (spec.1, spec.2) {
+            (Some(t), _) => builder.to(t),
+            (None, Some(n)) => builder.turns(n),
+            (None, None) => builder,
+        };
+        let sweep = py.detach(move || builder.run());
+        Ok(Sweep {
+            sweep,
+            model: self.model.clone(),
+        })
+    }
+
+    /// Runs a batch of designs (one row of `values` per design, a value
+    /// per parameter) on every core; see `batch::run`. The arguments are
+    /// those of `Mechanism.batch` in the Python layer, one for one.
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    fn batch<'py>(
+        &self,
+        py: Python<'py>,
+        values: PyReadonlyArray2<'py, f64>,
+        start: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+        sweep: Option<(String, Option<f64>, Option<f64>, Option<f64>, usize, String)>,
+        outputs: Vec<(String, usize)>,
+        opts: OptionsTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(py, &opts)?;
+        let shape = values.shape();
+        let (designs, width) = (shape[0], shape[1]);
+        if width != self.model.parameters().len() {
+            return Err(error(
+                py,
+                &Error::WrongLength {
+                    what: "parameter values per design",
+                    expected: self.model.parameters().len(),
+                    found: width,
+                },
+            ));
+        }
+        let table: Vec<f64> = values.as_array().iter().copied().collect();
+        let spec = match sweep {
+            Some((driver, from, to, turns, steps, change)) => {
+                let j = self
+                    .model
+                    .coordinates()
+                    .iter()
+                    .position(|c| c.name == driver)
+                    .filter(|&j| j < self.model.drivers())
+                    .ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "{driver:?} is not a driver of {}: the drivers are {:?}",
+                            self.model.name(),
+                            &self.model.coordinates()[..self.model.drivers()]
+                                .iter()
+                                .map(|c| c.name)
+                                .collect::<Vec<_>>()
+                        ))
+                    })?;
+                Some(batch::SweepSpec {
+                    driver: self.model.coordinates()[j].name,
+                    from,
+                    to,
+                    turns,
+                    steps,
+                    change: change_points(&change)?,
+                })
+            }
+            None => None,
+        };
+        let job = batch::Job {
+            model: &self.model,
+            start: &start,
+            rates: &rates,
+            accelerations: &accelerations,
+            sweep: spec,
+            outputs: &outputs,
+            options: o,
+            dim: self.dim(),
+        };
+        let out = py.detach(|| {
+            (0..designs)
+                .into_par_iter()
+                .map(|d| job.run(&table[d * width..(d + 1) * width]))
+                .collect::<Vec<_>>()
+        });
+        batch::gather(py, &job, out)
+    }
+
+    /// Pickles as the definition's text and the parameter values: a
+    /// worker process compiles the text again (once per process).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
+        let rebuild = py.import("loopkin._model")?.getattr("_native_model")?;
+        Ok((rebuild, (self.text.clone(), self.model.values().to_vec())))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<compiled mechanism {}>", self.model.name())
+    }
+}
+
+impl Model {
+    fn dim(&self) -> usize {
+        // The model knows its point dimension; an empty sweep's layout
+        // gives it without a pose.
+        self.model.point_dimension()
+    }
+}
+
+fn change_points(s: &str) -> PyResult<ChangePoints> {
+    match s {
+        "stop" => Ok(ChangePoints::Stop),
+        "smooth" => Ok(ChangePoints::Smooth),
+        "switch" => Ok(ChangePoints::Switch),
+        other => Err(PyValueError::new_err(format!(
+            "change_points must be \"stop\", \"smooth\" or \"switch\", not {other:?}"
+        ))),
+    }
+}
+
+/// The samples of a sweep of a run-time model, and how it ended.
+#[pyclass(frozen, module = "loopkin._native")]
+struct Sweep {
+    sweep: RuntimeSweep,
+    model: Runtime,
+}
+
+#[pymethods]
+impl Sweep {
+    /// The swept driver's name.
+    #[getter]
+    fn variable(&self) -> &'static str {
+        self.sweep.variable
+    }
+    /// The number of samples.
+    fn __len__(&self) -> usize {
+        self.sweep.samples.len()
+    }
+    /// Every column as arrays: "at" (n), "q", "qd", "qdd" (n × coordinates),
+    /// "points" (n × points × 3 × dim: position, velocity, acceleration),
+    /// "frames" (n × frames × 24: rotation by rows, origin, velocity,
+    /// acceleration, ω, α), "conditioning", "det_sign", "residual" (n).
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.sweep;
+        let n = s.samples.len();
+        let nc = self.model.coordinates().len();
+        let np = self.model.point_names().len();
+        let nf = self.model.frame_names().len();
+        let dim = self.model.point_dimension();
+        let d = PyDict::new(py);
+        let motions = || s.samples.iter().map(|x| &x.motion);
+        d.set_item("at", array(py, s.samples.iter().map(|x| x.at).collect()))?;
+        for (key, pick) in [
+            ("q", (|m: &Motion| &m.q) as fn(&Motion) -> &Vec<f64>),
+            ("qd", |m: &Motion| &m.qd),
+            ("qdd", |m: &Motion| &m.qdd),
+        ] {
+            let flat: Vec<f64> = motions().flat_map(|m| pick(m).iter().copied()).collect();
+            d.set_item(key, shaped(py, flat, vec![n, nc])?)?;
+        }
+        let points: Vec<f64> = motions()
+            .flat_map(|m| {
+                m.points.iter().flat_map(|p| {
+                    p.position
+                        .iter()
+                        .chain(&p.velocity)
+                        .chain(&p.acceleration)
+                        .copied()
+                })
+            })
+            .collect();
+        d.set_item("points", shaped(py, points, vec![n, np, 3, dim])?)?;
+        let frames: Vec<f64> = motions()
+            .flat_map(|m| m.frames.iter().flat_map(convert::frame_values))
+            .collect();
+        d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
+        for (key, pick) in [
+            (
+                "conditioning",
+                (|m: &Motion| m.conditioning) as fn(&Motion) -> f64,
+            ),
+            ("det_sign", |m: &Motion| m.det_sign),
+            ("residual", |m: &Motion| m.residual),
+        ] {
+            d.set_item(key, array(py, motions().map(pick).collect()))?;
+        }
+        Ok(d)
+    }
+
+    /// `None` when the sweep ran to its end; else a dict with "kind"
+    /// ("limit_position", "change_point", "singular", "not_assembled" or
+    /// "invalid"), "at", "message" and, where the reason has them,
+    /// "unknowns", "from" and "to".
+    fn stop<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(stop) = &self.sweep.stop else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("at", stop.at)?;
+        d.set_item("message", stop.to_string())?;
+        let kind = match &stop.reason {
+            StopReason::LimitPosition { unknowns } => {
+                d.set_item("unknowns", *unknowns)?;
+                "limit_position"
+            }
+            StopReason::ChangePoint { from, to } => {
+                d.set_item("from", *from)?;
+                d.set_item("to", *to)?;
+                "change_point"
+            }
+            StopReason::Singular(_) => "singular",
+            StopReason::NotAssembled(_) => "not_assembled",
+            StopReason::Invalid(_) => "invalid",
+        };
+        d.set_item("kind", kind)?;
+        Ok(Some(d))
+    }
+
+    /// The change points passed (estimates of the driver's value at each).
+    #[getter]
+    fn change_points(&self) -> Vec<f64> {
+        self.sweep.change_points.clone()
+    }
+
+    /// The column headers, with units (lengths in `unit`), and the rows as
+    /// a 2-D array, as the CSV has them.
+    fn table<'py>(
+        &self,
+        py: Python<'py>,
+        unit: &str,
+    ) -> PyResult<(Vec<String>, Bound<'py, PyAny>)> {
+        let headers = self.sweep.headers_in(unit);
+        let width = headers.len();
+        let rows: Vec<f64> = (0..self.sweep.rows())
+            .flat_map(|i| self.sweep.row(i))
+            .collect();
+        let n = self.sweep.rows();
+        Ok((headers, shaped(py, rows, vec![n, width])?))
+    }
+
+    /// The CSV text (lengths in `unit`).
+    fn to_csv(&self, unit: &str) -> String {
+        self.sweep.csv_in(unit)
+    }
+
+    /// The aligned text table, every `every`-th sample.
+    fn to_text(&self, every: usize) -> String {
+        self.sweep.text(every)
+    }
+
+    /// Writes the HTML animation of the sweep to `path`, drawing the links
+    /// `links` (pairs of point names) in the projection `projection`
+    /// ("xy", "xz" or "yz").
+    fn write_animation(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        links: Vec<(String, String)>,
+        projection: &str,
+    ) -> PyResult<()> {
+        let projection = match projection {
+            "xy" => Projection::XY,
+            "xz" => Projection::XZ,
+            "yz" => Projection::YZ,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "projection must be \"xy\", \"xz\" or \"yz\", not {other:?}"
+                )))
+            }
+        };
+        let first = self
+            .sweep
+            .samples
+            .first()
+            .ok_or_else(|| PyValueError::new_err("the sweep has no sample to animate"))?;
+        let roles = self
+            .model
+            .point_roles(&first.motion.q)
+            .map_err(|e| error(py, &e))?;
+        let links: Vec<(&str, &str)> = links
+            .iter()
+            .map(|(a, b)| (a.as_str(), b.as_str()))
+            .collect();
+        kinematics_core::animate::write_table_html(
+            &self.sweep,
+            self.model.name(),
+            &roles,
+            &links,
+            projection,
+            &path,
+        )
+        .map_err(|e| error(py, &e))
+    }
+
+    /// The first-order deviations of point `point` for the tolerances
+    /// `tolerances` ((parameter, ±t) pairs of the `sensitivities`
+    /// section): a dict of arrays "at", "position_worst",
+    /// "position_components" (n × dim), "position_rss" (n × dim),
+    /// "velocity_worst", "velocity_components", "velocity_rss".
+    fn deviations<'py>(
+        &self,
+        py: Python<'py>,
+        point: &str,
+        tolerances: Vec<(String, f64)>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let t: Vec<(&str, f64)> = tolerances.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let devs = py
+            .detach(|| self.model.point_deviations(&self.sweep, point, &t))
+            .map_err(|e| error(py, &e))?;
+        let n = devs.len();
+        let dim = self.model.point_dimension();
+        let d = PyDict::new(py);
+        d.set_item("at", array(py, devs.iter().map(|x| x.at).collect()))?;
+        d.set_item(
+            "position_worst",
+            array(py, devs.iter().map(|x| x.position_worst).collect()),
+        )?;
+        d.set_item(
+            "velocity_worst",
+            array(py, devs.iter().map(|x| x.velocity_worst).collect()),
+        )?;
+        for (key, pick) in [
+            (
+                "position_components",
+                (|x: &kinematics_core::tolerance::Deviation| &x.position_components)
+                    as fn(&kinematics_core::tolerance::Deviation) -> &Vec<f64>,
+            ),
+            ("position_rss", |x| &x.position_rss),
+            ("velocity_components", |x| &x.velocity_components),
+            ("velocity_rss", |x| &x.velocity_rss),
+        ] {
+            let flat: Vec<f64> = devs.iter().flat_map(|x| pick(x).iter().copied()).collect();
+            d.set_item(key, shaped(py, flat, vec![n, dim])?)?;
+        }
+        Ok(d)
+    }
+}
+
+/// The native module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Model>()?;
+    m.add_class::<Sweep>()?;
+    m.add_function(wrap_pyfunction!(compile, m)?)?;
+    m.add_function(wrap_pyfunction!(default_options, m)?)?;
+    Ok(())
+}

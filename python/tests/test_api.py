@@ -1,0 +1,270 @@
+"""The Python API: poses, motions, sweeps, batches, sensitivities,
+tolerances, outputs and pickling, each checked independently (finite
+differences of assembled positions, closed forms, or the one-at-a-time
+path against the batched one)."""
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import loopkin as kin
+from conftest import close, mechanism
+
+
+def test_compiling_the_same_text_gives_the_same_class(FourBar):
+    again = kin.compile(FourBar.definition())
+    assert again is FourBar
+    assert FourBar.__name__ == "FourBar"
+    assert FourBar.driver_names() == ("phi",)
+    assert FourBar.unknown_names() == ("th3", "th4")
+    assert FourBar.kinds() == {"phi": "angle", "th3": "angle", "th4": "angle"}
+    assert FourBar.point_names() == ("A", "B", "D", "C", "P")
+    [block] = FourBar.blocks()
+    assert block["unknowns"] == ["th3", "th4"] and block["modes"] and block["method"].startswith("closed form")
+
+
+def test_parameters_are_keywords_and_a_design_is_immutable(FourBar, four_bar):
+    assert four_bar.params == dict(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5)
+    with pytest.raises(TypeError, match="missing parameter"):
+        FourBar(a=0.04)
+    with pytest.raises(TypeError, match="no parameter 'e'"):
+        FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5, e=1.0)
+    with pytest.raises(AttributeError, match="immutable"):
+        four_bar.a = 1.0
+    other = four_bar.replace(a=0.05)
+    assert other.params["a"] == 0.05 and four_bar.params["a"] == 0.04
+    assert other != four_bar and four_bar.replace() == four_bar
+
+
+def test_every_assembly_closes_and_can_be_asked_for_by_its_modes(four_bar):
+    poses = four_bar.assemble_all(phi=0.5)
+    assert [p.modes for p in poses] == [("+",), ("-",)]
+    for p in poses:
+        assert np.all(np.abs(four_bar.residual(p)) < 1e-15)
+        again = four_bar.assemble(phi=0.5, modes=p.modes)
+        assert np.array_equal(again.array, p.array)
+    # The two assemblies are mirror images about the line BD.
+    assert abs(poses[0]["th3"] - poses[1]["th3"]) > 0.1
+
+
+def _fd_point(m, pose, name, h=1e-5):
+    """dr/dφ and d²r/dφ² of a point by central differences of assembled
+    positions (in the pose's modes)."""
+
+    def r(phi):
+        q = m.assemble(pose, phi=phi, modes=pose.modes)
+        return m.analyze(q).points[name].position
+
+    phi = pose["phi"]
+    rp, r0, rm = r(phi + h), r(phi), r(phi - h)
+    return (rp - rm) / (2 * h), (rp - 2 * r0 + rm) / (h * h)
+
+
+def test_velocities_and_accelerations_against_finite_differences(four_bar):
+    w, al = 10.0, 3.0
+    for pose in four_bar.assemble_all(phi=1.1):
+        s = four_bar.analyze(pose, rate=w, acceleration=al)
+        d1, d2 = _fd_point(four_bar, pose, "P")
+        assert close(s.points["P"].velocity, w * d1, 1e-7)
+        assert close(s.points["P"].acceleration, w * w * d2 + al * d1, 1e-4)
+        assert s.conditioning > 0 and s.residual < 1e-15
+
+
+def test_step_is_assemble_then_analyze(four_bar):
+    guess = four_bar.pose(phi=0.7, th3=0.8, th4=1.5)
+    s = four_bar.step(guess, rate=2.0)
+    t = four_bar.analyze(four_bar.assemble(guess), rate=2.0)
+    assert np.array_equal(s.q.array, t.q.array)
+    assert close(s.qdd.array, t.qdd.array, 1e-14)
+
+
+def test_a_sweep_gives_the_motion_of_every_sample(four_bar):
+    start = four_bar.assemble_all(phi=0.5)[1]
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=72, rpm=600)
+    assert len(sw) == 72 and sw.stop is None
+    w = 600 * 2 * math.pi / 60
+    assert np.allclose(sw.at, 0.5 + np.arange(72) * 2 * math.pi / 72, rtol=0, atol=1e-14)
+    assert np.all(sw.qd["phi"] == w)
+    P = sw.point("P")
+    assert P.position.shape == (72, 2) and P.speed.shape == (72,)
+    for i in (0, 17, 71):
+        s = four_bar.analyze(sw.pose(i), rate=w)
+        assert close(sw["th3"][i], s.q["th3"], 1e-15)
+        assert close(sw.qdd["th4"][i], s.qdd["th4"], 1e-13, scale=w * w)
+        assert close(P.velocity[i], s.points["P"].velocity, 1e-13, scale=w)
+    # The branch is kept: every sample in the start's mode, det Φ_u of one sign.
+    assert len(set(np.sign(sw.det_sign))) == 1
+
+
+def test_a_sweep_stops_at_a_limit_position_where_the_closed_form_says(FourBar):
+    # a + d > b + c: the crank cannot turn; it stops where |D − B| = b + c.
+    a, b, c, d = 0.08, 0.10, 0.07, 0.15
+    m = FourBar(a=a, b=b, c=c, d=d, p=0.05, beta=0.0)
+    start = m.assemble_all(phi=0.5)[0]
+    sw = m.sweep("phi", start=start, from_=0.5, to=3.0, steps=250)
+    assert sw.stop is not None and sw.stop.kind == "limit_position"
+    assert "th3, th4" in sw.stop.unknowns and "limit" in str(sw.stop)
+    limit = math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d))
+    assert abs(sw.stop.at - limit) < 1e-9
+    assert sw.at[-1] <= limit + 1e-12 and len(sw) < 251
+
+
+def test_csv_text_and_pandas_have_the_same_columns(four_bar, tmp_path):
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=12, rate=3.0)
+    path = tmp_path / "sweep.csv"
+    text = sw.to_csv(path)
+    assert path.read_text() == text
+    header = text.splitlines()[0].split(",")
+    df = sw.to_pandas()
+    assert list(df.columns) == header and len(df) == 12
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    assert close(data[:, header.index("th3_rad")], sw["th3"], 1e-12)
+    assert close(df["P_vx_m_s"].to_numpy(), sw.point("P").velocity[:, 0], 1e-15)
+    assert len(sw.to_text(every=6).splitlines()) == 1 + 3
+    assert sw.to_csv(unit="mm").splitlines()[0].split(",")[header.index("P_x_m")] == "P_x_mm"
+
+
+def test_the_animation_and_the_plots_are_written(four_bar, tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from loopkin import plot
+
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=36, rate=1.0)
+    html = tmp_path / "four_bar.html"
+    sw.write_animation(html, links=[("A", "B"), ("B", "C"), ("C", "D"), ("B", "P"), ("C", "P")])
+    page = html.read_text()
+    assert "<svg" in page and page.count("FourBar") >= 1
+    with pytest.raises(ValueError, match="projection"):
+        sw.write_animation(html, projection="xw")
+    axes = plot.motion(sw)
+    assert len(axes[0].lines) == 2
+    ax = plot.path(sw, ["P", "C"])
+    xs = ax.lines[0].get_xdata()
+    assert np.array_equal(xs, sw.point("P").position[:, 0])
+    plot.point(sw, "P")
+
+
+def test_sensitivities_against_finite_differences_of_the_parameters(four_bar):
+    pose = four_bar.assemble_all(phi=1.3)[0]
+    s = four_bar.analyze(pose, rate=5.0)
+    sens = four_bar.sensitivities(s)
+    assert set(sens) == {"a", "b", "c", "d", "p", "beta"}
+    for p, h in (("a", 1e-7), ("d", 1e-7), ("beta", 1e-7)):
+        plus, minus = four_bar.replace(**{p: four_bar.params[p] + h}), four_bar.replace(**{p: four_bar.params[p] - h})
+
+        def at(m):
+            q = m.assemble(pose, modes=pose.modes)
+            return m.analyze(q, rate=5.0)
+
+        sp, sm = at(plus), at(minus)
+        dq = (sp.q.array - sm.q.array) / (2 * h)
+        dv = (sp.points["P"].velocity - sm.points["P"].velocity) / (2 * h)
+        assert close(sens[p].q.array, dq, 1e-6)
+        assert close(sens[p].points["P"].velocity, dv, 1e-5)
+
+
+def test_tolerance_deviations_are_the_sum_of_the_sensitivities(four_bar):
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=8, rate=1.0)
+    t = {"a": 1e-4, "b": 2e-4, "beta": 1e-3}
+    dev = sw.deviations("P", t)
+    assert dev.position_components.shape == (8, 2)
+    for i in (0, 5):
+        sens = four_bar.sensitivities(four_bar.analyze(sw.pose(i), rate=1.0))
+        worst = sum(np.abs(sens[k].points["P"].position) * v for k, v in t.items())
+        rss = np.sqrt(sum((sens[k].points["P"].position * v) ** 2 for k, v in t.items()))
+        assert close(dev.position_components[i], worst, 1e-12)
+        assert close(dev.position_rss[i], rss, 1e-12)
+
+
+def test_a_batch_equals_the_designs_run_one_at_a_time(FourBar, four_bar):
+    rng = np.random.default_rng(7)
+    n = 40
+    a = rng.uniform(0.02, 0.06, n)
+    b = rng.uniform(0.10, 0.14, n)
+    a[3] = 0.09  # cannot turn: stops at a limit position
+    start = four_bar.assemble_all(phi=0.0)[0]
+    res = four_bar.batch({"a": a, "b": b}, start=start, sweep=dict(driver="phi", turn=True, steps=24, rpm=60), outputs=["th3", "P.velocity", "conditioning"])
+    assert res["th3"].shape == (n, 24) and res["P.velocity"].shape == (n, 24, 2)
+    assert res.params.shape == (n, 6) and np.array_equal(res.params[:, 0], a)
+    for i in range(n):
+        m = four_bar.replace(a=a[i], b=b[i])
+        try:
+            sw = m.sweep("phi", start=start, turn=True, steps=24, rpm=60)
+        except kin.KinematicsError as e:  # pragma: no cover
+            raise AssertionError(e)
+        k = len(sw)
+        assert res.samples[i] == k
+        assert np.array_equal(res["th3"][i, :k], sw["th3"])
+        assert np.array_equal(res["P.velocity"][i, :k], sw.point("P").velocity)
+        assert np.array_equal(res["conditioning"][i, :k], sw.conditioning)
+        assert np.all(np.isnan(res["th3"][i, k:]))
+        assert res.ok[i] == (sw.stop is None)
+        assert (res.stops[i] is None) == (sw.stop is None)
+    assert not res.ok[3] and "limit" in res.stops[3]
+
+
+def test_a_batch_of_single_steps(four_bar):
+    d = np.linspace(0.10, 0.12, 5)
+    start = four_bar.pose(phi=0.3, th3=0.9, th4=1.6)
+    res = four_bar.batch({"d": d}, start=start, rate=2.0, outputs=["th4", "th4.rate", "P"])
+    assert res["th4"].shape == (5,) and res["P"].shape == (5, 2)
+    for i in range(5):
+        s = four_bar.replace(d=d[i]).step(start, rate=2.0)
+        assert res["th4"][i] == s.q["th4"] and res["th4.rate"][i] == s.qd["th4"]
+        assert np.array_equal(res["P"][i], s.points["P"].position)
+    with pytest.raises(KeyError, match="not an output"):
+        four_bar.batch({"d": d}, start=start, outputs=["Q"])
+    with pytest.raises(ValueError, match="one value per design"):
+        four_bar.batch({"d": d, "a": d[:3]}, start=start)
+
+
+def test_designs_and_classes_pickle_as_their_text(FourBar, four_bar):
+    again = pickle.loads(pickle.dumps(four_bar))
+    assert again == four_bar and type(again) is FourBar
+    assert pickle.loads(pickle.dumps(FourBar)) is FourBar
+
+
+def test_a_design_runs_in_another_process(four_bar):
+    import concurrent.futures
+    import multiprocessing
+
+    start = four_bar.assemble_all(phi=0.2)[0]
+    ctx = multiprocessing.get_context("spawn")
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=ctx) as pool:
+        there = pool.submit(_sweep_th3, four_bar, start).result()
+    assert np.array_equal(there, _sweep_th3(four_bar, start))
+
+
+def _sweep_th3(m, start):
+    return np.array(m.sweep("phi", start=start, turn=True, steps=10)["th3"])
+
+
+def test_a_spatial_mechanism_has_frames_and_three_components():
+    RobotArm = mechanism("robot_arm")
+    m = RobotArm(l1=1.2, l2=0.6, l3=0.2, alpha=math.pi / 3)
+    pose = m.assemble(q1=0.0, q4=0.0, q5=0.0)
+    sw = m.sweep("q1", start=pose, turn=True, steps=8, rate=1.0)
+    arm = sw.frame("arm")
+    assert arm.rotation.shape == (8, 3, 3) and sw.point("B").position.shape == (8, 3)
+    # A turn about z carries B round a circle at constant height.
+    z = sw.point("B").position[:, 2]
+    assert np.ptp(z) < 1e-15
+    # R is orthonormal at every sample.
+    for R in arm.rotation:
+        assert close(R @ R.T, np.eye(3), 1e-15)
+
+
+def test_options_are_checked(four_bar):
+    with pytest.raises(kin.InvalidOptionError):
+        four_bar.assemble(phi=0.5, options=kin.Options(tolerance=-1.0))
+    with pytest.raises(ValueError, match="branch"):
+        four_bar.assemble(phi=0.5, options=kin.Options(branch="left"))
+    neg = four_bar.assemble(phi=0.5, th3=1.0, th4=1.0, options=kin.Options(branch="negative"))
+    pos = four_bar.assemble(phi=0.5, th3=1.0, th4=1.0, options=kin.Options(branch="positive"))
+    assert four_bar.analyze(neg).det_sign < 0 < four_bar.analyze(pos).det_sign
