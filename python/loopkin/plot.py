@@ -54,6 +54,7 @@ def motion(sweep: "Sweep", coordinates: Optional[Sequence[str]] = None, axes: Op
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best")
+    axes[0].figure.tight_layout()
     return axes
 
 
@@ -73,6 +74,7 @@ def path(sweep: "Sweep", points: Iterable[str], ax: Any = None, projection: Tupl
     ax.set_ylabel("xyz"[j] + " (m)")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")
+    ax.figure.tight_layout()
     return ax
 
 
@@ -91,24 +93,35 @@ def point(sweep: "Sweep", name: str, axes: Optional[Sequence[Any]] = None) -> An
     axes[1].set_xlabel(label)
     for ax in axes:
         ax.grid(True, alpha=0.3)
+    axes[0].figure.tight_layout()
     return axes
 
 
 def band(sweep: "Sweep", name: str, deviations: "Deviations", magnify: float = 1.0, ax: Any = None) -> Any:
-    """The path of point ``name`` with its worst-case tolerance band (the
-    per-component deviations, magnified ``magnify`` times) as the rectangle
-    swept around the nominal path."""
+    """The path of point ``name`` with its worst-case tolerance band,
+    magnified ``magnify`` times: at each sample, the path offset both ways
+    along its normal n by |n_x| w_x + |n_y| w_y, the largest normal
+    deviation allowed by the worst-case components (w_x, w_y)."""
     plt = _pyplot()
     if ax is None:
         _, ax = plt.subplots(figsize=(6, 6))
-    r = sweep.point(name).position
-    w = deviations.position_components * magnify
-    for sx in (-1, 1):
-        for sy in (-1, 1):
-            ax.plot(r[:, 0] + sx * w[:, 0], r[:, 1] + sy * w[:, 1], color="tab:orange", lw=0.6, alpha=0.7)
+    r = sweep.point(name).position[:, :2]
+    w = deviations.position_components[:, :2] * magnify
+    t = np.gradient(r, axis=0)
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    n = np.column_stack([-t[:, 1], t[:, 0]])
+    h = (np.abs(n) * w).sum(axis=1, keepdims=True)
+    outer, inner = r + h * n, r - h * n
+    ring = np.vstack([outer, outer[:1], inner[:1], inner[::-1]])
+    ax.fill(ring[:, 0], ring[:, 1], color="tab:orange", alpha=0.25, lw=0, label=f"worst case ×{magnify:g}")
+    ax.plot(outer[:, 0], outer[:, 1], color="tab:orange", lw=0.7)
+    ax.plot(inner[:, 0], inner[:, 1], color="tab:orange", lw=0.7)
     ax.plot(r[:, 0], r[:, 1], color="tab:blue", label=f"{name}, nominal")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_title(f"worst-case band ×{magnify:g}")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"tolerance band of {name}, magnified {magnify:g}×")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")
+    ax.figure.tight_layout()
     return ax
