@@ -37,7 +37,7 @@ from ._model import (
     compile,
     load,
 )
-from ._sweep import Batch, Deviations, PointColumns, Stop, Sweep
+from ._sweep import Batch, Deviations, PointColumns, Poses, Stop, Sweep
 from .errors import *  # noqa: F401,F403
 
 __all__ = [
@@ -52,6 +52,7 @@ __all__ = [
     "FrameMotion",
     "Sensitivity",
     "Sweep",
+    "Poses",
     "Stop",
     "PointColumns",
     "Deviations",

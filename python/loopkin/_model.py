@@ -660,6 +660,37 @@ class Mechanism(metaclass=MechanismType):
 
         return Sweep(type(self), self, native)
 
+    def poses(
+        self,
+        driver: str,
+        *,
+        start: Mapping[str, float],
+        from_: Optional[float] = None,
+        to: Optional[float] = None,
+        turn: bool = False,
+        turns: Optional[float] = None,
+        steps: int = 360,
+        options: Optional[Options] = None,
+    ) -> "Poses":
+        """Positions only, along the same grid as :meth:`sweep`: each pose
+        assembled from the previous one (the closed-form blocks in the
+        start's modes), then every point's position; no rates, no
+        accelerations, no judgement of the conditioning, and no search for
+        limit or change points: it stops at the first value where the
+        mechanism does not assemble (:attr:`Poses.stop` says why). The
+        fastest way to trace paths."""
+        if driver not in self.driver_names():
+            raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
+        if turn and turns is None:
+            turns = 1.0
+        if to is not None and turns is not None:
+            raise TypeError("give either to= or turn/turns=, not both")
+        q = self.pose(start)
+        d = self._m.poses(driver, list(q.array), (from_, to, turns, int(steps)), _opts(options))
+        from ._sweep import Poses
+
+        return Poses(type(self), d)
+
     def batch(
         self,
         params: Mapping[str, ArrayLike],

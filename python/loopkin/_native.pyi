@@ -52,6 +52,9 @@ class Model:
     def sensitivities(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> Dict[str, Dict[str, Any]]: ...
+    def poses(
+        self, driver: str, start: Sequence[float], spec: Tuple[Optional[float], Optional[float], Optional[float], int], opts: _Options
+    ) -> Dict[str, Any]: ...
     def sweep(self, driver: str, start: Sequence[float], spec: _SweepSpec, opts: _Options) -> Sweep: ...
     def batch(
         self,

@@ -15,7 +15,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ._model import Mechanism, MechanismType
 
-__all__ = ["Sweep", "Stop", "PointColumns", "Deviations", "Batch"]
+__all__ = ["Sweep", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
 
 
 class Stop:
@@ -213,6 +213,38 @@ class Sweep:
     def __repr__(self) -> str:
         end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"
         return f"<Sweep of {self.variable}: {len(self)} samples{end}>"
+
+
+class Poses:
+    """Positions along a sweep (from :meth:`Mechanism.poses`): ``at`` the
+    driver's values, ``poses["th3"]`` a coordinate's values,
+    ``poses.point("P")`` a point's positions (samples × dim), ``stop`` the
+    reason it ended before the end of its range, or ``None``."""
+
+    def __init__(self, cls: "MechanismType", d: Mapping[str, Any]) -> None:
+        self._cls = cls
+        names = [x[0] for x in cls._native.coordinates]
+        self.at: np.ndarray = _readonly(d["at"])
+        self.q = _Columns(names, _readonly(d["q"]))
+        self.points: np.ndarray = _readonly(d["points"])
+        self.stop: Optional[str] = d["stop"]
+
+    def __len__(self) -> int:
+        return len(self.at)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.q[name]
+
+    def point(self, name: str) -> np.ndarray:
+        """The positions of point ``name`` (samples × dim)."""
+        names = self._cls._native.points
+        if name not in names:
+            raise KeyError(f"{name!r} is not a point: they are {list(names)}")
+        return self.points[:, names.index(name)]
+
+    def __repr__(self) -> str:
+        end = "" if self.stop is None else f", stopped: {self.stop}"
+        return f"<Poses: {len(self)} samples{end}>"
 
 
 def _outputs(cls: "MechanismType", outputs: Optional[Iterable[str]]) -> List[Tuple[str, Tuple[str, int]]]:

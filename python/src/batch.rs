@@ -135,14 +135,15 @@ impl Job<'_> {
             (None, Some(n)) => builder.turns(n),
             (None, None) => builder,
         };
-        let sweep = builder.run();
-        for s in &sweep.samples {
-            self.keep(&s.motion, &mut kept);
-        }
+        let mut samples = 0;
+        let end = builder.for_each(|_, motion| {
+            self.keep(motion, &mut kept);
+            samples += 1;
+        });
         Outcome {
             values: kept,
-            samples: sweep.samples.len(),
-            stop: sweep.stop.map(|s| s.to_string()),
+            samples,
+            stop: end.stop.map(|s| s.to_string()),
         }
     }
 }

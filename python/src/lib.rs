@@ -10,7 +10,7 @@
 //! batches on every core.
 
 use kinematics_core::closed::Mode;
-use kinematics_core::runtime::{CompileError, Model as Runtime, Motion, Sweep as RuntimeSweep};
+use kinematics_core::runtime::{CompileError, Model as Runtime};
 use kinematics_core::sweep::{ChangePoints, StopReason, Table};
 use kinematics_core::view::Projection;
 use kinematics_core::{Branch, Convergence, Error, Options};
@@ -21,7 +21,10 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
 mod batch;
+mod columns;
 mod convert;
+
+use columns::Columns;
 
 use convert::{array, motion_dict, shaped};
 
@@ -451,11 +454,120 @@ impl Model {
             (None, Some(n)) => builder.turns(n),
             (None, None) => builder,
         };
-        let sweep = py.detach(move || builder.run());
+        // `sweep` checked that the driver is one of the model's.
+        let (name, kind) = self
+            .model
+            .coordinates()
+            .iter()
+            .find(|c| c.name == driver)
+            .map_or(("", kinematics_core::Kind::Angle), |c| (c.name, c.kind));
+        let rows = spec.3.max(1) + usize::from(spec.1.is_some());
+        let mut columns = Columns::new(&self.model, name, kind, rows);
+        py.detach(|| {
+            let end = builder.for_each(|at, motion| columns.push(at, motion));
+            columns.end(end);
+        });
         Ok(Sweep {
-            sweep,
+            columns,
             model: self.model.clone(),
         })
+    }
+
+    /// Positions only along a sweep of the driver `driver` from `start`:
+    /// the grid of `spec` (as `sweep`'s), each pose assembled from the
+    /// previous one with the stepper (closed-form blocks in the start's
+    /// modes), then every point's position. A dict of "at" (n), "q"
+    /// (n × coordinates), "points" (n × points × dim) and "stop" (the
+    /// message of the error at the first value that did not assemble, or
+    /// None; the arrays then end before it).
+    fn poses<'py>(
+        &self,
+        py: Python<'py>,
+        driver: &str,
+        start: Vec<f64>,
+        spec: (Option<f64>, Option<f64>, Option<f64>, usize),
+        opts: OptionsTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(py, &opts)?;
+        let m = &self.model;
+        let j = m
+            .coordinates()
+            .iter()
+            .position(|c| c.name == driver)
+            .filter(|&j| j < m.drivers())
+            .ok_or_else(|| PyValueError::new_err(format!("{driver:?} is not a driver")))?;
+        if start.len() != m.coordinates().len() {
+            return Err(error(
+                py,
+                &Error::WrongLength {
+                    what: "coordinates",
+                    expected: m.coordinates().len(),
+                    found: start.len(),
+                },
+            ));
+        }
+        let steps = spec.3.max(1);
+        let from = spec.0.unwrap_or(start[j]);
+        let (to, count) = match (spec.1, spec.2) {
+            (Some(t), _) => (t, steps + 1),
+            (None, turns) => (from + core::f64::consts::TAU * turns.unwrap_or(1.0), steps),
+        };
+        if !(from.is_finite() && to.is_finite()) {
+            return Err(PyValueError::new_err(
+                "the range of the driver must be finite",
+            ));
+        }
+        let (nc, np, dim) = (m.coordinates().len(), m.point_names().len(), self.dim());
+        let run = || -> Result<Traced, Error> {
+            let mut stepper = m.stepper(&o)?;
+            let mut at = Vec::with_capacity(count);
+            let mut qs = Vec::with_capacity(count * nc);
+            let mut points = vec![0.0; count * np * dim];
+            let mut q = start.clone();
+            let mut stop = None;
+            #[allow(clippy::cast_precision_loss)]
+            for k in 0..count {
+                let value = from + (to - from) * (k as f64) / (steps as f64);
+                q[j] = value;
+                let i = at.len();
+                let done = stepper
+                    .pose(&q)
+                    .map(|pose| q.copy_from_slice(pose))
+                    .and_then(|()| {
+                        stepper.positions(&mut points[i * np * dim..(i + 1) * np * dim])
+                    });
+                match done {
+                    Ok(()) => {
+                        at.push(value);
+                        qs.extend_from_slice(&q);
+                    }
+                    Err(e) => {
+                        stop = Some(format!("stopped at {driver} = {value}: {e}"));
+                        break;
+                    }
+                }
+            }
+            points.truncate(at.len() * np * dim);
+            Ok(Traced {
+                at,
+                q: qs,
+                points,
+                stop,
+            })
+        };
+        let Traced {
+            at,
+            q: qs,
+            points,
+            stop,
+        } = py.detach(run).map_err(|e| error(py, &e))?;
+        let n = at.len();
+        let d = PyDict::new(py);
+        d.set_item("at", array(py, at))?;
+        d.set_item("q", shaped(py, qs, vec![n, nc])?)?;
+        d.set_item("points", shaped(py, points, vec![n, np, dim])?)?;
+        d.set_item("stop", stop)?;
+        Ok(d)
     }
 
     /// Runs a batch of designs (one row of `values` per design, a value
@@ -555,6 +667,15 @@ impl Model {
     }
 }
 
+/// What `Model.poses` traced: the driver's values, the poses (a row
+/// each), the points' positions, and why it stopped early.
+struct Traced {
+    at: Vec<f64>,
+    q: Vec<f64>,
+    points: Vec<f64>,
+    stop: Option<String>,
+}
+
 fn change_points(s: &str) -> PyResult<ChangePoints> {
     match s {
         "stop" => Ok(ChangePoints::Stop),
@@ -569,7 +690,7 @@ fn change_points(s: &str) -> PyResult<ChangePoints> {
 /// The samples of a sweep of a run-time model, and how it ended.
 #[pyclass(frozen, module = "loopkin._native")]
 struct Sweep {
-    sweep: RuntimeSweep,
+    columns: Columns,
     model: Runtime,
 }
 
@@ -578,60 +699,34 @@ impl Sweep {
     /// The swept driver's name.
     #[getter]
     fn variable(&self) -> &'static str {
-        self.sweep.variable
+        self.columns.variable()
     }
     /// The number of samples.
     fn __len__(&self) -> usize {
-        self.sweep.samples.len()
+        self.columns.rows()
     }
     /// Every column as arrays: "at" (n), "q", "qd", "qdd" (n × coordinates),
     /// "points" (n × points × 3 × dim: position, velocity, acceleration),
     /// "frames" (n × frames × 24: rotation by rows, origin, velocity,
     /// acceleration, ω, α), "conditioning", "det_sign", "residual" (n).
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &self.sweep;
-        let n = s.samples.len();
+        let c = &self.columns;
+        let n = c.rows();
         let nc = self.model.coordinates().len();
         let np = self.model.point_names().len();
         let nf = self.model.frame_names().len();
         let dim = self.model.point_dimension();
         let d = PyDict::new(py);
-        let motions = || s.samples.iter().map(|x| &x.motion);
-        d.set_item("at", array(py, s.samples.iter().map(|x| x.at).collect()))?;
-        for (key, pick) in [
-            ("q", (|m: &Motion| &m.q) as fn(&Motion) -> &Vec<f64>),
-            ("qd", |m: &Motion| &m.qd),
-            ("qdd", |m: &Motion| &m.qdd),
-        ] {
-            let flat: Vec<f64> = motions().flat_map(|m| pick(m).iter().copied()).collect();
-            d.set_item(key, shaped(py, flat, vec![n, nc])?)?;
+        d.set_item("at", array(py, c.at.clone()))?;
+        for (key, v) in ["q", "qd", "qdd"].into_iter().zip(&c.q) {
+            d.set_item(key, shaped(py, v.clone(), vec![n, nc])?)?;
         }
-        let points: Vec<f64> = motions()
-            .flat_map(|m| {
-                m.points.iter().flat_map(|p| {
-                    p.position
-                        .iter()
-                        .chain(&p.velocity)
-                        .chain(&p.acceleration)
-                        .copied()
-                })
-            })
-            .collect();
-        d.set_item("points", shaped(py, points, vec![n, np, 3, dim])?)?;
-        let frames: Vec<f64> = motions()
-            .flat_map(|m| m.frames.iter().flat_map(convert::frame_values))
-            .collect();
+        d.set_item("points", shaped(py, c.points.clone(), vec![n, np, 3, dim])?)?;
+        let frames: Vec<f64> = c.frames.iter().flat_map(convert::frame_values).collect();
         d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
-        for (key, pick) in [
-            (
-                "conditioning",
-                (|m: &Motion| m.conditioning) as fn(&Motion) -> f64,
-            ),
-            ("det_sign", |m: &Motion| m.det_sign),
-            ("residual", |m: &Motion| m.residual),
-        ] {
-            d.set_item(key, array(py, motions().map(pick).collect()))?;
-        }
+        d.set_item("conditioning", array(py, c.conditioning.clone()))?;
+        d.set_item("det_sign", array(py, c.det_sign.clone()))?;
+        d.set_item("residual", array(py, c.residual.clone()))?;
         Ok(d)
     }
 
@@ -640,7 +735,7 @@ impl Sweep {
     /// "invalid"), "at", "message" and, where the reason has them,
     /// "unknowns", "from" and "to".
     fn stop<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(stop) = &self.sweep.stop else {
+        let Some(stop) = &self.columns.stop else {
             return Ok(None);
         };
         let d = PyDict::new(py);
@@ -667,7 +762,7 @@ impl Sweep {
     /// The change points passed (estimates of the driver's value at each).
     #[getter]
     fn change_points(&self) -> Vec<f64> {
-        self.sweep.change_points.clone()
+        self.columns.change_points.clone()
     }
 
     /// The column headers, with units (lengths in `unit`), and the rows as
@@ -677,23 +772,23 @@ impl Sweep {
         py: Python<'py>,
         unit: &str,
     ) -> PyResult<(Vec<String>, Bound<'py, PyAny>)> {
-        let headers = self.sweep.headers_in(unit);
+        let headers = self.columns.headers_in(unit);
         let width = headers.len();
-        let rows: Vec<f64> = (0..self.sweep.rows())
-            .flat_map(|i| self.sweep.row(i))
+        let rows: Vec<f64> = (0..self.columns.rows())
+            .flat_map(|i| self.columns.row(i))
             .collect();
-        let n = self.sweep.rows();
+        let n = self.columns.rows();
         Ok((headers, shaped(py, rows, vec![n, width])?))
     }
 
     /// The CSV text (lengths in `unit`).
     fn to_csv(&self, unit: &str) -> String {
-        self.sweep.csv_in(unit)
+        self.columns.csv_in(unit)
     }
 
     /// The aligned text table, every `every`-th sample.
     fn to_text(&self, every: usize) -> String {
-        self.sweep.text(every)
+        self.columns.text(every)
     }
 
     /// Writes the HTML animation of the sweep to `path`, drawing the links
@@ -716,21 +811,17 @@ impl Sweep {
                 )))
             }
         };
-        let first = self
-            .sweep
-            .samples
-            .first()
+        let nc = self.model.coordinates().len();
+        let first = self.columns.q[0]
+            .get(..nc)
             .ok_or_else(|| PyValueError::new_err("the sweep has no sample to animate"))?;
-        let roles = self
-            .model
-            .point_roles(&first.motion.q)
-            .map_err(|e| error(py, &e))?;
+        let roles = self.model.point_roles(first).map_err(|e| error(py, &e))?;
         let links: Vec<(&str, &str)> = links
             .iter()
             .map(|(a, b)| (a.as_str(), b.as_str()))
             .collect();
         kinematics_core::animate::write_table_html(
-            &self.sweep,
+            &self.columns,
             self.model.name(),
             &roles,
             &links,
@@ -753,7 +844,14 @@ impl Sweep {
     ) -> PyResult<Bound<'py, PyDict>> {
         let t: Vec<(&str, f64)> = tolerances.iter().map(|(n, v)| (n.as_str(), *v)).collect();
         let devs = py
-            .detach(|| self.model.point_deviations(&self.sweep, point, &t))
+            .detach(|| {
+                self.model.point_deviations_over(
+                    self.columns.rows(),
+                    |i, motion| self.columns.motion(i, motion),
+                    point,
+                    &t,
+                )
+            })
             .map_err(|e| error(py, &e))?;
         let n = devs.len();
         let dim = self.model.point_dimension();

@@ -1097,3 +1097,100 @@ fn change_points_are_passed_both_ways() {
         );
     }
 }
+
+/// A streamed sweep hands over exactly the samples the collected one
+/// keeps, and ends the same way: through a full turn, and to a limit
+/// position.
+#[test]
+fn a_streamed_sweep_gives_the_collected_ones_samples() {
+    for (values, start) in [
+        (vec![0.1, 0.3, 0.0], [0.0, 0.0, 0.4]),
+        (vec![0.3, 0.2, 0.0], [0.0, 0.0, 0.5]),
+    ] {
+        let m = model("SliderCrank", &values);
+        let sweep = || {
+            m.sweep("phi", &start)
+                .expect("phi is a driver")
+                .turn()
+                .steps(120)
+                .rate(7.0)
+        };
+        let collected = sweep().run();
+        let mut streamed = Vec::new();
+        let end = sweep().for_each(|at, motion| streamed.push((at, motion.clone())));
+        assert_eq!(streamed.len(), collected.samples.len());
+        for ((at, motion), sample) in streamed.iter().zip(&collected.samples) {
+            assert_eq!(*at, sample.at);
+            assert_eq!(motion, &sample.motion);
+        }
+        assert_eq!(end.stop, collected.stop);
+        assert_eq!(end.change_points, collected.change_points);
+    }
+}
+
+/// A stepper's poses and positions are its steps' (x = a cos φ + √(b² −
+/// a² sin² φ) for the slider, independently), and tolerance deviations
+/// over motions kept outside a sweep are those of the sweep.
+#[test]
+fn poses_positions_and_deviations_over_kept_motions() {
+    let text = "struct Crank {
+        params   { a, b }
+        drivers  { phi }
+        unknowns { th, x }
+        points   { B = polar(a, phi); C = vec2(x, 0.0); }
+        loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+        sensitivities { a, b }
+    }";
+    let mut m = Model::compile(text).expect("compiles");
+    m.set_values(&[0.1, 0.3]).expect("two parameters");
+    let options = kinematics_core::Options::DEFAULT;
+    let mut poser = m.stepper(&options).expect("valid");
+    let mut stepper = m.stepper(&options).expect("valid");
+    let mut q = vec![0.0, 0.0, 0.4];
+    let mut r = vec![0.0; 4];
+    for k in 1..=72 {
+        q[0] = f64::from(k) * 5f64.to_radians();
+        let pose = poser.pose(&q).expect("assembles").to_vec();
+        poser.positions(&mut r).expect("finite");
+        let s = stepper.step(&q, &[3.0], &[0.0]).expect("steps");
+        assert_eq!(pose, s.q);
+        let x = 0.1 * q[0].cos() + (0.09 - 0.01 * q[0].sin().powi(2)).sqrt();
+        assert!((pose[2] - x).abs() < 1e-15 && (r[2] - x).abs() < 1e-15);
+        assert_eq!(r[..2], s.points[0].position[..]);
+        q.copy_from_slice(&pose);
+    }
+    assert!(poser.positions(&mut [0.0; 3]).is_err());
+    let sweep = m
+        .sweep("phi", &[0.0, 0.0, 0.4])
+        .expect("phi is a driver")
+        .steps(24)
+        .rate(3.0)
+        .run();
+    let t = [("a", 1e-4), ("b", 2e-4)];
+    let direct = m.point_deviations(&sweep, "C", &t).expect("deviations");
+    let kept: Vec<_> = sweep
+        .samples
+        .iter()
+        .map(|s| (s.at, s.motion.clone()))
+        .collect();
+    let over = m
+        .point_deviations_over(
+            kept.len(),
+            |i, motion| {
+                motion.clone_from(&kept[i].1);
+                kept[i].0
+            },
+            "C",
+            &t,
+        )
+        .expect("deviations");
+    assert_eq!(direct, over);
+    // The slider's worst case: |∂x/∂a| t_a + |∂x/∂b| t_b, with ∂x/∂a =
+    // cos φ − a sin² φ / √(b² − a² sin² φ) and ∂x/∂b = b / √(…).
+    for d in &over {
+        let (s, c) = d.at.sin_cos();
+        let root = (0.09 - 0.01 * s * s).sqrt();
+        let worst = (c - 0.1 * s * s / root).abs() * 1e-4 + (0.3 / root) * 2e-4;
+        assert!((d.position_components[0] - worst).abs() < 1e-16, "{d:?}");
+    }
+}

@@ -72,7 +72,7 @@ mod sweep;
 
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
-pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder};
+pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder, SweepEnd};
 
 /// Why a definition given as text did not become a [`Model`].
 #[derive(Debug)]

@@ -231,14 +231,42 @@ impl Model {
         point: &str,
         tolerances: &[(&str, f64)],
     ) -> Result<Vec<Deviation>, Error> {
+        self.point_deviations_over(
+            sweep.samples.len(),
+            |i, motion| {
+                let sample = &sweep.samples[i];
+                motion.clone_from(&sample.motion);
+                sample.at
+            },
+            point,
+            tolerances,
+        )
+    }
+
+    /// [`Model::point_deviations`] over `samples` motions of this model
+    /// kept elsewhere than in a [`Sweep`] (in columns, say): `motion(i,
+    /// buffer)` writes sample i's motion into `buffer` and returns its
+    /// swept value.
+    ///
+    /// # Errors
+    /// As [`point_deviations`](crate::tolerance::point_deviations), and
+    /// as [`Model::sensitivities`] for each motion.
+    pub fn point_deviations_over(
+        &self,
+        samples: usize,
+        mut motion: impl FnMut(usize, &mut Motion) -> f64,
+        point: &str,
+        tolerances: &[(&str, f64)],
+    ) -> Result<Vec<Deviation>, Error> {
+        let mut buffer = self.shaped_motion();
         deviations_by(
             (&self.points, &self.sensitivity_params, self.point_dim),
             point,
             tolerances,
-            sweep.samples.len(),
+            samples,
             |i, buf| {
-                let sample = &sweep.samples[i];
-                let all = self.sensitivities(&sample.motion)?;
+                let at = motion(i, &mut buffer);
+                let all = self.sensitivities(&buffer)?;
                 let values = all.iter().flat_map(|one| {
                     one.points.iter().flat_map(|p| {
                         p.position
@@ -251,7 +279,7 @@ impl Model {
                 for (b, v) in buf.iter_mut().zip(values) {
                     *b = v;
                 }
-                Ok(sample.at)
+                Ok(at)
             },
         )
     }

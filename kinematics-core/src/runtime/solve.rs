@@ -504,6 +504,38 @@ impl Model {
         Ok(())
     }
 
+    /// The positions of every point at q into `out` (`point_dim` values
+    /// per point), each checked finite.
+    pub(super) fn positions_into(
+        &self,
+        q: &[f64],
+        w: &mut Work,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let d = self.point_dim;
+        self.program.trig(q, &mut w.trig, 0);
+        self.eval(
+            Program::OUTPUTS,
+            &w.params,
+            q,
+            &w.zeros,
+            &w.zeros,
+            &w.trig,
+            &mut w.out,
+        );
+        for (o, c) in out.chunks_exact_mut(d).zip(w.out.chunks_exact(3 * d)) {
+            o.copy_from_slice(&c[..d]);
+        }
+        match out.iter().position(|v| !v.is_finite()) {
+            Some(bad) => Err(Error::NonFinite {
+                input: Input::Computed,
+                name: self.points[bad / d],
+                value: out[bad],
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// [`Model::analyze_into`] into a new motion.
     pub(super) fn analyze_at(
         &self,

@@ -139,4 +139,44 @@ impl Stepper<'_> {
         )?;
         Ok(&self.motion)
     }
+
+    /// Assembles at the drivers of `start` from its unknowns, as
+    /// [`Stepper::step`] does, without the analysis: the pose (drivers
+    /// first), the stepper's until the next step. Cheaper than a step: no
+    /// factorisation of Φ_u, so no judgement of its conditioning (a pose
+    /// at a singular position is returned as any other; a sweep of poses
+    /// stops only where the mechanism does not assemble).
+    ///
+    /// # Errors
+    /// As [`Model::assemble`], but for the options and the parameters,
+    /// which [`Model::stepper`] checked, and [`Error::Singular`], which is
+    /// not judged.
+    pub fn pose(&mut self, start: &[f64]) -> Result<&[f64], Error> {
+        let m = self.m;
+        m.check_pose(start)?;
+        self.q.copy_from_slice(start);
+        m.assemble_into(
+            &mut self.q,
+            &mut self.work,
+            &mut self.modes,
+            &self.options,
+            false,
+        )?;
+        Ok(&self.q)
+    }
+
+    /// The positions of every point at the last pose of
+    /// [`Stepper::pose`] or [`Stepper::step`], into `out`
+    /// ([`Model::point_dimension`] components per point, in declaration
+    /// order).
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] unless `out` has room for every point;
+    /// [`Error::NonFinite`] when a position is not finite.
+    pub fn positions(&mut self, out: &mut [f64]) -> Result<(), Error> {
+        let m = self.m;
+        let d = m.point_dim;
+        m.length("point positions", m.points.len() * d, out.len())?;
+        m.positions_into(&self.q, &mut self.work, out)
+    }
 }

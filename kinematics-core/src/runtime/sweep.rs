@@ -2,6 +2,7 @@
 //! [`Sweep`] that the outputs read as a [`Table`]: CSV, text, the plots
 //! and the animation, the same as for a generated mechanism.
 
+use alloc::collections::VecDeque;
 use core::f64::consts::TAU;
 
 use super::{Model, Motion};
@@ -257,8 +258,31 @@ impl SweepBuilder<'_> {
         self
     }
 
-    /// Runs the sweep, collecting its samples.
-    pub fn run(self) -> Sweep {
+    /// Runs the sweep, handing each sample to `f` (the swept value and the
+    /// motion there) as it is solved, without collecting them: the same
+    /// samples as [`SweepBuilder::run`], with no allocation per sample.
+    ///
+    /// ```
+    /// use kinematics_core::runtime::Model;
+    /// let mut m = Model::compile(
+    ///     "struct SliderCrank {
+    ///          params   { a, b }
+    ///          drivers  { phi }
+    ///          unknowns { th, x }
+    ///          loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+    ///      }",
+    /// )?;
+    /// m.set_values(&[0.1, 0.3])?;
+    /// let mut stroke = (f64::INFINITY, f64::NEG_INFINITY);
+    /// let end = m.sweep("phi", &[0.0, 0.0, 0.4])?.steps(3600).for_each(|_, s| {
+    ///     stroke = (stroke.0.min(s.q[2]), stroke.1.max(s.q[2]));
+    /// });
+    /// assert!(end.stop.is_none());
+    /// // The slider's stroke is twice the crank.
+    /// assert!((stroke.1 - stroke.0 - 0.2).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn for_each(self, f: impl FnMut(f64, &Motion)) -> SweepEnd {
         let m = self.m;
         let coordinate = m.coordinates[self.driver];
         let from = self
@@ -267,7 +291,7 @@ impl SweepBuilder<'_> {
             .unwrap_or(f64::NAN);
         let (j, rate, acceleration) = (self.driver, self.rate, self.acceleration);
         let grid = grid(from, self.end, self.steps, coordinate.kind);
-        drive(
+        drive_each(
             m,
             (coordinate.name, coordinate.kind, from),
             &self.start,
@@ -278,7 +302,17 @@ impl SweepBuilder<'_> {
                 rates[j] = rate;
                 accelerations[j] = acceleration;
             },
+            f,
         )
+    }
+
+    /// Runs the sweep, collecting its samples.
+    pub fn run(self) -> Sweep {
+        let m = self.m;
+        let coordinate = m.coordinates[self.driver];
+        collect(m, (coordinate.name, coordinate.kind), |emit| {
+            self.for_each(emit)
+        })
     }
 }
 
@@ -407,52 +441,133 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
                 requirement: "must be finite and positive",
             })
         };
-        let nd = self.m.drivers;
+        let m = self.m;
+        let nd = m.drivers;
         let start = self.start.clone();
         let mut profile = self.profile;
-        drive(
-            self.m,
-            ("t", Kind::Length, 0.0),
-            &self.start,
-            (&self.options, ChangePoints::Stop),
-            times,
-            |t, d, rates, accelerations| {
-                if d.len() == nd && start.len() >= nd {
-                    d.copy_from_slice(&start[..nd]);
-                }
-                rates.fill(0.0);
-                accelerations.fill(0.0);
-                profile(t, d, rates, accelerations);
-            },
-        )
+        collect(m, ("t", Kind::Length), |emit| {
+            drive_each(
+                m,
+                ("t", Kind::Length, 0.0),
+                &self.start,
+                (&self.options, ChangePoints::Stop),
+                times,
+                |t, d, rates, accelerations| {
+                    if d.len() == nd && start.len() >= nd {
+                        d.copy_from_slice(&start[..nd]);
+                    }
+                    rates.fill(0.0);
+                    accelerations.fill(0.0);
+                    profile(t, d, rates, accelerations);
+                },
+                emit,
+            )
+        })
     }
 }
 
-/// The samples at the values `ats` of the swept variable (`variable`, of
-/// `kind`, whose first value is `first`), the drivers, their rates and their accelerations at each set
-/// by `set(at, d, d', d'')`; from the pose `start`. Each sample is
-/// assembled (the closed forms in the modes of the start, carried; the
-/// Newton blocks from the parabola through the last three samples) and
-/// analysed; the sweep stops at a limit position (by bisection), where two
-/// branches meet, and at any error.
-fn drive(
+/// The samples that `each` hands to its callback, collected into a
+/// [`Sweep`] of the variable `variable` of `kind`.
+fn collect(
     m: &Model,
-    (variable, kind, first): (Name, Kind, f64),
-    start: &[f64],
-    (options, change_points): (&Options, ChangePoints),
-    ats: Result<Vec<f64>, Error>,
-    mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+    (variable, kind): (Name, Kind),
+    each: impl FnOnce(&mut dyn FnMut(f64, &Motion)) -> SweepEnd,
 ) -> Sweep {
-    let mut sweep = Sweep {
+    let mut samples = Vec::new();
+    let end = each(&mut |at, motion| {
+        samples.push(Sample {
+            at,
+            motion: motion.clone(),
+        });
+    });
+    Sweep {
         variable,
         kind,
-        samples: Vec::new(),
-        stop: None,
-        change_points: Vec::new(),
+        samples,
+        stop: end.stop,
+        change_points: end.change_points,
         coordinates: m.coordinates.clone(),
         points: m.points.clone(),
         frames: m.frames.clone(),
         point_dim: m.point_dim,
+    }
+}
+
+/// How a sweep streamed by [`SweepBuilder::for_each`] ended: the stop, if
+/// it stopped early, and the change points it passed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepEnd {
+    /// `Some` when the sweep stopped early.
+    pub stop: Option<Stop>,
+    /// The change points passed (estimates of the swept value at each).
+    pub change_points: Vec<f64>,
+}
+
+/// A sample remembered for the prediction of the next pose, the test for
+/// a change of branch and the bisection of a limit position.
+struct Recent {
+    at: f64,
+    q: Vec<f64>,
+    conditioning: f64,
+    det_sign: f64,
+}
+
+/// The last three samples, oldest first (their vectors reused as the
+/// sweep moves on: no allocation per sample).
+struct History(VecDeque<Recent>);
+
+impl History {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    /// The k-th sample from the end (1: the last).
+    fn last(&self, k: usize) -> &Recent {
+        &self.0[self.0.len() - k]
+    }
+    fn push(&mut self, at: f64, motion: &Motion) {
+        let mut recent = if self.0.len() == 3 {
+            self.0.pop_front().unwrap_or(Recent {
+                at,
+                q: Vec::new(),
+                conditioning: 0.0,
+                det_sign: 0.0,
+            })
+        } else {
+            Recent {
+                at,
+                q: Vec::with_capacity(motion.q.len()),
+                conditioning: 0.0,
+                det_sign: 0.0,
+            }
+        };
+        recent.at = at;
+        recent.q.clear();
+        recent.q.extend_from_slice(&motion.q);
+        recent.conditioning = motion.conditioning;
+        recent.det_sign = motion.det_sign;
+        self.0.push_back(recent);
+    }
+}
+
+/// The samples at the values `ats` of the swept variable, the drivers,
+/// their rates and their accelerations at each set by `set(at, d, d',
+/// d'')`; from the pose `start`, each handed to `emit` as it is solved.
+/// Each sample is assembled (the closed forms in the modes of the start,
+/// carried; the Newton blocks from the parabola through the last three
+/// samples) and analysed; the sweep stops at a limit position (by
+/// bisection), where two branches meet, and at any error.
+fn drive_each(
+    m: &Model,
+    (variable, _kind, first): (Name, Kind, f64),
+    start: &[f64],
+    (options, change_points): (&Options, ChangePoints),
+    ats: Result<Vec<f64>, Error>,
+    mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+    mut emit: impl FnMut(f64, &Motion),
+) -> SweepEnd {
+    let mut end = SweepEnd {
+        stop: None,
+        change_points: Vec::new(),
     };
     let stop = |at: f64, reason: StopReason| Stop {
         variable,
@@ -471,43 +586,54 @@ fn drive(
     let ats = match checked {
         Ok(a) => a,
         Err(e) => {
-            sweep.stop = Some(stop(first, StopReason::from_error(e)));
-            return sweep;
+            end.stop = Some(stop(first, StopReason::from_error(e)));
+            return end;
         }
     };
-    sweep.samples.reserve(ats.len());
     let mut w = m.work();
     let mut q = start.to_vec();
     // The assembly modes of the closed-form blocks: the start's, then
     // carried from sample to sample.
     let mut modes = vec![f64::NAN; m.mode_count()];
     let mut predicted = q.clone();
+    let mut history = History(VecDeque::with_capacity(3));
+    let mut motion = m.shaped_motion();
     for &at in &ats {
-        predict(&sweep.samples, at, nd, &mut q);
+        predict(&history, at, nd, &mut q);
         set(at, &mut q[..nd], &mut rates, &mut accelerations);
         predicted.copy_from_slice(&q);
         let solved = m
             .check_inputs(&q, &rates, &accelerations)
             .and_then(|()| m.assemble_into(&mut q, &mut w, &mut modes, options, false))
-            .and_then(|()| m.analyze_at(&q, &rates, &accelerations, &mut w, options, true));
-        let mut motion = match solved {
-            Ok(motion) => motion,
-            Err(Error::CannotAssemble { unknowns, .. }) if !sweep.samples.is_empty() => {
+            .and_then(|()| {
+                m.analyze_into(
+                    &q,
+                    &rates,
+                    &accelerations,
+                    &mut w,
+                    options,
+                    true,
+                    &mut motion,
+                )
+            });
+        match solved {
+            Ok(()) => {}
+            Err(Error::CannotAssemble { unknowns, .. }) if history.len() > 0 => {
                 // A limit position between the last sample and this
                 // value: the last value that assembles, by bisection.
-                let last = &sweep.samples[sweep.samples.len() - 1];
-                let limit = limit(m, last, at, &modes, options, &mut set, &mut w);
-                sweep.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
-                return sweep;
+                let limit = limit(m, history.last(1), at, &modes, options, &mut set, &mut w);
+                end.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
+                return end;
             }
             Err(e) => {
-                sweep.stop = Some(stop(at, StopReason::from_error(e)));
-                return sweep;
+                end.stop = Some(stop(at, StopReason::from_error(e)));
+                return end;
             }
-        };
-        if let Some(last) = sweep.samples.last() {
-            let at_fold = folded(&sweep.samples, &motion, &predicted, nd);
-            if at_fold.is_some() || last.motion.det_sign != motion.det_sign {
+        }
+        if history.len() > 0 {
+            let last = history.last(1);
+            let at_fold = folded(&history, &motion, &predicted, nd);
+            if at_fold.is_some() || last.det_sign != motion.det_sign {
                 // Two branches met between the samples.
                 let estimate = at_fold
                     .unwrap_or(0.5 * (last.at + at))
@@ -527,23 +653,24 @@ fn drive(
                     })
                     .flatten();
                 let Some(chosen) = branch else {
-                    sweep.stop = Some(stop(
+                    end.stop = Some(stop(
                         estimate,
                         StopReason::ChangePoint {
                             from: last.at,
                             to: at,
                         },
                     ));
-                    return sweep;
+                    return end;
                 };
                 motion = chosen;
                 q.copy_from_slice(&motion.q);
-                sweep.change_points.push(estimate);
+                end.change_points.push(estimate);
             }
         }
-        sweep.samples.push(Sample { at, motion });
+        emit(at, &motion);
+        history.push(at, &motion);
     }
-    sweep
+    end
 }
 
 /// The pose past a change point on the branch `change_points` asks for:
@@ -614,7 +741,7 @@ fn past(
 /// resolution of `f64`.
 fn limit(
     m: &Model,
-    last: &Sample,
+    last: &Recent,
     failed: f64,
     modes: &[f64],
     options: &Options,
@@ -623,7 +750,7 @@ fn limit(
 ) -> f64 {
     let nd = m.drivers;
     let (mut good, mut bad) = (last.at, failed);
-    let mut q = last.motion.q.clone();
+    let mut q = last.q.clone();
     let (mut rates, mut accelerations) = (vec![0.0; nd], vec![0.0; nd]);
     let mut trial_modes = modes.to_vec();
     for _ in 0..200 {
@@ -631,7 +758,7 @@ fn limit(
         if mid == good || mid == bad {
             break;
         }
-        q.copy_from_slice(&last.motion.q);
+        q.copy_from_slice(&last.q);
         set(mid, &mut q[..nd], &mut rates, &mut accelerations);
         trial_modes.copy_from_slice(modes);
         match m.assemble_into(&mut q, w, &mut trial_modes, options, false) {
@@ -652,10 +779,12 @@ fn limit(
 /// branch, as at a parallelogram's fold, where a closed form in its mode
 /// passes from one branch to the other). Returns where the line meets
 /// zero.
-fn folded(samples: &[Sample], new: &Motion, predicted: &[f64], drivers: usize) -> Option<f64> {
-    let n = samples.len();
-    let (a, b) = (&samples.get(n.checked_sub(2)?)?, &samples[n - 1]);
-    let (ca, cb) = (a.motion.conditioning, b.motion.conditioning);
+fn folded(history: &History, new: &Motion, predicted: &[f64], drivers: usize) -> Option<f64> {
+    if history.len() < 2 {
+        return None;
+    }
+    let (a, b) = (history.last(2), history.last(1));
+    let (ca, cb) = (a.conditioning, b.conditioning);
     let step = b.at - a.at;
     if !(cb < ca && cb < 0.5 && step != 0.0) {
         return None;
@@ -664,9 +793,9 @@ fn folded(samples: &[Sample], new: &Motion, predicted: &[f64], drivers: usize) -
     let t = cb / (ca - cb);
     let largest = |x: &mut dyn Iterator<Item = f64>| x.fold(0.0f64, f64::max);
     let change = largest(
-        &mut a.motion.q[drivers..]
+        &mut a.q[drivers..]
             .iter()
-            .zip(&b.motion.q[drivers..])
+            .zip(&b.q[drivers..])
             .map(|(x, y)| (x - y).abs()),
     );
     let off = largest(
@@ -681,23 +810,23 @@ fn folded(samples: &[Sample], new: &Motion, predicted: &[f64], drivers: usize) -
 /// The guess of the unknowns at `at` (written into `q` past the
 /// `drivers`): the parabola through the last three samples, the line
 /// through the last two, or the last pose.
-fn predict(samples: &[Sample], at: f64, drivers: usize, q: &mut [f64]) {
-    let n = samples.len();
-    let last = |k: usize| &samples[n - k];
+fn predict(history: &History, at: f64, drivers: usize, q: &mut [f64]) {
+    let n = history.len();
+    let last = |k: usize| history.last(k);
     match n {
         0 => {}
-        1 => q[drivers..].copy_from_slice(&last(1).motion.q[drivers..]),
+        1 => q[drivers..].copy_from_slice(&last(1).q[drivers..]),
         _ => {
             let (a, b) = (last(2), last(1));
             let c = (n >= 3).then(|| last(3));
             for (j, qj) in q.iter_mut().enumerate().skip(drivers) {
                 // Newton's divided differences through the known values.
-                let (xb, yb) = (b.at, b.motion.q[j]);
-                let (xa, ya) = (a.at, a.motion.q[j]);
+                let (xb, yb) = (b.at, b.q[j]);
+                let (xa, ya) = (a.at, a.q[j]);
                 let d1 = (yb - ya) / (xb - xa);
                 let mut y = yb + d1 * (at - xb);
                 if let Some(c) = c {
-                    let (xc, yc) = (c.at, c.motion.q[j]);
+                    let (xc, yc) = (c.at, c.q[j]);
                     let d0 = (ya - yc) / (xa - xc);
                     let d2 = (d1 - d0) / (xb - xc);
                     y += d2 * (at - xb) * (at - xa);

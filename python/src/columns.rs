@@ -1,0 +1,167 @@
+//! A sweep of a run-time model kept in columns: each value of every sample
+//! in one vector per kind (q, q', q'', points, frames, diagnostics), filled
+//! as the sweep streams its samples, with no allocation per sample; read
+//! by the library's CSV, text and animation through [`Table`].
+
+use kinematics_core::runtime::{Model, Motion, PointState, SweepEnd};
+use kinematics_core::sweep::{Layout, Stop, Table};
+use kinematics_core::{Coordinate, FrameState, Kind};
+
+/// The samples of a sweep, by column.
+pub(crate) struct Columns {
+    variable: &'static str,
+    kind: Kind,
+    coordinates: Vec<Coordinate>,
+    point_names: Vec<&'static str>,
+    frame_names: Vec<&'static str>,
+    dim: usize,
+    pub at: Vec<f64>,
+    /// q, q', q'' (samples × coordinates each).
+    pub q: [Vec<f64>; 3],
+    /// Every point's position, velocity and acceleration (samples ×
+    /// points × 3 × dim).
+    pub points: Vec<f64>,
+    /// Every frame (samples × frames).
+    pub frames: Vec<FrameState>,
+    pub conditioning: Vec<f64>,
+    pub det_sign: Vec<f64>,
+    pub residual: Vec<f64>,
+    pub stop: Option<Stop>,
+    pub change_points: Vec<f64>,
+}
+
+impl Columns {
+    /// Empty columns for a sweep of `variable` (of `kind`) of `m`, with
+    /// room for `rows` samples.
+    pub(crate) fn new(m: &Model, variable: &'static str, kind: Kind, rows: usize) -> Self {
+        let (nc, np, nf, dim) = (
+            m.coordinates().len(),
+            m.point_names().len(),
+            m.frame_names().len(),
+            m.point_dimension(),
+        );
+        Self {
+            variable,
+            kind,
+            coordinates: m.coordinates().to_vec(),
+            point_names: m.point_names().to_vec(),
+            frame_names: m.frame_names().to_vec(),
+            dim,
+            at: Vec::with_capacity(rows),
+            q: [
+                Vec::with_capacity(rows * nc),
+                Vec::with_capacity(rows * nc),
+                Vec::with_capacity(rows * nc),
+            ],
+            points: Vec::with_capacity(rows * np * 3 * dim),
+            frames: Vec::with_capacity(rows * nf),
+            conditioning: Vec::with_capacity(rows),
+            det_sign: Vec::with_capacity(rows),
+            residual: Vec::with_capacity(rows),
+            stop: None,
+            change_points: Vec::new(),
+        }
+    }
+
+    /// The swept driver's name.
+    pub(crate) fn variable(&self) -> &'static str {
+        self.variable
+    }
+
+    /// Appends a sample.
+    pub(crate) fn push(&mut self, at: f64, m: &Motion) {
+        self.at.push(at);
+        self.q[0].extend_from_slice(&m.q);
+        self.q[1].extend_from_slice(&m.qd);
+        self.q[2].extend_from_slice(&m.qdd);
+        for p in &m.points {
+            self.points.extend_from_slice(&p.position);
+            self.points.extend_from_slice(&p.velocity);
+            self.points.extend_from_slice(&p.acceleration);
+        }
+        self.frames.extend_from_slice(&m.frames);
+        self.conditioning.push(m.conditioning);
+        self.det_sign.push(m.det_sign);
+        self.residual.push(m.residual);
+    }
+
+    /// Records how the sweep ended.
+    pub(crate) fn end(&mut self, end: SweepEnd) {
+        self.stop = end.stop;
+        self.change_points = end.change_points;
+    }
+
+    /// Sample i's motion into `out` (whose vectors are reused); returns
+    /// its swept value.
+    pub(crate) fn motion(&self, i: usize, out: &mut Motion) -> f64 {
+        let (nc, np, nf, d) = (
+            self.coordinates.len(),
+            self.point_names.len(),
+            self.frame_names.len(),
+            self.dim,
+        );
+        for (k, v) in [&mut out.q, &mut out.qd, &mut out.qdd]
+            .into_iter()
+            .enumerate()
+        {
+            v.clear();
+            v.extend_from_slice(&self.q[k][i * nc..(i + 1) * nc]);
+        }
+        out.points.resize(
+            np,
+            PointState {
+                position: vec![0.0; d],
+                velocity: vec![0.0; d],
+                acceleration: vec![0.0; d],
+            },
+        );
+        for (k, p) in out.points.iter_mut().enumerate() {
+            let [r, v, a] = self.point(i, k);
+            p.position.clone_from_slice(r);
+            p.velocity.clone_from_slice(v);
+            p.acceleration.clone_from_slice(a);
+        }
+        out.frames.clear();
+        out.frames
+            .extend_from_slice(&self.frames[i * nf..(i + 1) * nf]);
+        out.conditioning = self.conditioning[i];
+        out.det_sign = self.det_sign[i];
+        out.residual = self.residual[i];
+        self.at[i]
+    }
+}
+
+impl Table for Columns {
+    fn layout(&self) -> Layout<'_> {
+        Layout {
+            variable: self.variable,
+            kind: self.kind,
+            coordinates: &self.coordinates,
+            points: &self.point_names,
+            frames: &self.frame_names,
+            point_dim: self.dim,
+        }
+    }
+    fn rows(&self) -> usize {
+        self.at.len()
+    }
+    fn at(&self, i: usize) -> f64 {
+        self.at[i]
+    }
+    fn coordinate(&self, i: usize, j: usize, order: usize) -> f64 {
+        let nc = self.coordinates.len();
+        self.q[order.min(2)][i * nc + j]
+    }
+    fn point(&self, i: usize, k: usize) -> [&[f64]; 3] {
+        let (np, d) = (self.point_names.len(), self.dim);
+        let base = (i * np + k) * 3 * d;
+        let p = &self.points[base..base + 3 * d];
+        [&p[..d], &p[d..2 * d], &p[2 * d..]]
+    }
+    fn frame(&self, i: usize, f: usize) -> &FrameState {
+        &self.frames[i * self.frame_names.len() + f]
+    }
+    fn stop(&self) -> Option<&Stop> {
+        self.stop.as_ref()
+    }
+}
