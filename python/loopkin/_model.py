@@ -676,9 +676,9 @@ class Mechanism(metaclass=MechanismType):
         assembled from the previous one (the closed-form blocks in the
         start's modes), then every point's position; no rates, no
         accelerations, no judgement of the conditioning, and no search for
-        limit or change points: it stops at the first value where the
-        mechanism does not assemble (:attr:`Poses.stop` says why). The
-        fastest way to trace paths."""
+        change points; it stops where the mechanism does not assemble (at a
+        limit position, found by bisection as :meth:`sweep` finds it), and
+        :attr:`Poses.stop` says why. The fastest way to trace paths."""
         if driver not in self.driver_names():
             raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
         if turn and turns is None:

@@ -219,7 +219,7 @@ class Poses:
     """Positions along a sweep (from :meth:`Mechanism.poses`): ``at`` the
     driver's values, ``poses["th3"]`` a coordinate's values,
     ``poses.point("P")`` a point's positions (samples × dim), ``stop`` the
-    reason it ended before the end of its range, or ``None``."""
+    :class:`Stop` that ended it before the end of its range, or ``None``."""
 
     def __init__(self, cls: "MechanismType", d: Mapping[str, Any]) -> None:
         self._cls = cls
@@ -227,7 +227,7 @@ class Poses:
         self.at: np.ndarray = _readonly(d["at"])
         self.q = _Columns(names, _readonly(d["q"]))
         self.points: np.ndarray = _readonly(d["points"])
-        self.stop: Optional[str] = d["stop"]
+        self.stop: Optional[Stop] = None if d["stop"] is None else Stop(d["stop"])
 
     def __len__(self) -> int:
         return len(self.at)
@@ -243,7 +243,7 @@ class Poses:
         return self.points[:, names.index(name)]
 
     def __repr__(self) -> str:
-        end = "" if self.stop is None else f", stopped: {self.stop}"
+        end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"
         return f"<Poses: {len(self)} samples{end}>"
 
 

@@ -11,7 +11,7 @@
 
 use kinematics_core::closed::Mode;
 use kinematics_core::runtime::{CompileError, Model as Runtime};
-use kinematics_core::sweep::{ChangePoints, StopReason, Table};
+use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::Projection;
 use kinematics_core::{Branch, Convergence, Error, Options};
 use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
@@ -473,13 +473,11 @@ impl Model {
         })
     }
 
-    /// Positions only along a sweep of the driver `driver` from `start`:
-    /// the grid of `spec` (as `sweep`'s), each pose assembled from the
-    /// previous one with the stepper (closed-form blocks in the start's
-    /// modes), then every point's position. A dict of "at" (n), "q"
-    /// (n × coordinates), "points" (n × points × dim) and "stop" (the
-    /// message of the error at the first value that did not assemble, or
-    /// None; the arrays then end before it).
+    /// Positions only along a sweep of the driver `driver` from `start`
+    /// (`SweepBuilder::for_each_pose`): the grid of `spec` (from, to,
+    /// turns, steps, as `sweep`'s). A dict of "at" (n), "q" (n ×
+    /// coordinates), "points" (n × points × dim) and "stop" (as `Sweep.stop`
+    /// gives it, or None).
     fn poses<'py>(
         &self,
         py: Python<'py>,
@@ -490,83 +488,38 @@ impl Model {
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(py, &opts)?;
         let m = &self.model;
-        let j = m
-            .coordinates()
-            .iter()
-            .position(|c| c.name == driver)
-            .filter(|&j| j < m.drivers())
-            .ok_or_else(|| PyValueError::new_err(format!("{driver:?} is not a driver")))?;
-        if start.len() != m.coordinates().len() {
-            return Err(error(
-                py,
-                &Error::WrongLength {
-                    what: "coordinates",
-                    expected: m.coordinates().len(),
-                    found: start.len(),
-                },
-            ));
-        }
-        let steps = spec.3.max(1);
-        let from = spec.0.unwrap_or(start[j]);
-        let (to, count) = match (spec.1, spec.2) {
-            (Some(t), _) => (t, steps + 1),
-            (None, turns) => (from + core::f64::consts::TAU * turns.unwrap_or(1.0), steps),
+        let builder = m
+            .sweep(driver, &start)
+            .map_err(|e| error(py, &e))?
+            .steps(spec.3)
+            .options(&o);
+        let builder = match spec.0 {
+            Some(f) => builder.from(f),
+            None => builder,
         };
-        if !(from.is_finite() && to.is_finite()) {
-            return Err(PyValueError::new_err(
-                "the range of the driver must be finite",
-            ));
-        }
+        let builder = match (spec.1, spec.2) {
+            (Some(t), _) => builder.to(t),
+            (None, Some(n)) => builder.turns(n),
+            (None, None) => builder,
+        };
         let (nc, np, dim) = (m.coordinates().len(), m.point_names().len(), self.dim());
-        let run = || -> Result<Traced, Error> {
-            let mut stepper = m.stepper(&o)?;
-            let mut at = Vec::with_capacity(count);
-            let mut qs = Vec::with_capacity(count * nc);
-            let mut points = vec![0.0; count * np * dim];
-            let mut q = start.clone();
-            let mut stop = None;
-            #[allow(clippy::cast_precision_loss)]
-            for k in 0..count {
-                let value = from + (to - from) * (k as f64) / (steps as f64);
-                q[j] = value;
-                let i = at.len();
-                let done = stepper
-                    .pose(&q)
-                    .map(|pose| q.copy_from_slice(pose))
-                    .and_then(|()| {
-                        stepper.positions(&mut points[i * np * dim..(i + 1) * np * dim])
-                    });
-                match done {
-                    Ok(()) => {
-                        at.push(value);
-                        qs.extend_from_slice(&q);
-                    }
-                    Err(e) => {
-                        stop = Some(format!("stopped at {driver} = {value}: {e}"));
-                        break;
-                    }
-                }
-            }
-            points.truncate(at.len() * np * dim);
-            Ok(Traced {
-                at,
-                q: qs,
-                points,
-                stop,
+        let rows = spec.3.max(1) + usize::from(spec.1.is_some());
+        let mut at = Vec::with_capacity(rows);
+        let mut qs = Vec::with_capacity(rows * nc);
+        let mut points = Vec::with_capacity(rows * np * dim);
+        let end = py.detach(|| {
+            builder.for_each_pose(|value, q, r| {
+                at.push(value);
+                qs.extend_from_slice(q);
+                points.extend_from_slice(r);
             })
-        };
-        let Traced {
-            at,
-            q: qs,
-            points,
-            stop,
-        } = py.detach(run).map_err(|e| error(py, &e))?;
+        });
         let n = at.len();
         let d = PyDict::new(py);
         d.set_item("at", array(py, at))?;
         d.set_item("q", shaped(py, qs, vec![n, nc])?)?;
         d.set_item("points", shaped(py, points, vec![n, np, dim])?)?;
-        d.set_item("stop", stop)?;
+        d.set_item("stop", stop_dict(py, end.stop.as_ref())?)?;
         Ok(d)
     }
 
@@ -667,13 +620,32 @@ impl Model {
     }
 }
 
-/// What `Model.poses` traced: the driver's values, the poses (a row
-/// each), the points' positions, and why it stopped early.
-struct Traced {
-    at: Vec<f64>,
-    q: Vec<f64>,
-    points: Vec<f64>,
-    stop: Option<String>,
+/// A sweep's stop as a dict: "kind" ("limit_position", "change_point",
+/// "singular", "not_assembled" or "invalid"), "at", "message" and, where
+/// the reason has them, "unknowns", "from" and "to"; `None` for none.
+fn stop_dict<'py>(py: Python<'py>, stop: Option<&Stop>) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(stop) = stop else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("at", stop.at)?;
+    d.set_item("message", stop.to_string())?;
+    let kind = match &stop.reason {
+        StopReason::LimitPosition { unknowns } => {
+            d.set_item("unknowns", *unknowns)?;
+            "limit_position"
+        }
+        StopReason::ChangePoint { from, to } => {
+            d.set_item("from", *from)?;
+            d.set_item("to", *to)?;
+            "change_point"
+        }
+        StopReason::Singular(_) => "singular",
+        StopReason::NotAssembled(_) => "not_assembled",
+        StopReason::Invalid(_) => "invalid",
+    };
+    d.set_item("kind", kind)?;
+    Ok(Some(d))
 }
 
 fn change_points(s: &str) -> PyResult<ChangePoints> {
@@ -735,28 +707,7 @@ impl Sweep {
     /// "invalid"), "at", "message" and, where the reason has them,
     /// "unknowns", "from" and "to".
     fn stop<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(stop) = &self.columns.stop else {
-            return Ok(None);
-        };
-        let d = PyDict::new(py);
-        d.set_item("at", stop.at)?;
-        d.set_item("message", stop.to_string())?;
-        let kind = match &stop.reason {
-            StopReason::LimitPosition { unknowns } => {
-                d.set_item("unknowns", *unknowns)?;
-                "limit_position"
-            }
-            StopReason::ChangePoint { from, to } => {
-                d.set_item("from", *from)?;
-                d.set_item("to", *to)?;
-                "change_point"
-            }
-            StopReason::Singular(_) => "singular",
-            StopReason::NotAssembled(_) => "not_assembled",
-            StopReason::Invalid(_) => "invalid",
-        };
-        d.set_item("kind", kind)?;
-        Ok(Some(d))
+        stop_dict(py, self.columns.stop.as_ref())
     }
 
     /// The change points passed (estimates of the driver's value at each).

@@ -268,3 +268,19 @@ def test_options_are_checked(four_bar):
     neg = four_bar.assemble(phi=0.5, th3=1.0, th4=1.0, options=kin.Options(branch="negative"))
     pos = four_bar.assemble(phi=0.5, th3=1.0, th4=1.0, options=kin.Options(branch="positive"))
     assert four_bar.analyze(neg).det_sign < 0 < four_bar.analyze(pos).det_sign
+
+
+def test_poses_are_the_sweeps_positions(FourBar, four_bar):
+    start = four_bar.assemble_all(phi=0.3)[1]
+    ps = four_bar.poses("phi", start=start, turn=True, steps=90)
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=90)
+    assert ps.stop is None and len(ps) == 90
+    assert np.array_equal(ps.at, sw.at)
+    assert close(ps["th3"], sw["th3"], 1e-14)
+    assert close(ps.point("P"), sw.point("P").position, 1e-15)
+    # A crank that cannot turn: the poses end before the limit position.
+    m = FourBar(a=0.08, b=0.10, c=0.07, d=0.15, p=0.05, beta=0.0)
+    short = m.poses("phi", start=m.assemble_all(phi=0.5)[0], from_=0.5, to=3.0, steps=250)
+    # |D − B| = b + c at φ = 90°: the limit, by bisection as the sweep finds it.
+    assert short.stop is not None and short.stop.kind == "limit_position"
+    assert abs(short.stop.at - math.pi / 2) < 1e-9 and short.at[-1] <= math.pi / 2 and len(short) < 251

@@ -1194,3 +1194,39 @@ fn poses_positions_and_deviations_over_kept_motions() {
         assert!((d.position_components[0] - worst).abs() < 1e-16, "{d:?}");
     }
 }
+
+/// A sweep of poses gives the full sweep's poses and positions, and stops
+/// at the same limit position (by the same bisection).
+#[test]
+fn a_sweep_of_poses_follows_the_full_sweep_to_its_limit() {
+    let m = model("SliderCrank", &[0.3, 0.2, 0.0]);
+    let sweep = || {
+        m.sweep("phi", &[0.0, 0.0, 0.5])
+            .expect("phi is a driver")
+            .turn()
+            .steps(360)
+    };
+    let full = sweep().run();
+    let mut poses = Vec::new();
+    let end = sweep().for_each_pose(|at, q, r| poses.push((at, q.to_vec(), r.to_vec())));
+    assert_eq!(poses.len(), full.samples.len());
+    for ((at, q, r), s) in poses.iter().zip(&full.samples) {
+        assert_eq!(*at, s.at);
+        assert!(
+            q.iter()
+                .zip(&s.motion.q)
+                .all(|(x, y)| (x - y).abs() <= 1e-15),
+            "{q:?} / {:?}",
+            s.motion.q
+        );
+        assert_eq!(r[..2], s.motion.points[0].position[..]);
+    }
+    let (a, b) = (end.stop.expect("stops"), full.stop.expect("stops"));
+    assert_eq!(a.reason, b.reason);
+    assert!(
+        (a.at - b.at).abs() <= 4.0 * f64::EPSILON,
+        "{} / {}",
+        a.at,
+        b.at
+    );
+}

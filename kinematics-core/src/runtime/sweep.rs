@@ -306,6 +306,88 @@ impl SweepBuilder<'_> {
         )
     }
 
+    /// Runs the sweep for positions only, handing `f` the swept value, the
+    /// pose (drivers first) and every point's position
+    /// ([`Model::point_dimension`] values per point) at each sample: each
+    /// pose assembled from the last as a [`Stepper`](super::Stepper)
+    /// does ([`Stepper::pose`](super::Stepper::pose)), without the
+    /// analysis: no rates, no accelerations, no judgement of the
+    /// conditioning, and so no search for change points (the closed forms
+    /// stay in the start's modes). It stops where the mechanism does not
+    /// assemble: at a limit position, found by bisection as
+    /// [`SweepBuilder::run`] finds it, or with the error. No allocation
+    /// per sample.
+    pub fn for_each_pose(self, mut f: impl FnMut(f64, &[f64], &[f64])) -> SweepEnd {
+        let m = self.m;
+        let coordinate = m.coordinates[self.driver];
+        let from = self
+            .from
+            .or_else(|| self.start.get(self.driver).copied())
+            .unwrap_or(f64::NAN);
+        let j = self.driver;
+        let mut end = SweepEnd {
+            stop: None,
+            change_points: Vec::new(),
+        };
+        let stop = |at: f64, reason: StopReason| Stop {
+            variable: coordinate.name,
+            at,
+            reason,
+        };
+        let started = grid(from, self.end, self.steps, coordinate.kind).and_then(|g| {
+            m.check_pose(&self.start)?;
+            Ok((g, m.stepper(&self.options)?))
+        });
+        let (grid, mut stepper) = match started {
+            Ok(s) => s,
+            Err(e) => {
+                end.stop = Some(stop(from, StopReason::from_error(e)));
+                return end;
+            }
+        };
+        let mut q = self.start.clone();
+        let mut positions = vec![0.0; m.points.len() * m.point_dim];
+        let mut last: Option<f64> = None;
+        for k in 0..grid.count {
+            let at = grid.at(k);
+            let before = q[j];
+            q[j] = at;
+            let solved = stepper
+                .pose(&q)
+                .map(|pose| q.copy_from_slice(pose))
+                .and_then(|()| stepper.positions(&mut positions));
+            match solved {
+                Ok(()) => {
+                    f(at, &q, &positions);
+                    last = Some(at);
+                }
+                Err(Error::CannotAssemble { unknowns, .. }) if last.is_some() => {
+                    q[j] = before;
+                    let recent = Recent {
+                        at: last.unwrap_or(at),
+                        q: q.clone(),
+                        conditioning: 0.0,
+                        det_sign: 0.0,
+                    };
+                    let modes: Vec<f64> = stepper
+                        .modes()
+                        .map(|ms| ms.iter().map(|m| m.sign()).collect())
+                        .unwrap_or_default();
+                    let mut w = m.work();
+                    let mut set = |at: f64, d: &mut [f64], _: &mut [f64], _: &mut [f64]| d[j] = at;
+                    let limit = limit(m, &recent, at, &modes, &self.options, &mut set, &mut w);
+                    end.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
+                    return end;
+                }
+                Err(e) => {
+                    end.stop = Some(stop(at, StopReason::from_error(e)));
+                    return end;
+                }
+            }
+        }
+        end
+    }
+
     /// Runs the sweep, collecting its samples.
     pub fn run(self) -> Sweep {
         let m = self.m;
