@@ -605,6 +605,17 @@ class Mechanism(metaclass=MechanismType):
         d = self._m.sensitivities(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
         return {p: Sensitivity(type(self), p, v) for p, v in d.items()}
 
+    def _range(self, driver: str, to: Optional[float], turn: bool, turns: Optional[float]) -> Optional[float]:
+        """The whole turns of a sweep's range (``None`` with an end
+        ``to``), once ``driver`` is checked to be a driver."""
+        if driver not in self.driver_names():
+            raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
+        if turn and turns is None:
+            turns = 1.0
+        if to is not None and turns is not None:
+            raise TypeError("give either to= or turn/turns=, not both")
+        return turns
+
     def sweep(
         self,
         driver: str,
@@ -641,14 +652,9 @@ class Mechanism(metaclass=MechanismType):
             KeyError: ``driver`` is not a driver.
             ValueError: bad range or options.
         """
-        if driver not in self.driver_names():
-            raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
+        turns = self._range(driver, to, turn, turns)
         if rpm is not None:
             rate = rpm * 2.0 * math.pi / 60.0
-        if turn and turns is None:
-            turns = 1.0
-        if to is not None and turns is not None:
-            raise TypeError("give either to= or turn/turns=, not both")
         q = self.pose(start)
         native = self._m.sweep(
             driver,
@@ -679,12 +685,7 @@ class Mechanism(metaclass=MechanismType):
         change points; it stops where the mechanism does not assemble (at a
         limit position, found by bisection as :meth:`sweep` finds it), and
         :attr:`Poses.stop` says why. The fastest way to trace paths."""
-        if driver not in self.driver_names():
-            raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
-        if turn and turns is None:
-            turns = 1.0
-        if to is not None and turns is not None:
-            raise TypeError("give either to= or turn/turns=, not both")
+        turns = self._range(driver, to, turn, turns)
         q = self.pose(start)
         d = self._m.poses(driver, list(q.array), (from_, to, turns, int(steps)), _opts(options))
         from ._sweep import Poses

@@ -1,6 +1,6 @@
 //! Conversions of the library's results into numpy arrays and dicts.
 
-use kinematics_core::runtime::Motion;
+use kinematics_core::runtime::{Motion, PointState};
 use kinematics_core::FrameState;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -28,6 +28,21 @@ pub(crate) fn frame_values(f: &FrameState) -> impl Iterator<Item = f64> + '_ {
         .chain(f.angular_acceleration.iter().copied())
 }
 
+/// Every point's position, velocity and acceleration, one after the
+/// other (points × 3 × dim values).
+pub(crate) fn point_values(points: &[PointState]) -> Vec<f64> {
+    points
+        .iter()
+        .flat_map(|p| {
+            p.position
+                .iter()
+                .chain(&p.velocity)
+                .chain(&p.acceleration)
+                .copied()
+        })
+        .collect()
+}
+
 /// A motion as a dict: "q", "qd", "qdd" (one value per coordinate),
 /// "points" (points × 3 × dim: position, velocity, acceleration), "frames"
 /// (frames × 24, see [`frame_values`]), "conditioning", "det_sign",
@@ -41,18 +56,10 @@ pub(crate) fn motion_dict<'py>(
     d.set_item("q", array(py, m.q.clone()))?;
     d.set_item("qd", array(py, m.qd.clone()))?;
     d.set_item("qdd", array(py, m.qdd.clone()))?;
-    let points: Vec<f64> = m
-        .points
-        .iter()
-        .flat_map(|p| {
-            p.position
-                .iter()
-                .chain(&p.velocity)
-                .chain(&p.acceleration)
-                .copied()
-        })
-        .collect();
-    d.set_item("points", shaped(py, points, vec![m.points.len(), 3, dim])?)?;
+    d.set_item(
+        "points",
+        shaped(py, point_values(&m.points), vec![m.points.len(), 3, dim])?,
+    )?;
     let frames: Vec<f64> = m.frames.iter().flat_map(frame_values).collect();
     d.set_item("frames", shaped(py, frames, vec![m.frames.len(), 24])?)?;
     d.set_item("conditioning", m.conditioning)?;

@@ -396,17 +396,7 @@ impl Model {
             d.set_item("q", array(py, s.q))?;
             d.set_item("qd", array(py, s.qd))?;
             d.set_item("qdd", array(py, s.qdd))?;
-            let flat: Vec<f64> = s
-                .points
-                .iter()
-                .flat_map(|p| {
-                    p.position
-                        .iter()
-                        .chain(&p.velocity)
-                        .chain(&p.acceleration)
-                        .copied()
-                })
-                .collect();
+            let flat = convert::point_values(&s.points);
             d.set_item("points", shaped(py, flat, vec![s.points.len(), 3, dim])?)?;
             out.set_item(s.parameter, d)?;
         }

@@ -258,6 +258,13 @@ impl SweepBuilder<'_> {
         self
     }
 
+    /// The first value of the swept driver: `from`, else the start's.
+    fn first(&self) -> f64 {
+        self.from
+            .or_else(|| self.start.get(self.driver).copied())
+            .unwrap_or(f64::NAN)
+    }
+
     /// Runs the sweep, handing each sample to `f` (the swept value and the
     /// motion there) as it is solved, without collecting them: the same
     /// samples as [`SweepBuilder::run`], with no allocation per sample.
@@ -285,10 +292,7 @@ impl SweepBuilder<'_> {
     pub fn for_each(self, f: impl FnMut(f64, &Motion)) -> SweepEnd {
         let m = self.m;
         let coordinate = m.coordinates[self.driver];
-        let from = self
-            .from
-            .or_else(|| self.start.get(self.driver).copied())
-            .unwrap_or(f64::NAN);
+        let from = self.first();
         let (j, rate, acceleration) = (self.driver, self.rate, self.acceleration);
         let grid = grid(from, self.end, self.steps, coordinate.kind);
         drive_each(
@@ -320,10 +324,7 @@ impl SweepBuilder<'_> {
     pub fn for_each_pose(self, mut f: impl FnMut(f64, &[f64], &[f64])) -> SweepEnd {
         let m = self.m;
         let coordinate = m.coordinates[self.driver];
-        let from = self
-            .from
-            .or_else(|| self.start.get(self.driver).copied())
-            .unwrap_or(f64::NAN);
+        let from = self.first();
         let j = self.driver;
         let mut end = SweepEnd {
             stop: None,
