@@ -666,6 +666,52 @@ class Mechanism(metaclass=MechanismType):
 
         return Sweep(type(self), self, native)
 
+    def simulate(
+        self,
+        *,
+        start: Mapping[str, float],
+        duration: float,
+        steps: int,
+        values: Optional[Mapping[str, ArrayLike]] = None,
+        rates: Optional[Mapping[str, ArrayLike]] = None,
+        accelerations: Optional[Mapping[str, ArrayLike]] = None,
+        options: Optional[Options] = None,
+    ) -> "Sweep":
+        """A simulation in time: ``steps + 1`` samples at t = duration·k/steps,
+        where each driver follows the arrays given for it (``steps + 1``
+        values each: its value, rate and acceleration at each sample); a
+        driver with no values stays at its value in ``start``, and a rate
+        or acceleration not given is zero. Every sample is assembled and
+        analysed as a sweep's (stopping at a singular pose or a change of
+        branch); the result is a :class:`Sweep` whose variable is ``t``.
+
+        Raises:
+            KeyError: a name that is not a driver.
+            ValueError: an array without ``steps + 1`` values.
+        """
+        drivers = self.driver_names()
+        n = int(steps) + 1
+        q = self.pose(start)
+        table = {}
+        for what, given in (("values", values), ("rates", rates), ("accelerations", accelerations)):
+            a = np.empty((n, len(drivers)))
+            for j, name in enumerate(drivers):
+                a[:, j] = q[name] if what == "values" else 0.0
+            for name, column in (given or {}).items():
+                if name not in drivers:
+                    raise KeyError(f"{name!r} is not a driver of {type(self).__name__}: they are {list(drivers)}")
+                column = np.asarray(column, dtype=float).reshape(-1)
+                if column.size != n:
+                    raise ValueError(f"{what}[{name!r}] has {column.size} values; steps={steps} needs {n}")
+                a[:, drivers.index(name)] = column
+            table[what] = list(a.reshape(-1))
+        native = self._m.simulate(
+            list(q.array), float(duration), int(steps), table["values"], table["rates"], table["accelerations"], _opts(options)
+        )
+        from ._sweep import Sweep
+
+        return Sweep(type(self), self, native)
+
     def poses(
         self,
         driver: str,

@@ -52,6 +52,16 @@ class Model:
     def sensitivities(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> Dict[str, Dict[str, Any]]: ...
+    def simulate(
+        self,
+        start: Sequence[float],
+        duration: float,
+        steps: int,
+        values: Sequence[float],
+        rates: Sequence[float],
+        accelerations: Sequence[float],
+        opts: _Options,
+    ) -> Sweep: ...
     def poses(
         self, driver: str, start: Sequence[float], spec: Tuple[Optional[float], Optional[float], Optional[float], int], opts: _Options
     ) -> Dict[str, Any]: ...

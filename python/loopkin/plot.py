@@ -30,6 +30,8 @@ def _x(sweep: "Sweep") -> Tuple[np.ndarray, str]:
     kinds = sweep.design.kinds()
     if kinds.get(sweep.variable) == "angle":
         return np.degrees(sweep.at), f"{sweep.variable} (deg)"
+    if sweep.variable == "t":
+        return sweep.at, "t (s)"
     return sweep.at, f"{sweep.variable} (m)"
 
 

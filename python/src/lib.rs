@@ -513,6 +513,72 @@ impl Model {
         Ok(d)
     }
 
+    /// A simulation in time from the pose `start` over `duration` seconds
+    /// in `steps` steps: at sample k (t = duration·k/steps) the drivers
+    /// take the values, rates and accelerations of row k of `values`,
+    /// `rates` and `accelerations` (`(steps + 1)` rows of one value per
+    /// driver, row-major).
+    #[allow(clippy::too_many_arguments)]
+    fn simulate(
+        &self,
+        py: Python<'_>,
+        start: Vec<f64>,
+        duration: f64,
+        steps: usize,
+        values: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+        opts: OptionsTuple,
+    ) -> PyResult<Sweep> {
+        let o = options(py, &opts)?;
+        let (nd, steps) = (self.model.drivers(), steps.max(1));
+        let rows = (steps + 1) * nd;
+        for (what, v) in [
+            ("driver values", &values),
+            ("driver rates", &rates),
+            ("driver accelerations", &accelerations),
+        ] {
+            if v.len() != rows {
+                return Err(error(
+                    py,
+                    &Error::WrongLength {
+                        what,
+                        expected: rows,
+                        found: v.len(),
+                    },
+                ));
+            }
+        }
+        let mut columns = Columns::new(&self.model, "t", kinematics_core::Kind::Length, steps + 1);
+        py.detach(|| {
+            #[allow(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                clippy::cast_precision_loss
+            )]
+            let end = self
+                .model
+                .simulate(&start)
+                .duration(duration)
+                .steps(steps)
+                .options(&o)
+                .profile(|t, d, dd, ddd| {
+                    // t = duration·k/steps exactly: k back by rounding.
+                    let k = ((t / duration * steps as f64).round() as usize).min(steps);
+                    let row = k * nd..(k + 1) * nd;
+                    d.copy_from_slice(&values[row.clone()]);
+                    dd.copy_from_slice(&rates[row.clone()]);
+                    ddd.copy_from_slice(&accelerations[row]);
+                })
+                .for_each(|at, motion| columns.push(at, motion));
+            columns.end(end);
+        });
+        Ok(Sweep {
+            columns,
+            model: self.model.clone(),
+        })
+    }
+
     /// Runs a batch of designs (one row of `values` per design, a value
     /// per parameter) on every core; see `batch::run`. The arguments are
     /// those of `Mechanism.batch` in the Python layer, one for one.

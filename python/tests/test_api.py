@@ -284,3 +284,23 @@ def test_poses_are_the_sweeps_positions(FourBar, four_bar):
     # |D − B| = b + c at φ = 90°: the limit, by bisection as the sweep finds it.
     assert short.stop is not None and short.stop.kind == "limit_position"
     assert abs(short.stop.at - math.pi / 2) < 1e-9 and short.at[-1] <= math.pi / 2 and len(short) < 251
+
+
+def test_a_simulation_follows_its_profile(four_bar):
+    # The crank starts from rest with φ'' = 20 rad/s² for one second:
+    # φ = 10 t², φ' = 20 t; every sample is the analysis at its pose.
+    start = four_bar.assemble_all(phi=0.0)[1]
+    t = np.linspace(0.0, 1.0, 101)
+    sim = four_bar.simulate(start=start, duration=1.0, steps=100, values={"phi": 10 * t * t},
+                            rates={"phi": 20 * t}, accelerations={"phi": np.full(101, 20.0)})
+    assert sim.variable == "t" and len(sim) == 101 and sim.stop is None
+    assert np.allclose(sim.at, t, rtol=0, atol=1e-15)
+    assert np.array_equal(sim["phi"], 10 * t * t) and np.array_equal(sim.qd["phi"], 20 * t)
+    for k in (0, 37, 100):
+        s = four_bar.analyze(sim.pose(k), rate=20 * t[k], acceleration=20.0)
+        assert close(sim.qdd["th3"][k], s.qdd["th3"], 1e-13, scale=400)
+        assert close(sim.point("P").velocity[k], s.points["P"].velocity, 1e-13, scale=20)
+    with pytest.raises(ValueError, match="101"):
+        four_bar.simulate(start=start, duration=1.0, steps=100, values={"phi": t[:50]})
+    with pytest.raises(KeyError, match="not a driver"):
+        four_bar.simulate(start=start, duration=1.0, steps=100, rates={"th3": t})

@@ -511,6 +511,14 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
 
     /// Runs the simulation, collecting its samples.
     pub fn run(self) -> Sweep {
+        let m = self.m;
+        collect(m, ("t", Kind::Length), |emit| self.for_each(emit))
+    }
+
+    /// Runs the simulation, handing each sample to `f` (the time and the
+    /// motion) as it is solved, without collecting them, as
+    /// [`SweepBuilder::for_each`] does for a sweep.
+    pub fn for_each(self, f: impl FnMut(f64, &Motion)) -> SweepEnd {
         let times = if self.duration.is_finite() && self.duration > 0.0 {
             let steps = self.steps.max(1);
             #[allow(clippy::cast_precision_loss)]
@@ -528,24 +536,22 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
         let nd = m.drivers;
         let start = self.start.clone();
         let mut profile = self.profile;
-        collect(m, ("t", Kind::Length), |emit| {
-            drive_each(
-                m,
-                ("t", Kind::Length, 0.0),
-                &self.start,
-                (&self.options, ChangePoints::Stop),
-                times,
-                |t, d, rates, accelerations| {
-                    if d.len() == nd && start.len() >= nd {
-                        d.copy_from_slice(&start[..nd]);
-                    }
-                    rates.fill(0.0);
-                    accelerations.fill(0.0);
-                    profile(t, d, rates, accelerations);
-                },
-                emit,
-            )
-        })
+        drive_each(
+            m,
+            ("t", Kind::Length, 0.0),
+            &self.start,
+            (&self.options, ChangePoints::Stop),
+            times,
+            |t, d, rates, accelerations| {
+                if d.len() == nd && start.len() >= nd {
+                    d.copy_from_slice(&start[..nd]);
+                }
+                rates.fill(0.0);
+                accelerations.fill(0.0);
+                profile(t, d, rates, accelerations);
+            },
+            f,
+        )
     }
 }
 
