@@ -179,7 +179,7 @@ pub fn point_roles_by(
 
 /// The index of point `name` among the points of `M`, or an error for
 /// `what` (the drawing asking) listing the points there are.
-#[cfg(feature = "std")]
+#[cfg(feature = "plot")]
 pub(crate) fn point_index<M: Mechanism>(
     name: &str,
     what: &'static str,

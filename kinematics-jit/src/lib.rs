@@ -570,6 +570,33 @@ impl Program {
         }
     }
 
+    /// The first array of a call whose length is not the program's.
+    #[cold]
+    fn mismatch(&self, inputs: &Inputs<'_>, outputs: usize, out: usize) -> LengthMismatch {
+        [
+            ("params", self.params, inputs.params.len()),
+            ("q", self.coords, inputs.q.len()),
+            ("qd", self.coords, inputs.qd.len()),
+            ("qdd", self.coords, inputs.qdd.len()),
+            ("trig", 2 * self.coords, inputs.trig.len()),
+            ("out", outputs, out),
+        ]
+        .into_iter()
+        .find(|(_, expected, found)| expected != found)
+        .map_or(
+            LengthMismatch {
+                array: "out",
+                expected: outputs,
+                found: out,
+            },
+            |(array, expected, found)| LengthMismatch {
+                array,
+                expected,
+                found,
+            },
+        )
+    }
+
     /// Runs stage `stage` on `inputs`, writing its roots into `out`.
     ///
     /// # Errors
@@ -583,21 +610,15 @@ impl Program {
         out: &mut [f64],
     ) -> Result<(), LengthMismatch> {
         let outputs = self.outputs(stage);
-        for (array, expected, found) in [
-            ("params", self.params, inputs.params.len()),
-            ("q", self.coords, inputs.q.len()),
-            ("qd", self.coords, inputs.qd.len()),
-            ("qdd", self.coords, inputs.qdd.len()),
-            ("trig", 2 * self.coords, inputs.trig.len()),
-            ("out", outputs, out.len()),
-        ] {
-            if expected != found {
-                return Err(LengthMismatch {
-                    array,
-                    expected,
-                    found,
-                });
-            }
+        let coords = self.coords;
+        if inputs.params.len() != self.params
+            || inputs.q.len() != coords
+            || inputs.qd.len() != coords
+            || inputs.qdd.len() != coords
+            || inputs.trig.len() != 2 * coords
+            || out.len() != outputs
+        {
+            return Err(self.mismatch(inputs, outputs, out.len()));
         }
         let Some(s) = self.stages.get(stage) else {
             return Ok(());
