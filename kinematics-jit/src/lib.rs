@@ -560,8 +560,16 @@ impl Program {
     /// `q`. With `from` the number of drivers, it updates a pose whose
     /// drivers have not changed. Entries past either array are skipped.
     pub fn trig(&self, q: &[f64], trig: &mut [f64], from: usize) {
+        self.trig_between(q, trig, from, usize::MAX);
+    }
+
+    /// [`Program::trig`] for the coordinates j with `from` ≤ j < `to`
+    /// only (the drivers of a pose whose unknowns' cosines and sines come
+    /// from elsewhere, say).
+    pub fn trig_between(&self, q: &[f64], trig: &mut [f64], from: usize, to: usize) {
         let start = self.trig.partition_point(|&j| j < from);
-        for &j in &self.trig[start..] {
+        let end = self.trig.partition_point(|&j| j < to).max(start);
+        for &j in &self.trig[start..end] {
             if let (Some(&x), Some(pair)) = (q.get(j), trig.get_mut(2 * j..2 * j + 2)) {
                 let (s, c) = x.sin_cos();
                 pair[0] = c;

@@ -182,10 +182,15 @@ impl Model {
     /// per `w` (whose options and parameters do not change).
     pub(super) fn scaling(&self, q: &[f64], w: &mut Work, options: &Options) -> f64 {
         let n = self.params.len();
-        self.program.trig(q, &mut w.trig, 0);
         if w.scaling_kept {
+            // The scaling reads no coordinate: only the drivers' cosines
+            // and sines are brought up to q (the assembly solves the
+            // unknowns', or evaluates them from the guess where it solves
+            // by Newton–Raphson).
+            self.program.trig_between(q, &mut w.trig, 0, self.drivers);
             return w.params[n];
         }
+        self.program.trig(q, &mut w.trig, 0);
         w.params[n] = f64::NAN;
         self.eval(
             Program::SCALES,
