@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 from pylinkage.solver.simulation import simulate, simulate_with_kinematics
-from pylinkage.solver.types import JOINT_CRANK, JOINT_FIXED, JOINT_REVOLUTE, JOINT_STATIC
+from pylinkage.solver.types import JOINT_CRANK, JOINT_REVOLUTE, JOINT_STATIC
 
 import loopkin as kin
 
@@ -80,18 +80,13 @@ FOUR_BAR = Pylinkage(
     crank=2,
 )
 
-# pylinkage's Strider example (as bench/python/strider_pylinkage.py).
-TRI, APE, FEMUR, ROCKER_L, ROCKER_S, PHI, TIBIA, FOOT = 2.0, math.pi / 4, 1.8, 2.6, 1.4, math.pi + 0.2, 2.5, 1.8
-STRIDER = Pylinkage(
-    [JOINT_STATIC, JOINT_STATIC, JOINT_FIXED, JOINT_FIXED, JOINT_CRANK, JOINT_REVOLUTE, JOINT_REVOLUTE,
-     JOINT_FIXED, JOINT_FIXED, JOINT_REVOLUTE, JOINT_REVOLUTE],
-    [(-1, -1), (-1, -1), (0, 1), (0, 1), (0, -1), (3, 4), (2, 4), (4, 6), (4, 5), (5, 7), (6, 8)],
-    [(), (), (TRI, -APE), (TRI, APE), (1.0, 2 * math.pi / STEPS), (FEMUR, ROCKER_L), (FEMUR, ROCKER_L),
-     (ROCKER_S, -PHI), (ROCKER_S, PHI), (TIBIA, FOOT), (TIBIA, FOOT)],
-    [(0, 0), (0, 1), (1.41, 1.41), (-1.41, 1.41), (0, -1), (-2.25, 0), (2.25, 0), (-1.4, -1.2), (1.4, -1.2),
-     (-2.7, -2.7), (2.7, -2.7)],
-    crank=4,
-)
+# pylinkage's Strider example, as bench/python/strider_pylinkage.py
+# defines it (its joints, parents, constraints and start).
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench" / "python"))
+import strider_pylinkage as sp  # noqa: E402
+
+TRI, APE, FEMUR, ROCKER_L, ROCKER_S, PHI, TIBIA, FOOT = sp.TRI, sp.APE, sp.FEMUR, sp.ROCKER_L, sp.ROCKER_S, sp.PHI, sp.TIBIA, sp.FOOT
+STRIDER = Pylinkage(sp.TYPES, sp.PARENTS, sp.CONSTRAINTS, sp.START, crank=4)
 
 
 def angle(p, q):

@@ -796,13 +796,18 @@ class Mechanism(metaclass=MechanismType):
             if driver not in self.driver_names():
                 raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}")
             j = self.driver_names().index(driver)
-            rpm = s.pop("rpm", None)
+            swept_rate, rpm = s.pop("rate", None), s.pop("rpm", None)
+            if swept_rate is not None and rpm is not None:
+                raise TypeError("give the sweep's rate or its rpm, not both")
             if rpm is not None:
                 rate_values[j] = rpm * 2.0 * math.pi / 60.0
-            elif "rate" in s:
-                rate_values[j] = float(s.pop("rate"))
-            if "acceleration" in s and accelerations is None and acceleration is None:
-                accelerations = {driver: float(s.pop("acceleration"))}
+            elif swept_rate is not None:
+                rate_values[j] = float(swept_rate)
+            swept_acceleration = s.pop("acceleration", None)
+            if swept_acceleration is not None:
+                if acceleration is not None or accelerations is not None:
+                    raise TypeError("give the driver's acceleration in the sweep or as an argument, not both")
+                accelerations = {driver: float(swept_acceleration)}
             turns = s.pop("turns", None)
             if s.pop("turn", False) and turns is None:
                 turns = 1.0

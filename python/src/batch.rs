@@ -14,6 +14,8 @@ use crate::convert::{array, shaped};
 /// The sweep each design of a batch runs.
 pub(crate) struct SweepSpec {
     pub driver: &'static str,
+    /// The driver's index among the coordinates.
+    pub index: usize,
     pub from: Option<f64>,
     pub to: Option<f64>,
     pub turns: Option<f64>,
@@ -116,11 +118,7 @@ impl Job<'_> {
             Ok(b) => b,
             Err(e) => return failed(e, kept),
         };
-        let j = model
-            .coordinates()
-            .iter()
-            .position(|c| c.name == spec.driver)
-            .unwrap_or(0);
+        let j = spec.index;
         let mut builder = builder
             .steps(spec.steps)
             .rate(self.rates.get(j).copied().unwrap_or(0.0))

@@ -628,6 +628,7 @@ impl Model {
                     })?;
                 Some(batch::SweepSpec {
                     driver: self.model.coordinates()[j].name,
+                    index: j,
                     from,
                     to,
                     turns,

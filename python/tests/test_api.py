@@ -304,3 +304,18 @@ def test_a_simulation_follows_its_profile(four_bar):
         four_bar.simulate(start=start, duration=1.0, steps=100, values={"phi": t[:50]})
     with pytest.raises(KeyError, match="not a driver"):
         four_bar.simulate(start=start, duration=1.0, steps=100, rates={"th3": t})
+
+
+def test_a_batch_sweep_takes_its_rate_and_acceleration_from_the_sweep(four_bar):
+    start = four_bar.assemble_all(phi=0.0)[0]
+    res = four_bar.batch({"a": [0.04, 0.05]}, start=start, outputs=["th3.acceleration"],
+                         sweep=dict(driver="phi", turn=True, steps=12, rate=3.0, acceleration=2.0))
+    for i, a in enumerate((0.04, 0.05)):
+        sw = four_bar.replace(a=a).sweep("phi", start=start, turn=True, steps=12, rate=3.0, acceleration=2.0)
+        assert np.array_equal(res["th3.acceleration"][i], sw.qdd["th3"])
+    with pytest.raises(TypeError, match="rate or its rpm"):
+        four_bar.batch({"a": [0.04]}, start=start, sweep=dict(driver="phi", rate=3.0, rpm=60))
+    with pytest.raises(TypeError, match="not both"):
+        four_bar.batch({"a": [0.04]}, start=start, acceleration=1.0, sweep=dict(driver="phi", acceleration=2.0))
+    with pytest.raises(TypeError, match="unknown sweep key"):
+        four_bar.batch({"a": [0.04]}, start=start, sweep=dict(driver="phi", stepz=3))

@@ -50,7 +50,6 @@ def test_four_bar_against_its_closed_form(four_bar, phi):
     w, al = 10.0, 25.0
     for pose in m.assemble_all(phi=phi):
         s = m.analyze(pose, rate=w, acceleration=al)
-        th, rates, accs, (P, vP, aP) = None, None, None, (None, None, None)
         # The mode is the side of BD on which C lies: match it by θ3.
         best = None
         for mode in (1, -1):

@@ -1137,7 +1137,7 @@ fn poses_positions_and_deviations_over_kept_motions() {
         params   { a, b }
         drivers  { phi }
         unknowns { th, x }
-        points   { B = polar(a, phi); C = vec2(x, 0.0); }
+        points   { B = polar(a, phi); C = vec2(x, 0.0); D = B + polar(b, th); }
         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
         sensitivities { a, b }
     }";
@@ -1147,7 +1147,7 @@ fn poses_positions_and_deviations_over_kept_motions() {
     let mut poser = m.stepper(&options).expect("valid");
     let mut stepper = m.stepper(&options).expect("valid");
     let mut q = vec![0.0, 0.0, 0.4];
-    let mut r = vec![0.0; 4];
+    let mut r = vec![0.0; 6];
     for k in 1..=72 {
         q[0] = f64::from(k) * 5f64.to_radians();
         let pose = poser.pose(&q).expect("assembles").to_vec();
@@ -1157,6 +1157,8 @@ fn poses_positions_and_deviations_over_kept_motions() {
         let x = 0.1 * q[0].cos() + (0.09 - 0.01 * q[0].sin().powi(2)).sqrt();
         assert!((pose[2] - x).abs() < 1e-15 && (r[2] - x).abs() < 1e-15);
         assert_eq!(r[..2], s.points[0].position[..]);
+        // D, at the end of the rod (through θ's cosine and sine), is C.
+        assert!((r[4] - x).abs() < 1e-15 && r[5].abs() < 1e-15, "{r:?}");
         q.copy_from_slice(&pose);
     }
     assert!(poser.positions(&mut [0.0; 3]).is_err());

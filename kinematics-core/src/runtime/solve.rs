@@ -510,15 +510,20 @@ impl Model {
     }
 
     /// The positions of every point at q into `out` (`point_dim` values
-    /// per point), each checked finite.
+    /// per point), each checked finite; with `trig`, the cosines and sines
+    /// of q are evaluated first (else `w` holds them, as an assembly
+    /// leaves them).
     pub(super) fn positions_into(
         &self,
         q: &[f64],
         w: &mut Work,
+        trig: bool,
         out: &mut [f64],
     ) -> Result<(), Error> {
         let d = self.point_dim;
-        self.program.trig(q, &mut w.trig, 0);
+        if trig {
+            self.program.trig(q, &mut w.trig, 0);
+        }
         self.eval(
             Program::OUTPUTS,
             &w.params,

@@ -50,6 +50,9 @@ pub struct Stepper<'m> {
     q: Vec<f64>,
     /// The assembly modes followed (NaN: from the next start).
     modes: Vec<f64>,
+    /// Whether the last step or pose assembled: then the work holds the
+    /// cosines and sines of `q`, as the assembly left them.
+    assembled: bool,
 }
 
 impl core::fmt::Debug for Stepper<'_> {
@@ -76,6 +79,7 @@ impl Model {
             motion: self.shaped_motion(),
             q: vec![0.0; self.coordinates.len()],
             modes: vec![f64::NAN; self.mode_count()],
+            assembled: false,
         })
     }
 }
@@ -119,15 +123,9 @@ impl Stepper<'_> {
         accelerations: &[f64],
     ) -> Result<&Motion, Error> {
         let m = self.m;
+        self.assembled = false;
         m.check_inputs(start, rates, accelerations)?;
-        self.q.copy_from_slice(start);
-        m.assemble_into(
-            &mut self.q,
-            &mut self.work,
-            &mut self.modes,
-            &self.options,
-            false,
-        )?;
+        self.assemble(start)?;
         m.analyze_into(
             &self.q,
             rates,
@@ -153,15 +151,9 @@ impl Stepper<'_> {
     /// not judged.
     pub fn pose(&mut self, start: &[f64]) -> Result<&[f64], Error> {
         let m = self.m;
+        self.assembled = false;
         m.check_pose(start)?;
-        self.q.copy_from_slice(start);
-        m.assemble_into(
-            &mut self.q,
-            &mut self.work,
-            &mut self.modes,
-            &self.options,
-            false,
-        )?;
+        self.assemble(start)?;
         Ok(&self.q)
     }
 
@@ -177,6 +169,21 @@ impl Stepper<'_> {
         let m = self.m;
         let d = m.point_dim;
         m.length("point positions", m.points.len() * d, out.len())?;
-        m.positions_into(&self.q, &mut self.work, out)
+        m.positions_into(&self.q, &mut self.work, !self.assembled, out)
+    }
+
+    /// Assembles `start` (already checked) into the stepper's pose, in its
+    /// modes; records whether it assembled.
+    fn assemble(&mut self, start: &[f64]) -> Result<(), Error> {
+        self.q.copy_from_slice(start);
+        self.m.assemble_into(
+            &mut self.q,
+            &mut self.work,
+            &mut self.modes,
+            &self.options,
+            false,
+        )?;
+        self.assembled = true;
+        Ok(())
     }
 }

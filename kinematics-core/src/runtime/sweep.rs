@@ -614,27 +614,20 @@ impl History {
         &self.0[self.0.len() - k]
     }
     fn push(&mut self, at: f64, motion: &Motion) {
-        let mut recent = if self.0.len() == 3 {
-            self.0.pop_front().unwrap_or(Recent {
-                at,
-                q: Vec::new(),
-                conditioning: 0.0,
-                det_sign: 0.0,
-            })
+        // The oldest sample's vector, once there are three.
+        let mut q = if self.0.len() == 3 {
+            self.0.pop_front().map(|r| r.q).unwrap_or_default()
         } else {
-            Recent {
-                at,
-                q: Vec::with_capacity(motion.q.len()),
-                conditioning: 0.0,
-                det_sign: 0.0,
-            }
+            Vec::with_capacity(motion.q.len())
         };
-        recent.at = at;
-        recent.q.clear();
-        recent.q.extend_from_slice(&motion.q);
-        recent.conditioning = motion.conditioning;
-        recent.det_sign = motion.det_sign;
-        self.0.push_back(recent);
+        q.clear();
+        q.extend_from_slice(&motion.q);
+        self.0.push_back(Recent {
+            at,
+            q,
+            conditioning: motion.conditioning,
+            det_sign: motion.det_sign,
+        });
     }
 }
 
