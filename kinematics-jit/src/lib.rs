@@ -53,13 +53,19 @@
 use std::fmt;
 use std::mem::ManuallyDrop;
 
-use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlags, UserFuncName, Value};
+use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlags, UserFuncName};
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
-use kinematics_compiler::ir::{Func, Graph, Id, Leaf, Node};
+use kinematics_compiler::ir::{Graph, Id, Leaf};
 use kinematics_compiler::Compiled;
+
+mod fused;
+mod lower;
+
+pub use fused::{Fused, Helper, Layout, Op, SolveBlock, SolveRow, HELPER_PANICKED};
+use lower::{Imports, Lower, Sources};
 
 /// The machine-code signature of every stage: (p, q, q', q'', out, the
 /// cosines and sines of q).
@@ -211,18 +217,75 @@ fn symbols() -> [(&'static str, *const u8, usize); 8] {
     ]
 }
 
-/// The symbol of a called function (`None`: an instruction instead).
-fn symbol(f: Func) -> Option<&'static str> {
-    Some(match f {
-        Func::Sin => "kinematics_sin",
-        Func::Cos => "kinematics_cos",
-        Func::Tan => "kinematics_tan",
-        Func::Asin => "kinematics_asin",
-        Func::Acos => "kinematics_acos",
-        Func::Exp => "kinematics_exp",
-        Func::Ln => "kinematics_ln",
-        Func::Sqrt | Func::Abs => return None,
-    })
+/// A JIT module for the host, with the called functions and `extra`
+/// symbols registered.
+fn new_module(extra: &[(&'static str, *const u8)]) -> Result<JITModule, JitError> {
+    let mut flags = settings::builder();
+    // Cranelift's verifier checks its own output: kept in debug builds
+    // (the tests), off in release builds, where it took a tenth of the
+    // time of compiling a large model.
+    let verifier = if cfg!(debug_assertions) {
+        "true"
+    } else {
+        "false"
+    };
+    for (name, value) in [
+        ("opt_level", "speed"),
+        ("use_colocated_libcalls", "false"),
+        ("is_pic", "false"),
+        ("enable_verifier", verifier),
+    ] {
+        flags
+            .set(name, value)
+            .map_err(|e| JitError::Host(e.to_string()))?;
+    }
+    let isa = cranelift_native::builder()
+        .map_err(|e| JitError::Host(e.to_string()))?
+        .finish(settings::Flags::new(flags))
+        .map_err(|e| JitError::Host(e.to_string()))?;
+    let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
+    for (name, address, _) in symbols() {
+        builder.symbol(name, address);
+    }
+    for &(name, address) in extra {
+        builder.symbol(name, address);
+    }
+    Ok(JITModule::new(builder))
+}
+
+/// The called functions of [`symbols`], declared once for `module`.
+fn declare_imports(module: &mut JITModule) -> Result<Vec<(&'static str, FuncId)>, JitError> {
+    let mut imports = Vec::new();
+    for (name, _, arity) in symbols() {
+        let mut sig = module.make_signature();
+        for _ in 0..arity {
+            sig.params.push(AbiParam::new(types::F64));
+        }
+        sig.returns.push(AbiParam::new(types::F64));
+        let id = module
+            .declare_function(name, Linkage::Import, &sig)
+            .map_err(|e| JitError::Codegen(e.to_string()))?;
+        imports.push((name, id));
+    }
+    Ok(imports)
+}
+
+/// The roots of [`Program::OUTPUTS`]: each point's position, velocity
+/// and acceleration, then each frame's rotation (row by row), ω, α and
+/// its origin's position, velocity and acceleration.
+#[must_use]
+pub fn output_roots(model: &Compiled) -> Vec<Id> {
+    let mut outputs: Vec<Id> = Vec::new();
+    for p in model.points() {
+        outputs.extend(p.position.iter().chain(p.velocity).chain(p.acceleration));
+    }
+    for f in model.frames() {
+        let r = f.roots;
+        outputs.extend(r.rotation.iter().flatten());
+        outputs.extend(r.omega.iter().chain(&r.alpha));
+        outputs.extend(r.origin.iter().flatten());
+    }
+    outputs
 }
 
 impl Program {
@@ -277,16 +340,7 @@ impl Program {
             .map(|(id, _)| *id)
             .chain(model.jacobian().iter().flatten().copied())
             .collect();
-        let mut outputs: Vec<Id> = Vec::new();
-        for p in model.points() {
-            outputs.extend(p.position.iter().chain(p.velocity).chain(p.acceleration));
-        }
-        for f in model.frames() {
-            let r = f.roots;
-            outputs.extend(r.rotation.iter().flatten());
-            outputs.extend(r.omega.iter().chain(&r.alpha));
-            outputs.extend(r.origin.iter().flatten());
-        }
+        let outputs = output_roots(model);
         let blocks = model.blocks();
         let partials = model.sensitivities().map(|s| s.roots()).unwrap_or_default();
         let mut stages: Vec<&[Id]> = vec![
@@ -321,51 +375,9 @@ impl Program {
         coords: usize,
         stages: &[&[Id]],
     ) -> Result<Self, JitError> {
-        let mut flags = settings::builder();
-        // Cranelift's verifier checks its own output: kept in debug builds
-        // (the tests), off in release builds, where it took a tenth of the
-        // time of compiling a large model.
-        let verifier = if cfg!(debug_assertions) {
-            "true"
-        } else {
-            "false"
-        };
-        for (name, value) in [
-            ("opt_level", "speed"),
-            ("use_colocated_libcalls", "false"),
-            ("is_pic", "false"),
-            ("enable_verifier", verifier),
-        ] {
-            flags
-                .set(name, value)
-                .map_err(|e| JitError::Host(e.to_string()))?;
-        }
-        let isa = cranelift_native::builder()
-            .map_err(|e| JitError::Host(e.to_string()))?
-            .finish(settings::Flags::new(flags))
-            .map_err(|e| JitError::Host(e.to_string()))?;
-        let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
-        for (name, address, _) in symbols() {
-            builder.symbol(name, address);
-        }
-        let mut module = JITModule::new(builder);
+        let mut module = new_module(&[])?;
         let codegen = |e: &dyn fmt::Display| JitError::Codegen(e.to_string());
-
-        // The imported functions, declared once for the module.
-        let float = types::F64;
-        let mut imports: Vec<(&'static str, FuncId)> = Vec::new();
-        for (name, _, arity) in symbols() {
-            let mut sig = module.make_signature();
-            for _ in 0..arity {
-                sig.params.push(AbiParam::new(float));
-            }
-            sig.returns.push(AbiParam::new(float));
-            let id = module
-                .declare_function(name, Linkage::Import, &sig)
-                .map_err(|e| codegen(&e))?;
-            imports.push((name, id));
-        }
-
+        let imports = declare_imports(&mut module)?;
         let pointer = module.target_config().pointer_type();
         let mut sig = module.make_signature();
         for _ in 0..6 {
@@ -381,120 +393,29 @@ impl Program {
                 .map_err(|e| codegen(&e))?;
             ctx.func.signature = sig.clone();
             ctx.func.name = UserFuncName::user(0, id.as_u32());
-            let live = graph.reachable(roots);
-            let reads_q = (0..graph.len()).any(|i| {
-                live[i] && matches!(graph.node(Id::from_index(i)), Node::Leaf(Leaf::Q(_)))
-            });
+            let mut lower = Lower::new(graph);
             {
                 let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
                 let block = b.create_block();
                 b.append_block_params_for_function_params(block);
                 b.switch_to_block(block);
                 let args = b.block_params(block).to_vec();
-                let mut refs = Vec::with_capacity(imports.len());
-                for (name, fid) in &imports {
-                    refs.push((*name, module.declare_func_in_func(*fid, b.func)));
-                }
-                let call = |b: &mut FunctionBuilder<'_>, name: &str, xs: &[Value]| {
-                    let fref = refs
+                let imports = Imports {
+                    refs: imports
                         .iter()
-                        .find(|(n, _)| *n == name)
-                        .map(|(_, r)| *r)
-                        .ok_or_else(|| JitError::Codegen(format!("`{name}` not declared")))?;
-                    let inst = b.ins().call(fref, xs);
-                    b.inst_results(inst)
-                        .first()
-                        .copied()
-                        .ok_or_else(|| JitError::Codegen(format!("`{name}` returned nothing")))
+                        .map(|(name, fid)| (*name, module.declare_func_in_func(*fid, b.func)))
+                        .collect(),
                 };
-                let mut values: Vec<Option<Value>> = vec![None; graph.len()];
+                let sources = Sources {
+                    ptr: [args[0], args[1], args[2], args[3], args[5]],
+                    base: [0; 5],
+                    params,
+                    coords,
+                };
+                lower.emit(&mut b, &sources, &imports, roots)?;
                 let flags = MemFlags::trusted();
-                for i in 0..graph.len() {
-                    if !live[i] {
-                        continue;
-                    }
-                    let v = |id: Id| {
-                        values[id.index()].ok_or_else(|| {
-                            JitError::Codegen(format!(
-                                "node {} used before it is computed",
-                                id.index()
-                            ))
-                        })
-                    };
-                    let node = graph.node(Id::from_index(i));
-                    // The cosine or sine of a coordinate: read from the
-                    // array of them, computed once per pose by the caller.
-                    if let Node::Call(f @ (Func::Sin | Func::Cos), x) = node {
-                        if let Node::Leaf(Leaf::Q(j)) = graph.node(x) {
-                            let j = j as usize;
-                            if j < coords {
-                                trig.insert(j);
-                                let slot = 2 * j + usize::from(f == Func::Sin);
-                                let offset = i32::try_from(slot * 8).map_err(|_| {
-                                    JitError::Codegen("too many coordinates".into())
-                                })?;
-                                values[i] = Some(b.ins().load(float, flags, args[5], offset));
-                                continue;
-                            }
-                        }
-                    }
-                    let value = match node {
-                        Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
-                        Node::Leaf(leaf) => {
-                            let (arg, index, len) = match leaf {
-                                Leaf::Param(j) => (0, j, params),
-                                Leaf::Q(j) => (1, j, coords),
-                                Leaf::Qd(j) => (2, j, coords),
-                                Leaf::Qdd(j) => (3, j, coords),
-                            };
-                            let j = index as usize;
-                            if j >= len {
-                                return Err(JitError::Leaf(leaf));
-                            }
-                            let offset = i32::try_from(j * 8).map_err(|_| JitError::Leaf(leaf))?;
-                            b.ins().load(float, flags, args[arg], offset)
-                        }
-                        Node::Add(x, y) => {
-                            let (x, y) = (v(x)?, v(y)?);
-                            b.ins().fadd(x, y)
-                        }
-                        Node::Mul(x, y) => {
-                            let (x, y) = (v(x)?, v(y)?);
-                            b.ins().fmul(x, y)
-                        }
-                        Node::Div(x, y) => {
-                            let (x, y) = (v(x)?, v(y)?);
-                            b.ins().fdiv(x, y)
-                        }
-                        Node::Neg(x) => {
-                            let x = v(x)?;
-                            b.ins().fneg(x)
-                        }
-                        Node::Powi(x, n) => {
-                            let x = v(x)?;
-                            powi(&mut b, x, n)
-                        }
-                        Node::Call(f, x) => {
-                            let x = v(x)?;
-                            match (f, symbol(f)) {
-                                (Func::Sqrt, _) => b.ins().sqrt(x),
-                                (Func::Abs, _) => b.ins().fabs(x),
-                                (_, Some(name)) => call(&mut b, name, &[x])?,
-                                (_, None) => {
-                                    return Err(JitError::Codegen(format!("no code for {f:?}")))
-                                }
-                            }
-                        }
-                        Node::Atan2(y, x) => {
-                            let (y, x) = (v(y)?, v(x)?);
-                            call(&mut b, "kinematics_atan2", &[y, x])?
-                        }
-                    };
-                    values[i] = Some(value);
-                }
-                for (k, root) in roots.iter().enumerate() {
-                    let value = values[root.index()]
-                        .ok_or_else(|| JitError::Codegen("a root was not computed".into()))?;
+                for (k, &root) in roots.iter().enumerate() {
+                    let value = lower.value(&mut b, &sources, &imports, root)?;
                     let offset = i32::try_from(k * 8)
                         .map_err(|_| JitError::Codegen("too many outputs".into()))?;
                     b.ins().store(flags, value, args[4], offset);
@@ -503,11 +424,12 @@ impl Program {
                 b.seal_all_blocks();
                 b.finalize();
             }
+            trig.extend(lower.trig.iter().copied());
             module
                 .define_function(id, &mut ctx)
                 .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
             module.clear_context(&mut ctx);
-            ids.push((id, roots.len(), reads_q));
+            ids.push((id, roots.len(), lower.reads_q));
         }
         module.finalize_definitions().map_err(|e| codegen(&e))?;
         let stages = ids
@@ -633,38 +555,6 @@ impl Program {
         };
         call(s.entry, inputs, out);
         Ok(())
-    }
-}
-
-/// xⁿ by binary powering, as the standard library's `powi` computes it
-/// (r = 1; for each bit of |n| from the lowest: r ← r·x where it is set,
-/// x ← x²), then 1/r for n < 0.
-fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
-    let mut bits = n.unsigned_abs();
-    let mut base = x;
-    let mut r: Option<Value> = None;
-    loop {
-        if bits & 1 == 1 {
-            r = Some(match r {
-                None => base,
-                Some(r) => b.ins().fmul(r, base),
-            });
-        }
-        bits >>= 1;
-        if bits == 0 {
-            break;
-        }
-        base = b.ins().fmul(base, base);
-    }
-    let r = match r {
-        Some(r) => r,
-        None => b.ins().f64const(1.0),
-    };
-    if n < 0 {
-        let one = b.ins().f64const(1.0);
-        b.ins().fdiv(one, r)
-    } else {
-        r
     }
 }
 

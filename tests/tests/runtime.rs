@@ -62,111 +62,117 @@ fn agree<M: Mechanism>(
         let s = r
             .step(&r_start, rates, accelerations)
             .unwrap_or_else(|e| panic!("{name}, step {k}, run time: {e}"));
-        // The stepper, which keeps its arrays, takes the same step.
+        // The stepper, which keeps its arrays (and, for a model whose
+        // blocks all have closed forms, steps through its fused code),
+        // takes the same step to round-off: both are compared with the
+        // generated step.
         let kept = stepper
             .step(&r_start, rates, accelerations)
-            .unwrap_or_else(|e| panic!("{name}, step {k}, run-time stepper: {e}"));
-        assert_eq!(*kept, s, "{name}, step {k}: the stepper and `step` differ");
-        // The length scale of the positions: the largest |q| and point
-        // coordinate; rates and accelerations compared at their own.
-        let qs = (0..n)
-            .map(|j| g.q().get(j).unwrap_or(0.0).abs())
-            .fold(1.0, f64::max);
-        let qds = (0..n)
-            .map(|j| g.qd().get(j).unwrap_or(0.0).abs())
-            .fold(1.0, f64::max);
-        let qdds = (0..n)
-            .map(|j| g.qdd().get(j).unwrap_or(0.0).abs())
-            .fold(1.0, f64::max);
-        for j in 0..n {
-            let (gq, gqd, gqdd) = (
-                g.q().get(j).unwrap_or(f64::NAN),
-                g.qd().get(j).unwrap_or(f64::NAN),
-                g.qdd().get(j).unwrap_or(f64::NAN),
-            );
-            assert!(
-                close(gq, s.q[j], qs),
-                "{name} {k}: q[{j}] {gq} against {}",
-                s.q[j]
-            );
-            assert!(
-                close(gqd, s.qd[j], qds),
-                "{name} {k}: q'[{j}] {gqd} against {}",
-                s.qd[j]
-            );
-            assert!(
-                close(gqdd, s.qdd[j], qdds),
-                "{name} {k}: q''[{j}] {gqdd} against {}",
-                s.qdd[j]
-            );
-        }
-        assert_eq!(g.points().len(), s.points.len());
-        // Each quantity at the scale of the mechanism's: the largest
-        // position, velocity or acceleration component of any point.
-        let largest = |f: fn(&<M::Motion as MotionState>::Point) -> &[f64]| {
-            g.points()
-                .iter()
-                .flat_map(|p| f(p).iter().map(|v| v.abs()))
-                .fold(1e-3, f64::max)
-        };
-        let scales = [
-            largest(|p| p.position()),
-            largest(|p| p.velocity()),
-            largest(|p| p.acceleration()),
-        ];
-        for (i, (gp, sp)) in g.points().iter().zip(&s.points).enumerate() {
-            for (scale, (what, a, b)) in scales.into_iter().zip([
-                ("r", gp.position(), &sp.position),
-                ("v", gp.velocity(), &sp.velocity),
-                ("a", gp.acceleration(), &sp.acceleration),
-            ]) {
-                for (x, y) in a.iter().zip(b) {
-                    assert!(
-                        close(*x, *y, scale),
-                        "{name} {k}: point {i} {what}: {a:?} against {b:?}"
-                    );
-                }
+            .unwrap_or_else(|e| panic!("{name}, step {k}, run-time stepper: {e}"))
+            .clone();
+        for (how, s) in [("step", &s), ("stepper", &kept)] {
+            let name = format!("{name} ({how})");
+            // The length scale of the positions: the largest |q| and point
+            // coordinate; rates and accelerations compared at their own.
+            let qs = (0..n)
+                .map(|j| g.q().get(j).unwrap_or(0.0).abs())
+                .fold(1.0, f64::max);
+            let qds = (0..n)
+                .map(|j| g.qd().get(j).unwrap_or(0.0).abs())
+                .fold(1.0, f64::max);
+            let qdds = (0..n)
+                .map(|j| g.qdd().get(j).unwrap_or(0.0).abs())
+                .fold(1.0, f64::max);
+            for j in 0..n {
+                let (gq, gqd, gqdd) = (
+                    g.q().get(j).unwrap_or(f64::NAN),
+                    g.qd().get(j).unwrap_or(f64::NAN),
+                    g.qdd().get(j).unwrap_or(f64::NAN),
+                );
+                assert!(
+                    close(gq, s.q[j], qs),
+                    "{name} {k}: q[{j}] {gq} against {}",
+                    s.q[j]
+                );
+                assert!(
+                    close(gqd, s.qd[j], qds),
+                    "{name} {k}: q'[{j}] {gqd} against {}",
+                    s.qd[j]
+                );
+                assert!(
+                    close(gqdd, s.qdd[j], qdds),
+                    "{name} {k}: q''[{j}] {gqdd} against {}",
+                    s.qdd[j]
+                );
             }
-        }
-        assert_eq!(g.frames().len(), s.frames.len());
-        for (i, (gf, sf)) in g.frames().iter().zip(&s.frames).enumerate() {
-            let pairs = [
-                (gf.rotation.as_slice(), sf.rotation.as_slice()),
-                (gf.origin.as_slice(), sf.origin.as_slice()),
-                (gf.velocity.as_slice(), sf.velocity.as_slice()),
-                (gf.acceleration.as_slice(), sf.acceleration.as_slice()),
-                (
-                    gf.angular_velocity.as_slice(),
-                    sf.angular_velocity.as_slice(),
-                ),
-                (
-                    gf.angular_acceleration.as_slice(),
-                    sf.angular_acceleration.as_slice(),
-                ),
+            assert_eq!(g.points().len(), s.points.len());
+            // Each quantity at the scale of the mechanism's: the largest
+            // position, velocity or acceleration component of any point.
+            let largest = |f: fn(&<M::Motion as MotionState>::Point) -> &[f64]| {
+                g.points()
+                    .iter()
+                    .flat_map(|p| f(p).iter().map(|v| v.abs()))
+                    .fold(1e-3, f64::max)
+            };
+            let scales = [
+                largest(|p| p.position()),
+                largest(|p| p.velocity()),
+                largest(|p| p.acceleration()),
             ];
-            for (a, b) in pairs {
-                let scale = a.iter().map(|v| v.abs()).fold(1e-3, f64::max);
-                for (x, y) in a.iter().zip(b) {
-                    assert!(
-                        close(*x, *y, scale),
-                        "{name} {k}: frame {i}: {a:?} against {b:?}"
-                    );
+            for (i, (gp, sp)) in g.points().iter().zip(&s.points).enumerate() {
+                for (scale, (what, a, b)) in scales.into_iter().zip([
+                    ("r", gp.position(), &sp.position),
+                    ("v", gp.velocity(), &sp.velocity),
+                    ("a", gp.acceleration(), &sp.acceleration),
+                ]) {
+                    for (x, y) in a.iter().zip(b) {
+                        assert!(
+                            close(*x, *y, scale),
+                            "{name} {k}: point {i} {what}: {a:?} against {b:?}"
+                        );
+                    }
                 }
             }
+            assert_eq!(g.frames().len(), s.frames.len());
+            for (i, (gf, sf)) in g.frames().iter().zip(&s.frames).enumerate() {
+                let pairs = [
+                    (gf.rotation.as_slice(), sf.rotation.as_slice()),
+                    (gf.origin.as_slice(), sf.origin.as_slice()),
+                    (gf.velocity.as_slice(), sf.velocity.as_slice()),
+                    (gf.acceleration.as_slice(), sf.acceleration.as_slice()),
+                    (
+                        gf.angular_velocity.as_slice(),
+                        sf.angular_velocity.as_slice(),
+                    ),
+                    (
+                        gf.angular_acceleration.as_slice(),
+                        sf.angular_acceleration.as_slice(),
+                    ),
+                ];
+                for (a, b) in pairs {
+                    let scale = a.iter().map(|v| v.abs()).fold(1e-3, f64::max);
+                    for (x, y) in a.iter().zip(b) {
+                        assert!(
+                            close(*x, *y, scale),
+                            "{name} {k}: frame {i}: {a:?} against {b:?}"
+                        );
+                    }
+                }
+            }
+            // The same scaled diagonal blocks, inverted in another order.
+            assert!(
+                (g.conditioning() - s.conditioning).abs() <= 1e-12 * g.conditioning(),
+                "{name} {k}: conditioning {} against {}",
+                g.conditioning(),
+                s.conditioning
+            );
+            assert_eq!(g.det_sign(), s.det_sign, "{name} {k}: branch");
+            assert!(
+                s.residual <= 64.0 * f64::EPSILON,
+                "{name} {k}: |Φ|/S = {}",
+                s.residual
+            );
         }
-        // The same scaled diagonal blocks, inverted in another order.
-        assert!(
-            (g.conditioning() - s.conditioning).abs() <= 1e-12 * g.conditioning(),
-            "{name} {k}: conditioning {} against {}",
-            g.conditioning(),
-            s.conditioning
-        );
-        assert_eq!(g.det_sign(), s.det_sign, "{name} {k}: branch");
-        assert!(
-            s.residual <= 64.0 * f64::EPSILON,
-            "{name} {k}: |Φ|/S = {}",
-            s.residual
-        );
         // The next start: this pose with the drivers advanced.
         g_start = *g.q();
         r_start.clone_from(&s.q);

@@ -65,6 +65,7 @@ use crate::names::{intern, intern_list, Name};
 use crate::options::Options;
 
 mod closed;
+mod fused;
 mod sensitivity;
 mod solve;
 mod stepper;
@@ -161,6 +162,9 @@ pub struct Model {
     sensitivity_params: Vec<Name>,
     /// The machine code, shared by the clones of the model.
     program: Arc<Program>,
+    /// The fused step of a stepper, where the model has one (every block
+    /// in closed form, none of more than four unknowns).
+    fused: Option<Arc<fused::Plan>>,
 }
 
 impl fmt::Debug for Model {
@@ -186,6 +190,9 @@ impl Model {
     pub fn compile(text: &str) -> Result<Self, CompileError> {
         let c = compile_str(text).map_err(CompileError::Definition)?;
         let program = Program::for_model(&c).map_err(CompileError::Native)?;
+        let fused = fused::Plan::new(&c, program.trig_coordinates())
+            .map_err(CompileError::Native)?
+            .map(Arc::new);
         let drivers = c.drivers();
         let coordinates = c
             .coordinates()
@@ -274,6 +281,7 @@ impl Model {
                 .map(|b| (b.equations, b.unknowns))
                 .collect(),
             program: Arc::new(program),
+            fused,
         })
     }
 

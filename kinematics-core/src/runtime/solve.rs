@@ -462,23 +462,7 @@ impl Model {
             &w.trig,
             &mut w.out,
         );
-        let d = self.point_dim;
-        for (p, c) in out.points.iter_mut().zip(w.out.chunks_exact(3 * d)) {
-            p.position.copy_from_slice(&c[..d]);
-            p.velocity.copy_from_slice(&c[d..2 * d]);
-            p.acceleration.copy_from_slice(&c[2 * d..]);
-        }
-        let frames = w.out.get(self.points.len() * 3 * d..).unwrap_or(&[]);
-        for (fr, f) in out.frames.iter_mut().zip(frames.chunks_exact(24)) {
-            *fr = FrameState {
-                rotation: Matrix3::from_row_slice(&f[..9]),
-                angular_velocity: Vector3::new(f[9], f[10], f[11]),
-                angular_acceleration: Vector3::new(f[12], f[13], f[14]),
-                origin: Vector3::new(f[15], f[16], f[17]),
-                velocity: Vector3::new(f[18], f[19], f[20]),
-                acceleration: Vector3::new(f[21], f[22], f[23]),
-            };
-        }
+        self.write_outputs(&w.out, out);
         out.conditioning = conditioning;
         out.det_sign = det_sign;
         out.residual = residual;
@@ -493,6 +477,7 @@ impl Model {
             }
         }
         if let Some(bad) = w.out.iter().position(|v| !v.is_finite()) {
+            let d = self.point_dim;
             let point = bad / (3 * d);
             let name = self
                 .points
@@ -507,6 +492,28 @@ impl Model {
             });
         }
         Ok(())
+    }
+
+    /// The points and frames of `motion` from the values of the
+    /// [`Program::OUTPUTS`] stage, `values`.
+    pub(super) fn write_outputs(&self, values: &[f64], motion: &mut Motion) {
+        let d = self.point_dim;
+        for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(3 * d)) {
+            super::fused::copy_small(&mut p.position, &c[..d]);
+            super::fused::copy_small(&mut p.velocity, &c[d..2 * d]);
+            super::fused::copy_small(&mut p.acceleration, &c[2 * d..]);
+        }
+        let frames = values.get(self.points.len() * 3 * d..).unwrap_or(&[]);
+        for (fr, f) in motion.frames.iter_mut().zip(frames.chunks_exact(24)) {
+            *fr = FrameState {
+                rotation: Matrix3::from_row_slice(&f[..9]),
+                angular_velocity: Vector3::new(f[9], f[10], f[11]),
+                angular_acceleration: Vector3::new(f[12], f[13], f[14]),
+                origin: Vector3::new(f[15], f[16], f[17]),
+                velocity: Vector3::new(f[18], f[19], f[20]),
+                acceleration: Vector3::new(f[21], f[22], f[23]),
+            };
+        }
     }
 
     /// The positions of every point at q into `out` (`point_dim` values

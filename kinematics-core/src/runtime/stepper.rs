@@ -2,11 +2,15 @@
 //! once, and every array of a step kept from one step to the next, so
 //! that a step allocates nothing.
 
+use alloc::vec::Vec;
+
+use super::fused::copy_small;
 use super::solve::Work;
 use super::{Model, Motion};
 use crate::closed::Mode;
 use crate::error::Error;
-use crate::options::Options;
+use crate::options::{Branch, Options};
+use crate::solve::{CLOSED, POLISH};
 
 /// Steps of one run-time model with its arrays kept: made by
 /// [`Model::stepper`], which checks the options and the parameters once
@@ -53,6 +57,21 @@ pub struct Stepper<'m> {
     /// Whether the last step or pose assembled: then the work holds the
     /// cosines and sines of `q`, as the assembly left them.
     assembled: bool,
+    /// The fused step's buffer and factors, where the model has one.
+    fused: Option<FusedRun>,
+}
+
+/// What a stepper keeps for the fused step: its buffer (with the values
+/// carried from step to step), the steps taken (the carried cosines and
+/// sines are refreshed every 16 steps for the drivers and every 64 for
+/// the unknowns, as a generated stepper does), whether the buffer holds a
+/// scaling that every pose shares, and whether it holds the points'
+/// positions at the stepper's pose.
+struct FusedRun {
+    f: Vec<f64>,
+    steps: u32,
+    scaled: bool,
+    positions: bool,
 }
 
 impl core::fmt::Debug for Stepper<'_> {
@@ -72,14 +91,33 @@ impl Model {
     pub fn stepper(&self, options: &Options) -> Result<Stepper<'_>, Error> {
         options.validate()?;
         self.validate()?;
+        let work = self.work();
+        let fused = self.fused.as_deref().map(|plan| {
+            let mut f = plan.buffer(&work.params);
+            let limit = options.tolerance.min(1e-12);
+            let bound = (POLISH * options.tolerance).max(CLOSED).min(limit);
+            let branch = match options.branch {
+                Branch::Any => 0.0,
+                Branch::Positive => 1.0,
+                Branch::Negative => -1.0,
+            };
+            plan.set_options(&mut f, bound, options.singularity_threshold, branch);
+            FusedRun {
+                f,
+                steps: 0,
+                scaled: false,
+                positions: false,
+            }
+        });
         Ok(Stepper {
             m: self,
             options: *options,
-            work: self.work(),
+            work,
             motion: self.shaped_motion(),
             q: vec![0.0; self.coordinates.len()],
             modes: vec![f64::NAN; self.mode_count()],
             assembled: false,
+            fused,
         })
     }
 }
@@ -125,6 +163,9 @@ impl Stepper<'_> {
         let m = self.m;
         self.assembled = false;
         m.check_inputs(start, rates, accelerations)?;
+        if self.fused_step(start, rates, accelerations) {
+            return Ok(&self.motion);
+        }
         self.assemble(start)?;
         m.analyze_into(
             &self.q,
@@ -153,7 +194,9 @@ impl Stepper<'_> {
         let m = self.m;
         self.assembled = false;
         m.check_pose(start)?;
-        self.assemble(start)?;
+        if !self.fused_pose(start) {
+            self.assemble(start)?;
+        }
         Ok(&self.q)
     }
 
@@ -169,12 +212,115 @@ impl Stepper<'_> {
         let m = self.m;
         let d = m.point_dim;
         m.length("point positions", m.points.len() * d, out.len())?;
+        if let (Some(run), Some(plan)) = (self.fused.as_ref(), m.fused.as_deref()) {
+            if run.positions && self.assembled {
+                let (at, len) = plan.positions_at();
+                copy_small(out, &run.f[at..at + len]);
+                return Ok(());
+            }
+        }
         m.positions_into(&self.q, &mut self.work, !self.assembled, out)
+    }
+
+    /// The step through the model's fused code (inputs already checked):
+    /// `true` when it took the step, the motion and pose written; `false`
+    /// when the model has none or the step left its common path, the
+    /// stepper's state (its modes) then as before.
+    fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
+        let m = self.m;
+        let Some(plan) = m.fused.as_deref() else {
+            return false;
+        };
+        let Some(f) = self.fused_inputs(start) else {
+            return false;
+        };
+        let (at, n, nd) = (plan.layout(), start.len(), m.drivers);
+        copy_small(&mut f[at.qd..at.qd + nd], rates);
+        copy_small(&mut f[at.qdd..at.qdd + nd], accelerations);
+        if plan.step(f) != 0 {
+            return false;
+        }
+        self.fused_pose_taken(plan, false);
+        let Some(run) = self.fused.as_ref() else {
+            return false;
+        };
+        let f = &run.f;
+        let out = &mut self.motion;
+        copy_small(&mut out.q, &f[at.q..at.q + n]);
+        copy_small(&mut out.qd, &f[at.qd..at.qd + n]);
+        copy_small(&mut out.qdd, &f[at.qdd..at.qdd + n]);
+        let (values_at, len) = plan.outputs_at();
+        m.write_outputs(&f[values_at..values_at + len], out);
+        let [c, s, r] = plan.results_at();
+        out.conditioning = f[c];
+        out.det_sign = f[s];
+        out.residual = f[r];
+        true
+    }
+
+    /// The assembly through the model's fused code, with the points'
+    /// positions (as [`Stepper::fused_step`]).
+    fn fused_pose(&mut self, start: &[f64]) -> bool {
+        let Some(plan) = self.m.fused.as_deref() else {
+            return false;
+        };
+        let Some(f) = self.fused_inputs(start) else {
+            return false;
+        };
+        if plan.pose(f) != 0 {
+            return false;
+        }
+        self.fused_pose_taken(plan, true);
+        true
+    }
+
+    /// The fused buffer with `start`, the stepper's modes and the scaling
+    /// in it, and the carried values refreshed when due; `None` without
+    /// fused code.
+    fn fused_inputs(&mut self, start: &[f64]) -> Option<&mut [f64]> {
+        let m = self.m;
+        let plan = m.fused.as_deref()?;
+        let run = self.fused.as_mut()?;
+        let at = plan.layout();
+        if !run.scaled {
+            let length = m.scaling(start, &mut self.work, &self.options);
+            plan.set_scaling(&mut run.f, length, &self.work.rows, &self.work.weights);
+            run.scaled = m.fixed_scaling;
+        }
+        let (modes_at, k) = plan.modes_at();
+        let f = &mut run.f;
+        copy_small(&mut f[at.q..at.q + start.len()], start);
+        copy_small(&mut f[modes_at..modes_at + k], &self.modes);
+        run.steps = run.steps.wrapping_add(1);
+        if run.steps % 16 == 0 {
+            plan.refresh(f, run.steps % 64 == 0);
+        }
+        Some(f)
+    }
+
+    /// After a fused assembly: the stepper's pose, modes and cosines and
+    /// sines from the buffer; `positions` says whether the buffer holds
+    /// the points' positions there.
+    fn fused_pose_taken(&mut self, plan: &super::fused::Plan, positions: bool) {
+        let Some(run) = self.fused.as_mut() else {
+            return;
+        };
+        let (at, n) = (plan.layout(), self.q.len());
+        let (modes_at, k) = plan.modes_at();
+        let f = &run.f;
+        copy_small(&mut self.modes, &f[modes_at..modes_at + k]);
+        copy_small(&mut self.q, &f[at.q..at.q + n]);
+        self.work.trig.copy_from_slice(&f[at.trig..at.trig + 2 * n]);
+        run.positions = positions;
+        self.assembled = true;
     }
 
     /// Assembles `start` (already checked) into the stepper's pose, in its
     /// modes; records whether it assembled.
     fn assemble(&mut self, start: &[f64]) -> Result<(), Error> {
+        if let Some(run) = self.fused.as_mut() {
+            run.positions = false;
+        }
         self.q.copy_from_slice(start);
         self.m.assemble_into(
             &mut self.q,

@@ -1,0 +1,694 @@
+//! The fused step of a run-time model: one machine-code function
+//! ([`kinematics_jit::Fused`]) that assembles in closed form and analyses
+//! the motion in one straight line, as a generated stepper's `step` does,
+//! calling back into this module for what is not an expression (a closed
+//! form's branches and the choice of its angle's turn, the block
+//! factorisations); the velocity and acceleration solves run in the
+//! machine code, from the inverses of the scaled diagonal blocks that the
+//! factorisation leaves in the buffer. A second function assembles only
+//! (a stepper's `pose`), and writes the points' positions.
+//!
+//! It is the common path of a [`super::Stepper`] for models whose every
+//! block has a closed form (or that have no unknowns) and whose diagonal
+//! blocks of Φ_u have at most four unknowns. Anything off the common path
+//! (a closed form degenerate or past a limit position, a pose not at
+//! round-off, a singular or wrong-branch pose, a value not finite) makes
+//! it return a nonzero status and leave the stepper's state as it was:
+//! the stepper then takes the general path, which gives the same pose or
+//! the error with its message.
+//!
+//! Its buffer holds, at the offsets of [`Plan`], the parameters (and the
+//! characteristic length), q, q', q'', the cosines and sines of q, what
+//! each coordinate carries from step to step (cos, sin and the value they
+//! belong to), the modes, the row scales and convergence weights, the
+//! closing bound and singularity threshold and the branch asked for, the
+//! coefficients of the block being solved, the two residuals, Φ_u (dense,
+//! row by row), the inverses of the scaled diagonal blocks, the outputs,
+//! the points' positions, and the conditioning and sign of det Φ_u found.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use kinematics_compiler::ir::{Id, Node};
+use kinematics_compiler::Compiled;
+use kinematics_jit::{Fused, Helper, JitError, Layout, Op, SolveBlock, SolveRow};
+
+use super::closed::Form;
+use crate::closed;
+use crate::solve::Lu;
+
+/// The helper's arguments: the drivers' cosines and sines, the closing
+/// check and factorisation, the closing check alone, and block i's closed
+/// form at `BLOCK + i`.
+const DRIVER_TRIG: u64 = 0;
+const FACTOR: u64 = 1;
+const CLOSING: u64 = 2;
+const BLOCK: u64 = 16;
+
+/// The statuses: the pose is not at round-off (or not finite); Φ_u is
+/// singular at the threshold; det Φ_u has the other sign than asked; an
+/// output is not finite; the buffer is not the plan's (never, short of a
+/// bug); a closed form has no solution or is degenerate.
+const NOT_CLOSED: i64 = 2;
+const SINGULAR: i64 = 3;
+const WRONG_BRANCH: i64 = 4;
+const NOT_FINITE: i64 = 5;
+const INCONSISTENT: i64 = 6;
+const NO_SOLUTION: i64 = 1;
+
+/// One closed-form block as the fused step solves it.
+#[derive(Clone, Debug)]
+struct PartPlan {
+    form: Form,
+    /// The coordinates of its unknowns (drivers first in q), in the
+    /// form's order (the first again for a form of one unknown).
+    coords: [usize; 2],
+    /// Its slot among the modes, if it has two.
+    mode: Option<usize>,
+}
+
+/// One diagonal block of Φ_u, in the order of the substitution.
+#[derive(Clone, Debug)]
+struct BlockPlan {
+    /// Its entries of Φ_u row by row: where each lies in the buffer, where
+    /// its row's scale 1/S lies, and whether its column is a length's.
+    entries: Vec<(usize, usize, bool)>,
+    /// Its number of unknowns.
+    n: usize,
+    /// Where the inverse of its scaled matrix is written.
+    inverse: usize,
+}
+
+/// The fused step of one model: its code and the offsets of its buffer.
+#[derive(Debug)]
+pub(super) struct Plan {
+    step: Fused,
+    pose: Fused,
+    layout: Layout,
+    nd: usize,
+    nu: usize,
+    np: usize,
+    carry: usize,
+    modes: usize,
+    rows: usize,
+    weights: usize,
+    bound: usize,
+    threshold: usize,
+    branch: usize,
+    coef: usize,
+    closing: usize,
+    residual: usize,
+    out: usize,
+    outputs: usize,
+    positions: usize,
+    position_count: usize,
+    conditioning: usize,
+    sign: usize,
+    parts: Vec<PartPlan>,
+    blocks: Vec<BlockPlan>,
+    /// Whether the blocks' rows and columns, in order, are permutations
+    /// of opposite parity (then det Φ_u is minus the product of theirs).
+    odd: bool,
+    /// The drivers whose cosines and sines the code reads.
+    driver_trig: Vec<usize>,
+    mode_count: usize,
+}
+
+/// Offsets handed out one region after another.
+struct Regions(usize);
+
+impl Regions {
+    fn take(&mut self, n: usize) -> usize {
+        let at = self.0;
+        self.0 += n;
+        at
+    }
+}
+
+impl Plan {
+    /// The fused step of `c`, or `None` where it does not apply (a block
+    /// solved by Newton–Raphson, a diagonal block of more than four
+    /// unknowns, or blocks not in the order of a forward substitution).
+    pub(super) fn new(c: &Compiled, program_trig: &[usize]) -> Result<Option<Self>, JitError> {
+        let (nd, nu) = (c.drivers(), c.unknowns());
+        let n = nd + nu;
+        let np = c.parameters().len() + 1;
+        let blocks = c.blocks();
+        if blocks
+            .iter()
+            .any(|b| b.closed_form.is_none() || b.unknowns.len() > 4)
+        {
+            return Ok(None);
+        }
+        let graph = c.graph();
+        let is_zero =
+            |id: Id| matches!(graph.node(id), Node::Const(bits) if f64::from_bits(bits) == 0.0);
+        let jac = c.jacobian();
+        if jac.len() != nu || jac.iter().any(|r| r.len() != nu) {
+            return Ok(None);
+        }
+        // Each block's rows may only hold entries in its own columns or
+        // in those of the blocks before it.
+        let mut block_of = vec![usize::MAX; nu];
+        for (b, block) in blocks.iter().enumerate() {
+            for &col in &block.unknowns {
+                if let Some(slot) = block_of.get_mut(col) {
+                    *slot = b;
+                }
+            }
+        }
+        for (b, block) in blocks.iter().enumerate() {
+            for &r in &block.equations {
+                for (col, &e) in jac[r].iter().enumerate() {
+                    if !is_zero(e) && block_of[col] > b {
+                        return Ok(None);
+                    }
+                }
+            }
+        }
+        let mut parts = Vec::new();
+        let mut mode_count = 0;
+        for b in &blocks {
+            let Some(form) = b.closed_form.and_then(Form::named) else {
+                return Ok(None);
+            };
+            let mode = form.has_modes().then(|| {
+                mode_count += 1;
+                mode_count - 1
+            });
+            let first = nd + *b.unknowns.first().unwrap_or(&0);
+            let second = b.unknowns.get(1).map_or(first, |&k| nd + k);
+            parts.push(PartPlan {
+                form,
+                coords: [first, second],
+                mode,
+            });
+        }
+        let lengths = c.length_unknowns();
+        let is_length = |col: usize| lengths.get(col).copied().unwrap_or(false);
+        let outputs = kinematics_jit::output_roots(c);
+        let position_roots: Vec<Id> = c
+            .points()
+            .iter()
+            .flat_map(|p| p.position.iter().copied())
+            .collect();
+        let mut at = Regions(0);
+        let params = at.take(np);
+        let q = at.take(n);
+        let qd = at.take(n);
+        let qdd = at.take(n);
+        let trig = at.take(2 * n);
+        let carry = at.take(3 * n);
+        let modes = at.take(mode_count);
+        let rows = at.take(nu);
+        let weights = at.take(nu);
+        let bound = at.take(1);
+        let threshold = at.take(1);
+        let branch = at.take(1);
+        let coef = at.take(12);
+        let closing = at.take(1);
+        let residual = at.take(1);
+        let jac_at = at.take(nu * nu);
+        let inverses: Vec<usize> = blocks
+            .iter()
+            .map(|b| at.take(b.unknowns.len() * b.unknowns.len()))
+            .collect();
+        let out = at.take(outputs.len());
+        let positions = at.take(position_roots.len());
+        let conditioning = at.take(1);
+        let sign = at.take(1);
+        let layout = Layout {
+            params,
+            q,
+            qd,
+            qdd,
+            trig,
+            len: at.0,
+        };
+        let length_at = params + np - 1;
+        let driver_trig: Vec<usize> = program_trig.iter().copied().filter(|&j| j < nd).collect();
+
+        // The assembly, shared by both functions: the drivers' cosines
+        // and sines, each block from its coefficients, the residual.
+        let mut assembly = Vec::new();
+        if !driver_trig.is_empty() {
+            assembly.push(Op::Call(DRIVER_TRIG));
+        }
+        for (i, b) in blocks.iter().enumerate() {
+            assembly.push(Op::Store {
+                roots: b.coefficients.clone(),
+                at: (coef..coef + b.coefficients.len()).collect(),
+            });
+            assembly.push(Op::Call(BLOCK + i as u64));
+        }
+        let phi: Vec<Id> = c.residuals().iter().map(|(id, _)| *id).collect();
+        assembly.push(Op::MaxScaled {
+            roots: phi.clone(),
+            scales: weights,
+            at: closing,
+        });
+
+        let mut pose = assembly.clone();
+        pose.push(Op::Call(CLOSING));
+        pose.push(Op::Store {
+            roots: position_roots.clone(),
+            at: (positions..positions + position_roots.len()).collect(),
+        });
+        pose.push(Op::Finite {
+            from: positions,
+            len: position_roots.len(),
+            status: NOT_FINITE,
+        });
+
+        let mut step = assembly;
+        step.push(Op::MaxScaled {
+            roots: phi,
+            scales: rows,
+            at: residual,
+        });
+        let (mut entries, mut slots) = (Vec::new(), Vec::new());
+        for (r, row) in jac.iter().enumerate() {
+            for (col, &e) in row.iter().enumerate() {
+                if !is_zero(e) {
+                    entries.push(e);
+                    slots.push(jac_at + r * nu + col);
+                }
+            }
+        }
+        step.push(Op::Store {
+            roots: entries,
+            at: slots,
+        });
+        step.push(Op::Call(FACTOR));
+        let solve_blocks: Vec<SolveBlock> = blocks
+            .iter()
+            .enumerate()
+            .map(|(i, b)| SolveBlock {
+                rows: b
+                    .equations
+                    .iter()
+                    .map(|&r| SolveRow {
+                        rhs: r,
+                        scale: rows + r,
+                        known: blocks[..i]
+                            .iter()
+                            .flat_map(|d| d.unknowns.iter().copied())
+                            .filter(|&col| !is_zero(jac[r][col]))
+                            .map(|col| (jac_at + r * nu + col, col))
+                            .collect(),
+                    })
+                    .collect(),
+                inverse: inverses[i],
+                cols: b
+                    .unknowns
+                    .iter()
+                    .map(|&col| (col, is_length(col).then_some(length_at)))
+                    .collect(),
+            })
+            .collect();
+        step.push(Op::Solve {
+            rhs: c.velocity_rhs().to_vec(),
+            blocks: solve_blocks.clone(),
+            to: qd + nd,
+        });
+        step.push(Op::Solve {
+            rhs: c.acceleration_rhs().to_vec(),
+            blocks: solve_blocks,
+            to: qdd + nd,
+        });
+        step.push(Op::Store {
+            roots: outputs.clone(),
+            at: (out..out + outputs.len()).collect(),
+        });
+        for (from, len) in [(qd + nd, nu), (qdd + nd, nu), (out, outputs.len())] {
+            step.push(Op::Finite {
+                from,
+                len,
+                status: NOT_FINITE,
+            });
+        }
+        let row_order: Vec<usize> = blocks.iter().flat_map(|b| b.equations.clone()).collect();
+        let col_order: Vec<usize> = blocks.iter().flat_map(|b| b.unknowns.clone()).collect();
+        Ok(Some(Plan {
+            step: Fused::new(graph, np, n, layout, &step)?,
+            pose: Fused::new(graph, np, n, layout, &pose)?,
+            layout,
+            nd,
+            nu,
+            np,
+            carry,
+            modes,
+            rows,
+            weights,
+            bound,
+            threshold,
+            branch,
+            coef,
+            closing,
+            residual,
+            out,
+            outputs: outputs.len(),
+            positions,
+            position_count: position_roots.len(),
+            conditioning,
+            sign,
+            blocks: blocks
+                .iter()
+                .zip(&inverses)
+                .map(|(b, &inverse)| BlockPlan {
+                    entries: b
+                        .equations
+                        .iter()
+                        .flat_map(|&r| {
+                            b.unknowns
+                                .iter()
+                                .map(move |&col| (jac_at + r * nu + col, rows + r, is_length(col)))
+                        })
+                        .collect(),
+                    n: b.unknowns.len(),
+                    inverse,
+                })
+                .collect(),
+            parts,
+            odd: parity(&row_order) != parity(&col_order),
+            driver_trig,
+            mode_count,
+        }))
+    }
+
+    /// A buffer for the code, its parameters `params` (with the
+    /// characteristic length last), every carried value NaN (nothing
+    /// carried yet).
+    pub(super) fn buffer(&self, params: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; self.layout.len];
+        if let Some(p) = f.get_mut(self.layout.params..self.layout.params + self.np) {
+            for (d, s) in p.iter_mut().zip(params) {
+                *d = *s;
+            }
+        }
+        if let Some(c) = f.get_mut(self.carry..self.carry + 3 * (self.nd + self.nu)) {
+            c.fill(f64::NAN);
+        }
+        f
+    }
+
+    /// Sets the closing bound, the singularity threshold and the sign of
+    /// det Φ_u asked for (0: either).
+    pub(super) fn set_options(&self, f: &mut [f64], bound: f64, threshold: f64, branch: f64) {
+        for (at, v) in [
+            (self.bound, bound),
+            (self.threshold, threshold),
+            (self.branch, branch),
+        ] {
+            if let Some(x) = f.get_mut(at) {
+                *x = v;
+            }
+        }
+    }
+
+    /// Sets the scaling: the characteristic length, the row scales and
+    /// the convergence weights.
+    pub(super) fn set_scaling(&self, f: &mut [f64], length: f64, rows: &[f64], weights: &[f64]) {
+        if let Some(x) = f.get_mut(self.layout.params + self.np - 1) {
+            *x = length;
+        }
+        for (base, v) in [(self.rows, rows), (self.weights, weights)] {
+            if let Some(d) = f.get_mut(base..base + self.nu) {
+                d.copy_from_slice(&v[..self.nu.min(v.len())]);
+            }
+        }
+    }
+
+    /// Forgets the carried cosines and sines (of the drivers; with
+    /// `unknowns`, of the unknowns too), so that the next step computes
+    /// them afresh.
+    pub(super) fn refresh(&self, f: &mut [f64], unknowns: bool) {
+        let to = if unknowns { self.nd + self.nu } else { self.nd };
+        for j in 0..to {
+            if let Some(x) = f.get_mut(self.carry + 3 * j + 2) {
+                *x = f64::NAN;
+            }
+        }
+    }
+
+    /// The layout of the buffer.
+    pub(super) fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// Where the modes, the outputs, the conditioning, the sign and the
+    /// reported residual lie, and how many modes and outputs there are.
+    pub(super) fn modes_at(&self) -> (usize, usize) {
+        (self.modes, self.mode_count)
+    }
+
+    pub(super) fn outputs_at(&self) -> (usize, usize) {
+        (self.out, self.outputs)
+    }
+
+    /// Where the points' positions of [`Plan::pose`] lie, and how many
+    /// values they are.
+    pub(super) fn positions_at(&self) -> (usize, usize) {
+        (self.positions, self.position_count)
+    }
+
+    pub(super) fn results_at(&self) -> [usize; 3] {
+        [self.conditioning, self.sign, self.residual]
+    }
+
+    /// One step in the buffer `f` (set up by the caller: parameters,
+    /// scaling, options, q with the guess, the drivers' rates and
+    /// accelerations, the modes): 0 when the step is done, else the
+    /// status that sent it off the common path.
+    pub(super) fn step(&self, f: &mut [f64]) -> i64 {
+        self.step.call(f, &mut Context { plan: self })
+    }
+
+    /// One assembly in the buffer (as [`Plan::step`], without the rates),
+    /// with the points' positions: 0 when it is done.
+    pub(super) fn pose(&self, f: &mut [f64]) -> i64 {
+        self.pose.call(f, &mut Context { plan: self })
+    }
+}
+
+/// What the helper works with besides the buffer.
+struct Context<'a> {
+    plan: &'a Plan,
+}
+
+impl Helper for Context<'_> {
+    fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
+        let plan = self.plan;
+        let status = match argument {
+            DRIVER_TRIG => plan.driver_trig(f),
+            FACTOR => plan.factor(f),
+            CLOSING => Some(plan.closing(f)),
+            i => usize::try_from(i.wrapping_sub(BLOCK))
+                .ok()
+                .and_then(|i| plan.parts.get(i))
+                .and_then(|part| plan.block(f, part)),
+        };
+        status.unwrap_or(INCONSISTENT)
+    }
+}
+
+impl Plan {
+    /// The drivers' cosines and sines, each rotated from the last step's
+    /// ([`closed::carried_sin_cos`]).
+    fn driver_trig(&self, f: &mut [f64]) -> Option<i64> {
+        for &j in &self.driver_trig {
+            let at = self.carry + 3 * j;
+            let mut carried = [f[at], f[at + 1], f[at + 2]];
+            let [c, s] = closed::carried_sin_cos(f[self.layout.q + j], &mut carried);
+            f[at..at + 3].copy_from_slice(&carried);
+            let t = self.layout.trig + 2 * j;
+            f[t] = c;
+            f[t + 1] = s;
+        }
+        Some(0)
+    }
+
+    /// Block `part` by its closed form from the coefficients in the
+    /// buffer, in its mode (NaN: the guess's, then kept); each angle the
+    /// representative nearest its guess, from the carried values.
+    fn block(&self, f: &mut [f64], part: &PartPlan) -> Option<i64> {
+        let (q, trig, carry) = (self.layout.q, self.layout.trig, self.carry);
+        let k = &f[self.coef..self.coef + 12];
+        let v = |at: usize| [k[at], k[at + 1]];
+        let m = |at: usize| [[k[at], k[at + 1]], [k[at + 2], k[at + 3]]];
+        let carried_of = |j: usize| [f[carry + 3 * j], f[carry + 3 * j + 1], f[carry + 3 * j + 2]];
+        let [j0, j1] = part.coords;
+        let g0 = f[q + j0];
+        let g1 = f[q + j1];
+        let mut mode = part.mode.map_or(f64::NAN, |slot| f[self.modes + slot]);
+        let solved: Result<[f64; 4], f64> = match part.form {
+            Form::Angle => closed::angle(k[0], k[1], k[2], &mut mode, || {
+                closed::guess_trig(&carried_of(j0), g0)
+            })
+            .map(|[c, s]| [c, s, 0.0, 0.0]),
+            Form::Linear => closed::linear(k[0], k[1]).map(|l| [l, 0.0, 0.0, 0.0]),
+            Form::Rrr => closed::circle_circle(v(0), m(2), m(6), &mut mode, || {
+                let [a, b] = closed::guess_trig(&carried_of(j0), g0);
+                let [c, d] = closed::guess_trig(&carried_of(j1), g1);
+                [a, b, c, d]
+            }),
+            Form::Rrt => closed::circle_line(v(0), m(2), v(6), &mut mode, || {
+                closed::guess_trig(&carried_of(j0), g0)
+            })
+            .map(|[c, s, l]| [c, s, l, 0.0]),
+            Form::Rtr => closed::slide(v(0), m(2), m(6), &mut mode, || [g1, 0.0])
+                .map(|[c, s, l]| [c, s, l, 0.0]),
+            Form::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
+        };
+        let Ok(x) = solved else {
+            return Some(NO_SOLUTION);
+        };
+        if let Some(slot) = part.mode {
+            f[self.modes + slot] = mode;
+        }
+        let angle = |f: &mut [f64], j: usize, guess: f64, (mut c, mut s): (f64, f64)| {
+            let at = carry + 3 * j;
+            let mut carried = [f[at], f[at + 1], f[at + 2]];
+            f[q + j] = closed::near_carried(&mut c, &mut s, guess, &mut carried);
+            f[trig + 2 * j] = c;
+            f[trig + 2 * j + 1] = s;
+            f[at..at + 3].copy_from_slice(&carried);
+        };
+        match part.form {
+            Form::Angle => angle(f, j0, g0, (x[0], x[1])),
+            Form::Rrr => {
+                angle(f, j0, g0, (x[0], x[1]));
+                angle(f, j1, g1, (x[2], x[3]));
+            }
+            Form::Rrt | Form::Rtr => {
+                angle(f, j0, g0, (x[0], x[1]));
+                f[q + j1] = x[2];
+            }
+            Form::Linear => f[q + j0] = x[0],
+            Form::Trt => {
+                f[q + j0] = x[0];
+                f[q + j1] = x[1];
+            }
+        }
+        Some(0)
+    }
+
+    /// 0 when the weighted residual is within the closing bound, else
+    /// [`NOT_CLOSED`] (also for NaN).
+    fn closing(&self, f: &[f64]) -> i64 {
+        let within = f[self.closing] <= f[self.bound];
+        if within {
+            0
+        } else {
+            NOT_CLOSED
+        }
+    }
+
+    /// The closing check, then each diagonal block of the scaled Φ_u
+    /// factored, its conditioning judged and its inverse written (column
+    /// j the solution for the j-th unit vector: for blocks of one or two
+    /// unknowns, the very values the factorisation holds), and the sign
+    /// of det Φ_u against the branch asked for.
+    fn factor(&self, f: &mut [f64]) -> Option<i64> {
+        let closing = self.closing(f);
+        if closing != 0 {
+            return Some(closing);
+        }
+        let threshold = f[self.threshold];
+        let length = f[self.layout.params + self.np - 1];
+        let mut conditioning = f64::INFINITY;
+        let mut sign = if self.odd { -1.0 } else { 1.0 };
+        for b in &self.blocks {
+            // The scaled entry: Φ_u's times 1/S of its row, and times L
+            // for a length's column.
+            let entry = |f: &[f64], e: &(usize, usize, bool)| {
+                let x = f[e.0] * f[e.1];
+                if e.2 {
+                    x * length
+                } else {
+                    x
+                }
+            };
+            macro_rules! factored {
+                ($n:literal) => {{
+                    let mut a = [[0.0; $n]; $n];
+                    for (row, entries) in a.iter_mut().zip(b.entries.chunks_exact($n)) {
+                        for (x, e) in row.iter_mut().zip(entries) {
+                            *x = entry(f, e);
+                        }
+                    }
+                    let Ok(l) = Lu::<$n>::factor(&a, threshold) else {
+                        return Some(SINGULAR);
+                    };
+                    let Ok(c) = l.check(threshold) else {
+                        return Some(SINGULAR);
+                    };
+                    for j in 0..$n {
+                        let mut unit = [0.0; $n];
+                        unit[j] = 1.0;
+                        for (i, v) in l.solve(&unit).into_iter().enumerate() {
+                            f[b.inverse + i * $n + j] = v;
+                        }
+                    }
+                    (c, l.det_sign())
+                }};
+            }
+            let (c, s) = match b.n {
+                1 => factored!(1),
+                2 => factored!(2),
+                3 => factored!(3),
+                4 => factored!(4),
+                _ => return None,
+            };
+            if c < conditioning {
+                conditioning = c;
+            }
+            sign *= s;
+        }
+        if self.nu == 0 {
+            conditioning = 1.0;
+        }
+        let wanted = f[self.branch];
+        if wanted != 0.0 && sign != wanted {
+            return Some(WRONG_BRANCH);
+        }
+        f[self.conditioning] = conditioning;
+        f[self.sign] = sign;
+        Some(0)
+    }
+}
+
+/// Whether the permutation `p` (of 0..n) is odd.
+fn parity(p: &[usize]) -> bool {
+    let mut seen = vec![false; p.len()];
+    let mut odd = false;
+    for start in 0..p.len() {
+        let mut k = start;
+        let mut length = 0;
+        while let Some(s) = seen.get_mut(k) {
+            if *s {
+                break;
+            }
+            *s = true;
+            k = p.get(k).copied().unwrap_or(usize::MAX);
+            length += 1;
+        }
+        if length > 0 && length % 2 == 0 {
+            odd = !odd;
+        }
+    }
+    odd
+}
+
+/// `dst` = `src` (of the same length), element by element where the
+/// slices are as short as a point's or a small model's coordinates (the
+/// library's `memcpy` costs more than the copy there).
+#[inline]
+pub(super) fn copy_small(dst: &mut [f64], src: &[f64]) {
+    match (dst, src) {
+        ([d0, d1], [s0, s1]) => (*d0, *d1) = (*s0, *s1),
+        ([d0, d1, d2], [s0, s1, s2]) => (*d0, *d1, *d2) = (*s0, *s1, *s2),
+        ([d0], [s0]) => *d0 = *s0,
+        (d, s) => d.copy_from_slice(s),
+    }
+}

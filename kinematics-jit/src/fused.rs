@@ -1,0 +1,460 @@
+//! One machine-code function for a whole sequence of evaluations and
+//! calls: a step of a run-time model as one straight line, where the
+//! stages of [`crate::Program`] are separate calls with their own arrays.
+//!
+//! The function works in one buffer of f64 values, `f`: it reads the
+//! leaves there (at the offsets of a [`Layout`]), writes the roots of each
+//! [`Op::Store`] there, and hands the buffer to a helper written in Rust
+//! for what is not an expression of the graph (a closed form's branches,
+//! a factorisation): [`Op::Call`]. Each node of the graph is evaluated
+//! once, at its first use, and kept for every later one, so an op after a
+//! call must not read a value the call changes through a node evaluated
+//! before it (the ops of a step read each unknown only after the call
+//! that solves it).
+
+use std::ffi::c_void;
+use std::fmt;
+use std::mem::ManuallyDrop;
+
+use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
+use cranelift_codegen::ir::{types, AbiParam, BlockArg, InstBuilder, MemFlags, UserFuncName};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+use cranelift_jit::JITModule;
+use cranelift_module::{Linkage, Module};
+use kinematics_compiler::ir::{Graph, Id};
+
+use crate::lower::{Imports, Lower, Sources};
+use crate::{declare_imports, new_module, JitError};
+
+/// Where the leaves lie in the buffer: the index of the first parameter,
+/// coordinate, rate, acceleration, and of cos q₀ (then sin q₀, cos q₁, …),
+/// and the buffer's length.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Layout {
+    /// p₀.
+    pub params: usize,
+    /// q₀.
+    pub q: usize,
+    /// q'₀.
+    pub qd: usize,
+    /// q''₀.
+    pub qdd: usize,
+    /// cos q₀.
+    pub trig: usize,
+    /// The number of values in the buffer.
+    pub len: usize,
+}
+
+/// One operation of a fused function, in order.
+#[derive(Clone, Debug)]
+pub enum Op {
+    /// f[at[i]] = root i.
+    Store {
+        /// The roots, nodes of the graph.
+        roots: Vec<Id>,
+        /// Where each is written.
+        at: Vec<usize>,
+    },
+    /// status = helper(f, context, argument); unless 0, the function
+    /// returns that status at once.
+    Call(u64),
+    /// f[at] = max |root i · f[scales + i]|, NaN when any product is NaN.
+    MaxScaled {
+        /// The roots.
+        roots: Vec<Id>,
+        /// The first of their factors.
+        scales: usize,
+        /// Where the maximum is written.
+        at: usize,
+    },
+    /// A linear solve by forward substitution over blocks whose inverses
+    /// lie in the buffer: block after block, each row's y = (root − Σ
+    /// known entry · its unknown) · scale, then each unknown x = (Σ
+    /// inverse row · y) · its column scale, written at f[to + index].
+    Solve {
+        /// The right-hand sides.
+        rhs: Vec<Id>,
+        /// The blocks, in the order they are solved.
+        blocks: Vec<SolveBlock>,
+        /// Where unknown 0 is written.
+        to: usize,
+    },
+    /// Unless f[from..from + len] are all finite, the function returns
+    /// `status`.
+    Finite {
+        /// The first value checked.
+        from: usize,
+        /// How many.
+        len: usize,
+        /// The status returned when one is not finite.
+        status: i64,
+    },
+}
+
+/// One row of a block of an [`Op::Solve`].
+#[derive(Clone, Debug)]
+pub struct SolveRow {
+    /// Its right-hand side: an index into the op's roots.
+    pub rhs: usize,
+    /// Where its scale lies (the right-hand side, less the known terms,
+    /// is multiplied by it).
+    pub scale: usize,
+    /// The known terms: where each entry lies, and the index of the
+    /// unknown (solved in a block before) it multiplies.
+    pub known: Vec<(usize, usize)>,
+}
+
+/// One diagonal block of an [`Op::Solve`].
+#[derive(Clone, Debug)]
+pub struct SolveBlock {
+    /// Its rows, in the order of the inverse's columns.
+    pub rows: Vec<SolveRow>,
+    /// Where the inverse of its scaled matrix lies, row by row.
+    pub inverse: usize,
+    /// Its unknowns, in the order of the inverse's rows: each one's
+    /// index, and where its column scale lies (`None`: 1).
+    pub cols: Vec<(usize, Option<usize>)>,
+}
+
+/// What a fused function calls for [`Op::Call`]: with the buffer and the
+/// op's argument, a status (0: go on).
+pub trait Helper {
+    /// The part of the step that `argument` names, in the buffer `f`.
+    fn call(&mut self, f: &mut [f64], argument: u64) -> i64;
+}
+
+/// The status a fused function returns when its helper panicked (the
+/// panic stops at the helper: machine code cannot unwind).
+pub const HELPER_PANICKED: i64 = i64::MIN;
+
+/// What the machine code hands back to [`trampoline`].
+struct Frame<'a> {
+    helper: &'a mut dyn Helper,
+    len: usize,
+}
+
+/// The function the machine code calls for [`Op::Call`]: the frame's
+/// helper on the buffer, with any panic caught.
+#[allow(unsafe_code)]
+extern "C" fn trampoline(f: *mut f64, frame: *mut c_void, argument: u64) -> i64 {
+    // SAFETY: the machine code passes on the two pointers `Fused::call`
+    // gave it: a buffer of `len` values, which the code itself does not
+    // touch while the helper runs, and a `Frame` living for the call.
+    let (frame, f) = unsafe {
+        let frame = &mut *frame.cast::<Frame<'_>>();
+        let f = std::slice::from_raw_parts_mut(f, frame.len);
+        (frame, f)
+    };
+    let helper = &mut *frame.helper;
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| helper.call(f, argument)))
+        .unwrap_or(HELPER_PANICKED)
+}
+
+type Entry = unsafe extern "C" fn(*mut f64, *mut c_void) -> i64;
+
+/// A fused function: [`Fused::new`] compiles it, [`Fused::call`] runs it.
+pub struct Fused {
+    module: ManuallyDrop<JITModule>,
+    entry: Entry,
+    len: usize,
+}
+
+impl fmt::Debug for Fused {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Fused")
+            .field("len", &self.len)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Fused {
+    /// Compiles `ops` over `graph` (whose leaves index `params`
+    /// parameters and `coords` coordinates, read at `layout`); each
+    /// [`Op::Call`] calls the [`Helper`] given to [`Fused::call`].
+    ///
+    /// # Errors
+    /// As [`crate::Program::new`]; [`JitError::Codegen`] also for an
+    /// offset at or past `layout.len`.
+    pub fn new(
+        graph: &Graph,
+        params: usize,
+        coords: usize,
+        layout: Layout,
+        ops: &[Op],
+    ) -> Result<Self, JitError> {
+        const HELPER: &str = "kinematics_fused_helper";
+        let mut module = new_module(&[(HELPER, trampoline as *const u8)])?;
+        let codegen = |e: &dyn fmt::Display| JitError::Codegen(e.to_string());
+        let imports = declare_imports(&mut module)?;
+        let pointer = module.target_config().pointer_type();
+        let mut hsig = module.make_signature();
+        hsig.params.push(AbiParam::new(pointer));
+        hsig.params.push(AbiParam::new(pointer));
+        hsig.params.push(AbiParam::new(types::I64));
+        hsig.returns.push(AbiParam::new(types::I64));
+        let helper_id = module
+            .declare_function(HELPER, Linkage::Import, &hsig)
+            .map_err(|e| codegen(&e))?;
+        let mut sig = module.make_signature();
+        sig.params.push(AbiParam::new(pointer));
+        sig.params.push(AbiParam::new(pointer));
+        sig.returns.push(AbiParam::new(types::I64));
+        let id = module
+            .declare_function("fused", Linkage::Local, &sig)
+            .map_err(|e| codegen(&e))?;
+        let mut ctx = module.make_context();
+        ctx.func.signature = sig;
+        ctx.func.name = UserFuncName::user(0, id.as_u32());
+        let mut fcx = FunctionBuilderContext::new();
+        let within = |at: usize| {
+            if at < layout.len {
+                i32::try_from(at * 8).map_err(|_| JitError::Codegen("buffer too long".into()))
+            } else {
+                Err(JitError::Codegen(format!(
+                    "offset {at} past the buffer of {}",
+                    layout.len
+                )))
+            }
+        };
+        {
+            let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
+            let entry = b.create_block();
+            b.append_block_params_for_function_params(entry);
+            let exit = b.create_block();
+            b.append_block_param(exit, types::I64);
+            b.switch_to_block(entry);
+            let args = b.block_params(entry).to_vec();
+            let (fp, cp) = (args[0], args[1]);
+            let imports = Imports {
+                refs: imports
+                    .iter()
+                    .map(|(name, fid)| (*name, module.declare_func_in_func(*fid, b.func)))
+                    .collect(),
+            };
+            let helper_ref = module.declare_func_in_func(helper_id, b.func);
+            let sources = Sources {
+                ptr: [fp; 5],
+                base: [layout.params, layout.q, layout.qd, layout.qdd, layout.trig],
+                params,
+                coords,
+            };
+            // Every leaf offset must lie in the buffer.
+            for (base, n) in [
+                (layout.params, params),
+                (layout.q, coords),
+                (layout.qd, coords),
+                (layout.qdd, coords),
+                (layout.trig, 2 * coords),
+            ] {
+                if n > 0 {
+                    within(base + n - 1)?;
+                }
+            }
+            let flags = MemFlags::trusted();
+            let mut lower = Lower::new(graph);
+            let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
+                let next = b.create_block();
+                b.ins()
+                    .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
+                b.switch_to_block(next);
+            };
+            for op in ops {
+                match op {
+                    Op::Store { roots, at } => {
+                        if roots.len() != at.len() {
+                            return Err(JitError::Codegen(
+                                "a store's roots and offsets differ in number".into(),
+                            ));
+                        }
+                        lower.emit(&mut b, &sources, &imports, roots)?;
+                        for (&root, &at) in roots.iter().zip(at) {
+                            let v = lower.value(&mut b, &sources, &imports, root)?;
+                            b.ins().store(flags, v, fp, within(at)?);
+                        }
+                    }
+                    Op::Call(arg) => {
+                        let arg = b
+                            .ins()
+                            .iconst(types::I64, i64::from_ne_bytes(arg.to_ne_bytes()));
+                        let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                        let status = b.inst_results(inst)[0];
+                        let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                        bail(&mut b, failed, status);
+                    }
+                    Op::MaxScaled { roots, scales, at } => {
+                        lower.emit(&mut b, &sources, &imports, roots)?;
+                        let mut m = b.ins().f64const(0.0);
+                        for (i, &root) in roots.iter().enumerate() {
+                            let v = lower.value(&mut b, &sources, &imports, root)?;
+                            let s = b.ins().load(types::F64, flags, fp, within(scales + i)?);
+                            let p = b.ins().fmul(v, s);
+                            let r = b.ins().fabs(p);
+                            let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
+                            let nan = b.ins().fcmp(FloatCC::Unordered, r, r);
+                            let take = b.ins().bor(above, nan);
+                            m = b.ins().select(take, r, m);
+                        }
+                        b.ins().store(flags, m, fp, within(*at)?);
+                    }
+                    Op::Solve { rhs, blocks, to } => {
+                        lower.emit(&mut b, &sources, &imports, rhs)?;
+                        let mut x: std::collections::HashMap<usize, cranelift_codegen::ir::Value> =
+                            std::collections::HashMap::new();
+                        let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                            Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                        };
+                        for block in blocks {
+                            let mut ys = Vec::with_capacity(block.rows.len());
+                            for row in &block.rows {
+                                let root = *rhs.get(row.rhs).ok_or_else(|| {
+                                    JitError::Codegen("a solve's row past its roots".into())
+                                })?;
+                                let mut t = lower.value(&mut b, &sources, &imports, root)?;
+                                let mut sum = None;
+                                for &(e, c) in &row.known {
+                                    let xc = *x.get(&c).ok_or_else(|| {
+                                        JitError::Codegen(
+                                            "a solve reads an unknown not solved".into(),
+                                        )
+                                    })?;
+                                    let entry = load(&mut b, e)?;
+                                    let p = b.ins().fmul(entry, xc);
+                                    sum = Some(match sum {
+                                        None => p,
+                                        Some(s) => b.ins().fadd(s, p),
+                                    });
+                                }
+                                if let Some(sum) = sum {
+                                    t = b.ins().fsub(t, sum);
+                                }
+                                let scale = load(&mut b, row.scale)?;
+                                ys.push(b.ins().fmul(t, scale));
+                            }
+                            let n = ys.len();
+                            for (i, &(c, scale)) in block.cols.iter().enumerate() {
+                                let mut acc = None;
+                                for (j, &y) in ys.iter().enumerate() {
+                                    let m = load(&mut b, block.inverse + i * n + j)?;
+                                    let p = b.ins().fmul(m, y);
+                                    acc = Some(match acc {
+                                        None => p,
+                                        Some(a) => b.ins().fadd(a, p),
+                                    });
+                                }
+                                let mut v = match acc {
+                                    Some(v) => v,
+                                    None => b.ins().f64const(0.0),
+                                };
+                                if let Some(scale) = scale {
+                                    let s = load(&mut b, scale)?;
+                                    v = b.ins().fmul(v, s);
+                                }
+                                b.ins().store(flags, v, fp, within(to + c)?);
+                                x.insert(c, v);
+                            }
+                        }
+                    }
+                    Op::Finite { from, len, status } => {
+                        if *len == 0 {
+                            continue;
+                        }
+                        // x·0 is 0 for a finite x and NaN otherwise.
+                        let zero = b.ins().f64const(0.0);
+                        let mut acc = zero;
+                        for i in 0..*len {
+                            let x = b.ins().load(types::F64, flags, fp, within(from + i)?);
+                            let z = b.ins().fmul(x, zero);
+                            acc = b.ins().fadd(acc, z);
+                        }
+                        let failed = b.ins().fcmp(FloatCC::Unordered, acc, acc);
+                        let status = b.ins().iconst(types::I64, *status);
+                        bail(&mut b, failed, status);
+                    }
+                }
+            }
+            let ok = b.ins().iconst(types::I64, 0);
+            b.ins().jump(exit, &[BlockArg::Value(ok)]);
+            b.switch_to_block(exit);
+            let status = b.block_params(exit)[0];
+            b.ins().return_(&[status]);
+            b.seal_all_blocks();
+            b.finalize();
+        }
+        module
+            .define_function(id, &mut ctx)
+            .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
+        module.clear_context(&mut ctx);
+        module.finalize_definitions().map_err(|e| codegen(&e))?;
+        let entry = entry(module.get_finalized_function(id));
+        Ok(Fused {
+            module: ManuallyDrop::new(module),
+            entry,
+            len: layout.len,
+        })
+    }
+
+    /// The number of values its buffer holds.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether its buffer holds no value.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Runs the function on the buffer `f`, calling `helper` for each
+    /// [`Op::Call`]: its status (0 when every op ran, else the first
+    /// nonzero status of a call or check; [`HELPER_PANICKED`] when the
+    /// helper panicked), or −1, running nothing, when `f` is not of the
+    /// layout's length.
+    #[allow(unsafe_code)]
+    pub fn call(&self, f: &mut [f64], helper: &mut dyn Helper) -> i64 {
+        if f.len() != self.len {
+            return -1;
+        }
+        let mut frame = Frame {
+            helper,
+            len: self.len,
+        };
+        // SAFETY: every offset the code reads or writes was checked
+        // against the layout's length, which is `f`'s; the frame lives for
+        // the call, and the trampoline reads it as a `Frame`.
+        unsafe {
+            (self.entry)(
+                f.as_mut_ptr(),
+                (&mut frame as *mut Frame<'_>).cast::<c_void>(),
+            )
+        }
+    }
+}
+
+/// The finalized code as a function pointer.
+#[allow(unsafe_code)]
+fn entry(code: *const u8) -> Entry {
+    // SAFETY: `code` is the address of the function compiled above with
+    // two pointer arguments and an i64 result in the host's default
+    // calling convention, which is `Entry`'s.
+    unsafe { std::mem::transmute::<*const u8, Entry>(code) }
+}
+
+// SAFETY (Send, Sync): as for `Program`: the module is only touched by
+// `Drop`; the code keeps no state of its own (it works in the buffer and
+// context its caller passes).
+#[allow(unsafe_code)]
+unsafe impl Send for Fused {}
+#[allow(unsafe_code)]
+unsafe impl Sync for Fused {}
+
+impl Drop for Fused {
+    #[allow(unsafe_code)]
+    fn drop(&mut self) {
+        // SAFETY: the entry is private and called only through `&self`.
+        unsafe {
+            let module = ManuallyDrop::take(&mut self.module);
+            module.free_memory();
+        }
+    }
+}

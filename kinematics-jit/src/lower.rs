@@ -1,0 +1,241 @@
+//! The lowering of graph nodes to Cranelift instructions, shared by the
+//! stages and the fused step: each node once, on demand, in the graph's
+//! (topological) order, its value kept for every later use.
+
+use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlags, Value};
+use cranelift_frontend::FunctionBuilder;
+use kinematics_compiler::ir::{Func, Graph, Id, Leaf, Node};
+
+use crate::JitError;
+
+/// Where the leaves are read: for each of p, q, q', q'' and the cosines
+/// and sines of q, a pointer and the index of its first value, with the
+/// number of values each holds (p and q).
+#[derive(Clone, Copy)]
+pub(crate) struct Sources {
+    /// Pointers to p, q, q', q'', trig.
+    pub(crate) ptr: [Value; 5],
+    /// The index (in f64 values) of each array's first value behind its
+    /// pointer.
+    pub(crate) base: [usize; 5],
+    /// The number of parameters.
+    pub(crate) params: usize,
+    /// The number of coordinates.
+    pub(crate) coords: usize,
+}
+
+/// The functions the code calls by name, declared in the function being
+/// built.
+pub(crate) struct Imports {
+    pub(crate) refs: Vec<(&'static str, FuncRef)>,
+}
+
+impl Imports {
+    fn call(
+        &self,
+        b: &mut FunctionBuilder<'_>,
+        name: &str,
+        xs: &[Value],
+    ) -> Result<Value, JitError> {
+        let fref = self
+            .refs
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, r)| *r)
+            .ok_or_else(|| JitError::Codegen(format!("`{name}` not declared")))?;
+        let inst = b.ins().call(fref, xs);
+        b.inst_results(inst)
+            .first()
+            .copied()
+            .ok_or_else(|| JitError::Codegen(format!("`{name}` returned nothing")))
+    }
+}
+
+/// The symbol of a called function (`None`: an instruction instead).
+pub(crate) fn symbol(f: Func) -> Option<&'static str> {
+    Some(match f {
+        Func::Sin => "kinematics_sin",
+        Func::Cos => "kinematics_cos",
+        Func::Tan => "kinematics_tan",
+        Func::Asin => "kinematics_asin",
+        Func::Acos => "kinematics_acos",
+        Func::Exp => "kinematics_exp",
+        Func::Ln => "kinematics_ln",
+        Func::Sqrt | Func::Abs => return None,
+    })
+}
+
+/// The values of the nodes lowered so far in one function.
+pub(crate) struct Lower<'g> {
+    graph: &'g Graph,
+    values: Vec<Option<Value>>,
+    /// The coordinates whose cosine and sine were read.
+    pub(crate) trig: std::collections::BTreeSet<usize>,
+    /// Whether a coordinate (or its cosine or sine) was read.
+    pub(crate) reads_q: bool,
+}
+
+impl<'g> Lower<'g> {
+    pub(crate) fn new(graph: &'g Graph) -> Self {
+        Lower {
+            graph,
+            values: vec![None; graph.len()],
+            trig: std::collections::BTreeSet::new(),
+            reads_q: false,
+        }
+    }
+
+    /// The value of `id`, lowered with everything it depends on that is
+    /// not lowered yet.
+    pub(crate) fn value(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        s: &Sources,
+        imports: &Imports,
+        id: Id,
+    ) -> Result<Value, JitError> {
+        if let Some(v) = self.values.get(id.index()).copied().flatten() {
+            return Ok(v);
+        }
+        self.emit(b, s, imports, &[id])?;
+        self.get(id)
+    }
+
+    /// A lowered node's value.
+    fn get(&self, id: Id) -> Result<Value, JitError> {
+        self.values
+            .get(id.index())
+            .copied()
+            .flatten()
+            .ok_or_else(|| {
+                JitError::Codegen(format!("node {} used before it is computed", id.index()))
+            })
+    }
+
+    /// Lowers every node `roots` depend on that is not lowered yet, in the
+    /// graph's order.
+    pub(crate) fn emit(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        s: &Sources,
+        imports: &Imports,
+        roots: &[Id],
+    ) -> Result<(), JitError> {
+        let graph = self.graph;
+        let live = graph.reachable(roots);
+        let flags = MemFlags::trusted();
+        let float = types::F64;
+        let offset = |array: usize, j: usize| {
+            i32::try_from((s.base[array] + j) * 8)
+                .map_err(|_| JitError::Codegen("too many values for one function".into()))
+        };
+        for (i, &alive) in live.iter().enumerate() {
+            if !alive || self.values[i].is_some() {
+                continue;
+            }
+            let node = graph.node(Id::from_index(i));
+            // The cosine or sine of a coordinate: read from the array of
+            // them, computed once per pose.
+            if let Node::Call(f @ (Func::Sin | Func::Cos), x) = node {
+                if let Node::Leaf(Leaf::Q(j)) = graph.node(x) {
+                    let j = j as usize;
+                    if j < s.coords {
+                        self.trig.insert(j);
+                        self.reads_q = true;
+                        let slot = 2 * j + usize::from(f == Func::Sin);
+                        let at = offset(4, slot)?;
+                        self.values[i] = Some(b.ins().load(float, flags, s.ptr[4], at));
+                        continue;
+                    }
+                }
+            }
+            let value = match node {
+                Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
+                Node::Leaf(leaf) => {
+                    let (array, index, len) = match leaf {
+                        Leaf::Param(j) => (0, j, s.params),
+                        Leaf::Q(j) => (1, j, s.coords),
+                        Leaf::Qd(j) => (2, j, s.coords),
+                        Leaf::Qdd(j) => (3, j, s.coords),
+                    };
+                    let j = index as usize;
+                    if j >= len {
+                        return Err(JitError::Leaf(leaf));
+                    }
+                    if array == 1 {
+                        self.reads_q = true;
+                    }
+                    let at = offset(array, j)?;
+                    b.ins().load(float, flags, s.ptr[array], at)
+                }
+                Node::Add(x, y) => {
+                    let (x, y) = (self.get(x)?, self.get(y)?);
+                    b.ins().fadd(x, y)
+                }
+                Node::Mul(x, y) => {
+                    let (x, y) = (self.get(x)?, self.get(y)?);
+                    b.ins().fmul(x, y)
+                }
+                Node::Div(x, y) => {
+                    let (x, y) = (self.get(x)?, self.get(y)?);
+                    b.ins().fdiv(x, y)
+                }
+                Node::Neg(x) => {
+                    let x = self.get(x)?;
+                    b.ins().fneg(x)
+                }
+                Node::Powi(x, n) => {
+                    let x = self.get(x)?;
+                    powi(b, x, n)
+                }
+                Node::Call(f, x) => {
+                    let x = self.get(x)?;
+                    match (f, symbol(f)) {
+                        (Func::Sqrt, _) => b.ins().sqrt(x),
+                        (Func::Abs, _) => b.ins().fabs(x),
+                        (_, Some(name)) => imports.call(b, name, &[x])?,
+                        (_, None) => return Err(JitError::Codegen(format!("no code for {f:?}"))),
+                    }
+                }
+                Node::Atan2(y, x) => {
+                    let (y, x) = (self.get(y)?, self.get(x)?);
+                    imports.call(b, "kinematics_atan2", &[y, x])?
+                }
+            };
+            self.values[i] = Some(value);
+        }
+        Ok(())
+    }
+}
+
+/// xⁿ by binary powering, as the standard library's `powi` computes it
+/// (r = 1; for each bit of |n| from the lowest: r ← r·x where it is set,
+/// x ← x²), then 1/r for n < 0.
+fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
+    let mut bits = n.unsigned_abs();
+    let mut base = x;
+    let mut r: Option<Value> = None;
+    loop {
+        if bits & 1 == 1 {
+            r = Some(match r {
+                None => base,
+                Some(r) => b.ins().fmul(r, base),
+            });
+        }
+        bits >>= 1;
+        if bits == 0 {
+            break;
+        }
+        base = b.ins().fmul(base, base);
+    }
+    let r = match r {
+        Some(r) => r,
+        None => b.ins().f64const(1.0),
+    };
+    if n < 0 {
+        let one = b.ins().f64const(1.0);
+        b.ins().fdiv(one, r)
+    } else {
+        r
+    }
+}
