@@ -48,12 +48,16 @@ pub struct Layout {
 /// One operation of a fused function, in order.
 #[derive(Clone, Debug)]
 pub enum Op {
-    /// f[at[i]] = root i.
+    /// f[at[i]] = root i; with `finite`, unless every root is finite the
+    /// function then returns that status.
     Store {
         /// The roots, nodes of the graph.
         roots: Vec<Id>,
         /// Where each is written.
         at: Vec<usize>,
+        /// The status returned when a root is not finite (`None`: not
+        /// checked).
+        finite: Option<i64>,
     },
     /// status = helper(f, context, argument); unless 0, the function
     /// returns that status at once.
@@ -170,7 +174,9 @@ impl fmt::Debug for Fused {
 impl Fused {
     /// Compiles `ops` over `graph` (whose leaves index `params`
     /// parameters and `coords` coordinates, read at `layout`); each
-    /// [`Op::Call`] calls the [`Helper`] given to [`Fused::call`].
+    /// [`Op::Call`] calls the [`Helper`] given to [`Fused::call`]. Each
+    /// node of `preset` is read from the buffer at the index given (past
+    /// the parameters' first: `layout.params + index`), not computed.
     ///
     /// # Errors
     /// As [`crate::Program::new`]; [`JitError::Codegen`] also for an
@@ -181,6 +187,7 @@ impl Fused {
         coords: usize,
         layout: Layout,
         ops: &[Op],
+        preset: &[(Id, usize)],
     ) -> Result<Self, JitError> {
         const HELPER: &str = "kinematics_fused_helper";
         let mut module = new_module(&[(HELPER, trampoline as *const u8)])?;
@@ -251,7 +258,10 @@ impl Fused {
                 }
             }
             let flags = MemFlags::trusted();
-            let mut lower = Lower::new(graph);
+            for &(_, at) in preset {
+                within(layout.params + at)?;
+            }
+            let mut lower = Lower::new(graph).with_preset(preset);
             let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
                 let next = b.create_block();
                 b.ins()
@@ -260,16 +270,24 @@ impl Fused {
             };
             for op in ops {
                 match op {
-                    Op::Store { roots, at } => {
+                    Op::Store { roots, at, finite } => {
                         if roots.len() != at.len() {
                             return Err(JitError::Codegen(
                                 "a store's roots and offsets differ in number".into(),
                             ));
                         }
                         lower.emit(&mut b, &sources, &imports, roots)?;
+                        let mut values = Vec::with_capacity(roots.len());
                         for (&root, &at) in roots.iter().zip(at) {
                             let v = lower.value(&mut b, &sources, &imports, root)?;
                             b.ins().store(flags, v, fp, within(at)?);
+                            values.push(v);
+                        }
+                        if let Some(status) = *finite {
+                            if let Some(failed) = not_finite(&mut b, &values) {
+                                let status = b.ins().iconst(types::I64, status);
+                                bail(&mut b, failed, status);
+                            }
                         }
                     }
                     Op::Call(arg) => {
@@ -358,17 +376,14 @@ impl Fused {
                         if *len == 0 {
                             continue;
                         }
-                        // x·0 is 0 for a finite x and NaN otherwise.
-                        let zero = b.ins().f64const(0.0);
-                        let mut acc = zero;
+                        let mut values = Vec::with_capacity(*len);
                         for i in 0..*len {
-                            let x = b.ins().load(types::F64, flags, fp, within(from + i)?);
-                            let z = b.ins().fmul(x, zero);
-                            acc = b.ins().fadd(acc, z);
+                            values.push(b.ins().load(types::F64, flags, fp, within(from + i)?));
                         }
-                        let failed = b.ins().fcmp(FloatCC::Unordered, acc, acc);
-                        let status = b.ins().iconst(types::I64, *status);
-                        bail(&mut b, failed, status);
+                        if let Some(failed) = not_finite(&mut b, &values) {
+                            let status = b.ins().iconst(types::I64, *status);
+                            bail(&mut b, failed, status);
+                        }
                     }
                 }
             }
@@ -429,6 +444,29 @@ impl Fused {
             )
         }
     }
+}
+
+/// A flag set when one of `values` is not finite (`None` for none): x·0
+/// is 0 for a finite x and NaN otherwise, and the products are summed
+/// pairwise, so that the sum's dependency chain is as short as it can be.
+fn not_finite(
+    b: &mut FunctionBuilder<'_>,
+    values: &[cranelift_codegen::ir::Value],
+) -> Option<cranelift_codegen::ir::Value> {
+    let zero = b.ins().f64const(0.0);
+    let mut level: Vec<_> = values.iter().map(|&v| b.ins().fmul(v, zero)).collect();
+    while level.len() > 1 {
+        level = level
+            .chunks(2)
+            .map(|p| match p {
+                [x, y] => b.ins().fadd(*x, *y),
+                [x] => *x,
+                _ => zero,
+            })
+            .collect();
+    }
+    let sum = level.pop()?;
+    Some(b.ins().fcmp(FloatCC::Unordered, sum, sum))
 }
 
 /// The finalized code as a function pointer.

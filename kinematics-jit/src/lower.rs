@@ -69,6 +69,10 @@ pub(crate) fn symbol(f: Func) -> Option<&'static str> {
 pub(crate) struct Lower<'g> {
     graph: &'g Graph,
     values: Vec<Option<Value>>,
+    /// Nodes read from the leaves' buffer (at the index given, in the
+    /// parameters' array) instead of computed: values computed once
+    /// beforehand.
+    preset: std::collections::HashMap<usize, usize>,
     /// The coordinates whose cosine and sine were read.
     pub(crate) trig: std::collections::BTreeSet<usize>,
     /// Whether a coordinate (or its cosine or sine) was read.
@@ -80,9 +84,35 @@ impl<'g> Lower<'g> {
         Lower {
             graph,
             values: vec![None; graph.len()],
+            preset: std::collections::HashMap::new(),
             trig: std::collections::BTreeSet::new(),
             reads_q: false,
         }
+    }
+
+    /// Nodes to read at the given indices of the parameters' array
+    /// rather than compute (what they depend on is then not evaluated).
+    pub(crate) fn with_preset(mut self, preset: &[(Id, usize)]) -> Self {
+        self.preset = preset.iter().map(|&(id, at)| (id.index(), at)).collect();
+        self
+    }
+
+    /// The nodes `roots` need that are not lowered yet, as a mask: the
+    /// search stops at lowered and preset nodes.
+    fn needed(&self, roots: &[Id]) -> Vec<bool> {
+        let mut seen = vec![false; self.graph.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            let i = id.index();
+            if i >= seen.len() || seen[i] || self.values[i].is_some() {
+                continue;
+            }
+            seen[i] = true;
+            if !self.preset.contains_key(&i) {
+                stack.extend(self.graph.node(id).children());
+            }
+        }
+        seen
     }
 
     /// The value of `id`, lowered with everything it depends on that is
@@ -122,7 +152,7 @@ impl<'g> Lower<'g> {
         roots: &[Id],
     ) -> Result<(), JitError> {
         let graph = self.graph;
-        let live = graph.reachable(roots);
+        let live = self.needed(roots);
         let flags = MemFlags::trusted();
         let float = types::F64;
         let offset = |array: usize, j: usize| {
@@ -131,6 +161,11 @@ impl<'g> Lower<'g> {
         };
         for (i, &alive) in live.iter().enumerate() {
             if !alive || self.values[i].is_some() {
+                continue;
+            }
+            if let Some(&at) = self.preset.get(&i) {
+                let at = offset(0, at)?;
+                self.values[i] = Some(b.ins().load(float, flags, s.ptr[0], at));
                 continue;
             }
             let node = graph.node(Id::from_index(i));

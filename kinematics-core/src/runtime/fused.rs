@@ -34,6 +34,7 @@ use kinematics_compiler::Compiled;
 use kinematics_jit::{Fused, Helper, JitError, Layout, Op, SolveBlock, SolveRow};
 
 use super::closed::Form;
+use super::invariant::hoist;
 use crate::closed;
 use crate::solve::Lu;
 
@@ -82,8 +83,12 @@ struct BlockPlan {
 /// The fused step of one model: its code and the offsets of its buffer.
 #[derive(Debug)]
 pub(super) struct Plan {
+    /// Computes the invariants and offsets of the parameters.
+    prelude: Fused,
     step: Fused,
     pose: Fused,
+    /// Where the offsets k of sin(q + k) lie, and how many there are.
+    offsets: (usize, usize),
     layout: Layout,
     nd: usize,
     nu: usize,
@@ -192,6 +197,22 @@ impl Plan {
             .iter()
             .flat_map(|p| p.position.iter().copied())
             .collect();
+        // Every root the two functions evaluate, for the rewriting.
+        let phi: Vec<Id> = c.residuals().iter().map(|(id, _)| *id).collect();
+        let jac_entries: Vec<(usize, usize, Id)> = jac
+            .iter()
+            .enumerate()
+            .flat_map(|(r, row)| row.iter().enumerate().map(move |(col, &e)| (r, col, e)))
+            .filter(|&(_, _, e)| !is_zero(e))
+            .collect();
+        let mut all_roots: Vec<Id> = blocks.iter().flat_map(|b| b.coefficients.clone()).collect();
+        all_roots.extend(&phi);
+        all_roots.extend(jac_entries.iter().map(|&(_, _, e)| e));
+        all_roots.extend(c.velocity_rhs());
+        all_roots.extend(c.acceleration_rhs());
+        all_roots.extend(&outputs);
+        all_roots.extend(&position_roots);
+        let h = hoist(graph, np, n, &all_roots);
         let mut at = Regions(0);
         let params = at.take(np);
         let q = at.take(n);
@@ -217,6 +238,8 @@ impl Plan {
         let positions = at.take(position_roots.len());
         let conditioning = at.take(1);
         let sign = at.take(1);
+        let invariants = at.take(h.invariants.len());
+        let offsets = at.take(h.offsets.len());
         let layout = Layout {
             params,
             q,
@@ -236,12 +259,13 @@ impl Plan {
         }
         for (i, b) in blocks.iter().enumerate() {
             assembly.push(Op::Store {
-                roots: b.coefficients.clone(),
+                roots: h.map_all(&b.coefficients),
                 at: (coef..coef + b.coefficients.len()).collect(),
+                finite: None,
             });
             assembly.push(Op::Call(BLOCK + i as u64));
         }
-        let phi: Vec<Id> = c.residuals().iter().map(|(id, _)| *id).collect();
+        let phi = h.map_all(&phi);
         assembly.push(Op::MaxScaled {
             roots: phi.clone(),
             scales: weights,
@@ -251,13 +275,9 @@ impl Plan {
         let mut pose = assembly.clone();
         pose.push(Op::Call(CLOSING));
         pose.push(Op::Store {
-            roots: position_roots.clone(),
+            roots: h.map_all(&position_roots),
             at: (positions..positions + position_roots.len()).collect(),
-        });
-        pose.push(Op::Finite {
-            from: positions,
-            len: position_roots.len(),
-            status: NOT_FINITE,
+            finite: Some(NOT_FINITE),
         });
 
         let mut step = assembly;
@@ -266,18 +286,15 @@ impl Plan {
             scales: rows,
             at: residual,
         });
-        let (mut entries, mut slots) = (Vec::new(), Vec::new());
-        for (r, row) in jac.iter().enumerate() {
-            for (col, &e) in row.iter().enumerate() {
-                if !is_zero(e) {
-                    entries.push(e);
-                    slots.push(jac_at + r * nu + col);
-                }
-            }
-        }
+        let entries: Vec<Id> = jac_entries.iter().map(|&(_, _, e)| h.map(e)).collect();
+        let slots: Vec<usize> = jac_entries
+            .iter()
+            .map(|&(r, col, _)| jac_at + r * nu + col)
+            .collect();
         step.push(Op::Store {
             roots: entries,
             at: slots,
+            finite: None,
         });
         step.push(Op::Call(FACTOR));
         let solve_blocks: Vec<SolveBlock> = blocks
@@ -307,31 +324,58 @@ impl Plan {
             })
             .collect();
         step.push(Op::Solve {
-            rhs: c.velocity_rhs().to_vec(),
+            rhs: h.map_all(c.velocity_rhs()),
             blocks: solve_blocks.clone(),
             to: qd + nd,
         });
         step.push(Op::Solve {
-            rhs: c.acceleration_rhs().to_vec(),
+            rhs: h.map_all(c.acceleration_rhs()),
             blocks: solve_blocks,
             to: qdd + nd,
         });
         step.push(Op::Store {
-            roots: outputs.clone(),
+            roots: h.map_all(&outputs),
             at: (out..out + outputs.len()).collect(),
+            finite: Some(NOT_FINITE),
         });
-        for (from, len) in [(qd + nd, nu), (qdd + nd, nu), (out, outputs.len())] {
-            step.push(Op::Finite {
-                from,
-                len,
-                status: NOT_FINITE,
-            });
-        }
+        step.push(Op::Finite {
+            from: qd + nd,
+            len: nu,
+            status: NOT_FINITE,
+        });
+        step.push(Op::Finite {
+            from: qdd + nd,
+            len: nu,
+            status: NOT_FINITE,
+        });
         let row_order: Vec<usize> = blocks.iter().flat_map(|b| b.equations.clone()).collect();
         let col_order: Vec<usize> = blocks.iter().flat_map(|b| b.unknowns.clone()).collect();
+        // The invariants and offsets, computed once per stepper; the two
+        // functions read them.
+        let prelude = [
+            Op::Store {
+                roots: h.invariants.clone(),
+                at: (invariants..invariants + h.invariants.len()).collect(),
+                finite: None,
+            },
+            Op::Store {
+                roots: h.offsets.clone(),
+                at: (offsets..offsets + h.offsets.len()).collect(),
+                finite: None,
+            },
+        ];
+        let preset: Vec<(Id, usize)> = h
+            .invariants
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| (id, invariants + i - params))
+            .collect();
+        let g = &h.graph;
         Ok(Some(Plan {
-            step: Fused::new(graph, np, n, layout, &step)?,
-            pose: Fused::new(graph, np, n, layout, &pose)?,
+            prelude: Fused::new(g, np, n, layout, &prelude, &[])?,
+            step: Fused::new(g, np, n, layout, &step, &preset)?,
+            pose: Fused::new(g, np, n, layout, &pose, &preset)?,
+            offsets: (offsets, h.offsets.len()),
             layout,
             nd,
             nu,
@@ -390,6 +434,19 @@ impl Plan {
             c.fill(f64::NAN);
         }
         f
+    }
+
+    /// Computes, in a buffer of [`Plan::buffer`], what depends on the
+    /// parameters alone: `false` when an offset k of sin(q + k) lies
+    /// beyond 2²⁰ rad, where q + k rounds away most of q and the addition
+    /// theorem would not match the equations as evaluated (the stepper
+    /// then takes the general path).
+    pub(super) fn prepare(&self, f: &mut [f64]) -> bool {
+        if self.prelude.call(f, &mut Context { plan: self }) != 0 {
+            return false;
+        }
+        let (at, count) = self.offsets;
+        f[at..at + count].iter().all(|k| k.abs() <= 1_048_576.0)
     }
 
     /// Sets the closing bound, the singularity threshold and the sign of

@@ -498,10 +498,24 @@ impl Model {
     /// [`Program::OUTPUTS`] stage, `values`.
     pub(super) fn write_outputs(&self, values: &[f64], motion: &mut Motion) {
         let d = self.point_dim;
-        for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(3 * d)) {
-            super::fused::copy_small(&mut p.position, &c[..d]);
-            super::fused::copy_small(&mut p.velocity, &c[d..2 * d]);
-            super::fused::copy_small(&mut p.acceleration, &c[2 * d..]);
+        if d == 2 {
+            // Planar points, written element by element.
+            for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(6)) {
+                if let ([r0, r1], [v0, v1], [a0, a1], [c0, c1, c2, c3, c4, c5]) = (
+                    &mut p.position[..],
+                    &mut p.velocity[..],
+                    &mut p.acceleration[..],
+                    c,
+                ) {
+                    (*r0, *r1, *v0, *v1, *a0, *a1) = (*c0, *c1, *c2, *c3, *c4, *c5);
+                }
+            }
+        } else {
+            for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(3 * d)) {
+                super::fused::copy_small(&mut p.position, &c[..d]);
+                super::fused::copy_small(&mut p.velocity, &c[d..2 * d]);
+                super::fused::copy_small(&mut p.acceleration, &c[2 * d..]);
+            }
         }
         let frames = values.get(self.points.len() * 3 * d..).unwrap_or(&[]);
         for (fr, f) in motion.frames.iter_mut().zip(frames.chunks_exact(24)) {

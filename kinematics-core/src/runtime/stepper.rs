@@ -92,8 +92,11 @@ impl Model {
         options.validate()?;
         self.validate()?;
         let work = self.work();
-        let fused = self.fused.as_deref().map(|plan| {
+        let fused = self.fused.as_deref().and_then(|plan| {
             let mut f = plan.buffer(&work.params);
+            if !plan.prepare(&mut f) {
+                return None;
+            }
             let limit = options.tolerance.min(1e-12);
             let bound = (POLISH * options.tolerance).max(CLOSED).min(limit);
             let branch = match options.branch {
@@ -102,12 +105,12 @@ impl Model {
                 Branch::Negative => -1.0,
             };
             plan.set_options(&mut f, bound, options.singularity_threshold, branch);
-            FusedRun {
+            Some(FusedRun {
                 f,
                 steps: 0,
                 scaled: false,
                 positions: false,
-            }
+            })
         });
         Ok(Stepper {
             m: self,
