@@ -83,6 +83,23 @@ pub enum Op {
         /// Where unknown 0 is written.
         to: usize,
     },
+    /// The cosine and sine of x = f[value] from those of the x₀ carried at
+    /// f[carried..carried + 3] as (cos x₀, sin x₀, x₀): where
+    /// |x − x₀| ≤ 1/32, rotated by Δ = x − x₀ with sin Δ and 1 − cos Δ by
+    /// their series (sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7!, 1 − cos Δ =
+    /// Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8!, truncation below 1e-19), written at
+    /// f[to], f[to + 1] and carried; otherwise (a NaN x₀ among them) by
+    /// calling the helper with `fresh`, which computes and writes them.
+    CarriedTrig {
+        /// Where x lies.
+        value: usize,
+        /// Where (cos x₀, sin x₀, x₀) lie.
+        carried: usize,
+        /// Where cos x and sin x are written.
+        to: usize,
+        /// The helper's argument for a fresh computation.
+        fresh: u64,
+    },
     /// Unless f[from..from + len] are all finite, the function returns
     /// `status`.
     Finite {
@@ -371,6 +388,82 @@ impl Fused {
                                 x.insert(c, v);
                             }
                         }
+                    }
+                    Op::CarriedTrig {
+                        value,
+                        carried,
+                        to,
+                        fresh,
+                    } => {
+                        let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                            Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                        };
+                        let x = load(&mut b, *value)?;
+                        let c0 = load(&mut b, *carried)?;
+                        let s0 = load(&mut b, carried + 1)?;
+                        let x0 = load(&mut b, carried + 2)?;
+                        let d = b.ins().fsub(x, x0);
+                        let ad = b.ins().fabs(d);
+                        let limit = b.ins().f64const(0.031_25);
+                        let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
+                        let (series, computed, join) =
+                            (b.create_block(), b.create_block(), b.create_block());
+                        b.ins().brif(near, series, &[], computed, &[]);
+                        b.switch_to_block(series);
+                        let d2 = b.ins().fmul(d, d);
+                        // sin Δ = Δ − Δ·Δ²·(1/6 − Δ²·(1/120 − Δ²·(1/5040))).
+                        let k = |b: &mut FunctionBuilder<'_>, v: f64| b.ins().f64const(v);
+                        let t = k(&mut b, 1.0 / 5040.0);
+                        let t = b.ins().fmul(d2, t);
+                        let c120 = k(&mut b, 1.0 / 120.0);
+                        let t = b.ins().fsub(c120, t);
+                        let t = b.ins().fmul(d2, t);
+                        let c6 = k(&mut b, 1.0 / 6.0);
+                        let t = b.ins().fsub(c6, t);
+                        let dd2 = b.ins().fmul(d, d2);
+                        let t = b.ins().fmul(dd2, t);
+                        let sin = b.ins().fsub(d, t);
+                        // 1 − cos Δ = Δ²·(1/2 − Δ²·(1/24 − Δ²·(1/720 − Δ²·(1/40320)))).
+                        let t = k(&mut b, 1.0 / 40320.0);
+                        let t = b.ins().fmul(d2, t);
+                        let c720 = k(&mut b, 1.0 / 720.0);
+                        let t = b.ins().fsub(c720, t);
+                        let t = b.ins().fmul(d2, t);
+                        let c24 = k(&mut b, 1.0 / 24.0);
+                        let t = b.ins().fsub(c24, t);
+                        let t = b.ins().fmul(d2, t);
+                        let half = k(&mut b, 0.5);
+                        let t = b.ins().fsub(half, t);
+                        let vers = b.ins().fmul(d2, t);
+                        // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
+                        let a = b.ins().fmul(c0, vers);
+                        let bb = b.ins().fmul(s0, sin);
+                        let a = b.ins().fadd(a, bb);
+                        let c = b.ins().fsub(c0, a);
+                        let a = b.ins().fmul(s0, vers);
+                        let bb = b.ins().fmul(c0, sin);
+                        let a = b.ins().fsub(a, bb);
+                        let sn = b.ins().fsub(s0, a);
+                        for (v, at) in [
+                            (c, *to),
+                            (sn, to + 1),
+                            (c, *carried),
+                            (sn, carried + 1),
+                            (x, carried + 2),
+                        ] {
+                            b.ins().store(flags, v, fp, within(at)?);
+                        }
+                        b.ins().jump(join, &[]);
+                        b.switch_to_block(computed);
+                        let arg = b
+                            .ins()
+                            .iconst(types::I64, i64::from_ne_bytes(fresh.to_ne_bytes()));
+                        let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                        let status = b.inst_results(inst)[0];
+                        let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                        b.ins()
+                            .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
+                        b.switch_to_block(join);
                     }
                     Op::Finite { from, len, status } => {
                         if *len == 0 {

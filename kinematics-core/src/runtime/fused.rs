@@ -38,13 +38,13 @@ use super::invariant::hoist;
 use crate::closed;
 use crate::solve::Lu;
 
-/// The helper's arguments: the drivers' cosines and sines, the closing
-/// check and factorisation, the closing check alone, and block i's closed
-/// form at `BLOCK + i`.
-const DRIVER_TRIG: u64 = 0;
+/// The helper's arguments: the closing check and factorisation, the
+/// closing check alone, driver j's cosine and sine computed afresh at
+/// `DRIVER_TRIG + j`, and block i's closed form at `BLOCK + i`.
 const FACTOR: u64 = 1;
 const CLOSING: u64 = 2;
-const BLOCK: u64 = 16;
+const DRIVER_TRIG: u64 = 1 << 32;
+const BLOCK: u64 = 1 << 48;
 
 /// The statuses: the pose is not at round-off (or not finite); Φ_u is
 /// singular at the threshold; det Φ_u has the other sign than asked; an
@@ -114,8 +114,6 @@ pub(super) struct Plan {
     /// Whether the blocks' rows and columns, in order, are permutations
     /// of opposite parity (then det Φ_u is minus the product of theirs).
     odd: bool,
-    /// The drivers whose cosines and sines the code reads.
-    driver_trig: Vec<usize>,
     mode_count: usize,
 }
 
@@ -253,10 +251,15 @@ impl Plan {
 
         // The assembly, shared by both functions: the drivers' cosines
         // and sines, each block from its coefficients, the residual.
-        let mut assembly = Vec::new();
-        if !driver_trig.is_empty() {
-            assembly.push(Op::Call(DRIVER_TRIG));
-        }
+        let mut assembly: Vec<Op> = driver_trig
+            .iter()
+            .map(|&j| Op::CarriedTrig {
+                value: q + j,
+                carried: carry + 3 * j,
+                to: trig + 2 * j,
+                fresh: DRIVER_TRIG + j as u64,
+            })
+            .collect();
         for (i, b) in blocks.iter().enumerate() {
             assembly.push(Op::Store {
                 roots: h.map_all(&b.coefficients),
@@ -415,7 +418,6 @@ impl Plan {
                 .collect(),
             parts,
             odd: parity(&row_order) != parity(&col_order),
-            driver_trig,
             mode_count,
         }))
     }
@@ -537,32 +539,34 @@ impl Helper for Context<'_> {
     fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
         let plan = self.plan;
         let status = match argument {
-            DRIVER_TRIG => plan.driver_trig(f),
             FACTOR => plan.factor(f),
             CLOSING => Some(plan.closing(f)),
-            i => usize::try_from(i.wrapping_sub(BLOCK))
+            i if i >= BLOCK => usize::try_from(i - BLOCK)
                 .ok()
                 .and_then(|i| plan.parts.get(i))
                 .and_then(|part| plan.block(f, part)),
+            i if i >= DRIVER_TRIG => usize::try_from(i - DRIVER_TRIG)
+                .ok()
+                .map(|j| plan.driver_trig(f, j)),
+            _ => None,
         };
         status.unwrap_or(INCONSISTENT)
     }
 }
 
 impl Plan {
-    /// The drivers' cosines and sines, each rotated from the last step's
-    /// ([`closed::carried_sin_cos`]).
-    fn driver_trig(&self, f: &mut [f64]) -> Option<i64> {
-        for &j in &self.driver_trig {
-            let at = self.carry + 3 * j;
-            let mut carried = [f[at], f[at + 1], f[at + 2]];
-            let [c, s] = closed::carried_sin_cos(f[self.layout.q + j], &mut carried);
-            f[at..at + 3].copy_from_slice(&carried);
-            let t = self.layout.trig + 2 * j;
-            f[t] = c;
-            f[t + 1] = s;
-        }
-        Some(0)
+    /// Driver j's cosine and sine computed afresh (the table's
+    /// [`crate::math::table::sin_cos`], as [`closed::carried_sin_cos`]
+    /// computes them beyond its series), written and carried.
+    fn driver_trig(&self, f: &mut [f64], j: usize) -> i64 {
+        let x = f[self.layout.q + j];
+        let (s, c) = crate::math::table::sin_cos(x);
+        let at = self.carry + 3 * j;
+        f[at..at + 3].copy_from_slice(&[c, s, x]);
+        let t = self.layout.trig + 2 * j;
+        f[t] = c;
+        f[t + 1] = s;
+        0
     }
 
     /// Block `part` by its closed form from the coefficients in the
