@@ -173,10 +173,22 @@ extern "C" fn trampoline(f: *mut f64, frame: *mut c_void, argument: u64) -> i64 
 
 type Entry = unsafe extern "C" fn(*mut f64, *mut c_void) -> i64;
 
-/// A fused function: [`Fused::new`] compiles it, [`Fused::call`] runs it.
+/// One function of a [`Fused`] set: its ops, and the nodes it reads
+/// from the buffer (at the index given, past the parameters' first:
+/// `layout.params + index`) instead of computing them.
+#[derive(Clone, Copy, Debug)]
+pub struct Function<'a> {
+    /// The ops, in order.
+    pub ops: &'a [Op],
+    /// The nodes read, not computed.
+    pub preset: &'a [(Id, usize)],
+}
+
+/// Fused functions sharing one buffer layout, compiled together:
+/// [`Fused::new`] compiles them, [`Fused::call`] runs one.
 pub struct Fused {
     module: ManuallyDrop<JITModule>,
-    entry: Entry,
+    entries: Vec<Entry>,
     len: usize,
 }
 
@@ -189,11 +201,9 @@ impl fmt::Debug for Fused {
 }
 
 impl Fused {
-    /// Compiles `ops` over `graph` (whose leaves index `params`
-    /// parameters and `coords` coordinates, read at `layout`); each
-    /// [`Op::Call`] calls the [`Helper`] given to [`Fused::call`]. Each
-    /// node of `preset` is read from the buffer at the index given (past
-    /// the parameters' first: `layout.params + index`), not computed.
+    /// Compiles each of `functions` over `graph` (whose leaves index
+    /// `params` parameters and `coords` coordinates, read at `layout`);
+    /// each [`Op::Call`] calls the [`Helper`] given to [`Fused::call`].
     ///
     /// # Errors
     /// As [`crate::Program::new`]; [`JitError::Codegen`] also for an
@@ -203,8 +213,7 @@ impl Fused {
         params: usize,
         coords: usize,
         layout: Layout,
-        ops: &[Op],
-        preset: &[(Id, usize)],
+        functions: &[Function<'_>],
     ) -> Result<Self, JitError> {
         const HELPER: &str = "kinematics_fused_helper";
         let mut module = new_module(&[(HELPER, trampoline as *const u8)])?;
@@ -223,280 +232,290 @@ impl Fused {
         sig.params.push(AbiParam::new(pointer));
         sig.params.push(AbiParam::new(pointer));
         sig.returns.push(AbiParam::new(types::I64));
-        let id = module
-            .declare_function("fused", Linkage::Local, &sig)
-            .map_err(|e| codegen(&e))?;
         let mut ctx = module.make_context();
-        ctx.func.signature = sig;
-        ctx.func.name = UserFuncName::user(0, id.as_u32());
         let mut fcx = FunctionBuilderContext::new();
-        let within = |at: usize| {
-            if at < layout.len {
-                i32::try_from(at * 8).map_err(|_| JitError::Codegen("buffer too long".into()))
-            } else {
-                Err(JitError::Codegen(format!(
-                    "offset {at} past the buffer of {}",
-                    layout.len
-                )))
-            }
-        };
-        {
-            let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
-            let entry = b.create_block();
-            b.append_block_params_for_function_params(entry);
-            let exit = b.create_block();
-            b.append_block_param(exit, types::I64);
-            b.switch_to_block(entry);
-            let args = b.block_params(entry).to_vec();
-            let (fp, cp) = (args[0], args[1]);
-            let imports = Imports {
-                refs: imports
-                    .iter()
-                    .map(|(name, fid)| (*name, module.declare_func_in_func(*fid, b.func)))
-                    .collect(),
-            };
-            let helper_ref = module.declare_func_in_func(helper_id, b.func);
-            let sources = Sources {
-                ptr: [fp; 5],
-                base: [layout.params, layout.q, layout.qd, layout.qdd, layout.trig],
-                params,
-                coords,
-            };
-            // Every leaf offset must lie in the buffer.
-            for (base, n) in [
-                (layout.params, params),
-                (layout.q, coords),
-                (layout.qd, coords),
-                (layout.qdd, coords),
-                (layout.trig, 2 * coords),
-            ] {
-                if n > 0 {
-                    within(base + n - 1)?;
+        let mut ids = Vec::with_capacity(functions.len());
+        for (k, function) in functions.iter().enumerate() {
+            let (ops, preset) = (function.ops, function.preset);
+            let id = module
+                .declare_function(&format!("fused_{k}"), Linkage::Local, &sig)
+                .map_err(|e| codegen(&e))?;
+            ctx.func.signature = sig.clone();
+            ctx.func.name = UserFuncName::user(0, id.as_u32());
+            let within = |at: usize| {
+                if at < layout.len {
+                    i32::try_from(at * 8).map_err(|_| JitError::Codegen("buffer too long".into()))
+                } else {
+                    Err(JitError::Codegen(format!(
+                        "offset {at} past the buffer of {}",
+                        layout.len
+                    )))
                 }
-            }
-            let flags = MemFlags::trusted();
-            for &(_, at) in preset {
-                within(layout.params + at)?;
-            }
-            let mut lower = Lower::new(graph).with_preset(preset);
-            let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
-                let next = b.create_block();
-                b.ins()
-                    .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
-                b.switch_to_block(next);
             };
-            for op in ops {
-                match op {
-                    Op::Store { roots, at, finite } => {
-                        if roots.len() != at.len() {
-                            return Err(JitError::Codegen(
-                                "a store's roots and offsets differ in number".into(),
-                            ));
+            {
+                let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
+                let entry = b.create_block();
+                b.append_block_params_for_function_params(entry);
+                let exit = b.create_block();
+                b.append_block_param(exit, types::I64);
+                b.switch_to_block(entry);
+                let args = b.block_params(entry).to_vec();
+                let (fp, cp) = (args[0], args[1]);
+                let imports = Imports {
+                    refs: imports
+                        .iter()
+                        .map(|(name, fid)| (*name, module.declare_func_in_func(*fid, b.func)))
+                        .collect(),
+                };
+                let helper_ref = module.declare_func_in_func(helper_id, b.func);
+                let sources = Sources {
+                    ptr: [fp; 5],
+                    base: [layout.params, layout.q, layout.qd, layout.qdd, layout.trig],
+                    params,
+                    coords,
+                };
+                // Every leaf offset must lie in the buffer.
+                for (base, n) in [
+                    (layout.params, params),
+                    (layout.q, coords),
+                    (layout.qd, coords),
+                    (layout.qdd, coords),
+                    (layout.trig, 2 * coords),
+                ] {
+                    if n > 0 {
+                        within(base + n - 1)?;
+                    }
+                }
+                let flags = MemFlags::trusted();
+                for &(_, at) in preset {
+                    within(layout.params + at)?;
+                }
+                let mut lower = Lower::new(graph).with_preset(preset);
+                let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
+                    let next = b.create_block();
+                    b.ins()
+                        .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
+                    b.switch_to_block(next);
+                };
+                for op in ops {
+                    match op {
+                        Op::Store { roots, at, finite } => {
+                            if roots.len() != at.len() {
+                                return Err(JitError::Codegen(
+                                    "a store's roots and offsets differ in number".into(),
+                                ));
+                            }
+                            lower.emit(&mut b, &sources, &imports, roots)?;
+                            let mut values = Vec::with_capacity(roots.len());
+                            for (&root, &at) in roots.iter().zip(at) {
+                                let v = lower.value(&mut b, &sources, &imports, root)?;
+                                b.ins().store(flags, v, fp, within(at)?);
+                                values.push(v);
+                            }
+                            if let Some(status) = *finite {
+                                if let Some(failed) = not_finite(&mut b, &values) {
+                                    let status = b.ins().iconst(types::I64, status);
+                                    bail(&mut b, failed, status);
+                                }
+                            }
                         }
-                        lower.emit(&mut b, &sources, &imports, roots)?;
-                        let mut values = Vec::with_capacity(roots.len());
-                        for (&root, &at) in roots.iter().zip(at) {
-                            let v = lower.value(&mut b, &sources, &imports, root)?;
-                            b.ins().store(flags, v, fp, within(at)?);
-                            values.push(v);
+                        Op::Call(arg) => {
+                            let arg = b
+                                .ins()
+                                .iconst(types::I64, i64::from_ne_bytes(arg.to_ne_bytes()));
+                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                            let status = b.inst_results(inst)[0];
+                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                            bail(&mut b, failed, status);
                         }
-                        if let Some(status) = *finite {
+                        Op::MaxScaled { roots, scales, at } => {
+                            lower.emit(&mut b, &sources, &imports, roots)?;
+                            let mut m = b.ins().f64const(0.0);
+                            for (i, &root) in roots.iter().enumerate() {
+                                let v = lower.value(&mut b, &sources, &imports, root)?;
+                                let s = b.ins().load(types::F64, flags, fp, within(scales + i)?);
+                                let p = b.ins().fmul(v, s);
+                                let r = b.ins().fabs(p);
+                                let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
+                                let nan = b.ins().fcmp(FloatCC::Unordered, r, r);
+                                let take = b.ins().bor(above, nan);
+                                m = b.ins().select(take, r, m);
+                            }
+                            b.ins().store(flags, m, fp, within(*at)?);
+                        }
+                        Op::Solve { rhs, blocks, to } => {
+                            lower.emit(&mut b, &sources, &imports, rhs)?;
+                            let mut x: std::collections::HashMap<
+                                usize,
+                                cranelift_codegen::ir::Value,
+                            > = std::collections::HashMap::new();
+                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                            };
+                            for block in blocks {
+                                let mut ys = Vec::with_capacity(block.rows.len());
+                                for row in &block.rows {
+                                    let root = *rhs.get(row.rhs).ok_or_else(|| {
+                                        JitError::Codegen("a solve's row past its roots".into())
+                                    })?;
+                                    let mut t = lower.value(&mut b, &sources, &imports, root)?;
+                                    let mut sum = None;
+                                    for &(e, c) in &row.known {
+                                        let xc = *x.get(&c).ok_or_else(|| {
+                                            JitError::Codegen(
+                                                "a solve reads an unknown not solved".into(),
+                                            )
+                                        })?;
+                                        let entry = load(&mut b, e)?;
+                                        let p = b.ins().fmul(entry, xc);
+                                        sum = Some(match sum {
+                                            None => p,
+                                            Some(s) => b.ins().fadd(s, p),
+                                        });
+                                    }
+                                    if let Some(sum) = sum {
+                                        t = b.ins().fsub(t, sum);
+                                    }
+                                    let scale = load(&mut b, row.scale)?;
+                                    ys.push(b.ins().fmul(t, scale));
+                                }
+                                let n = ys.len();
+                                for (i, &(c, scale)) in block.cols.iter().enumerate() {
+                                    let mut acc = None;
+                                    for (j, &y) in ys.iter().enumerate() {
+                                        let m = load(&mut b, block.inverse + i * n + j)?;
+                                        let p = b.ins().fmul(m, y);
+                                        acc = Some(match acc {
+                                            None => p,
+                                            Some(a) => b.ins().fadd(a, p),
+                                        });
+                                    }
+                                    let mut v = match acc {
+                                        Some(v) => v,
+                                        None => b.ins().f64const(0.0),
+                                    };
+                                    if let Some(scale) = scale {
+                                        let s = load(&mut b, scale)?;
+                                        v = b.ins().fmul(v, s);
+                                    }
+                                    b.ins().store(flags, v, fp, within(to + c)?);
+                                    x.insert(c, v);
+                                }
+                            }
+                        }
+                        Op::CarriedTrig {
+                            value,
+                            carried,
+                            to,
+                            fresh,
+                        } => {
+                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                            };
+                            let x = load(&mut b, *value)?;
+                            let c0 = load(&mut b, *carried)?;
+                            let s0 = load(&mut b, carried + 1)?;
+                            let x0 = load(&mut b, carried + 2)?;
+                            let d = b.ins().fsub(x, x0);
+                            let ad = b.ins().fabs(d);
+                            let limit = b.ins().f64const(0.031_25);
+                            let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
+                            let (series, computed, join) =
+                                (b.create_block(), b.create_block(), b.create_block());
+                            b.ins().brif(near, series, &[], computed, &[]);
+                            b.switch_to_block(series);
+                            let d2 = b.ins().fmul(d, d);
+                            // sin Δ = Δ − Δ·Δ²·(1/6 − Δ²·(1/120 − Δ²·(1/5040))).
+                            let k = |b: &mut FunctionBuilder<'_>, v: f64| b.ins().f64const(v);
+                            let t = k(&mut b, 1.0 / 5040.0);
+                            let t = b.ins().fmul(d2, t);
+                            let c120 = k(&mut b, 1.0 / 120.0);
+                            let t = b.ins().fsub(c120, t);
+                            let t = b.ins().fmul(d2, t);
+                            let c6 = k(&mut b, 1.0 / 6.0);
+                            let t = b.ins().fsub(c6, t);
+                            let dd2 = b.ins().fmul(d, d2);
+                            let t = b.ins().fmul(dd2, t);
+                            let sin = b.ins().fsub(d, t);
+                            // 1 − cos Δ = Δ²·(1/2 − Δ²·(1/24 − Δ²·(1/720 − Δ²·(1/40320)))).
+                            let t = k(&mut b, 1.0 / 40320.0);
+                            let t = b.ins().fmul(d2, t);
+                            let c720 = k(&mut b, 1.0 / 720.0);
+                            let t = b.ins().fsub(c720, t);
+                            let t = b.ins().fmul(d2, t);
+                            let c24 = k(&mut b, 1.0 / 24.0);
+                            let t = b.ins().fsub(c24, t);
+                            let t = b.ins().fmul(d2, t);
+                            let half = k(&mut b, 0.5);
+                            let t = b.ins().fsub(half, t);
+                            let vers = b.ins().fmul(d2, t);
+                            // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
+                            let a = b.ins().fmul(c0, vers);
+                            let bb = b.ins().fmul(s0, sin);
+                            let a = b.ins().fadd(a, bb);
+                            let c = b.ins().fsub(c0, a);
+                            let a = b.ins().fmul(s0, vers);
+                            let bb = b.ins().fmul(c0, sin);
+                            let a = b.ins().fsub(a, bb);
+                            let sn = b.ins().fsub(s0, a);
+                            for (v, at) in [
+                                (c, *to),
+                                (sn, to + 1),
+                                (c, *carried),
+                                (sn, carried + 1),
+                                (x, carried + 2),
+                            ] {
+                                b.ins().store(flags, v, fp, within(at)?);
+                            }
+                            b.ins().jump(join, &[]);
+                            b.switch_to_block(computed);
+                            let arg = b
+                                .ins()
+                                .iconst(types::I64, i64::from_ne_bytes(fresh.to_ne_bytes()));
+                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                            let status = b.inst_results(inst)[0];
+                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                            b.ins()
+                                .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
+                            b.switch_to_block(join);
+                        }
+                        Op::Finite { from, len, status } => {
+                            if *len == 0 {
+                                continue;
+                            }
+                            let mut values = Vec::with_capacity(*len);
+                            for i in 0..*len {
+                                values.push(b.ins().load(types::F64, flags, fp, within(from + i)?));
+                            }
                             if let Some(failed) = not_finite(&mut b, &values) {
-                                let status = b.ins().iconst(types::I64, status);
+                                let status = b.ins().iconst(types::I64, *status);
                                 bail(&mut b, failed, status);
                             }
                         }
                     }
-                    Op::Call(arg) => {
-                        let arg = b
-                            .ins()
-                            .iconst(types::I64, i64::from_ne_bytes(arg.to_ne_bytes()));
-                        let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
-                        let status = b.inst_results(inst)[0];
-                        let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
-                        bail(&mut b, failed, status);
-                    }
-                    Op::MaxScaled { roots, scales, at } => {
-                        lower.emit(&mut b, &sources, &imports, roots)?;
-                        let mut m = b.ins().f64const(0.0);
-                        for (i, &root) in roots.iter().enumerate() {
-                            let v = lower.value(&mut b, &sources, &imports, root)?;
-                            let s = b.ins().load(types::F64, flags, fp, within(scales + i)?);
-                            let p = b.ins().fmul(v, s);
-                            let r = b.ins().fabs(p);
-                            let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
-                            let nan = b.ins().fcmp(FloatCC::Unordered, r, r);
-                            let take = b.ins().bor(above, nan);
-                            m = b.ins().select(take, r, m);
-                        }
-                        b.ins().store(flags, m, fp, within(*at)?);
-                    }
-                    Op::Solve { rhs, blocks, to } => {
-                        lower.emit(&mut b, &sources, &imports, rhs)?;
-                        let mut x: std::collections::HashMap<usize, cranelift_codegen::ir::Value> =
-                            std::collections::HashMap::new();
-                        let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                            Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                        };
-                        for block in blocks {
-                            let mut ys = Vec::with_capacity(block.rows.len());
-                            for row in &block.rows {
-                                let root = *rhs.get(row.rhs).ok_or_else(|| {
-                                    JitError::Codegen("a solve's row past its roots".into())
-                                })?;
-                                let mut t = lower.value(&mut b, &sources, &imports, root)?;
-                                let mut sum = None;
-                                for &(e, c) in &row.known {
-                                    let xc = *x.get(&c).ok_or_else(|| {
-                                        JitError::Codegen(
-                                            "a solve reads an unknown not solved".into(),
-                                        )
-                                    })?;
-                                    let entry = load(&mut b, e)?;
-                                    let p = b.ins().fmul(entry, xc);
-                                    sum = Some(match sum {
-                                        None => p,
-                                        Some(s) => b.ins().fadd(s, p),
-                                    });
-                                }
-                                if let Some(sum) = sum {
-                                    t = b.ins().fsub(t, sum);
-                                }
-                                let scale = load(&mut b, row.scale)?;
-                                ys.push(b.ins().fmul(t, scale));
-                            }
-                            let n = ys.len();
-                            for (i, &(c, scale)) in block.cols.iter().enumerate() {
-                                let mut acc = None;
-                                for (j, &y) in ys.iter().enumerate() {
-                                    let m = load(&mut b, block.inverse + i * n + j)?;
-                                    let p = b.ins().fmul(m, y);
-                                    acc = Some(match acc {
-                                        None => p,
-                                        Some(a) => b.ins().fadd(a, p),
-                                    });
-                                }
-                                let mut v = match acc {
-                                    Some(v) => v,
-                                    None => b.ins().f64const(0.0),
-                                };
-                                if let Some(scale) = scale {
-                                    let s = load(&mut b, scale)?;
-                                    v = b.ins().fmul(v, s);
-                                }
-                                b.ins().store(flags, v, fp, within(to + c)?);
-                                x.insert(c, v);
-                            }
-                        }
-                    }
-                    Op::CarriedTrig {
-                        value,
-                        carried,
-                        to,
-                        fresh,
-                    } => {
-                        let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                            Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                        };
-                        let x = load(&mut b, *value)?;
-                        let c0 = load(&mut b, *carried)?;
-                        let s0 = load(&mut b, carried + 1)?;
-                        let x0 = load(&mut b, carried + 2)?;
-                        let d = b.ins().fsub(x, x0);
-                        let ad = b.ins().fabs(d);
-                        let limit = b.ins().f64const(0.031_25);
-                        let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
-                        let (series, computed, join) =
-                            (b.create_block(), b.create_block(), b.create_block());
-                        b.ins().brif(near, series, &[], computed, &[]);
-                        b.switch_to_block(series);
-                        let d2 = b.ins().fmul(d, d);
-                        // sin Δ = Δ − Δ·Δ²·(1/6 − Δ²·(1/120 − Δ²·(1/5040))).
-                        let k = |b: &mut FunctionBuilder<'_>, v: f64| b.ins().f64const(v);
-                        let t = k(&mut b, 1.0 / 5040.0);
-                        let t = b.ins().fmul(d2, t);
-                        let c120 = k(&mut b, 1.0 / 120.0);
-                        let t = b.ins().fsub(c120, t);
-                        let t = b.ins().fmul(d2, t);
-                        let c6 = k(&mut b, 1.0 / 6.0);
-                        let t = b.ins().fsub(c6, t);
-                        let dd2 = b.ins().fmul(d, d2);
-                        let t = b.ins().fmul(dd2, t);
-                        let sin = b.ins().fsub(d, t);
-                        // 1 − cos Δ = Δ²·(1/2 − Δ²·(1/24 − Δ²·(1/720 − Δ²·(1/40320)))).
-                        let t = k(&mut b, 1.0 / 40320.0);
-                        let t = b.ins().fmul(d2, t);
-                        let c720 = k(&mut b, 1.0 / 720.0);
-                        let t = b.ins().fsub(c720, t);
-                        let t = b.ins().fmul(d2, t);
-                        let c24 = k(&mut b, 1.0 / 24.0);
-                        let t = b.ins().fsub(c24, t);
-                        let t = b.ins().fmul(d2, t);
-                        let half = k(&mut b, 0.5);
-                        let t = b.ins().fsub(half, t);
-                        let vers = b.ins().fmul(d2, t);
-                        // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
-                        let a = b.ins().fmul(c0, vers);
-                        let bb = b.ins().fmul(s0, sin);
-                        let a = b.ins().fadd(a, bb);
-                        let c = b.ins().fsub(c0, a);
-                        let a = b.ins().fmul(s0, vers);
-                        let bb = b.ins().fmul(c0, sin);
-                        let a = b.ins().fsub(a, bb);
-                        let sn = b.ins().fsub(s0, a);
-                        for (v, at) in [
-                            (c, *to),
-                            (sn, to + 1),
-                            (c, *carried),
-                            (sn, carried + 1),
-                            (x, carried + 2),
-                        ] {
-                            b.ins().store(flags, v, fp, within(at)?);
-                        }
-                        b.ins().jump(join, &[]);
-                        b.switch_to_block(computed);
-                        let arg = b
-                            .ins()
-                            .iconst(types::I64, i64::from_ne_bytes(fresh.to_ne_bytes()));
-                        let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
-                        let status = b.inst_results(inst)[0];
-                        let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
-                        b.ins()
-                            .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
-                        b.switch_to_block(join);
-                    }
-                    Op::Finite { from, len, status } => {
-                        if *len == 0 {
-                            continue;
-                        }
-                        let mut values = Vec::with_capacity(*len);
-                        for i in 0..*len {
-                            values.push(b.ins().load(types::F64, flags, fp, within(from + i)?));
-                        }
-                        if let Some(failed) = not_finite(&mut b, &values) {
-                            let status = b.ins().iconst(types::I64, *status);
-                            bail(&mut b, failed, status);
-                        }
-                    }
                 }
+                let ok = b.ins().iconst(types::I64, 0);
+                b.ins().jump(exit, &[BlockArg::Value(ok)]);
+                b.switch_to_block(exit);
+                let status = b.block_params(exit)[0];
+                b.ins().return_(&[status]);
+                b.seal_all_blocks();
+                b.finalize();
             }
-            let ok = b.ins().iconst(types::I64, 0);
-            b.ins().jump(exit, &[BlockArg::Value(ok)]);
-            b.switch_to_block(exit);
-            let status = b.block_params(exit)[0];
-            b.ins().return_(&[status]);
-            b.seal_all_blocks();
-            b.finalize();
+            module
+                .define_function(id, &mut ctx)
+                .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
+            module.clear_context(&mut ctx);
+            ids.push(id);
         }
-        module
-            .define_function(id, &mut ctx)
-            .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
-        module.clear_context(&mut ctx);
         module.finalize_definitions().map_err(|e| codegen(&e))?;
-        let entry = entry(module.get_finalized_function(id));
+        let entries = ids
+            .into_iter()
+            .map(|id| entry(module.get_finalized_function(id)))
+            .collect();
         Ok(Fused {
             module: ManuallyDrop::new(module),
-            entry,
+            entries,
             len: layout.len,
         })
     }
@@ -513,13 +532,17 @@ impl Fused {
         self.len == 0
     }
 
-    /// Runs the function on the buffer `f`, calling `helper` for each
-    /// [`Op::Call`]: its status (0 when every op ran, else the first
-    /// nonzero status of a call or check; [`HELPER_PANICKED`] when the
-    /// helper panicked), or −1, running nothing, when `f` is not of the
-    /// layout's length.
+    /// Runs function `which` (in the order given to [`Fused::new`]) on
+    /// the buffer `f`, calling `helper` for each [`Op::Call`]: its status
+    /// (0 when every op ran, else the first nonzero status of a call or
+    /// check; [`HELPER_PANICKED`] when the helper panicked), or −1,
+    /// running nothing, when `f` is not of the layout's length or there is
+    /// no such function.
     #[allow(unsafe_code)]
-    pub fn call(&self, f: &mut [f64], helper: &mut dyn Helper) -> i64 {
+    pub fn call(&self, which: usize, f: &mut [f64], helper: &mut dyn Helper) -> i64 {
+        let Some(&entry) = self.entries.get(which) else {
+            return -1;
+        };
         if f.len() != self.len {
             return -1;
         }
@@ -531,7 +554,7 @@ impl Fused {
         // against the layout's length, which is `f`'s; the frame lives for
         // the call, and the trampoline reads it as a `Frame`.
         unsafe {
-            (self.entry)(
+            entry(
                 f.as_mut_ptr(),
                 (&mut frame as *mut Frame<'_>).cast::<c_void>(),
             )

@@ -166,20 +166,39 @@ fn row<M: Mechanism>(label: &str, m: &M, r: &Model, start: M::Coords, rates: &[f
     );
 }
 
+/// The medians of `runs` times (ms) to compile `text` and to make the
+/// compiled model's first stepper (which compiles its fused step), with
+/// every parameter 1.
+fn compile_times(text: &str, runs: usize) -> (f64, f64) {
+    let (mut compile, mut first): (Vec<f64>, Vec<f64>) = (0..runs)
+        .map(|_| {
+            let t0 = Instant::now();
+            let mut m = black_box(Model::compile(black_box(text)).expect("compiles"));
+            let t1 = Instant::now();
+            m.set_values(&vec![1.0; m.parameters().len()])
+                .expect("one value each");
+            let t2 = Instant::now();
+            let stepper = black_box(m.stepper(&Options::DEFAULT).expect("valid"));
+            let t3 = Instant::now();
+            assert!(stepper.is_fused(), "the fused step applies");
+            ((t1 - t0).as_secs_f64() * 1e3, (t3 - t2).as_secs_f64() * 1e3)
+        })
+        .unzip();
+    compile.sort_by(f64::total_cmp);
+    first.sort_by(f64::total_cmp);
+    (compile[runs / 2], first[runs / 2])
+}
+
 fn main() {
-    // Compile times: text to machine code, median of 11.
-    println!("| definition | compile at run time (median of 11) |\n|---|---|");
+    // Compile times: text to machine code, median of 11; the first
+    // stepper compiles the fused step.
+    println!(
+        "| definition | compile at run time (median of 11) | first stepper (compiles the fused step) |\n|---|---|---|"
+    );
     for name in ["FourBar", "Rssr", "Watt", "SixAxisArm"] {
         let text = kinematics_examples::definition(name).expect("an example");
-        let mut t: Vec<f64> = (0..11)
-            .map(|_| {
-                let t0 = Instant::now();
-                black_box(Model::compile(black_box(text)).expect("compiles"));
-                t0.elapsed().as_secs_f64() * 1e3
-            })
-            .collect();
-        t.sort_by(f64::total_cmp);
-        println!("| {name} | {:.1} ms |", t[5]);
+        let (compile, first) = compile_times(text, 11);
+        println!("| {name} | {compile:.1} ms | {first:.1} ms |");
     }
     // The chains of 100 and 250 four-bars (200 and 500 unknowns), median
     // of 5.
@@ -187,18 +206,10 @@ fn main() {
         let source = four_bar_chain::source("Chain", n);
         let bodies = kinematics_examples::mechanism_bodies(&source);
         let text = bodies.first().expect("a definition").0;
-        let mut t: Vec<f64> = (0..5)
-            .map(|_| {
-                let t0 = Instant::now();
-                black_box(Model::compile(black_box(text)).expect("compiles"));
-                t0.elapsed().as_secs_f64() * 1e3
-            })
-            .collect();
-        t.sort_by(f64::total_cmp);
+        let (compile, first) = compile_times(text, 5);
         println!(
-            "| chain of {n} four-bars ({} unknowns) | {:.0} ms |",
+            "| chain of {n} four-bars ({} unknowns) | {compile:.0} ms | {first:.0} ms |",
             2 * n,
-            t[2]
         );
     }
     println!(

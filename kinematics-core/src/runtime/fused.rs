@@ -29,9 +29,11 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use kinematics_compiler::ir::{Id, Node};
+use std::sync::OnceLock;
+
+use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
-use kinematics_jit::{Fused, Helper, JitError, Layout, Op, SolveBlock, SolveRow};
+use kinematics_jit::{Function, Fused, Helper, Layout, Op, SolveBlock, SolveRow};
 
 use super::closed::Form;
 use super::invariant::hoist;
@@ -51,6 +53,11 @@ const BLOCK: u64 = 1 << 48;
 /// output is not finite; the buffer is not the plan's (never, short of a
 /// bug); a closed form has no solution or is degenerate.
 const NOT_CLOSED: i64 = 2;
+/// The fused functions: the invariants and offsets of the parameters,
+/// the step, the pose.
+const PRELUDE: usize = 0;
+const STEP: usize = 1;
+const POSE: usize = 2;
 const SINGULAR: i64 = 3;
 const WRONG_BRANCH: i64 = 4;
 const NOT_FINITE: i64 = 5;
@@ -83,10 +90,12 @@ struct BlockPlan {
 /// The fused step of one model: its code and the offsets of its buffer.
 #[derive(Debug)]
 pub(super) struct Plan {
-    /// Computes the invariants and offsets of the parameters.
-    prelude: Fused,
-    step: Fused,
-    pose: Fused,
+    /// The functions [`PRELUDE`], [`STEP`] and [`POSE`], compiled when a
+    /// stepper first needs them (`None` if that failed: the steppers then
+    /// take the general path).
+    code: OnceLock<Option<Fused>>,
+    /// What they are compiled from.
+    source: Source,
     /// Where the offsets k of sin(q + k) lie, and how many there are.
     offsets: (usize, usize),
     layout: Layout,
@@ -117,6 +126,25 @@ pub(super) struct Plan {
     mode_count: usize,
 }
 
+/// The rewritten graph and the ops of the fused functions, each with the
+/// nodes it reads from the buffer.
+struct Source {
+    graph: Graph,
+    coords: usize,
+    functions: [Ops; 3],
+}
+
+/// A fused function's ops, and the nodes it reads from the buffer.
+type Ops = (Vec<Op>, Vec<(Id, usize)>);
+
+impl core::fmt::Debug for Source {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Source")
+            .field("nodes", &self.graph.len())
+            .finish_non_exhaustive()
+    }
+}
+
 /// Offsets handed out one region after another.
 struct Regions(usize);
 
@@ -132,7 +160,7 @@ impl Plan {
     /// The fused step of `c`, or `None` where it does not apply (a block
     /// solved by Newton–Raphson, a diagonal block of more than four
     /// unknowns, or blocks not in the order of a forward substitution).
-    pub(super) fn new(c: &Compiled, program_trig: &[usize]) -> Result<Option<Self>, JitError> {
+    pub(super) fn new(c: &Compiled, program_trig: &[usize]) -> Option<Self> {
         let (nd, nu) = (c.drivers(), c.unknowns());
         let n = nd + nu;
         let np = c.parameters().len() + 1;
@@ -141,14 +169,14 @@ impl Plan {
             .iter()
             .any(|b| b.closed_form.is_none() || b.unknowns.len() > 4)
         {
-            return Ok(None);
+            return None;
         }
         let graph = c.graph();
         let is_zero =
             |id: Id| matches!(graph.node(id), Node::Const(bits) if f64::from_bits(bits) == 0.0);
         let jac = c.jacobian();
         if jac.len() != nu || jac.iter().any(|r| r.len() != nu) {
-            return Ok(None);
+            return None;
         }
         // Each block's rows may only hold entries in its own columns or
         // in those of the blocks before it.
@@ -164,7 +192,7 @@ impl Plan {
             for &r in &block.equations {
                 for (col, &e) in jac[r].iter().enumerate() {
                     if !is_zero(e) && block_of[col] > b {
-                        return Ok(None);
+                        return None;
                     }
                 }
             }
@@ -172,9 +200,7 @@ impl Plan {
         let mut parts = Vec::new();
         let mut mode_count = 0;
         for b in &blocks {
-            let Some(form) = b.closed_form.and_then(Form::named) else {
-                return Ok(None);
-            };
+            let form = b.closed_form.and_then(Form::named)?;
             let mode = form.has_modes().then(|| {
                 mode_count += 1;
                 mode_count - 1
@@ -373,11 +399,17 @@ impl Plan {
             .enumerate()
             .map(|(i, &id)| (id, invariants + i - params))
             .collect();
-        let g = &h.graph;
-        Ok(Some(Plan {
-            prelude: Fused::new(g, np, n, layout, &prelude, &[])?,
-            step: Fused::new(g, np, n, layout, &step, &preset)?,
-            pose: Fused::new(g, np, n, layout, &pose, &preset)?,
+        Some(Plan {
+            code: OnceLock::new(),
+            source: Source {
+                graph: h.graph,
+                coords: n,
+                functions: [
+                    (prelude.to_vec(), Vec::new()),
+                    (step, preset.clone()),
+                    (pose, preset),
+                ],
+            },
             offsets: (offsets, h.offsets.len()),
             layout,
             nd,
@@ -419,7 +451,22 @@ impl Plan {
             parts,
             odd: parity(&row_order) != parity(&col_order),
             mode_count,
-        }))
+        })
+    }
+
+    /// The compiled functions, compiled at the first call.
+    fn code(&self) -> Option<&Fused> {
+        self.code
+            .get_or_init(|| {
+                let s = &self.source;
+                let functions: Vec<Function<'_>> = s
+                    .functions
+                    .iter()
+                    .map(|(ops, preset)| Function { ops, preset })
+                    .collect();
+                Fused::new(&s.graph, self.np, s.coords, self.layout, &functions).ok()
+            })
+            .as_ref()
     }
 
     /// A buffer for the code, its parameters `params` (with the
@@ -444,7 +491,11 @@ impl Plan {
     /// theorem would not match the equations as evaluated (the stepper
     /// then takes the general path).
     pub(super) fn prepare(&self, f: &mut [f64]) -> bool {
-        if self.prelude.call(f, &mut Context { plan: self }) != 0 {
+        if self
+            .code()
+            .map_or(-1, |c| c.call(PRELUDE, f, &mut Context { plan: self }))
+            != 0
+        {
             return false;
         }
         let (at, count) = self.offsets;
@@ -520,13 +571,15 @@ impl Plan {
     /// accelerations, the modes): 0 when the step is done, else the
     /// status that sent it off the common path.
     pub(super) fn step(&self, f: &mut [f64]) -> i64 {
-        self.step.call(f, &mut Context { plan: self })
+        self.code()
+            .map_or(-1, |c| c.call(STEP, f, &mut Context { plan: self }))
     }
 
     /// One assembly in the buffer (as [`Plan::step`], without the rates),
     /// with the points' positions: 0 when it is done.
     pub(super) fn pose(&self, f: &mut [f64]) -> i64 {
-        self.pose.call(f, &mut Context { plan: self })
+        self.code()
+            .map_or(-1, |c| c.call(POSE, f, &mut Context { plan: self }))
     }
 }
 

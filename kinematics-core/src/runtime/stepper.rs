@@ -126,6 +126,18 @@ impl Model {
 }
 
 impl Stepper<'_> {
+    /// Whether the steps and poses take the model's fused machine code:
+    /// one function that assembles block by block in closed form and
+    /// analyses the motion (compiled at the first stepper of the model),
+    /// where the model's every block has a closed form of at most four
+    /// unknowns. A step off its common path (past a limit position, at a
+    /// singular pose, a value not finite) takes the general path either
+    /// way, with the same results to round-off.
+    #[must_use]
+    pub fn is_fused(&self) -> bool {
+        self.fused.is_some()
+    }
+
     /// The assembly modes the steps follow, one per block with two
     /// closed-form solutions (see [`Model::blocks`]): those of the first
     /// step's start until [`Stepper::set_modes`]; `None` before the first

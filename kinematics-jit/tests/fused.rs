@@ -1,0 +1,299 @@
+//! The ops of a fused function, each against values computed here by
+//! hand: stores, calls and their statuses, the scaled maximum, the
+//! finiteness checks, the block solve, the carried cosines and sines,
+//! preset nodes, and the guards on the buffer and the helper.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
+use kinematics_jit::{Function, Fused, Helper, Layout, Op, SolveBlock, SolveRow, HELPER_PANICKED};
+
+/// Two parameters at 0–1, two coordinates at 2–3, rates 4–5,
+/// accelerations 6–7, cosines and sines 8–11, and scratch from 12.
+const LAYOUT: Layout = Layout {
+    params: 0,
+    q: 2,
+    qd: 4,
+    qdd: 6,
+    trig: 8,
+    len: 40,
+};
+
+/// Records its calls; returns `status` for argument 7, writes f[12] = 99
+/// for argument 1, and panics for argument 13.
+struct Recorder {
+    calls: Vec<u64>,
+    status: i64,
+}
+
+impl Helper for Recorder {
+    fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
+        self.calls.push(argument);
+        match argument {
+            1 => {
+                f[12] = 99.0;
+                0
+            }
+            7 => self.status,
+            13 => panic!("the helper fails"),
+            _ => {
+                // A fresh cosine and sine of f[2], carried at 20–22.
+                let x = f[2];
+                f[20] = x.cos();
+                f[21] = x.sin();
+                f[22] = x;
+                f[8] = x.cos();
+                f[9] = x.sin();
+                0
+            }
+        }
+    }
+}
+
+fn one(g: &Graph, ops: &[Op]) -> Fused {
+    Fused::new(g, 2, 2, LAYOUT, &[Function { ops, preset: &[] }]).expect("compiles")
+}
+
+#[test]
+fn stores_calls_and_statuses() {
+    let mut g = Graph::new();
+    let a = g.leaf(Leaf::Param(0));
+    let q = g.leaf(Leaf::Q(0));
+    let cq = g.intern(Node::Call(Func::Cos, q));
+    let prod = g.intern(Node::Mul(a, cq));
+    let ops = [
+        Op::Call(1),
+        Op::Store {
+            roots: vec![prod],
+            at: vec![13],
+            finite: Some(5),
+        },
+        Op::Call(7),
+        Op::Store {
+            roots: vec![a],
+            at: vec![14],
+            finite: None,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut f = vec![0.0; 40];
+    f[0] = 3.0;
+    f[8] = 0.5; // cos q₀, read from the array, not computed
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(h.calls, [1, 7]);
+    assert_eq!((f[12], f[13], f[14]), (99.0, 1.5, 3.0));
+    // A nonzero status stops the function there.
+    let mut f = vec![0.0; 40];
+    f[0] = 3.0;
+    f[8] = 0.5;
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 42,
+    };
+    assert_eq!(code.call(0, &mut f, &mut h), 42);
+    assert_eq!(f[14], 0.0);
+    // A stored root that is not finite returns the store's status.
+    f[0] = f64::INFINITY;
+    h.status = 0;
+    assert_eq!(code.call(0, &mut f, &mut h), 5);
+    // A buffer of another length, or no such function: nothing runs.
+    assert_eq!(code.call(0, &mut [0.0; 39], &mut h), -1);
+    assert_eq!(code.call(1, &mut f, &mut h), -1);
+}
+
+#[test]
+fn a_panicking_helper_is_a_status() {
+    let g = Graph::new();
+    let code = one(&g, &[Op::Call(13)]);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    assert_eq!(code.call(0, &mut [0.0; 40], &mut h), HELPER_PANICKED);
+}
+
+#[test]
+fn scaled_maximum_and_finiteness() {
+    let mut g = Graph::new();
+    let x = g.leaf(Leaf::Q(0));
+    let y = g.leaf(Leaf::Q(1));
+    let ops = [
+        Op::MaxScaled {
+            roots: vec![x, y],
+            scales: 12,
+            at: 14,
+        },
+        Op::Finite {
+            from: 4,
+            len: 2,
+            status: 9,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 40];
+    (f[2], f[3], f[12], f[13]) = (-2.0, 1.0, 0.25, 4.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[14], 4.0); // max(|−2·0.25|, |1·4|)
+    f[3] = f64::NAN;
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert!(f[14].is_nan(), "a NaN product is the maximum");
+    f[5] = f64::NEG_INFINITY;
+    assert_eq!(code.call(0, &mut f, &mut h), 9);
+}
+
+#[test]
+fn block_solve_by_forward_substitution() {
+    // Φ_u = [[2, 0], [1, 4]] as blocks [2] then [4] (row scales 1/2 and
+    // 1/4 make each scaled block 1, inverse 1), right-hand side (6, 11),
+    // the second unknown a length scaled by L = 10: x₀ = 3, then
+    // x₁ = (11 − 1·3)/4 = 2, written ×10 as the length's column scale
+    // asks (its scaled unknown is x₁ / L).
+    let mut g = Graph::new();
+    let r0 = g.leaf(Leaf::Param(0));
+    let r1 = g.leaf(Leaf::Param(1));
+    let ops = [Op::Solve {
+        rhs: vec![r0, r1],
+        blocks: vec![
+            SolveBlock {
+                rows: vec![SolveRow {
+                    rhs: 0,
+                    scale: 12,
+                    known: vec![],
+                }],
+                inverse: 14,
+                cols: vec![(0, None)],
+            },
+            SolveBlock {
+                rows: vec![SolveRow {
+                    rhs: 1,
+                    scale: 13,
+                    known: vec![(16, 0)],
+                }],
+                inverse: 15,
+                cols: vec![(1, Some(17))],
+            },
+        ],
+        to: 30,
+    }];
+    let code = one(&g, &ops);
+    let mut f = vec![0.0; 40];
+    (f[0], f[1]) = (6.0, 11.0);
+    (f[12], f[13], f[14], f[15], f[16], f[17]) = (0.5, 0.25, 1.0, 1.0, 1.0, 10.0);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!((f[30], f[31]), (3.0, 20.0));
+}
+
+#[test]
+fn carried_cosines_and_sines() {
+    let g = Graph::new();
+    let ops = [Op::CarriedTrig {
+        value: 2,
+        carried: 20,
+        to: 8,
+        fresh: 3,
+    }];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 40];
+    (f[20], f[21], f[22]) = (f64::NAN, f64::NAN, f64::NAN);
+    // Nothing carried: computed afresh by the helper.
+    f[2] = 1.0;
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(h.calls, [3]);
+    // Then rotated in small steps, within 4e-15 of the library's.
+    for k in 1..=16 {
+        f[2] = 1.0 + 0.01 * f64::from(k);
+        assert_eq!(code.call(0, &mut f, &mut h), 0);
+        assert!((f[8] - f[2].cos()).abs() < 4e-15 && (f[9] - f[2].sin()).abs() < 4e-15);
+        assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
+    }
+    assert_eq!(h.calls, [3], "no fresh computation within 1/32");
+    // A jump beyond 1/32 is computed afresh.
+    f[2] = 2.0;
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(h.calls, [3, 3]);
+}
+
+#[test]
+fn preset_nodes_are_read_not_computed() {
+    let mut g = Graph::new();
+    let a = g.leaf(Leaf::Param(0));
+    let sa = g.intern(Node::Call(Func::Sin, a));
+    let q = g.leaf(Leaf::Q(0));
+    let r = g.intern(Node::Mul(sa, q));
+    let prelude = [Op::Store {
+        roots: vec![sa],
+        at: vec![15],
+        finite: None,
+    }];
+    let step = [Op::Store {
+        roots: vec![r],
+        at: vec![16],
+        finite: None,
+    }];
+    let code = Fused::new(
+        &g,
+        2,
+        2,
+        LAYOUT,
+        &[
+            Function {
+                ops: &prelude,
+                preset: &[],
+            },
+            Function {
+                ops: &step,
+                preset: &[(sa, 15)],
+            },
+        ],
+    )
+    .expect("compiles");
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 40];
+    (f[0], f[2]) = (0.5, 2.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[15], 0.5f64.sin());
+    // The step reads sin a from the buffer: changing a does not change it.
+    f[0] = 1.5;
+    assert_eq!(code.call(1, &mut f, &mut h), 0);
+    assert_eq!(f[16], 0.5f64.sin() * 2.0);
+}
+
+#[test]
+fn offsets_past_the_buffer_are_refused() {
+    let mut g = Graph::new();
+    let a = g.leaf(Leaf::Param(0));
+    let ops = [Op::Store {
+        roots: vec![a],
+        at: vec![40],
+        finite: None,
+    }];
+    assert!(Fused::new(
+        &g,
+        2,
+        2,
+        LAYOUT,
+        &[Function {
+            ops: &ops,
+            preset: &[]
+        }]
+    )
+    .is_err());
+}
