@@ -74,10 +74,29 @@ impl Columns {
         self.q[0].extend_from_slice(&m.q);
         self.q[1].extend_from_slice(&m.qd);
         self.q[2].extend_from_slice(&m.qdd);
+        // The points' values gathered first, so that they are appended by
+        // one copy rather than three per point (each a few values, where a
+        // call of the library's `memcpy` costs more than the copy).
+        let mut gathered = [0.0f64; 96];
+        let mut k = 0;
         for p in &m.points {
-            self.points.extend_from_slice(&p.position);
-            self.points.extend_from_slice(&p.velocity);
-            self.points.extend_from_slice(&p.acceleration);
+            for v in [&p.position, &p.velocity, &p.acceleration] {
+                for &x in v.iter() {
+                    if let Some(slot) = gathered.get_mut(k) {
+                        *slot = x;
+                    }
+                    k += 1;
+                }
+            }
+        }
+        if k <= gathered.len() {
+            self.points.extend_from_slice(&gathered[..k]);
+        } else {
+            for p in &m.points {
+                self.points.extend_from_slice(&p.position);
+                self.points.extend_from_slice(&p.velocity);
+                self.points.extend_from_slice(&p.acceleration);
+            }
         }
         self.frames.extend_from_slice(&m.frames);
         self.conditioning.push(m.conditioning);

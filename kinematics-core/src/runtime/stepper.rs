@@ -126,6 +126,17 @@ impl Model {
 }
 
 impl Stepper<'_> {
+    /// The modes followed, as signs (NaN: from the next start), for the
+    /// sweeps, which choose them past a change point.
+    pub(super) fn signs_mut(&mut self) -> &mut [f64] {
+        &mut self.modes
+    }
+
+    /// The motion of the last step.
+    pub(super) fn motion(&self) -> &Motion {
+        &self.motion
+    }
+
     /// Whether the steps and poses take the model's fused machine code:
     /// one function that assembles block by block in closed form and
     /// analyses the motion (compiled at the first stepper of the model),

@@ -672,37 +672,31 @@ fn drive_each(
             return end;
         }
     };
+    // The steps through a stepper (the model's fused code where it has
+    // one); the limit and change-point searches with arrays of their own.
+    let mut stepper = match m.stepper(options) {
+        Ok(s) => s,
+        Err(e) => {
+            end.stop = Some(stop(first, StopReason::from_error(e)));
+            return end;
+        }
+    };
     let mut w = m.work();
     let mut q = start.to_vec();
-    // The assembly modes of the closed-form blocks: the start's, then
-    // carried from sample to sample.
-    let mut modes = vec![f64::NAN; m.mode_count()];
     let mut predicted = q.clone();
     let mut history = History(VecDeque::with_capacity(3));
-    let mut motion = m.shaped_motion();
     for &at in &ats {
         predict(&history, at, nd, &mut q);
         set(at, &mut q[..nd], &mut rates, &mut accelerations);
         predicted.copy_from_slice(&q);
-        let solved = m
-            .check_inputs(&q, &rates, &accelerations)
-            .and_then(|()| m.assemble_into(&mut q, &mut w, &mut modes, options, false))
-            .and_then(|()| {
-                m.analyze_into(
-                    &q,
-                    &rates,
-                    &accelerations,
-                    &mut w,
-                    options,
-                    true,
-                    &mut motion,
-                )
-            });
-        match solved {
-            Ok(()) => {}
+        // The assembly modes of the closed-form blocks: the start's, then
+        // carried from sample to sample by the stepper.
+        match stepper.step(&q, &rates, &accelerations) {
+            Ok(_) => {}
             Err(Error::CannotAssemble { unknowns, .. }) if history.len() > 0 => {
                 // A limit position between the last sample and this
                 // value: the last value that assembles, by bisection.
+                let modes = stepper.signs_mut().to_vec();
                 let limit = limit(m, history.last(1), at, &modes, options, &mut set, &mut w);
                 end.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
                 return end;
@@ -712,9 +706,11 @@ fn drive_each(
                 return end;
             }
         }
+        let mut chosen: Option<Motion> = None;
         if history.len() > 0 {
+            let motion = stepper.motion();
             let last = history.last(1);
-            let at_fold = folded(&history, &motion, &predicted, nd);
+            let at_fold = folded(&history, motion, &predicted, nd);
             if at_fold.is_some() || last.det_sign != motion.det_sign {
                 // Two branches met between the samples.
                 let estimate = at_fold
@@ -726,7 +722,7 @@ fn drive_each(
                         past(
                             m,
                             &predicted,
-                            &mut modes,
+                            stepper.signs_mut(),
                             rates,
                             options,
                             change_points,
@@ -734,7 +730,7 @@ fn drive_each(
                         )
                     })
                     .flatten();
-                let Some(chosen) = branch else {
+                let Some(motion) = branch else {
                     end.stop = Some(stop(
                         estimate,
                         StopReason::ChangePoint {
@@ -744,13 +740,14 @@ fn drive_each(
                     ));
                     return end;
                 };
-                motion = chosen;
-                q.copy_from_slice(&motion.q);
+                chosen = Some(motion);
                 end.change_points.push(estimate);
             }
         }
-        emit(at, &motion);
-        history.push(at, &motion);
+        let motion = chosen.as_ref().unwrap_or_else(|| stepper.motion());
+        q.copy_from_slice(&motion.q);
+        emit(at, motion);
+        history.push(at, motion);
     }
     end
 }
