@@ -48,7 +48,7 @@ pub struct Layout {
 /// One operation of a fused function, in order.
 #[derive(Clone, Debug)]
 pub enum Op {
-    /// f[at[i]] = root i; with `finite`, unless every root is finite the
+    /// `f[at[i]]` = root i; with `finite`, unless every root is finite the
     /// function then returns that status.
     Store {
         /// The roots, nodes of the graph.
@@ -62,7 +62,7 @@ pub enum Op {
     /// status = helper(f, context, argument); unless 0, the function
     /// returns that status at once.
     Call(u64),
-    /// f[at] = max |root i · f[scales + i]|, NaN when any product is NaN.
+    /// `f[at]` = max |root i · `f[scales + i]`|, NaN when any product is NaN.
     MaxScaled {
         /// The roots.
         roots: Vec<Id>,
@@ -74,7 +74,7 @@ pub enum Op {
     /// A linear solve by forward substitution over blocks whose inverses
     /// lie in the buffer: block after block, each row's y = (root − Σ
     /// known entry · its unknown) · scale, then each unknown x = (Σ
-    /// inverse row · y) · its column scale, written at f[to + index].
+    /// inverse row · y) · its column scale, written at `f[to + index]`.
     Solve {
         /// The right-hand sides.
         rhs: Vec<Id>,
@@ -83,12 +83,12 @@ pub enum Op {
         /// Where unknown 0 is written.
         to: usize,
     },
-    /// The cosine and sine of x = f[value] from those of the x₀ carried at
-    /// f[carried..carried + 3] as (cos x₀, sin x₀, x₀): where
+    /// The cosine and sine of x = `f[value]` from those of the x₀ carried at
+    /// `f[carried..carried + 3]` as (cos x₀, sin x₀, x₀): where
     /// |x − x₀| ≤ 1/32, rotated by Δ = x − x₀ with sin Δ and 1 − cos Δ by
     /// their series (sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7!, 1 − cos Δ =
     /// Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8!, truncation below 1e-19), written at
-    /// f[to], f[to + 1] and carried; otherwise (a NaN x₀ among them) by
+    /// `f[to]`, `f[to + 1]` and carried; otherwise (a NaN x₀ among them) by
     /// calling the helper with `fresh`, which computes and writes them.
     CarriedTrig {
         /// Where x lies.
@@ -100,7 +100,7 @@ pub enum Op {
         /// The helper's argument for a fresh computation.
         fresh: u64,
     },
-    /// Unless f[from..from + len] are all finite, the function returns
+    /// Unless `f[from..from + len]` are all finite, the function returns
     /// `status`.
     Finite {
         /// The first value checked.

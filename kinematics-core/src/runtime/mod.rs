@@ -20,9 +20,10 @@
 //! A model is `Send` and `Sync`: threads may share one and step it at
 //! once (each call has its own scratch arrays).
 //!
-//! This is the first part of the run-time path: the sweeps, steppers and
-//! the rest of the toolkit take generated mechanisms (`Mechanism`), whose
-//! sizes are in their types, and do not take a `Model` yet.
+//! A [`Stepper`] keeps its arrays from step to step; where every block has
+//! a closed form, it steps through one fused machine-code function (see
+//! [`Stepper::is_fused`] and the [guide](crate::guide::runtime)). Sweeps,
+//! sweeps of poses and simulations go through steppers.
 //!
 //! ```
 //! use kinematics_core::runtime::Model;
