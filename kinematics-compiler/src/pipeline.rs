@@ -229,6 +229,17 @@ impl Compiled {
         self.sensitivities.as_ref()
     }
 
+    /// Whether det Φ_u is minus the product of the determinants of its
+    /// diagonal blocks ([`Compiled::blocks`]): whether the blocks' rows
+    /// and their unknowns, listed in block order, are permutations of
+    /// opposite parity.
+    #[must_use]
+    pub fn blocks_flip_determinant(&self) -> bool {
+        let rows: Vec<usize> = self.closed.iter().flat_map(|b| b.rows.clone()).collect();
+        let cols: Vec<usize> = self.closed.iter().flat_map(|b| b.cols.clone()).collect();
+        crate::emit::solve::parity(&rows) != crate::emit::solve::parity(&cols)
+    }
+
     /// The diagonal blocks of Φ_u in solve order.
     #[must_use]
     pub fn blocks(&self) -> Vec<Block> {

@@ -32,7 +32,7 @@ mod newton;
 mod print;
 mod scopes;
 mod sensitivity;
-mod solve;
+pub(crate) mod solve;
 mod step;
 mod types;
 

@@ -227,7 +227,7 @@ impl BlockSolve {
 }
 
 /// Whether the permutation `p` (of 0..n) is odd.
-fn parity(p: &[usize]) -> bool {
+pub(crate) fn parity(p: &[usize]) -> bool {
     let mut seen = vec![false; p.len()];
     let mut odd = false;
     for start in 0..p.len() {

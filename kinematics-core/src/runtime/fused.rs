@@ -377,8 +377,6 @@ impl Plan {
             len: nu,
             status: NOT_FINITE,
         });
-        let row_order: Vec<usize> = blocks.iter().flat_map(|b| b.equations.clone()).collect();
-        let col_order: Vec<usize> = blocks.iter().flat_map(|b| b.unknowns.clone()).collect();
         // The invariants and offsets, computed once per stepper; the two
         // functions read them.
         let prelude = [
@@ -449,7 +447,7 @@ impl Plan {
                 })
                 .collect(),
             parts,
-            odd: parity(&row_order) != parity(&col_order),
+            odd: c.blocks_flip_determinant(),
             mode_count,
         })
     }
@@ -770,28 +768,6 @@ impl Plan {
         f[self.sign] = sign;
         Some(0)
     }
-}
-
-/// Whether the permutation `p` (of 0..n) is odd.
-fn parity(p: &[usize]) -> bool {
-    let mut seen = vec![false; p.len()];
-    let mut odd = false;
-    for start in 0..p.len() {
-        let mut k = start;
-        let mut length = 0;
-        while let Some(s) = seen.get_mut(k) {
-            if *s {
-                break;
-            }
-            *s = true;
-            k = p.get(k).copied().unwrap_or(usize::MAX);
-            length += 1;
-        }
-        if length > 0 && length % 2 == 0 {
-            odd = !odd;
-        }
-    }
-    odd
 }
 
 /// `dst` = `src` (of the same length), element by element where the
