@@ -281,6 +281,30 @@ pub struct FrameState {
 }
 
 impl FrameState {
+    /// A frame's state from its 24 values in the order of the run-time
+    /// models' flat outputs ([`crate::runtime::Flat::outputs`]): R row by
+    /// row, ω, α, then the origin's position, velocity and acceleration.
+    ///
+    /// ```
+    /// use kinematics_core::FrameState;
+    /// let mut v = [0.0; 24];
+    /// (v[0], v[4], v[8], v[11], v[15]) = (1.0, 1.0, 1.0, 2.0, 3.0);
+    /// let f = FrameState::from_values(&v);
+    /// assert_eq!(f.rotation, nalgebra::Matrix3::identity());
+    /// assert_eq!((f.angular_velocity.z, f.origin.x), (2.0, 3.0));
+    /// ```
+    #[must_use]
+    pub fn from_values(v: &[f64; 24]) -> Self {
+        FrameState {
+            rotation: Matrix3::from_row_slice(&v[..9]),
+            angular_velocity: Vector3::new(v[9], v[10], v[11]),
+            angular_acceleration: Vector3::new(v[12], v[13], v[14]),
+            origin: Vector3::new(v[15], v[16], v[17]),
+            velocity: Vector3::new(v[18], v[19], v[20]),
+            acceleration: Vector3::new(v[21], v[22], v[23]),
+        }
+    }
+
     /// The frame's motion, for the rigid-body helpers of [`crate::rigid`].
     ///
     /// ```

@@ -3,7 +3,7 @@
 //! of which only the outputs asked for are kept, as arrays with a row per
 //! design.
 
-use kinematics_core::runtime::{Model, Motion};
+use kinematics_core::runtime::{Flat, Model, Motion};
 use kinematics_core::sweep::ChangePoints;
 use kinematics_core::{Error, Options};
 use pyo3::prelude::*;
@@ -66,21 +66,53 @@ impl Job<'_> {
     }
 
     fn keep(&self, m: &Motion, values: &mut [Vec<f64>]) {
+        self.keep_values(
+            (&m.q, &m.qd, &m.qdd, m.conditioning),
+            |i, k| {
+                m.points
+                    .get(i)
+                    .map(|p| [&p.position, &p.velocity, &p.acceleration][k].as_slice())
+            },
+            values,
+        );
+    }
+
+    /// [`Job::keep`] of a sample as flat arrays.
+    fn keep_flat(&self, m: &Flat<'_>, values: &mut [Vec<f64>]) {
+        let d = self.dim;
+        self.keep_values(
+            (m.q, m.qd, m.qdd, m.conditioning),
+            |i, k| m.outputs.get((3 * i + k) * d..(3 * i + k + 1) * d),
+            values,
+        );
+    }
+
+    /// Appends the outputs asked for to `values`, from q, q', q'', the
+    /// conditioning and point i's position (k = 0), velocity (1) or
+    /// acceleration (2).
+    fn keep_values<'a>(
+        &self,
+        (q, qd, qdd, conditioning): (&[f64], &[f64], &[f64], f64),
+        point: impl Fn(usize, usize) -> Option<&'a [f64]>,
+        values: &mut [Vec<f64>],
+    ) {
         for ((kind, i), out) in self.outputs.iter().zip(values) {
             match kind.as_str() {
-                "q" => out.push(m.q.get(*i).copied().unwrap_or(f64::NAN)),
-                "qd" => out.push(m.qd.get(*i).copied().unwrap_or(f64::NAN)),
-                "qdd" => out.push(m.qdd.get(*i).copied().unwrap_or(f64::NAN)),
+                "q" => out.push(q.get(*i).copied().unwrap_or(f64::NAN)),
+                "qd" => out.push(qd.get(*i).copied().unwrap_or(f64::NAN)),
+                "qdd" => out.push(qdd.get(*i).copied().unwrap_or(f64::NAN)),
                 "position" | "velocity" | "acceleration" => {
-                    let p = &m.points[*i];
-                    let v = match kind.as_str() {
-                        "position" => &p.position,
-                        "velocity" => &p.velocity,
-                        _ => &p.acceleration,
+                    let k = match kind.as_str() {
+                        "position" => 0,
+                        "velocity" => 1,
+                        _ => 2,
                     };
-                    out.extend_from_slice(v);
+                    match point(*i, k) {
+                        Some(v) => out.extend_from_slice(v),
+                        None => out.extend(core::iter::repeat_n(f64::NAN, self.dim)),
+                    }
                 }
-                _ => out.push(m.conditioning),
+                _ => out.push(conditioning),
             }
         }
     }
@@ -134,8 +166,8 @@ impl Job<'_> {
             (None, None) => builder,
         };
         let mut samples = 0;
-        let end = builder.for_each(|_, motion| {
-            self.keep(motion, &mut kept);
+        let end = builder.for_each_flat(|_, sample| {
+            self.keep_flat(sample, &mut kept);
             samples += 1;
         });
         Outcome {

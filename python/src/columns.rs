@@ -3,7 +3,7 @@
 //! as the sweep streams its samples, with no allocation per sample; read
 //! by the library's CSV, text and animation through [`Table`].
 
-use kinematics_core::runtime::{Model, Motion, PointState, SweepEnd};
+use kinematics_core::runtime::{Flat, Model, Motion, PointState, SweepEnd};
 use kinematics_core::sweep::{Layout, Stop, Table};
 use kinematics_core::{Coordinate, FrameState, Kind};
 
@@ -68,37 +68,21 @@ impl Columns {
         self.variable
     }
 
-    /// Appends a sample.
-    pub(crate) fn push(&mut self, at: f64, m: &Motion) {
+    /// Appends a sample, from the flat arrays of the stepper that solved
+    /// it.
+    pub(crate) fn push(&mut self, at: f64, m: &Flat<'_>) {
         self.at.push(at);
-        self.q[0].extend_from_slice(&m.q);
-        self.q[1].extend_from_slice(&m.qd);
-        self.q[2].extend_from_slice(&m.qdd);
-        // The points' values gathered first, so that they are appended by
-        // one copy rather than three per point (each a few values, where a
-        // call of the library's `memcpy` costs more than the copy).
-        let mut gathered = [0.0f64; 96];
-        let mut k = 0;
-        for p in &m.points {
-            for v in [&p.position, &p.velocity, &p.acceleration] {
-                for &x in v.iter() {
-                    if let Some(slot) = gathered.get_mut(k) {
-                        *slot = x;
-                    }
-                    k += 1;
-                }
+        self.q[0].extend_from_slice(m.q);
+        self.q[1].extend_from_slice(m.qd);
+        self.q[2].extend_from_slice(m.qdd);
+        let points = self.point_names.len() * 3 * self.dim;
+        let (p, frames) = m.outputs.split_at(points.min(m.outputs.len()));
+        self.points.extend_from_slice(p);
+        for f in frames.chunks_exact(24) {
+            if let Ok(values) = <&[f64; 24]>::try_from(f) {
+                self.frames.push(FrameState::from_values(values));
             }
         }
-        if k <= gathered.len() {
-            self.points.extend_from_slice(&gathered[..k]);
-        } else {
-            for p in &m.points {
-                self.points.extend_from_slice(&p.position);
-                self.points.extend_from_slice(&p.velocity);
-                self.points.extend_from_slice(&p.acceleration);
-            }
-        }
-        self.frames.extend_from_slice(&m.frames);
         self.conditioning.push(m.conditioning);
         self.det_sign.push(m.det_sign);
         self.residual.push(m.residual);

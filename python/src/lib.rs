@@ -454,7 +454,7 @@ impl Model {
         let rows = spec.3.max(1) + usize::from(spec.1.is_some());
         let mut columns = Columns::new(&self.model, name, kind, rows);
         py.detach(|| {
-            let end = builder.for_each(|at, motion| columns.push(at, motion));
+            let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
             columns.end(end);
         });
         Ok(Sweep {
@@ -570,7 +570,7 @@ impl Model {
                     dd.copy_from_slice(&rates[row.clone()]);
                     ddd.copy_from_slice(&accelerations[row]);
                 })
-                .for_each(|at, motion| columns.push(at, motion));
+                .for_each_flat(|at, sample| columns.push(at, sample));
             columns.end(end);
         });
         Ok(Sweep {

@@ -1242,3 +1242,76 @@ fn a_sweep_of_poses_follows_the_full_sweep_to_its_limit() {
         b.at
     );
 }
+
+/// A sweep handed over as flat arrays (`for_each_flat`) gives exactly the
+/// motions `for_each` gives: through a full turn of the six-axis arm (its
+/// frames among the outputs), and past a parallelogram's fold, where the
+/// sample after the change point is a motion chosen among the
+/// assemblies, not the stepper's.
+#[test]
+fn flat_samples_are_the_motions() {
+    use kinematics_core::sweep::ChangePoints;
+    fn check<'m>(
+        m: &'m Model,
+        sweep: &dyn Fn() -> kinematics_core::runtime::SweepBuilder<'m>,
+    ) -> kinematics_core::runtime::SweepEnd {
+        let mut motions = Vec::new();
+        let end = sweep().for_each(|at, motion| motions.push((at, motion.clone())));
+        let mut flats = Vec::new();
+        let flat_end = sweep().for_each_flat(|at, s| {
+            flats.push((
+                at,
+                s.q.to_vec(),
+                s.qd.to_vec(),
+                s.qdd.to_vec(),
+                s.outputs.to_vec(),
+                [s.conditioning, s.det_sign, s.residual],
+            ));
+        });
+        assert_eq!(end, flat_end);
+        assert_eq!(motions.len(), flats.len());
+        let d = m.point_dimension();
+        for ((at, motion), (flat_at, q, qd, qdd, outputs, scalars)) in motions.iter().zip(&flats) {
+            assert_eq!(at, flat_at);
+            assert_eq!((&motion.q, &motion.qd, &motion.qdd), (q, qd, qdd));
+            assert_eq!(
+                [motion.conditioning, motion.det_sign, motion.residual],
+                *scalars
+            );
+            let points = motion.points.len() * 3 * d;
+            for (i, p) in motion.points.iter().enumerate() {
+                let at = 3 * i * d;
+                assert_eq!(p.position[..], outputs[at..at + d]);
+                assert_eq!(p.velocity[..], outputs[at + d..at + 2 * d]);
+                assert_eq!(p.acceleration[..], outputs[at + 2 * d..at + 3 * d]);
+            }
+            assert_eq!(outputs.len(), points + 24 * motion.frames.len());
+            for (f, values) in motion.frames.iter().zip(outputs[points..].chunks_exact(24)) {
+                let values: &[f64; 24] = values.try_into().expect("24 values");
+                assert_eq!(*f, kinematics_core::FrameState::from_values(values));
+            }
+        }
+        end
+    }
+    let arm = model("SixAxisArm", &[0.4, 0.35, 0.3, 0.08, 0.1]);
+    let end = check(&arm, &|| {
+        arm.sweep("q1", &[0.1, -0.4, 0.7, 0.2, -0.3, 0.5])
+            .expect("q1 is a driver")
+            .turn()
+            .steps(90)
+            .rate(1.5)
+    });
+    assert!(end.stop.is_none());
+    let four_bar = model("FourBar", &[0.05, 0.12, 0.05, 0.12, 0.0, 0.0]);
+    let start = four_bar.assemble(&[-0.5, 0.0, -0.5]).expect("assembles");
+    let end = check(&four_bar, &|| {
+        four_bar
+            .sweep("phi", &start)
+            .expect("phi is a driver")
+            .to(0.5)
+            .steps(19)
+            .rate(2.0)
+            .change_points(ChangePoints::Smooth)
+    });
+    assert_eq!(end.change_points.len(), 1);
+}

@@ -110,6 +110,30 @@ pub struct PointState {
     pub acceleration: Vec<f64>,
 }
 
+/// The motion at one pose as flat arrays, borrowed from the stepper or
+/// sweep that solved it ([`SweepBuilder::for_each_flat`]): what a
+/// [`Motion`] holds, without copying it into one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flat<'a> {
+    /// q.
+    pub q: &'a [f64],
+    /// q'.
+    pub qd: &'a [f64],
+    /// q''.
+    pub qdd: &'a [f64],
+    /// For each point in declaration order, its position, velocity and
+    /// acceleration ([`Model::point_dimension`] components each); then for
+    /// each frame its rotation (row by row), ω, α, and its origin's
+    /// position, velocity and acceleration (24 values).
+    pub outputs: &'a [f64],
+    /// As [`Motion::conditioning`].
+    pub conditioning: f64,
+    /// As [`Motion::det_sign`].
+    pub det_sign: f64,
+    /// As [`Motion::residual`].
+    pub residual: f64,
+}
+
 /// The motion at one pose: coordinates, rates and accelerations (drivers
 /// first, then unknowns), points, frames and diagnostics.
 #[derive(Clone, Debug, PartialEq)]

@@ -58,6 +58,14 @@ pub(super) struct Work {
     scaling_kept: bool,
 }
 
+impl Work {
+    /// The values of the last [`Program::OUTPUTS`] evaluation of an
+    /// analysis.
+    pub(super) fn outputs(&self) -> &[f64] {
+        &self.out
+    }
+}
+
 impl Model {
     pub(super) fn work(&self) -> Work {
         let nu = self.unknowns();
@@ -519,14 +527,28 @@ impl Model {
         }
         let frames = values.get(self.points.len() * 3 * d..).unwrap_or(&[]);
         for (fr, f) in motion.frames.iter_mut().zip(frames.chunks_exact(24)) {
-            *fr = FrameState {
-                rotation: Matrix3::from_row_slice(&f[..9]),
-                angular_velocity: Vector3::new(f[9], f[10], f[11]),
-                angular_acceleration: Vector3::new(f[12], f[13], f[14]),
-                origin: Vector3::new(f[15], f[16], f[17]),
-                velocity: Vector3::new(f[18], f[19], f[20]),
-                acceleration: Vector3::new(f[21], f[22], f[23]),
-            };
+            if let Ok(values) = <&[f64; 24]>::try_from(f) {
+                *fr = FrameState::from_values(values);
+            }
+        }
+    }
+
+    /// The values of the [`Program::OUTPUTS`] stage that `motion` holds,
+    /// into `values` (the inverse of [`Model::write_outputs`]).
+    pub(super) fn flatten_outputs(&self, motion: &Motion, values: &mut Vec<f64>) {
+        values.clear();
+        for p in &motion.points {
+            values.extend_from_slice(&p.position);
+            values.extend_from_slice(&p.velocity);
+            values.extend_from_slice(&p.acceleration);
+        }
+        for f in &motion.frames {
+            values.extend(f.rotation.transpose().iter());
+            values.extend(f.angular_velocity.iter());
+            values.extend(f.angular_acceleration.iter());
+            values.extend(f.origin.iter());
+            values.extend(f.velocity.iter());
+            values.extend(f.acceleration.iter());
         }
     }
 

@@ -6,7 +6,7 @@ use alloc::vec::Vec;
 
 use super::fused::copy_small;
 use super::solve::Work;
-use super::{Model, Motion};
+use super::{Flat, Model, Motion};
 use crate::closed::Mode;
 use crate::error::Error;
 use crate::options::{Branch, Options};
@@ -59,6 +59,9 @@ pub struct Stepper<'m> {
     assembled: bool,
     /// The fused step's buffer and factors, where the model has one.
     fused: Option<FusedRun>,
+    /// Whether the last step was fused and its motion is still in the
+    /// buffer only (written into `motion` when asked for).
+    pending: bool,
 }
 
 /// What a stepper keeps for the fused step: its buffer (with the values
@@ -121,6 +124,7 @@ impl Model {
             modes: vec![f64::NAN; self.mode_count()],
             assembled: false,
             fused,
+            pending: false,
         })
     }
 }
@@ -130,11 +134,6 @@ impl Stepper<'_> {
     /// sweeps, which choose them past a change point.
     pub(super) fn signs_mut(&mut self) -> &mut [f64] {
         &mut self.modes
-    }
-
-    /// The motion of the last step.
-    pub(super) fn motion(&self) -> &Motion {
-        &self.motion
     }
 
     /// Whether the steps and poses take the model's fused machine code:
@@ -186,11 +185,26 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<&Motion, Error> {
+        self.advance(start, rates, accelerations)?;
+        Ok(self.motion_now())
+    }
+
+    /// [`Stepper::step`] without writing the fused step's results into
+    /// the stepper's motion ([`Stepper::motion_now`] and
+    /// [`Stepper::flat`] read them).
+    pub(super) fn advance(
+        &mut self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<(), Error> {
         let m = self.m;
         self.assembled = false;
+        self.pending = false;
         m.check_inputs(start, rates, accelerations)?;
         if self.fused_step(start, rates, accelerations) {
-            return Ok(&self.motion);
+            self.pending = true;
+            return Ok(());
         }
         self.assemble(start)?;
         m.analyze_into(
@@ -201,8 +215,62 @@ impl Stepper<'_> {
             &self.options,
             true,
             &mut self.motion,
-        )?;
-        Ok(&self.motion)
+        )
+    }
+
+    /// The motion of the last step, written from the fused buffer if it
+    /// is still there only.
+    pub(super) fn motion_now(&mut self) -> &Motion {
+        if self.pending {
+            self.pending = false;
+            if let (Some(run), Some(plan)) = (self.fused.as_ref(), self.m.fused.as_deref()) {
+                let (at, n) = (plan.layout(), self.q.len());
+                let f = &run.f;
+                let out = &mut self.motion;
+                copy_small(&mut out.q, &f[at.q..at.q + n]);
+                copy_small(&mut out.qd, &f[at.qd..at.qd + n]);
+                copy_small(&mut out.qdd, &f[at.qdd..at.qdd + n]);
+                let (values_at, len) = plan.outputs_at();
+                self.m.write_outputs(&f[values_at..values_at + len], out);
+                let [c, s, r] = plan.results_at();
+                out.conditioning = f[c];
+                out.det_sign = f[s];
+                out.residual = f[r];
+            }
+        }
+        &self.motion
+    }
+
+    /// The motion of the last step as flat arrays, from the fused buffer
+    /// or from the general path's arrays.
+    pub(super) fn flat(&self) -> Flat<'_> {
+        if let (true, Some(run), Some(plan)) =
+            (self.pending, self.fused.as_ref(), self.m.fused.as_deref())
+        {
+            let (at, n) = (plan.layout(), self.q.len());
+            let f = &run.f;
+            let (values_at, len) = plan.outputs_at();
+            let [c, s, r] = plan.results_at();
+            return Flat {
+                q: &f[at.q..at.q + n],
+                qd: &f[at.qd..at.qd + n],
+                qdd: &f[at.qdd..at.qdd + n],
+                outputs: &f[values_at..values_at + len],
+                conditioning: f[c],
+                det_sign: f[s],
+                residual: f[r],
+            };
+        }
+        let m = &self.motion;
+        Flat {
+            q: &m.q,
+            qd: &m.qd,
+            qdd: &m.qdd,
+            outputs: self.work.outputs(),
+            conditioning: m.conditioning,
+            det_sign: m.det_sign,
+            residual: m.residual,
+        }
     }
 
     /// Assembles at the drivers of `start` from its unknowns, as
@@ -260,27 +328,13 @@ impl Stepper<'_> {
         let Some(f) = self.fused_inputs(start) else {
             return false;
         };
-        let (at, n, nd) = (plan.layout(), start.len(), m.drivers);
+        let (at, nd) = (plan.layout(), m.drivers);
         copy_small(&mut f[at.qd..at.qd + nd], rates);
         copy_small(&mut f[at.qdd..at.qdd + nd], accelerations);
         if plan.step(f) != 0 {
             return false;
         }
         self.fused_pose_taken(plan, false);
-        let Some(run) = self.fused.as_ref() else {
-            return false;
-        };
-        let f = &run.f;
-        let out = &mut self.motion;
-        copy_small(&mut out.q, &f[at.q..at.q + n]);
-        copy_small(&mut out.qd, &f[at.qd..at.qd + n]);
-        copy_small(&mut out.qdd, &f[at.qdd..at.qdd + n]);
-        let (values_at, len) = plan.outputs_at();
-        m.write_outputs(&f[values_at..values_at + len], out);
-        let [c, s, r] = plan.results_at();
-        out.conditioning = f[c];
-        out.det_sign = f[s];
-        out.residual = f[r];
         true
     }
 

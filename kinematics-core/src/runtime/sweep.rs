@@ -5,7 +5,7 @@
 use alloc::collections::VecDeque;
 use core::f64::consts::TAU;
 
-use super::{Model, Motion};
+use super::{Flat, Model, Motion};
 use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::{intern, Name};
@@ -290,6 +290,23 @@ impl SweepBuilder<'_> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn for_each(self, f: impl FnMut(f64, &Motion)) -> SweepEnd {
+        self.drive(Motions(f))
+    }
+
+    /// [`SweepBuilder::for_each`], handing `f` each sample as flat arrays
+    /// borrowed from the stepper ([`Flat`]) rather than as a [`Motion`]:
+    /// for callers that copy the samples into arrays of their own.
+    pub fn for_each_flat(self, f: impl FnMut(f64, &Flat<'_>)) -> SweepEnd {
+        let m = self.m;
+        self.drive(Flats {
+            f,
+            m,
+            outputs: Vec::new(),
+        })
+    }
+
+    /// The sweep, its samples handed to `sink`.
+    fn drive(self, sink: impl Sink) -> SweepEnd {
         let m = self.m;
         let coordinate = m.coordinates[self.driver];
         let from = self.first();
@@ -306,7 +323,7 @@ impl SweepBuilder<'_> {
                 rates[j] = rate;
                 accelerations[j] = acceleration;
             },
-            f,
+            sink,
         )
     }
 
@@ -519,6 +536,22 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
     /// motion) as it is solved, without collecting them, as
     /// [`SweepBuilder::for_each`] does for a sweep.
     pub fn for_each(self, f: impl FnMut(f64, &Motion)) -> SweepEnd {
+        self.drive(Motions(f))
+    }
+
+    /// [`Simulation::for_each`], handing `f` each sample as flat arrays
+    /// ([`Flat`]), as [`SweepBuilder::for_each_flat`] does.
+    pub fn for_each_flat(self, f: impl FnMut(f64, &Flat<'_>)) -> SweepEnd {
+        let m = self.m;
+        self.drive(Flats {
+            f,
+            m,
+            outputs: Vec::new(),
+        })
+    }
+
+    /// The simulation, its samples handed to `sink`.
+    fn drive(self, sink: impl Sink) -> SweepEnd {
         let times = if self.duration.is_finite() && self.duration > 0.0 {
             let steps = self.steps.max(1);
             #[allow(clippy::cast_precision_loss)]
@@ -550,7 +583,7 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
                 accelerations.fill(0.0);
                 profile(t, d, rates, accelerations);
             },
-            f,
+            sink,
         )
     }
 }
@@ -613,20 +646,20 @@ impl History {
     fn last(&self, k: usize) -> &Recent {
         &self.0[self.0.len() - k]
     }
-    fn push(&mut self, at: f64, motion: &Motion) {
+    fn push(&mut self, at: f64, pose: &[f64], conditioning: f64, det_sign: f64) {
         // The oldest sample's vector, once there are three.
         let mut q = if self.0.len() == 3 {
             self.0.pop_front().map(|r| r.q).unwrap_or_default()
         } else {
-            Vec::with_capacity(motion.q.len())
+            Vec::with_capacity(pose.len())
         };
         q.clear();
-        q.extend_from_slice(&motion.q);
+        q.extend_from_slice(pose);
         self.0.push_back(Recent {
             at,
             q,
-            conditioning: motion.conditioning,
-            det_sign: motion.det_sign,
+            conditioning,
+            det_sign,
         });
     }
 }
@@ -645,7 +678,7 @@ fn drive_each(
     (options, change_points): (&Options, ChangePoints),
     ats: Result<Vec<f64>, Error>,
     mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
-    mut emit: impl FnMut(f64, &Motion),
+    mut sink: impl Sink,
 ) -> SweepEnd {
     let mut end = SweepEnd {
         stop: None,
@@ -691,8 +724,8 @@ fn drive_each(
         predicted.copy_from_slice(&q);
         // The assembly modes of the closed-form blocks: the start's, then
         // carried from sample to sample by the stepper.
-        match stepper.step(&q, &rates, &accelerations) {
-            Ok(_) => {}
+        match stepper.advance(&q, &rates, &accelerations) {
+            Ok(()) => {}
             Err(Error::CannotAssemble { unknowns, .. }) if history.len() > 0 => {
                 // A limit position between the last sample and this
                 // value: the last value that assembles, by bisection.
@@ -708,10 +741,10 @@ fn drive_each(
         }
         let mut chosen: Option<Motion> = None;
         if history.len() > 0 {
-            let motion = stepper.motion();
+            let new = stepper.flat();
             let last = history.last(1);
-            let at_fold = folded(&history, motion, &predicted, nd);
-            if at_fold.is_some() || last.det_sign != motion.det_sign {
+            let at_fold = folded(&history, new.q, &predicted, nd);
+            if at_fold.is_some() || last.det_sign != new.det_sign {
                 // Two branches met between the samples.
                 let estimate = at_fold
                     .unwrap_or(0.5 * (last.at + at))
@@ -744,12 +777,69 @@ fn drive_each(
                 end.change_points.push(estimate);
             }
         }
-        let motion = chosen.as_ref().unwrap_or_else(|| stepper.motion());
-        q.copy_from_slice(&motion.q);
-        emit(at, motion);
-        history.push(at, motion);
+        match &chosen {
+            Some(motion) => {
+                q.copy_from_slice(&motion.q);
+                history.push(at, &motion.q, motion.conditioning, motion.det_sign);
+                sink.motion(at, motion);
+            }
+            None => {
+                let new = stepper.flat();
+                q.copy_from_slice(new.q);
+                history.push(at, new.q, new.conditioning, new.det_sign);
+                sink.stepped(at, &mut stepper);
+            }
+        }
     }
     end
+}
+
+/// What a sweep hands its samples to: a step's (read from the stepper,
+/// as a [`Motion`] or flat arrays) or a motion chosen past a change point.
+trait Sink {
+    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>);
+    fn motion(&mut self, at: f64, motion: &Motion);
+}
+
+/// Hands each sample to a callback as a [`Motion`].
+struct Motions<F>(F);
+
+impl<F: FnMut(f64, &Motion)> Sink for Motions<F> {
+    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>) {
+        (self.0)(at, stepper.motion_now());
+    }
+    fn motion(&mut self, at: f64, motion: &Motion) {
+        (self.0)(at, motion);
+    }
+}
+
+/// Hands each sample to a callback as flat arrays (a motion chosen past a
+/// change point through arrays of its own).
+struct Flats<'m, F> {
+    f: F,
+    m: &'m Model,
+    outputs: Vec<f64>,
+}
+
+impl<F: FnMut(f64, &Flat<'_>)> Sink for Flats<'_, F> {
+    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>) {
+        (self.f)(at, &stepper.flat());
+    }
+    fn motion(&mut self, at: f64, motion: &Motion) {
+        self.m.flatten_outputs(motion, &mut self.outputs);
+        (self.f)(
+            at,
+            &Flat {
+                q: &motion.q,
+                qd: &motion.qd,
+                qdd: &motion.qdd,
+                outputs: &self.outputs,
+                conditioning: motion.conditioning,
+                det_sign: motion.det_sign,
+                residual: motion.residual,
+            },
+        );
+    }
 }
 
 /// The pose past a change point on the branch `change_points` asks for:
@@ -858,7 +948,7 @@ fn limit(
 /// branch, as at a parallelogram's fold, where a closed form in its mode
 /// passes from one branch to the other). Returns where the line meets
 /// zero.
-fn folded(history: &History, new: &Motion, predicted: &[f64], drivers: usize) -> Option<f64> {
+fn folded(history: &History, new: &[f64], predicted: &[f64], drivers: usize) -> Option<f64> {
     if history.len() < 2 {
         return None;
     }
@@ -878,7 +968,7 @@ fn folded(history: &History, new: &Motion, predicted: &[f64], drivers: usize) ->
             .map(|(x, y)| (x - y).abs()),
     );
     let off = largest(
-        &mut new.q[drivers..]
+        &mut new[drivers..]
             .iter()
             .zip(&predicted[drivers..])
             .map(|(x, y)| (x - y).abs()),
