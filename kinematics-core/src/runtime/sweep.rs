@@ -5,6 +5,7 @@
 use alloc::collections::VecDeque;
 use core::f64::consts::TAU;
 
+use super::fused::copy_small;
 use super::{Flat, Model, Motion};
 use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
@@ -653,8 +654,8 @@ impl History {
         } else {
             Vec::with_capacity(pose.len())
         };
-        q.clear();
-        q.extend_from_slice(pose);
+        q.resize(pose.len(), 0.0);
+        copy_small(&mut q, pose);
         self.0.push_back(Recent {
             at,
             q,
@@ -739,12 +740,18 @@ fn drive_each(
                 return end;
             }
         }
+        // The pose, its conditioning and its branch, kept before the
+        // tests of a change of branch.
+        let (conditioning, det_sign) = {
+            let new = stepper.flat();
+            copy_small(&mut q, new.q);
+            (new.conditioning, new.det_sign)
+        };
         let mut chosen: Option<Motion> = None;
         if history.len() > 0 {
-            let new = stepper.flat();
             let last = history.last(1);
-            let at_fold = folded(&history, new.q, &predicted, nd);
-            if at_fold.is_some() || last.det_sign != new.det_sign {
+            let at_fold = folded(&history, &q, &predicted, nd);
+            if at_fold.is_some() || last.det_sign != det_sign {
                 // Two branches met between the samples.
                 let estimate = at_fold
                     .unwrap_or(0.5 * (last.at + at))
@@ -784,9 +791,7 @@ fn drive_each(
                 sink.motion(at, motion);
             }
             None => {
-                let new = stepper.flat();
-                q.copy_from_slice(new.q);
-                history.push(at, new.q, new.conditioning, new.det_sign);
+                history.push(at, &q, conditioning, det_sign);
                 sink.stepped(at, &mut stepper);
             }
         }
@@ -986,19 +991,28 @@ fn predict(history: &History, at: f64, drivers: usize, q: &mut [f64]) {
         0 => {}
         1 => q[drivers..].copy_from_slice(&last(1).q[drivers..]),
         _ => {
+            // The interpolating polynomial in Lagrange's form: its weights
+            // depend on the sample values alone, computed once for every
+            // coordinate.
             let (a, b) = (last(2), last(1));
-            let c = (n >= 3).then(|| last(3));
+            let (xa, xb) = (a.at, b.at);
+            let (wa, wb, wc, c) = match (n >= 3).then(|| last(3)) {
+                Some(c) => {
+                    let xc = c.at;
+                    (
+                        (at - xb) * (at - xc) / ((xa - xb) * (xa - xc)),
+                        (at - xa) * (at - xc) / ((xb - xa) * (xb - xc)),
+                        (at - xa) * (at - xb) / ((xc - xa) * (xc - xb)),
+                        Some(c),
+                    )
+                }
+                None => ((at - xb) / (xa - xb), (at - xa) / (xb - xa), 0.0, None),
+            };
             for (j, qj) in q.iter_mut().enumerate().skip(drivers) {
-                // Newton's divided differences through the known values.
-                let (xb, yb) = (b.at, b.q[j]);
-                let (xa, ya) = (a.at, a.q[j]);
-                let d1 = (yb - ya) / (xb - xa);
-                let mut y = yb + d1 * (at - xb);
+                let yb = b.q[j];
+                let mut y = wa * a.q[j] + wb * yb;
                 if let Some(c) = c {
-                    let (xc, yc) = (c.at, c.q[j]);
-                    let d0 = (ya - yc) / (xa - xc);
-                    let d2 = (d1 - d0) / (xb - xc);
-                    y += d2 * (at - xb) * (at - xa);
+                    y += wc * c.q[j];
                 }
                 *qj = if y.is_finite() { y } else { yb };
             }
