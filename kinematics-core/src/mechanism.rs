@@ -282,7 +282,7 @@ pub struct FrameState {
 
 impl FrameState {
     /// A frame's state from its 24 values in the order of the run-time
-    /// models' flat outputs ([`crate::runtime::Flat::outputs`]): R row by
+    /// models' flat outputs (`runtime::Flat::outputs`): R row by
     /// row, ω, α, then the origin's position, velocity and acceleration.
     ///
     /// ```
