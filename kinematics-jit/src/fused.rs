@@ -100,6 +100,47 @@ pub enum Op {
         /// The helper's argument for a fresh computation.
         fresh: u64,
     },
+    /// The scaled diagonal blocks (each entry the root times its row's
+    /// and column's scales), of one or two unknowns each, factored as
+    /// `kinematics_core::solve::Lu` factors them: a 1 × 1 block a is
+    /// regular when threshold < |a| < ∞, its conditioning |a|, its
+    /// inverse 1/a; a 2 × 2 block when its first pivot p₀ = max(|a₀₀|,
+    /// |a₁₀|) exceeds the threshold and threshold·p₀ < |det| < ∞, its
+    /// inverse [[a₁₁, −a₀₁], [−a₁₀, a₀₀]]/det and its conditioning
+    /// 1/‖A⁻¹‖_∞ (0 if not finite), which must exceed the threshold too.
+    /// The conditioning written is the least of the blocks' (1 without
+    /// blocks), the sign the product of the signs of their determinants
+    /// (negated when `odd`); the function returns `singular` for a block
+    /// not regular, and `wrong_branch` when `f[branch]` is ±1 and the
+    /// sign is not it.
+    FactorSmall {
+        /// The blocks.
+        blocks: Vec<SmallBlock>,
+        /// Where the singularity threshold lies.
+        threshold: usize,
+        /// Where the sign asked for lies (0: either).
+        branch: usize,
+        /// Whether the sign of the product is reversed.
+        odd: bool,
+        /// Where the conditioning is written.
+        conditioning: usize,
+        /// Where the sign is written.
+        sign: usize,
+        /// The status of a singular block.
+        singular: i64,
+        /// The status of the other branch than asked.
+        wrong_branch: i64,
+    },
+    /// Unless `f[at] <= f[bound]` (false for a NaN), the function returns
+    /// `status`.
+    AtMost {
+        /// The value.
+        at: usize,
+        /// Its bound.
+        bound: usize,
+        /// The status returned.
+        status: i64,
+    },
     /// Unless `f[from..from + len]` are all finite, the function returns
     /// `status`.
     Finite {
@@ -135,6 +176,16 @@ pub struct SolveBlock {
     /// Its unknowns, in the order of the inverse's rows: each one's
     /// index, and where its column scale lies (`None`: 1).
     pub cols: Vec<(usize, Option<usize>)>,
+}
+
+/// One diagonal block of an [`Op::FactorSmall`], of one or two unknowns.
+#[derive(Clone, Debug)]
+pub struct SmallBlock {
+    /// Its entries row by row (1 or 4): the root, where its row's scale
+    /// lies, and where its column's scale lies (`None`: 1).
+    pub entries: Vec<(Id, usize, Option<usize>)>,
+    /// Where the inverse of the scaled block is written, row by row.
+    pub inverse: usize,
 }
 
 /// What a fused function calls for [`Op::Call`]: with the buffer and the
@@ -478,6 +529,131 @@ impl Fused {
                             b.ins()
                                 .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
                             b.switch_to_block(join);
+                        }
+                        Op::AtMost { at, bound, status } => {
+                            let x = b.ins().load(types::F64, flags, fp, within(*at)?);
+                            let y = b.ins().load(types::F64, flags, fp, within(*bound)?);
+                            let within_bound = b.ins().fcmp(FloatCC::LessThanOrEqual, x, y);
+                            let failed = b.ins().icmp_imm(IntCC::Equal, within_bound, 0);
+                            let status = b.ins().iconst(types::I64, *status);
+                            bail(&mut b, failed, status);
+                        }
+                        Op::FactorSmall {
+                            blocks,
+                            threshold,
+                            branch,
+                            odd,
+                            conditioning,
+                            sign,
+                            singular,
+                            wrong_branch,
+                        } => {
+                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                            };
+                            let thr = load(&mut b, *threshold)?;
+                            let inf = b.ins().f64const(f64::INFINITY);
+                            let one = b.ins().f64const(1.0);
+                            let zero = b.ins().f64const(0.0);
+                            let mut least = if blocks.is_empty() { one } else { inf };
+                            let mut product = b.ins().f64const(if *odd { -1.0 } else { 1.0 });
+                            let singular = b.ins().iconst(types::I64, *singular);
+                            for block in blocks {
+                                let mut a = Vec::with_capacity(block.entries.len());
+                                for &(root, row, col) in &block.entries {
+                                    let v = lower.value(&mut b, &sources, &imports, root)?;
+                                    let r = load(&mut b, row)?;
+                                    let mut x = b.ins().fmul(v, r);
+                                    if let Some(col) = col {
+                                        let c = load(&mut b, col)?;
+                                        x = b.ins().fmul(x, c);
+                                    }
+                                    a.push(x);
+                                }
+                                // The determinant's sign: ±1 (it is finite and
+                                // nonzero once the block is regular).
+                                let signum = |b: &mut FunctionBuilder<'_>, d| {
+                                    let negative = b.ins().fcmp(FloatCC::LessThan, d, zero);
+                                    let minus = b.ins().f64const(-1.0);
+                                    b.ins().select(negative, minus, one)
+                                };
+                                let (c, s) = match a.as_slice() {
+                                    [a00] => {
+                                        let p0 = b.ins().fabs(*a00);
+                                        let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
+                                        let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
+                                        let regular = b.ins().band(above, finite);
+                                        let failed = b.ins().icmp_imm(IntCC::Equal, regular, 0);
+                                        bail(&mut b, failed, singular);
+                                        let inv = b.ins().fdiv(one, *a00);
+                                        b.ins().store(flags, inv, fp, within(block.inverse)?);
+                                        (p0, signum(&mut b, *a00))
+                                    }
+                                    [a00, a01, a10, a11] => {
+                                        let (x00, x10) = (b.ins().fabs(*a00), b.ins().fabs(*a10));
+                                        let greater = b.ins().fcmp(FloatCC::GreaterThan, x10, x00);
+                                        let p0 = b.ins().select(greater, x10, x00);
+                                        let m0 = b.ins().fmul(*a00, *a11);
+                                        let m1 = b.ins().fmul(*a01, *a10);
+                                        let det = b.ins().fsub(m0, m1);
+                                        let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
+                                        let failed = b.ins().icmp_imm(IntCC::Equal, first, 0);
+                                        bail(&mut b, failed, singular);
+                                        let ad = b.ins().fabs(det);
+                                        let tp = b.ins().fmul(thr, p0);
+                                        let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
+                                        let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
+                                        let regular = b.ins().band(above, finite);
+                                        let failed = b.ins().icmp_imm(IntCC::Equal, regular, 0);
+                                        bail(&mut b, failed, singular);
+                                        let inv = b.ins().fdiv(one, det);
+                                        let n01 = b.ins().fneg(*a01);
+                                        let n10 = b.ins().fneg(*a10);
+                                        let i00 = b.ins().fmul(*a11, inv);
+                                        let i01 = b.ins().fmul(n01, inv);
+                                        let i10 = b.ins().fmul(n10, inv);
+                                        let i11 = b.ins().fmul(*a00, inv);
+                                        for (k, v) in [i00, i01, i10, i11].into_iter().enumerate() {
+                                            b.ins().store(flags, v, fp, within(block.inverse + k)?);
+                                        }
+                                        // 1/‖A⁻¹‖_∞: the larger row sum (the
+                                        // first where they tie or one is NaN).
+                                        let row = |b: &mut FunctionBuilder<'_>, x: _, y: _| {
+                                            let (x, y) = (b.ins().fabs(x), b.ins().fabs(y));
+                                            let s = b.ins().fadd(zero, x);
+                                            b.ins().fadd(s, y)
+                                        };
+                                        let s0 = row(&mut b, i00, i01);
+                                        let s1 = row(&mut b, i10, i11);
+                                        let second = b.ins().fcmp(FloatCC::GreaterThan, s1, s0);
+                                        let worst = b.ins().select(second, s1, s0);
+                                        let c = b.ins().fdiv(one, worst);
+                                        let ac = b.ins().fabs(c);
+                                        let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
+                                        let c = b.ins().select(finite, c, zero);
+                                        let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
+                                        let failed = b.ins().icmp_imm(IntCC::Equal, above, 0);
+                                        bail(&mut b, failed, singular);
+                                        (c, signum(&mut b, det))
+                                    }
+                                    _ => {
+                                        return Err(JitError::Codegen(
+                                            "a small block has one or four entries".into(),
+                                        ))
+                                    }
+                                };
+                                let smaller = b.ins().fcmp(FloatCC::LessThan, c, least);
+                                least = b.ins().select(smaller, c, least);
+                                product = b.ins().fmul(product, s);
+                            }
+                            let wanted = load(&mut b, *branch)?;
+                            let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
+                            let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
+                            let failed = b.ins().band(asked, other);
+                            let status = b.ins().iconst(types::I64, *wrong_branch);
+                            bail(&mut b, failed, status);
+                            b.ins().store(flags, least, fp, within(*conditioning)?);
+                            b.ins().store(flags, product, fp, within(*sign)?);
                         }
                         Op::Finite { from, len, status } => {
                             if *len == 0 {

@@ -64,7 +64,9 @@ use kinematics_compiler::Compiled;
 mod fused;
 mod lower;
 
-pub use fused::{Function, Fused, Helper, Layout, Op, SolveBlock, SolveRow, HELPER_PANICKED};
+pub use fused::{
+    Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED,
+};
 use lower::{Imports, Lower, Sources};
 
 /// The machine-code signature of every stage: (p, q, q', q'', out, the

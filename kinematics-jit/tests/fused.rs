@@ -297,3 +297,81 @@ fn offsets_past_the_buffer_are_refused() {
     )
     .is_err());
 }
+
+#[test]
+fn small_blocks_factored_and_judged() {
+    use kinematics_jit::SmallBlock;
+    // Blocks [4] (row scale 1/2: scaled 2) and [[1, 2], [3, 4]] (row
+    // scales 1, column 1 scaled by L = 1): det = −2, inverse
+    // [[−2, 1], [1.5, −0.5]], row sums 3 and 2, conditioning 1/3; signs
+    // +1 and −1.
+    let mut g = Graph::new();
+    let leaves: Vec<_> = (0..2).map(|j| g.leaf(Leaf::Param(j))).collect();
+    let consts: Vec<_> = [1.0, 2.0, 3.0, 4.0]
+        .iter()
+        .map(|&v| g.constant(v))
+        .collect();
+    let ops = [
+        Op::AtMost {
+            at: 12,
+            bound: 13,
+            status: 8,
+        },
+        Op::FactorSmall {
+            blocks: vec![
+                SmallBlock {
+                    entries: vec![(leaves[0], 14, None)],
+                    inverse: 20,
+                },
+                SmallBlock {
+                    entries: vec![
+                        (consts[0], 15, None),
+                        (consts[1], 15, Some(16)),
+                        (consts[2], 15, None),
+                        (consts[3], 15, Some(16)),
+                    ],
+                    inverse: 21,
+                },
+            ],
+            threshold: 17,
+            branch: 18,
+            odd: false,
+            conditioning: 30,
+            sign: 31,
+            singular: 3,
+            wrong_branch: 4,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let setup = |a: f64, threshold: f64, branch: f64| {
+        let mut f = vec![0.0; 40];
+        f[0] = a;
+        (f[12], f[13], f[14], f[15], f[16], f[17], f[18]) =
+            (0.5, 1.0, 0.5, 1.0, 1.0, threshold, branch);
+        f
+    };
+    let mut f = setup(4.0, 1e-10, 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[20], 0.5);
+    assert_eq!(f[21..25], [-2.0, 1.0, 1.5, -0.5]);
+    assert!((f[30] - 1.0 / 3.0).abs() < 1e-16);
+    assert_eq!(f[31], -1.0);
+    // The branch asked for: the other sign fails.
+    let mut f = setup(4.0, 1e-10, 1.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 4);
+    // A singular 1 × 1 block, and conditioning at the threshold.
+    let mut f = setup(0.0, 1e-10, 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 3);
+    let mut f = setup(4.0, 0.4, 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 3);
+    // Not within the bound (and NaN).
+    let mut f = setup(4.0, 1e-10, 0.0);
+    f[12] = 2.0;
+    assert_eq!(code.call(0, &mut f, &mut h), 8);
+    f[12] = f64::NAN;
+    assert_eq!(code.call(0, &mut f, &mut h), 8);
+}

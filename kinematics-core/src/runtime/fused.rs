@@ -33,7 +33,7 @@ use std::sync::OnceLock;
 
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
-use kinematics_jit::{Function, Fused, Helper, Layout, Op, SolveBlock, SolveRow};
+use kinematics_jit::{Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow};
 
 use super::closed::Form;
 use super::invariant::hoist;
@@ -325,7 +325,45 @@ impl Plan {
             at: slots,
             finite: None,
         });
-        step.push(Op::Call(FACTOR));
+        if blocks.iter().all(|b| b.unknowns.len() <= 2) {
+            // The closing check and the small blocks' factors in the
+            // machine code itself.
+            step.push(Op::AtMost {
+                at: closing,
+                bound,
+                status: NOT_CLOSED,
+            });
+            step.push(Op::FactorSmall {
+                blocks: blocks
+                    .iter()
+                    .zip(&inverses)
+                    .map(|(b, &inverse)| SmallBlock {
+                        entries: b
+                            .equations
+                            .iter()
+                            .flat_map(|&r| b.unknowns.iter().map(move |&col| (r, col)))
+                            .map(|(r, col)| {
+                                (
+                                    h.map(jac[r][col]),
+                                    rows + r,
+                                    is_length(col).then_some(length_at),
+                                )
+                            })
+                            .collect(),
+                        inverse,
+                    })
+                    .collect(),
+                threshold,
+                branch,
+                odd: c.blocks_flip_determinant(),
+                conditioning,
+                sign,
+                singular: SINGULAR,
+                wrong_branch: WRONG_BRANCH,
+            });
+        } else {
+            step.push(Op::Call(FACTOR));
+        }
         let solve_blocks: Vec<SolveBlock> = blocks
             .iter()
             .enumerate()
