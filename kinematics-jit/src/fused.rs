@@ -131,6 +131,29 @@ pub enum Op {
         /// The status of the other branch than asked.
         wrong_branch: i64,
     },
+    /// The RRR dyad k + P e₀ + Q e₁ = 0 (coefficients k, P, Q as
+    /// `kinematics_core::closed::circle_circle` takes them) in the mode
+    /// `f[mode]`, as that form solves it: with R² = a² + b², a = 2 (Pᵀk)₀,
+    /// b = 2 (Pᵀk)₁, c = |k|² + p² − q², Δ = R² − c² (0 within 8 ε of
+    /// R² + c²), cos θ₀ = (−a c − σ b √Δ)/R², sin θ₀ = (−b c + σ a √Δ)/R²,
+    /// and e₁ = −Qᵀ(k + P e₀) normalised by one Newton step from 1/q²;
+    /// each angle is the carried one plus asin of the rotation from it (by
+    /// its series), written with its cosine and sine and carried. Where
+    /// the mode is not set, Δ < 0, R² or q² is not positive and finite,
+    /// the normalisation is off by more than 1e-8, or an angle is not
+    /// within 1/32 of its carried value and π of its guess, the helper is
+    /// called with `general` instead, which solves the block itself (the
+    /// coefficients must be in the buffer for it).
+    CircleCircle {
+        /// k₀, k₁, P row by row, Q row by row.
+        coefficients: Vec<Id>,
+        /// Where the mode (±1, NaN: not set) lies.
+        mode: usize,
+        /// The two angles.
+        angles: [AngleAt; 2],
+        /// The helper's argument for the general solution.
+        general: u64,
+    },
     /// Unless `f[at] <= f[bound]` (false for a NaN), the function returns
     /// `status`.
     AtMost {
@@ -176,6 +199,18 @@ pub struct SolveBlock {
     /// Its unknowns, in the order of the inverse's rows: each one's
     /// index, and where its column scale lies (`None`: 1).
     pub cols: Vec<(usize, Option<usize>)>,
+}
+
+/// Where an angle of an [`Op::CircleCircle`] lies: its value (the guess
+/// on entry), its cosine and sine, and its carried (cos, sin, angle).
+#[derive(Clone, Copy, Debug)]
+pub struct AngleAt {
+    /// The angle.
+    pub value: usize,
+    /// Its cosine, then its sine.
+    pub trig: usize,
+    /// The carried cosine, sine and angle.
+    pub carried: usize,
 }
 
 /// One diagonal block of an [`Op::FactorSmall`], of one or two unknowns.
@@ -523,6 +558,190 @@ impl Fused {
                             let arg = b
                                 .ins()
                                 .iconst(types::I64, i64::from_ne_bytes(fresh.to_ne_bytes()));
+                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                            let status = b.inst_results(inst)[0];
+                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                            b.ins()
+                                .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
+                            b.switch_to_block(join);
+                        }
+                        Op::CircleCircle {
+                            coefficients,
+                            mode,
+                            angles,
+                            general,
+                        } => {
+                            let [k0, k1, p00, p01, p10, p11, q00, q01, q10, q11] =
+                                coefficients.as_slice().try_into().map_err(|_| {
+                                    JitError::Codegen("an RRR dyad has ten coefficients".into())
+                                })?;
+                            lower.emit(&mut b, &sources, &imports, coefficients)?;
+                            let mut v = |id| lower.value(&mut b, &sources, &imports, id);
+                            let (k0, k1) = (v(k0)?, v(k1)?);
+                            let (p00, p01, p10, p11) = (v(p00)?, v(p01)?, v(p10)?, v(p11)?);
+                            let (q00, q01, q10, q11) = (v(q00)?, v(q01)?, v(q10)?, v(q11)?);
+                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                            };
+                            let k = |b: &mut FunctionBuilder<'_>, x: f64| b.ins().f64const(x);
+                            let sigma = load(&mut b, *mode)?;
+                            let (fast, slow, join) =
+                                (b.create_block(), b.create_block(), b.create_block());
+                            let unset = b.ins().fcmp(FloatCC::Unordered, sigma, sigma);
+                            let decide = b.create_block();
+                            b.ins().brif(unset, slow, &[], decide, &[]);
+                            b.switch_to_block(decide);
+                            // The coefficients of a cos θ₀ + b sin θ₀ + c = 0.
+                            let mul = |b: &mut FunctionBuilder<'_>, x, y| b.ins().fmul(x, y);
+                            let x0 = mul(&mut b, p00, p00);
+                            let x1 = mul(&mut b, p10, p10);
+                            let p2 = b.ins().fadd(x0, x1);
+                            let x0 = mul(&mut b, q00, q00);
+                            let x1 = mul(&mut b, q10, q10);
+                            let q2 = b.ins().fadd(x0, x1);
+                            let two = k(&mut b, 2.0);
+                            let x0 = mul(&mut b, p00, k0);
+                            let x1 = mul(&mut b, p10, k1);
+                            let x = b.ins().fadd(x0, x1);
+                            let a = mul(&mut b, two, x);
+                            let x0 = mul(&mut b, p01, k0);
+                            let x1 = mul(&mut b, p11, k1);
+                            let x = b.ins().fadd(x0, x1);
+                            let bb = mul(&mut b, two, x);
+                            let x0 = mul(&mut b, k0, k0);
+                            let x1 = mul(&mut b, k1, k1);
+                            let x = b.ins().fadd(x0, x1);
+                            let x = b.ins().fadd(x, p2);
+                            let c = b.ins().fsub(x, q2);
+                            // Δ = R² − c², 0 within 8 ε of R² + c².
+                            let x0 = mul(&mut b, a, a);
+                            let x1 = mul(&mut b, bb, bb);
+                            let r2 = b.ins().fadd(x0, x1);
+                            let cc = mul(&mut b, c, c);
+                            let d = b.ins().fsub(r2, cc);
+                            let size = b.ins().fadd(r2, cc);
+                            let eps8 = k(&mut b, 8.0 * f64::EPSILON);
+                            let tol = mul(&mut b, eps8, size);
+                            let ad = b.ins().fabs(d);
+                            let tiny = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, tol);
+                            let zero = k(&mut b, 0.0);
+                            let disc = b.ins().select(tiny, zero, d);
+                            let inf = k(&mut b, f64::INFINITY);
+                            let ok_disc = b.ins().fcmp(FloatCC::GreaterThanOrEqual, disc, zero);
+                            let ok_r2 = b.ins().fcmp(FloatCC::GreaterThan, r2, zero);
+                            let ok_fin = b.ins().fcmp(FloatCC::LessThan, r2, inf);
+                            let ok_q2 = b.ins().fcmp(FloatCC::GreaterThan, q2, zero);
+                            let ok = b.ins().band(ok_disc, ok_r2);
+                            let ok = b.ins().band(ok, ok_fin);
+                            let mut ok = b.ins().band(ok, ok_q2);
+                            let one = k(&mut b, 1.0);
+                            let inv = b.ins().fdiv(one, r2);
+                            let sq = b.ins().sqrt(disc);
+                            let root = mul(&mut b, sigma, sq);
+                            let na = b.ins().fneg(a);
+                            let x0 = mul(&mut b, na, c);
+                            let x1 = mul(&mut b, bb, root);
+                            let x = b.ins().fsub(x0, x1);
+                            let c0 = mul(&mut b, x, inv);
+                            let nb = b.ins().fneg(bb);
+                            let x0 = mul(&mut b, nb, c);
+                            let x1 = mul(&mut b, a, root);
+                            let x = b.ins().fadd(x0, x1);
+                            let s0 = mul(&mut b, x, inv);
+                            // e₁ = −Qᵀ(k + P e₀), normalised.
+                            let x0 = mul(&mut b, p00, c0);
+                            let x = b.ins().fadd(k0, x0);
+                            let x1 = mul(&mut b, p01, s0);
+                            let w0 = b.ins().fadd(x, x1);
+                            let x0 = mul(&mut b, p10, c0);
+                            let x = b.ins().fadd(k1, x0);
+                            let x1 = mul(&mut b, p11, s0);
+                            let w1 = b.ins().fadd(x, x1);
+                            let x0 = mul(&mut b, q00, w0);
+                            let x1 = mul(&mut b, q10, w1);
+                            let x = b.ins().fadd(x0, x1);
+                            let ex = b.ins().fneg(x);
+                            let x0 = mul(&mut b, q01, w0);
+                            let x1 = mul(&mut b, q11, w1);
+                            let x = b.ins().fadd(x0, x1);
+                            let ey = b.ins().fneg(x);
+                            let x0 = mul(&mut b, ex, ex);
+                            let x1 = mul(&mut b, ey, ey);
+                            let m = b.ins().fadd(x0, x1);
+                            let r0 = b.ins().fdiv(one, q2);
+                            let x = mul(&mut b, m, r0);
+                            let x = mul(&mut b, x, r0);
+                            let delta = b.ins().fsub(x, one);
+                            let adelta = b.ins().fabs(delta);
+                            let small = k(&mut b, 1e-8);
+                            let ok_unit = b.ins().fcmp(FloatCC::LessThanOrEqual, adelta, small);
+                            ok = b.ins().band(ok, ok_unit);
+                            let half = k(&mut b, 0.5);
+                            let x = mul(&mut b, half, r0);
+                            let x = mul(&mut b, x, delta);
+                            let r = b.ins().fsub(r0, x);
+                            let c1 = mul(&mut b, ex, r);
+                            let s1 = mul(&mut b, ey, r);
+                            // Each angle from its carried value: θ = θₚ + asin x
+                            // with x = cₚ s − sₚ c, by the series, where the
+                            // rotation is small and θ within π of the guess.
+                            let mut results = Vec::new();
+                            for (at, (cv, sv)) in angles.iter().zip([(c0, s0), (c1, s1)]) {
+                                let cp = load(&mut b, at.carried)?;
+                                let sp = load(&mut b, at.carried + 1)?;
+                                let tp = load(&mut b, at.carried + 2)?;
+                                let guess = load(&mut b, at.value)?;
+                                let x0 = mul(&mut b, cp, sv);
+                                let x1 = mul(&mut b, sp, cv);
+                                let x = b.ins().fsub(x0, x1);
+                                let y0 = mul(&mut b, cp, cv);
+                                let y1 = mul(&mut b, sp, sv);
+                                let y = b.ins().fadd(y0, y1);
+                                let x2 = mul(&mut b, x, x);
+                                let mut t = k(&mut b, 63.0 / 2816.0);
+                                for coefficient in
+                                    [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0]
+                                {
+                                    let m = mul(&mut b, x2, t);
+                                    let kk = k(&mut b, coefficient);
+                                    t = b.ins().fadd(kk, m);
+                                }
+                                let series = mul(&mut b, x2, t);
+                                let xs = mul(&mut b, x, series);
+                                let asin = b.ins().fadd(x, xs);
+                                let theta = b.ins().fadd(tp, asin);
+                                let ok_y = b.ins().fcmp(FloatCC::GreaterThan, y, zero);
+                                let ax = b.ins().fabs(x);
+                                let limit = k(&mut b, 0.031_25);
+                                let ok_x = b.ins().fcmp(FloatCC::LessThanOrEqual, ax, limit);
+                                let off = b.ins().fsub(theta, guess);
+                                let aoff = b.ins().fabs(off);
+                                let pi = k(&mut b, std::f64::consts::PI);
+                                let ok_ref = b.ins().fcmp(FloatCC::LessThanOrEqual, aoff, pi);
+                                ok = b.ins().band(ok, ok_y);
+                                ok = b.ins().band(ok, ok_x);
+                                ok = b.ins().band(ok, ok_ref);
+                                results.push((*at, cv, sv, theta));
+                            }
+                            b.ins().brif(ok, fast, &[], slow, &[]);
+                            b.switch_to_block(fast);
+                            for (at, cv, sv, theta) in results {
+                                for (value, to) in [
+                                    (theta, at.value),
+                                    (cv, at.trig),
+                                    (sv, at.trig + 1),
+                                    (cv, at.carried),
+                                    (sv, at.carried + 1),
+                                    (theta, at.carried + 2),
+                                ] {
+                                    b.ins().store(flags, value, fp, within(to)?);
+                                }
+                            }
+                            b.ins().jump(join, &[]);
+                            b.switch_to_block(slow);
+                            let arg = b
+                                .ins()
+                                .iconst(types::I64, i64::from_ne_bytes(general.to_ne_bytes()));
                             let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
                             let status = b.inst_results(inst)[0];
                             let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);

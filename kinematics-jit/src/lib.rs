@@ -65,7 +65,7 @@ mod fused;
 mod lower;
 
 pub use fused::{
-    Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED,
+    AngleAt, Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED,
 };
 use lower::{Imports, Lower, Sources};
 

@@ -375,3 +375,104 @@ fn small_blocks_factored_and_judged() {
     f[12] = f64::NAN;
     assert_eq!(code.call(0, &mut f, &mut h), 8);
 }
+
+#[test]
+fn rrr_dyad_in_machine_code() {
+    use kinematics_jit::AngleAt;
+    // A four-bar a = 1, b = 2, c = 2.5, d = 3 at φ = 90°: with
+    // k = (a cos φ − d, a sin φ), the loop k + b e₃ − c e₄ = 0; the
+    // coefficients as parameters 0–1 and constants.
+    let mut g = Graph::new();
+    let k0 = g.leaf(Leaf::Param(0));
+    let k1 = g.leaf(Leaf::Param(1));
+    let (b, zero, minus_c) = (g.constant(2.0), g.constant(0.0), g.constant(-2.5));
+    let coefficients = vec![k0, k1, b, zero, zero, b, minus_c, zero, zero, minus_c];
+    let angles = [
+        AngleAt {
+            value: 2,
+            trig: 8,
+            carried: 20,
+        },
+        AngleAt {
+            value: 3,
+            trig: 10,
+            carried: 23,
+        },
+    ];
+    let ops = [Op::CircleCircle {
+        coefficients,
+        mode: 12,
+        angles,
+        general: 99,
+    }];
+    let code = one(&g, &ops);
+    /// The general solution's stand-in: records the call, sets the mode
+    /// to +1 and carries the angles of the exact solution.
+    struct General(usize);
+    impl Helper for General {
+        fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
+            assert_eq!(argument, 99);
+            self.0 += 1;
+            f[12] = 1.0;
+            0
+        }
+    }
+    let (a, d) = (1.0f64, 3.0f64);
+    let loop_of = |f: &[f64], phi: f64| {
+        let (c3, s3, c4, s4) = (f[8], f[9], f[10], f[11]);
+        let k = [a * phi.cos() - d, a * phi.sin()];
+        (k[0] + 2.0 * c3 - 2.5 * c4, k[1] + 2.0 * s3 - 2.5 * s4)
+    };
+    let mut f = vec![0.0; 40];
+    for (at, v) in [
+        (20, f64::NAN),
+        (21, f64::NAN),
+        (22, f64::NAN),
+        (23, f64::NAN),
+        (24, f64::NAN),
+        (25, f64::NAN),
+    ] {
+        f[at] = v;
+    }
+    f[12] = f64::NAN;
+    let mut h = General(0);
+    // Mode not set: the general solution.
+    (f[0], f[1]) = (a * 1.5f64.cos() - d, a * 1.5f64.sin());
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(h.0, 1);
+    // Then the carried angles of a solution near φ = 1.5 (computed here
+    // by atan2) let the machine code take the next steps itself.
+    let solve_exact = |phi: f64, sigma: f64| {
+        // a cos θ₃ + b sin θ₃ + c = 0 from |k + b e₃| = c.
+        let k = [a * phi.cos() - d, a * phi.sin()];
+        let (aa, bb) = (2.0 * 2.0 * k[0], 2.0 * 2.0 * k[1]);
+        let cc = k[0] * k[0] + k[1] * k[1] + 4.0 - 6.25;
+        let r2 = aa * aa + bb * bb;
+        let root = sigma * (r2 - cc * cc).sqrt();
+        let (c3, s3) = ((-aa * cc - bb * root) / r2, (-bb * cc + aa * root) / r2);
+        let (c4, s4) = ((k[0] + 2.0 * c3) / 2.5, (k[1] + 2.0 * s3) / 2.5);
+        (s3.atan2(c3), s4.atan2(c4))
+    };
+    let (t3, t4) = solve_exact(1.5, 1.0);
+    (f[20], f[21], f[22]) = (t3.cos(), t3.sin(), t3);
+    (f[23], f[24], f[25]) = (t4.cos(), t4.sin(), t4);
+    for step in 1..=20 {
+        let phi = 1.5 + 0.01 * f64::from(step);
+        (f[0], f[1]) = (a * phi.cos() - d, a * phi.sin());
+        (f[2], f[3]) = (f[22], f[25]);
+        assert_eq!(code.call(0, &mut f, &mut h), 0);
+        let (r0, r1) = loop_of(&f, phi);
+        assert!(
+            r0.abs() < 1e-14 && r1.abs() < 1e-14,
+            "{step}: {r0:e}, {r1:e}"
+        );
+        let (e3, e4) = solve_exact(phi, 1.0);
+        assert!((f[2] - e3).abs() < 1e-13 && (f[3] - e4).abs() < 1e-13);
+        assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
+    }
+    assert_eq!(h.0, 1, "every step after the first in the machine code");
+    // Past the limit (no real solution): the general solution decides.
+    (f[0], f[1]) = (-10.0, 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(h.0, 2);
+}

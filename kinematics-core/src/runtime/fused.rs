@@ -33,7 +33,9 @@ use std::sync::OnceLock;
 
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
-use kinematics_jit::{Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow};
+use kinematics_jit::{
+    AngleAt, Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow,
+};
 
 use super::closed::Form;
 use super::invariant::hoist;
@@ -286,13 +288,32 @@ impl Plan {
                 fresh: DRIVER_TRIG + j as u64,
             })
             .collect();
-        for (i, b) in blocks.iter().enumerate() {
+        for (i, (b, part)) in blocks.iter().zip(&parts).enumerate() {
+            let roots = h.map_all(&b.coefficients);
             assembly.push(Op::Store {
-                roots: h.map_all(&b.coefficients),
+                roots: roots.clone(),
                 at: (coef..coef + b.coefficients.len()).collect(),
                 finite: None,
             });
-            assembly.push(Op::Call(BLOCK + i as u64));
+            // The RRR dyad in the machine code (the helper where its mode
+            // is not set yet or off the common path); the other forms
+            // through the helper.
+            match (part.form, part.mode) {
+                (Form::Rrr, Some(slot)) if roots.len() == 10 => {
+                    let angle = |j: usize| AngleAt {
+                        value: q + j,
+                        trig: trig + 2 * j,
+                        carried: carry + 3 * j,
+                    };
+                    assembly.push(Op::CircleCircle {
+                        coefficients: roots,
+                        mode: modes + slot,
+                        angles: [angle(part.coords[0]), angle(part.coords[1])],
+                        general: BLOCK + i as u64,
+                    });
+                }
+                _ => assembly.push(Op::Call(BLOCK + i as u64)),
+            }
         }
         let phi = h.map_all(&phi);
         assembly.push(Op::MaxScaled {
@@ -578,26 +599,31 @@ impl Plan {
     }
 
     /// The layout of the buffer.
+    #[inline]
     pub(super) fn layout(&self) -> Layout {
         self.layout
     }
 
     /// Where the modes, the outputs, the conditioning, the sign and the
     /// reported residual lie, and how many modes and outputs there are.
+    #[inline]
     pub(super) fn modes_at(&self) -> (usize, usize) {
         (self.modes, self.mode_count)
     }
 
+    #[inline]
     pub(super) fn outputs_at(&self) -> (usize, usize) {
         (self.out, self.outputs)
     }
 
     /// Where the points' positions of [`Plan::pose`] lie, and how many
     /// values they are.
+    #[inline]
     pub(super) fn positions_at(&self) -> (usize, usize) {
         (self.positions, self.position_count)
     }
 
+    #[inline]
     pub(super) fn results_at(&self) -> [usize; 3] {
         [self.conditioning, self.sign, self.residual]
     }

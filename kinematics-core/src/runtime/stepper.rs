@@ -199,8 +199,7 @@ impl Stepper<'_> {
         accelerations: &[f64],
     ) -> Result<(), Error> {
         let m = self.m;
-        self.assembled = false;
-        self.pending = false;
+        self.forget();
         m.check_inputs(start, rates, accelerations)?;
         if self.fused_step(start, rates, accelerations) {
             self.pending = true;
@@ -286,7 +285,7 @@ impl Stepper<'_> {
     /// not judged.
     pub fn pose(&mut self, start: &[f64]) -> Result<&[f64], Error> {
         let m = self.m;
-        self.assembled = false;
+        self.forget();
         m.check_pose(start)?;
         if !self.fused_pose(start) {
             self.assemble(start)?;
@@ -307,7 +306,7 @@ impl Stepper<'_> {
         let d = m.point_dim;
         m.length("point positions", m.points.len() * d, out.len())?;
         if let (Some(run), Some(plan)) = (self.fused.as_ref(), m.fused.as_deref()) {
-            if run.positions && self.assembled {
+            if run.positions {
                 let (at, len) = plan.positions_at();
                 copy_small(out, &run.f[at..at + len]);
                 return Ok(());
@@ -378,9 +377,9 @@ impl Stepper<'_> {
         Some(f)
     }
 
-    /// After a fused assembly: the stepper's pose, modes and cosines and
-    /// sines from the buffer; `positions` says whether the buffer holds
-    /// the points' positions there.
+    /// After a fused assembly: the stepper's pose and modes from the
+    /// buffer; `positions` says whether the buffer holds the points'
+    /// positions there.
     fn fused_pose_taken(&mut self, plan: &super::fused::Plan, positions: bool) {
         let Some(run) = self.fused.as_mut() else {
             return;
@@ -390,17 +389,24 @@ impl Stepper<'_> {
         let f = &run.f;
         copy_small(&mut self.modes, &f[modes_at..modes_at + k]);
         copy_small(&mut self.q, &f[at.q..at.q + n]);
-        self.work.trig.copy_from_slice(&f[at.trig..at.trig + 2 * n]);
         run.positions = positions;
-        self.assembled = true;
+        // The cosines and sines are in the buffer, not in the work: the
+        // positions of a step are evaluated afresh when asked for.
+        self.assembled = false;
+    }
+
+    /// Forgets what the last step or pose left (until this one succeeds).
+    fn forget(&mut self) {
+        self.assembled = false;
+        self.pending = false;
+        if let Some(run) = self.fused.as_mut() {
+            run.positions = false;
+        }
     }
 
     /// Assembles `start` (already checked) into the stepper's pose, in its
     /// modes; records whether it assembled.
     fn assemble(&mut self, start: &[f64]) -> Result<(), Error> {
-        if let Some(run) = self.fused.as_mut() {
-            run.positions = false;
-        }
         self.q.copy_from_slice(start);
         self.m.assemble_into(
             &mut self.q,
