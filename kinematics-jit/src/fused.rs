@@ -154,6 +154,20 @@ pub enum Op {
         /// The helper's argument for the general solution.
         general: u64,
     },
+    /// a cos θ + b sin θ + c = 0 in the mode `f[mode]`, as
+    /// `kinematics_core::closed::angle` solves it, the angle taken from
+    /// its carried value as in [`Op::CircleCircle`], with the same
+    /// fallback to the helper.
+    ClosedAngle {
+        /// a, b, c.
+        coefficients: Vec<Id>,
+        /// Where the mode lies.
+        mode: usize,
+        /// The angle.
+        angle: AngleAt,
+        /// The helper's argument for the general solution.
+        general: u64,
+    },
     /// Unless `f[at] <= f[bound]` (false for a NaN), the function returns
     /// `status`.
     AtMost {
@@ -580,174 +594,90 @@ impl Fused {
                             let (k0, k1) = (v(k0)?, v(k1)?);
                             let (p00, p01, p10, p11) = (v(p00)?, v(p01)?, v(p10)?, v(p11)?);
                             let (q00, q01, q10, q11) = (v(q00)?, v(q01)?, v(q10)?, v(q11)?);
-                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                            };
-                            let k = |b: &mut FunctionBuilder<'_>, x: f64| b.ins().f64const(x);
-                            let sigma = load(&mut b, *mode)?;
-                            let (fast, slow, join) =
-                                (b.create_block(), b.create_block(), b.create_block());
-                            let unset = b.ins().fcmp(FloatCC::Unordered, sigma, sigma);
-                            let decide = b.create_block();
-                            b.ins().brif(unset, slow, &[], decide, &[]);
-                            b.switch_to_block(decide);
-                            // The coefficients of a cos θ₀ + b sin θ₀ + c = 0.
+                            let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
                             let mul = |b: &mut FunctionBuilder<'_>, x, y| b.ins().fmul(x, y);
-                            let x0 = mul(&mut b, p00, p00);
-                            let x1 = mul(&mut b, p10, p10);
-                            let p2 = b.ins().fadd(x0, x1);
-                            let x0 = mul(&mut b, q00, q00);
-                            let x1 = mul(&mut b, q10, q10);
-                            let q2 = b.ins().fadd(x0, x1);
-                            let two = k(&mut b, 2.0);
-                            let x0 = mul(&mut b, p00, k0);
-                            let x1 = mul(&mut b, p10, k1);
-                            let x = b.ins().fadd(x0, x1);
+                            let dot = |b: &mut FunctionBuilder<'_>, x0, y0, x1, y1| {
+                                let p = mul(b, x0, y0);
+                                let q = mul(b, x1, y1);
+                                b.ins().fadd(p, q)
+                            };
+                            // a cos θ₀ + b sin θ₀ + c = 0, from |k + P e₀| = q.
+                            let p2 = dot(&mut b, p00, p00, p10, p10);
+                            let q2 = dot(&mut b, q00, q00, q10, q10);
+                            let two = b.ins().f64const(2.0);
+                            let x = dot(&mut b, p00, k0, p10, k1);
                             let a = mul(&mut b, two, x);
-                            let x0 = mul(&mut b, p01, k0);
-                            let x1 = mul(&mut b, p11, k1);
-                            let x = b.ins().fadd(x0, x1);
+                            let x = dot(&mut b, p01, k0, p11, k1);
                             let bb = mul(&mut b, two, x);
-                            let x0 = mul(&mut b, k0, k0);
-                            let x1 = mul(&mut b, k1, k1);
-                            let x = b.ins().fadd(x0, x1);
+                            let x = dot(&mut b, k0, k0, k1, k1);
                             let x = b.ins().fadd(x, p2);
                             let c = b.ins().fsub(x, q2);
-                            // Δ = R² − c², 0 within 8 ε of R² + c².
-                            let x0 = mul(&mut b, a, a);
-                            let x1 = mul(&mut b, bb, bb);
-                            let r2 = b.ins().fadd(x0, x1);
-                            let cc = mul(&mut b, c, c);
-                            let d = b.ins().fsub(r2, cc);
-                            let size = b.ins().fadd(r2, cc);
-                            let eps8 = k(&mut b, 8.0 * f64::EPSILON);
-                            let tol = mul(&mut b, eps8, size);
-                            let ad = b.ins().fabs(d);
-                            let tiny = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, tol);
-                            let zero = k(&mut b, 0.0);
-                            let disc = b.ins().select(tiny, zero, d);
-                            let inf = k(&mut b, f64::INFINITY);
-                            let ok_disc = b.ins().fcmp(FloatCC::GreaterThanOrEqual, disc, zero);
-                            let ok_r2 = b.ins().fcmp(FloatCC::GreaterThan, r2, zero);
-                            let ok_fin = b.ins().fcmp(FloatCC::LessThan, r2, inf);
+                            let (c0, s0, mut ok) = angle_solution(&mut b, a, bb, c, sigma);
+                            let zero = b.ins().f64const(0.0);
                             let ok_q2 = b.ins().fcmp(FloatCC::GreaterThan, q2, zero);
-                            let ok = b.ins().band(ok_disc, ok_r2);
-                            let ok = b.ins().band(ok, ok_fin);
-                            let mut ok = b.ins().band(ok, ok_q2);
-                            let one = k(&mut b, 1.0);
-                            let inv = b.ins().fdiv(one, r2);
-                            let sq = b.ins().sqrt(disc);
-                            let root = mul(&mut b, sigma, sq);
-                            let na = b.ins().fneg(a);
-                            let x0 = mul(&mut b, na, c);
-                            let x1 = mul(&mut b, bb, root);
-                            let x = b.ins().fsub(x0, x1);
-                            let c0 = mul(&mut b, x, inv);
-                            let nb = b.ins().fneg(bb);
-                            let x0 = mul(&mut b, nb, c);
-                            let x1 = mul(&mut b, a, root);
-                            let x = b.ins().fadd(x0, x1);
-                            let s0 = mul(&mut b, x, inv);
-                            // e₁ = −Qᵀ(k + P e₀), normalised.
-                            let x0 = mul(&mut b, p00, c0);
-                            let x = b.ins().fadd(k0, x0);
-                            let x1 = mul(&mut b, p01, s0);
-                            let w0 = b.ins().fadd(x, x1);
-                            let x0 = mul(&mut b, p10, c0);
-                            let x = b.ins().fadd(k1, x0);
-                            let x1 = mul(&mut b, p11, s0);
-                            let w1 = b.ins().fadd(x, x1);
-                            let x0 = mul(&mut b, q00, w0);
-                            let x1 = mul(&mut b, q10, w1);
-                            let x = b.ins().fadd(x0, x1);
+                            ok = b.ins().band(ok, ok_q2);
+                            // e₁ = −Qᵀ(k + P e₀), normalised by one Newton
+                            // step from 1/q².
+                            let x = mul(&mut b, p00, c0);
+                            let x = b.ins().fadd(k0, x);
+                            let y = mul(&mut b, p01, s0);
+                            let w0 = b.ins().fadd(x, y);
+                            let x = mul(&mut b, p10, c0);
+                            let x = b.ins().fadd(k1, x);
+                            let y = mul(&mut b, p11, s0);
+                            let w1 = b.ins().fadd(x, y);
+                            let x = dot(&mut b, q00, w0, q10, w1);
                             let ex = b.ins().fneg(x);
-                            let x0 = mul(&mut b, q01, w0);
-                            let x1 = mul(&mut b, q11, w1);
-                            let x = b.ins().fadd(x0, x1);
+                            let x = dot(&mut b, q01, w0, q11, w1);
                             let ey = b.ins().fneg(x);
-                            let x0 = mul(&mut b, ex, ex);
-                            let x1 = mul(&mut b, ey, ey);
-                            let m = b.ins().fadd(x0, x1);
+                            let m = dot(&mut b, ex, ex, ey, ey);
+                            let one = b.ins().f64const(1.0);
                             let r0 = b.ins().fdiv(one, q2);
                             let x = mul(&mut b, m, r0);
                             let x = mul(&mut b, x, r0);
                             let delta = b.ins().fsub(x, one);
                             let adelta = b.ins().fabs(delta);
-                            let small = k(&mut b, 1e-8);
+                            let small = b.ins().f64const(1e-8);
                             let ok_unit = b.ins().fcmp(FloatCC::LessThanOrEqual, adelta, small);
                             ok = b.ins().band(ok, ok_unit);
-                            let half = k(&mut b, 0.5);
+                            let half = b.ins().f64const(0.5);
                             let x = mul(&mut b, half, r0);
                             let x = mul(&mut b, x, delta);
                             let r = b.ins().fsub(r0, x);
                             let c1 = mul(&mut b, ex, r);
                             let s1 = mul(&mut b, ey, r);
-                            // Each angle from its carried value: θ = θₚ + asin x
-                            // with x = cₚ s − sₚ c, by the series, where the
-                            // rotation is small and θ within π of the guess.
-                            let mut results = Vec::new();
-                            for (at, (cv, sv)) in angles.iter().zip([(c0, s0), (c1, s1)]) {
-                                let cp = load(&mut b, at.carried)?;
-                                let sp = load(&mut b, at.carried + 1)?;
-                                let tp = load(&mut b, at.carried + 2)?;
-                                let guess = load(&mut b, at.value)?;
-                                let x0 = mul(&mut b, cp, sv);
-                                let x1 = mul(&mut b, sp, cv);
-                                let x = b.ins().fsub(x0, x1);
-                                let y0 = mul(&mut b, cp, cv);
-                                let y1 = mul(&mut b, sp, sv);
-                                let y = b.ins().fadd(y0, y1);
-                                let x2 = mul(&mut b, x, x);
-                                let mut t = k(&mut b, 63.0 / 2816.0);
-                                for coefficient in
-                                    [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0]
-                                {
-                                    let m = mul(&mut b, x2, t);
-                                    let kk = k(&mut b, coefficient);
-                                    t = b.ins().fadd(kk, m);
-                                }
-                                let series = mul(&mut b, x2, t);
-                                let xs = mul(&mut b, x, series);
-                                let asin = b.ins().fadd(x, xs);
-                                let theta = b.ins().fadd(tp, asin);
-                                let ok_y = b.ins().fcmp(FloatCC::GreaterThan, y, zero);
-                                let ax = b.ins().fabs(x);
-                                let limit = k(&mut b, 0.031_25);
-                                let ok_x = b.ins().fcmp(FloatCC::LessThanOrEqual, ax, limit);
-                                let off = b.ins().fsub(theta, guess);
-                                let aoff = b.ins().fabs(off);
-                                let pi = k(&mut b, std::f64::consts::PI);
-                                let ok_ref = b.ins().fcmp(FloatCC::LessThanOrEqual, aoff, pi);
-                                ok = b.ins().band(ok, ok_y);
-                                ok = b.ins().band(ok, ok_x);
-                                ok = b.ins().band(ok, ok_ref);
-                                results.push((*at, cv, sv, theta));
-                            }
-                            b.ins().brif(ok, fast, &[], slow, &[]);
-                            b.switch_to_block(fast);
-                            for (at, cv, sv, theta) in results {
-                                for (value, to) in [
-                                    (theta, at.value),
-                                    (cv, at.trig),
-                                    (sv, at.trig + 1),
-                                    (cv, at.carried),
-                                    (sv, at.carried + 1),
-                                    (theta, at.carried + 2),
-                                ] {
-                                    b.ins().store(flags, value, fp, within(to)?);
-                                }
-                            }
-                            b.ins().jump(join, &[]);
-                            b.switch_to_block(slow);
-                            let arg = b
-                                .ins()
-                                .iconst(types::I64, i64::from_ne_bytes(general.to_ne_bytes()));
-                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
-                            let status = b.inst_results(inst)[0];
-                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
-                            b.ins()
-                                .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
-                            b.switch_to_block(join);
+                            let solved = [(angles[0], c0, s0), (angles[1], c1, s1)];
+                            store_or_general(
+                                &mut b,
+                                (fp, cp, helper_ref, exit),
+                                &within,
+                                ok,
+                                &solved,
+                                *general,
+                            )?;
+                        }
+                        Op::ClosedAngle {
+                            coefficients,
+                            mode,
+                            angle,
+                            general,
+                        } => {
+                            let [a, bb, c] = coefficients.as_slice().try_into().map_err(|_| {
+                                JitError::Codegen("an angle equation has three coefficients".into())
+                            })?;
+                            lower.emit(&mut b, &sources, &imports, coefficients)?;
+                            let mut v = |id| lower.value(&mut b, &sources, &imports, id);
+                            let (a, bb, c) = (v(a)?, v(bb)?, v(c)?);
+                            let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
+                            let (c0, s0, ok) = angle_solution(&mut b, a, bb, c, sigma);
+                            store_or_general(
+                                &mut b,
+                                (fp, cp, helper_ref, exit),
+                                &within,
+                                ok,
+                                &[(*angle, c0, s0)],
+                                *general,
+                            )?;
                         }
                         Op::AtMost { at, bound, status } => {
                             let x = b.ins().load(types::F64, flags, fp, within(*at)?);
@@ -771,12 +701,15 @@ impl Fused {
                                 Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
                             };
                             let thr = load(&mut b, *threshold)?;
+                            let zero_i = b.ins().iconst(types::I8, 0);
                             let inf = b.ins().f64const(f64::INFINITY);
                             let one = b.ins().f64const(1.0);
                             let zero = b.ins().f64const(0.0);
                             let mut least = if blocks.is_empty() { one } else { inf };
                             let mut product = b.ins().f64const(if *odd { -1.0 } else { 1.0 });
-                            let singular = b.ins().iconst(types::I64, *singular);
+                            // Every block's regularity, tested once after them all
+                            // (one branch for the op).
+                            let mut regular_all = b.ins().icmp_imm(IntCC::Equal, zero_i, 0);
                             for block in blocks {
                                 let mut a = Vec::with_capacity(block.entries.len());
                                 for &(root, row, col) in &block.entries {
@@ -802,8 +735,7 @@ impl Fused {
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
                                         let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
                                         let regular = b.ins().band(above, finite);
-                                        let failed = b.ins().icmp_imm(IntCC::Equal, regular, 0);
-                                        bail(&mut b, failed, singular);
+                                        regular_all = b.ins().band(regular_all, regular);
                                         let inv = b.ins().fdiv(one, *a00);
                                         b.ins().store(flags, inv, fp, within(block.inverse)?);
                                         (p0, signum(&mut b, *a00))
@@ -816,15 +748,13 @@ impl Fused {
                                         let m1 = b.ins().fmul(*a01, *a10);
                                         let det = b.ins().fsub(m0, m1);
                                         let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
-                                        let failed = b.ins().icmp_imm(IntCC::Equal, first, 0);
-                                        bail(&mut b, failed, singular);
+                                        regular_all = b.ins().band(regular_all, first);
                                         let ad = b.ins().fabs(det);
                                         let tp = b.ins().fmul(thr, p0);
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
                                         let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
                                         let regular = b.ins().band(above, finite);
-                                        let failed = b.ins().icmp_imm(IntCC::Equal, regular, 0);
-                                        bail(&mut b, failed, singular);
+                                        regular_all = b.ins().band(regular_all, regular);
                                         let inv = b.ins().fdiv(one, det);
                                         let n01 = b.ins().fneg(*a01);
                                         let n10 = b.ins().fneg(*a10);
@@ -851,8 +781,7 @@ impl Fused {
                                         let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
                                         let c = b.ins().select(finite, c, zero);
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
-                                        let failed = b.ins().icmp_imm(IntCC::Equal, above, 0);
-                                        bail(&mut b, failed, singular);
+                                        regular_all = b.ins().band(regular_all, above);
                                         (c, signum(&mut b, det))
                                     }
                                     _ => {
@@ -865,6 +794,9 @@ impl Fused {
                                 least = b.ins().select(smaller, c, least);
                                 product = b.ins().fmul(product, s);
                             }
+                            let failed = b.ins().icmp_imm(IntCC::Equal, regular_all, 0);
+                            let singular = b.ins().iconst(types::I64, *singular);
+                            bail(&mut b, failed, singular);
                             let wanted = load(&mut b, *branch)?;
                             let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
                             let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
@@ -955,6 +887,151 @@ impl Fused {
             )
         }
     }
+}
+
+/// (cos θ, sin θ) solving a cos θ + b sin θ + c = 0 in the mode σ (as
+/// `kinematics_core::closed::angle` computes them: R² = a² + b²,
+/// Δ = R² − c², 0 within 8 ε of R² + c², cos θ = (−a c − σ b √Δ)/R²,
+/// sin θ = (−b c + σ a √Δ)/R²), and whether Δ ≥ 0 and 0 < R² < ∞ (false
+/// for a NaN σ, whose values are NaN).
+fn angle_solution(
+    b: &mut FunctionBuilder<'_>,
+    a: cranelift_codegen::ir::Value,
+    bb: cranelift_codegen::ir::Value,
+    c: cranelift_codegen::ir::Value,
+    sigma: cranelift_codegen::ir::Value,
+) -> (
+    cranelift_codegen::ir::Value,
+    cranelift_codegen::ir::Value,
+    cranelift_codegen::ir::Value,
+) {
+    let x0 = b.ins().fmul(a, a);
+    let x1 = b.ins().fmul(bb, bb);
+    let r2 = b.ins().fadd(x0, x1);
+    let cc = b.ins().fmul(c, c);
+    let d = b.ins().fsub(r2, cc);
+    let size = b.ins().fadd(r2, cc);
+    let eps8 = b.ins().f64const(8.0 * f64::EPSILON);
+    let tol = b.ins().fmul(eps8, size);
+    let ad = b.ins().fabs(d);
+    let tiny = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, tol);
+    let zero = b.ins().f64const(0.0);
+    let disc = b.ins().select(tiny, zero, d);
+    let inf = b.ins().f64const(f64::INFINITY);
+    let ok_disc = b.ins().fcmp(FloatCC::GreaterThanOrEqual, disc, zero);
+    let ok_r2 = b.ins().fcmp(FloatCC::GreaterThan, r2, zero);
+    let ok_fin = b.ins().fcmp(FloatCC::LessThan, r2, inf);
+    let same = b.ins().fcmp(FloatCC::Equal, sigma, sigma);
+    let ok = b.ins().band(ok_disc, ok_r2);
+    let ok = b.ins().band(ok, ok_fin);
+    let ok = b.ins().band(ok, same);
+    let one = b.ins().f64const(1.0);
+    let inv = b.ins().fdiv(one, r2);
+    let sq = b.ins().sqrt(disc);
+    let root = b.ins().fmul(sigma, sq);
+    let na = b.ins().fneg(a);
+    let x0 = b.ins().fmul(na, c);
+    let x1 = b.ins().fmul(bb, root);
+    let x = b.ins().fsub(x0, x1);
+    let cos = b.ins().fmul(x, inv);
+    let nb = b.ins().fneg(bb);
+    let x0 = b.ins().fmul(nb, c);
+    let x1 = b.ins().fmul(a, root);
+    let x = b.ins().fadd(x0, x1);
+    let sin = b.ins().fmul(x, inv);
+    (cos, sin, ok)
+}
+
+/// Each solved angle from its carried value, θ = θₚ + asin x with
+/// x = cₚ s − sₚ c by its series (as `kinematics_core::closed::
+/// near_carried` takes it), where the rotation is small (cos of it
+/// positive, |x| ≤ 1/32) and θ within π of the guess; where `ok` and these
+/// hold for every angle, each angle, its cosine and sine are written and
+/// carried, else the helper is called with `general` (the guesses and
+/// carried values untouched), returning its status unless 0.
+fn store_or_general(
+    b: &mut FunctionBuilder<'_>,
+    (fp, cp, helper, exit): (
+        cranelift_codegen::ir::Value,
+        cranelift_codegen::ir::Value,
+        cranelift_codegen::ir::FuncRef,
+        cranelift_codegen::ir::Block,
+    ),
+    within: &dyn Fn(usize) -> Result<i32, JitError>,
+    mut ok: cranelift_codegen::ir::Value,
+    solved: &[(
+        AngleAt,
+        cranelift_codegen::ir::Value,
+        cranelift_codegen::ir::Value,
+    )],
+    general: u64,
+) -> Result<(), JitError> {
+    let flags = MemFlags::trusted();
+    let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
+    let mut results = Vec::with_capacity(solved.len());
+    for &(at, cv, sv) in solved {
+        let cpv = b.ins().load(types::F64, flags, fp, within(at.carried)?);
+        let spv = b.ins().load(types::F64, flags, fp, within(at.carried + 1)?);
+        let tp = b.ins().load(types::F64, flags, fp, within(at.carried + 2)?);
+        let guess = b.ins().load(types::F64, flags, fp, within(at.value)?);
+        let x0 = b.ins().fmul(cpv, sv);
+        let x1 = b.ins().fmul(spv, cv);
+        let x = b.ins().fsub(x0, x1);
+        let y0 = b.ins().fmul(cpv, cv);
+        let y1 = b.ins().fmul(spv, sv);
+        let y = b.ins().fadd(y0, y1);
+        let x2 = b.ins().fmul(x, x);
+        // asin x = x + x³/6 + 3x⁵/40 + 5x⁷/112 + 35x⁹/1152 + 63x¹¹/2816.
+        let mut t = b.ins().f64const(63.0 / 2816.0);
+        for coefficient in [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0] {
+            let m = b.ins().fmul(x2, t);
+            let k = b.ins().f64const(coefficient);
+            t = b.ins().fadd(k, m);
+        }
+        let series = b.ins().fmul(x2, t);
+        let xs = b.ins().fmul(x, series);
+        let asin = b.ins().fadd(x, xs);
+        let theta = b.ins().fadd(tp, asin);
+        let zero = b.ins().f64const(0.0);
+        let ok_y = b.ins().fcmp(FloatCC::GreaterThan, y, zero);
+        let ax = b.ins().fabs(x);
+        let limit = b.ins().f64const(0.031_25);
+        let ok_x = b.ins().fcmp(FloatCC::LessThanOrEqual, ax, limit);
+        let off = b.ins().fsub(theta, guess);
+        let aoff = b.ins().fabs(off);
+        let pi = b.ins().f64const(std::f64::consts::PI);
+        let ok_ref = b.ins().fcmp(FloatCC::LessThanOrEqual, aoff, pi);
+        ok = b.ins().band(ok, ok_y);
+        ok = b.ins().band(ok, ok_x);
+        ok = b.ins().band(ok, ok_ref);
+        results.push((at, cv, sv, theta));
+    }
+    b.ins().brif(ok, fast, &[], slow, &[]);
+    b.switch_to_block(fast);
+    for (at, cv, sv, theta) in results {
+        for (value, to) in [
+            (theta, at.value),
+            (cv, at.trig),
+            (sv, at.trig + 1),
+            (cv, at.carried),
+            (sv, at.carried + 1),
+            (theta, at.carried + 2),
+        ] {
+            b.ins().store(flags, value, fp, within(to)?);
+        }
+    }
+    b.ins().jump(join, &[]);
+    b.switch_to_block(slow);
+    let arg = b
+        .ins()
+        .iconst(types::I64, i64::from_ne_bytes(general.to_ne_bytes()));
+    let inst = b.ins().call(helper, &[fp, cp, arg]);
+    let status = b.inst_results(inst)[0];
+    let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+    b.ins()
+        .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
+    b.switch_to_block(join);
+    Ok(())
 }
 
 /// A flag set when one of `values` is not finite (`None` for none): x·0

@@ -406,13 +406,16 @@ fn rrr_dyad_in_machine_code() {
         general: 99,
     }];
     let code = one(&g, &ops);
-    /// The general solution's stand-in: records the call, sets the mode
-    /// to +1 and carries the angles of the exact solution.
-    struct General(usize);
+    /// The general solution's stand-in: records the call and the guesses
+    /// and carried values it is handed (which the machine code must not
+    /// have touched), and sets the mode to +1.
+    struct General(usize, Vec<[f64; 8]>);
     impl Helper for General {
         fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
             assert_eq!(argument, 99);
             self.0 += 1;
+            self.1
+                .push([f[2], f[3], f[20], f[21], f[22], f[23], f[24], f[25]]);
             f[12] = 1.0;
             0
         }
@@ -435,11 +438,14 @@ fn rrr_dyad_in_machine_code() {
         f[at] = v;
     }
     f[12] = f64::NAN;
-    let mut h = General(0);
-    // Mode not set: the general solution.
+    let mut h = General(0, Vec::new());
+    // Mode not set: the general solution, handed the guesses untouched.
     (f[0], f[1]) = (a * 1.5f64.cos() - d, a * 1.5f64.sin());
+    (f[2], f[3]) = (1.0, 2.0);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.0, 1);
+    assert_eq!(h.1[0][..2], [1.0, 2.0]);
+    assert!(h.1[0][2..].iter().all(|v| v.is_nan()));
     // Then the carried angles of a solution near φ = 1.5 (computed here
     // by atan2) let the machine code take the next steps itself.
     let solve_exact = |phi: f64, sigma: f64| {
@@ -471,8 +477,58 @@ fn rrr_dyad_in_machine_code() {
         assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
     }
     assert_eq!(h.0, 1, "every step after the first in the machine code");
-    // Past the limit (no real solution): the general solution decides.
+    // Past the limit (no real solution): the general solution decides,
+    // from the guesses and carried values as they were.
+    let before = [f[22], f[25], f[20], f[21], f[22], f[23], f[24], f[25]];
     (f[0], f[1]) = (-10.0, 0.0);
+    (f[2], f[3]) = (f[22], f[25]);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.0, 2);
+    assert_eq!(h.1[1], before);
+}
+
+#[test]
+fn angle_equation_in_machine_code() {
+    use kinematics_jit::AngleAt;
+    // a cos θ + b sin θ + c = 0 with (a, b) = (3 cos t, 3 sin t), c = −2,
+    // the coefficients as parameters 0–1 and a constant.
+    let mut g = Graph::new();
+    let a = g.leaf(Leaf::Param(0));
+    let b = g.leaf(Leaf::Param(1));
+    let c = g.constant(-2.0);
+    let ops = [Op::ClosedAngle {
+        coefficients: vec![a, b, c],
+        mode: 12,
+        angle: AngleAt {
+            value: 2,
+            trig: 8,
+            carried: 20,
+        },
+        general: 7,
+    }];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 42,
+    };
+    // θ = t + acos(2/3) (mode +1 takes the root with the + sign).
+    let exact = |t: f64| t + (2.0f64 / 3.0).acos();
+    let mut f = vec![0.0; 40];
+    let t0 = 0.2f64;
+    let th = exact(t0);
+    (f[20], f[21], f[22], f[12]) = (th.cos(), th.sin(), th, 1.0);
+    for step in 1..=10 {
+        let t = t0 + 0.01 * f64::from(step);
+        (f[0], f[1], f[2]) = (3.0 * t.cos(), 3.0 * t.sin(), f[22]);
+        assert_eq!(code.call(0, &mut f, &mut h), 0);
+        let r = f[0] * f[8] + f[1] * f[9] - 2.0;
+        assert!(r.abs() < 1e-15, "{step}: {r:e}");
+        assert!((f[2] - exact(t)).abs() < 1e-14, "{step}");
+    }
+    assert!(h.calls.is_empty());
+    // No real solution (|c| > R): the helper, with the guess untouched.
+    (f[0], f[1], f[2]) = (1.0, 0.0, 5.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 42);
+    assert_eq!(h.calls, [7]);
+    assert_eq!(f[2], 5.0);
 }

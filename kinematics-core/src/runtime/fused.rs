@@ -288,6 +288,11 @@ impl Plan {
                 fresh: DRIVER_TRIG + j as u64,
             })
             .collect();
+        // The dyads and the small blocks' factors are written into the
+        // machine code for models of up to 16 blocks; beyond, through the
+        // helper (each inline dyad and factor adds branches, and the time
+        // to compile a function grows faster than its branches).
+        let inline = blocks.len() <= 16;
         for (i, (b, part)) in blocks.iter().zip(&parts).enumerate() {
             let roots = h.map_all(&b.coefficients);
             assembly.push(Op::Store {
@@ -295,11 +300,11 @@ impl Plan {
                 at: (coef..coef + b.coefficients.len()).collect(),
                 finite: None,
             });
-            // The RRR dyad in the machine code (the helper where its mode
-            // is not set yet or off the common path); the other forms
-            // through the helper.
+            // The RRR dyad and the angle equation in the machine code (the
+            // helper where the mode is not set yet or off the common
+            // path); the other forms through the helper.
             match (part.form, part.mode) {
-                (Form::Rrr, Some(slot)) if roots.len() == 10 => {
+                (Form::Rrr, Some(slot)) if roots.len() == 10 && inline => {
                     let angle = |j: usize| AngleAt {
                         value: q + j,
                         trig: trig + 2 * j,
@@ -309,6 +314,19 @@ impl Plan {
                         coefficients: roots,
                         mode: modes + slot,
                         angles: [angle(part.coords[0]), angle(part.coords[1])],
+                        general: BLOCK + i as u64,
+                    });
+                }
+                (Form::Angle, Some(slot)) if roots.len() == 3 && inline => {
+                    let j = part.coords[0];
+                    assembly.push(Op::ClosedAngle {
+                        coefficients: roots,
+                        mode: modes + slot,
+                        angle: AngleAt {
+                            value: q + j,
+                            trig: trig + 2 * j,
+                            carried: carry + 3 * j,
+                        },
                         general: BLOCK + i as u64,
                     });
                 }
@@ -346,7 +364,7 @@ impl Plan {
             at: slots,
             finite: None,
         });
-        if blocks.iter().all(|b| b.unknowns.len() <= 2) {
+        if inline && blocks.iter().all(|b| b.unknowns.len() <= 2) {
             // The closing check and the small blocks' factors in the
             // machine code itself.
             step.push(Op::AtMost {
