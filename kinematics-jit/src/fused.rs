@@ -569,15 +569,7 @@ impl Fused {
                             }
                             b.ins().jump(join, &[]);
                             b.switch_to_block(computed);
-                            let arg = b
-                                .ins()
-                                .iconst(types::I64, i64::from_ne_bytes(fresh.to_ne_bytes()));
-                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
-                            let status = b.inst_results(inst)[0];
-                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
-                            b.ins()
-                                .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
-                            b.switch_to_block(join);
+                            call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, join);
                         }
                         Op::CircleCircle {
                             coefficients,
@@ -1022,16 +1014,32 @@ fn store_or_general(
     }
     b.ins().jump(join, &[]);
     b.switch_to_block(slow);
+    call_helper(b, (fp, cp, helper, exit), general, join);
+    Ok(())
+}
+
+/// Calls the helper with `argument`, then goes on at `join` when it
+/// returns 0, else returns its status (through `exit`).
+fn call_helper(
+    b: &mut FunctionBuilder<'_>,
+    (fp, cp, helper, exit): (
+        cranelift_codegen::ir::Value,
+        cranelift_codegen::ir::Value,
+        cranelift_codegen::ir::FuncRef,
+        cranelift_codegen::ir::Block,
+    ),
+    argument: u64,
+    join: cranelift_codegen::ir::Block,
+) {
     let arg = b
         .ins()
-        .iconst(types::I64, i64::from_ne_bytes(general.to_ne_bytes()));
+        .iconst(types::I64, i64::from_ne_bytes(argument.to_ne_bytes()));
     let inst = b.ins().call(helper, &[fp, cp, arg]);
     let status = b.inst_results(inst)[0];
     let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
     b.ins()
         .brif(failed, exit, &[BlockArg::Value(status)], join, &[]);
     b.switch_to_block(join);
-    Ok(())
 }
 
 /// A flag set when one of `values` is not finite (`None` for none): x·0

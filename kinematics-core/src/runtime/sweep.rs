@@ -299,11 +299,7 @@ impl SweepBuilder<'_> {
     /// for callers that copy the samples into arrays of their own.
     pub fn for_each_flat(self, f: impl FnMut(f64, &Flat<'_>)) -> SweepEnd {
         let m = self.m;
-        self.drive(Flats {
-            f,
-            m,
-            outputs: Vec::new(),
-        })
+        self.drive(Flats::new(m, f))
     }
 
     /// The sweep, its samples handed to `sink`.
@@ -544,11 +540,7 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
     /// ([`Flat`]), as [`SweepBuilder::for_each_flat`] does.
     pub fn for_each_flat(self, f: impl FnMut(f64, &Flat<'_>)) -> SweepEnd {
         let m = self.m;
-        self.drive(Flats {
-            f,
-            m,
-            outputs: Vec::new(),
-        })
+        self.drive(Flats::new(m, f))
     }
 
     /// The simulation, its samples handed to `sink`.
@@ -824,6 +816,16 @@ struct Flats<'m, F> {
     f: F,
     m: &'m Model,
     outputs: Vec<f64>,
+}
+
+impl<'m, F> Flats<'m, F> {
+    fn new(m: &'m Model, f: F) -> Self {
+        Flats {
+            f,
+            m,
+            outputs: Vec::new(),
+        }
+    }
 }
 
 impl<F: FnMut(f64, &Flat<'_>)> Sink for Flats<'_, F> {
