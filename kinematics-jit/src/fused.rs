@@ -397,6 +397,10 @@ impl Fused {
                         .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
                     b.switch_to_block(next);
                 };
+                // A value of the buffer.
+                let load = |b: &mut FunctionBuilder<'_>, at: usize| {
+                    Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
+                };
                 for op in ops {
                     match op {
                         Op::Store { roots, at, finite } => {
@@ -449,9 +453,6 @@ impl Fused {
                                 usize,
                                 cranelift_codegen::ir::Value,
                             > = std::collections::HashMap::new();
-                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                            };
                             for block in blocks {
                                 let mut ys = Vec::with_capacity(block.rows.len());
                                 for row in &block.rows {
@@ -509,9 +510,6 @@ impl Fused {
                             to,
                             fresh,
                         } => {
-                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                            };
                             let x = load(&mut b, *value)?;
                             let c0 = load(&mut b, *carried)?;
                             let s0 = load(&mut b, carried + 1)?;
@@ -526,29 +524,18 @@ impl Fused {
                             b.switch_to_block(series);
                             let d2 = b.ins().fmul(d, d);
                             // sin Δ = Δ − Δ·Δ²·(1/6 − Δ²·(1/120 − Δ²·(1/5040))).
-                            let k = |b: &mut FunctionBuilder<'_>, v: f64| b.ins().f64const(v);
-                            let t = k(&mut b, 1.0 / 5040.0);
-                            let t = b.ins().fmul(d2, t);
-                            let c120 = k(&mut b, 1.0 / 120.0);
-                            let t = b.ins().fsub(c120, t);
-                            let t = b.ins().fmul(d2, t);
-                            let c6 = k(&mut b, 1.0 / 6.0);
-                            let t = b.ins().fsub(c6, t);
+                            let inner =
+                                alternating(&mut b, d2, &[1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0]);
                             let dd2 = b.ins().fmul(d, d2);
-                            let t = b.ins().fmul(dd2, t);
+                            let t = b.ins().fmul(dd2, inner);
                             let sin = b.ins().fsub(d, t);
                             // 1 − cos Δ = Δ²·(1/2 − Δ²·(1/24 − Δ²·(1/720 − Δ²·(1/40320)))).
-                            let t = k(&mut b, 1.0 / 40320.0);
-                            let t = b.ins().fmul(d2, t);
-                            let c720 = k(&mut b, 1.0 / 720.0);
-                            let t = b.ins().fsub(c720, t);
-                            let t = b.ins().fmul(d2, t);
-                            let c24 = k(&mut b, 1.0 / 24.0);
-                            let t = b.ins().fsub(c24, t);
-                            let t = b.ins().fmul(d2, t);
-                            let half = k(&mut b, 0.5);
-                            let t = b.ins().fsub(half, t);
-                            let vers = b.ins().fmul(d2, t);
+                            let inner = alternating(
+                                &mut b,
+                                d2,
+                                &[0.5, 1.0 / 24.0, 1.0 / 720.0, 1.0 / 40320.0],
+                            );
+                            let vers = b.ins().fmul(d2, inner);
                             // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
                             let a = b.ins().fmul(c0, vers);
                             let bb = b.ins().fmul(s0, sin);
@@ -689,9 +676,6 @@ impl Fused {
                             singular,
                             wrong_branch,
                         } => {
-                            let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                                Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                            };
                             let thr = load(&mut b, *threshold)?;
                             let zero_i = b.ins().iconst(types::I8, 0);
                             let inf = b.ins().f64const(f64::INFINITY);
@@ -1016,6 +1000,23 @@ fn store_or_general(
     b.switch_to_block(slow);
     call_helper(b, (fp, cp, helper, exit), general, join);
     Ok(())
+}
+
+/// c₀ − x·(c₁ − x·(c₂ − …)) for the constants `c`, innermost first
+/// evaluated (as a series with alternating signs is written).
+fn alternating(
+    b: &mut FunctionBuilder<'_>,
+    x: cranelift_codegen::ir::Value,
+    c: &[f64],
+) -> cranelift_codegen::ir::Value {
+    let mut rest = c.iter().rev();
+    let mut t = b.ins().f64const(rest.next().copied().unwrap_or(0.0));
+    for &k in rest {
+        let m = b.ins().fmul(x, t);
+        let k = b.ins().f64const(k);
+        t = b.ins().fsub(k, m);
+    }
+    t
 }
 
 /// Calls the helper with `argument`, then goes on at `join` when it
