@@ -162,7 +162,7 @@ impl Plan {
     /// The fused step of `c`, or `None` where it does not apply (a block
     /// solved by Newton–Raphson, a diagonal block of more than four
     /// unknowns, or blocks not in the order of a forward substitution).
-    pub(super) fn new(c: &Compiled, program_trig: &[usize]) -> Option<Self> {
+    pub(super) fn new(c: &Compiled) -> Option<Self> {
         let (nd, nu) = (c.drivers(), c.unknowns());
         let n = nd + nu;
         let np = c.parameters().len() + 1;
@@ -275,7 +275,9 @@ impl Plan {
             len: at.0,
         };
         let length_at = params + np - 1;
-        let driver_trig: Vec<usize> = program_trig.iter().copied().filter(|&j| j < nd).collect();
+        // The drivers whose cosine and sine the rewritten graph reads (the
+        // addition theorem reads some that no stage of the program does).
+        let driver_trig = h.trig_read(&all_roots, nd);
 
         // The assembly, shared by both functions: the drivers' cosines
         // and sines, each block from its coefficients, the residual.

@@ -32,6 +32,25 @@ impl Hoisted {
         self.map.get(id.index()).copied().unwrap_or(id)
     }
 
+    /// The coordinates below `below` whose cosine or sine the rewritten
+    /// graph reads for the original roots `roots`, ascending.
+    pub(super) fn trig_read(&self, roots: &[Id], below: usize) -> Vec<usize> {
+        let live = self.graph.reachable(&self.map_all(roots));
+        let mut read: Vec<usize> = (0..self.graph.len())
+            .filter(|&i| live[i])
+            .filter_map(|i| match self.graph.node(Id::from_index(i)) {
+                Node::Call(Func::Sin | Func::Cos, x) => match self.graph.node(x) {
+                    Node::Leaf(Leaf::Q(j)) if (j as usize) < below => Some(j as usize),
+                    _ => None,
+                },
+                _ => None,
+            })
+            .collect();
+        read.sort_unstable();
+        read.dedup();
+        read
+    }
+
     /// [`Hoisted::map`] of each of `ids`.
     pub(super) fn map_all(&self, ids: &[Id]) -> Vec<Id> {
         ids.iter().map(|&id| self.map(id)).collect()

@@ -216,7 +216,7 @@ impl Model {
     pub fn compile(text: &str) -> Result<Self, CompileError> {
         let c = compile_str(text).map_err(CompileError::Definition)?;
         let program = Program::for_model(&c).map_err(CompileError::Native)?;
-        let fused = fused::Plan::new(&c, program.trig_coordinates()).map(Arc::new);
+        let fused = fused::Plan::new(&c).map(Arc::new);
         let drivers = c.drivers();
         let coordinates = c
             .coordinates()
