@@ -53,6 +53,52 @@ impl Form {
     pub(super) fn has_modes(self) -> bool {
         !matches!(self, Self::Linear | Self::Trt)
     }
+
+    /// How many of the form's unknowns, first in its order, are angles
+    /// (the others are lengths).
+    pub(super) fn angles(self) -> usize {
+        match self {
+            Self::Rrr => 2,
+            Self::Angle | Self::Rrt | Self::Rtr => 1,
+            Self::Linear | Self::Trt => 0,
+        }
+    }
+
+    /// The form solved from its coefficients `k` (in the order of
+    /// `Block::coefficients`) by [`crate::closed`], in the mode `*mode`
+    /// (NaN: the mode nearest the guess, whose unknowns' cosines and sines
+    /// `trig_of(slot)` gives, and whose second unknown is `length`, then
+    /// stored): the cosine and sine of each angle, then each length, in
+    /// the form's order of its unknowns.
+    ///
+    /// # Errors
+    /// As the form in [`crate::closed`]: a negative discriminant past a
+    /// limit position, NaN where the form is degenerate.
+    pub(super) fn solve(
+        self,
+        k: &[f64],
+        mode: &mut f64,
+        trig_of: impl Fn(usize) -> [f64; 2],
+        length: f64,
+    ) -> Result<[f64; 4], f64> {
+        let c = |at: usize| k.get(at).copied().unwrap_or(f64::NAN);
+        let v = |at: usize| [c(at), c(at + 1)];
+        let m = |at: usize| [[c(at), c(at + 1)], [c(at + 2), c(at + 3)]];
+        match self {
+            Self::Angle => closed::angle(c(0), c(1), c(2), mode, || trig_of(0))
+                .map(|[cs, sn]| [cs, sn, 0.0, 0.0]),
+            Self::Linear => closed::linear(c(0), c(1)).map(|l| [l, 0.0, 0.0, 0.0]),
+            Self::Rrr => closed::circle_circle(v(0), m(2), m(6), mode, || {
+                let ([c0, s0], [c1, s1]) = (trig_of(0), trig_of(1));
+                [c0, s0, c1, s1]
+            }),
+            Self::Rrt => closed::circle_line(v(0), m(2), v(6), mode, || trig_of(0))
+                .map(|[cs, sn, l]| [cs, sn, l, 0.0]),
+            Self::Rtr => closed::slide(v(0), m(2), m(6), mode, || [length, 0.0])
+                .map(|[cs, sn, l]| [cs, sn, l, 0.0]),
+            Self::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
+        }
+    }
 }
 
 /// One diagonal block as the run-time assembly solves it.
@@ -130,9 +176,6 @@ impl Model {
                 &w.trig,
                 &mut w.coef[..n],
             );
-            let k = &w.coef;
-            let v = |at: usize| [k[at], k[at + 1]];
-            let m = |at: usize| [[k[at], k[at + 1]], [k[at + 2], k[at + 3]]];
             let mut none = f64::NAN;
             let sign = if form.has_modes() {
                 mode += 1;
@@ -145,24 +188,8 @@ impl Model {
                 let (s, c) = guess[nd + part.cols[c]].sin_cos();
                 [c, s]
             };
-            // The results: (cos, sin) of each angle, then the lengths, in
-            // the order of `part.cols`.
-            let solved: Result<[f64; 4], f64> = match form {
-                Form::Angle => closed::angle(k[0], k[1], k[2], sign, || trig_of(0))
-                    .map(|[c, s]| [c, s, 0.0, 0.0]),
-                Form::Linear => closed::linear(k[0], k[1]).map(|l| [l, 0.0, 0.0, 0.0]),
-                Form::Rrr => closed::circle_circle(v(0), m(2), m(6), sign, || {
-                    let ([c0, s0], [c1, s1]) = (trig_of(0), trig_of(1));
-                    [c0, s0, c1, s1]
-                }),
-                Form::Rrt => closed::circle_line(v(0), m(2), v(6), sign, || trig_of(0))
-                    .map(|[c, s, l]| [c, s, l, 0.0]),
-                Form::Rtr => {
-                    closed::slide(v(0), m(2), m(6), sign, || [guess[nd + part.cols[1]], 0.0])
-                        .map(|[c, s, l]| [c, s, l, 0.0])
-                }
-                Form::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
-            };
+            let length = part.cols.get(1).map_or(f64::NAN, |&c| guess[nd + c]);
+            let solved = form.solve(&w.coef, sign, trig_of, length);
             let x = match solved {
                 Ok(x) => x,
                 Err(disc) if disc < 0.0 => {
@@ -174,26 +201,17 @@ impl Model {
                 }
                 Err(_) => return Ok(Assembled::Degenerate),
             };
-            let mut angle = |slot: usize, (mut c, mut s): (f64, f64), w: &mut Work| {
-                let j = nd + part.cols[slot];
-                q[j] = closed::near(&mut c, &mut s, w.guess[j]);
-                w.trig[2 * j] = c;
-                w.trig[2 * j + 1] = s;
-            };
-            match form {
-                Form::Angle => angle(0, (x[0], x[1]), w),
-                Form::Rrr => {
-                    angle(0, (x[0], x[1]), w);
-                    angle(1, (x[2], x[3]), w);
-                }
-                Form::Rrt | Form::Rtr => {
-                    angle(0, (x[0], x[1]), w);
-                    q[nd + part.cols[1]] = x[2];
-                }
-                Form::Linear => q[nd + part.cols[0]] = x[0],
-                Form::Trt => {
-                    q[nd + part.cols[0]] = x[0];
-                    q[nd + part.cols[1]] = x[1];
+            // The angles first (cosine and sine each), then the lengths.
+            let angles = form.angles();
+            for (slot, &col) in part.cols.iter().enumerate() {
+                let j = nd + col;
+                if slot < angles {
+                    let (mut c, mut s) = (x[2 * slot], x[2 * slot + 1]);
+                    q[j] = closed::near(&mut c, &mut s, w.guess[j]);
+                    w.trig[2 * j] = c;
+                    w.trig[2 * j + 1] = s;
+                } else {
+                    q[j] = x[angles + slot];
                 }
             }
         }

@@ -50,21 +50,23 @@ const CLOSING: u64 = 2;
 const DRIVER_TRIG: u64 = 1 << 32;
 const BLOCK: u64 = 1 << 48;
 
-/// The statuses: the pose is not at round-off (or not finite); Φ_u is
-/// singular at the threshold; det Φ_u has the other sign than asked; an
-/// output is not finite; the buffer is not the plan's (never, short of a
-/// bug); a closed form has no solution or is degenerate.
+/// The statuses that send a step off the common path: a closed form has
+/// no solution or is degenerate; the pose is not at round-off (or not
+/// finite); Φ_u is singular at the threshold; det Φ_u has the other sign
+/// than asked; an output is not finite; the helper was asked for what the
+/// plan does not have (never, short of a bug).
+const NO_SOLUTION: i64 = 1;
 const NOT_CLOSED: i64 = 2;
+const SINGULAR: i64 = 3;
+const WRONG_BRANCH: i64 = 4;
+const NOT_FINITE: i64 = 5;
+const INCONSISTENT: i64 = 6;
+
 /// The fused functions: the invariants and offsets of the parameters,
 /// the step, the pose.
 const PRELUDE: usize = 0;
 const STEP: usize = 1;
 const POSE: usize = 2;
-const SINGULAR: i64 = 3;
-const WRONG_BRANCH: i64 = 4;
-const NOT_FINITE: i64 = 5;
-const INCONSISTENT: i64 = 6;
-const NO_SOLUTION: i64 = 1;
 
 /// One closed-form block as the fused step solves it.
 #[derive(Clone, Debug)]
@@ -73,6 +75,8 @@ struct PartPlan {
     /// The coordinates of its unknowns (drivers first in q), in the
     /// form's order (the first again for a form of one unknown).
     coords: [usize; 2],
+    /// The number of its unknowns (1 or 2).
+    count: usize,
     /// Its slot among the modes, if it has two.
     mode: Option<usize>,
 }
@@ -212,6 +216,7 @@ impl Plan {
             parts.push(PartPlan {
                 form,
                 coords: [first, second],
+                count: b.unknowns.len().min(2),
                 mode,
             });
         }
@@ -709,61 +714,37 @@ impl Plan {
     /// representative nearest its guess, from the carried values.
     fn block(&self, f: &mut [f64], part: &PartPlan) -> Option<i64> {
         let (q, trig, carry) = (self.layout.q, self.layout.trig, self.carry);
-        let k = &f[self.coef..self.coef + 12];
-        let v = |at: usize| [k[at], k[at + 1]];
-        let m = |at: usize| [[k[at], k[at + 1]], [k[at + 2], k[at + 3]]];
         let carried_of = |j: usize| [f[carry + 3 * j], f[carry + 3 * j + 1], f[carry + 3 * j + 2]];
-        let [j0, j1] = part.coords;
-        let g0 = f[q + j0];
-        let g1 = f[q + j1];
+        let guesses = [f[q + part.coords[0]], f[q + part.coords[1]]];
         let mut mode = part.mode.map_or(f64::NAN, |slot| f[self.modes + slot]);
-        let solved: Result<[f64; 4], f64> = match part.form {
-            Form::Angle => closed::angle(k[0], k[1], k[2], &mut mode, || {
-                closed::guess_trig(&carried_of(j0), g0)
-            })
-            .map(|[c, s]| [c, s, 0.0, 0.0]),
-            Form::Linear => closed::linear(k[0], k[1]).map(|l| [l, 0.0, 0.0, 0.0]),
-            Form::Rrr => closed::circle_circle(v(0), m(2), m(6), &mut mode, || {
-                let [a, b] = closed::guess_trig(&carried_of(j0), g0);
-                let [c, d] = closed::guess_trig(&carried_of(j1), g1);
-                [a, b, c, d]
-            }),
-            Form::Rrt => closed::circle_line(v(0), m(2), v(6), &mut mode, || {
-                closed::guess_trig(&carried_of(j0), g0)
-            })
-            .map(|[c, s, l]| [c, s, l, 0.0]),
-            Form::Rtr => closed::slide(v(0), m(2), m(6), &mut mode, || [g1, 0.0])
-                .map(|[c, s, l]| [c, s, l, 0.0]),
-            Form::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
-        };
+        let trig_of =
+            |slot: usize| closed::guess_trig(&carried_of(part.coords[slot]), guesses[slot]);
+        let solved = part.form.solve(
+            &f[self.coef..self.coef + 12],
+            &mut mode,
+            trig_of,
+            guesses[1],
+        );
         let Ok(x) = solved else {
             return Some(NO_SOLUTION);
         };
         if let Some(slot) = part.mode {
             f[self.modes + slot] = mode;
         }
-        let angle = |f: &mut [f64], j: usize, guess: f64, (mut c, mut s): (f64, f64)| {
-            let at = carry + 3 * j;
-            let mut carried = [f[at], f[at + 1], f[at + 2]];
-            f[q + j] = closed::near_carried(&mut c, &mut s, guess, &mut carried);
-            f[trig + 2 * j] = c;
-            f[trig + 2 * j + 1] = s;
-            f[at..at + 3].copy_from_slice(&carried);
-        };
-        match part.form {
-            Form::Angle => angle(f, j0, g0, (x[0], x[1])),
-            Form::Rrr => {
-                angle(f, j0, g0, (x[0], x[1]));
-                angle(f, j1, g1, (x[2], x[3]));
-            }
-            Form::Rrt | Form::Rtr => {
-                angle(f, j0, g0, (x[0], x[1]));
-                f[q + j1] = x[2];
-            }
-            Form::Linear => f[q + j0] = x[0],
-            Form::Trt => {
-                f[q + j0] = x[0];
-                f[q + j1] = x[1];
+        // The angles first (cosine and sine each), then the lengths.
+        let angles = part.form.angles();
+        for slot in 0..part.count {
+            let j = part.coords[slot];
+            if slot < angles {
+                let (mut c, mut s) = (x[2 * slot], x[2 * slot + 1]);
+                let at = carry + 3 * j;
+                let mut carried = [f[at], f[at + 1], f[at + 2]];
+                f[q + j] = closed::near_carried(&mut c, &mut s, guesses[slot], &mut carried);
+                f[trig + 2 * j] = c;
+                f[trig + 2 * j + 1] = s;
+                f[at..at + 3].copy_from_slice(&carried);
+            } else {
+                f[q + j] = x[angles + slot];
             }
         }
         Some(0)
