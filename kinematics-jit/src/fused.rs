@@ -962,7 +962,7 @@ fn store_or_general(
         for coefficient in [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0] {
             let m = b.ins().fmul(x2, t);
             let k = b.ins().f64const(coefficient);
-            t = b.ins().fadd(k, m);
+            t = b.ins().fadd(m, k);
         }
         let series = b.ins().fmul(x2, t);
         let xs = b.ins().fmul(x, series);
@@ -1009,12 +1009,15 @@ fn alternating(
     x: cranelift_codegen::ir::Value,
     c: &[f64],
 ) -> cranelift_codegen::ir::Value {
+    // k − x·t as (−x)·t + k, the same number: the constant is the
+    // addition's second operand, which the instruction reads from memory.
     let mut rest = c.iter().rev();
     let mut t = b.ins().f64const(rest.next().copied().unwrap_or(0.0));
+    let nx = b.ins().fneg(x);
     for &k in rest {
-        let m = b.ins().fmul(x, t);
+        let m = b.ins().fmul(nx, t);
         let k = b.ins().f64const(k);
-        t = b.ins().fsub(k, m);
+        t = b.ins().fadd(m, k);
     }
     t
 }
@@ -1051,7 +1054,13 @@ fn not_finite(
     values: &[cranelift_codegen::ir::Value],
 ) -> Option<cranelift_codegen::ir::Value> {
     let zero = b.ins().f64const(0.0);
-    let mut level: Vec<_> = values.iter().map(|&v| b.ins().fmul(v, zero)).collect();
+    // A constant is finite (or the check would fail at every call).
+    let varying: Vec<_> = values
+        .iter()
+        .copied()
+        .filter(|&v| constant(b, v).is_none_or(f64::is_nan))
+        .collect();
+    let mut level: Vec<_> = varying.iter().map(|&v| b.ins().fmul(v, zero)).collect();
     while level.len() > 1 {
         level = level
             .chunks(2)
@@ -1064,6 +1073,20 @@ fn not_finite(
     }
     let sum = level.pop()?;
     Some(b.ins().fcmp(FloatCC::Unordered, sum, sum))
+}
+
+/// The value of `v` when it is a constant.
+fn constant(b: &FunctionBuilder<'_>, v: cranelift_codegen::ir::Value) -> Option<f64> {
+    let dfg = &b.func.dfg;
+    let cranelift_codegen::ir::ValueDef::Result(inst, 0) = dfg.value_def(v) else {
+        return None;
+    };
+    match dfg.insts[inst] {
+        cranelift_codegen::ir::InstructionData::UnaryIeee64 { imm, .. } => {
+            Some(f64::from_bits(imm.bits()))
+        }
+        _ => None,
+    }
 }
 
 /// The finalized code as a function pointer.

@@ -522,3 +522,66 @@ fn a_driver_inside_an_offset_steps_through_fused_code() {
         q.copy_from_slice(&s.q);
     }
 }
+
+/// A fused stepper checks its inputs as it copies them into its buffer
+/// and reports a bad one as the general path does (by name, for the right
+/// input), then steps on from its last pose as if the bad call had not
+/// been made.
+#[test]
+fn a_fused_stepper_reports_bad_inputs_and_steps_on() {
+    use kinematics_core::Input;
+    let text = kinematics_examples::definition("SliderCrank").expect("an example");
+    let mut m = Model::compile(text).expect("compiles");
+    let (a, b) = (0.1, 0.3);
+    m.set_values(&[a, b, 0.0]).expect("three values");
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("valid");
+    assert!(stepper.is_fused());
+    let mut q = vec![0.0, 0.0, 0.4];
+    // x = a cos φ + √(b² − a² sin² φ), on the branch of x > 0.
+    let slider = |phi: f64| a * phi.cos() + (b * b - a * a * phi.sin().powi(2)).sqrt();
+    for k in 0..40 {
+        q[0] = f64::from(k) * 0.05;
+        match k % 10 {
+            3 => assert!(matches!(
+                stepper.step(&q, &[f64::NAN], &[0.0]),
+                Err(Error::NonFinite {
+                    input: Input::DriverRate,
+                    name: "phi",
+                    ..
+                })
+            )),
+            5 => assert!(matches!(
+                stepper.step(&q, &[1.0], &[f64::INFINITY]),
+                Err(Error::NonFinite {
+                    input: Input::DriverAcceleration,
+                    name: "phi",
+                    ..
+                })
+            )),
+            7 => {
+                let mut bad = q.clone();
+                bad[1] = f64::NAN;
+                assert!(matches!(
+                    stepper.step(&bad, &[1.0], &[0.0]),
+                    Err(Error::NonFinite {
+                        input: Input::Guess,
+                        name: "th",
+                        ..
+                    })
+                ));
+            }
+            9 => assert!(matches!(
+                stepper.step(&q[..2], &[1.0], &[0.0]),
+                Err(Error::WrongLength {
+                    expected: 3,
+                    found: 2,
+                    ..
+                })
+            )),
+            _ => {}
+        }
+        let s = stepper.step(&q, &[1.0], &[0.0]).expect("steps");
+        assert!((s.q[2] - slider(q[0])).abs() < 1e-15, "{k}");
+        q.copy_from_slice(&s.q);
+    }
+}

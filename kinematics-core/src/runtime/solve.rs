@@ -518,6 +518,20 @@ impl Model {
                     (*r0, *r1, *v0, *v1, *a0, *a1) = (*c0, *c1, *c2, *c3, *c4, *c5);
                 }
             }
+        } else if d == 3 {
+            // Spatial points, likewise.
+            for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(9)) {
+                if let (Ok(r), Ok(v), Ok(a), Ok(c)) = (
+                    <&mut [f64; 3]>::try_from(&mut p.position[..]),
+                    <&mut [f64; 3]>::try_from(&mut p.velocity[..]),
+                    <&mut [f64; 3]>::try_from(&mut p.acceleration[..]),
+                    <&[f64; 9]>::try_from(c),
+                ) {
+                    *r = [c[0], c[1], c[2]];
+                    *v = [c[3], c[4], c[5]];
+                    *a = [c[6], c[7], c[8]];
+                }
+            }
         } else {
             for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(3 * d)) {
                 super::fused::copy_small(&mut p.position, &c[..d]);

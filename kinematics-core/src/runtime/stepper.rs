@@ -200,11 +200,14 @@ impl Stepper<'_> {
     ) -> Result<(), Error> {
         let m = self.m;
         self.forget();
-        m.check_inputs(start, rates, accelerations)?;
+        // The fused step checks the inputs as it copies them into its
+        // buffer (lengths, every value finite) and leaves the errors to
+        // the general path's checks.
         if self.fused_step(start, rates, accelerations) {
             self.pending = true;
             return Ok(());
         }
+        m.check_inputs(start, rates, accelerations)?;
         self.assemble(start)?;
         m.analyze_into(
             &self.q,
@@ -315,19 +318,35 @@ impl Stepper<'_> {
         m.positions_into(&self.q, &mut self.work, !self.assembled, out)
     }
 
-    /// The step through the model's fused code (inputs already checked):
-    /// `true` when it took the step, the motion and pose written; `false`
-    /// when the model has none or the step left its common path, the
+    /// The step through the model's fused code: `true` when it took the
+    /// step, the motion and pose written; `false` when the model has
+    /// none, an input has the wrong length or a value not finite (which
+    /// the general path reports), or the step left its common path, the
     /// stepper's state (its modes) then as before.
     fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
         let m = self.m;
+        let nd = m.drivers;
         let Some(plan) = m.fused.as_deref() else {
             return false;
         };
+        if rates.len() != nd || accelerations.len() != nd || start.len() != self.q.len() {
+            return false;
+        }
+        // x·0 is 0 for a finite x and NaN otherwise.
+        let mut zero = 0.0;
+        for (r, a) in rates.iter().zip(accelerations) {
+            zero += r * 0.0 + a * 0.0;
+        }
         let Some(f) = self.fused_inputs(start) else {
             return false;
         };
-        let (at, nd) = (plan.layout(), m.drivers);
+        let at = plan.layout();
+        for v in &f[at.q..at.q + start.len()] {
+            zero += v * 0.0;
+        }
+        if zero != 0.0 {
+            return false;
+        }
         copy_small(&mut f[at.qd..at.qd + nd], rates);
         copy_small(&mut f[at.qdd..at.qdd + nd], accelerations);
         if plan.step(f) != 0 {
