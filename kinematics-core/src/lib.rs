@@ -121,6 +121,7 @@ pub mod guide {
     #[cfg(feature = "runtime")]
     #[cfg_attr(docsrs_nightly, doc(cfg(feature = "runtime")))]
     #[doc = include_str!("../docs/runtime.md")]
+    #[cfg_attr(feature = "synthesis", doc = include_str!("../docs/runtime-synthesis.md"))]
     pub mod runtime {}
 }
 pub use mechanism::{

@@ -337,3 +337,143 @@ fn the_exact_nine_point_solution_needs_both_assembly_modes() {
         "{reaching:?}"
     );
 }
+
+/// The definition of [`FourBar`] as text, for a model compiled at run
+/// time.
+const FOUR_BAR_TEXT: &str = "struct FourBar {
+    params { a, b, c, d, p, beta }
+    drivers { phi }
+    unknowns { th3, th4 }
+    points { P = polar(a, phi) + polar(p, th3 + beta); }
+    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    sensitivities { a, b, c, d, p, beta }
+}";
+
+/// `design` as a run-time model of [`FOUR_BAR_TEXT`].
+fn runtime_model(design: &FourBar) -> kinematics_core::runtime::Model {
+    let mut m = kinematics_core::runtime::Model::compile(FOUR_BAR_TEXT).unwrap();
+    m.set_values(&[
+        design.a,
+        design.b,
+        design.c,
+        design.d,
+        design.p,
+        design.beta,
+    ])
+    .unwrap();
+    m
+}
+
+/// A run-time model is synthesised as the generated mechanism is: from
+/// the same start, with free timing, both find the true design (the
+/// targets are points of its coupler curve), the same crank angles, and
+/// the same design to 1e-9.
+#[test]
+fn a_run_time_model_is_synthesised_as_the_generated_one() {
+    let start = start();
+    let phis = [0.3, 1.1, 2.0, 2.9, 3.5, 4.2, 5.0];
+    let targets = targets_of(&TRUTH, &start, &phis);
+    let off: Vec<f64> = phis.iter().map(|p| p + 0.1).collect();
+    let generated = Synthesis::path(&GUESS, FourBar::PHI, "P", &targets, &start)
+        .driver_guesses(&off)
+        .run()
+        .unwrap();
+    let model = runtime_model(&GUESS);
+    let start_vec = vec![start.phi, start.th3, start.th4];
+    let found = Synthesis::path(&model, "phi", "P", &targets, &start_vec)
+        .driver_guesses(&off)
+        .run()
+        .unwrap();
+    assert!(found.sum_squares < 1e-20, "{found:?}");
+    assert_eq!(found.full_turn, Some(true));
+    for (got, want) in found.driver_values.iter().zip(&phis) {
+        assert!((got - want).abs() < 1e-8, "{got} {want}");
+    }
+    let truth = [1.0, 3.0, 2.5, 3.0, 1.5, 0.6];
+    let general = [
+        generated.design.a,
+        generated.design.b,
+        generated.design.c,
+        generated.design.d,
+        generated.design.p,
+        generated.design.beta,
+    ];
+    for ((got, g), want) in found.design.values().iter().zip(general).zip(truth) {
+        assert!((got - want).abs() < 1e-8, "{got} against the true {want}");
+        assert!((got - g).abs() < 1e-9, "{got} against the generated {g}");
+    }
+}
+
+/// Function generation, bounds and a named subset of the parameters on a
+/// run-time model: θ4 of the design found, assembled on its own, passes
+/// through every pair; a bound that excludes the true c holds.
+#[test]
+fn a_run_time_model_takes_function_generation_and_bounds() {
+    let start = start();
+    let pairs: Vec<(f64, f64)> = [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
+        .iter()
+        .map(|&phi| {
+            (
+                phi,
+                TRUTH.assemble(&FourBarCoords { phi, ..start }).unwrap().th4,
+            )
+        })
+        .collect();
+    let guess = runtime_model(&FourBar {
+        a: 0.9,
+        b: 3.2,
+        c: 2.3,
+        ..TRUTH
+    });
+    let start_vec = vec![start.phi, start.th3, start.th4];
+    let found = Synthesis::function(&guess, "phi", "th4", &pairs, &start_vec)
+        .vary(&["a", "b", "c"])
+        .run()
+        .unwrap();
+    assert!(found.sum_squares < 1e-20, "{found:?}");
+    for (phi, psi) in &pairs {
+        let pose = found
+            .design
+            .assemble(&[*phi, start.th3, start.th4])
+            .unwrap();
+        assert!((pose[2] - psi).abs() < 1e-9);
+    }
+    // The best c is 2.5; held to [2.6, 3], it ends on the bound.
+    let bounded = Synthesis::function(&guess, "phi", "th4", &pairs, &start_vec)
+        .vary(&["a", "b", "c"])
+        .bounds("c", 2.6, 3.0)
+        .run()
+        .unwrap();
+    let c = bounded.design.values()[2];
+    assert!((2.6..=3.0).contains(&c), "{c}");
+    assert!(bounded.sum_squares > 1e-12, "{bounded:?}");
+}
+
+/// Mistakes in a run-time synthesis are errors that name what is wrong.
+#[test]
+fn run_time_synthesis_mistakes_are_errors() {
+    let model = runtime_model(&GUESS);
+    let start = vec![0.0, 0.5, 1.5];
+    let targets = [[1.0, 2.0], [2.0, 1.0]];
+    for (driver, point, needle) in [
+        ("th3", "P", "no driver `th3`; its drivers are phi"),
+        ("psi", "P", "no driver `psi`"),
+        ("phi", "Q", "no point `Q`; its points are P"),
+    ] {
+        match Synthesis::path(&model, driver, point, &targets, &start).run() {
+            Err(kinematics_core::Error::InvalidGeometry { detail, .. }) => {
+                assert!(detail.contains(needle), "{detail}");
+            }
+            other => panic!("expected an error, got {other:?}"),
+        }
+    }
+    match Synthesis::path(&model, "phi", "P", &targets, &start)
+        .vary(&["a", "e"])
+        .run()
+    {
+        Err(kinematics_core::Error::InvalidGeometry { detail, .. }) => {
+            assert!(detail.contains("`e` is not a parameter"), "{detail}");
+        }
+        other => panic!("expected an error, got {other:?}"),
+    }
+}

@@ -72,10 +72,15 @@ mod sensitivity;
 mod solve;
 mod stepper;
 mod sweep;
+#[cfg(feature = "synthesis")]
+mod synthesis;
 
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
 pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder, SweepEnd};
+#[cfg(feature = "synthesis")]
+#[doc(hidden)]
+pub use synthesis::SynthesisState;
 
 /// Why a definition given as text did not become a [`Model`].
 #[derive(Debug)]

@@ -12,12 +12,11 @@ use levenberg_marquardt::LevenbergMarquardt;
 
 use crate::closed::Mode;
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, MotionState, PointState, Role};
+use crate::mechanism::{Kind, Role};
 use crate::options::Options;
-use crate::sweep::{Driver, SweepBuilder};
-use crate::tolerance::Sensitive;
 
 use super::problem::{norm, to_free, Problem};
+use super::subject::{DriverOf, Shape, Solved, Subject};
 
 /// How the driver values of the targets are found.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,9 +45,10 @@ pub(super) enum Output {
 /// A dimensional synthesis problem, set up with [`Synthesis::path`] or
 /// [`Synthesis::function`] and solved with [`Synthesis::run`].
 #[derive(Debug, Clone)]
-pub struct Synthesis<M: Sensitive> {
+pub struct Synthesis<M: Subject> {
     pub(super) design: M,
-    start: M::Coords,
+    pub(super) shape: Shape,
+    start: M::Pose,
     pub(super) driver: usize,
     driver_kind: Kind,
     pub(super) output: Output,
@@ -97,35 +97,39 @@ pub struct Synthesized<M> {
     pub termination: String,
 }
 
-impl<M: Sensitive + Clone> Synthesis<M> {
+impl<M: Subject> Synthesis<M> {
     /// Path generation: point `point` of `design` through `targets` (each
-    /// with the point's number of components), driven by `driver`, with
-    /// every parameter of the `sensitivities` section varied and free
-    /// timing; `start` is a pose of `design` that fixes the assembly modes
-    /// (and the guess of the unknowns for blocks solved by Newton–Raphson).
-    pub fn path<U, T: AsRef<[f64]>>(
+    /// with the point's number of components), driven by `driver` (a
+    /// generated mechanism's handle, `FourBar::PHI`, or a run-time
+    /// model's driver by name), with every parameter of the
+    /// `sensitivities` section varied and free timing; `start` is a pose
+    /// of `design` that fixes the assembly modes (and the guess of the
+    /// unknowns for blocks solved by Newton–Raphson).
+    pub fn path<T: AsRef<[f64]>>(
         design: &M,
-        driver: Driver<M, U>,
+        driver: impl DriverOf<M>,
         point: &str,
         targets: &[T],
-        start: &M::Coords,
+        start: &M::Pose,
     ) -> Self {
-        let mut s = Self::new(design, driver.index(), start);
-        match M::POINT_NAMES.iter().position(|p| *p == point) {
+        let mut s = Self::new(design, driver.driver_index(design), start);
+        let dim = s.shape.point_dim;
+        match s.shape.points.iter().position(|p| *p == point) {
             Some(i) => s.output = Output::Point(i),
-            None => s.fail(format!(
-                "the mechanism has no point `{point}`; its points are {}",
-                M::POINT_NAMES.join(", ")
-            )),
+            None => {
+                let names = s.shape.points.join(", ");
+                s.fail(format!(
+                    "the mechanism has no point `{point}`; its points are {names}"
+                ));
+            }
         }
-        s.dim = M::POINT_DIM;
+        s.dim = dim;
         for (j, t) in targets.iter().enumerate() {
             let t = t.as_ref();
-            if t.len() != M::POINT_DIM {
+            if t.len() != dim {
                 s.fail(format!(
-                    "target {j} has {} components; point `{point}` has {}",
+                    "target {j} has {} components; point `{point}` has {dim}",
                     t.len(),
-                    M::POINT_DIM
                 ));
             }
             s.targets.extend(t.iter().copied());
@@ -137,30 +141,33 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     /// Function generation: the unknown coordinate `output` of `design`
     /// through the input–output pairs (driver value, output value), with
     /// every parameter of the `sensitivities` section varied and the
-    /// driver values prescribed as the pairs' first members; `start` as
-    /// for [`Synthesis::path`].
-    pub fn function<U>(
+    /// driver values prescribed as the pairs' first members; `driver` and
+    /// `start` as for [`Synthesis::path`].
+    pub fn function(
         design: &M,
-        driver: Driver<M, U>,
+        driver: impl DriverOf<M>,
         output: &str,
         pairs: &[(f64, f64)],
-        start: &M::Coords,
+        start: &M::Pose,
     ) -> Self {
-        let mut s = Self::new(design, driver.index(), start);
-        match M::COORDINATES
+        let mut s = Self::new(design, driver.driver_index(design), start);
+        let coordinates = &s.shape.coordinates;
+        match coordinates
             .iter()
             .position(|c| c.name == output && c.role == Role::Unknown)
         {
-            Some(i) => s.output = Output::Coordinate(i, M::COORDINATES[i].kind),
-            None => s.fail(format!(
-                "the mechanism has no unknown `{output}`; its unknowns are {}",
-                M::COORDINATES
+            Some(i) => s.output = Output::Coordinate(i, coordinates[i].kind),
+            None => {
+                let names = coordinates
                     .iter()
                     .filter(|c| c.role == Role::Unknown)
                     .map(|c| c.name)
                     .collect::<Vec<_>>()
-                    .join(", ")
-            )),
+                    .join(", ");
+                s.fail(format!(
+                    "the mechanism has no unknown `{output}`; its unknowns are {names}"
+                ));
+            }
         }
         s.dim = 1;
         s.targets = pairs.iter().map(|p| p.1).collect();
@@ -168,18 +175,25 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         s
     }
 
-    fn new(design: &M, driver: usize, start: &M::Coords) -> Self {
-        let driver_kind = M::COORDINATES.get(driver).map_or(Kind::Length, |c| c.kind);
-        Self {
+    fn new(design: &M, driver: Result<usize, String>, start: &M::Pose) -> Self {
+        let shape = design.shape();
+        let n = shape.parameters.len();
+        let index = driver.as_ref().map_or(0, |&i| i);
+        let driver_kind = shape
+            .coordinates
+            .get(index)
+            .map_or(Kind::Length, |c| c.kind);
+        let mut s = Self {
             design: design.clone(),
-            start: *start,
-            driver,
+            shape,
+            start: start.clone(),
+            driver: index,
             driver_kind,
             output: Output::Point(0),
             dim: 0,
             targets: Vec::new(),
-            varied: (0..M::PARAMETERS.len()).collect(),
-            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); M::PARAMETERS.len()],
+            varied: (0..n).collect(),
+            bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
             timing: Timing::Free,
             guesses: None,
             linear: Vec::new(),
@@ -187,7 +201,11 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             options: Options::DEFAULT,
             patience: 200,
             problem: None,
+        };
+        if let Err(detail) = driver {
+            s.fail(detail);
         }
+        s
     }
 
     fn fail(&mut self, detail: String) {
@@ -200,11 +218,11 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     }
 
     fn parameter_index(&mut self, name: &str) -> Option<usize> {
-        let k = M::PARAMETERS.iter().position(|p| *p == name);
+        let k = self.shape.parameters.iter().position(|p| *p == name);
         if k.is_none() {
+            let names = self.shape.parameters.join(", ");
             self.fail(format!(
-                "`{name}` is not a parameter of the `sensitivities` section, which lists {}",
-                M::PARAMETERS.join(", ")
+                "`{name}` is not a parameter of the `sensitivities` section, which lists {names}"
             ));
         }
         k
@@ -358,9 +376,9 @@ impl<M: Sensitive + Clone> Synthesis<M> {
                 detail: format!("the timing needs one driver value per target ({n})"),
             });
         }
-        let mut state = self.design.step_state(&self.options)?;
+        let mut state = self.design.state(&self.options)?;
         if let Some(modes) = &self.modes {
-            let slots = M::step_modes(&mut state);
+            let slots = M::modes(&mut state);
             if modes.len() != slots.len() {
                 return Err(Error::InvalidGeometry {
                     what: "synthesis",
@@ -374,10 +392,11 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             slots.copy_from_slice(modes);
         }
         // The modes of the start pose (when not given).
-        let zeros = M::Coords::default();
+        let mut first = self.start.clone();
+        let mut solved = Solved::for_shape(&self.shape);
         self.design
-            .step_carried(&self.start, &zeros, &zeros, &mut state)?;
-        let phi0 = self.start.get(self.driver).unwrap_or(0.0);
+            .solve(&mut first, self.driver, &mut state, false, &mut solved)?;
+        let phi0 = M::coordinate(&self.start, self.driver);
         let timing_unknowns: Vec<f64> = match &self.timing {
             Timing::Free => self
                 .guesses
@@ -398,7 +417,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         let scale = self
             .varied
             .iter()
-            .map(|&k| self.design.parameter(k).abs())
+            .map(|&k| self.design.parameter_at(k).abs())
             .fold(0.0f64, f64::max)
             .max(1e-300);
         let mut problem = Problem {
@@ -407,8 +426,8 @@ impl<M: Sensitive + Clone> Synthesis<M> {
             x: Vec::new(),
             weight: 1.0 / scale.max(1.0),
             reject: f64::INFINITY,
-            poses: RefCell::new(vec![self.start; n]),
-            modes: M::step_modes(&mut state).to_vec(),
+            poses: RefCell::new(vec![self.start.clone(); n]),
+            modes: M::modes(&mut state).to_vec(),
             evaluations: Cell::new(0),
             jacobians: Cell::new(0),
             rejected: Cell::new(0),
@@ -418,7 +437,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         let mut x: Vec<f64> = self
             .varied
             .iter()
-            .map(|&k| to_free(self.design.parameter(k), self.bounds[k]))
+            .map(|&k| to_free(self.design.parameter_at(k), self.bounds[k]))
             .collect();
         x.extend(&timing_unknowns);
         problem.x = x;
@@ -440,20 +459,9 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         let (res, _) = problem.evaluate(&x, false)?;
         let e = problem.errors(&res);
         let full_turn = (self.driver_kind == Kind::Angle).then(|| {
-            let mut first = problem.poses.borrow()[0];
-            first.set(self.driver, values[0]);
-            let sweep = SweepBuilder::new(
-                &design,
-                Driver::<M, crate::sweep::Angle>::__new(
-                    self.driver,
-                    M::COORDINATES[self.driver].name,
-                ),
-                &first,
-            )
-            .turn()
-            .options(&self.options)
-            .run();
-            sweep.stop.is_none()
+            let mut first = problem.poses.borrow()[0].clone();
+            M::set_coordinate(&mut first, self.driver, values[0]);
+            design.turns(self.driver, &first, &self.options)
         });
         Ok(Synthesized {
             design,
@@ -470,7 +478,7 @@ impl<M: Sensitive + Clone> Synthesis<M> {
     }
 }
 
-impl<M: Sensitive + Clone> Synthesis<M> {
+impl<M: Subject> Synthesis<M> {
     /// For free timing with a point and an angle driver: each target's
     /// initial driver value, that of the sample of the starting design's
     /// path (one turn each way from the start, 360 steps, in the start's
@@ -482,23 +490,13 @@ impl<M: Sensitive + Clone> Synthesis<M> {
         if self.driver_kind != Kind::Angle {
             return None;
         }
-        let handle =
-            Driver::<M, crate::sweep::Angle>::__new(self.driver, M::COORDINATES[self.driver].name);
-        let phi0 = self.start.get(self.driver)?;
+        let phi0 = M::coordinate(&self.start, self.driver);
         let mut samples = Vec::new();
         for to in [phi0 + TAU, phi0 - TAU] {
-            let sweep = SweepBuilder::new(&self.design, handle, &self.start)
-                .to(to)
-                .steps(360)
-                .options(&self.options)
-                .run();
-            let stopped = sweep.stop.is_some();
-            samples.extend(sweep.samples.iter().filter_map(|x| {
-                x.motion
-                    .points()
-                    .get(k)
-                    .map(|p| (x.at, p.position().to_vec()))
-            }));
+            let (path, stopped) =
+                self.design
+                    .path(self.driver, &self.start, to, 360, &self.options, k);
+            samples.extend(path);
             if !stopped {
                 break;
             }

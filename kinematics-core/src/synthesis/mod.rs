@@ -75,5 +75,7 @@
 
 mod design;
 mod problem;
+mod subject;
 
 pub use design::{Synthesis, Synthesized, Timing};
+pub use subject::{DriverOf, Shape, Solved, Subject};

@@ -11,10 +11,10 @@ use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra_lm::{storage::Owned, DMatrix, DVector, Dyn};
 
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, MotionState, PointState};
-use crate::tolerance::Sensitive;
+use crate::mechanism::Kind;
 
 use super::design::{Output, Synthesis, Timing};
+use super::subject::{Solved, Subject};
 
 /// The bounded parameter p for the free variable x.
 fn from_free(x: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
@@ -65,7 +65,7 @@ fn wrapped(d: f64) -> f64 {
 }
 
 /// The least-squares problem handed to the solver.
-pub(super) struct Problem<'s, M: Sensitive> {
+pub(super) struct Problem<'s, M: Subject> {
     pub(super) s: &'s Synthesis<M>,
     pub(super) n: usize,
     pub(super) x: Vec<f64>,
@@ -75,7 +75,7 @@ pub(super) struct Problem<'s, M: Sensitive> {
     /// be assembled (larger than any the solver has accepted).
     pub(super) reject: f64,
     /// The last pose of each target (the guess of the next analysis).
-    pub(super) poses: RefCell<Vec<M::Coords>>,
+    pub(super) poses: RefCell<Vec<M::Pose>>,
     /// The assembly modes (as the step state holds them).
     pub(super) modes: Vec<f64>,
     pub(super) evaluations: Cell<usize>,
@@ -83,13 +83,13 @@ pub(super) struct Problem<'s, M: Sensitive> {
     pub(super) rejected: Cell<usize>,
 }
 
-impl<M: Sensitive + Clone> Problem<'_, M> {
+impl<M: Subject> Problem<'_, M> {
     /// The design and driver values at x.
     pub(super) fn design_at(&self, x: &[f64]) -> (M, Vec<f64>) {
         let s = self.s;
         let mut design = s.design.clone();
         for (i, &k) in s.varied.iter().enumerate() {
-            design.set_parameter(k, from_free(x[i], s.bounds[k]).0);
+            design.set_parameter_at(k, from_free(x[i], s.bounds[k]).0);
         }
         let t = &x[s.varied.len()..];
         let values = match &s.timing {
@@ -109,7 +109,7 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
             .map(|(terms, h)| {
                 terms
                     .iter()
-                    .map(|&(k, c)| c * design.parameter(k))
+                    .map(|&(k, c)| c * design.parameter_at(k))
                     .sum::<f64>()
                     - h
             })
@@ -137,7 +137,6 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
         let (n, d, nv) = (self.n, s.dim, s.varied.len());
         let nx = x.len();
         let (design, values) = self.design_at(x);
-        let np = M::PARAMETERS.len();
         let nrows = n * d + s.linear.len();
         let mut res = vec![0.0; nrows];
         let mut jac = if jacobian {
@@ -145,12 +144,9 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
         } else {
             Vec::new()
         };
-        let mut rates = M::Coords::default();
-        rates.set(s.driver, 1.0);
-        let zeros = M::Coords::default();
-        let ncoord = M::COORDINATES.len();
-        let mut dq = vec![0.0; np * ncoord];
-        let mut dr = vec![0.0; np * M::POINTS * M::POINT_DIM];
+        let ncoord = s.shape.coordinates.len();
+        let (npoints, dim) = (s.shape.points.len(), s.shape.point_dim);
+        let mut solved = Solved::for_shape(&s.shape);
         let dpdx: Vec<f64> = s
             .varied
             .iter()
@@ -159,29 +155,25 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
             .collect();
         // A fresh state for the design (its scaling and the sines and
         // cosines of its parameters), in the modes of the synthesis.
-        let mut fresh = design.step_state(&s.options)?;
-        M::step_modes(&mut fresh).copy_from_slice(&self.modes);
+        let mut fresh = design.state(&s.options)?;
+        M::modes(&mut fresh).copy_from_slice(&self.modes);
         let mut poses = self.poses.borrow_mut();
         for j in 0..n {
-            let mut pose = poses[j];
-            pose.set(s.driver, values[j]);
+            let pose = &mut poses[j];
+            M::set_coordinate(pose, s.driver, values[j]);
             let mut state = fresh.clone();
-            let motion = design.step_carried(&pose, &rates, &zeros, &mut state)?;
-            poses[j] = *motion.q();
-            if jacobian {
-                design.position_sensitivities_into(&motion, &mut dq, &mut dr)?;
-            }
+            design.solve(pose, s.driver, &mut state, jacobian, &mut solved)?;
             // ∂(output)/∂φ_j and ∂(output)/∂p_k per component.
             for c in 0..d {
                 let row = j * d + c;
                 let (value, rate) = match s.output {
-                    Output::Point(i) => {
-                        let p = &motion.points()[i];
-                        (p.position()[c], p.velocity()[c])
-                    }
+                    Output::Point(i) => (
+                        solved.positions[i * dim + c],
+                        solved.velocities[i * dim + c],
+                    ),
                     Output::Coordinate(i, _) => (
-                        motion.q().get(i).unwrap_or(f64::NAN),
-                        motion.qd().get(i).unwrap_or(f64::NAN),
+                        solved.q.get(i).copied().unwrap_or(f64::NAN),
+                        solved.qd.get(i).copied().unwrap_or(f64::NAN),
                     ),
                 };
                 let target = s.targets[row];
@@ -195,8 +187,8 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
                 let jr = &mut jac[row * nx..(row + 1) * nx];
                 for (i, &k) in s.varied.iter().enumerate() {
                     let dp = match s.output {
-                        Output::Point(pi) => dr[(k * M::POINTS + pi) * M::POINT_DIM + c],
-                        Output::Coordinate(ci, _) => dq[k * ncoord + ci],
+                        Output::Point(pi) => solved.dr[(k * npoints + pi) * dim + c],
+                        Output::Coordinate(ci, _) => solved.dq[k * ncoord + ci],
                     };
                     jr[i] = dp * dpdx[i];
                 }
@@ -211,7 +203,7 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
             let row = n * d + l;
             let g = terms
                 .iter()
-                .map(|&(k, c)| c * design.parameter(k))
+                .map(|&(k, c)| c * design.parameter_at(k))
                 .sum::<f64>()
                 - h;
             if g > 0.0 {
@@ -240,7 +232,7 @@ impl<M: Sensitive + Clone> Problem<'_, M> {
     }
 }
 
-impl<M: Sensitive + Clone> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M> {
+impl<M: Subject> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, M> {
     type ResidualStorage = Owned<f64, Dyn>;
     type JacobianStorage = Owned<f64, Dyn, Dyn>;
     type ParameterStorage = Owned<f64, Dyn>;
