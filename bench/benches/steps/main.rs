@@ -14,7 +14,10 @@
 //! 2. hand-written, hand-differentiated code (`hand.rs`);
 //! 3. forward-mode dual numbers, `num-dual` (`generic.rs`);
 //! 4. central finite differences (`generic.rs`);
-//! 5. the macro's expression DAG interpreted at run time (`interp.rs`).
+//! 5. the macro's expression DAG interpreted at run time (`interp.rs`);
+//! 6. the same definition compiled at run time
+//!    (`kinematics_core::runtime::Model`, machine code from Cranelift),
+//!    through its stepper.
 //!
 //! Before timing, every variant's checksum over a full turn is compared with
 //! the hand-written one. `cargo bench -p kinematics-bench --bench steps`
@@ -37,6 +40,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
+use kinematics_core::runtime::Model;
 use kinematics_core::sweep::{Angle, Driver, SweepBuilder};
 use kinematics_core::Options;
 
@@ -296,6 +300,63 @@ fn hand_m4() -> f64 {
         .sum()
 }
 
+// ───────────────────────── variant 6: run-time model ─────────────────────────
+
+/// The definition `tokens` compiled at run time, with the parameters
+/// `params` (in declaration order).
+fn runtime_model(tokens: &proc_macro2::TokenStream, params: &[f64]) -> Model {
+    let mut m = Model::compile(&tokens.to_string()).expect("the definition compiles");
+    m.set_values(params).expect("one value per parameter");
+    m
+}
+
+/// A full turn of a run-time model with one driver through its stepper,
+/// from the unknowns `start` with the driver's rate and acceleration
+/// `rates`; the checksum sums the same values as the generated turns
+/// (the unknowns, their rates and accelerations, and point `point`).
+fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str) -> f64 {
+    let (m, rates) = data((m, rates));
+    let p = m
+        .point_names()
+        .iter()
+        .position(|n| *n == point)
+        .expect("the point");
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut pose: Vec<f64> = std::iter::once(0.0).chain(start.iter().copied()).collect();
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        pose[0] = angle(k);
+        let s = stepper.step(&pose, &[rates.0], &[rates.1]).expect("step");
+        pose.copy_from_slice(&s.q);
+        let pt = &s.points[p];
+        sum += s.q[1..].iter().sum::<f64>()
+            + s.qd[1..].iter().sum::<f64>()
+            + s.qdd[1..].iter().sum::<f64>();
+        sum += pt.position.iter().sum::<f64>()
+            + pt.velocity.iter().sum::<f64>()
+            + pt.acceleration.iter().sum::<f64>();
+    }
+    sum
+}
+
+/// A full turn of the arm, a run-time model, through its stepper.
+fn runtime_m4(m: &Model) -> f64 {
+    let m = data(m);
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+    let mut sum = 0.0;
+    for k in 0..STEPS {
+        let (q, qd, qdd) = arm_joints(k);
+        let s = stepper.step(&q, &qd, &qdd).expect("step");
+        let (p, f) = (&s.points[0], &s.frames[0]);
+        sum += q.iter().sum::<f64>();
+        sum += p.position.iter().sum::<f64>()
+            + p.velocity.iter().sum::<f64>()
+            + p.acceleration.iter().sum::<f64>();
+        sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
+    }
+    sum
+}
+
 // ───────────────── variants 3–5: dual numbers, differences, DAG ─────────────────
 
 /// A closed-loop sweep with one driver and NU unknowns, for a step function
@@ -347,7 +408,31 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     let mut i2 = interp(m2::tokens(), &p2);
     let mut i3 = interp(m3::tokens(), &p3);
     let mut i4 = interp(m4::tokens(), &p4);
+    let r1 = runtime_model(&m1::tokens(), &p1);
+    let r2 = runtime_model(&m2::tokens(), &p2);
+    let r3 = runtime_model(&m3::tokens(), &p3);
+    let r4 = runtime_model(&m4::tokens(), &p4);
     vec![
+        (
+            "M1 four-bar",
+            "run-time stepper",
+            Box::new(move || runtime_turn(&r1, &M1_START, M1_RATES, "P")),
+        ),
+        (
+            "M2 RSSR",
+            "run-time stepper",
+            Box::new(move || runtime_turn(&r2, &M2_START, M2_RATES, "B")),
+        ),
+        (
+            "M3 Watt six-bar",
+            "run-time stepper",
+            Box::new(move || runtime_turn(&r3, &M3_START, M3_RATES, "F")),
+        ),
+        (
+            "M4 six-axis arm",
+            "run-time stepper",
+            Box::new(move || runtime_m4(&r4)),
+        ),
         ("M1 four-bar", "generated", Box::new(gen_m1)),
         ("M1 four-bar", "stepper", Box::new(gen_m1s)),
         ("M1 four-bar", "sweep", Box::new(|| sweep_m1(false))),
@@ -473,7 +558,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     ]
 }
 
-const VARIANTS: [&str; 8] = [
+const VARIANTS: [&str; 9] = [
     "generated",
     "stepper",
     "sweep",
@@ -482,6 +567,7 @@ const VARIANTS: [&str; 8] = [
     "dual numbers",
     "finite differences",
     "interpreted DAG",
+    "run-time stepper",
 ];
 const MECHANISMS: [&str; 4] = [
     "M1 four-bar",
@@ -678,11 +764,12 @@ fn main() {
 /// and the range of the middle 80 % of rounds.
 fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
     const ROUNDS: usize = 41;
-    const SHOWN: [&str; 5] = [
+    const SHOWN: [&str; 6] = [
         "generated",
         "stepper",
         "sweep",
         "sweep collected",
+        "run-time stepper",
         "hand-written",
     ];
     let mut out = String::from(
@@ -690,9 +777,11 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
          the ratio to the hand-written turn of the same round): median ratio, and the range \
          of the middle 80 % of rounds. `sweep` streams the samples from its iterator, \
          `collected` gathers them into its `Vec` first (the arm, whose six drivers follow a \
-         profile, has no sweep).\n\n| mechanism | generated | stepper | \
-         sweep | collected | sweep / stepper | collected / stepper |\n\
-         |---|---|---|---|---|---|---|\n",
+         profile, has no sweep); `run-time` is the stepper of the same definition compiled \
+         at run time (`runtime::Model`).\n\n| mechanism | generated | stepper | \
+         sweep | collected | run-time | sweep / stepper | collected / stepper | \
+         run-time / stepper |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     let summary = |mut r: Vec<f64>| {
         if r.is_empty() {
@@ -709,7 +798,7 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
             .collect();
         let hand = SHOWN.len() - 1;
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); SHOWN.len()];
-        let (mut streamed, mut collected) = (Vec::new(), Vec::new());
+        let (mut streamed, mut collected, mut runtime) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..ROUNDS {
             let mut round = [f64::NAN; SHOWN.len()];
             for &i in &shown {
@@ -728,17 +817,22 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
                 streamed.push(round[2] / round[1]);
                 collected.push(round[3] / round[1]);
             }
+            if shown.contains(&4) {
+                runtime.push(round[4] / round[1]);
+            }
         }
-        let mut cells = times.into_iter().take(4).map(summary);
+        let mut cells = times.into_iter().take(5).map(summary);
         let mut cell = || cells.next().unwrap_or_default();
         out += &format!(
-            "| {mech} | {} | {} | {} | {} | {} | {} |\n",
+            "| {mech} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            cell(),
             cell(),
             cell(),
             cell(),
             cell(),
             summary(streamed),
-            summary(collected)
+            summary(collected),
+            summary(runtime)
         );
     }
     out
