@@ -75,6 +75,28 @@ struct FusedRun {
     steps: u32,
     scaled: bool,
     positions: bool,
+    io: Io,
+}
+
+/// Where a step's inputs and results lie in the fused buffer (from the
+/// plan's layout, read once per stepper).
+#[derive(Clone, Copy)]
+struct Io {
+    /// q, q' and q'' (n values each; the drivers' rates and
+    /// accelerations are the first `nd` of q' and q'').
+    q: usize,
+    qd: usize,
+    qdd: usize,
+    n: usize,
+    nd: usize,
+    /// The modes (`k` values).
+    modes: usize,
+    k: usize,
+    /// The outputs (`outputs` values).
+    out: usize,
+    outputs: usize,
+    /// The conditioning, the sign and the residual.
+    results: [usize; 3],
 }
 
 impl core::fmt::Debug for Stepper<'_> {
@@ -108,11 +130,38 @@ impl Model {
                 Branch::Negative => -1.0,
             };
             plan.set_options(&mut f, bound, options.singularity_threshold, branch);
+            let at = plan.layout();
+            let (modes, k) = plan.modes_at();
+            let (out, outputs) = plan.outputs_at();
+            let io = Io {
+                q: at.q,
+                qd: at.qd,
+                qdd: at.qdd,
+                n: self.coordinates.len(),
+                nd: self.drivers,
+                modes,
+                k,
+                out,
+                outputs,
+                results: plan.results_at(),
+            };
+            // Every region lies in the buffer (the steps rely on it).
+            let ends = [
+                io.q + io.n,
+                io.qd + io.n,
+                io.qdd + io.n,
+                io.modes + io.k,
+                io.out + io.outputs,
+            ];
+            if ends.iter().chain(&io.results).any(|&e| e > f.len()) {
+                return None;
+            }
             Some(FusedRun {
                 f,
                 steps: 0,
                 scaled: false,
                 positions: false,
+                io,
             })
         });
         Ok(Stepper {
@@ -225,16 +274,14 @@ impl Stepper<'_> {
     pub(super) fn motion_now(&mut self) -> &Motion {
         if self.pending {
             self.pending = false;
-            if let (Some(run), Some(plan)) = (self.fused.as_ref(), self.m.fused.as_deref()) {
-                let (at, n) = (plan.layout(), self.q.len());
-                let f = &run.f;
+            if let Some(run) = self.fused.as_ref() {
+                let (io, f) = (run.io, &run.f[..]);
                 let out = &mut self.motion;
-                copy_small(&mut out.q, &f[at.q..at.q + n]);
-                copy_small(&mut out.qd, &f[at.qd..at.qd + n]);
-                copy_small(&mut out.qdd, &f[at.qdd..at.qdd + n]);
-                let (values_at, len) = plan.outputs_at();
-                self.m.write_outputs(&f[values_at..values_at + len], out);
-                let [c, s, r] = plan.results_at();
+                copy_small(&mut out.q, &f[io.q..io.q + io.n]);
+                copy_small(&mut out.qd, &f[io.qd..io.qd + io.n]);
+                copy_small(&mut out.qdd, &f[io.qdd..io.qdd + io.n]);
+                self.m.write_outputs(&f[io.out..io.out + io.outputs], out);
+                let [c, s, r] = io.results;
                 out.conditioning = f[c];
                 out.det_sign = f[s];
                 out.residual = f[r];
@@ -246,18 +293,14 @@ impl Stepper<'_> {
     /// The motion of the last step as flat arrays, from the fused buffer
     /// or from the general path's arrays.
     pub(super) fn flat(&self) -> Flat<'_> {
-        if let (true, Some(run), Some(plan)) =
-            (self.pending, self.fused.as_ref(), self.m.fused.as_deref())
-        {
-            let (at, n) = (plan.layout(), self.q.len());
-            let f = &run.f;
-            let (values_at, len) = plan.outputs_at();
-            let [c, s, r] = plan.results_at();
+        if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
+            let (io, f) = (run.io, &run.f);
+            let [c, s, r] = io.results;
             return Flat {
-                q: &f[at.q..at.q + n],
-                qd: &f[at.qd..at.qd + n],
-                qdd: &f[at.qdd..at.qdd + n],
-                outputs: &f[values_at..values_at + len],
+                q: &f[io.q..io.q + io.n],
+                qd: &f[io.qd..io.qd + io.n],
+                qdd: &f[io.qdd..io.qdd + io.n],
+                outputs: &f[io.out..io.out + io.outputs],
                 conditioning: f[c],
                 det_sign: f[s],
                 residual: f[r],
@@ -324,94 +367,89 @@ impl Stepper<'_> {
     /// the general path reports), or the step left its common path, the
     /// stepper's state (its modes) then as before.
     fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
-        let m = self.m;
-        let nd = m.drivers;
-        let Some(plan) = m.fused.as_deref() else {
+        let Some(plan) = self.m.fused.as_deref() else {
             return false;
         };
-        if rates.len() != nd || accelerations.len() != nd || start.len() != self.q.len() {
+        if !self.fused_inputs(start, Some((rates, accelerations))) {
             return false;
         }
-        // x·0 is 0 for a finite x and NaN otherwise.
-        let mut zero = 0.0;
-        for (r, a) in rates.iter().zip(accelerations) {
-            zero += r * 0.0 + a * 0.0;
-        }
-        let Some(f) = self.fused_inputs(start) else {
-            return false;
-        };
-        let at = plan.layout();
-        for v in &f[at.q..at.q + start.len()] {
-            zero += v * 0.0;
-        }
-        if zero != 0.0 {
-            return false;
-        }
-        copy_small(&mut f[at.qd..at.qd + nd], rates);
-        copy_small(&mut f[at.qdd..at.qdd + nd], accelerations);
-        if plan.step(f) != 0 {
-            return false;
-        }
-        self.fused_pose_taken(plan, false);
-        true
+        self.fused_run(plan, false)
     }
 
     /// The assembly through the model's fused code, with the points'
-    /// positions (as [`Stepper::fused_step`]).
+    /// positions (as [`Stepper::fused_step`]; `start` already checked).
     fn fused_pose(&mut self, start: &[f64]) -> bool {
         let Some(plan) = self.m.fused.as_deref() else {
             return false;
         };
-        let Some(f) = self.fused_inputs(start) else {
-            return false;
-        };
-        if plan.pose(f) != 0 {
-            return false;
-        }
-        self.fused_pose_taken(plan, true);
-        true
+        self.fused_inputs(start, None) && self.fused_run(plan, true)
     }
 
-    /// The fused buffer with `start`, the stepper's modes and the scaling
-    /// in it, and the carried values refreshed when due; `None` without
-    /// fused code.
-    fn fused_inputs(&mut self, start: &[f64]) -> Option<&mut [f64]> {
+    /// Writes `start` (and for a step the drivers' rates and
+    /// accelerations), the stepper's modes and the scaling into the fused
+    /// buffer, and refreshes the carried values when due: `false` without
+    /// fused code, or for an input of the wrong length or a value not
+    /// finite.
+    fn fused_inputs(&mut self, start: &[f64], motion: Option<(&[f64], &[f64])>) -> bool {
         let m = self.m;
-        let plan = m.fused.as_deref()?;
-        let run = self.fused.as_mut()?;
-        let at = plan.layout();
+        let (Some(plan), Some(run)) = (m.fused.as_deref(), self.fused.as_mut()) else {
+            return false;
+        };
+        let io = run.io;
+        if start.len() != io.n {
+            return false;
+        }
         if !run.scaled {
             let length = m.scaling(start, &mut self.work, &self.options);
             plan.set_scaling(&mut run.f, length, &self.work.rows, &self.work.weights);
             run.scaled = m.fixed_scaling;
         }
-        let (modes_at, k) = plan.modes_at();
-        let f = &mut run.f;
-        copy_small(&mut f[at.q..at.q + start.len()], start);
-        copy_small(&mut f[modes_at..modes_at + k], &self.modes);
+        let f = &mut run.f[..];
+        let mut zero = finite_zero(start);
+        copy_small(&mut f[io.q..io.q + io.n], start);
+        if let Some((rates, accelerations)) = motion {
+            if rates.len() != io.nd || accelerations.len() != io.nd {
+                return false;
+            }
+            zero += finite_zero(rates) + finite_zero(accelerations);
+            copy_small(&mut f[io.qd..io.qd + io.nd], rates);
+            copy_small(&mut f[io.qdd..io.qdd + io.nd], accelerations);
+        }
+        if zero != 0.0 {
+            return false;
+        }
+        copy_small(&mut f[io.modes..io.modes + io.k], &self.modes);
         run.steps = run.steps.wrapping_add(1);
         if run.steps % 16 == 0 {
             plan.refresh(f, run.steps % 64 == 0);
         }
-        Some(f)
+        true
     }
 
-    /// After a fused assembly: the stepper's pose and modes from the
-    /// buffer; `positions` says whether the buffer holds the points'
-    /// positions there.
-    fn fused_pose_taken(&mut self, plan: &super::fused::Plan, positions: bool) {
+    /// Runs the fused step (or with `positions` the pose) on the buffer
+    /// as [`Stepper::fused_inputs`] left it; when it succeeds, the
+    /// stepper's pose and modes from the buffer (which then holds the
+    /// points' positions if `positions`).
+    fn fused_run(&mut self, plan: &super::fused::Plan, positions: bool) -> bool {
         let Some(run) = self.fused.as_mut() else {
-            return;
+            return false;
         };
-        let (at, n) = (plan.layout(), self.q.len());
-        let (modes_at, k) = plan.modes_at();
-        let f = &run.f;
-        copy_small(&mut self.modes, &f[modes_at..modes_at + k]);
-        copy_small(&mut self.q, &f[at.q..at.q + n]);
+        let status = if positions {
+            plan.pose(&mut run.f)
+        } else {
+            plan.step(&mut run.f)
+        };
+        if status != 0 {
+            return false;
+        }
+        let (io, f) = (run.io, &run.f[..]);
+        copy_small(&mut self.modes, &f[io.modes..io.modes + io.k]);
+        copy_small(&mut self.q, &f[io.q..io.q + io.n]);
         run.positions = positions;
         // The cosines and sines are in the buffer, not in the work: the
         // positions of a step are evaluated afresh when asked for.
         self.assembled = false;
+        true
     }
 
     /// Forgets what the last step or pose left (until this one succeeds).
@@ -436,5 +474,16 @@ impl Stepper<'_> {
         )?;
         self.assembled = true;
         Ok(())
+    }
+}
+
+/// 0 when every value of `v` is finite, NaN otherwise (x·0 is 0 for a
+/// finite x and NaN otherwise).
+fn finite_zero(v: &[f64]) -> f64 {
+    match v {
+        [a] => a * 0.0,
+        [a, b] => a * 0.0 + b * 0.0,
+        [a, b, c] => a * 0.0 + b * 0.0 + c * 0.0,
+        _ => v.iter().map(|x| x * 0.0).sum(),
     }
 }
