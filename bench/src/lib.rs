@@ -3,6 +3,9 @@
 //! `cargo bench -p kinematics-bench --bench steps` prints the table of the
 //! README's performance section.
 
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+
 /// CPU time of the calling thread, in nanoseconds: what the benchmarks
 /// time, so that other jobs on the machine count only through the caches
 /// and the clock they share.
@@ -22,4 +25,44 @@ pub fn thread_cpu_ns() -> f64 {
     #[allow(clippy::cast_precision_loss)]
     let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
     ns
+}
+
+/// E as a cost for argmin, counting its evaluations.
+struct Cost<F: Fn(&[f64]) -> f64>(F, std::cell::Cell<usize>);
+
+impl<F: Fn(&[f64]) -> f64> CostFunction for Cost<F> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        self.1.set(self.1.get() + 1);
+        Ok((self.0)(x))
+    }
+}
+
+/// Nelder–Mead from `x0` (simplex: x0 and x0 + 10 % of each coordinate,
+/// or + 0.1), at most `iterations`: (best E, evaluations).
+///
+/// # Panics
+/// If argmin rejects the set-up (it does not for a finite `x0`).
+#[allow(clippy::expect_used)]
+pub fn nelder_mead(f: impl Fn(&[f64]) -> f64, x0: &[f64], iterations: u64) -> (f64, usize) {
+    let mut simplex = vec![x0.to_vec()];
+    for i in 0..x0.len() {
+        let mut x = x0.to_vec();
+        x[i] += if x[i].abs() > 1e-3 { 0.1 * x[i] } else { 0.1 };
+        simplex.push(x);
+    }
+    let cost = Cost(f, std::cell::Cell::new(0));
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-30)
+        .expect("a valid tolerance");
+    let res = Executor::new(cost, solver)
+        .configure(|s| s.max_iters(iterations))
+        .run()
+        .expect("Nelder–Mead runs");
+    let best = res.state().get_best_cost();
+    (
+        best,
+        res.problem().problem.as_ref().map_or(0, |c| c.1.get()),
+    )
 }

@@ -6,6 +6,7 @@
 
 use kinematics_core::mechanism;
 
+pub mod benchmarks;
 mod definitions;
 pub use definitions::{definition, definitions, mechanism_bodies};
 

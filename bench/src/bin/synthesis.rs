@@ -13,48 +13,11 @@
 
 use std::time::Instant;
 
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::neldermead::NelderMead;
+use kinematics_bench::nelder_mead;
 use kinematics_examples::synthesis_runs::{
     evenly, morgan_wampler, morgan_wampler_objective, morgan_wampler_start, nine_point,
     nine_point_objective, nine_point_start,
 };
-
-/// E as a cost for argmin, counting its evaluations.
-struct Cost<F: Fn(&[f64]) -> f64>(F, std::cell::Cell<usize>);
-
-impl<F: Fn(&[f64]) -> f64> CostFunction for Cost<F> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-        self.1.set(self.1.get() + 1);
-        Ok((self.0)(x))
-    }
-}
-
-/// Nelder–Mead from `x0` (simplex: x0 and x0 + 10 % of each coordinate,
-/// or + 0.1), at most `iterations`: (best E, evaluations).
-fn nelder_mead(f: impl Fn(&[f64]) -> f64, x0: &[f64], iterations: u64) -> (f64, usize) {
-    let mut simplex = vec![x0.to_vec()];
-    for i in 0..x0.len() {
-        let mut x = x0.to_vec();
-        x[i] += if x[i].abs() > 1e-3 { 0.1 * x[i] } else { 0.1 };
-        simplex.push(x);
-    }
-    let cost = Cost(f, std::cell::Cell::new(0));
-    let solver = NelderMead::new(simplex)
-        .with_sd_tolerance(1e-30)
-        .expect("a valid tolerance");
-    let res = Executor::new(cost, solver)
-        .configure(|s| s.max_iters(iterations))
-        .run()
-        .expect("Nelder–Mead runs");
-    let best = res.state().get_best_cost();
-    (
-        best,
-        res.problem().problem.as_ref().map_or(0, |c| c.1.get()),
-    )
-}
 
 fn median(mut v: Vec<usize>) -> usize {
     v.sort_unstable();

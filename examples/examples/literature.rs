@@ -1,0 +1,85 @@
+//! The published four-bar path-generation benchmarks A (six points on a
+//! line, free timing) and B (five points, prescribed crank angles), as
+//! their sources pose them, solved by seeded random starts refined by
+//! Levenberg–Marquardt with exact derivatives; each design found drawn at
+//! its targets over its coupler curve.
+//!
+//! ```sh
+//! cargo run --release --example literature
+//! ```
+
+use std::f64::consts::TAU;
+
+use kinematics_core::plot::{plot_skeleton_with, Overlay, Projection};
+use kinematics_examples::benchmarks::{
+    on_branch, solve, vector, BenchmarkFourBar, BenchmarkFourBarModes, Problem, PROBLEM_A,
+    PROBLEM_B,
+};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    for (p, file) in [
+        (PROBLEM_A, "literature-a.svg"),
+        (PROBLEM_B, "literature-b.svg"),
+    ] {
+        draw(&p, file)?;
+    }
+    Ok(())
+}
+
+/// Solves problem `p` from seed 0 and draws the design at its targets.
+fn draw(p: &Problem, file: &str) -> Result<(), Box<dyn std::error::Error>> {
+    let o = solve(p, 0, 16, 8).ok_or("no design met the constraints")?;
+    let m: BenchmarkFourBar = o.design;
+    println!(
+        "Problem {}: E = {:.3e} (best published {:.3e}, {}), {} evaluations",
+        p.name, o.sum_squares, p.best_published.0, p.best_published.1, o.evaluations
+    );
+    let names = ["r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "θ0"];
+    for (name, v) in names.iter().zip(vector(&m)) {
+        print!("{name} = {v:.6}  ");
+    }
+    println!();
+    for (t, th2) in p.targets.iter().zip(&o.crank_angles) {
+        println!(
+            "  target ({:6.3}, {:6.3}) at θ2 = {:7.2}°",
+            t[0],
+            t[1],
+            th2.rem_euclid(TAU).to_degrees()
+        );
+    }
+    // The poses at the targets, on the benchmarks' branch.
+    let modes = BenchmarkFourBarModes::all()
+        .find(|modes| {
+            o.crank_angles
+                .iter()
+                .all(|&th2| m.assemble_in(th2, modes).is_ok_and(|q| on_branch(&m, &q)))
+        })
+        .ok_or("no assembly mode on the branch")?;
+    let poses = o
+        .crank_angles
+        .iter()
+        .map(|&th2| m.assemble_in(th2, &modes))
+        .collect::<Result<Vec<_>, _>>()?;
+    // The coupler curve: a turn from the first target (the crank turns
+    // fully: a Grashof crank).
+    let curve = m
+        .sweep(BenchmarkFourBar::TH2, &poses[0])
+        .to(o.crank_angles[0] + TAU)
+        .run();
+    let overlay = Overlay::default().path(&curve, "C", Projection::XY, "coupler curve of C")?;
+    let marks: Vec<(f64, f64)> = p.targets.iter().map(|t| (t[0], t[1])).collect();
+    let label = format!("the targets of Problem {}", p.name);
+    let overlay = overlay.marks(&marks, &label);
+    let path = kinematics_examples::output_dir()?.join(file);
+    let links = [
+        ("O2", "A"),
+        ("A", "B"),
+        ("O4", "B"),
+        ("A", "C"),
+        ("B", "C"),
+        ("O2", "O4"),
+    ];
+    plot_skeleton_with(&m, &poses, &links, &overlay, Projection::XY, &path)?;
+    println!("wrote {}", path.display());
+    Ok(())
+}

@@ -1,0 +1,463 @@
+//! The published four-bar path-generation benchmarks, posed as their
+//! sources pose them (the formulation of the HCDJ code of Nguyen-Van et
+//! al., Symmetry 2022, which the ECA code and Peñuñuri's agree with), and
+//! the global strategy that solves them: seeded random starts inside the
+//! bounds, each refined by Levenberg–Marquardt with the exact Jacobian,
+//! the best of a first short pass refined further.
+
+use crate::synthesis_runs::Uniform;
+use kinematics_core::closed::{AllModes, Mode, ModeSet};
+use kinematics_core::mechanism;
+use kinematics_core::synthesis::{Synthesis, Synthesized, Timing};
+use kinematics_core::Error;
+use std::f64::consts::{PI, TAU};
+
+mechanism! {
+    /// The four-bar of the benchmarks: crank pivot O2 = (x0, y0), ground
+    /// link O2O4 = r1 at the angle θ0, crank O2A = r2 at θ2 from the ground
+    /// link, coupler AB = r3 at θ3 and rocker O4B = r4 at θ4 (both from the
+    /// x axis), coupler point C at (rcx, rcy) in the coupler's frame (x
+    /// along AB, origin at A).
+    pub struct BenchmarkFourBar {
+        params {
+            /// Ground link O2O4.
+            r1,
+            /// Crank O2A.
+            r2,
+            /// Coupler AB.
+            r3,
+            /// Rocker O4B.
+            r4,
+            /// Coupler point, along AB.
+            rcx,
+            /// Coupler point, across AB.
+            rcy,
+            /// x of the crank pivot O2.
+            x0,
+            /// y of the crank pivot O2.
+            y0,
+            /// Direction of the ground link (rad).
+            t0
+        }
+        drivers  { th2 }
+        unknowns { th3, th4 }
+        points {
+            /// Crank pivot (fixed).
+            O2 = vec2(x0, y0);
+            /// Rocker pivot (fixed).
+            O4 = O2 + polar(r1, t0);
+            /// Crank pin.
+            A = O2 + polar(r2, th2 + t0);
+            /// Rocker pin.
+            B = O4 + polar(r4, th4);
+            /// Coupler point.
+            C = A + polar(rcx, th3) + polar(rcy, th3 + 1.5707963267948966);
+        }
+        loops { A + polar(r3, th3) == B; }
+        sensitivities { r1, r2, r3, r4, rcx, rcy, x0, y0, t0 }
+    }
+}
+
+/// Whether `pose` is on the benchmarks' assembly branch: with the crank
+/// pivot at the origin and the ground link along x (O4 = (r1, 0)), the
+/// crank pin A and the rocker pin B satisfy (A − O4) × (B − O4) < 0.
+#[must_use]
+pub fn on_branch(m: &BenchmarkFourBar, pose: &BenchmarkFourBarCoords) -> bool {
+    let (ax, ay) = (m.r2 * pose.th2.cos() - m.r1, m.r2 * pose.th2.sin());
+    let th4 = pose.th4 - m.t0;
+    let (bx, by) = (m.r4 * th4.cos(), m.r4 * th4.sin());
+    ax * by - ay * bx < 0.0
+}
+
+/// How a problem times its targets.
+#[derive(Debug, Clone, Copy)]
+pub enum Posed {
+    /// Every crank angle a variable.
+    Free,
+    /// The crank angles given.
+    Prescribed(&'static [f64]),
+}
+
+/// One benchmark problem as its source poses it.
+#[derive(Debug, Clone, Copy)]
+pub struct Problem {
+    /// Its letter in the benchmark collection.
+    pub name: &'static str,
+    /// The targets, in order.
+    pub targets: &'static [[f64; 2]],
+    /// The timing.
+    pub timing: Posed,
+    /// The parameters varied, each with its bounds; the others are 0.
+    pub bounds: &'static [(&'static str, f64, f64)],
+    /// The best error published or recorded for it, and by whom.
+    pub best_published: (f64, &'static str),
+}
+
+/// Problem A: six points on a vertical line, no prescribed timing
+/// (HCDJ "Case1"; IMECE2019 "Case Study II"): lengths in [0, 60], the
+/// coupler point and the pivot in [−60, 60], θ0 in [0, 2π]; Grashof with
+/// the crank the shortest link. The global optimum is 0 (designs that
+/// pass through the six points exactly exist inside the bounds).
+pub const PROBLEM_A: Problem = Problem {
+    name: "A",
+    targets: &[
+        [20.0, 20.0],
+        [20.0, 25.0],
+        [20.0, 30.0],
+        [20.0, 35.0],
+        [20.0, 40.0],
+        [20.0, 45.0],
+    ],
+    timing: Posed::Free,
+    bounds: &[
+        ("r1", 0.0, 60.0),
+        ("r2", 0.0, 60.0),
+        ("r3", 0.0, 60.0),
+        ("r4", 0.0, 60.0),
+        ("rcx", -60.0, 60.0),
+        ("rcy", -60.0, 60.0),
+        ("x0", -60.0, 60.0),
+        ("y0", -60.0, 60.0),
+        ("t0", 0.0, TAU),
+    ],
+    best_published: (
+        1.96e-20,
+        "ECA's recorded best (jmejia8/eca-four-bar-mechanisms); 4.07e-12 by Lin and Hsiao's DE",
+    ),
+};
+
+/// The crank angles of Problem B: 30°, 45°, 60°, 75° and 90°.
+const B_TIMING: [f64; 5] = [PI / 6.0, PI / 4.0, PI / 3.0, 5.0 * PI / 12.0, PI / 2.0];
+
+/// Problem B: five points with prescribed crank angles (HCDJ "Case2"):
+/// the crank pivot at the origin and the ground link along x, lengths in
+/// [0, 50], the coupler point in [−50, 50]; Grashof.
+pub const PROBLEM_B: Problem = Problem {
+    name: "B",
+    targets: &[
+        [3.0, 3.0],
+        [2.759, 3.363],
+        [2.372, 3.663],
+        [1.890, 3.862],
+        [1.355, 3.943],
+    ],
+    timing: Posed::Prescribed(&B_TIMING),
+    bounds: &[
+        ("r1", 0.0, 50.0),
+        ("r2", 0.0, 50.0),
+        ("r3", 0.0, 50.0),
+        ("r4", 0.0, 50.0),
+        ("rcx", -50.0, 50.0),
+        ("rcy", -50.0, 50.0),
+    ],
+    best_published: (1.284e-6, "MUMSA, recomputed in the HCDJ code"),
+};
+
+/// The parameters in the benchmarks' order.
+const NAMES: [&str; 9] = ["r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "t0"];
+
+/// `m` with parameter `name` set to `v`.
+fn set(m: &mut BenchmarkFourBar, name: &str, v: f64) {
+    match name {
+        "r1" => m.r1 = v,
+        "r2" => m.r2 = v,
+        "r3" => m.r3 = v,
+        "r4" => m.r4 = v,
+        "rcx" => m.rcx = v,
+        "rcy" => m.rcy = v,
+        "x0" => m.x0 = v,
+        "y0" => m.y0 = v,
+        _ => m.t0 = v,
+    }
+}
+
+/// The design's parameters in the benchmarks' order
+/// [r1 r2 r3 r4 rcx rcy x0 y0 θ0].
+#[must_use]
+pub fn vector(m: &BenchmarkFourBar) -> [f64; 9] {
+    [m.r1, m.r2, m.r3, m.r4, m.rcx, m.rcy, m.x0, m.y0, m.t0]
+}
+
+/// Whether the lengths satisfy Grashof's condition with the crank the
+/// shortest link, `margin` inside it.
+fn grashof_crank(m: &BenchmarkFourBar, margin: f64) -> bool {
+    let [a, b, c, d] = [m.r2, m.r3, m.r4, m.r1];
+    a + b + margin <= c + d && a + c + margin <= b + d && a + d + margin <= b + c
+}
+
+/// The crank angles a problem starts from: the prescribed ones, or
+/// `n` evenly spaced over a turn from `from`.
+fn angles(p: &Problem, from: f64) -> Vec<f64> {
+    match p.timing {
+        Posed::Prescribed(v) => v.to_vec(),
+        Posed::Free => {
+            let n = p.targets.len();
+            #[allow(clippy::cast_precision_loss)]
+            (0..n).map(|j| from + TAU * j as f64 / n as f64).collect()
+        }
+    }
+}
+
+/// A random design inside the problem's bounds that is a Grashof crank
+/// and assembles on the benchmarks' branch at every starting crank angle:
+/// the design, its pose at the first angle, and its assembly mode.
+fn draw(p: &Problem, u: &mut Uniform) -> (BenchmarkFourBar, BenchmarkFourBarCoords, Mode) {
+    loop {
+        let mut m = BenchmarkFourBar {
+            r1: 0.0,
+            r2: 0.0,
+            r3: 0.0,
+            r4: 0.0,
+            rcx: 0.0,
+            rcy: 0.0,
+            x0: 0.0,
+            y0: 0.0,
+            t0: 0.0,
+        };
+        for &(name, lo, hi) in p.bounds {
+            // Lengths from a tenth of their range up (a link of length
+            // near zero is a degenerate start).
+            let lo = if name.starts_with('r') && lo >= 0.0 && name.len() == 2 {
+                lo + 0.1 * (hi - lo)
+            } else {
+                lo
+            };
+            set(&mut m, name, u.in_range(lo, hi));
+        }
+        if !grashof_crank(&m, 0.0) {
+            continue;
+        }
+        let from = u.in_range(0.0, TAU);
+        let thetas = angles(p, from);
+        for modes in AllModes::<BenchmarkFourBarModes>::new() {
+            let poses: Result<Vec<_>, _> =
+                thetas.iter().map(|&t| m.assemble_in(t, &modes)).collect();
+            if let Ok(poses) = poses {
+                if poses.iter().all(|q| on_branch(&m, q)) {
+                    return (m, poses[0], modes.mode(0));
+                }
+            }
+        }
+    }
+}
+
+/// Whether the crank angles, taken modulo 2π and read cyclically from
+/// the smallest, increase strictly (the benchmarks' "sequence" constraint
+/// on free timing: the crank turns one way through the targets, less than
+/// a turn).
+#[must_use]
+pub fn cyclic_increasing(angles: &[f64]) -> bool {
+    let a: Vec<f64> = angles.iter().map(|x| x.rem_euclid(TAU)).collect();
+    let Some(first) = (0..a.len()).min_by(|&i, &j| a[i].total_cmp(&a[j])) else {
+        return true;
+    };
+    (1..a.len()).all(|k| a[(first + k - 1) % a.len()] < a[(first + k) % a.len()])
+}
+
+/// The `n` random starting designs of the run `seed` (see [`draw`]),
+/// each with its pose at its first crank angle and its assembly mode.
+#[must_use]
+pub fn drawn(
+    p: &Problem,
+    seed: u64,
+    n: usize,
+) -> Vec<(BenchmarkFourBar, BenchmarkFourBarCoords, Mode)> {
+    let mut u = Uniform::new(seed);
+    (0..n).map(|_| draw(p, &mut u)).collect()
+}
+
+/// The unknowns of problem `p` for a derivative-free method: the varied
+/// parameters (in the order of its bounds), then for free timing the
+/// crank angles; from the design `m` and the crank angles `crank`.
+#[must_use]
+pub fn unknowns(p: &Problem, m: &BenchmarkFourBar, crank: &[f64]) -> Vec<f64> {
+    let v = vector(m);
+    let mut x: Vec<f64> = p
+        .bounds
+        .iter()
+        .map(|b| NAMES.iter().position(|n| *n == b.0).map_or(0.0, |i| v[i]))
+        .collect();
+    if let Posed::Free = p.timing {
+        x.extend_from_slice(crank);
+    }
+    x
+}
+
+/// The starting crank angles of a design drawn with its pose `start`.
+#[must_use]
+pub fn starting_angles(p: &Problem, start: &BenchmarkFourBarCoords) -> Vec<f64> {
+    angles(p, start.th2)
+}
+
+/// E of problem `p` at the unknowns `x` ([`unknowns`]) in the assembly
+/// mode `mode`, with the penalty of the benchmarks' code for a
+/// derivative-free method: 10⁶ for each violated constraint (a bound,
+/// Grashof with the crank shortest, the angles' sequence, a target where
+/// the design does not assemble on the branch).
+#[must_use]
+pub fn penalised(p: &Problem, x: &[f64], mode: Mode) -> f64 {
+    let mut m = from_vector([0.0; 9]);
+    let mut violations = 0u32;
+    for (&v, &(name, lo, hi)) in x.iter().zip(p.bounds) {
+        violations += u32::from(!(lo..=hi).contains(&v));
+        set(&mut m, name, v);
+    }
+    violations += u32::from(!grashof_crank(&m, 0.0));
+    let crank = match p.timing {
+        Posed::Prescribed(v) => v.to_vec(),
+        Posed::Free => x[p.bounds.len()..].to_vec(),
+    };
+    if let Posed::Free = p.timing {
+        violations += u32::from(!cyclic_increasing(&crank));
+    }
+    let mut modes = BenchmarkFourBarModes::all_plus();
+    modes.set_mode(0, mode);
+    let mut e = 0.0;
+    for (&th2, t) in crank.iter().zip(p.targets) {
+        match m.assemble_in(th2, &modes) {
+            Ok(q) if on_branch(&m, &q) => {
+                let c = m.positions(&q).C;
+                e += (c.x - t[0]).powi(2) + (c.y - t[1]).powi(2);
+            }
+            _ => violations += 1,
+        }
+    }
+    e + 1e6 * f64::from(violations)
+}
+
+/// What one run of the global strategy found.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The best design.
+    pub design: BenchmarkFourBar,
+    /// Its crank angle at each target.
+    pub crank_angles: Vec<f64>,
+    /// E = Σ|C(θ2_i) − t_i|².
+    pub sum_squares: f64,
+    /// Whether its constraints hold (Grashof with the crank shortest, and
+    /// for free timing the angles' sequence).
+    pub constraints_met: bool,
+    /// The evaluations of the residuals and of the Jacobian, all starts.
+    pub evaluations: usize,
+}
+
+/// One synthesis of problem `p` from the design `m` and its pose `start`
+/// in the mode `mode`, with at most `patience` residual evaluations per
+/// unknown.
+fn refine(
+    p: &Problem,
+    m: &BenchmarkFourBar,
+    start: &BenchmarkFourBarCoords,
+    mode: Mode,
+    crank: &[f64],
+    patience: usize,
+) -> Result<Synthesized<BenchmarkFourBar>, Error> {
+    let names: Vec<&str> = p.bounds.iter().map(|b| b.0).collect();
+    let mut s = Synthesis::path(m, BenchmarkFourBar::TH2, "C", p.targets, start)
+        .vary(&names)
+        .modes(&[mode])
+        .grashof_crank("r2", "r3", "r4", "r1", 0.0)
+        .patience(patience);
+    for &(name, lo, hi) in p.bounds {
+        s = s.bounds(name, lo, hi);
+    }
+    s = match p.timing {
+        Posed::Prescribed(v) => s.timing(Timing::Prescribed(v.to_vec())),
+        Posed::Free => s.driver_guesses(crank),
+    };
+    s.run()
+}
+
+/// One run of the global strategy on problem `p`, reproducible from
+/// `seed`: `starts` random designs (see [`draw`]) each refined by a short
+/// Levenberg–Marquardt (20 evaluations per unknown), the best `keep` of
+/// them refined to convergence (200 per unknown), in order, until one
+/// passes through the targets (E < 1e-24); the best design that
+/// meets the constraints (Grashof with the crank the shortest link, and
+/// for free timing [`cyclic_increasing`] crank angles).
+#[must_use]
+pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outcome> {
+    let mut evaluations = 0;
+    let mut screened = Vec::new();
+    for (m, start, mode) in drawn(p, seed, starts) {
+        let crank = angles(p, start.th2);
+        if let Ok(r) = refine(p, &m, &start, mode, &crank, 20) {
+            evaluations += r.evaluations + r.jacobians;
+            screened.push((r, start, mode));
+        }
+    }
+    screened.sort_by(|a, b| a.0.sum_squares.total_cmp(&b.0.sum_squares));
+    let mut best: Option<Outcome> = None;
+    for (r, start, mode) in screened.into_iter().take(keep) {
+        let mut pose = start;
+        pose.th2 = r.driver_values[0];
+        let mut modes = BenchmarkFourBarModes::all_plus();
+        modes.set_mode(0, mode);
+        let Ok(pose) = r.design.assemble_in(pose.th2, &modes) else {
+            continue;
+        };
+        let Ok(f) = refine(p, &r.design, &pose, mode, &r.driver_values, 200) else {
+            continue;
+        };
+        evaluations += f.evaluations + f.jacobians;
+        let sequence = match p.timing {
+            Posed::Free => cyclic_increasing(&f.driver_values),
+            Posed::Prescribed(_) => true,
+        };
+        let ok = f.constraints_met && grashof_crank(&f.design, -1e-9) && sequence;
+        let better = best.as_ref().is_none_or(|b| f.sum_squares < b.sum_squares);
+        let exact = ok && f.sum_squares < 1e-24;
+        if ok && better {
+            best = Some(Outcome {
+                design: f.design,
+                crank_angles: f.driver_values,
+                sum_squares: f.sum_squares,
+                constraints_met: ok,
+                evaluations: 0,
+            });
+        }
+        if exact {
+            // Nothing to improve on: the targets are passed through.
+            break;
+        }
+    }
+    best.map(|mut b| {
+        b.evaluations = evaluations;
+        b
+    })
+}
+
+/// The coupler point of `m` at the crank angle `th2` on the benchmarks'
+/// branch, for a design check outside the synthesis: `None` where it does
+/// not assemble.
+#[must_use]
+pub fn coupler_point(m: &BenchmarkFourBar, th2: f64) -> Option<[f64; 2]> {
+    AllModes::<BenchmarkFourBarModes>::new().find_map(|modes| {
+        let q = m.assemble_in(th2, &modes).ok()?;
+        on_branch(m, &q).then(|| {
+            let c = m.positions(&q).C;
+            [c.x, c.y]
+        })
+    })
+}
+
+/// The design whose parameters are `x`, in [`vector`]'s order (for
+/// published vectors).
+#[must_use]
+pub fn from_vector(x: [f64; 9]) -> BenchmarkFourBar {
+    let mut m = BenchmarkFourBar {
+        r1: 0.0,
+        r2: 0.0,
+        r3: 0.0,
+        r4: 0.0,
+        rcx: 0.0,
+        rcy: 0.0,
+        x0: 0.0,
+        y0: 0.0,
+        t0: 0.0,
+    };
+    for (name, v) in NAMES.iter().zip(x) {
+        set(&mut m, name, v);
+    }
+    m
+}
