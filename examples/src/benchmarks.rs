@@ -254,8 +254,11 @@ pub fn cyclic_increasing(angles: &[f64]) -> bool {
     (1..a.len()).all(|k| a[(first + k - 1) % a.len()] < a[(first + k) % a.len()])
 }
 
-/// The `n` random starting designs of the run `seed` (see [`draw`]),
-/// each with its pose at its first crank angle and its assembly mode.
+/// The `n` random starting designs of the run `seed`: inside the
+/// problem's bounds (lengths from a tenth of their range up), Grashof
+/// cranks, assembling on the benchmarks' branch at every starting crank
+/// angle; each with its pose at its first crank angle and its assembly
+/// mode.
 #[must_use]
 pub fn drawn(
     p: &Problem,
@@ -369,7 +372,7 @@ fn refine(
 }
 
 /// One run of the global strategy on problem `p`, reproducible from
-/// `seed`: `starts` random designs (see [`draw`]) each refined by a short
+/// `seed`: `starts` random designs (see [`drawn`]) each refined by a short
 /// Levenberg–Marquardt (20 evaluations per unknown), the best `keep` of
 /// them refined to convergence (200 per unknown), in order, until one
 /// passes through the targets (E < 1e-24); the best design that
