@@ -203,17 +203,7 @@ fn angles(p: &Problem, from: f64) -> Vec<f64> {
 /// the design, its pose at the first angle, and its assembly mode.
 fn draw(p: &Problem, u: &mut Uniform) -> (BenchmarkFourBar, BenchmarkFourBarCoords, Mode) {
     loop {
-        let mut m = BenchmarkFourBar {
-            r1: 0.0,
-            r2: 0.0,
-            r3: 0.0,
-            r4: 0.0,
-            rcx: 0.0,
-            rcy: 0.0,
-            x0: 0.0,
-            y0: 0.0,
-            t0: 0.0,
-        };
+        let mut m = from_vector([0.0; 9]);
         for &(name, lo, hi) in p.bounds {
             // Lengths from a tenth of their range up (a link of length
             // near zero is a degenerate start).

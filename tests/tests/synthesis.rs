@@ -114,19 +114,26 @@ fn free_and_relative_timing_recover_the_crank_angles_too() {
     assert!((found.driver_values[0] - 0.3).abs() < 1e-8);
 }
 
-#[test]
-fn function_generation_recovers_the_output_angles() {
-    let start = start();
-    // Input–output pairs (φ, θ4) of the true design, from its closed form.
-    let pairs: Vec<(f64, f64)> = [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
+/// Input–output pairs (φ, θ4) of [`TRUTH`], from its closed form.
+fn true_pairs(start: &FourBarCoords) -> Vec<(f64, f64)> {
+    [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
         .iter()
         .map(|&phi| {
             (
                 phi,
-                TRUTH.assemble(&FourBarCoords { phi, ..start }).unwrap().th4,
+                TRUTH
+                    .assemble(&FourBarCoords { phi, ..*start })
+                    .unwrap()
+                    .th4,
             )
         })
-        .collect();
+        .collect()
+}
+
+fn function_generation_recovers_the_output_angles() {
+    let start = start();
+    // Input–output pairs (φ, θ4) of the true design, from its closed form.
+    let pairs = true_pairs(&start);
     let guess = FourBar {
         a: 0.9,
         b: 3.2,
@@ -410,15 +417,7 @@ fn a_run_time_model_is_synthesised_as_the_generated_one() {
 #[test]
 fn a_run_time_model_takes_function_generation_and_bounds() {
     let start = start();
-    let pairs: Vec<(f64, f64)> = [0.2, 0.9, 1.6, 2.4, 3.3, 4.4]
-        .iter()
-        .map(|&phi| {
-            (
-                phi,
-                TRUTH.assemble(&FourBarCoords { phi, ..start }).unwrap().th4,
-            )
-        })
-        .collect();
+    let pairs = true_pairs(&start);
     let guess = runtime_model(&FourBar {
         a: 0.9,
         b: 3.2,
