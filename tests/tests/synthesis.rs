@@ -130,9 +130,9 @@ fn true_pairs(start: &FourBarCoords) -> Vec<(f64, f64)> {
         .collect()
 }
 
+#[test]
 fn function_generation_recovers_the_output_angles() {
     let start = start();
-    // Input–output pairs (φ, θ4) of the true design, from its closed form.
     let pairs = true_pairs(&start);
     let guess = FourBar {
         a: 0.9,
