@@ -8,7 +8,17 @@ use kinematics_core::{
     synthesis::{Synthesis, Timing},
 };
 
-mechanism! {
+/// Expands a definition with `mechanism!` and keeps its text in
+/// `FOUR_BAR_TEXT`, for the same model compiled at run time.
+macro_rules! with_text {
+    ($($definition:tt)*) => {
+        mechanism! { $($definition)* }
+        /// The definition of [`FourBar`] as text.
+        const FOUR_BAR_TEXT: &str = stringify!($($definition)*);
+    };
+}
+
+with_text! {
     /// A four-bar with its coupler point P, ground pivots fixed.
     struct FourBar {
         params { a, b, c, d, p, beta }
@@ -344,17 +354,6 @@ fn the_exact_nine_point_solution_needs_both_assembly_modes() {
         "{reaching:?}"
     );
 }
-
-/// The definition of [`FourBar`] as text, for a model compiled at run
-/// time.
-const FOUR_BAR_TEXT: &str = "struct FourBar {
-    params { a, b, c, d, p, beta }
-    drivers { phi }
-    unknowns { th3, th4 }
-    points { P = polar(a, phi) + polar(p, th3 + beta); }
-    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-    sensitivities { a, b, c, d, p, beta }
-}";
 
 /// `design` as a run-time model of [`FOUR_BAR_TEXT`].
 fn runtime_model(design: &FourBar) -> kinematics_core::runtime::Model {
