@@ -66,3 +66,81 @@ pub fn nelder_mead(f: impl Fn(&[f64]) -> f64, x0: &[f64], iterations: u64) -> (f
         res.problem().problem.as_ref().map_or(0, |c| c.1.get()),
     )
 }
+
+/// E as the objective of differential evolution, with its bounds,
+/// counting its evaluations.
+struct Objective<F: Fn(&[f64]) -> f64> {
+    f: F,
+    bounds: Vec<[f64; 2]>,
+    evaluations: std::cell::Cell<usize>,
+    /// The evaluations spent when the best E first reached the target.
+    reached: std::cell::Cell<Option<usize>>,
+    target: f64,
+}
+
+impl<F: Fn(&[f64]) -> f64> metaheuristics_nature::Bounded for Objective<F> {
+    fn bound(&self) -> &[[f64; 2]] {
+        &self.bounds
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64> metaheuristics_nature::ObjFunc for Objective<F> {
+    type Ys = f64;
+    fn fitness(&self, x: &[f64]) -> f64 {
+        let n = self.evaluations.get() + 1;
+        self.evaluations.set(n);
+        let e = (self.f)(x);
+        if e <= self.target && self.reached.get().is_none() {
+            self.reached.set(Some(n));
+        }
+        e
+    }
+}
+
+/// What a run of differential evolution found: the best E, the
+/// evaluations spent, and those spent when E first reached the target
+/// (`None`: not within the budget).
+#[derive(Debug, Clone, Copy)]
+pub struct Evolved {
+    /// The best E.
+    pub best: f64,
+    /// The evaluations spent.
+    pub evaluations: usize,
+    /// The evaluations spent when E first reached the target.
+    pub to_target: Option<usize>,
+}
+
+/// Differential evolution (`metaheuristics-nature`'s `De` with its
+/// default strategy and factors, a population of `population`) on `f`
+/// within `bounds`, seeded, until `budget` evaluations are spent or E
+/// reaches `target`.
+pub fn differential_evolution(
+    f: impl Fn(&[f64]) -> f64,
+    bounds: &[[f64; 2]],
+    seed: u64,
+    population: usize,
+    budget: usize,
+    target: f64,
+) -> Evolved {
+    use metaheuristics_nature::{De, Solver};
+    let objective = Objective {
+        f,
+        bounds: bounds.to_vec(),
+        evaluations: std::cell::Cell::new(0),
+        reached: std::cell::Cell::new(None),
+        target,
+    };
+    let s = Solver::build(De::default(), objective)
+        .seed(seed)
+        .pop_num(population)
+        .task(|ctx| {
+            ctx.func.evaluations.get() + population > budget || ctx.func.reached.get().is_some()
+        })
+        .solve();
+    let func = s.func();
+    Evolved {
+        best: *s.as_best_fit(),
+        evaluations: func.evaluations.get(),
+        to_target: func.reached.get(),
+    }
+}

@@ -76,6 +76,9 @@ pub enum Posed {
     Free,
     /// The crank angles given.
     Prescribed(&'static [f64]),
+    /// The increments of the crank angle from the first target given,
+    /// the first angle a variable.
+    Relative(&'static [f64]),
 }
 
 /// One benchmark problem as its source poses it.
@@ -153,6 +156,185 @@ pub const PROBLEM_B: Problem = Problem {
     best_published: (1.284e-6, "MUMSA, recomputed in the HCDJ code"),
 };
 
+/// The crank's 20° steps of Problem C from its first target.
+const C_STEPS: [f64; 18] = [
+    0.0,
+    PI / 9.0,
+    2.0 * PI / 9.0,
+    3.0 * PI / 9.0,
+    4.0 * PI / 9.0,
+    5.0 * PI / 9.0,
+    6.0 * PI / 9.0,
+    7.0 * PI / 9.0,
+    8.0 * PI / 9.0,
+    PI,
+    10.0 * PI / 9.0,
+    11.0 * PI / 9.0,
+    12.0 * PI / 9.0,
+    13.0 * PI / 9.0,
+    14.0 * PI / 9.0,
+    15.0 * PI / 9.0,
+    16.0 * PI / 9.0,
+    17.0 * PI / 9.0,
+];
+
+/// Problem C: eighteen points of a closed path, the crank advancing 20°
+/// from one target to the next, its first angle free (HCDJ "Case3"):
+/// lengths in [0, 50], the coupler point and the pivot in [−50, 50], θ0
+/// in [0, 2π]; Grashof. The best value recorded depends on the bounds
+/// (its ground link is at 49.8).
+pub const PROBLEM_C: Problem = Problem {
+    name: "C",
+    targets: &[
+        [0.5, 1.1],
+        [0.4, 1.1],
+        [0.3, 1.1],
+        [0.2, 1.0],
+        [0.1, 0.9],
+        [0.05, 0.75],
+        [0.02, 0.6],
+        [0.0, 0.5],
+        [0.0, 0.4],
+        [0.03, 0.3],
+        [0.1, 0.25],
+        [0.15, 0.2],
+        [0.2, 0.3],
+        [0.3, 0.4],
+        [0.4, 0.5],
+        [0.5, 0.7],
+        [0.6, 0.9],
+        [0.6, 1.0],
+    ],
+    timing: Posed::Relative(&C_STEPS),
+    bounds: &[
+        ("r1", 0.0, 50.0),
+        ("r2", 0.0, 50.0),
+        ("r3", 0.0, 50.0),
+        ("r4", 0.0, 50.0),
+        ("rcx", -50.0, 50.0),
+        ("rcy", -50.0, 50.0),
+        ("x0", -50.0, 50.0),
+        ("y0", -50.0, 50.0),
+        ("t0", 0.0, TAU),
+    ],
+    best_published: (0.016_078, "HCDJ's recorded best (Nguyen-Van et al. 2022)"),
+};
+
+/// Problem E: ten points of an ellipse, the first and last the same, no
+/// prescribed timing (HCDJ "Case5"): lengths in [0, 80], the coupler
+/// point and the pivot in [−80, 80], θ0 in [0, 2π]; Grashof, crank
+/// angles in sequence.
+pub const PROBLEM_E: Problem = Problem {
+    name: "E",
+    targets: &[
+        [20.0, 10.0],
+        [17.66, 15.142],
+        [11.736, 17.878],
+        [5.0, 16.928],
+        [0.60307, 12.736],
+        [0.60307, 7.2638],
+        [5.0, 3.0718],
+        [11.736, 2.1215],
+        [17.66, 4.8577],
+        [20.0, 10.0],
+    ],
+    timing: Posed::Free,
+    bounds: &[
+        ("r1", 0.0, 80.0),
+        ("r2", 0.0, 80.0),
+        ("r3", 0.0, 80.0),
+        ("r4", 0.0, 80.0),
+        ("rcx", -80.0, 80.0),
+        ("rcy", -80.0, 80.0),
+        ("x0", -80.0, 80.0),
+        ("y0", -80.0, 80.0),
+        ("t0", 0.0, TAU),
+    ],
+    best_published: (4.02e-4, "Lin and Hsiao's DE, recomputed in the HCDJ code"),
+};
+
+/// Problem F: 25 points, no prescribed timing (Laribi, Mlika, Romdhane
+/// and Zeghloul, MMT 39 (2004) 717–735, as IMECE2019 gives them). The
+/// paper states no bounds; these enclose every published design: lengths
+/// in [0, 20], the coupler point and the pivot in [−20, 20], θ0 in
+/// [0, 2π]; Grashof, crank angles in sequence (the ant search's score,
+/// the nearest crank angle on a 1° grid with no order, is looser).
+pub const PROBLEM_F: Problem = Problem {
+    name: "F",
+    targets: &[
+        [7.03, 5.99],
+        [6.95, 5.45],
+        [6.77, 5.03],
+        [6.4, 4.6],
+        [5.91, 4.03],
+        [5.43, 3.56],
+        [4.93, 2.94],
+        [4.67, 2.6],
+        [4.38, 2.2],
+        [4.04, 1.67],
+        [3.76, 1.22],
+        [3.76, 1.97],
+        [3.76, 2.78],
+        [3.76, 3.56],
+        [3.76, 4.34],
+        [3.76, 4.91],
+        [3.76, 5.47],
+        [3.8, 5.98],
+        [4.07, 6.4],
+        [4.53, 6.75],
+        [5.07, 6.85],
+        [5.05, 6.84],
+        [5.89, 6.83],
+        [6.41, 6.8],
+        [6.92, 6.58],
+    ],
+    timing: Posed::Free,
+    bounds: &[
+        ("r1", 0.0, 20.0),
+        ("r2", 0.0, 20.0),
+        ("r3", 0.0, 20.0),
+        ("r4", 0.0, 20.0),
+        ("rcx", -20.0, 20.0),
+        ("rcy", -20.0, 20.0),
+        ("x0", -20.0, 20.0),
+        ("y0", -20.0, 20.0),
+        ("t0", 0.0, TAU),
+    ],
+    best_published: (0.1814, "dynamic ant search, IMECE2019-10262"),
+};
+
+/// Problem G: eight points, no prescribed timing (McDougall and Nokleby,
+/// IDETC/CIE 2008, as IMECE2019 gives them): lengths in [0.1, 5], the
+/// coupler point in [0.1, 4], the pivot in [−4, 4], θ0 in [−90°, 90°];
+/// Grashof, crank angles in sequence (stricter than the ant search's
+/// score).
+pub const PROBLEM_G: Problem = Problem {
+    name: "G",
+    targets: &[
+        [2.6, 1.6],
+        [2.3, 1.6],
+        [2.0, 1.6],
+        [1.7, 1.6],
+        [1.4, 1.6],
+        [1.0, 1.3],
+        [2.0, 0.7],
+        [3.0, 1.3],
+    ],
+    timing: Posed::Free,
+    bounds: &[
+        ("r1", 0.1, 5.0),
+        ("r2", 0.1, 5.0),
+        ("r3", 0.1, 5.0),
+        ("r4", 0.1, 5.0),
+        ("rcx", 0.1, 4.0),
+        ("rcy", 0.1, 4.0),
+        ("x0", -4.0, 4.0),
+        ("y0", -4.0, 4.0),
+        ("t0", -PI / 2.0, PI / 2.0),
+    ],
+    best_published: (1.61e-3, "dynamic ant search, IMECE2019-10262"),
+};
+
 /// The parameters in the benchmarks' order.
 const NAMES: [&str; 9] = ["r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "t0"];
 
@@ -187,13 +369,33 @@ fn grashof_crank(m: &BenchmarkFourBar, margin: f64) -> bool {
 
 /// The crank angles a problem starts from: the prescribed ones, or
 /// `n` evenly spaced over a turn from `from`.
-fn angles(p: &Problem, from: f64) -> Vec<f64> {
+fn angles(p: &Problem, from: f64, by_length: bool) -> Vec<f64> {
     match p.timing {
         Posed::Prescribed(v) => v.to_vec(),
+        Posed::Relative(d) => d.iter().map(|d| from + d).collect(),
         Posed::Free => {
-            let n = p.targets.len();
-            #[allow(clippy::cast_precision_loss)]
-            (0..n).map(|j| from + TAU * j as f64 / n as f64).collect()
+            // Evenly spaced, or spaced as the targets are along their
+            // closed polygon (a crank turning at a uniform rate, a point
+            // moving at a uniform speed).
+            let t = p.targets;
+            let n = t.len();
+            let step = |j: usize| {
+                let (a, b) = (t[j], t[(j + 1) % n]);
+                if by_length {
+                    (b[0] - a[0]).hypot(b[1] - a[1])
+                } else {
+                    1.0
+                }
+            };
+            let total: f64 = (0..n).map(step).sum();
+            let mut at = from;
+            (0..n)
+                .map(|j| {
+                    let here = at;
+                    at += TAU * step(j) / total;
+                    here
+                })
+                .collect()
         }
     }
 }
@@ -218,7 +420,7 @@ fn draw(p: &Problem, u: &mut Uniform) -> (BenchmarkFourBar, BenchmarkFourBarCoor
             continue;
         }
         let from = u.in_range(0.0, TAU);
-        let thetas = angles(p, from);
+        let thetas = angles(p, from, false);
         for modes in AllModes::<BenchmarkFourBarModes>::new() {
             let poses: Result<Vec<_>, _> =
                 thetas.iter().map(|&t| m.assemble_in(t, &modes)).collect();
@@ -270,25 +472,29 @@ pub fn unknowns(p: &Problem, m: &BenchmarkFourBar, crank: &[f64]) -> Vec<f64> {
         .iter()
         .map(|b| NAMES.iter().position(|n| *n == b.0).map_or(0.0, |i| v[i]))
         .collect();
-    if let Posed::Free = p.timing {
-        x.extend_from_slice(crank);
+    match p.timing {
+        Posed::Free => x.extend_from_slice(crank),
+        Posed::Relative(_) => x.push(crank.first().copied().unwrap_or(0.0)),
+        Posed::Prescribed(_) => {}
     }
     x
 }
 
-/// The starting crank angles of a design drawn with its pose `start`.
+/// The starting crank angles of the `k`-th design drawn, with its pose
+/// `start`: for free timing, even starts space them evenly over a turn,
+/// odd ones as the targets are spaced along their closed polygon.
 #[must_use]
-pub fn starting_angles(p: &Problem, start: &BenchmarkFourBarCoords) -> Vec<f64> {
-    angles(p, start.th2)
+pub fn starting_angles(p: &Problem, start: &BenchmarkFourBarCoords, k: usize) -> Vec<f64> {
+    angles(p, start.th2, k % 2 == 1)
 }
 
-/// E of problem `p` at the unknowns `x` ([`unknowns`]) in the assembly
-/// mode `mode`, with the penalty of the benchmarks' code for a
+/// E of problem `p` at the unknowns `x` ([`unknowns`]) on the
+/// benchmarks' branch, with the penalty of the benchmarks' code for a
 /// derivative-free method: 10⁶ for each violated constraint (a bound,
 /// Grashof with the crank shortest, the angles' sequence, a target where
 /// the design does not assemble on the branch).
 #[must_use]
-pub fn penalised(p: &Problem, x: &[f64], mode: Mode) -> f64 {
+pub fn penalised(p: &Problem, x: &[f64]) -> f64 {
     let mut m = from_vector([0.0; 9]);
     let mut violations = 0u32;
     for (&v, &(name, lo, hi)) in x.iter().zip(p.bounds) {
@@ -298,24 +504,36 @@ pub fn penalised(p: &Problem, x: &[f64], mode: Mode) -> f64 {
     violations += u32::from(!grashof_crank(&m, 0.0));
     let crank = match p.timing {
         Posed::Prescribed(v) => v.to_vec(),
+        Posed::Relative(d) => {
+            let first = x.get(p.bounds.len()).copied().unwrap_or(0.0);
+            d.iter().map(|d| first + d).collect()
+        }
         Posed::Free => x[p.bounds.len()..].to_vec(),
     };
     if let Posed::Free = p.timing {
         violations += u32::from(!cyclic_increasing(&crank));
     }
-    let mut modes = BenchmarkFourBarModes::all_plus();
-    modes.set_mode(0, mode);
     let mut e = 0.0;
     for (&th2, t) in crank.iter().zip(p.targets) {
-        match m.assemble_in(th2, &modes) {
-            Ok(q) if on_branch(&m, &q) => {
-                let c = m.positions(&q).C;
-                e += (c.x - t[0]).powi(2) + (c.y - t[1]).powi(2);
-            }
-            _ => violations += 1,
+        match coupler_point(&m, th2) {
+            Some(c) => e += (c[0] - t[0]).powi(2) + (c[1] - t[1]).powi(2),
+            None => violations += 1,
         }
     }
     e + 1e6 * f64::from(violations)
+}
+
+/// The bounds of the unknowns of [`unknowns`]: the parameters', then
+/// [0, 2π] for each free crank angle.
+#[must_use]
+pub fn unknown_bounds(p: &Problem) -> Vec<[f64; 2]> {
+    let mut b: Vec<[f64; 2]> = p.bounds.iter().map(|&(_, lo, hi)| [lo, hi]).collect();
+    match p.timing {
+        Posed::Free => b.extend(std::iter::repeat_n([0.0, TAU], p.targets.len())),
+        Posed::Relative(_) => b.push([0.0, TAU]),
+        Posed::Prescribed(_) => {}
+    }
+    b
 }
 
 /// What one run of the global strategy found.
@@ -356,7 +574,8 @@ fn refine(
     }
     s = match p.timing {
         Posed::Prescribed(v) => s.timing(Timing::Prescribed(v.to_vec())),
-        Posed::Free => s.driver_guesses(crank),
+        Posed::Relative(d) => s.timing(Timing::Relative(d.to_vec())),
+        Posed::Free => s.driver_guesses(crank).in_order(),
     };
     s.run()
 }
@@ -372,8 +591,8 @@ fn refine(
 pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outcome> {
     let mut evaluations = 0;
     let mut screened = Vec::new();
-    for (m, start, mode) in drawn(p, seed, starts) {
-        let crank = angles(p, start.th2);
+    for (k, (m, start, mode)) in drawn(p, seed, starts).into_iter().enumerate() {
+        let crank = starting_angles(p, &start, k);
         if let Ok(r) = refine(p, &m, &start, mode, &crank, 20) {
             evaluations += r.evaluations + r.jacobians;
             screened.push((r, start, mode));
@@ -395,7 +614,7 @@ pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outco
         evaluations += f.evaluations + f.jacobians;
         let sequence = match p.timing {
             Posed::Free => cyclic_increasing(&f.driver_values),
-            Posed::Prescribed(_) => true,
+            Posed::Prescribed(_) | Posed::Relative(_) => true,
         };
         let ok = f.constraints_met && grashof_crank(&f.design, -1e-9) && sequence;
         let better = best.as_ref().is_none_or(|b| f.sum_squares < b.sum_squares);

@@ -59,6 +59,8 @@ pub struct Synthesis<M: Subject> {
     pub(super) timing: Timing,
     guesses: Option<Vec<f64>>,
     pub(super) linear: Vec<(Vec<(usize, f64)>, f64)>,
+    /// Whether free driver values must increase through the targets.
+    pub(super) ordered: bool,
     modes: Option<Vec<f64>>,
     pub(super) options: Options,
     patience: usize,
@@ -87,7 +89,8 @@ pub struct Synthesized<M> {
     /// rejected as a step).
     pub rejected: usize,
     /// Whether every linear inequality holds (to 10⁻¹⁰ of the design's
-    /// scale).
+    /// scale), and with [`Synthesis::in_order`] the order of the driver
+    /// values.
     pub constraints_met: bool,
     /// For an angle driver, whether the design sweeps a whole turn from the
     /// first target's pose in its assembly modes; `None` for a length
@@ -197,6 +200,7 @@ impl<M: Subject> Synthesis<M> {
             timing: Timing::Free,
             guesses: None,
             linear: Vec::new(),
+            ordered: false,
             modes: None,
             options: Options::DEFAULT,
             patience: 200,
@@ -206,6 +210,11 @@ impl<M: Subject> Synthesis<M> {
             s.fail(detail);
         }
         s
+    }
+
+    /// Whether the driver is an angle.
+    pub(super) fn driver_is_angle(&self) -> bool {
+        self.driver_kind == Kind::Angle
     }
 
     fn fail(&mut self, detail: String) {
@@ -272,6 +281,18 @@ impl<M: Subject> Synthesis<M> {
     #[must_use]
     pub fn driver_guesses(mut self, values: &[f64]) -> Self {
         self.guesses = Some(values.to_vec());
+        self
+    }
+
+    /// With [`Timing::Free`], keeps the driver values in order through
+    /// the targets: φ₁ ≤ φ₂ ≤ … ≤ φ_N, and for an angle driver
+    /// φ_N ≤ φ₁ + 2π (the driver turns one way, less than a turn, as the
+    /// targets are listed). Each is a penalty residual as the linear
+    /// inequalities are ([`Synthesis::at_most`]); starting values out of
+    /// order are sorted first.
+    #[must_use]
+    pub fn in_order(mut self) -> Self {
+        self.ordered = true;
         self
     }
 
@@ -414,6 +435,13 @@ impl<M: Subject> Synthesis<M> {
             Timing::Prescribed(_) => Vec::new(),
             Timing::Relative(_) => vec![phi0],
         };
+        let timing_unknowns = if self.ordered && self.timing == Timing::Free {
+            let mut sorted = timing_unknowns;
+            sorted.sort_by(f64::total_cmp);
+            sorted
+        } else {
+            timing_unknowns
+        };
         let scale = self
             .varied
             .iter()
@@ -441,15 +469,18 @@ impl<M: Subject> Synthesis<M> {
             .collect();
         x.extend(&timing_unknowns);
         problem.x = x;
-        let r0 = problem.evaluate(&problem.x.clone(), false)?;
-        problem.reject = 10.0 * norm(&r0.0) + 1.0;
         let mut termination = String::new();
         for _round in 0..7 {
+            // A design that cannot be assembled counts as a residual ten
+            // times the round's first (whose penalties weigh more in each
+            // round), so that no step to one is ever accepted.
+            let r0 = problem.evaluate(&problem.x.clone(), false)?;
+            problem.reject = 10.0 * norm(&r0.0) + 1.0;
             let lm = LevenbergMarquardt::new().with_patience(self.patience);
             let (solved, report) = lm.minimize(problem);
             problem = solved;
             termination = format!("{:?}", report.termination);
-            if problem.violation() <= 1e-10 * scale || self.linear.is_empty() {
+            if problem.violation() <= 1e-10 * scale || (self.linear.is_empty() && !self.ordered) {
                 break;
             }
             problem.weight *= 100.0;

@@ -100,10 +100,12 @@ impl<M: Subject> Problem<'_, M> {
         (design, values)
     }
 
-    /// The largest violation of a linear inequality.
+    /// The largest violation of a linear inequality or of the order of
+    /// the driver values.
     pub(super) fn violation(&self) -> f64 {
-        let (design, _) = self.design_at(&self.x);
-        self.s
+        let (design, values) = self.design_at(&self.x);
+        let linear = self
+            .s
             .linear
             .iter()
             .map(|(terms, h)| {
@@ -113,7 +115,34 @@ impl<M: Subject> Problem<'_, M> {
                     .sum::<f64>()
                     - h
             })
-            .fold(0.0f64, f64::max)
+            .fold(0.0f64, f64::max);
+        self.order_gaps(&values)
+            .into_iter()
+            .map(|(g, _, _)| g)
+            .fold(linear, f64::max)
+    }
+
+    /// With ordered free timing, for each target j the inequality
+    /// φ_j − φ_{j+1} ≤ 0 (the last against φ₁ + 2π for an angle driver,
+    /// none for a length driver) as (its left side, j, the index of the
+    /// other value); empty otherwise.
+    fn order_gaps(&self, values: &[f64]) -> Vec<(f64, usize, usize)> {
+        let s = self.s;
+        if !s.ordered || s.timing != Timing::Free {
+            return Vec::new();
+        }
+        let n = values.len();
+        (0..n)
+            .filter_map(|j| {
+                if j + 1 < n {
+                    Some((values[j] - values[j + 1], j, j + 1))
+                } else if s.driver_is_angle() && n > 1 {
+                    Some((values[j] - values[0] - TAU, j, 0))
+                } else {
+                    None
+                }
+            })
+            .collect()
     }
 
     /// E and the largest error from the residuals (the inequality
@@ -137,7 +166,7 @@ impl<M: Subject> Problem<'_, M> {
         let (n, d, nv) = (self.n, s.dim, s.varied.len());
         let nx = x.len();
         let (design, values) = self.design_at(x);
-        let nrows = n * d + s.linear.len();
+        let nrows = self.rows();
         let mut res = vec![0.0; nrows];
         let mut jac = if jacobian {
             vec![0.0; nrows * nx]
@@ -217,6 +246,17 @@ impl<M: Subject> Problem<'_, M> {
                 }
             }
         }
+        let first = n * d + s.linear.len();
+        for (l, (g, j, k)) in self.order_gaps(&values).into_iter().enumerate() {
+            let row = first + l;
+            if g > 0.0 {
+                res[row] = self.weight * g;
+                if jacobian {
+                    jac[row * nx + nv + j] += self.weight;
+                    jac[row * nx + nv + k] -= self.weight;
+                }
+            }
+        }
         if res.iter().chain(&jac).any(|v| !v.is_finite()) {
             return Err(Error::NonFinite {
                 input: crate::Input::Computed,
@@ -228,7 +268,8 @@ impl<M: Subject> Problem<'_, M> {
     }
 
     fn rows(&self) -> usize {
-        self.n * self.s.dim + self.s.linear.len()
+        let ordered = self.s.ordered && self.s.timing == Timing::Free;
+        self.n * self.s.dim + self.s.linear.len() + if ordered { self.n } else { 0 }
     }
 }
 
