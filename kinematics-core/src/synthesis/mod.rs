@@ -31,6 +31,13 @@
 //!   w · max(0, Σ c_k p_k − h); when the result violates one by more than
 //!   10⁻¹⁰ of the design's scale, w grows a hundredfold and the
 //!   minimisation goes on from there (at most six times).
+//! * **Order.** With free timing, [`Synthesis::in_order`] keeps the
+//!   driver values increasing through the targets (φ_j ≤ φ_{j+1}, and
+//!   φ_N ≤ φ₁ + 2π for an angle driver), as penalty residuals like the
+//!   linear inequalities'.
+//! * **Run-time models.** A `runtime::Model` is
+//!   synthesised as a generated mechanism is (see [`Subject`]; with the
+//!   `runtime` feature).
 //! * **Full turn.** For an angle driver, [`Synthesized::full_turn`] says
 //!   whether the design sweeps a whole turn in its assembly modes.
 //!

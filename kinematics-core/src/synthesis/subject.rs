@@ -21,7 +21,7 @@ mod sealed {
 
 /// A mechanism a [`Synthesis`](super::Synthesis) can vary: every
 /// mechanism `mechanism!` generates with a `sensitivities` section and,
-/// with the `runtime` feature, [`runtime::Model`](crate::runtime::Model)
+/// with the `runtime` feature, `runtime::Model`
 /// (its parameters those of its `sensitivities` section). Sealed: its
 /// methods are the synthesis's own.
 pub trait Subject: Clone + sealed::Sealed {
