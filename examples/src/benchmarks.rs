@@ -112,22 +112,29 @@ pub const PROBLEM_A: Problem = Problem {
         [20.0, 45.0],
     ],
     timing: Posed::Free,
-    bounds: &[
-        ("r1", 0.0, 60.0),
-        ("r2", 0.0, 60.0),
-        ("r3", 0.0, 60.0),
-        ("r4", 0.0, 60.0),
-        ("rcx", -60.0, 60.0),
-        ("rcy", -60.0, 60.0),
-        ("x0", -60.0, 60.0),
-        ("y0", -60.0, 60.0),
-        ("t0", 0.0, TAU),
-    ],
+    bounds: &square_bounds(60.0),
     best_published: (
         1.96e-20,
         "ECA's recorded best (jmejia8/eca-four-bar-mechanisms); 4.07e-12 by Lin and Hsiao's DE",
     ),
 };
+
+/// The bounds of the problems posed over a square of half-side `l`:
+/// every length in [0, l], the coupler point and the crank pivot in
+/// [−l, l], θ0 in [0, 2π].
+const fn square_bounds(l: f64) -> [(&'static str, f64, f64); 9] {
+    [
+        ("r1", 0.0, l),
+        ("r2", 0.0, l),
+        ("r3", 0.0, l),
+        ("r4", 0.0, l),
+        ("rcx", -l, l),
+        ("rcy", -l, l),
+        ("x0", -l, l),
+        ("y0", -l, l),
+        ("t0", 0.0, TAU),
+    ]
+}
 
 /// The crank angles of Problem B: 30°, 45°, 60°, 75° and 90°.
 const B_TIMING: [f64; 5] = [PI / 6.0, PI / 4.0, PI / 3.0, 5.0 * PI / 12.0, PI / 2.0];
@@ -206,17 +213,7 @@ pub const PROBLEM_C: Problem = Problem {
         [0.6, 1.0],
     ],
     timing: Posed::Relative(&C_STEPS),
-    bounds: &[
-        ("r1", 0.0, 50.0),
-        ("r2", 0.0, 50.0),
-        ("r3", 0.0, 50.0),
-        ("r4", 0.0, 50.0),
-        ("rcx", -50.0, 50.0),
-        ("rcy", -50.0, 50.0),
-        ("x0", -50.0, 50.0),
-        ("y0", -50.0, 50.0),
-        ("t0", 0.0, TAU),
-    ],
+    bounds: &square_bounds(50.0),
     best_published: (0.016_078, "HCDJ's recorded best (Nguyen-Van et al. 2022)"),
 };
 
@@ -239,17 +236,7 @@ pub const PROBLEM_E: Problem = Problem {
         [20.0, 10.0],
     ],
     timing: Posed::Free,
-    bounds: &[
-        ("r1", 0.0, 80.0),
-        ("r2", 0.0, 80.0),
-        ("r3", 0.0, 80.0),
-        ("r4", 0.0, 80.0),
-        ("rcx", -80.0, 80.0),
-        ("rcy", -80.0, 80.0),
-        ("x0", -80.0, 80.0),
-        ("y0", -80.0, 80.0),
-        ("t0", 0.0, TAU),
-    ],
+    bounds: &square_bounds(80.0),
     best_published: (4.02e-4, "Lin and Hsiao's DE, recomputed in the HCDJ code"),
 };
 
@@ -289,17 +276,7 @@ pub const PROBLEM_F: Problem = Problem {
         [6.92, 6.58],
     ],
     timing: Posed::Free,
-    bounds: &[
-        ("r1", 0.0, 20.0),
-        ("r2", 0.0, 20.0),
-        ("r3", 0.0, 20.0),
-        ("r4", 0.0, 20.0),
-        ("rcx", -20.0, 20.0),
-        ("rcy", -20.0, 20.0),
-        ("x0", -20.0, 20.0),
-        ("y0", -20.0, 20.0),
-        ("t0", 0.0, TAU),
-    ],
+    bounds: &square_bounds(20.0),
     best_published: (0.1814, "dynamic ant search, IMECE2019-10262"),
 };
 
