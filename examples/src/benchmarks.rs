@@ -384,9 +384,9 @@ fn draw(p: &Problem, u: &mut Uniform) -> (BenchmarkFourBar, BenchmarkFourBarCoor
     loop {
         let mut m = from_vector([0.0; 9]);
         for &(name, lo, hi) in p.bounds {
-            // Lengths from a tenth of their range up (a link of length
-            // near zero is a degenerate start).
-            let lo = if name.starts_with('r') && lo >= 0.0 && name.len() == 2 {
+            // The links' lengths r1…r4 from a tenth of their range up (a
+            // link of length near zero is a degenerate start).
+            let lo = if ["r1", "r2", "r3", "r4"].contains(&name) {
                 lo + 0.1 * (hi - lo)
             } else {
                 lo
@@ -513,7 +513,8 @@ pub fn unknown_bounds(p: &Problem) -> Vec<[f64; 2]> {
     b
 }
 
-/// What one run of the global strategy found.
+/// What one run of the global strategy found (a design that meets the
+/// problem's constraints: [`solve`] returns no other).
 #[derive(Debug, Clone)]
 pub struct Outcome {
     /// The best design.
@@ -522,9 +523,6 @@ pub struct Outcome {
     pub crank_angles: Vec<f64>,
     /// E = Σ|C(θ2_i) − t_i|².
     pub sum_squares: f64,
-    /// Whether its constraints hold (Grashof with the crank shortest, and
-    /// for free timing the angles' sequence).
-    pub constraints_met: bool,
     /// The evaluations of the residuals and of the Jacobian, all starts.
     pub evaluations: usize,
 }
@@ -608,7 +606,6 @@ pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outco
                 design: f.design,
                 crank_angles: f.driver_values,
                 sum_squares: f.sum_squares,
-                constraints_met: ok,
                 evaluations: 0,
             });
         }

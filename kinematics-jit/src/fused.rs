@@ -918,6 +918,15 @@ fn angle_solution(
     (cos, sin, ok)
 }
 
+/// What a call to the helper needs: the buffer, the context, the
+/// helper's reference and the block that returns a status.
+type HelperCall = (
+    cranelift_codegen::ir::Value,
+    cranelift_codegen::ir::Value,
+    cranelift_codegen::ir::FuncRef,
+    cranelift_codegen::ir::Block,
+);
+
 /// Each solved angle from its carried value, θ = θₚ + asin x with
 /// x = cₚ s − sₚ c by its series (as `kinematics_core::closed::
 /// near_carried` takes it), where the rotation is small (cos of it
@@ -927,12 +936,7 @@ fn angle_solution(
 /// carried values untouched), returning its status unless 0.
 fn store_or_general(
     b: &mut FunctionBuilder<'_>,
-    (fp, cp, helper, exit): (
-        cranelift_codegen::ir::Value,
-        cranelift_codegen::ir::Value,
-        cranelift_codegen::ir::FuncRef,
-        cranelift_codegen::ir::Block,
-    ),
+    (fp, cp, helper, exit): HelperCall,
     within: &dyn Fn(usize) -> Result<i32, JitError>,
     mut ok: cranelift_codegen::ir::Value,
     solved: &[(
@@ -1026,12 +1030,7 @@ fn alternating(
 /// returns 0, else returns its status (through `exit`).
 fn call_helper(
     b: &mut FunctionBuilder<'_>,
-    (fp, cp, helper, exit): (
-        cranelift_codegen::ir::Value,
-        cranelift_codegen::ir::Value,
-        cranelift_codegen::ir::FuncRef,
-        cranelift_codegen::ir::Block,
-    ),
+    (fp, cp, helper, exit): HelperCall,
     argument: u64,
     join: cranelift_codegen::ir::Block,
 ) {
