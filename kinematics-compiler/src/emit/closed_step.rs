@@ -141,7 +141,7 @@ pub(super) fn closed_methods(cx: &Ctx<'_>) -> TokenStream {
                 if false #( || #far.abs() > 1048576.0 )* {
                     return [::core::primitive::f64::NAN; #npt];
                 }
-                #( let #sc = #pp::math::table::sin_cos(#sc_values); )*
+                #( let #sc = #pp::math::table::in_range(#sc_values); )*
                 [#(#values),*]
             }
         }

@@ -63,6 +63,7 @@ pub(super) fn validate(cx: &Ctx<'_>) -> TokenStream {
         /// [`Error::NonFinite`](::kinematics_core::Error::NonFinite) or
         /// [`Error::InvalidParameter`](::kinematics_core::Error::InvalidParameter)
         /// naming the parameter.
+        #[inline]
         pub fn validate(&self) -> #pp::Result<(), #pp::Error> {
             #finite
             #( #pp::positive(#length_names, self.#lengths)?; )*

@@ -245,22 +245,34 @@ pub fn circle_circle(
     guess: impl FnOnce() -> [f64; 4],
 ) -> Result<[f64; 4], f64> {
     if mode.is_nan() {
-        // The mode whose solution is nearest the guess in both angles:
-        // least (1 − cos Δθ₀) + (1 − cos Δθ₁).
-        let g = guess();
-        let distance =
-            |x: &[f64; 4]| 2.0 - (x[0] * g[0] + x[1] * g[1]) - (x[2] * g[2] + x[3] * g[3]);
-        let plus = circle_circle_in(k, p, q, &mut 1.0)?;
-        let minus = circle_circle_in(k, p, q, &mut -1.0)?;
-        let (sigma, x) = if distance(&minus) < distance(&plus) {
-            (-1.0, minus)
-        } else {
-            (1.0, plus)
-        };
+        let mut sigma = nearest_mode(k, p, q, &guess());
+        let x = circle_circle_in(k, p, q, &mut sigma)?;
         *mode = sigma;
         return Ok(x);
     }
     circle_circle_in(k, p, q, mode)
+}
+
+/// The mode (±1) of [`circle_circle`] whose solution is nearest the
+/// guess g = (cos θ₀, sin θ₀, cos θ₁, sin θ₁), least (1 − cos Δθ₀) +
+/// (1 − cos Δθ₁): the one with the larger g · x. The two solutions differ
+/// by 2√Δ/R² times d = (d₀, d₁), with d₀ = (−b, a) in e₀ ([`angle`], a and
+/// b its coefficients 2 Pᵀk) and d₁ = −Qᵀ P d₀ / q² in e₁ (linear in e₀),
+/// so the plus mode is the nearer unless g · d < 0, tested as
+/// q² g₀·d₀ + g₁·(q² d₁): no solution computed twice. Kept out of line in
+/// unoptimised builds, where the stack of a model of hundreds of loops
+/// solved in one function would hold every block's temporaries.
+#[inline]
+fn nearest_mode(k: [f64; 2], p: [[f64; 2]; 2], q: [[f64; 2]; 2], g: &[f64; 4]) -> f64 {
+    let q2 = q[0][0] * q[0][0] + q[1][0] * q[1][0];
+    let a = p[0][0] * k[0] + p[1][0] * k[1];
+    let b = p[0][1] * k[0] + p[1][1] * k[1];
+    let w = [p[0][1] * a - p[0][0] * b, p[1][1] * a - p[1][0] * b];
+    let e1 = [
+        q[0][0] * w[0] + q[1][0] * w[1],
+        q[0][1] * w[0] + q[1][1] * w[1],
+    ];
+    sign(q2 * (g[1] * a - g[0] * b) - (g[2] * e1[0] + g[3] * e1[1]))
 }
 
 /// [`circle_circle`] in the mode `*mode` (±1).
@@ -539,9 +551,16 @@ pub fn guess_trig(carried: &[f64; 3], x: f64) -> [f64; 2] {
     if carried[2] == x {
         [carried[0], carried[1]]
     } else {
-        let (s, c) = crate::math::table::sin_cos(x);
-        [c, s]
+        fresh_trig(x)
     }
+}
+
+/// (cos x, sin x), off the common path of [`guess_trig`].
+#[cold]
+#[inline(never)]
+fn fresh_trig(x: f64) -> [f64; 2] {
+    let (s, c) = crate::math::table::sin_cos(x);
+    [c, s]
 }
 
 /// (cos x, sin x, x) for a guess x: the carried values of an unknown angle
@@ -557,7 +576,7 @@ pub fn seeded(x: f64) -> [f64; 3] {
     if x.abs() > 1_048_576.0 || x.is_nan() {
         return [f64::NAN; 3];
     }
-    let (s, c) = crate::math::table::sin_cos(x);
+    let (s, c) = crate::math::table::in_range(x);
     [c, s, x]
 }
 

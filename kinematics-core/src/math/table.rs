@@ -31,11 +31,26 @@ const ROUND: f64 = 6_755_399_441_055_744.0;
 /// correctly rounded values (see the module's documentation).
 #[inline]
 #[must_use]
-#[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() > 1_048_576.0 || x.is_nan() {
         return super::sin_cos(x);
     }
+    in_range(x)
+}
+
+/// [`sin_cos`] without its test of the range, for callers that have
+/// checked |x| ≤ 2²⁰ themselves. Beyond that range the reduction loses
+/// accuracy, and a NaN x gives NaN: never a panic.
+///
+/// ```
+/// use kinematics_core::math::table::{in_range, sin_cos};
+/// assert_eq!(in_range(0.7), sin_cos(0.7));
+/// assert!(in_range(f64::NAN).0.is_nan());
+/// ```
+#[inline]
+#[must_use]
+#[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+pub fn in_range(x: f64) -> (f64, f64) {
     let kf = (x * INV + ROUND) - ROUND;
     // |kf| < 2²⁵: exact as an integer; its residue modulo 128 indexes
     // the table (two's complement, so negative k wrap too).

@@ -44,10 +44,12 @@ pub(super) fn collect<M: Mechanism, D: Drive<M>>(
 ) -> Sweep<M> {
     let mut samples = Vec::with_capacity(it.grid.count + 1);
     let mut stop = None;
-    for item in it.by_ref() {
-        match item {
-            Ok(s) => samples.push(s),
-            Err(s) => stop = Some(s),
+    loop {
+        it.push_common(&mut samples);
+        match it.next() {
+            Some(Ok(s)) => samples.push(s),
+            Some(Err(s)) => stop = Some(s),
+            None => break,
         }
     }
     Sweep {

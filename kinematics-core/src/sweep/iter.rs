@@ -355,6 +355,14 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     /// out, if one is ready.
     #[inline(always)]
     fn advance(&mut self, k: usize, at: f64) -> Option<Result<S, Stop>> {
+        self.advance_to(k, at, |s| s).map(Ok)
+    }
+
+    /// [`Self::advance`], with the sample of the common path recorded as
+    /// the newest, its angles wrapped, and handed to `place`, which puts
+    /// it where it is kept (returned, or pushed onto a vector).
+    #[inline(always)]
+    fn advance_to<R>(&mut self, k: usize, at: f64, place: impl FnOnce(S) -> R) -> Option<R> {
         let mut pose = self.predicted(at);
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
@@ -368,7 +376,7 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
                 let mut s = S::sample(at, step);
                 self.push_head(&s);
                 self.wrap_angles(&mut s);
-                Some(Ok(s))
+                Some(place(s))
             }
             Ok(step) => {
                 self.unusual(S::sample(at, step));
@@ -381,6 +389,21 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
                 self.regate();
                 self.reopen();
                 None
+            }
+        }
+    }
+
+    /// Pushes onto `out` the samples of the common path, solved one after
+    /// the other, until the first that is not (a change point, a failure,
+    /// the end), which is left to [`Iterator::next`]: the collected sweep's
+    /// loop, each sample written once, where it is kept.
+    #[inline(always)]
+    pub(super) fn push_common(&mut self, out: &mut Vec<S>) {
+        while self.k < self.open {
+            let k = self.k;
+            let at = self.grid.inner(k);
+            if self.advance_to(k, at, |s| out.push(s)).is_none() {
+                return;
             }
         }
     }
