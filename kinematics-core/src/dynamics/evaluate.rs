@@ -1,0 +1,429 @@
+//! The evaluation of [`Dynamics`] at one motion: the views of a motion it
+//! reads, the loads' view of the instant, and the sums of virtual power.
+
+use alloc::format;
+use alloc::string::ToString;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::ops::Deref;
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::{Dynamics, ResolvedBody, Turns};
+use crate::error::{Error, Input};
+use crate::mechanism::{Coordinates, FrameState, Mechanism, MotionState, PointState};
+use crate::options::Options;
+
+/// What a load sees of the instant it acts at: the coordinates, their
+/// rates and accelerations (by index, in declaration order: drivers first,
+/// then unknowns), and the position and velocity of the point it acts at
+/// (for a torque, of the body's centre of mass; zero for a force on a
+/// coordinate).
+///
+/// ```
+/// use kinematics_core::dynamics::Instant;
+/// // A damper on a piston at x = q[2]: −c ẋ.
+/// let damper = |s: &Instant<'_>| -40.0 * s.qd(2);
+/// # let _ = damper;
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Instant<'a> {
+    q: &'a [f64],
+    qd: &'a [f64],
+    qdd: &'a [f64],
+    /// Position of the point the load acts at (z = 0 in a planar mechanism).
+    pub position: Vector3<f64>,
+    /// Velocity of that point.
+    pub velocity: Vector3<f64>,
+}
+
+impl Instant<'_> {
+    /// Coordinate j (NaN past the last: the load's value is then
+    /// reported as not finite).
+    #[must_use]
+    pub fn q(&self, j: usize) -> f64 {
+        self.q.get(j).copied().unwrap_or(f64::NAN)
+    }
+
+    /// The rate of coordinate j.
+    #[must_use]
+    pub fn qd(&self, j: usize) -> f64 {
+        self.qd.get(j).copied().unwrap_or(f64::NAN)
+    }
+
+    /// The acceleration of coordinate j.
+    #[must_use]
+    pub fn qdd(&self, j: usize) -> f64 {
+        self.qdd.get(j).copied().unwrap_or(f64::NAN)
+    }
+}
+
+/// The forces at one motion ([`Dynamics::inverse`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Forces<C> {
+    /// The effort Q_k each driver must supply, at the driver's entry (a
+    /// torque in N·m for an angle, a force in N for a length; positive
+    /// when it drives the coordinate's growth); the unknowns' entries are
+    /// zero: no actuator acts there.
+    pub effort: C,
+    /// T = Σ ½ m |v_G|² + ½ ω · J ω (J).
+    pub kinetic_energy: f64,
+    /// V = −Σ m g · r_G + Σ ½ k (L − L₀)² (J; zero with the centres of
+    /// mass at the origin and the springs at their free lengths).
+    pub potential_energy: f64,
+    /// Σ Q_k ḋ_k, the power the drivers supply (W).
+    pub power: f64,
+    /// The force the moving links exert on the frame from their inertia,
+    /// −Σ m a_G (N).
+    pub shaking_force: Vector3<f64>,
+    /// Its moment about the fixed origin, −Σ (r_G × m a_G + J α + ω × J ω)
+    /// (N·m; a planar mechanism's is along z).
+    pub shaking_moment: Vector3<f64>,
+}
+
+/// A motion as the sums read it: points' r, v, a (padded to three
+/// components), frames, coordinates' q, q', q''.
+pub(crate) trait View {
+    /// r, v, a of point i.
+    fn point(&self, i: usize) -> Option<[Vector3<f64>; 3]>;
+    /// Frame i.
+    fn frame(&self, i: usize) -> Option<&FrameState>;
+    /// q, q', q'' of coordinate j (NaN when there is none).
+    fn coordinate(&self, j: usize) -> [f64; 3];
+}
+
+/// Three components from two or three.
+fn padded(v: &[f64]) -> Vector3<f64> {
+    let c = |i: usize| v.get(i).copied().unwrap_or(0.0);
+    Vector3::new(c(0), c(1), c(2))
+}
+
+/// The view of a generated mechanism's motion.
+pub(crate) struct Generated<'a, S>(pub(crate) &'a S);
+
+impl<S: MotionState> View for Generated<'_, S> {
+    fn point(&self, i: usize) -> Option<[Vector3<f64>; 3]> {
+        let p = self.0.points().get(i)?;
+        Some([
+            padded(p.position()),
+            padded(p.velocity()),
+            padded(p.acceleration()),
+        ])
+    }
+    fn frame(&self, i: usize) -> Option<&FrameState> {
+        self.0.frames().get(i)
+    }
+    fn coordinate(&self, j: usize) -> [f64; 3] {
+        let get = |c: &S::Coords| c.get(j).unwrap_or(f64::NAN);
+        [get(self.0.q()), get(self.0.qd()), get(self.0.qdd())]
+    }
+}
+
+/// Up to 32 values on the stack, more on the heap: the driver rates of
+/// the unit analyses and the coordinates the loads read, without an
+/// allocation for the mechanisms of everyday size.
+pub(crate) enum Buffer {
+    Stack([f64; 32], usize),
+    Heap(Vec<f64>),
+}
+
+impl Buffer {
+    /// n zeros.
+    pub(crate) fn zeros(n: usize) -> Self {
+        if n <= 32 {
+            Buffer::Stack([0.0; 32], n)
+        } else {
+            Buffer::Heap(vec![0.0; n])
+        }
+    }
+
+    /// The values, mutably.
+    pub(crate) fn as_mut_slice(&mut self) -> &mut [f64] {
+        match self {
+            Buffer::Stack(a, n) => &mut a[..*n],
+            Buffer::Heap(v) => v,
+        }
+    }
+}
+
+impl Deref for Buffer {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        match self {
+            Buffer::Stack(a, n) => &a[..*n],
+            Buffer::Heap(v) => v,
+        }
+    }
+}
+
+/// The sums other than the efforts.
+pub(crate) struct Totals {
+    pub(crate) kinetic_energy: f64,
+    pub(crate) potential_energy: f64,
+    pub(crate) shaking_force: Vector3<f64>,
+    pub(crate) shaking_moment: Vector3<f64>,
+}
+
+/// A driver's unit analysis handed to the sums: `unit(k, with)` analyses
+/// the pose at a unit rate of driver k and calls `with` on its view.
+pub(crate) type WithUnit<'a> = &'a mut dyn FnMut(&dyn View);
+
+impl Dynamics {
+    /// The forces at `motion`, a motion of `m` (from `analyze`, `step`, a
+    /// stepper or a sweep): each driver's effort by virtual power, the
+    /// energies, the drivers' power and the shaking force and moment (see
+    /// the [module](super) for the formulas). The partial velocities come
+    /// from one analysis of `m` at `motion`'s pose per driver, at unit
+    /// rate; each load's function is called once per driver.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDynamics`] when this description was built for a
+    /// mechanism of other sizes, or a load's value is not finite; the
+    /// analysis' errors (a singular pose); [`Error::NonFinite`] for a
+    /// result that is not finite.
+    pub fn inverse<M: Mechanism>(
+        &self,
+        m: &M,
+        motion: &M::Motion,
+    ) -> Result<Forces<M::Coords>, Error> {
+        self.fits(
+            M::COORDINATES.len(),
+            M::POINT_NAMES.len(),
+            M::FRAME_NAMES.len(),
+            M::POINT_DIM,
+        )?;
+        let pose = motion.q();
+        let mut rates = Buffer::zeros(self.drivers);
+        let zeros = Buffer::zeros(self.drivers);
+        let mut effort = M::Coords::default();
+        let (totals, power) = self.sums(
+            &Generated(motion),
+            &mut |k, with| {
+                let r = rates.as_mut_slice();
+                r.iter_mut().for_each(|x| *x = 0.0);
+                if let Some(x) = r.get_mut(k) {
+                    *x = 1.0;
+                }
+                let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
+                with(&Generated(&u));
+                Ok(())
+            },
+            &mut |k, q| {
+                effort.set(k, q);
+            },
+        )?;
+        Ok(Forces {
+            effort,
+            kinetic_energy: totals.kinetic_energy,
+            potential_energy: totals.potential_energy,
+            power,
+            shaking_force: totals.shaking_force,
+            shaking_moment: totals.shaking_moment,
+        })
+    }
+
+    /// Checks the sizes this description was resolved against.
+    pub(crate) fn fits(
+        &self,
+        coordinates: usize,
+        points: usize,
+        frames: usize,
+        dim: usize,
+    ) -> Result<(), Error> {
+        if (coordinates, points, frames, dim)
+            == (self.coordinates, self.points, self.frames, self.dim)
+        {
+            Ok(())
+        } else {
+            Err(Error::InvalidDynamics {
+                item: "dynamics".to_string(),
+                detail: format!(
+                    "built for a mechanism of {} coordinates, {} points and {} frames, used \
+                     with one of {coordinates}, {points} and {frames}: build it for this one",
+                    self.coordinates, self.points, self.frames
+                ),
+            })
+        }
+    }
+
+    /// The sums over the motion `s`: the totals and the drivers' power,
+    /// with each driver's effort handed to `effort(k, Q_k)`; `unit`
+    /// provides the unit analyses ([`WithUnit`]).
+    pub(crate) fn sums(
+        &self,
+        s: &dyn View,
+        unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
+        effort: &mut dyn FnMut(usize, f64),
+    ) -> Result<(Totals, f64), Error> {
+        let totals = self.totals(s)?;
+        let n = self.coordinates;
+        let (mut q, mut qd, mut qdd) = (Buffer::zeros(n), Buffer::zeros(n), Buffer::zeros(n));
+        for j in 0..n {
+            let [x, xd, xdd] = s.coordinate(j);
+            q.as_mut_slice()[j] = x;
+            qd.as_mut_slice()[j] = xd;
+            qdd.as_mut_slice()[j] = xdd;
+        }
+        let mut power = 0.0;
+        for k in 0..self.drivers {
+            let mut result = Ok(f64::NAN);
+            unit(k, &mut |u| result = self.effort(s, u, [&q, &qd, &qdd]))?;
+            let effort_k = result?;
+            if !effort_k.is_finite() {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name: "the effort of a driver",
+                    value: effort_k,
+                });
+            }
+            power += effort_k * s.coordinate(k)[1];
+            effort(k, effort_k);
+        }
+        Ok((totals, power))
+    }
+
+    /// The energies and the shaking force and moment of the motion `s`.
+    fn totals(&self, s: &dyn View) -> Result<Totals, Error> {
+        let g = self.gravity;
+        let (mut kinetic, mut potential) = (0.0, 0.0);
+        let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());
+        for b in &self.bodies {
+            let [r, v, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let (omega, alpha, inertia) = turning(b, s);
+            let ma = a * b.mass;
+            kinetic += 0.5 * b.mass * v.norm_squared() + 0.5 * omega.dot(&(inertia * omega));
+            potential -= b.mass * g.dot(&r);
+            shaking_force -= ma;
+            shaking_moment -= r.cross(&ma) + inertia * alpha + omega.cross(&(inertia * omega));
+        }
+        for sp in &self.springs {
+            let (a, b) = (s.point(sp.from), s.point(sp.to));
+            let length = match (a, b) {
+                (Some([ra, _, _]), Some([rb, _, _])) => (rb - ra).norm(),
+                _ => f64::NAN,
+            };
+            let stretch = length - sp.free_length;
+            potential += 0.5 * sp.stiffness * stretch * stretch;
+        }
+        let totals = Totals {
+            kinetic_energy: kinetic,
+            potential_energy: potential,
+            shaking_force,
+            shaking_moment,
+        };
+        for (name, value) in [
+            ("the kinetic energy", totals.kinetic_energy),
+            ("the potential energy", totals.potential_energy),
+            ("the shaking force", totals.shaking_force.sum()),
+            ("the shaking moment", totals.shaking_moment.sum()),
+        ] {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name,
+                    value,
+                });
+            }
+        }
+        Ok(totals)
+    }
+
+    /// One driver's effort Q_k at the motion `s`, from its unit analysis
+    /// `u`, with `coords` the q, q', q'' the loads read.
+    fn effort(&self, s: &dyn View, u: &dyn View, coords: [&[f64]; 3]) -> Result<f64, Error> {
+        let g = self.gravity;
+        let planar = self.dim == 2;
+        let velocity = |v: &dyn View, p: usize| v.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
+        let instant = |at: Option<[Vector3<f64>; 3]>| {
+            let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
+            Instant {
+                q: coords[0],
+                qd: coords[1],
+                qdd: coords[2],
+                position,
+                velocity,
+            }
+        };
+        let mut q = 0.0;
+        for b in &self.bodies {
+            let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let (omega, alpha, inertia) = turning(b, s);
+            let h = inertia * alpha + omega.cross(&(inertia * omega));
+            q += ((a - g) * b.mass).dot(&velocity(u, b.center)) + h.dot(&turning(b, u).0);
+        }
+        for (i, (p, f)) in self.forces.iter().enumerate() {
+            let f = Vector3::from(f(&instant(s.point(*p))));
+            finite_load(f.iter().copied(), "a force", i)?;
+            let f = if planar { Vector3::new(f.x, f.y, 0.0) } else { f };
+            q -= f.dot(&velocity(u, *p));
+        }
+        for (i, (b, t)) in self.torques.iter().enumerate() {
+            let body = self.bodies.get(*b);
+            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
+            finite_load(t.iter().copied(), "a torque", i)?;
+            let t = if planar { Vector3::new(0.0, 0.0, t.z) } else { t };
+            q -= t.dot(&body.map_or(Vector3::zeros(), |b| turning(b, u).0));
+        }
+        for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
+            let f = f(&instant(None));
+            finite_load([f], "a force on a coordinate", i)?;
+            q -= f * u.coordinate(*j)[1];
+        }
+        for sp in &self.springs {
+            let nan = [Vector3::repeat(f64::NAN); 3];
+            let [ra, va, _] = s.point(sp.from).unwrap_or(nan);
+            let [rb, vb, _] = s.point(sp.to).unwrap_or(nan);
+            let d = rb - ra;
+            let length = d.norm();
+            let e = if length > 0.0 { d / length } else { Vector3::zeros() };
+            let tension =
+                sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
+            q += tension * e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
+        }
+        Ok(q)
+    }
+}
+
+/// ω, α and the inertia tensor about G in the fixed axes of body `b` in
+/// the motion `s`.
+fn turning(b: &ResolvedBody, s: &dyn View) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
+    match &b.turning {
+        Turns::No => (Vector3::zeros(), Vector3::zeros(), Matrix3::zeros()),
+        Turns::Angle(terms) => {
+            let (mut w, mut a) = (0.0, 0.0);
+            for &(j, c) in terms {
+                let [_, qd, qdd] = s.coordinate(j);
+                w += c * qd;
+                a += c * qdd;
+            }
+            (Vector3::new(0.0, 0.0, w), Vector3::new(0.0, 0.0, a), b.inertia)
+        }
+        Turns::Frame(f) => match s.frame(*f) {
+            Some(f) => (
+                f.angular_velocity,
+                f.angular_acceleration,
+                f.rotation * b.inertia * f.rotation.transpose(),
+            ),
+            None => (
+                Vector3::repeat(f64::NAN),
+                Vector3::repeat(f64::NAN),
+                b.inertia,
+            ),
+        },
+    }
+}
+
+/// An error for the load `what` number `i` when a component is not
+/// finite.
+fn finite_load(values: impl IntoIterator<Item = f64>, what: &str, i: usize) -> Result<(), Error> {
+    for v in values {
+        if !v.is_finite() {
+            return Err(Error::InvalidDynamics {
+                item: format!("{what} (number {} of its kind, in the order given)", i + 1),
+                detail: format!("its value is {v}; a load must be finite"),
+            });
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,615 @@
+//! Forces from the motion: the effort each driver must supply, the kinetic
+//! and potential energy, and the shaking force and moment on the frame,
+//! for a mechanism whose links carry mass and loads.
+//!
+//! The masses and loads are described once, by the names of the
+//! mechanism's points, frames and coordinates ([`Dynamics::builder`]);
+//! then [`Dynamics::inverse`] takes a motion (q, q', q'') and returns its
+//! [`Forces`]. Nothing is differentiated numerically: the velocities and
+//! accelerations are the mechanism's exact ones, and the partial
+//! velocities are its velocity solution at a unit rate of each driver.
+//!
+//! # The mathematics (virtual power)
+//!
+//! For each driver d_k, let v_P^k = ∂v_P/∂ḋ_k and ω_b^k = ∂ω_b/∂ḋ_k be the
+//! velocity of point P and the angular velocity of body b when d_k moves
+//! at unit rate and the other drivers are held (the partial velocities;
+//! velocities are linear in the driver rates at a given pose). The effort
+//! Q_k the driver must supply (a torque for an angle, a force for a
+//! length) is, by the principle of virtual power (d'Alembert's principle
+//! with the loop constraints workless),
+//!
+//! Q_k = Σ_b [ m_b (a_G − g) · v_G^k + (J_b α_b + ω_b × J_b ω_b) · ω_b^k ]
+//!       − Σ_forces F · v_P^k − Σ_torques T · ω_b^k − Σ_coordinate forces f · q̇_j^k
+//!       + Σ_springs f_s (e · (v_B^k − v_A^k)),
+//!
+//! with G each body's centre of mass, J_b its inertia about G in the fixed
+//! axes (R J Rᵀ for a frame of rotation R; a scalar about the normal in a
+//! planar mechanism, where the gyroscopic term vanishes), g gravity, and
+//! for a spring from A to B of stiffness k, free length L₀ and damping c:
+//! L = |r_B − r_A|, e = (r_B − r_A)/L and tension f_s = k (L − L₀) + c L̇.
+//!
+//! The energies are T = Σ_b ½ m_b |v_G|² + ½ ω_b · J_b ω_b and
+//! V = −Σ_b m_b g · r_G + Σ_springs ½ k (L − L₀)², and the drivers' power
+//! is Σ_k Q_k ḋ_k, which equals d(T + V)/dt when the only other loads are
+//! gravity and springs without damping. The shaking force is the force the
+//! moving links exert on the frame through its bearings and the drivers'
+//! reactions, from their inertia alone: F_s = −Σ_b m_b a_G; the shaking
+//! moment about the fixed origin is M_s = −Σ_b (r_G × m_b a_G + J_b α_b +
+//! ω_b × J_b ω_b).
+//!
+//! ```
+//! use kinematics_core::{dynamics::{Body, Dynamics}, mechanism};
+//!
+//! mechanism! {
+//!     /// A slider-crank with the rod's centre of mass G3 at its middle.
+//!     pub struct Engine {
+//!         params   { a, b }
+//!         drivers  { phi }
+//!         unknowns { th, x }
+//!         points   { B = polar(a, phi); G3 = polar(a, phi) + polar(b / 2.0, th); C = vec2(x, 0.0); }
+//!         loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+//!     }
+//! }
+//!
+//! let m = Engine { a: 0.05, b: 0.2 };
+//! let dynamics = Dynamics::builder()
+//!     .body(Body::new("rod", 0.5).center("G3").angle("th").inertia(0.5 * 0.2 * 0.2 / 12.0))
+//!     .body(Body::new("piston", 0.3).center("C"))
+//!     // The gas pushes the piston toward the crank with 1 kN.
+//!     .force("C", |_| [-1000.0, 0.0, 0.0])
+//!     .build::<Engine>()?;
+//! let pose = m.assemble(&EngineCoords { phi: 1.0, th: -0.2, x: 0.2 })?;
+//! let motion = m.analyze(&pose, 100.0, 0.0)?;
+//! let forces = dynamics.inverse(&m, &motion)?;
+//! println!("crank torque {:.2} N·m", forces.effort.phi);
+//! # Ok::<(), kinematics_core::Error>(())
+//! ```
+
+mod evaluate;
+
+use alloc::boxed::Box;
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+use core::fmt;
+
+use nalgebra::{Matrix3, Vector3};
+
+pub use evaluate::{Forces, Instant};
+
+use crate::error::Error;
+use crate::mechanism::{Kind, Mechanism, Role};
+
+/// A load given as a function of the instant: a force (3 components; a
+/// planar mechanism reads x and y) or a torque (3 components; a planar
+/// mechanism reads z).
+type VectorLoad = Box<dyn Fn(&Instant<'_>) -> [f64; 3] + Send + Sync>;
+/// A scalar load on one coordinate: a force along a length, a torque about
+/// an angle.
+type ScalarLoad = Box<dyn Fn(&Instant<'_>) -> f64 + Send + Sync>;
+
+/// How a body turns.
+#[derive(Clone, Debug, PartialEq)]
+enum Turning {
+    /// It does not (a slider): no rotational inertia.
+    No,
+    /// Planar: its angle is Σ c_j q_j plus a constant, by coordinate name.
+    Angle(Vec<(String, f64)>),
+    /// Spatial: it moves with the frame of this name.
+    Frame(String),
+}
+
+/// A rigid link with mass: its mass, its centre of mass (a point of the
+/// mechanism), how it turns and its moment of inertia about the centre of
+/// mass.
+///
+/// ```
+/// use kinematics_core::dynamics::Body;
+/// // A planar coupler of 1.2 kg whose angle is the coordinate th3, with
+/// // its centre of mass at the mechanism's point G3.
+/// let coupler = Body::new("coupler", 1.2).center("G3").angle("th3").inertia(0.004);
+/// // A link of a spatial mechanism, moving with the frame `rocker`, with
+/// // its inertia tensor about G in the frame's axes.
+/// let rocker = Body::new("rocker", 0.8)
+///     .center("G4")
+///     .frame("rocker")
+///     .inertia_tensor([[2e-3, 0.0, 0.0], [0.0, 2e-3, 0.0], [0.0, 0.0, 1e-4]]);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    name: String,
+    mass: f64,
+    center: Option<String>,
+    turning: Turning,
+    inertia: Matrix3<f64>,
+}
+
+impl Body {
+    /// A body of mass `mass` (kg), named `name` in error messages; give its
+    /// centre of mass with [`Body::center`].
+    #[must_use]
+    pub fn new(name: &str, mass: f64) -> Self {
+        Body {
+            name: name.to_string(),
+            mass,
+            center: None,
+            turning: Turning::No,
+            inertia: Matrix3::zeros(),
+        }
+    }
+
+    /// The centre of mass: the point of the mechanism of this name.
+    #[must_use]
+    pub fn center(mut self, point: &str) -> Self {
+        self.center = Some(point.to_string());
+        self
+    }
+
+    /// Planar: the body's angle is the coordinate `coordinate` (plus any
+    /// constant offset, which does not move).
+    #[must_use]
+    pub fn angle(self, coordinate: &str) -> Self {
+        self.angle_sum(&[(coordinate, 1.0)])
+    }
+
+    /// Planar: the body's angle is Σ c_j q_j (plus a constant), for the
+    /// `(coordinate, c_j)` pairs given: e.g. `[("th1", 1.0), ("th2", 1.0)]`
+    /// for the second link of a serial arm whose joint angles are
+    /// relative.
+    #[must_use]
+    pub fn angle_sum(mut self, terms: &[(&str, f64)]) -> Self {
+        self.turning = Turning::Angle(terms.iter().map(|&(n, c)| (n.to_string(), c)).collect());
+        self
+    }
+
+    /// Spatial: the body moves with the mechanism's frame of this name.
+    #[must_use]
+    pub fn frame(mut self, frame: &str) -> Self {
+        self.turning = Turning::Frame(frame.to_string());
+        self
+    }
+
+    /// Planar: the moment of inertia about the centre of mass, about the
+    /// plane's normal (kg·m²).
+    #[must_use]
+    pub fn inertia(mut self, moment: f64) -> Self {
+        self.inertia = Matrix3::zeros();
+        self.inertia[(2, 2)] = moment;
+        self
+    }
+
+    /// Spatial: the inertia tensor about the centre of mass, in the axes of
+    /// the body's frame (kg·m²; symmetric).
+    #[must_use]
+    pub fn inertia_tensor(mut self, tensor: [[f64; 3]; 3]) -> Self {
+        self.inertia = Matrix3::from_fn(|i, j| tensor[i][j]);
+        self
+    }
+}
+
+/// A linear spring and viscous damper between two points of the mechanism:
+/// tension f = k (L − L₀) + c L̇ along the line between them (pulling them
+/// together when positive).
+///
+/// ```
+/// use kinematics_core::dynamics::Spring;
+/// let s = Spring::new("O4", "P").stiffness(500.0).free_length(0.08).damping(2.0);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spring {
+    from: String,
+    to: String,
+    stiffness: f64,
+    free_length: f64,
+    damping: f64,
+}
+
+impl Spring {
+    /// A spring from point `from` to point `to`, of zero stiffness, free
+    /// length and damping until set.
+    #[must_use]
+    pub fn new(from: &str, to: &str) -> Self {
+        Spring {
+            from: from.to_string(),
+            to: to.to_string(),
+            stiffness: 0.0,
+            free_length: 0.0,
+            damping: 0.0,
+        }
+    }
+
+    /// Stiffness k (N/m).
+    #[must_use]
+    pub fn stiffness(mut self, k: f64) -> Self {
+        self.stiffness = k;
+        self
+    }
+
+    /// Free length L₀ (m).
+    #[must_use]
+    pub fn free_length(mut self, length: f64) -> Self {
+        self.free_length = length;
+        self
+    }
+
+    /// Damping coefficient c (N·s/m).
+    #[must_use]
+    pub fn damping(mut self, c: f64) -> Self {
+        self.damping = c;
+        self
+    }
+}
+
+/// Masses and loads on a mechanism, described by its names: start with
+/// [`Dynamics::builder`], add bodies and loads, then resolve the names
+/// against a mechanism with [`DynamicsBuilder::build`] (or, for a
+/// mechanism defined at run time, `runtime::Model::dynamics`). See the
+/// [module](self) for the mathematics.
+pub struct DynamicsBuilder {
+    bodies: Vec<Body>,
+    gravity: [f64; 3],
+    forces: Vec<(String, VectorLoad)>,
+    torques: Vec<(String, VectorLoad)>,
+    coordinate_forces: Vec<(String, ScalarLoad)>,
+    springs: Vec<Spring>,
+}
+
+impl fmt::Debug for DynamicsBuilder {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names = |v: &[(String, _)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+        f.debug_struct("DynamicsBuilder")
+            .field("bodies", &self.bodies)
+            .field("gravity", &self.gravity)
+            .field("forces at", &names_of(&self.forces))
+            .field("torques on", &names_of(&self.torques))
+            .field("coordinate forces on", &names(&self.coordinate_forces))
+            .field("springs", &self.springs)
+            .finish()
+    }
+}
+
+/// The names the loads of `v` act on.
+fn names_of(v: &[(String, VectorLoad)]) -> Vec<String> {
+    v.iter().map(|(n, _)| n.clone()).collect()
+}
+
+impl Default for DynamicsBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl DynamicsBuilder {
+    /// No bodies, no loads, no gravity.
+    #[must_use]
+    pub fn new() -> Self {
+        DynamicsBuilder {
+            bodies: Vec::new(),
+            gravity: [0.0; 3],
+            forces: Vec::new(),
+            torques: Vec::new(),
+            coordinate_forces: Vec::new(),
+            springs: Vec::new(),
+        }
+    }
+
+    /// A moving link with mass.
+    #[must_use]
+    pub fn body(mut self, body: Body) -> Self {
+        self.bodies.push(body);
+        self
+    }
+
+    /// Gravity g (m/s², in the fixed axes; a planar mechanism reads x and
+    /// y), acting on every body.
+    #[must_use]
+    pub fn gravity(mut self, g: [f64; 3]) -> Self {
+        self.gravity = g;
+        self
+    }
+
+    /// A force (N, fixed axes) applied at the point `point`, as a function
+    /// of the instant (e.g. a gas force that depends on a piston's
+    /// position).
+    #[must_use]
+    pub fn force(
+        mut self,
+        point: &str,
+        force: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
+    ) -> Self {
+        self.forces.push((point.to_string(), Box::new(force)));
+        self
+    }
+
+    /// A torque (N·m, fixed axes; a planar mechanism reads z) applied to the
+    /// body named `body`.
+    #[must_use]
+    pub fn torque(
+        mut self,
+        body: &str,
+        torque: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
+    ) -> Self {
+        self.torques.push((body.to_string(), Box::new(torque)));
+        self
+    }
+
+    /// A generalised force on the coordinate `coordinate`: a force (N)
+    /// along a length (a slider's actuator, a load on a piston), or a torque
+    /// (N·m) about an angle (a torsion spring in a joint), in the direction
+    /// the coordinate grows.
+    #[must_use]
+    pub fn coordinate_force(
+        mut self,
+        coordinate: &str,
+        force: impl Fn(&Instant<'_>) -> f64 + Send + Sync + 'static,
+    ) -> Self {
+        self.coordinate_forces.push((coordinate.to_string(), Box::new(force)));
+        self
+    }
+
+    /// A spring and damper between two points.
+    #[must_use]
+    pub fn spring(mut self, spring: Spring) -> Self {
+        self.springs.push(spring);
+        self
+    }
+
+    /// Resolves the names against the generated mechanism `M`, and checks
+    /// the values: masses, moments of inertia, stiffnesses and dampings
+    /// finite and not negative, inertia tensors symmetric, free lengths
+    /// and gravity finite, planar bodies turning with coordinates and
+    /// spatial ones with frames.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDynamics`] naming the item and what is wrong.
+    pub fn build<M: Mechanism>(self) -> Result<Dynamics, Error> {
+        let coordinates: Vec<(String, Role, Kind)> = M::COORDINATES
+            .iter()
+            .map(|c| (c.name.to_string(), c.role, c.kind))
+            .collect();
+        let points: Vec<String> = M::POINT_NAMES.iter().map(|n| n.to_string()).collect();
+        let frames: Vec<String> = M::FRAME_NAMES.iter().map(|n| n.to_string()).collect();
+        self.resolve(&Names {
+            coordinates: &coordinates,
+            points: &points,
+            frames: &frames,
+            dim: M::POINT_DIM,
+        })
+    }
+
+    /// Resolves the names against `names`, checking the values.
+    pub(crate) fn resolve(self, names: &Names<'_>) -> Result<Dynamics, Error> {
+        let invalid = |item: String, detail: String| Error::InvalidDynamics { item, detail };
+        let find = |list: &[String], what: &str, name: &str, item: &str| {
+            list.iter().position(|n| n == name).ok_or_else(|| {
+                invalid(
+                    item.to_string(),
+                    format!(
+                        "the mechanism has no {what} `{name}` (its {what}s: {})",
+                        list.join(", ")
+                    ),
+                )
+            })
+        };
+        let coordinate_names: Vec<String> =
+            names.coordinates.iter().map(|(n, _, _)| n.clone()).collect();
+        let finite_nonnegative = |item: &str, what: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(invalid(
+                    item.to_string(),
+                    format!("{what} is {v}; it must be a finite number, zero or more"),
+                ))
+            }
+        };
+        let planar = names.dim == 2;
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(invalid(
+                "gravity".to_string(),
+                format!("{:?} must be finite", self.gravity),
+            ));
+        }
+        let mut bodies = Vec::with_capacity(self.bodies.len());
+        for b in &self.bodies {
+            let item = format!("body `{}`", b.name);
+            finite_nonnegative(&item, "its mass", b.mass)?;
+            let Some(center) = &b.center else {
+                return Err(invalid(
+                    item,
+                    "has no centre of mass: give the point with `.center(\"G\")`".to_string(),
+                ));
+            };
+            let center = find(names.points, "point", center, &item)?;
+            let inertia = b.inertia;
+            if !inertia.iter().all(|v| v.is_finite())
+                || (0..3).any(|i| inertia[(i, i)] < 0.0)
+                || (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax()
+            {
+                return Err(invalid(
+                    item,
+                    format!(
+                        "its inertia {inertia:?} must be finite and symmetric, with moments \
+                         zero or more"
+                    ),
+                ));
+            }
+            let turning = match &b.turning {
+                Turning::No => Turns::No,
+                Turning::Angle(_) if !planar => {
+                    return Err(invalid(
+                        item,
+                        "turns with coordinates, but the mechanism is spatial: give its frame \
+                         with `.frame(\"name\")`"
+                            .to_string(),
+                    ))
+                }
+                Turning::Frame(_) if planar => {
+                    return Err(invalid(
+                        item,
+                        "turns with a frame, but the mechanism is planar: give its angle with \
+                         `.angle(\"coordinate\")`"
+                            .to_string(),
+                    ))
+                }
+                Turning::Angle(terms) => {
+                    let mut resolved = Vec::with_capacity(terms.len());
+                    for (name, c) in terms {
+                        let j = find(&coordinate_names, "coordinate", name, &item)?;
+                        if names.coordinates[j].2 != Kind::Angle {
+                            return Err(invalid(
+                                item,
+                                format!("its angle is made of `{name}`, which is a length"),
+                            ));
+                        }
+                        if !c.is_finite() {
+                            return Err(invalid(
+                                item,
+                                format!("the coefficient {c} of `{name}` must be finite"),
+                            ));
+                        }
+                        resolved.push((j, *c));
+                    }
+                    Turns::Angle(resolved)
+                }
+                Turning::Frame(f) => Turns::Frame(find(names.frames, "frame", f, &item)?),
+            };
+            if matches!(turning, Turns::No) && inertia.amax() > 0.0 {
+                return Err(invalid(
+                    item,
+                    "has a moment of inertia but does not turn: give its angle (planar) or \
+                     frame (spatial)"
+                        .to_string(),
+                ));
+            }
+            bodies.push(ResolvedBody {
+                mass: b.mass,
+                center,
+                turning,
+                inertia,
+            });
+        }
+        let body_names: Vec<String> = self.bodies.iter().map(|b| b.name.clone()).collect();
+        let mut forces = Vec::with_capacity(self.forces.len());
+        for (point, f) in self.forces {
+            let item = format!("force at `{point}`");
+            forces.push((find(names.points, "point", &point, &item)?, f));
+        }
+        let mut torques = Vec::with_capacity(self.torques.len());
+        for (body, t) in self.torques {
+            let item = format!("torque on `{body}`");
+            let k = find(&body_names, "body", &body, &item)?;
+            if matches!(bodies.get(k).map(|b: &ResolvedBody| &b.turning), Some(Turns::No)) {
+                return Err(invalid(item, format!("body `{body}` does not turn")));
+            }
+            torques.push((k, t));
+        }
+        let mut coordinate_forces = Vec::with_capacity(self.coordinate_forces.len());
+        for (name, f) in self.coordinate_forces {
+            let item = format!("force on coordinate `{name}`");
+            coordinate_forces.push((find(&coordinate_names, "coordinate", &name, &item)?, f));
+        }
+        let mut springs = Vec::with_capacity(self.springs.len());
+        for s in &self.springs {
+            let item = format!("spring from `{}` to `{}`", s.from, s.to);
+            finite_nonnegative(&item, "its stiffness", s.stiffness)?;
+            finite_nonnegative(&item, "its damping", s.damping)?;
+            finite_nonnegative(&item, "its free length", s.free_length)?;
+            springs.push(ResolvedSpring {
+                from: find(names.points, "point", &s.from, &item)?,
+                to: find(names.points, "point", &s.to, &item)?,
+                stiffness: s.stiffness,
+                free_length: s.free_length,
+                damping: s.damping,
+            });
+        }
+        Ok(Dynamics {
+            drivers: names
+                .coordinates
+                .iter()
+                .filter(|(_, r, _)| *r == Role::Driver)
+                .count(),
+            coordinates: names.coordinates.len(),
+            points: names.points.len(),
+            frames: names.frames.len(),
+            dim: names.dim,
+            gravity: Vector3::from(self.gravity),
+            bodies,
+            forces,
+            torques,
+            coordinate_forces,
+            springs,
+        })
+    }
+}
+
+/// The names a description is resolved against.
+pub(crate) struct Names<'a> {
+    /// Every coordinate: name, driver or unknown, angle or length.
+    pub(crate) coordinates: &'a [(String, Role, Kind)],
+    /// The points' names.
+    pub(crate) points: &'a [String],
+    /// The frames' names.
+    pub(crate) frames: &'a [String],
+    /// 2 (planar) or 3 (spatial).
+    pub(crate) dim: usize,
+}
+
+/// How a resolved body turns.
+#[derive(Clone, Debug, PartialEq)]
+enum Turns {
+    No,
+    /// (coordinate index, coefficient).
+    Angle(Vec<(usize, f64)>),
+    /// Frame index.
+    Frame(usize),
+}
+
+/// A body with its names resolved to indices.
+#[derive(Clone, Debug, PartialEq)]
+struct ResolvedBody {
+    mass: f64,
+    center: usize,
+    turning: Turns,
+    inertia: Matrix3<f64>,
+}
+
+/// A spring with its points resolved to indices.
+#[derive(Clone, Debug, PartialEq)]
+struct ResolvedSpring {
+    from: usize,
+    to: usize,
+    stiffness: f64,
+    free_length: f64,
+    damping: f64,
+}
+
+/// Masses and loads resolved against one mechanism, ready to evaluate:
+/// [`Dynamics::inverse`]. Built by [`DynamicsBuilder::build`].
+pub struct Dynamics {
+    drivers: usize,
+    coordinates: usize,
+    points: usize,
+    frames: usize,
+    dim: usize,
+    gravity: Vector3<f64>,
+    bodies: Vec<ResolvedBody>,
+    forces: Vec<(usize, VectorLoad)>,
+    torques: Vec<(usize, VectorLoad)>,
+    coordinate_forces: Vec<(usize, ScalarLoad)>,
+    springs: Vec<ResolvedSpring>,
+}
+
+impl fmt::Debug for Dynamics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Dynamics")
+            .field("bodies", &self.bodies)
+            .field("gravity", &self.gravity)
+            .field("forces", &self.forces.len())
+            .field("torques", &self.torques.len())
+            .field("coordinate_forces", &self.coordinate_forces.len())
+            .field("springs", &self.springs)
+            .finish_non_exhaustive()
+    }
+}
