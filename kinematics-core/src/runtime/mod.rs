@@ -66,8 +66,10 @@ use crate::names::{intern, intern_list, Name};
 use crate::options::Options;
 
 mod closed;
+mod drive;
 mod fused;
 mod invariant;
+mod linalg;
 mod sensitivity;
 mod solve;
 mod stepper;
