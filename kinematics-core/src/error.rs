@@ -202,6 +202,17 @@ pub enum Error {
         #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::names::name"))]
         requirement: Name,
     },
+    /// A description of masses and loads
+    /// ([`dynamics`](crate::dynamics)) that does not fit the mechanism or
+    /// the physics: a point, frame, coordinate or body it names that does
+    /// not exist, a negative mass, an inertia tensor that is not
+    /// symmetric, a load whose value is not finite.
+    InvalidDynamics {
+        /// The body, load or spring concerned.
+        item: String,
+        /// What is wrong and how to put it right.
+        detail: String,
+    },
     /// An array handed to a model defined at run time has the wrong number
     /// of values (the sizes of a generated mechanism are in its types).
     WrongLength {
@@ -318,6 +329,7 @@ impl fmt::Display for Error {
                 value,
                 requirement,
             } => write!(f, "option `{name}` = {value} is invalid: it {requirement}"),
+            Error::InvalidDynamics { item, detail } => write!(f, "{item}: {detail}"),
             Error::WrongLength {
                 what,
                 expected,

@@ -77,6 +77,7 @@ mod batch;
 mod checks;
 pub mod closed;
 mod derive;
+pub mod dynamics;
 mod error;
 pub mod math;
 mod mechanism;

@@ -9,7 +9,7 @@ use core::ops::Deref;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{Dynamics, ResolvedBody, Turns};
+use super::{Dynamics, DynamicsBuilder, ResolvedBody, Turns};
 use crate::error::{Error, Input};
 use crate::mechanism::{Coordinates, FrameState, Mechanism, MotionState, PointState};
 use crate::options::Options;
@@ -123,6 +123,8 @@ impl<S: MotionState> View for Generated<'_, S> {
 /// Up to 32 values on the stack, more on the heap: the driver rates of
 /// the unit analyses and the coordinates the loads read, without an
 /// allocation for the mechanisms of everyday size.
+// The large variant is the point: it keeps the values off the heap.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Buffer {
     Stack([f64; 32], usize),
     Heap(Vec<f64>),
@@ -170,6 +172,13 @@ pub(crate) struct Totals {
 pub(crate) type WithUnit<'a> = &'a mut dyn FnMut(&dyn View);
 
 impl Dynamics {
+    /// A description with no bodies, no loads and no gravity, to which
+    /// [`DynamicsBuilder`]'s methods add them.
+    #[must_use]
+    pub fn builder() -> DynamicsBuilder {
+        DynamicsBuilder::new()
+    }
+
     /// The forces at `motion`, a motion of `m` (from `analyze`, `step`, a
     /// stepper or a sweep): each driver's effort by virtual power, the
     /// energies, the drivers' power and the shaking force and moment (see
@@ -355,14 +364,22 @@ impl Dynamics {
         for (i, (p, f)) in self.forces.iter().enumerate() {
             let f = Vector3::from(f(&instant(s.point(*p))));
             finite_load(f.iter().copied(), "a force", i)?;
-            let f = if planar { Vector3::new(f.x, f.y, 0.0) } else { f };
+            let f = if planar {
+                Vector3::new(f.x, f.y, 0.0)
+            } else {
+                f
+            };
             q -= f.dot(&velocity(u, *p));
         }
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
             let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
             finite_load(t.iter().copied(), "a torque", i)?;
-            let t = if planar { Vector3::new(0.0, 0.0, t.z) } else { t };
+            let t = if planar {
+                Vector3::new(0.0, 0.0, t.z)
+            } else {
+                t
+            };
             q -= t.dot(&body.map_or(Vector3::zeros(), |b| turning(b, u).0));
         }
         for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
@@ -376,9 +393,12 @@ impl Dynamics {
             let [rb, vb, _] = s.point(sp.to).unwrap_or(nan);
             let d = rb - ra;
             let length = d.norm();
-            let e = if length > 0.0 { d / length } else { Vector3::zeros() };
-            let tension =
-                sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
+            let e = if length > 0.0 {
+                d / length
+            } else {
+                Vector3::zeros()
+            };
+            let tension = sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
             q += tension * e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
         }
         Ok(q)
@@ -397,7 +417,11 @@ fn turning(b: &ResolvedBody, s: &dyn View) -> (Vector3<f64>, Vector3<f64>, Matri
                 w += c * qd;
                 a += c * qdd;
             }
-            (Vector3::new(0.0, 0.0, w), Vector3::new(0.0, 0.0, a), b.inertia)
+            (
+                Vector3::new(0.0, 0.0, w),
+                Vector3::new(0.0, 0.0, a),
+                b.inertia,
+            )
         }
         Turns::Frame(f) => match s.frame(*f) {
             Some(f) => (

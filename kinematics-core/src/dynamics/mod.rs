@@ -344,7 +344,8 @@ impl DynamicsBuilder {
         coordinate: &str,
         force: impl Fn(&Instant<'_>) -> f64 + Send + Sync + 'static,
     ) -> Self {
-        self.coordinate_forces.push((coordinate.to_string(), Box::new(force)));
+        self.coordinate_forces
+            .push((coordinate.to_string(), Box::new(force)));
         self
     }
 
@@ -392,8 +393,11 @@ impl DynamicsBuilder {
                 )
             })
         };
-        let coordinate_names: Vec<String> =
-            names.coordinates.iter().map(|(n, _, _)| n.clone()).collect();
+        let coordinate_names: Vec<String> = names
+            .coordinates
+            .iter()
+            .map(|(n, _, _)| n.clone())
+            .collect();
         let finite_nonnegative = |item: &str, what: &str, v: f64| {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
@@ -500,7 +504,10 @@ impl DynamicsBuilder {
         for (body, t) in self.torques {
             let item = format!("torque on `{body}`");
             let k = find(&body_names, "body", &body, &item)?;
-            if matches!(bodies.get(k).map(|b: &ResolvedBody| &b.turning), Some(Turns::No)) {
+            if matches!(
+                bodies.get(k).map(|b: &ResolvedBody| &b.turning),
+                Some(Turns::No)
+            ) {
                 return Err(invalid(item, format!("body `{body}` does not turn")));
             }
             torques.push((k, t));

@@ -1,0 +1,927 @@
+//! Inverse dynamics (`kinematics_core::dynamics`) against independent
+//! computations written here: the exact closed form of a slider-crank's
+//! gas-force torque, Newton–Euler solves of a slider-crank engine and of a
+//! four-bar with gravity (every body's equations of motion, the joint
+//! forces and the driving torque as unknowns, with the kinematics in
+//! closed form or from the rigid-body formulas), the energy balance over a
+//! cycle at varying speed, and the power against finite differences of
+//! the energy for spatial mechanisms (an RSSR and a six-axis arm with
+//! inertia tensors).
+
+// A test harness: a failed step should stop it.
+#![allow(missing_docs, clippy::expect_used, clippy::panic)]
+
+use std::f64::consts::TAU;
+
+use kinematics_core::dynamics::{Body, Dynamics, Spring};
+use kinematics_core::nalgebra::{DMatrix, DVector, Vector3};
+use kinematics_core::{mechanism, Error};
+
+mechanism! {
+    /// A slider-crank engine: crank a, rod b, the rod's centre of mass at
+    /// r3 from the crank pin, the crank's at half its length, the piston
+    /// at C on the x axis.
+    pub struct Engine {
+        params   { a, b, r3 }
+        drivers  { phi }
+        unknowns { th, x }
+        points {
+            G2 = polar(a / 2.0, phi);
+            B = polar(a, phi);
+            G3 = polar(a, phi) + polar(r3, th);
+            C = vec2(x, 0.0);
+        }
+        loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+    }
+}
+
+const A: f64 = 0.05;
+const B: f64 = 0.2;
+const R3: f64 = 0.07;
+const M2: f64 = 1.1;
+const J2: f64 = 4e-4;
+const M3: f64 = 0.6;
+const J3: f64 = 2.5e-3;
+const M4: f64 = 0.45;
+const G: f64 = 9.81;
+
+fn close(a: f64, b: f64, rel: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= rel * (1.0 + b.abs()),
+        "{what}: {a} against {b} (difference {:.2e})",
+        (a - b).abs()
+    );
+}
+
+/// The engine's motion at φ with rate ω and acceleration α, assembled on
+/// the branch with the piston at x > 0.
+fn engine_motion(m: &Engine, phi: f64, w: f64, al: f64) -> EngineMotion {
+    let th = (-(A / B) * phi.sin()).asin();
+    let guess = EngineCoords {
+        phi,
+        th,
+        x: A * phi.cos() + B * th.cos(),
+    };
+    let pose = m.assemble(&guess).expect("assembles");
+    m.analyze(&pose, w, al).expect("analyses")
+}
+
+/// With massless links and a gas force P on the piston toward the crank,
+/// the crank torque is the exact textbook expression
+/// T = −P a sin φ (1 + a cos φ / √(b² − a² sin² φ)), from the virtual work
+/// T δφ = P δx with x = a cos φ + √(b² − a² sin² φ).
+#[test]
+fn the_gas_torque_of_a_slider_crank_is_the_exact_closed_form() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let p = 1800.0;
+    let dynamics = Dynamics::builder()
+        .force("C", move |_| [-p, 0.0, 0.0])
+        .build::<Engine>()?;
+    for k in 0..72 {
+        let phi = TAU * f64::from(k) / 72.0 + 0.01;
+        let motion = engine_motion(&m, phi, 120.0, 0.0);
+        let forces = dynamics.inverse(&m, &motion)?;
+        let (s, c) = phi.sin_cos();
+        let exact = -p * A * s * (1.0 + A * c / (B * B - A * A * s * s).sqrt());
+        close(forces.effort.phi, exact, 1e-12, "gas torque");
+        assert_eq!((forces.effort.th, forces.effort.x), (0.0, 0.0));
+        assert_eq!(forces.kinetic_energy, 0.0);
+    }
+    Ok(())
+}
+
+/// The engine's kinematics in closed form (independent of the library):
+/// θ, x and the accelerations of G2, B, G3 and C, with θ', θ''.
+struct EngineKinematics {
+    th: f64,
+    thdd: f64,
+    x: f64,
+    a_g2: [f64; 2],
+    a_g3: [f64; 2],
+    a_c: f64,
+}
+
+fn engine_kinematics(phi: f64, w: f64, al: f64) -> EngineKinematics {
+    let (s, c) = phi.sin_cos();
+    let sth = -A * s / B;
+    let cth = (1.0 - sth * sth).sqrt();
+    let th = sth.atan2(cth);
+    // b cos θ θ' = −a cos φ ω; b cos θ θ'' − b sin θ θ'² = a sin φ ω² − a cos φ α.
+    let thd = -A * c * w / (B * cth);
+    let thdd = (A * s * w * w - A * c * al + B * sth * thd * thd) / (B * cth);
+    let x = A * c + B * cth;
+    let xdd = -A * c * w * w - A * s * al - B * cth * thd * thd - B * sth * thdd;
+    let a_b = [A * (-c * w * w - s * al), A * (-s * w * w + c * al)];
+    let a_g2 = [a_b[0] / 2.0, a_b[1] / 2.0];
+    let a_g3 = [
+        a_b[0] + R3 * (-cth * thd * thd - sth * thdd),
+        a_b[1] + R3 * (-sth * thd * thd + cth * thdd),
+    ];
+    EngineKinematics {
+        th,
+        thdd,
+        x,
+        a_g2,
+        a_g3,
+        a_c: xdd,
+    }
+}
+
+/// The planar cross product r × F (its z component).
+fn cross(r: [f64; 2], f: [f64; 2]) -> f64 {
+    r[0] * f[1] - r[1] * f[0]
+}
+
+/// Newton–Euler for the engine with gravity −g ŷ and the gas force −P x̂
+/// on the piston: unknowns F12 (ground on crank at O), F32 (rod on crank at
+/// B), F43 (piston on rod at C), N (wall on piston, along y) and the motor
+/// torque T; eight equations: the crank's and the rod's forces and moments
+/// about their centres of mass, the piston's forces. Returns T.
+fn engine_newton_euler(phi: f64, w: f64, al: f64, p: f64) -> f64 {
+    let k = engine_kinematics(phi, w, al);
+    let (s, c) = phi.sin_cos();
+    let b = [A * c, A * s];
+    let g2 = [A * c / 2.0, A * s / 2.0];
+    let g3 = [b[0] + R3 * k.th.cos(), b[1] + R3 * k.th.sin()];
+    let cpt = [k.x, 0.0];
+    // Columns: F12x F12y F32x F32y F43x F43y N T.
+    let mut a = DMatrix::<f64>::zeros(8, 8);
+    let mut rhs = DVector::<f64>::zeros(8);
+    // Crank: F12 + F32 + m2 g = m2 a_G2; T + (O − G2) × F12 + (B − G2) × F32 = J2 α.
+    a[(0, 0)] = 1.0;
+    a[(0, 2)] = 1.0;
+    rhs[0] = M2 * k.a_g2[0];
+    a[(1, 1)] = 1.0;
+    a[(1, 3)] = 1.0;
+    rhs[1] = M2 * k.a_g2[1] + M2 * G;
+    let (ro, rb) = ([-g2[0], -g2[1]], [b[0] - g2[0], b[1] - g2[1]]);
+    a[(2, 0)] = -ro[1];
+    a[(2, 1)] = ro[0];
+    a[(2, 2)] = -rb[1];
+    a[(2, 3)] = rb[0];
+    a[(2, 7)] = 1.0;
+    rhs[2] = J2 * al;
+    // Rod: −F32 + F43 + m3 g = m3 a_G3; (B − G3) × (−F32) + (C − G3) × F43 = J3 θ''.
+    a[(3, 2)] = -1.0;
+    a[(3, 4)] = 1.0;
+    rhs[3] = M3 * k.a_g3[0];
+    a[(4, 3)] = -1.0;
+    a[(4, 5)] = 1.0;
+    rhs[4] = M3 * k.a_g3[1] + M3 * G;
+    let (rb3, rc3) = (
+        [b[0] - g3[0], b[1] - g3[1]],
+        [cpt[0] - g3[0], cpt[1] - g3[1]],
+    );
+    a[(5, 2)] = rb3[1];
+    a[(5, 3)] = -rb3[0];
+    a[(5, 4)] = -rc3[1];
+    a[(5, 5)] = rc3[0];
+    rhs[5] = J3 * k.thdd;
+    // Piston: −F43 + N ŷ + m4 g − P x̂ = m4 a_C.
+    a[(6, 4)] = -1.0;
+    rhs[6] = M4 * k.a_c + p;
+    a[(7, 5)] = -1.0;
+    a[(7, 6)] = 1.0;
+    rhs[7] = M4 * G;
+    let x = a
+        .lu()
+        .solve(&rhs)
+        .expect("the Newton–Euler system is regular");
+    x[7]
+}
+
+/// The engine with crank, rod and piston masses, gravity and a gas force
+/// that depends on the piston's position, at a crank speed that varies
+/// (α ≠ 0): the crank torque against the Newton–Euler solve.
+#[test]
+fn an_engines_crank_torque_is_the_newton_euler_one() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    // Gas pressure force falling with the volume: P = 2000 (0.3 / x)².
+    let gas = |x: f64| 2000.0 * (0.3 / x).powi(2);
+    let dynamics = Dynamics::builder()
+        .body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
+        .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
+        .body(Body::new("piston", M4).center("C"))
+        .gravity([0.0, -G, 0.0])
+        .force("C", move |s| [-gas(s.position.x), 0.0, 0.0])
+        .build::<Engine>()?;
+    for k in 0..90 {
+        let phi = TAU * f64::from(k) / 90.0 + 0.003;
+        let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
+        let motion = engine_motion(&m, phi, w, al);
+        let forces = dynamics.inverse(&m, &motion)?;
+        let x = engine_kinematics(phi, w, al).x;
+        let expected = engine_newton_euler(phi, w, al, gas(x));
+        close(forces.effort.phi, expected, 1e-10, "crank torque");
+        // The shaking force is −Σ m a_G.
+        let kin = engine_kinematics(phi, w, al);
+        let fx = -(M2 * kin.a_g2[0] + M3 * kin.a_g3[0] + M4 * kin.a_c);
+        let fy = -(M2 * kin.a_g2[1] + M3 * kin.a_g3[1]);
+        close(forces.shaking_force.x, fx, 1e-10, "shaking force x");
+        close(forces.shaking_force.y, fy, 1e-10, "shaking force y");
+        close(forces.power, forces.effort.phi * w, 1e-14, "power");
+    }
+    Ok(())
+}
+
+mechanism! {
+    /// A four-bar with the centres of mass of its three moving links.
+    pub struct MassFourBar {
+        params   { a, b, c, d, g3x, g3y }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points {
+            G2 = polar(a / 2.0, phi);
+            G3 = polar(a, phi) + polar(g3x, th3) + polar(g3y, th3 + 1.5707963267948966);
+            G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+        }
+        loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    }
+}
+
+/// A four-bar with three moving masses and gravity, over a full turn at a
+/// varying crank speed: the driving torque against Newton–Euler (nine
+/// equations: each link's forces and moment about its centre of mass; the
+/// four pin forces and the torque unknown), with the links' angular rates
+/// and accelerations from the analysis and the centres' accelerations
+/// formed here by the rigid-body formula a_G = a_P + α × r − ω² r.
+#[test]
+fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
+    let (a, b, c, d) = (0.04, 0.12, 0.10, 0.11);
+    let (g3x, g3y) = (0.05, 0.02);
+    let (m2, m3, m4) = (0.3, 0.9, 0.7);
+    let (j2, j3, j4) = (5e-5, 1.4e-3, 7e-4);
+    let m = MassFourBar {
+        a,
+        b,
+        c,
+        d,
+        g3x,
+        g3y,
+    };
+    let dynamics = Dynamics::builder()
+        .body(Body::new("crank", m2).center("G2").angle("phi").inertia(j2))
+        .body(
+            Body::new("coupler", m3)
+                .center("G3")
+                .angle("th3")
+                .inertia(j3),
+        )
+        .body(
+            Body::new("rocker", m4)
+                .center("G4")
+                .angle("th4")
+                .inertia(j4),
+        )
+        .gravity([0.0, -G, 0.0])
+        .build::<MassFourBar>()?;
+    let mut pose = m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    for k in 0..120 {
+        let phi = TAU * f64::from(k) / 120.0;
+        let (w2, al2) = (20.0 + 4.0 * phi.cos(), 60.0 * phi.sin());
+        pose.phi = phi;
+        let motion = m.step(&pose, w2, al2)?;
+        pose = motion.q;
+        let forces = dynamics.inverse(&m, &motion)?;
+        let (t3, t4) = (motion.q.th3, motion.q.th4);
+        let (w3, w4) = (motion.qd.th3, motion.qd.th4);
+        let (al3, al4) = (motion.qdd.th3, motion.qdd.th4);
+        let e = |t: f64| [t.cos(), t.sin()];
+        let scale = |v: [f64; 2], s: f64| [v[0] * s, v[1] * s];
+        let add = |u: [f64; 2], v: [f64; 2]| [u[0] + v[0], u[1] + v[1]];
+        let sub = |u: [f64; 2], v: [f64; 2]| [u[0] - v[0], u[1] - v[1]];
+        // a of a point at r from a pivot or point P of a link turning with
+        // (ω, α): a_P + α ẑ × r − ω² r.
+        let acc = |a_p: [f64; 2], r: [f64; 2], w: f64, al: f64| {
+            [
+                a_p[0] - al * r[1] - w * w * r[0],
+                a_p[1] + al * r[0] - w * w * r[1],
+            ]
+        };
+        let pin_b = scale(e(phi), a);
+        let pin_d = [d, 0.0];
+        let pin_c = add(pin_d, scale(e(t4), c));
+        let g2 = scale(pin_b, 0.5);
+        let r3 = [
+            g3x * t3.cos() - g3y * t3.sin(),
+            g3x * t3.sin() + g3y * t3.cos(),
+        ];
+        let g3 = add(pin_b, r3);
+        let g4 = add(pin_d, scale(e(t4), c / 2.0));
+        let a_b = acc([0.0; 2], pin_b, w2, al2);
+        let a_g2 = acc([0.0; 2], g2, w2, al2);
+        let a_g3 = acc(a_b, r3, w3, al3);
+        let a_g4 = acc([0.0; 2], sub(g4, pin_d), w4, al4);
+        // Columns: F12 (ground on crank at A) x y, F32 (coupler on crank at
+        // B), F43 (rocker on coupler at C), F14 (ground on rocker at D), T.
+        let mut mat = DMatrix::<f64>::zeros(9, 9);
+        let mut rhs = DVector::<f64>::zeros(9);
+        let mut moment = |row: usize, col: usize, r: [f64; 2], sign: f64| {
+            mat[(row, col)] += -sign * r[1];
+            mat[(row, col + 1)] += sign * r[0];
+        };
+        // Crank.
+        moment(2, 0, sub([0.0; 2], g2), 1.0);
+        moment(2, 2, sub(pin_b, g2), 1.0);
+        // Coupler: −F32 at B, F43 at C.
+        moment(5, 2, sub(pin_b, g3), -1.0);
+        moment(5, 4, sub(pin_c, g3), 1.0);
+        // Rocker: −F43 at C, F14 at D.
+        moment(8, 4, sub(pin_c, g4), -1.0);
+        moment(8, 6, sub(pin_d, g4), 1.0);
+        for i in 0..2 {
+            mat[(i, i)] = 1.0;
+            mat[(i, 2 + i)] = 1.0;
+            mat[(3 + i, 2 + i)] = -1.0;
+            mat[(3 + i, 4 + i)] = 1.0;
+            mat[(6 + i, 4 + i)] = -1.0;
+            mat[(6 + i, 6 + i)] = 1.0;
+        }
+        mat[(2, 8)] = 1.0;
+        let weight = [0.0, G];
+        for i in 0..2 {
+            rhs[i] = m2 * (a_g2[i] + weight[i]);
+            rhs[3 + i] = m3 * (a_g3[i] + weight[i]);
+            rhs[6 + i] = m4 * (a_g4[i] + weight[i]);
+        }
+        (rhs[2], rhs[5], rhs[8]) = (j2 * al2, j3 * al3, j4 * al4);
+        let x = mat
+            .lu()
+            .solve(&rhs)
+            .expect("the Newton–Euler system is regular");
+        close(forces.effort.phi, x[8], 1e-10, "driving torque");
+        // The shaking force and moment: minus the inertia forces' sum and
+        // their moment about the origin with the bodies' J α.
+        let ma = [scale(a_g2, m2), scale(a_g3, m3), scale(a_g4, m4)];
+        let fx = -(ma[0][0] + ma[1][0] + ma[2][0]);
+        let mz = -(cross(g2, ma[0]) + cross(g3, ma[1]) + cross(g4, ma[2]))
+            - (j2 * al2 + j3 * al3 + j4 * al4);
+        close(forces.shaking_force.x, fx, 1e-10, "shaking force");
+        close(forces.shaking_moment.z, mz, 1e-10, "shaking moment");
+        assert_eq!(forces.shaking_moment.x, 0.0);
+    }
+    Ok(())
+}
+
+/// Over a full cycle at varying speed, with gravity and a spring (no
+/// damping, no other load), the work of the driver ∫ Q φ' dt equals the
+/// change of kinetic plus potential energy, to 1e-9 relative; the
+/// integral by Simpson's rule on 4000 intervals.
+#[test]
+fn the_drivers_work_over_a_cycle_is_the_change_of_energy() -> Result<(), Error> {
+    let m = MassFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        g3x: 0.05,
+        g3y: 0.02,
+    };
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("crank", 0.3)
+                .center("G2")
+                .angle("phi")
+                .inertia(5e-5),
+        )
+        .body(
+            Body::new("coupler", 0.9)
+                .center("G3")
+                .angle("th3")
+                .inertia(1.4e-3),
+        )
+        .body(
+            Body::new("rocker", 0.7)
+                .center("G4")
+                .angle("th4")
+                .inertia(7e-4),
+        )
+        .gravity([0.0, -G, 0.0])
+        .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
+        .build::<MassFourBar>()?;
+    // φ(t) = 8 t + 0.6 sin 3t over t ∈ [0, t1] with φ(t1) − φ(0) past 2π.
+    let phi = |t: f64| {
+        (
+            8.0 * t + 0.6 * (3.0 * t).sin(),
+            8.0 + 1.8 * (3.0 * t).cos(),
+            -5.4 * (3.0 * t).sin(),
+        )
+    };
+    let t1 = 0.9;
+    let n = 4000;
+    let mut pose = m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    let (mut work, mut energy) = (0.0, [0.0f64; 2]);
+    for i in 0..=n {
+        let t = t1 * f64::from(i) / f64::from(n);
+        let (p, w, al) = phi(t);
+        pose.phi = p;
+        let motion = m.step(&pose, w, al)?;
+        pose = motion.q;
+        let f = dynamics.inverse(&m, &motion)?;
+        let weight = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        work += weight * f.power;
+        let e = f.kinetic_energy + f.potential_energy;
+        if i == 0 {
+            energy[0] = e;
+        }
+        energy[1] = e;
+    }
+    work *= t1 / f64::from(n) / 3.0;
+    assert!(phi(t1).0 > TAU, "a full cycle");
+    let change = energy[1] - energy[0];
+    assert!(
+        change.abs() > 0.05,
+        "the energy changes ({change} J): a test"
+    );
+    assert!(
+        (work - change).abs() <= 1e-9 * change.abs(),
+        "work {work} J against the change of energy {change} J"
+    );
+    Ok(())
+}
+
+/// With a damper in the spring, the drivers' work exceeds the change of
+/// energy by the damper's dissipation ∫ c L'² dt, which is positive.
+#[test]
+fn a_damper_takes_work_from_the_driver() -> Result<(), Error> {
+    let m = MassFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        g3x: 0.05,
+        g3y: 0.02,
+    };
+    let build = |c: f64| {
+        Dynamics::builder()
+            .body(
+                Body::new("rocker", 0.7)
+                    .center("G4")
+                    .angle("th4")
+                    .inertia(7e-4),
+            )
+            .spring(
+                Spring::new("G2", "G4")
+                    .stiffness(800.0)
+                    .free_length(0.09)
+                    .damping(c),
+            )
+            .build::<MassFourBar>()
+    };
+    let (plain, damped) = (build(0.0)?, build(3.0)?);
+    let pose = m.assemble(&MassFourBarCoords {
+        phi: 1.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    let motion = m.analyze(&pose, 10.0, 0.0)?;
+    let (p0, p1) = (plain.inverse(&m, &motion)?, damped.inverse(&m, &motion)?);
+    // L' of G2–G4 from the motion, and the damper's power c L'².
+    let (g2, g4) = (motion.point_g2(), motion.point_g4());
+    let dr = g4.position - g2.position;
+    let ld = dr.dot(&(g4.velocity - g2.velocity)) / dr.norm();
+    assert!(ld.abs() > 1e-3, "the spring moves");
+    close(p1.power - p0.power, 3.0 * ld * ld, 1e-12, "damper power");
+    Ok(())
+}
+
+mechanism! {
+    /// An RSSR with a frame for the crank (about z through A₀) and one for
+    /// the rocker (about x through B₀), and the coupler's centre of mass.
+    pub struct MassRssr {
+        params   { a, b, c, d }
+        drivers  { phi }
+        unknowns { psi }
+        frames {
+            crank = rot_y(-phi);
+            rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi);
+        }
+        points {
+            A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+            B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+            G2 = vec3(-a * cos(phi) / 2.0, 0.0, a * sin(phi) / 2.0);
+            G3 = 0.5 * (vec3(-a * cos(phi), 0.0, a * sin(phi)) + vec3(-d - c * cos(psi), c * sin(psi), 0.0));
+            G4 = vec3(-d - c * cos(psi) / 2.0, c * sin(psi) / 2.0, 0.0);
+        }
+        constraints { norm(B - A) == b; }
+    }
+}
+
+/// d(T + V)/dt by the fourth-order central difference of the energy along
+/// a motion, against the drivers' power Σ Q_k ḋ_k (no other load than
+/// gravity): for the RSSR with inertia tensors in its crank's and rocker's
+/// frames and the coupler as a point mass.
+#[test]
+fn the_power_of_an_rssr_is_the_rate_of_its_energy() -> Result<(), Error> {
+    let m = MassRssr {
+        a: 0.03,
+        b: 0.12,
+        c: 0.08,
+        d: 0.1,
+    };
+    let tensor = |x: f64, y: f64, z: f64| [[x, 2e-6, 0.0], [2e-6, y, 1e-6], [0.0, 1e-6, z]];
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("crank", 0.2)
+                .center("G2")
+                .frame("crank")
+                .inertia_tensor(tensor(3e-5, 1e-5, 3e-5)),
+        )
+        .body(Body::new("coupler", 0.4).center("G3"))
+        .body(
+            Body::new("rocker", 0.3)
+                .center("G4")
+                .frame("rocker")
+                .inertia_tensor(tensor(2e-5, 4e-5, 5e-5)),
+        )
+        .gravity([0.0, -G, -2.0])
+        .build::<MassRssr>()?;
+    let start = m.assemble(&MassRssrCoords { phi: 0.7, psi: 1.1 })?;
+    let at = |t: f64| (0.7 + 9.0 * t + 20.0 * t * t, 9.0 + 40.0 * t, 40.0);
+    let energy = |t: f64| -> Result<f64, Error> {
+        let (p, w, al) = at(t);
+        let mut q = start;
+        q.phi = p;
+        let motion = m.step(&q, w, al)?;
+        let f = dynamics.inverse(&m, &motion)?;
+        Ok(f.kinetic_energy + f.potential_energy)
+    };
+    for t in [0.0, 0.01, 0.03] {
+        let h = 1e-4;
+        let rate = (-energy(t + 2.0 * h)? + 8.0 * energy(t + h)? - 8.0 * energy(t - h)?
+            + energy(t - 2.0 * h)?)
+            / (12.0 * h);
+        let (p, w, al) = at(t);
+        let mut q = start;
+        q.phi = p;
+        let motion = m.step(&q, w, al)?;
+        let f = dynamics.inverse(&m, &motion)?;
+        assert!(f.power.abs() > 1e-3, "power {} W: a test", f.power);
+        close(f.power, rate, 1e-8, "power against d(T + V)/dt");
+        // The frames turn: the rotational energy is part of the total.
+        let crank = motion.frames[0];
+        assert!(crank.angular_velocity.norm() > 1.0);
+    }
+    Ok(())
+}
+
+mechanism! {
+    /// Three links of an arm: waist q1 about z, shoulder q2 and elbow q3
+    /// about y, each link's centre of mass in its frame.
+    pub struct MassArm {
+        params   { d1, a2, a3 }
+        drivers  { q1, q2, q3 }
+        unknowns { }
+        frames {
+            base = t3(0.0, 0.0, d1, q1);
+            upper = base * t2(0.0, 0.0, 0.0, q2);
+            fore = upper * t2(a2, 0.0, 0.0, q3);
+        }
+        points {
+            G1 = base * vec3(0.0, 0.01, -d1 / 2.0);
+            G2 = upper * vec3(a2 / 2.0, 0.0, 0.01);
+            G3 = fore * vec3(a3 / 2.0, 0.005, 0.0);
+        }
+    }
+}
+
+/// An arm of three drivers with inertia tensors: the drivers' power
+/// Σ Q_k q̇_k against d(T + V)/dt by finite differences along a joint
+/// trajectory; at rest, the shoulder's torque against the moment of the
+/// weights about its axis.
+#[test]
+fn the_power_of_an_arm_is_the_rate_of_its_energy() -> Result<(), Error> {
+    let m = MassArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+    };
+    let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("base", 4.0)
+                .center("G1")
+                .frame("base")
+                .inertia_tensor(tensor(0.05, 0.05, 0.02)),
+        )
+        .body(
+            Body::new("upper", 3.0)
+                .center("G2")
+                .frame("upper")
+                .inertia_tensor(tensor(0.01, 0.07, 0.07)),
+        )
+        .body(
+            Body::new("fore", 2.0)
+                .center("G3")
+                .frame("fore")
+                .inertia_tensor(tensor(0.006, 0.03, 0.03)),
+        )
+        .gravity([0.0, 0.0, -G])
+        .build::<MassArm>()?;
+    let traj = |t: f64| {
+        let q = [0.3 + 1.2 * t, -0.4 + 0.8 * t * t, 0.9 - 1.5 * t + t * t * t];
+        let qd = [1.2, 1.6 * t, -1.5 + 3.0 * t * t];
+        let qdd = [0.0, 1.6, 6.0 * t];
+        (q, qd, qdd)
+    };
+    let energy = |t: f64| -> Result<f64, Error> {
+        let (q, qd, qdd) = traj(t);
+        let motion = m.step(
+            &MassArmCoords {
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+            },
+            qd,
+            qdd,
+        )?;
+        let f = dynamics.inverse(&m, &motion)?;
+        Ok(f.kinetic_energy + f.potential_energy)
+    };
+    for t in [0.1, 0.4, 0.7] {
+        let h = 1e-4;
+        let rate = (-energy(t + 2.0 * h)? + 8.0 * energy(t + h)? - 8.0 * energy(t - h)?
+            + energy(t - 2.0 * h)?)
+            / (12.0 * h);
+        let (q, qd, qdd) = traj(t);
+        let motion = m.step(
+            &MassArmCoords {
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+            },
+            qd,
+            qdd,
+        )?;
+        let f = dynamics.inverse(&m, &motion)?;
+        let power = f.effort.q1 * qd[0] + f.effort.q2 * qd[1] + f.effort.q3 * qd[2];
+        close(
+            f.power,
+            power,
+            1e-14,
+            "power as the sum of the efforts' powers",
+        );
+        close(f.power, rate, 1e-8, "power against d(T + V)/dt");
+        assert!(f.effort.q2.abs() > 1.0, "the shoulder holds the arm up");
+    }
+    // At rest, only gravity: the shoulder's torque is the moment of the
+    // weights of the upper arm and forearm about its axis (y of the
+    // upper arm's frame, through the shoulder), computed here from the
+    // centres' positions.
+    let q = [0.3, -0.4, 0.9];
+    let motion = m.step(
+        &MassArmCoords {
+            q1: q[0],
+            q2: q[1],
+            q3: q[2],
+        },
+        [0.0; 3],
+        [0.0; 3],
+    )?;
+    let f = dynamics.inverse(&m, &motion)?;
+    let shoulder = Vector3::new(0.0, 0.0, 0.4);
+    let axis = motion.frames[1].rotation * Vector3::y();
+    let weight =
+        |p: Vector3<f64>, mass: f64| (p - shoulder).cross(&Vector3::new(0.0, 0.0, -G * mass));
+    let g2 = motion.point_g2().position;
+    let g3 = motion.point_g3().position;
+    let moment = (weight(g2, 3.0) + weight(g3, 2.0)).dot(&axis);
+    // The motor holds the arm: its torque balances the weights' moment.
+    close(f.effort.q2, -moment, 1e-12, "static shoulder torque");
+    assert_eq!(f.kinetic_energy, 0.0);
+    Ok(())
+}
+
+/// Each joint torque of the arm, not only their power, by Lagrange's
+/// equations Q_k = d/dt ∂T/∂q̇_k − ∂T/∂q_k + ∂V/∂q_k with T(q, q̇) and V(q)
+/// from the library's energies: ∂T/∂q̇_k by the central difference at
+/// Δq̇ = 1 (exact, T being quadratic in q̇), its time derivative and ∂/∂q_k
+/// by fourth-order central differences. The gyroscopic terms ω × J ω,
+/// which do no work, show here.
+#[test]
+fn each_joint_torque_of_an_arm_satisfies_lagranges_equations() -> Result<(), Error> {
+    let m = MassArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+    };
+    let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("base", 4.0)
+                .center("G1")
+                .frame("base")
+                .inertia_tensor(tensor(0.05, 0.05, 0.02)),
+        )
+        .body(
+            Body::new("upper", 3.0)
+                .center("G2")
+                .frame("upper")
+                .inertia_tensor(tensor(0.01, 0.07, 0.07)),
+        )
+        .body(
+            Body::new("fore", 2.0)
+                .center("G3")
+                .frame("fore")
+                .inertia_tensor(tensor(0.006, 0.03, 0.03)),
+        )
+        .gravity([0.0, 0.0, -G])
+        .build::<MassArm>()?;
+    // T and V at (q, q̇).
+    let energies = |q: [f64; 3], qd: [f64; 3]| -> Result<(f64, f64), Error> {
+        let motion = m.step(
+            &MassArmCoords {
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+            },
+            qd,
+            [0.0; 3],
+        )?;
+        let f = dynamics.inverse(&m, &motion)?;
+        Ok((f.kinetic_energy, f.potential_energy))
+    };
+    let traj = |t: f64| {
+        let q = [0.3 + 1.2 * t, -0.4 + 0.8 * t * t, 0.9 - 1.5 * t + t * t * t];
+        let qd = [1.2, 1.6 * t, -1.5 + 3.0 * t * t];
+        let qdd = [0.0, 1.6, 6.0 * t];
+        (q, qd, qdd)
+    };
+    let shifted = |v: [f64; 3], k: usize, h: f64| {
+        let mut v = v;
+        v[k] += h;
+        v
+    };
+    // Fourth-order central difference of f at 0 with step h.
+    let d4 = |f: &dyn Fn(f64) -> Result<f64, Error>, h: f64| -> Result<f64, Error> {
+        Ok((-f(2.0 * h)? + 8.0 * f(h)? - 8.0 * f(-h)? + f(-2.0 * h)?) / (12.0 * h))
+    };
+    for t in [0.2, 0.5] {
+        let (q, qd, qdd) = traj(t);
+        let motion = m.step(
+            &MassArmCoords {
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+            },
+            qd,
+            qdd,
+        )?;
+        let f = dynamics.inverse(&m, &motion)?;
+        let efforts = [f.effort.q1, f.effort.q2, f.effort.q3];
+        for (k, &effort) in efforts.iter().enumerate() {
+            // ∂T/∂q̇_k along the trajectory at t + s.
+            let momentum = |s: f64| -> Result<f64, Error> {
+                let (q, qd, _) = traj(t + s);
+                let plus = energies(q, shifted(qd, k, 1.0))?.0;
+                let minus = energies(q, shifted(qd, k, -1.0))?.0;
+                Ok((plus - minus) / 2.0)
+            };
+            let rate = d4(&momentum, 1e-3)?;
+            let lagrangian = |h: f64| -> Result<f64, Error> {
+                let (t_, v) = energies(shifted(q, k, h), qd)?;
+                Ok(v - t_)
+            };
+            let expected = rate + d4(&lagrangian, 1e-4)?;
+            assert!(
+                (effort - expected).abs() <= 1e-7 * (1.0 + expected.abs()),
+                "t = {t}, joint {}: {effort} against Lagrange's {expected}",
+                k + 1
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Names that do not exist, negative masses, tensors that are not
+/// symmetric, planar bodies given frames, loads that are not finite: each
+/// an `InvalidDynamics` error naming the item and what is wrong.
+#[test]
+fn bad_descriptions_are_errors_that_say_what_is_wrong() {
+    let message = |r: Result<kinematics_core::dynamics::Dynamics, Error>| match r {
+        Err(e @ Error::InvalidDynamics { .. }) => e.to_string(),
+        Err(e) => panic!("another error: {e}"),
+        Ok(_) => panic!("accepted"),
+    };
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G9"))
+            .build::<Engine>(),
+    );
+    assert!(
+        m.contains("body `crank`") && m.contains("no point `G9`") && m.contains("G2, B, G3, C"),
+        "{m}"
+    );
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", -1.0).center("G2"))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("mass is -1"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("rod", 1.0))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("no centre of mass"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("rod", 1.0).center("G3").frame("rod"))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("planar") && m.contains(".angle("), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("rod", 1.0).center("G3").angle("x"))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("`x`, which is a length"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("piston", 1.0).center("C").inertia(0.1))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("does not turn"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(
+                Body::new("crank", 1.0)
+                    .center("G2")
+                    .frame("crank")
+                    .inertia_tensor([[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+            )
+            .build::<MassRssr>(),
+    );
+    assert!(m.contains("symmetric"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .spring(Spring::new("B", "C").stiffness(f64::NAN))
+            .build::<Engine>(),
+    );
+    assert!(
+        m.contains("spring from `B` to `C`") && m.contains("stiffness is NaN"),
+        "{m}"
+    );
+    let m = message(
+        Dynamics::builder()
+            .force("D", |_| [0.0; 3])
+            .build::<Engine>(),
+    );
+    assert!(m.contains("force at `D`"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .gravity([0.0, f64::INFINITY, 0.0])
+            .build::<Engine>(),
+    );
+    assert!(m.contains("gravity"), "{m}");
+    // A load that is not finite at the instant.
+    let engine = Engine { a: A, b: B, r3: R3 };
+    let dynamics = Dynamics::builder()
+        .force("C", |s| [1.0 / (s.position.x - s.position.x), 0.0, 0.0])
+        .build::<Engine>()
+        .expect("builds");
+    let motion = engine_motion(&engine, 0.5, 10.0, 0.0);
+    let e = dynamics
+        .inverse(&engine, &motion)
+        .expect_err("the force is infinite");
+    assert!(
+        e.to_string().contains("a force") && e.to_string().contains("must be finite"),
+        "{e}"
+    );
+    // Built for one mechanism, used with another.
+    let four_bar = MassFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.1,
+        d: 0.11,
+        g3x: 0.0,
+        g3y: 0.0,
+    };
+    let pose = four_bar
+        .assemble(&MassFourBarCoords {
+            phi: 0.0,
+            th3: 1.0,
+            th4: 1.6,
+        })
+        .expect("assembles");
+    let motion = four_bar.analyze(&pose, 1.0, 0.0).expect("analyses");
+    let e = Dynamics::builder()
+        .build::<Engine>()
+        .expect("builds")
+        .inverse(&four_bar, &motion);
+    assert!(matches!(e, Err(Error::InvalidDynamics { .. })), "{e:?}");
+}
