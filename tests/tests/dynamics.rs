@@ -807,6 +807,206 @@ fn each_joint_torque_of_an_arm_satisfies_lagranges_equations() -> Result<(), Err
     Ok(())
 }
 
+/// Along a turn at constant speed with no loads but gravity and a spring,
+/// the drivers' work over the turn is zero (the energy returns), so the
+/// mean torque is zero; the work from the start is the change of energy,
+/// so the fluctuation a flywheel must absorb is max − min of T + V. The
+/// CSV has a column per quantity with its unit.
+#[test]
+fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
+    let m = MassFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+        g3x: 0.05,
+        g3y: 0.02,
+    };
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("crank", 0.3)
+                .center("G2")
+                .angle("phi")
+                .inertia(5e-5),
+        )
+        .body(
+            Body::new("coupler", 0.9)
+                .center("G3")
+                .angle("th3")
+                .inertia(1.4e-3),
+        )
+        .body(
+            Body::new("rocker", 0.7)
+                .center("G4")
+                .angle("th4")
+                .inertia(7e-4),
+        )
+        .gravity([0.0, -G, 0.0])
+        .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
+        .build::<MassFourBar>()?;
+    let start = m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    let sweep = m
+        .sweep(MassFourBar::PHI, &start)
+        .to(TAU)
+        .steps(1440)
+        .rpm(300.0)
+        .run();
+    assert!(sweep.stop.is_none());
+    let forces = dynamics.along(&m, &sweep)?;
+    assert_eq!(forces.samples.len(), 1441);
+    let peak = forces
+        .samples
+        .iter()
+        .map(|s| s.effort[0].abs())
+        .fold(0.0, f64::max);
+    let mean = forces.mean_effort(0).expect("a turn");
+    assert!(
+        peak > 1.0 && mean.abs() < 1e-9 * peak,
+        "mean {mean} N·m, peak {peak} N·m"
+    );
+    let energy: Vec<f64> = forces
+        .samples
+        .iter()
+        .map(|s| s.kinetic_energy + s.potential_energy)
+        .collect();
+    let range = energy.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        - energy.iter().copied().fold(f64::INFINITY, f64::min);
+    let fluctuation = forces.energy_fluctuation(0).expect("a turn");
+    assert!(
+        (fluctuation - range).abs() < 1e-5 * range,
+        "ΔE {fluctuation} J against max − min of T + V {range} J"
+    );
+    let csv = forces.to_csv();
+    let header = csv.lines().next().expect("a header");
+    assert_eq!(
+        header,
+        "phi (deg),Q_phi (N·m),T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)"
+    );
+    assert_eq!(csv.lines().count(), 1442);
+    Ok(())
+}
+
+/// The arm's definition as text, for the same model compiled at run time.
+const MASS_ARM_TEXT: &str = "
+    struct MassArm {
+        params   { d1, a2, a3 }
+        drivers  { q1, q2, q3 }
+        unknowns { }
+        frames {
+            base = t3(0.0, 0.0, d1, q1);
+            upper = base * t2(0.0, 0.0, 0.0, q2);
+            fore = upper * t2(a2, 0.0, 0.0, q3);
+        }
+        points {
+            G1 = base * vec3(0.0, 0.01, -d1 / 2.0);
+            G2 = upper * vec3(a2 / 2.0, 0.0, 0.01);
+            G3 = fore * vec3(a3 / 2.0, 0.005, 0.0);
+        }
+    }";
+
+/// The same description resolved against the arm compiled at run time
+/// gives the generated arm's forces (the same sums over the run-time
+/// model's own analysis), and the engine's likewise with its unknowns.
+#[test]
+fn a_run_time_model_has_the_same_forces() -> Result<(), Box<dyn std::error::Error>> {
+    let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
+    let describe = || {
+        Dynamics::builder()
+            .body(
+                Body::new("base", 4.0)
+                    .center("G1")
+                    .frame("base")
+                    .inertia_tensor(tensor(0.05, 0.05, 0.02)),
+            )
+            .body(
+                Body::new("upper", 3.0)
+                    .center("G2")
+                    .frame("upper")
+                    .inertia_tensor(tensor(0.01, 0.07, 0.07)),
+            )
+            .body(
+                Body::new("fore", 2.0)
+                    .center("G3")
+                    .frame("fore")
+                    .inertia_tensor(tensor(0.006, 0.03, 0.03)),
+            )
+            .gravity([0.0, 0.0, -G])
+            .torque("fore", |s| [0.0, 0.3 * s.qd(2), 0.0])
+    };
+    let generated = MassArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+    };
+    let model =
+        kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?.with_values(&[0.4, 0.5, 0.4])?;
+    let (dg, dr) = (
+        describe().build::<MassArm>()?,
+        describe().build_for(&model)?,
+    );
+    let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
+    let mg = generated.step(
+        &MassArmCoords {
+            q1: q[0],
+            q2: q[1],
+            q3: q[2],
+        },
+        qd,
+        qdd,
+    )?;
+    let mr = model.step(&q, &qd, &qdd)?;
+    let (fg, fr) = (dg.inverse(&generated, &mg)?, dr.inverse_of(&model, &mr)?);
+    for (k, g) in [fg.effort.q1, fg.effort.q2, fg.effort.q3]
+        .into_iter()
+        .enumerate()
+    {
+        close(fr.effort[k], g, 1e-12, "run-time effort");
+    }
+    close(
+        fr.kinetic_energy,
+        fg.kinetic_energy,
+        1e-12,
+        "kinetic energy",
+    );
+    close(
+        fr.potential_energy,
+        fg.potential_energy,
+        1e-12,
+        "potential energy",
+    );
+    for i in 0..3 {
+        close(
+            fr.shaking_force[i],
+            fg.shaking_force[i],
+            1e-12,
+            "shaking force",
+        );
+        close(
+            fr.shaking_moment[i],
+            fg.shaking_moment[i],
+            1e-12,
+            "shaking moment",
+        );
+    }
+    // A model of other sizes is refused.
+    let engine = kinematics_core::runtime::Model::compile(
+        "struct E { params { a, b } drivers { phi } unknowns { th, x } \
+         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); } }",
+    )?
+    .with_values(&[0.05, 0.2])?;
+    let pose = engine.assemble(&[0.5, -0.1, 0.24])?;
+    let motion = engine.analyze(&pose, &[10.0], &[0.0])?;
+    assert!(matches!(
+        dr.inverse_of(&engine, &motion),
+        Err(Error::InvalidDynamics { .. })
+    ));
+    Ok(())
+}
+
 /// Names that do not exist, negative masses, tensors that are not
 /// symmetric, planar bodies given frames, loads that are not finite: each
 /// an `InvalidDynamics` error naming the item and what is wrong.

@@ -94,7 +94,7 @@ pub(crate) trait View {
 }
 
 /// Three components from two or three.
-fn padded(v: &[f64]) -> Vector3<f64> {
+pub(crate) fn padded(v: &[f64]) -> Vector3<f64> {
     let c = |i: usize| v.get(i).copied().unwrap_or(0.0);
     Vector3::new(c(0), c(1), c(2))
 }

@@ -66,6 +66,7 @@
 //! # Ok::<(), kinematics_core::Error>(())
 //! ```
 
+mod cycle;
 mod evaluate;
 
 use alloc::boxed::Box;
@@ -76,6 +77,7 @@ use core::fmt;
 
 use nalgebra::{Matrix3, Vector3};
 
+pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant};
 
 use crate::error::Error;
@@ -620,3 +622,6 @@ impl fmt::Debug for Dynamics {
             .finish_non_exhaustive()
     }
 }
+
+#[cfg(feature = "runtime")]
+mod runtime;

@@ -11,16 +11,19 @@
 //! | [`plot_motion`] | q, q', q'' of every unknown against the driver, a panel per quantity and kind (angles, lengths) |
 //! | [`plot_points`] | position, velocity and acceleration of named points (components and magnitude) against the driver |
 //! | [`plot_path`] | the path of a point (a coupler curve), equal scales |
+//! | [`plot_forces`] | each driver's effort against the driver beside its mean, and the shaking force's polar diagram ([`crate::dynamics`]) |
 //! | [`plot_skeleton`] | the linkage at chosen poses, with a legend of their driver values, ground pivots and sliders marked |
 
 pub use crate::view::Projection;
 
 mod chart;
+mod forces;
 mod motion;
 mod path;
 mod skeleton;
 
 pub use chart::Units;
+pub use forces::plot_forces;
 pub use motion::{plot_motion, plot_motion_in, plot_points, plot_points_in};
 pub use path::{plot_band, plot_path};
 pub use skeleton::{plot_skeleton, plot_skeleton_with, Overlay};

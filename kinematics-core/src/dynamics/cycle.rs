@@ -1,0 +1,178 @@
+//! The forces along a sweep ([`ForceSweep`]): per sample, each driver's
+//! effort, the energies, the power and the shaking force and moment; the
+//! mean effort over the range, the fluctuation of energy a flywheel must
+//! absorb, and a CSV table with units.
+
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+use core::fmt::Write as _;
+
+use nalgebra::Vector3;
+
+use super::Dynamics;
+use crate::error::Error;
+use crate::mechanism::{Coordinates, Kind, Mechanism, Role};
+use crate::sweep::Sweep;
+
+/// The forces at one sample of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ForceSample {
+    /// The swept driver's value.
+    pub at: f64,
+    /// Each driver's effort, in declaration order (N·m or N).
+    pub effort: Vec<f64>,
+    /// Kinetic energy (J).
+    pub kinetic_energy: f64,
+    /// Potential energy (J).
+    pub potential_energy: f64,
+    /// The drivers' power (W).
+    pub power: f64,
+    /// Shaking force on the frame (N).
+    pub shaking_force: Vector3<f64>,
+    /// Shaking moment on the frame about the origin (N·m).
+    pub shaking_moment: Vector3<f64>,
+}
+
+/// The forces along a sweep ([`Dynamics::along`]).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ForceSweep {
+    /// The swept driver.
+    pub variable: String,
+    /// Whether it is an angle or a length.
+    pub kind: Kind,
+    /// The drivers' names and kinds, in declaration order.
+    pub drivers: Vec<(String, Kind)>,
+    /// One per sample of the sweep, in its order.
+    pub samples: Vec<ForceSample>,
+}
+
+impl ForceSweep {
+    /// The mean effort of driver `k` over the swept range,
+    /// (1/(s_n − s_0)) ∫ Q_k ds by the trapezoidal rule over the samples
+    /// (s the swept value): for a crank turned at constant speed, the mean
+    /// torque. `None` with fewer than two samples or no such driver.
+    #[must_use]
+    pub fn mean_effort(&self, k: usize) -> Option<f64> {
+        let (first, last) = (self.samples.first()?, self.samples.last()?);
+        let span = last.at - first.at;
+        if self.samples.len() < 2 || span == 0.0 || k >= self.drivers.len() {
+            return None;
+        }
+        Some(self.work(k).last().copied().unwrap_or(0.0) / span)
+    }
+
+    /// The work of driver `k`'s effort from the first sample to each,
+    /// W(s) = ∫ Q_k ds (trapezoidal; zero at the first).
+    fn work(&self, k: usize) -> Vec<f64> {
+        let mut w = Vec::with_capacity(self.samples.len());
+        let mut sum = 0.0;
+        let effort = |s: &ForceSample| s.effort.get(k).copied().unwrap_or(f64::NAN);
+        for (i, s) in self.samples.iter().enumerate() {
+            if let Some(p) = i.checked_sub(1).and_then(|p| self.samples.get(p)) {
+                sum += 0.5 * (effort(p) + effort(s)) * (s.at - p.at);
+            }
+            w.push(sum);
+        }
+        w
+    }
+
+    /// The largest fluctuation of energy about the mean effort of driver
+    /// `k`: ΔE = max − min over the samples of ∫ (Q_k − Q̄_k) ds, the energy
+    /// a flywheel on the driver's shaft must store and give back for the
+    /// driver to supply the mean effort only. With the flywheel's moment
+    /// of inertia I and the mean speed ω, the coefficient of speed
+    /// fluctuation is C_s = (ω_max − ω_min)/ω ≈ ΔE / (I ω²); the flywheel
+    /// for a wanted C_s is I = ΔE / (C_s ω²). `None` as for
+    /// [`ForceSweep::mean_effort`].
+    #[must_use]
+    pub fn energy_fluctuation(&self, k: usize) -> Option<f64> {
+        let mean = self.mean_effort(k)?;
+        let first = self.samples.first()?.at;
+        let (lo, hi) = self
+            .work(k)
+            .iter()
+            .zip(&self.samples)
+            .map(|(w, s)| w - mean * (s.at - first))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+                (lo.min(e), hi.max(e))
+            });
+        Some(hi - lo)
+    }
+
+    /// The table as CSV, a column per quantity with its unit in the header:
+    /// the swept value (deg for an angle), each driver's effort (N·m for an
+    /// angle, N for a length), T, V and the power, and the shaking force and
+    /// moment's components.
+    #[must_use]
+    pub fn to_csv(&self) -> String {
+        let angle = self.kind == Kind::Angle;
+        let mut out = String::new();
+        let _ = write!(
+            out,
+            "{} ({})",
+            self.variable,
+            if angle { "deg" } else { "m" }
+        );
+        for (name, kind) in &self.drivers {
+            let unit = if *kind == Kind::Angle { "N·m" } else { "N" };
+            let _ = write!(out, ",Q_{name} ({unit})");
+        }
+        out.push_str(
+            ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)\n",
+        );
+        for s in &self.samples {
+            let at = if angle { s.at.to_degrees() } else { s.at };
+            let _ = write!(out, "{at}");
+            for e in &s.effort {
+                let _ = write!(out, ",{e}");
+            }
+            let f = s.shaking_force;
+            let m = s.shaking_moment;
+            let _ = writeln!(
+                out,
+                ",{},{},{},{},{},{},{},{},{}",
+                s.kinetic_energy, s.potential_energy, s.power, f.x, f.y, f.z, m.x, m.y, m.z
+            );
+        }
+        out
+    }
+}
+
+impl Dynamics {
+    /// The forces at every sample of `sweep`, a sweep of `m`
+    /// ([`Dynamics::inverse`] at each).
+    ///
+    /// # Errors
+    /// As [`Dynamics::inverse`], at the first sample where it fails.
+    pub fn along<M: Mechanism>(&self, m: &M, sweep: &Sweep<M>) -> Result<ForceSweep, Error> {
+        let drivers: Vec<(String, Kind)> = M::COORDINATES
+            .iter()
+            .filter(|c| c.role == Role::Driver)
+            .map(|c| (c.name.to_string(), c.kind))
+            .collect();
+        let mut samples = Vec::with_capacity(sweep.samples.len());
+        for s in &sweep.samples {
+            let f = self.inverse(m, &s.motion)?;
+            let effort = (0..drivers.len())
+                .map(|k| f.effort.get(k).unwrap_or(f64::NAN))
+                .collect();
+            samples.push(ForceSample {
+                at: s.at,
+                effort,
+                kinetic_energy: f.kinetic_energy,
+                potential_energy: f.potential_energy,
+                power: f.power,
+                shaking_force: f.shaking_force,
+                shaking_moment: f.shaking_moment,
+            });
+        }
+        Ok(ForceSweep {
+            variable: sweep.variable.to_string(),
+            kind: sweep.kind,
+            drivers,
+            samples,
+        })
+    }
+}
