@@ -13,7 +13,7 @@
 
 use std::f64::consts::TAU;
 
-use kinematics_core::dynamics::{Body, Dynamics, Spring};
+use kinematics_core::dynamics::{Body, Dynamics, Joint, Spring, GROUND};
 use kinematics_core::nalgebra::{DMatrix, DVector, Vector3};
 use kinematics_core::{mechanism, Error};
 
@@ -30,6 +30,7 @@ mechanism! {
             B = polar(a, phi);
             G3 = polar(a, phi) + polar(r3, th);
             C = vec2(x, 0.0);
+            O = vec2(0.0, 0.0);
         }
         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
     }
@@ -136,8 +137,9 @@ fn cross(r: [f64; 2], f: [f64; 2]) -> f64 {
 /// on the piston: unknowns F12 (ground on crank at O), F32 (rod on crank at
 /// B), F43 (piston on rod at C), N (wall on piston, along y) and the motor
 /// torque T; eight equations: the crank's and the rod's forces and moments
-/// about their centres of mass, the piston's forces. Returns T.
-fn engine_newton_euler(phi: f64, w: f64, al: f64, p: f64) -> f64 {
+/// about their centres of mass, the piston's forces. Returns the unknowns
+/// in that order.
+fn engine_newton_euler(phi: f64, w: f64, al: f64, p: f64) -> DVector<f64> {
     let k = engine_kinematics(phi, w, al);
     let (s, c) = phi.sin_cos();
     let b = [A * c, A * s];
@@ -183,11 +185,9 @@ fn engine_newton_euler(phi: f64, w: f64, al: f64, p: f64) -> f64 {
     a[(7, 5)] = -1.0;
     a[(7, 6)] = 1.0;
     rhs[7] = M4 * G;
-    let x = a
-        .lu()
+    a.lu()
         .solve(&rhs)
-        .expect("the Newton–Euler system is regular");
-    x[7]
+        .expect("the Newton–Euler system is regular")
 }
 
 /// The engine with crank, rod and piston masses, gravity and a gas force
@@ -211,7 +211,7 @@ fn an_engines_crank_torque_is_the_newton_euler_one() -> Result<(), Error> {
         let motion = engine_motion(&m, phi, w, al);
         let forces = dynamics.inverse(&m, &motion)?;
         let x = engine_kinematics(phi, w, al).x;
-        let expected = engine_newton_euler(phi, w, al, gas(x));
+        let expected = engine_newton_euler(phi, w, al, gas(x))[7];
         close(forces.effort.phi, expected, 1e-10, "crank torque");
         // The shaking force is −Σ m a_G.
         let kin = engine_kinematics(phi, w, al);
@@ -234,6 +234,10 @@ mechanism! {
             G2 = polar(a / 2.0, phi);
             G3 = polar(a, phi) + polar(g3x, th3) + polar(g3y, th3 + 1.5707963267948966);
             G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+            A = vec2(0.0, 0.0);
+            B = polar(a, phi);
+            C = vec2(d, 0.0) + polar(c, th4);
+            D = vec2(d, 0.0);
         }
         loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
     }
@@ -287,72 +291,12 @@ fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
         let motion = m.step(&pose, w2, al2)?;
         pose = motion.q;
         let forces = dynamics.inverse(&m, &motion)?;
-        let (t3, t4) = (motion.q.th3, motion.q.th4);
-        let (w3, w4) = (motion.qd.th3, motion.qd.th4);
+        let ne = four_bar_newton_euler(&motion, [m2, m3, m4], [j2, j3, j4], (a, c, d), (g3x, g3y));
+        let x = &ne.x;
+        let ([g2, g3, g4], [a_g2, a_g3, a_g4]) = (ne.centres, ne.accelerations);
+        let al2 = motion.qdd.phi;
         let (al3, al4) = (motion.qdd.th3, motion.qdd.th4);
-        let e = |t: f64| [t.cos(), t.sin()];
         let scale = |v: [f64; 2], s: f64| [v[0] * s, v[1] * s];
-        let add = |u: [f64; 2], v: [f64; 2]| [u[0] + v[0], u[1] + v[1]];
-        let sub = |u: [f64; 2], v: [f64; 2]| [u[0] - v[0], u[1] - v[1]];
-        // a of a point at r from a pivot or point P of a link turning with
-        // (ω, α): a_P + α ẑ × r − ω² r.
-        let acc = |a_p: [f64; 2], r: [f64; 2], w: f64, al: f64| {
-            [
-                a_p[0] - al * r[1] - w * w * r[0],
-                a_p[1] + al * r[0] - w * w * r[1],
-            ]
-        };
-        let pin_b = scale(e(phi), a);
-        let pin_d = [d, 0.0];
-        let pin_c = add(pin_d, scale(e(t4), c));
-        let g2 = scale(pin_b, 0.5);
-        let r3 = [
-            g3x * t3.cos() - g3y * t3.sin(),
-            g3x * t3.sin() + g3y * t3.cos(),
-        ];
-        let g3 = add(pin_b, r3);
-        let g4 = add(pin_d, scale(e(t4), c / 2.0));
-        let a_b = acc([0.0; 2], pin_b, w2, al2);
-        let a_g2 = acc([0.0; 2], g2, w2, al2);
-        let a_g3 = acc(a_b, r3, w3, al3);
-        let a_g4 = acc([0.0; 2], sub(g4, pin_d), w4, al4);
-        // Columns: F12 (ground on crank at A) x y, F32 (coupler on crank at
-        // B), F43 (rocker on coupler at C), F14 (ground on rocker at D), T.
-        let mut mat = DMatrix::<f64>::zeros(9, 9);
-        let mut rhs = DVector::<f64>::zeros(9);
-        let mut moment = |row: usize, col: usize, r: [f64; 2], sign: f64| {
-            mat[(row, col)] += -sign * r[1];
-            mat[(row, col + 1)] += sign * r[0];
-        };
-        // Crank.
-        moment(2, 0, sub([0.0; 2], g2), 1.0);
-        moment(2, 2, sub(pin_b, g2), 1.0);
-        // Coupler: −F32 at B, F43 at C.
-        moment(5, 2, sub(pin_b, g3), -1.0);
-        moment(5, 4, sub(pin_c, g3), 1.0);
-        // Rocker: −F43 at C, F14 at D.
-        moment(8, 4, sub(pin_c, g4), -1.0);
-        moment(8, 6, sub(pin_d, g4), 1.0);
-        for i in 0..2 {
-            mat[(i, i)] = 1.0;
-            mat[(i, 2 + i)] = 1.0;
-            mat[(3 + i, 2 + i)] = -1.0;
-            mat[(3 + i, 4 + i)] = 1.0;
-            mat[(6 + i, 4 + i)] = -1.0;
-            mat[(6 + i, 6 + i)] = 1.0;
-        }
-        mat[(2, 8)] = 1.0;
-        let weight = [0.0, G];
-        for i in 0..2 {
-            rhs[i] = m2 * (a_g2[i] + weight[i]);
-            rhs[3 + i] = m3 * (a_g3[i] + weight[i]);
-            rhs[6 + i] = m4 * (a_g4[i] + weight[i]);
-        }
-        (rhs[2], rhs[5], rhs[8]) = (j2 * al2, j3 * al3, j4 * al4);
-        let x = mat
-            .lu()
-            .solve(&rhs)
-            .expect("the Newton–Euler system is regular");
         close(forces.effort.phi, x[8], 1e-10, "driving torque");
         // The shaking force and moment: minus the inertia forces' sum and
         // their moment about the origin with the bodies' J α.
@@ -363,6 +307,283 @@ fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
         close(forces.shaking_force.x, fx, 1e-10, "shaking force");
         close(forces.shaking_moment.z, mz, 1e-10, "shaking moment");
         assert_eq!(forces.shaking_moment.x, 0.0);
+    }
+    Ok(())
+}
+
+/// The four-bar's Newton–Euler solve (the test's own): the centres of mass
+/// and their accelerations from the link angles, rates and accelerations
+/// of `motion` by the rigid-body formula, and the nine unknowns F12
+/// (ground on crank at A), F32 (coupler on crank at B), F43 (rocker on
+/// coupler at C), F14 (ground on rocker at D) and the torque T.
+struct FourBarNewtonEuler {
+    x: DVector<f64>,
+    centres: [[f64; 2]; 3],
+    accelerations: [[f64; 2]; 3],
+}
+
+fn four_bar_newton_euler(
+    motion: &MassFourBarMotion,
+    [m2, m3, m4]: [f64; 3],
+    [j2, j3, j4]: [f64; 3],
+    (a, c, d): (f64, f64, f64),
+    (g3x, g3y): (f64, f64),
+) -> FourBarNewtonEuler {
+    let (phi, w2, al2) = (motion.q.phi, motion.qd.phi, motion.qdd.phi);
+    let (t3, t4) = (motion.q.th3, motion.q.th4);
+    let (w3, w4) = (motion.qd.th3, motion.qd.th4);
+    let (al3, al4) = (motion.qdd.th3, motion.qdd.th4);
+    let e = |t: f64| [t.cos(), t.sin()];
+    let scale = |v: [f64; 2], s: f64| [v[0] * s, v[1] * s];
+    let add = |u: [f64; 2], v: [f64; 2]| [u[0] + v[0], u[1] + v[1]];
+    let sub = |u: [f64; 2], v: [f64; 2]| [u[0] - v[0], u[1] - v[1]];
+    // a of a point at r from a pivot or point P of a link turning with
+    // (ω, α): a_P + α ẑ × r − ω² r.
+    let acc = |a_p: [f64; 2], r: [f64; 2], w: f64, al: f64| {
+        [
+            a_p[0] - al * r[1] - w * w * r[0],
+            a_p[1] + al * r[0] - w * w * r[1],
+        ]
+    };
+    let pin_b = scale(e(phi), a);
+    let pin_d = [d, 0.0];
+    let pin_c = add(pin_d, scale(e(t4), c));
+    let g2 = scale(pin_b, 0.5);
+    let r3 = [
+        g3x * t3.cos() - g3y * t3.sin(),
+        g3x * t3.sin() + g3y * t3.cos(),
+    ];
+    let g3 = add(pin_b, r3);
+    let g4 = add(pin_d, scale(e(t4), c / 2.0));
+    let a_b = acc([0.0; 2], pin_b, w2, al2);
+    let a_g2 = acc([0.0; 2], g2, w2, al2);
+    let a_g3 = acc(a_b, r3, w3, al3);
+    let a_g4 = acc([0.0; 2], sub(g4, pin_d), w4, al4);
+    // Columns: F12 (ground on crank at A) x y, F32 (coupler on crank at
+    // B), F43 (rocker on coupler at C), F14 (ground on rocker at D), T.
+    let mut mat = DMatrix::<f64>::zeros(9, 9);
+    let mut rhs = DVector::<f64>::zeros(9);
+    let mut moment = |row: usize, col: usize, r: [f64; 2], sign: f64| {
+        mat[(row, col)] += -sign * r[1];
+        mat[(row, col + 1)] += sign * r[0];
+    };
+    // Crank.
+    moment(2, 0, sub([0.0; 2], g2), 1.0);
+    moment(2, 2, sub(pin_b, g2), 1.0);
+    // Coupler: −F32 at B, F43 at C.
+    moment(5, 2, sub(pin_b, g3), -1.0);
+    moment(5, 4, sub(pin_c, g3), 1.0);
+    // Rocker: −F43 at C, F14 at D.
+    moment(8, 4, sub(pin_c, g4), -1.0);
+    moment(8, 6, sub(pin_d, g4), 1.0);
+    for i in 0..2 {
+        mat[(i, i)] = 1.0;
+        mat[(i, 2 + i)] = 1.0;
+        mat[(3 + i, 2 + i)] = -1.0;
+        mat[(3 + i, 4 + i)] = 1.0;
+        mat[(6 + i, 4 + i)] = -1.0;
+        mat[(6 + i, 6 + i)] = 1.0;
+    }
+    mat[(2, 8)] = 1.0;
+    let weight = [0.0, G];
+    for i in 0..2 {
+        rhs[i] = m2 * (a_g2[i] + weight[i]);
+        rhs[3 + i] = m3 * (a_g3[i] + weight[i]);
+        rhs[6 + i] = m4 * (a_g4[i] + weight[i]);
+    }
+    (rhs[2], rhs[5], rhs[8]) = (j2 * al2, j3 * al3, j4 * al4);
+    let x = mat
+        .lu()
+        .solve(&rhs)
+        .expect("the Newton–Euler system is regular");
+    FourBarNewtonEuler {
+        x,
+        centres: [g2, g3, g4],
+        accelerations: [a_g2, a_g3, a_g4],
+    }
+}
+
+/// Every joint reaction of the engine (crank bearing, crank pin, piston
+/// pin, the cylinder's normal force) by the library's Newton–Euler over
+/// the declared joints, against the test's own solve; the crank torque in
+/// the bearing equals the virtual-power effort.
+#[test]
+fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let gas = |x: f64| 2000.0 * (0.3 / x).powi(2);
+    let dynamics = Dynamics::builder()
+        .body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
+        .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
+        .body(Body::new("piston", M4).center("C"))
+        .gravity([0.0, -G, 0.0])
+        .force_on("piston", "C", move |s| [-gas(s.position.x), 0.0, 0.0])
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
+        .joint(Joint::prismatic(
+            "cylinder",
+            "C",
+            GROUND,
+            "piston",
+            [1.0, 0.0],
+        ))
+        .build::<Engine>()?;
+    for k in 0..36 {
+        let phi = TAU * f64::from(k) / 36.0 + 0.02;
+        let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
+        let motion = engine_motion(&m, phi, w, al);
+        let r = dynamics.reactions(&m, &motion)?;
+        let x = engine_newton_euler(phi, w, al, gas(engine_kinematics(phi, w, al).x));
+        let get = |name: &str| r.get(name).expect("a joint of the engine");
+        let scale = x.amax();
+        let near = |a: f64, b: f64, what: &str| {
+            assert!((a - b).abs() <= 1e-10 * scale, "{what}: {a} against {b}");
+        };
+        near(get("bearing").force.x, x[0], "bearing x");
+        near(get("bearing").force.y, x[1], "bearing y");
+        near(get("crank pin").force.x, -x[2], "crank pin x");
+        near(get("crank pin").force.y, -x[3], "crank pin y");
+        near(get("piston pin").force.x, -x[4], "piston pin x");
+        near(get("piston pin").force.y, -x[5], "piston pin y");
+        near(get("cylinder").force.y, x[6], "cylinder normal force");
+        near(get("cylinder").force.x, 0.0, "no friction");
+        near(get("cylinder").moment, 0.0, "cylinder moment");
+        let effort = get("bearing").effort.expect("driven");
+        near(effort, x[7], "torque");
+        close(
+            effort,
+            dynamics.inverse(&m, &motion)?.effort.phi,
+            1e-10,
+            "both methods",
+        );
+        // The crank pin's force in the rod's axes: along the rod and across.
+        let th = motion.q.th;
+        let f = get("crank pin").force;
+        near(
+            get("crank pin").force_in_body.x,
+            f.x * th.cos() + f.y * th.sin(),
+            "along the rod",
+        );
+    }
+    // The same joints on the engine compiled at run time.
+    let model = kinematics_core::runtime::Model::compile(
+        "struct Engine { params { a, b, r3 } drivers { phi } unknowns { th, x }
+         points { G2 = polar(a / 2.0, phi); B = polar(a, phi); G3 = polar(a, phi) + polar(r3, th);
+                  C = vec2(x, 0.0); O = vec2(0.0, 0.0); }
+         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); } }",
+    )
+    .expect("compiles")
+    .with_values(&[A, B, R3])?;
+    let at_run_time = Dynamics::builder()
+        .body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
+        .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
+        .body(Body::new("piston", M4).center("C"))
+        .gravity([0.0, -G, 0.0])
+        .force_on("piston", "C", move |s| [-gas(s.position.x), 0.0, 0.0])
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
+        .joint(Joint::prismatic(
+            "cylinder",
+            "C",
+            GROUND,
+            "piston",
+            [1.0, 0.0],
+        ))
+        .build_for(&model)?;
+    let motion = engine_motion(&m, 1.0, 150.0, -800.0);
+    let q = [motion.q.phi, motion.q.th, motion.q.x];
+    let run_time = model.analyze(&q, &[150.0], &[-800.0])?;
+    let (rg, rr) = (
+        dynamics.reactions(&m, &motion)?,
+        at_run_time.reactions_of(&model, &run_time)?,
+    );
+    for (g, r) in rg.joints.iter().zip(&rr.joints) {
+        assert_eq!(g.name, r.name);
+        for i in 0..2 {
+            close(r.force[i], g.force[i], 1e-12, "run-time reaction");
+        }
+    }
+    Ok(())
+}
+
+/// Every joint reaction of the four-bar with gravity against the test's
+/// Newton–Euler solve (nine equations), over a full turn at varying speed.
+#[test]
+fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
+    let (a, b, c, d) = (0.04, 0.12, 0.10, 0.11);
+    let (g3x, g3y) = (0.05, 0.02);
+    let (m2, m3, m4) = (0.3, 0.9, 0.7);
+    let (j2, j3, j4) = (5e-5, 1.4e-3, 7e-4);
+    let m = MassFourBar {
+        a,
+        b,
+        c,
+        d,
+        g3x,
+        g3y,
+    };
+    let dynamics = Dynamics::builder()
+        .body(Body::new("crank", m2).center("G2").angle("phi").inertia(j2))
+        .body(
+            Body::new("coupler", m3)
+                .center("G3")
+                .angle("th3")
+                .inertia(j3),
+        )
+        .body(
+            Body::new("rocker", m4)
+                .center("G4")
+                .angle("th4")
+                .inertia(j4),
+        )
+        .gravity([0.0, -G, 0.0])
+        .joint(Joint::revolute("A", "A", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("B", "B", "crank", "coupler"))
+        .joint(Joint::revolute("C", "C", "coupler", "rocker"))
+        .joint(Joint::revolute("D", "D", GROUND, "rocker"))
+        .build::<MassFourBar>()?;
+    let mut pose = m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    for k in 0..72 {
+        let phi = TAU * f64::from(k) / 72.0;
+        let (w2, al2) = (20.0 + 4.0 * phi.cos(), 60.0 * phi.sin());
+        pose.phi = phi;
+        let motion = m.step(&pose, w2, al2)?;
+        pose = motion.q;
+        let x = four_bar_newton_euler(&motion, [m2, m3, m4], [j2, j3, j4], (a, c, d), (g3x, g3y)).x;
+        let r = dynamics.reactions(&m, &motion)?;
+        let scale = x.amax();
+        let near = |p: f64, q: f64, what: &str| {
+            assert!(
+                (p - q).abs() <= 1e-10 * scale,
+                "{what} at step {k}: {p} against {q}"
+            );
+        };
+        let get = |name: &str| r.get(name).expect("a joint").force;
+        // The test's unknowns: F12 (ground on crank), F32 (coupler on
+        // crank), F43 (rocker on coupler), F14 (ground on rocker), T.
+        near(get("A").x, x[0], "A x");
+        near(get("A").y, x[1], "A y");
+        near(get("B").x, -x[2], "B x");
+        near(get("B").y, -x[3], "B y");
+        near(get("C").x, -x[4], "C x");
+        near(get("C").y, -x[5], "C y");
+        near(get("D").x, x[6], "D x");
+        near(get("D").y, x[7], "D y");
+        near(
+            r.get("A").and_then(|j| j.effort).expect("driven"),
+            x[8],
+            "torque",
+        );
+        // The rocker's bearing force in the rocker's axes.
+        let t4 = motion.q.th4;
+        let f = get("D");
+        let along = r.get("D").expect("a joint").force_in_body.x;
+        near(along, f.x * t4.cos() + f.y * t4.sin(), "D along the rocker");
     }
     Ok(())
 }
@@ -1088,6 +1309,80 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
             .build::<Engine>(),
     );
     assert!(m.contains("gravity"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+            .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("th"))
+            .build::<Engine>(),
+    );
+    assert!(
+        m.contains("joint `bearing`") && m.contains("no driver `th`"),
+        "{m}"
+    );
+    let m = message(
+        Dynamics::builder()
+            .joint(Joint::prismatic(
+                "cylinder",
+                "C",
+                GROUND,
+                "piston",
+                [1.0, 0.0],
+            ))
+            .build::<Engine>(),
+    );
+    assert!(
+        m.contains("no body `piston`") && m.contains("`ground` for the frame"),
+        "{m}"
+    );
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+            .joint(Joint::revolute("bearing", "O", "crank", "crank"))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("to itself"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+            .joint(Joint::prismatic("slide", "O", GROUND, "crank", [0.0, 0.0]).driven_by("phi"))
+            .build::<Engine>(),
+    );
+    assert!(m.contains("axis"), "{m}");
+    let m = message(
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G2").frame("crank"))
+            .joint(Joint::revolute("bearing", "A", GROUND, "crank"))
+            .build::<MassRssr>(),
+    );
+    assert!(m.contains("planar mechanisms only"), "{m}");
+    // Reactions that the joints do not determine, or a force on no body.
+    let engine = Engine { a: A, b: B, r3: R3 };
+    let motion = engine_motion(&engine, 0.5, 10.0, 0.0);
+    let partial = Dynamics::builder()
+        .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+        .body(Body::new("rod", 1.0).center("G3").angle("th"))
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+        .build::<Engine>()
+        .expect("builds");
+    let e = partial
+        .reactions(&engine, &motion)
+        .expect_err("underdetermined");
+    assert!(
+        e.to_string()
+            .contains("5 unknown reaction components for the 6 equations"),
+        "{e}"
+    );
+    let unplaced = Dynamics::builder()
+        .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+        .force("B", |_| [1.0, 0.0, 0.0])
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .build::<Engine>()
+        .expect("builds");
+    let e = unplaced
+        .reactions(&engine, &motion)
+        .expect_err("the force has no body");
+    assert!(e.to_string().contains("force_on"), "{e}");
     // A load that is not finite at the instant.
     let engine = Engine { a: A, b: B, r3: R3 };
     let dynamics = Dynamics::builder()

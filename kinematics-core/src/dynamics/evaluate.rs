@@ -28,9 +28,9 @@ use crate::options::Options;
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Instant<'a> {
-    q: &'a [f64],
-    qd: &'a [f64],
-    qdd: &'a [f64],
+    pub(super) q: &'a [f64],
+    pub(super) qd: &'a [f64],
+    pub(super) qdd: &'a [f64],
     /// Position of the point the load acts at (z = 0 in a planar mechanism).
     pub position: Vector3<f64>,
     /// Velocity of that point.
@@ -361,7 +361,7 @@ impl Dynamics {
             let h = inertia * alpha + omega.cross(&(inertia * omega));
             q += ((a - g) * b.mass).dot(&velocity(u, b.center)) + h.dot(&turning(b, u).0);
         }
-        for (i, (p, f)) in self.forces.iter().enumerate() {
+        for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let f = Vector3::from(f(&instant(s.point(*p))));
             finite_load(f.iter().copied(), "a force", i)?;
             let f = if planar {
@@ -407,7 +407,10 @@ impl Dynamics {
 
 /// ω, α and the inertia tensor about G in the fixed axes of body `b` in
 /// the motion `s`.
-fn turning(b: &ResolvedBody, s: &dyn View) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
+pub(super) fn turning(
+    b: &ResolvedBody,
+    s: &dyn View,
+) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
     match &b.turning {
         Turns::No => (Vector3::zeros(), Vector3::zeros(), Matrix3::zeros()),
         Turns::Angle(terms) => {

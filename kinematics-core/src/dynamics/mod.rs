@@ -68,6 +68,7 @@
 
 mod cycle;
 mod evaluate;
+mod joints;
 
 use alloc::boxed::Box;
 use alloc::format;
@@ -79,6 +80,7 @@ use nalgebra::{Matrix3, Vector3};
 
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant};
+pub use joints::{Joint, JointReaction, Reactions, GROUND};
 
 use crate::error::Error;
 use crate::mechanism::{Kind, Mechanism, Role};
@@ -251,7 +253,8 @@ impl Spring {
 pub struct DynamicsBuilder {
     bodies: Vec<Body>,
     gravity: [f64; 3],
-    forces: Vec<(String, VectorLoad)>,
+    forces: Vec<(String, Option<String>, VectorLoad)>,
+    joints: Vec<Joint>,
     torques: Vec<(String, VectorLoad)>,
     coordinate_forces: Vec<(String, ScalarLoad)>,
     springs: Vec<Spring>,
@@ -263,7 +266,15 @@ impl fmt::Debug for DynamicsBuilder {
         f.debug_struct("DynamicsBuilder")
             .field("bodies", &self.bodies)
             .field("gravity", &self.gravity)
-            .field("forces at", &names_of(&self.forces))
+            .field(
+                "forces at",
+                &self
+                    .forces
+                    .iter()
+                    .map(|(p, _, _)| p.clone())
+                    .collect::<Vec<_>>(),
+            )
+            .field("joints", &self.joints)
             .field("torques on", &names_of(&self.torques))
             .field("coordinate forces on", &names(&self.coordinate_forces))
             .field("springs", &self.springs)
@@ -290,6 +301,7 @@ impl DynamicsBuilder {
             bodies: Vec::new(),
             gravity: [0.0; 3],
             forces: Vec::new(),
+            joints: Vec::new(),
             torques: Vec::new(),
             coordinate_forces: Vec::new(),
             springs: Vec::new(),
@@ -320,7 +332,31 @@ impl DynamicsBuilder {
         point: &str,
         force: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
     ) -> Self {
-        self.forces.push((point.to_string(), Box::new(force)));
+        self.forces.push((point.to_string(), None, Box::new(force)));
+        self
+    }
+
+    /// A force at the point `point` acting on the body `body` ([`Self::force`]
+    /// with the body named): where a point is a pin shared by two bodies,
+    /// the joint reactions ([`Dynamics::reactions`]) depend on which of
+    /// them the force acts on.
+    #[must_use]
+    pub fn force_on(
+        mut self,
+        body: &str,
+        point: &str,
+        force: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
+    ) -> Self {
+        self.forces
+            .push((point.to_string(), Some(body.to_string()), Box::new(force)));
+        self
+    }
+
+    /// A joint between two bodies (or a body and the ground), for the
+    /// joint reactions ([`Dynamics::reactions`]).
+    #[must_use]
+    pub fn joint(mut self, joint: Joint) -> Self {
+        self.joints.push(joint);
         self
     }
 
@@ -498,10 +534,16 @@ impl DynamicsBuilder {
         }
         let body_names: Vec<String> = self.bodies.iter().map(|b| b.name.clone()).collect();
         let mut forces = Vec::with_capacity(self.forces.len());
-        for (point, f) in self.forces {
+        for (point, body, f) in self.forces {
             let item = format!("force at `{point}`");
-            forces.push((find(names.points, "point", &point, &item)?, f));
+            let p = find(names.points, "point", &point, &item)?;
+            let b = match body {
+                Some(b) => Some(find(&body_names, "body", &b, &item)?),
+                None => None,
+            };
+            forces.push((p, b, f));
         }
+        let joints = joints::resolve(&self.joints, names, &body_names, &bodies)?;
         let mut torques = Vec::with_capacity(self.torques.len());
         for (body, t) in self.torques {
             let item = format!("torque on `{body}`");
@@ -549,6 +591,7 @@ impl DynamicsBuilder {
             torques,
             coordinate_forces,
             springs,
+            joints,
         })
     }
 }
@@ -604,10 +647,12 @@ pub struct Dynamics {
     dim: usize,
     gravity: Vector3<f64>,
     bodies: Vec<ResolvedBody>,
-    forces: Vec<(usize, VectorLoad)>,
+    /// (point, body it acts on if named, force).
+    forces: Vec<(usize, Option<usize>, VectorLoad)>,
     torques: Vec<(usize, VectorLoad)>,
     coordinate_forces: Vec<(usize, ScalarLoad)>,
     springs: Vec<ResolvedSpring>,
+    joints: Vec<joints::ResolvedJoint>,
 }
 
 impl fmt::Debug for Dynamics {
@@ -619,6 +664,7 @@ impl fmt::Debug for Dynamics {
             .field("torques", &self.torques.len())
             .field("coordinate_forces", &self.coordinate_forces.len())
             .field("springs", &self.springs)
+            .field("joints", &self.joints)
             .finish_non_exhaustive()
     }
 }

@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 use nalgebra::Vector3;
 
 use super::evaluate::View;
-use super::{Dynamics, DynamicsBuilder, Forces, Names};
+use super::{Dynamics, DynamicsBuilder, Forces, Names, Reactions};
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
 use crate::runtime::{Model, Motion};
@@ -119,5 +119,21 @@ impl Dynamics {
             shaking_force: totals.shaking_force,
             shaking_moment: totals.shaking_moment,
         })
+    }
+}
+
+impl Dynamics {
+    /// [`Dynamics::reactions`] for a model defined at run time.
+    ///
+    /// # Errors
+    /// As [`Dynamics::reactions`].
+    pub fn reactions_of(&self, model: &Model, motion: &Motion) -> Result<Reactions, Error> {
+        self.fits(
+            model.coordinates().len(),
+            model.point_names().len(),
+            model.frame_names().len(),
+            model.point_dimension(),
+        )?;
+        self.reactions_in(&RunTime(motion))
     }
 }
