@@ -274,7 +274,7 @@ fn body_angle(b: &ResolvedBody, s: &dyn View) -> f64 {
 impl Dynamics {
     /// The reaction at every joint given with [`super::DynamicsBuilder::joint`]
     /// at `motion`, a motion of `m` (planar mechanisms), by the
-    /// Newton–Euler equations of every body (see the [module](self)): the
+    /// Newton–Euler equations of every body (see the [module](super)): the
     /// force each joint's first body exerts on its second, the moment at a
     /// prismatic joint, and the driver's effort in its joint, which equals
     /// [`Dynamics::inverse`]'s.

@@ -38,6 +38,22 @@
 //! moment about the fixed origin is M_s = −Σ_b (r_G × m_b a_G + J_b α_b +
 //! ω_b × J_b ω_b).
 //!
+//! # Joint reactions (planar)
+//!
+//! With the joints declared ([`Joint`]: revolute or prismatic, between two
+//! bodies or a body and [`GROUND`], the driver's joint marked),
+//! [`Dynamics::reactions`] writes the Newton–Euler equations of every body,
+//!
+//! Σ F_joints + Σ F_applied + m g = m a_G,
+//! Σ (r_J − r_G) × F_joints + Σ M_joints + Σ (r_P − r_G) × F_applied + Σ T = J α,
+//!
+//! three per body and linear in the unknowns: the force each revolute
+//! joint's first body exerts on its second, the normal force and moment
+//! at each prismatic joint, and the driver's effort in its joint. With
+//! every moving link a body and every joint declared, a mechanism of one
+//! degree of freedom has as many unknowns as equations, solved by LU; the
+//! effort found equals [`Dynamics::inverse`]'s.
+//!
 //! ```
 //! use kinematics_core::{dynamics::{Body, Dynamics}, mechanism};
 //!
