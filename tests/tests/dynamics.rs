@@ -243,27 +243,22 @@ mechanism! {
     }
 }
 
-/// A four-bar with three moving masses and gravity, over a full turn at a
-/// varying crank speed: the driving torque against Newton–Euler (nine
-/// equations: each link's forces and moment about its centre of mass; the
-/// four pin forces and the torque unknown), with the links' angular rates
-/// and accelerations from the analysis and the centres' accelerations
-/// formed here by the rigid-body formula a_G = a_P + α × r − ω² r.
-#[test]
-fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
-    let (a, b, c, d) = (0.04, 0.12, 0.10, 0.11);
-    let (g3x, g3y) = (0.05, 0.02);
-    let (m2, m3, m4) = (0.3, 0.9, 0.7);
-    let (j2, j3, j4) = (5e-5, 1.4e-3, 7e-4);
-    let m = MassFourBar {
-        a,
-        b,
-        c,
-        d,
-        g3x,
-        g3y,
-    };
-    let dynamics = Dynamics::builder()
+/// The four-bar of the tests and its links' masses and moments of inertia.
+const FOUR_BAR: MassFourBar = MassFourBar {
+    a: 0.04,
+    b: 0.12,
+    c: 0.10,
+    d: 0.11,
+    g3x: 0.05,
+    g3y: 0.02,
+};
+const FOUR_BAR_MASSES: [f64; 3] = [0.3, 0.9, 0.7];
+const FOUR_BAR_INERTIAS: [f64; 3] = [5e-5, 1.4e-3, 7e-4];
+
+/// The four-bar's three links as bodies, with gravity.
+fn four_bar_bodies() -> kinematics_core::dynamics::DynamicsBuilder {
+    let ([m2, m3, m4], [j2, j3, j4]) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
+    Dynamics::builder()
         .body(Body::new("crank", m2).center("G2").angle("phi").inertia(j2))
         .body(
             Body::new("coupler", m3)
@@ -278,7 +273,21 @@ fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
                 .inertia(j4),
         )
         .gravity([0.0, -G, 0.0])
-        .build::<MassFourBar>()?;
+}
+
+/// A four-bar with three moving masses and gravity, over a full turn at a
+/// varying crank speed: the driving torque against Newton–Euler (nine
+/// equations: each link's forces and moment about its centre of mass; the
+/// four pin forces and the torque unknown), with the links' angular rates
+/// and accelerations from the analysis and the centres' accelerations
+/// formed here by the rigid-body formula a_G = a_P + α × r − ω² r.
+#[test]
+fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
+    let m = FOUR_BAR;
+    let (a, c, d, g3x, g3y) = (m.a, m.c, m.d, m.g3x, m.g3y);
+    let (masses, inertias) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
+    let ([m2, m3, m4], [j2, j3, j4]) = (masses, inertias);
+    let dynamics = four_bar_bodies().build::<MassFourBar>()?;
     let mut pose = m.assemble(&MassFourBarCoords {
         phi: 0.0,
         th3: 1.0,
@@ -291,7 +300,7 @@ fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
         let motion = m.step(&pose, w2, al2)?;
         pose = motion.q;
         let forces = dynamics.inverse(&m, &motion)?;
-        let ne = four_bar_newton_euler(&motion, [m2, m3, m4], [j2, j3, j4], (a, c, d), (g3x, g3y));
+        let ne = four_bar_newton_euler(&motion, masses, inertias, (a, c, d), (g3x, g3y));
         let x = &ne.x;
         let ([g2, g3, g4], [a_g2, a_g3, a_g4]) = (ne.centres, ne.accelerations);
         let al2 = motion.qdd.phi;
@@ -403,20 +412,21 @@ fn four_bar_newton_euler(
     }
 }
 
-/// Every joint reaction of the engine (crank bearing, crank pin, piston
-/// pin, the cylinder's normal force) by the library's Newton–Euler over
-/// the declared joints, against the test's own solve; the crank torque in
-/// the bearing equals the virtual-power effort.
-#[test]
-fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
-    let m = Engine { a: A, b: B, r3: R3 };
-    let gas = |x: f64| 2000.0 * (0.3 / x).powi(2);
-    let dynamics = Dynamics::builder()
+/// The gas force on the engine's piston at x: 2000 (0.3 / x)² N.
+fn gas(x: f64) -> f64 {
+    2000.0 * (0.3 / x).powi(2)
+}
+
+/// The engine's links as bodies, gravity, the gas force on the piston and
+/// the joints: the crank's bearing (driven), the crank pin, the piston pin
+/// and the cylinder.
+fn engine_with_joints() -> kinematics_core::dynamics::DynamicsBuilder {
+    Dynamics::builder()
         .body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
         .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
         .body(Body::new("piston", M4).center("C"))
         .gravity([0.0, -G, 0.0])
-        .force_on("piston", "C", move |s| [-gas(s.position.x), 0.0, 0.0])
+        .force_on("piston", "C", |s| [-gas(s.position.x), 0.0, 0.0])
         .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
         .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
         .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
@@ -427,7 +437,16 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
             "piston",
             [1.0, 0.0],
         ))
-        .build::<Engine>()?;
+}
+
+/// Every joint reaction of the engine (crank bearing, crank pin, piston
+/// pin, the cylinder's normal force) by the library's Newton–Euler over
+/// the declared joints, against the test's own solve; the crank torque in
+/// the bearing equals the virtual-power effort.
+#[test]
+fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let dynamics = engine_with_joints().build::<Engine>()?;
     for k in 0..36 {
         let phi = TAU * f64::from(k) / 36.0 + 0.02;
         let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
@@ -474,23 +493,7 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
     )
     .expect("compiles")
     .with_values(&[A, B, R3])?;
-    let at_run_time = Dynamics::builder()
-        .body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
-        .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
-        .body(Body::new("piston", M4).center("C"))
-        .gravity([0.0, -G, 0.0])
-        .force_on("piston", "C", move |s| [-gas(s.position.x), 0.0, 0.0])
-        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
-        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
-        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
-        .joint(Joint::prismatic(
-            "cylinder",
-            "C",
-            GROUND,
-            "piston",
-            [1.0, 0.0],
-        ))
-        .build_for(&model)?;
+    let at_run_time = engine_with_joints().build_for(&model)?;
     let motion = engine_motion(&m, 1.0, 150.0, -800.0);
     let q = [motion.q.phi, motion.q.th, motion.q.x];
     let run_time = model.analyze(&q, &[150.0], &[-800.0])?;
@@ -511,33 +514,10 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
 /// Newton–Euler solve (nine equations), over a full turn at varying speed.
 #[test]
 fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
-    let (a, b, c, d) = (0.04, 0.12, 0.10, 0.11);
-    let (g3x, g3y) = (0.05, 0.02);
-    let (m2, m3, m4) = (0.3, 0.9, 0.7);
-    let (j2, j3, j4) = (5e-5, 1.4e-3, 7e-4);
-    let m = MassFourBar {
-        a,
-        b,
-        c,
-        d,
-        g3x,
-        g3y,
-    };
-    let dynamics = Dynamics::builder()
-        .body(Body::new("crank", m2).center("G2").angle("phi").inertia(j2))
-        .body(
-            Body::new("coupler", m3)
-                .center("G3")
-                .angle("th3")
-                .inertia(j3),
-        )
-        .body(
-            Body::new("rocker", m4)
-                .center("G4")
-                .angle("th4")
-                .inertia(j4),
-        )
-        .gravity([0.0, -G, 0.0])
+    let m = FOUR_BAR;
+    let (a, c, d, g3x, g3y) = (m.a, m.c, m.d, m.g3x, m.g3y);
+    let (masses, inertias) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
+    let dynamics = four_bar_bodies()
         .joint(Joint::revolute("A", "A", GROUND, "crank").driven_by("phi"))
         .joint(Joint::revolute("B", "B", "crank", "coupler"))
         .joint(Joint::revolute("C", "C", "coupler", "rocker"))
@@ -554,7 +534,7 @@ fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> 
         pose.phi = phi;
         let motion = m.step(&pose, w2, al2)?;
         pose = motion.q;
-        let x = four_bar_newton_euler(&motion, [m2, m3, m4], [j2, j3, j4], (a, c, d), (g3x, g3y)).x;
+        let x = four_bar_newton_euler(&motion, masses, inertias, (a, c, d), (g3x, g3y)).x;
         let r = dynamics.reactions(&m, &motion)?;
         let scale = x.amax();
         let near = |p: f64, q: f64, what: &str| {
@@ -594,34 +574,8 @@ fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> 
 /// integral by Simpson's rule on 4000 intervals.
 #[test]
 fn the_drivers_work_over_a_cycle_is_the_change_of_energy() -> Result<(), Error> {
-    let m = MassFourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        g3x: 0.05,
-        g3y: 0.02,
-    };
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("crank", 0.3)
-                .center("G2")
-                .angle("phi")
-                .inertia(5e-5),
-        )
-        .body(
-            Body::new("coupler", 0.9)
-                .center("G3")
-                .angle("th3")
-                .inertia(1.4e-3),
-        )
-        .body(
-            Body::new("rocker", 0.7)
-                .center("G4")
-                .angle("th4")
-                .inertia(7e-4),
-        )
-        .gravity([0.0, -G, 0.0])
+    let m = FOUR_BAR;
+    let dynamics = four_bar_bodies()
         .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
         .build::<MassFourBar>()?;
     // φ(t) = 8 t + 0.6 sin 3t over t ∈ [0, t1] with φ(t1) − φ(0) past 2π.
@@ -679,14 +633,7 @@ fn the_drivers_work_over_a_cycle_is_the_change_of_energy() -> Result<(), Error> 
 /// energy by the damper's dissipation ∫ c L'² dt, which is positive.
 #[test]
 fn a_damper_takes_work_from_the_driver() -> Result<(), Error> {
-    let m = MassFourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        g3x: 0.05,
-        g3y: 0.02,
-    };
+    let m = FOUR_BAR;
     let build = |c: f64| {
         Dynamics::builder()
             .body(
@@ -820,19 +767,11 @@ mechanism! {
     }
 }
 
-/// An arm of three drivers with inertia tensors: the drivers' power
-/// Σ Q_k q̇_k against d(T + V)/dt by finite differences along a joint
-/// trajectory; at rest, the shoulder's torque against the moment of the
-/// weights about its axis.
-#[test]
-fn the_power_of_an_arm_is_the_rate_of_its_energy() -> Result<(), Error> {
-    let m = MassArm {
-        d1: 0.4,
-        a2: 0.5,
-        a3: 0.4,
-    };
+/// The arm's three links as bodies with their inertia tensors (in their
+/// frames' axes), with gravity along −z.
+fn arm_bodies() -> kinematics_core::dynamics::DynamicsBuilder {
     let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
-    let dynamics = Dynamics::builder()
+    Dynamics::builder()
         .body(
             Body::new("base", 4.0)
                 .center("G1")
@@ -852,7 +791,20 @@ fn the_power_of_an_arm_is_the_rate_of_its_energy() -> Result<(), Error> {
                 .inertia_tensor(tensor(0.006, 0.03, 0.03)),
         )
         .gravity([0.0, 0.0, -G])
-        .build::<MassArm>()?;
+}
+
+/// An arm of three drivers with inertia tensors: the drivers' power
+/// Σ Q_k q̇_k against d(T + V)/dt by finite differences along a joint
+/// trajectory; at rest, the shoulder's torque against the moment of the
+/// weights about its axis.
+#[test]
+fn the_power_of_an_arm_is_the_rate_of_its_energy() -> Result<(), Error> {
+    let m = MassArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+    };
+    let dynamics = arm_bodies().build::<MassArm>()?;
     let traj = |t: f64| {
         let q = [0.3 + 1.2 * t, -0.4 + 0.8 * t * t, 0.9 - 1.5 * t + t * t * t];
         let qd = [1.2, 1.6 * t, -1.5 + 3.0 * t * t];
@@ -940,28 +892,7 @@ fn each_joint_torque_of_an_arm_satisfies_lagranges_equations() -> Result<(), Err
         a2: 0.5,
         a3: 0.4,
     };
-    let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("base", 4.0)
-                .center("G1")
-                .frame("base")
-                .inertia_tensor(tensor(0.05, 0.05, 0.02)),
-        )
-        .body(
-            Body::new("upper", 3.0)
-                .center("G2")
-                .frame("upper")
-                .inertia_tensor(tensor(0.01, 0.07, 0.07)),
-        )
-        .body(
-            Body::new("fore", 2.0)
-                .center("G3")
-                .frame("fore")
-                .inertia_tensor(tensor(0.006, 0.03, 0.03)),
-        )
-        .gravity([0.0, 0.0, -G])
-        .build::<MassArm>()?;
+    let dynamics = arm_bodies().build::<MassArm>()?;
     // T and V at (q, q̇).
     let energies = |q: [f64; 3], qd: [f64; 3]| -> Result<(f64, f64), Error> {
         let motion = m.step(
@@ -1035,34 +966,8 @@ fn each_joint_torque_of_an_arm_satisfies_lagranges_equations() -> Result<(), Err
 /// CSV has a column per quantity with its unit.
 #[test]
 fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
-    let m = MassFourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-        g3x: 0.05,
-        g3y: 0.02,
-    };
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("crank", 0.3)
-                .center("G2")
-                .angle("phi")
-                .inertia(5e-5),
-        )
-        .body(
-            Body::new("coupler", 0.9)
-                .center("G3")
-                .angle("th3")
-                .inertia(1.4e-3),
-        )
-        .body(
-            Body::new("rocker", 0.7)
-                .center("G4")
-                .angle("th4")
-                .inertia(7e-4),
-        )
-        .gravity([0.0, -G, 0.0])
+    let m = FOUR_BAR;
+    let dynamics = four_bar_bodies()
         .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
         .build::<MassFourBar>()?;
     let start = m.assemble(&MassFourBarCoords {
@@ -1134,30 +1039,7 @@ const MASS_ARM_TEXT: &str = "
 /// model's own analysis), and the engine's likewise with its unknowns.
 #[test]
 fn a_run_time_model_has_the_same_forces() -> Result<(), Box<dyn std::error::Error>> {
-    let tensor = |x: f64, y: f64, z: f64| [[x, 0.002, 0.0], [0.002, y, 0.001], [0.0, 0.001, z]];
-    let describe = || {
-        Dynamics::builder()
-            .body(
-                Body::new("base", 4.0)
-                    .center("G1")
-                    .frame("base")
-                    .inertia_tensor(tensor(0.05, 0.05, 0.02)),
-            )
-            .body(
-                Body::new("upper", 3.0)
-                    .center("G2")
-                    .frame("upper")
-                    .inertia_tensor(tensor(0.01, 0.07, 0.07)),
-            )
-            .body(
-                Body::new("fore", 2.0)
-                    .center("G3")
-                    .frame("fore")
-                    .inertia_tensor(tensor(0.006, 0.03, 0.03)),
-            )
-            .gravity([0.0, 0.0, -G])
-            .torque("fore", |s| [0.0, 0.3 * s.qd(2), 0.0])
-    };
+    let describe = || arm_bodies().torque("fore", |s| [0.0, 0.3 * s.qd(2), 0.0]);
     let generated = MassArm {
         d1: 0.4,
         a2: 0.5,

@@ -82,6 +82,20 @@ pub struct Forces<C> {
     pub shaking_moment: Vector3<f64>,
 }
 
+impl<C> Forces<C> {
+    /// The forces of the efforts `effort`, the totals and the power.
+    pub(super) fn new(effort: C, totals: &Totals, power: f64) -> Self {
+        Forces {
+            effort,
+            kinetic_energy: totals.kinetic_energy,
+            potential_energy: totals.potential_energy,
+            power,
+            shaking_force: totals.shaking_force,
+            shaking_moment: totals.shaking_moment,
+        }
+    }
+}
+
 /// A motion as the sums read it: points' r, v, a (padded to three
 /// components), frames, coordinates' q, q', q''.
 pub(crate) trait View {
@@ -196,12 +210,7 @@ impl Dynamics {
         m: &M,
         motion: &M::Motion,
     ) -> Result<Forces<M::Coords>, Error> {
-        self.fits(
-            M::COORDINATES.len(),
-            M::POINT_NAMES.len(),
-            M::FRAME_NAMES.len(),
-            M::POINT_DIM,
-        )?;
+        self.fits_mechanism::<M>()?;
         let pose = motion.q();
         let mut rates = Buffer::zeros(self.drivers);
         let zeros = Buffer::zeros(self.drivers);
@@ -222,14 +231,31 @@ impl Dynamics {
                 effort.set(k, q);
             },
         )?;
-        Ok(Forces {
-            effort,
-            kinetic_energy: totals.kinetic_energy,
-            potential_energy: totals.potential_energy,
-            power,
-            shaking_force: totals.shaking_force,
-            shaking_moment: totals.shaking_moment,
-        })
+        Ok(Forces::new(effort, &totals, power))
+    }
+
+    /// q, q' and q'' of every coordinate of `s`, as the loads read them.
+    pub(super) fn coordinates_of(&self, s: &dyn View) -> [Buffer; 3] {
+        let n = self.coordinates;
+        let mut out = [Buffer::zeros(n), Buffer::zeros(n), Buffer::zeros(n)];
+        for j in 0..n {
+            let values = s.coordinate(j);
+            for (buffer, v) in out.iter_mut().zip(values) {
+                buffer.as_mut_slice()[j] = v;
+            }
+        }
+        out
+    }
+
+    /// Checks that this description was resolved against a mechanism of
+    /// `M`'s sizes.
+    pub(super) fn fits_mechanism<M: Mechanism>(&self) -> Result<(), Error> {
+        self.fits(
+            M::COORDINATES.len(),
+            M::POINT_NAMES.len(),
+            M::FRAME_NAMES.len(),
+            M::POINT_DIM,
+        )
     }
 
     /// Checks the sizes this description was resolved against.
@@ -266,14 +292,7 @@ impl Dynamics {
         effort: &mut dyn FnMut(usize, f64),
     ) -> Result<(Totals, f64), Error> {
         let totals = self.totals(s)?;
-        let n = self.coordinates;
-        let (mut q, mut qd, mut qdd) = (Buffer::zeros(n), Buffer::zeros(n), Buffer::zeros(n));
-        for j in 0..n {
-            let [x, xd, xdd] = s.coordinate(j);
-            q.as_mut_slice()[j] = x;
-            qd.as_mut_slice()[j] = xd;
-            qdd.as_mut_slice()[j] = xdd;
-        }
+        let [q, qd, qdd] = self.coordinates_of(s);
         let mut power = 0.0;
         for k in 0..self.drivers {
             let mut result = Ok(f64::NAN);

@@ -23,7 +23,7 @@ use alloc::vec::Vec;
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::evaluate::{Buffer, Generated, Instant, View};
+use super::evaluate::{Generated, Instant, View};
 use super::{Dynamics, Names, ResolvedBody, Turns};
 use crate::error::Error;
 use crate::mechanism::{Kind, Mechanism, Role};
@@ -287,12 +287,7 @@ impl Dynamics {
     /// the reactions do not take yet (springs, forces on coordinates).
     pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
         let _ = m;
-        self.fits(
-            M::COORDINATES.len(),
-            M::POINT_NAMES.len(),
-            M::FRAME_NAMES.len(),
-            M::POINT_DIM,
-        )?;
+        self.fits_mechanism::<M>()?;
         self.reactions_in(&Generated(motion))
     }
 
@@ -348,14 +343,7 @@ impl Dynamics {
             rhs[3 * i + 2] = (inertia * alpha).z;
         }
         // The applied loads, moved to the right-hand side.
-        let n = self.coordinates;
-        let (mut q, mut qd, mut qdd) = (Buffer::zeros(n), Buffer::zeros(n), Buffer::zeros(n));
-        for j in 0..n {
-            let [x, xd, xdd] = s.coordinate(j);
-            q.as_mut_slice()[j] = x;
-            qd.as_mut_slice()[j] = xd;
-            qdd.as_mut_slice()[j] = xdd;
-        }
+        let [q, qd, qdd] = self.coordinates_of(s);
         let instant = |at: [Vector3<f64>; 3]| Instant {
             q: &q,
             qd: &qd,

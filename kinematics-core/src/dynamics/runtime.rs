@@ -85,12 +85,7 @@ impl Dynamics {
     /// # Errors
     /// As [`Dynamics::inverse`].
     pub fn inverse_of(&self, model: &Model, motion: &Motion) -> Result<Forces<Vec<f64>>, Error> {
-        self.fits(
-            model.coordinates().len(),
-            model.point_names().len(),
-            model.frame_names().len(),
-            model.point_dimension(),
-        )?;
+        self.fits_model(model)?;
         let mut rates = vec![0.0; self.drivers];
         let zeros = vec![0.0; self.drivers];
         let mut effort = vec![0.0; self.coordinates];
@@ -111,14 +106,7 @@ impl Dynamics {
                 }
             },
         )?;
-        Ok(Forces {
-            effort,
-            kinetic_energy: totals.kinetic_energy,
-            potential_energy: totals.potential_energy,
-            power,
-            shaking_force: totals.shaking_force,
-            shaking_moment: totals.shaking_moment,
-        })
+        Ok(Forces::new(effort, &totals, power))
     }
 }
 
@@ -128,12 +116,20 @@ impl Dynamics {
     /// # Errors
     /// As [`Dynamics::reactions`].
     pub fn reactions_of(&self, model: &Model, motion: &Motion) -> Result<Reactions, Error> {
+        self.fits_model(model)?;
+        self.reactions_in(&RunTime(motion))
+    }
+}
+
+impl Dynamics {
+    /// Checks that this description was resolved against a model of
+    /// `model`'s sizes.
+    fn fits_model(&self, model: &Model) -> Result<(), Error> {
         self.fits(
             model.coordinates().len(),
             model.point_names().len(),
             model.frame_names().len(),
             model.point_dimension(),
-        )?;
-        self.reactions_in(&RunTime(motion))
+        )
     }
 }
