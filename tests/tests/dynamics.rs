@@ -91,6 +91,55 @@ fn the_gas_torque_of_a_slider_crank_is_the_exact_closed_form() -> Result<(), Err
     Ok(())
 }
 
+/// A force on the piston's coordinate x is the same load as the force at
+/// C along x: with massless links, the exact gas torque again; and a
+/// torque τ on the rocker of a massless four-bar needs, by virtual work,
+/// the driver's effort −τ θ4'/φ' (the rates from the analysis).
+#[test]
+fn forces_on_coordinates_and_torques_on_bodies_do_virtual_work() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let p = 900.0;
+    let on_x = Dynamics::builder()
+        .coordinate_force("x", move |_| -p)
+        .build::<Engine>()?;
+    for k in 0..12 {
+        let phi = TAU * f64::from(k) / 12.0 + 0.1;
+        let motion = engine_motion(&m, phi, 50.0, 0.0);
+        let (s, c) = phi.sin_cos();
+        let exact = -p * A * s * (1.0 + A * c / (B * B - A * A * s * s).sqrt());
+        close(
+            on_x.inverse(&m, &motion)?.effort.phi,
+            exact,
+            1e-12,
+            "force on x",
+        );
+    }
+    let tau = 3.5;
+    let massless = Dynamics::builder()
+        .body(Body::new("rocker", 0.0).center("G4").angle("th4"))
+        .torque("rocker", move |_| [0.0, 0.0, tau])
+        .build::<MassFourBar>()?;
+    let four_bar = FOUR_BAR;
+    let mut pose = four_bar.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    for k in 0..12 {
+        pose.phi = TAU * f64::from(k) / 12.0;
+        let motion = four_bar.step(&pose, 7.0, 0.0)?;
+        pose = motion.q;
+        let effort = massless.inverse(&four_bar, &motion)?.effort.phi;
+        close(
+            effort,
+            -tau * motion.qd.th4 / 7.0,
+            1e-12,
+            "torque on the rocker",
+        );
+    }
+    Ok(())
+}
+
 /// The engine's kinematics in closed form (independent of the library):
 /// θ, x and the accelerations of G2, B, G3 and C, with θ', θ''.
 struct EngineKinematics {

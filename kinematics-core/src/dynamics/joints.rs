@@ -166,7 +166,7 @@ pub(super) fn resolve(
             return Err(invalid(item, format!("joins `{}` to itself", j.bodies[0])));
         }
         if let JointKind::Prismatic(axis) = j.kind {
-            let norm = axis[0].hypot(axis[1]);
+            let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
             if !(norm.is_finite() && norm > 0.0) {
                 return Err(invalid(
                     item,
@@ -397,8 +397,8 @@ impl Dynamics {
                 JointKind::Revolute => (Vector3::x(), Vector3::y()),
                 JointKind::Prismatic(axis) => {
                     let turn = first.map_or(0.0, |b| angles[b]);
-                    let (s, co) = turn.sin_cos();
-                    let norm = axis[0].hypot(axis[1]);
+                    let (s, co) = crate::math::sin_cos(turn);
+                    let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
                     let e = Vector3::new(
                         (co * axis[0] - s * axis[1]) / norm,
                         (s * axis[0] + co * axis[1]) / norm,
@@ -459,7 +459,7 @@ impl Dynamics {
                 JointKind::Prismatic(_) => (v * x[c] + u * effort.unwrap_or(0.0), x[c + 1]),
             };
             let turn = j.bodies[1].map_or(0.0, |b| angles[b]);
-            let (s, co) = turn.sin_cos();
+            let (s, co) = crate::math::sin_cos(turn);
             let force_in_body =
                 Vector3::new(co * force.x + s * force.y, -s * force.x + co * force.y, 0.0);
             out.push(JointReaction {
