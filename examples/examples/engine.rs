@@ -9,14 +9,14 @@
 //! piston's area pushes the piston toward the crank.
 //!
 //! Writes `target/kinematics/engine-forces.csv` (the efforts, energies,
-//! power and shaking force and moment with units) and
-//! `engine-forces.svg` (the crank torque beside its mean, and the shaking
-//! force's polar diagram).
+//! power, shaking force and moment and the joint reactions, with units)
+//! and `engine-forces.svg` (the crank torque beside its mean, and the
+//! polar diagrams of the shaking force and of the joint reactions).
 
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
-use kinematics_core::dynamics::{Body, Dynamics};
+use kinematics_core::dynamics::{Body, Dynamics, Joint, GROUND};
 use kinematics_core::mechanism;
 
 mechanism! {
@@ -45,6 +45,8 @@ mechanism! {
         points {
             /// Crankshaft.
             O = vec2(0.0, 0.0);
+            /// Crank pin.
+            B = polar(a, phi);
             /// Rod's centre of mass.
             G3 = polar(a, phi) + polar(r3, th);
             /// Piston pin.
@@ -88,7 +90,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .inertia(2.5e-4),
         )
         .body(Body::new("piston", 0.3).center("C"))
-        .force("C", move |s| [-gas(s.q(0), s.q(2)), 0.0, 0.0])
+        .force_on("piston", "C", move |s| [-gas(s.q(0), s.q(2)), 0.0, 0.0])
+        .joint(Joint::revolute("main bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
+        .joint(Joint::prismatic(
+            "cylinder wall",
+            "C",
+            GROUND,
+            "piston",
+            [1.0, 0.0],
+        ))
         .build::<Engine>()?;
     let start = m.assemble(&EngineCoords {
         phi: 0.0,
@@ -119,6 +131,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|s| s.shaking_force.norm())
         .fold(0.0, f64::max);
+    let largest = |joint: &str| {
+        forces
+            .samples
+            .iter()
+            .filter_map(|s| s.reactions.as_ref()?.get(joint))
+            .map(|j| j.force.norm())
+            .fold(0.0, f64::max)
+    };
     println!("Single-cylinder two-stroke engine at {rpm} rev/min ({omega:.1} rad/s)\n");
     println!(
         "{:>6} {:>12} {:>10} {:>12}",
@@ -143,6 +163,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("energy fluctuation      {fluctuation:>10.3} J");
     println!("flywheel for C_s = {coefficient}  {flywheel:>10.5} kg·m² (ΔE / (C_s ω²))");
     println!("largest shaking force   {shaking:>10.1} N");
+    for joint in ["main bearing", "crank pin", "piston pin", "cylinder wall"] {
+        println!("largest load, {joint:<13} {:>8.1} N", largest(joint));
+    }
     let dir = Path::new("target/kinematics");
     std::fs::create_dir_all(dir)?;
     std::fs::write(dir.join("engine-forces.csv"), forces.to_csv())?;

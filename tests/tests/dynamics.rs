@@ -140,6 +140,13 @@ fn forces_on_coordinates_and_torques_on_bodies_do_virtual_work() -> Result<(), E
     Ok(())
 }
 
+/// The engine's definition as text, for the same model compiled at run
+/// time.
+const ENGINE_TEXT: &str = "struct Engine { params { a, b, r3 } drivers { phi } unknowns { th, x }
+         points { G2 = polar(a / 2.0, phi); B = polar(a, phi); G3 = polar(a, phi) + polar(r3, th);
+                  C = vec2(x, 0.0); O = vec2(0.0, 0.0); }
+         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); } }";
+
 /// The engine's kinematics in closed form (independent of the library):
 /// θ, x and the accelerations of G2, B, G3 and C, with θ', θ''.
 struct EngineKinematics {
@@ -534,14 +541,9 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
         );
     }
     // The same joints on the engine compiled at run time.
-    let model = kinematics_core::runtime::Model::compile(
-        "struct Engine { params { a, b, r3 } drivers { phi } unknowns { th, x }
-         points { G2 = polar(a / 2.0, phi); B = polar(a, phi); G3 = polar(a, phi) + polar(r3, th);
-                  C = vec2(x, 0.0); O = vec2(0.0, 0.0); }
-         loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); } }",
-    )
-    .expect("compiles")
-    .with_values(&[A, B, R3])?;
+    let model = kinematics_core::runtime::Model::compile(ENGINE_TEXT)
+        .expect("compiles")
+        .with_values(&[A, B, R3])?;
     let at_run_time = engine_with_joints().build_for(&model)?;
     let motion = engine_motion(&m, 1.0, 150.0, -800.0);
     let q = [motion.q.phi, motion.q.th, motion.q.x];
@@ -1062,6 +1064,101 @@ fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
         "phi (deg),Q_phi (N·m),T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)"
     );
     assert_eq!(csv.lines().count(), 1442);
+    Ok(())
+}
+
+mechanism! {
+    /// A crank with an unbalanced mass at its pin.
+    pub struct Unbalanced {
+        params   { r }
+        drivers  { phi }
+        unknowns { }
+        points   { P = polar(r, phi); }
+    }
+}
+
+/// A mass m at radius r on a crank turned at constant speed ω under
+/// gravity: the torque is m g r cos φ, its mean over a turn zero, and the
+/// energy a flywheel must absorb the potential's swing ΔE = 2 m g r; with
+/// a flywheel of I the coefficient of speed fluctuation is 2 m g r/(I ω²).
+#[test]
+fn an_unbalanced_cranks_energy_fluctuation_is_its_potentials_swing() -> Result<(), Error> {
+    let (mass, r, w, inertia) = (2.0, 0.15, 12.0, 0.8);
+    let m = Unbalanced { r };
+    let dynamics = Dynamics::builder()
+        .body(Body::new("weight", mass).center("P"))
+        .gravity([0.0, -G, 0.0])
+        .build::<Unbalanced>()?;
+    let sweep = m
+        .sweep(Unbalanced::PHI, &UnbalancedCoords { phi: 0.0 })
+        .to(TAU)
+        .steps(720)
+        .rpm(w * 60.0 / TAU)
+        .run();
+    let forces = dynamics.along(&m, &sweep)?;
+    for s in &forces.samples {
+        close(s.effort[0], mass * G * r * s.at.cos(), 1e-12, "m g r cos φ");
+    }
+    let swing = 2.0 * mass * G * r;
+    let fluctuation = forces.energy_fluctuation(0).expect("a turn");
+    assert!(
+        (fluctuation - swing).abs() < 1e-4 * swing,
+        "ΔE {fluctuation} against 2 m g r {swing}"
+    );
+    let cs = forces.speed_fluctuation(0, inertia, w).expect("a turn");
+    assert!(
+        (cs - swing / (inertia * w * w)).abs() < 1e-4 * cs,
+        "C_s {cs}"
+    );
+    assert!(forces.mean_effort(0).expect("a turn").abs() < 1e-12);
+    assert_eq!(forces.speed_fluctuation(0, 0.0, w), None);
+    Ok(())
+}
+
+/// The joint reactions along a sweep: at each sample those of
+/// `reactions`, in the CSV as three columns per joint; and a run-time
+/// model's sweep of forces equals the generated one's.
+#[test]
+fn a_sweep_of_forces_carries_the_joint_reactions() -> Result<(), Box<dyn std::error::Error>> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let dynamics = engine_with_joints().build::<Engine>()?;
+    let start = engine_motion(&m, 0.0, 1.0, 0.0).q;
+    let sweep = m
+        .sweep(Engine::PHI, &start)
+        .turn()
+        .steps(36)
+        .rpm(1500.0)
+        .run();
+    let forces = dynamics.along(&m, &sweep)?;
+    for (s, f) in sweep.samples.iter().zip(&forces.samples) {
+        let r = dynamics.reactions(&m, &s.motion)?;
+        assert_eq!(f.reactions.as_ref(), Some(&r));
+    }
+    let csv = forces.to_csv();
+    let header = csv.lines().next().unwrap_or_default();
+    assert!(
+        header.ends_with(",R_bearing_x (N),R_bearing_y (N),M_bearing (N·m),R_crank pin_x (N),R_crank pin_y (N),M_crank pin (N·m),R_piston pin_x (N),R_piston pin_y (N),M_piston pin (N·m),R_cylinder_x (N),R_cylinder_y (N),M_cylinder (N·m)"),
+        "{header}"
+    );
+    assert_eq!(csv.lines().nth(1).map(|l| l.split(',').count()), Some(23));
+    // The same sweep of the engine compiled at run time.
+    let model = kinematics_core::runtime::Model::compile(ENGINE_TEXT)?.with_values(&[A, B, R3])?;
+    let at_run_time = engine_with_joints().build_for(&model)?;
+    let q = [start.phi, start.th, start.x];
+    let run = model.sweep("phi", &q)?.turn().steps(36).rpm(1500.0).run();
+    let other = at_run_time.along_of(&model, &run)?;
+    assert_eq!(other.samples.len(), forces.samples.len());
+    for (g, r) in forces.samples.iter().zip(&other.samples) {
+        close(r.effort[0], g.effort[0], 1e-10, "run-time effort");
+        let (gr, rr) = (g.reactions.as_ref(), r.reactions.as_ref());
+        for (a, b) in gr
+            .map_or(&[][..], |x| &x.joints[..])
+            .iter()
+            .zip(rr.map_or(&[][..], |x| &x.joints[..]))
+        {
+            close(b.force.x, a.force.x, 1e-10, "run-time reaction");
+        }
+    }
     Ok(())
 }
 

@@ -9,7 +9,7 @@ use core::fmt::Write as _;
 
 use nalgebra::Vector3;
 
-use super::Dynamics;
+use super::{Dynamics, Forces, Reactions};
 use crate::error::Error;
 use crate::mechanism::{Coordinates, Kind, Mechanism, Role};
 use crate::sweep::Sweep;
@@ -32,6 +32,9 @@ pub struct ForceSample {
     pub shaking_force: Vector3<f64>,
     /// Shaking moment on the frame about the origin (N·m).
     pub shaking_moment: Vector3<f64>,
+    /// The joint reactions, where the description declares joints
+    /// ([`Dynamics::reactions`]).
+    pub reactions: Option<Reactions>,
 }
 
 /// The forces along a sweep ([`Dynamics::along`]).
@@ -46,6 +49,28 @@ pub struct ForceSweep {
     pub drivers: Vec<(String, Kind)>,
     /// One per sample of the sweep, in its order.
     pub samples: Vec<ForceSample>,
+}
+
+impl ForceSample {
+    /// The sample at `at` of the forces `f`, its drivers' efforts
+    /// `effort` and the `reactions`.
+    pub(super) fn new<C>(
+        at: f64,
+        effort: Vec<f64>,
+        f: &Forces<C>,
+        reactions: Option<Reactions>,
+    ) -> Self {
+        ForceSample {
+            at,
+            effort,
+            kinetic_energy: f.kinetic_energy,
+            potential_energy: f.potential_energy,
+            power: f.power,
+            shaking_force: f.shaking_force,
+            shaking_moment: f.shaking_moment,
+            reactions,
+        }
+    }
 }
 
 impl ForceSweep {
@@ -101,10 +126,26 @@ impl ForceSweep {
         Some(hi - lo)
     }
 
+    /// The coefficient of speed fluctuation of driver `k` with a flywheel of
+    /// moment of inertia `inertia` (kg·m², the whole rotating inertia on
+    /// the driver's shaft) at the mean speed `speed` (rad/s):
+    /// C_s = ΔE / (I ω²), with ΔE the [`ForceSweep::energy_fluctuation`].
+    /// `None` as for [`ForceSweep::mean_effort`], or when I ω² is not
+    /// positive.
+    #[must_use]
+    pub fn speed_fluctuation(&self, k: usize, inertia: f64, speed: f64) -> Option<f64> {
+        let energy = inertia * speed * speed;
+        if !(energy > 0.0 && energy.is_finite()) {
+            return None;
+        }
+        Some(self.energy_fluctuation(k)? / energy)
+    }
+
     /// The table as CSV, a column per quantity with its unit in the header:
     /// the swept value (deg for an angle), each driver's effort (N·m for an
-    /// angle, N for a length), T, V and the power, and the shaking force and
-    /// moment's components.
+    /// angle, N for a length), T, V and the power, the shaking force and
+    /// moment's components, and for each joint of the reactions the x and y
+    /// of its force (and the moment at a prismatic joint).
     #[must_use]
     pub fn to_csv(&self) -> String {
         let angle = self.kind == Kind::Angle;
@@ -120,8 +161,13 @@ impl ForceSweep {
             let _ = write!(out, ",Q_{name} ({unit})");
         }
         out.push_str(
-            ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)\n",
+            ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)",
         );
+        let joints = self.samples.first().and_then(|s| s.reactions.as_ref());
+        for j in joints.map_or(&[][..], |r| &r.joints[..]) {
+            let _ = write!(out, ",R_{0}_x (N),R_{0}_y (N),M_{0} (N·m)", j.name);
+        }
+        out.push('\n');
         for s in &self.samples {
             let at = if angle { s.at.to_degrees() } else { s.at };
             let _ = write!(out, "{at}");
@@ -130,11 +176,15 @@ impl ForceSweep {
             }
             let f = s.shaking_force;
             let m = s.shaking_moment;
-            let _ = writeln!(
+            let _ = write!(
                 out,
                 ",{},{},{},{},{},{},{},{},{}",
                 s.kinetic_energy, s.potential_energy, s.power, f.x, f.y, f.z, m.x, m.y, m.z
             );
+            for j in s.reactions.as_ref().map_or(&[][..], |r| &r.joints[..]) {
+                let _ = write!(out, ",{},{},{}", j.force.x, j.force.y, j.moment);
+            }
+            out.push('\n');
         }
         out
     }
@@ -142,10 +192,12 @@ impl ForceSweep {
 
 impl Dynamics {
     /// The forces at every sample of `sweep`, a sweep of `m`
-    /// ([`Dynamics::inverse`] at each).
+    /// ([`Dynamics::inverse`] at each, and [`Dynamics::reactions`] where
+    /// the description declares joints).
     ///
     /// # Errors
-    /// As [`Dynamics::inverse`], at the first sample where it fails.
+    /// As [`Dynamics::inverse`] and [`Dynamics::reactions`], at the first
+    /// sample where one fails.
     pub fn along<M: Mechanism>(&self, m: &M, sweep: &Sweep<M>) -> Result<ForceSweep, Error> {
         let drivers: Vec<(String, Kind)> = M::COORDINATES
             .iter()
@@ -155,18 +207,15 @@ impl Dynamics {
         let mut samples = Vec::with_capacity(sweep.samples.len());
         for s in &sweep.samples {
             let f = self.inverse(m, &s.motion)?;
+            let reactions = if self.joints.is_empty() {
+                None
+            } else {
+                Some(self.reactions(m, &s.motion)?)
+            };
             let effort = (0..drivers.len())
                 .map(|k| f.effort.get(k).unwrap_or(f64::NAN))
                 .collect();
-            samples.push(ForceSample {
-                at: s.at,
-                effort,
-                kinetic_energy: f.kinetic_energy,
-                potential_energy: f.potential_energy,
-                power: f.power,
-                shaking_force: f.shaking_force,
-                shaking_moment: f.shaking_moment,
-            });
+            samples.push(ForceSample::new(s.at, effort, &f, reactions));
         }
         Ok(ForceSweep {
             variable: sweep.variable.to_string(),

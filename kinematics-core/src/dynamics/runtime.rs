@@ -9,10 +9,10 @@ use alloc::vec::Vec;
 use nalgebra::Vector3;
 
 use super::evaluate::View;
-use super::{Dynamics, DynamicsBuilder, Forces, Names, Reactions};
+use super::{Dynamics, DynamicsBuilder, ForceSample, ForceSweep, Forces, Names, Reactions};
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
-use crate::runtime::{Model, Motion};
+use crate::runtime::{Model, Motion, Sweep};
 
 impl DynamicsBuilder {
     /// Resolves the names against the run-time model `model`, with the
@@ -111,6 +111,37 @@ impl Dynamics {
 }
 
 impl Dynamics {
+    /// [`Dynamics::along`] for a model defined at run time: the forces at
+    /// every sample of `sweep`, a sweep of `model`.
+    ///
+    /// # Errors
+    /// As [`Dynamics::along`].
+    pub fn along_of(&self, model: &Model, sweep: &Sweep) -> Result<ForceSweep, Error> {
+        let drivers: Vec<(String, Kind)> = model
+            .coordinates()
+            .iter()
+            .filter(|c| c.role == Role::Driver)
+            .map(|c| (c.name.to_string(), c.kind))
+            .collect();
+        let mut samples = Vec::with_capacity(sweep.samples.len());
+        for s in &sweep.samples {
+            let f = self.inverse_of(model, &s.motion)?;
+            let reactions = if self.joints.is_empty() {
+                None
+            } else {
+                Some(self.reactions_of(model, &s.motion)?)
+            };
+            let effort = f.effort.iter().copied().take(drivers.len()).collect();
+            samples.push(ForceSample::new(s.at, effort, &f, reactions));
+        }
+        Ok(ForceSweep {
+            variable: sweep.variable.to_string(),
+            kind: sweep.kind,
+            drivers,
+            samples,
+        })
+    }
+
     /// [`Dynamics::reactions`] for a model defined at run time.
     ///
     /// # Errors

@@ -12,9 +12,10 @@ use crate::mechanism::Kind;
 
 /// Plots `forces` into an SVG file at `path`: on the left each driver's
 /// effort against the swept variable (degrees for an angle) with its mean
-/// over the range as a thin line of the same colour, on the right the
-/// shaking force on the frame as a polar diagram (F_y against F_x, the
-/// tip of the force vector over the cycle).
+/// over the range as a thin line of the same colour, then the shaking
+/// force on the frame as a polar diagram (F_y against F_x, the tip of the
+/// force vector over the cycle), and where the sweep has the joint
+/// reactions, each joint's force as a polar diagram likewise.
 ///
 /// ```
 /// # use kinematics_core::mechanism;
@@ -44,9 +45,18 @@ use crate::mechanism::Kind;
 /// # Errors
 /// [`Error::Output`] when the file cannot be written.
 pub fn plot_forces(forces: &ForceSweep, path: &Path) -> Result<(), Error> {
-    let root = SVGBackend::new(path, (1120, 480)).into_drawing_area();
+    let joints: Vec<String> = forces
+        .samples
+        .first()
+        .and_then(|s| s.reactions.as_ref())
+        .map_or_else(Vec::new, |r| {
+            r.joints.iter().map(|j| j.name.clone()).collect()
+        });
+    let panels = if joints.is_empty() { 2 } else { 3 };
+    let width = if joints.is_empty() { 1120 } else { 1680 };
+    let root = SVGBackend::new(path, (width, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| output(path, e))?;
-    let areas = root.split_evenly((1, 2));
+    let areas = root.split_evenly((1, panels));
     let angle = forces.kind == Kind::Angle;
     let scale = if angle {
         180.0 / std::f64::consts::PI
@@ -110,6 +120,31 @@ pub fn plot_forces(forces: &ForceSweep, path: &Path) -> Result<(), Error> {
             "F_x (N)",
             "F_y (N)",
             &polar,
+            path,
+        )?;
+    }
+    let reactions: Vec<Curve> = joints
+        .iter()
+        .enumerate()
+        .map(|(k, name)| Curve {
+            label: name.clone(),
+            points: forces
+                .samples
+                .iter()
+                .filter_map(|s| s.reactions.as_ref()?.get(name))
+                .map(|j| (j.force.x, j.force.y))
+                .collect(),
+            color: PALETTE[k % PALETTE.len()],
+            width: 2,
+        })
+        .collect();
+    if let (Some(area), false) = (areas.get(2), reactions.is_empty()) {
+        panel(
+            area,
+            "joint reactions",
+            "F_x (N)",
+            "F_y (N)",
+            &reactions,
             path,
         )?;
     }

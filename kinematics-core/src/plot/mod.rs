@@ -11,7 +11,7 @@
 //! | [`plot_motion`] | q, q', q'' of every unknown against the driver, a panel per quantity and kind (angles, lengths) |
 //! | [`plot_points`] | position, velocity and acceleration of named points (components and magnitude) against the driver |
 //! | [`plot_path`] | the path of a point (a coupler curve), equal scales |
-//! | [`plot_forces`] | each driver's effort against the driver beside its mean, and the shaking force's polar diagram ([`crate::dynamics`]) |
+//! | [`plot_forces`] | each driver's effort against the driver beside its mean, the shaking force's polar diagram and the joint reactions' ([`crate::dynamics`]) |
 //! | [`plot_skeleton`] | the linkage at chosen poses, with a legend of their driver values, ground pivots and sliders marked |
 
 pub use crate::view::Projection;
