@@ -619,6 +619,74 @@ fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> 
     Ok(())
 }
 
+/// A spring and damper between the crank and the rocker, in the
+/// reactions: the torque the Newton–Euler solve finds in the crank's
+/// bearing equals the virtual-power effort (checked on its own against the
+/// energy above), and the spring's forces, internal, cancel in the
+/// balance of the whole linkage: the ground's reactions at A and D plus
+/// the weights equal Σ m a_G.
+#[test]
+fn a_spring_between_links_is_internal_to_the_reactions() -> Result<(), Error> {
+    let m = FOUR_BAR;
+    let dynamics = four_bar_bodies()
+        .spring(
+            Spring::new("G2", "G4")
+                .stiffness(800.0)
+                .free_length(0.09)
+                .damping(4.0)
+                .between("crank", "rocker"),
+        )
+        .joint(Joint::revolute("A", "A", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("B", "B", "crank", "coupler"))
+        .joint(Joint::revolute("C", "C", "coupler", "rocker"))
+        .joint(Joint::revolute("D", "D", GROUND, "rocker"))
+        .build::<MassFourBar>()?;
+    let mut pose = m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })?;
+    for k in 0..24 {
+        pose.phi = TAU * f64::from(k) / 24.0;
+        let motion = m.step(&pose, 15.0, 40.0)?;
+        pose = motion.q;
+        let r = dynamics.reactions(&m, &motion)?;
+        let torque = r.get("A").and_then(|j| j.effort).expect("driven");
+        close(
+            torque,
+            dynamics.inverse(&m, &motion)?.effort.phi,
+            1e-10,
+            "spring: both methods",
+        );
+        let ground = r.get("A").expect("A").force + r.get("D").expect("D").force;
+        let masses = FOUR_BAR_MASSES;
+        let points = [motion.point_g2(), motion.point_g3(), motion.point_g4()];
+        for i in 0..2 {
+            let momentum: f64 = points
+                .iter()
+                .zip(masses)
+                .map(|(p, mass)| mass * p.acceleration[i])
+                .sum();
+            let weight = if i == 1 {
+                -G * masses.iter().sum::<f64>()
+            } else {
+                0.0
+            };
+            close(ground[i] + weight, momentum, 1e-10, "the linkage's balance");
+        }
+    }
+    let unplaced = four_bar_bodies()
+        .spring(Spring::new("G2", "G4").stiffness(800.0))
+        .joint(Joint::revolute("A", "A", GROUND, "crank").driven_by("phi"))
+        .build::<MassFourBar>()?;
+    let motion = m.step(&pose, 15.0, 0.0)?;
+    let e = unplaced
+        .reactions(&m, &motion)
+        .expect_err("the spring has no bodies");
+    assert!(e.to_string().contains(".between("), "{e}");
+    Ok(())
+}
+
 /// Over a full cycle at varying speed, with gravity and a spring (no
 /// damping, no other load), the work of the driver ∫ Q φ' dt equals the
 /// change of kinetic plus potential energy, to 1e-9 relative; the

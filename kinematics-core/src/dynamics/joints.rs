@@ -283,8 +283,9 @@ impl Dynamics {
     /// [`Error::InvalidDynamics`] when the joints do not determine the
     /// reactions (the count of unknowns is not three per body, or the
     /// system is singular at this pose), when a force does not name the
-    /// body it acts on ([`super::DynamicsBuilder::force_on`]), or for loads
-    /// the reactions do not take yet (springs, forces on coordinates).
+    /// body it acts on ([`super::DynamicsBuilder::force_on`]) or a spring
+    /// the bodies of its ends ([`super::Spring::between`]), or for forces
+    /// on coordinates, which the reactions do not take yet.
     pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
         let _ = m;
         self.fits_mechanism::<M>()?;
@@ -303,10 +304,18 @@ impl Dynamics {
                 "none given: declare them with `.joint(Joint::revolute(…))`".to_string(),
             ));
         }
-        if !self.springs.is_empty() || !self.coordinate_forces.is_empty() {
+        if !self.coordinate_forces.is_empty() {
             return Err(invalid(
                 "loads",
-                "the joint reactions do not yet take springs or forces on coordinates".to_string(),
+                "the joint reactions do not yet take forces on coordinates".to_string(),
+            ));
+        }
+        if self.springs.iter().any(|s| s.bodies.is_none()) {
+            return Err(invalid(
+                "a spring",
+                "it does not name the bodies its ends are fixed to: give them with \
+                 `.between(\"first\", \"second\")` for the joint reactions"
+                    .to_string(),
             ));
         }
         let nb = self.bodies.len();
@@ -373,6 +382,29 @@ impl Dynamics {
         for (b, t) in &self.torques {
             let at = point(self.bodies[*b].center);
             rhs[3 * b + 2] -= t(&instant(at))[2];
+        }
+        // Each spring pulls its ends together with its tension
+        // f = k (L − L₀) + c L' along e, from A to B: +f e on A's body at A,
+        // −f e on B's at B.
+        for sp in &self.springs {
+            let ([ra, va, _], [rb, vb, _]) = (point(sp.from), point(sp.to));
+            let d = rb - ra;
+            let length = d.norm();
+            let e = if length > 0.0 {
+                d / length
+            } else {
+                Vector3::zeros()
+            };
+            let tension = sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
+            let ends = sp.bodies.unwrap_or([None; 2]);
+            for (body, at, f) in [(ends[0], ra, e * tension), (ends[1], rb, -e * tension)] {
+                if let Some(b) = body {
+                    let r = at - point(self.bodies[b].center)[0];
+                    rhs[3 * b] -= f.x;
+                    rhs[3 * b + 1] -= f.y;
+                    rhs[3 * b + 2] -= r.cross(&f).z;
+                }
+            }
         }
         // The joints' unknowns: a force (and moment) on the second body,
         // their opposites on the first.

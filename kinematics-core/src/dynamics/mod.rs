@@ -223,6 +223,7 @@ pub struct Spring {
     stiffness: f64,
     free_length: f64,
     damping: f64,
+    bodies: Option<[String; 2]>,
 }
 
 impl Spring {
@@ -236,7 +237,17 @@ impl Spring {
             stiffness: 0.0,
             free_length: 0.0,
             damping: 0.0,
+            bodies: None,
         }
+    }
+
+    /// The bodies the ends are fixed to: `from` on `first`, `to` on
+    /// `second` ([`GROUND`] for the frame). The efforts do not need them;
+    /// the joint reactions ([`Dynamics::reactions`]) do.
+    #[must_use]
+    pub fn between(mut self, first: &str, second: &str) -> Self {
+        self.bodies = Some([first.to_string(), second.to_string()]);
+        self
     }
 
     /// Stiffness k (N/m).
@@ -583,12 +594,25 @@ impl DynamicsBuilder {
             finite_nonnegative(&item, "its stiffness", s.stiffness)?;
             finite_nonnegative(&item, "its damping", s.damping)?;
             finite_nonnegative(&item, "its free length", s.free_length)?;
+            let bodies = match &s.bodies {
+                None => None,
+                Some(pair) => {
+                    let mut ends = [None; 2];
+                    for (end, name) in ends.iter_mut().zip(pair) {
+                        if name != GROUND {
+                            *end = Some(find(&body_names, "body", name, &item)?);
+                        }
+                    }
+                    Some(ends)
+                }
+            };
             springs.push(ResolvedSpring {
                 from: find(names.points, "point", &s.from, &item)?,
                 to: find(names.points, "point", &s.to, &item)?,
                 stiffness: s.stiffness,
                 free_length: s.free_length,
                 damping: s.damping,
+                bodies,
             });
         }
         Ok(Dynamics {
@@ -651,6 +675,8 @@ struct ResolvedSpring {
     stiffness: f64,
     free_length: f64,
     damping: f64,
+    /// The bodies of the ends, where given (`None` inside: the ground).
+    bodies: Option<[Option<usize>; 2]>,
 }
 
 /// Masses and loads resolved against one mechanism, ready to evaluate:
