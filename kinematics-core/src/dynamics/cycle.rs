@@ -199,27 +199,47 @@ impl Dynamics {
     /// As [`Dynamics::inverse`] and [`Dynamics::reactions`], at the first
     /// sample where one fails.
     pub fn along<M: Mechanism>(&self, m: &M, sweep: &Sweep<M>) -> Result<ForceSweep, Error> {
-        let drivers: Vec<(String, Kind)> = M::COORDINATES
+        let drivers = M::COORDINATES
             .iter()
             .filter(|c| c.role == Role::Driver)
             .map(|c| (c.name.to_string(), c.kind))
             .collect();
-        let mut samples = Vec::with_capacity(sweep.samples.len());
-        for s in &sweep.samples {
+        self.sweep_of(sweep.variable, sweep.kind, drivers, &sweep.samples, |s| {
             let f = self.inverse(m, &s.motion)?;
-            let reactions = if self.joints.is_empty() {
-                None
-            } else {
-                Some(self.reactions(m, &s.motion)?)
-            };
-            let effort = (0..drivers.len())
+            let reactions = self
+                .has_joints()
+                .then(|| self.reactions(m, &s.motion))
+                .transpose()?;
+            let effort = (0..M::DRIVERS)
                 .map(|k| f.effort.get(k).unwrap_or(f64::NAN))
                 .collect();
-            samples.push(ForceSample::new(s.at, effort, &f, reactions));
-        }
+            Ok(ForceSample::new(s.at, effort, &f, reactions))
+        })
+    }
+
+    /// Whether the description declares joints (then the sweeps carry the
+    /// reactions).
+    pub(super) fn has_joints(&self) -> bool {
+        !self.joints.is_empty()
+    }
+
+    /// The sweep of forces of the swept `variable` of `kind`, with the
+    /// `drivers`' names and kinds, from `sample` at each of `samples`.
+    pub(super) fn sweep_of<S>(
+        &self,
+        variable: &str,
+        kind: Kind,
+        drivers: Vec<(String, Kind)>,
+        samples: &[S],
+        mut sample: impl FnMut(&S) -> Result<ForceSample, Error>,
+    ) -> Result<ForceSweep, Error> {
+        let samples = samples
+            .iter()
+            .map(&mut sample)
+            .collect::<Result<Vec<_>, _>>()?;
         Ok(ForceSweep {
-            variable: sweep.variable.to_string(),
-            kind: sweep.kind,
+            variable: variable.to_string(),
+            kind,
             drivers,
             samples,
         })

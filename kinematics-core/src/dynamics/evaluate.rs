@@ -9,7 +9,7 @@ use core::ops::Deref;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{Dynamics, DynamicsBuilder, ResolvedBody, Turns};
+use super::{Dynamics, DynamicsBuilder, ResolvedBody, ResolvedSpring, Turns};
 use crate::error::{Error, Input};
 use crate::mechanism::{Coordinates, FrameState, Mechanism, MotionState, PointState};
 use crate::options::Options;
@@ -407,18 +407,8 @@ impl Dynamics {
             q -= f * u.coordinate(*j)[1];
         }
         for sp in &self.springs {
-            let nan = [Vector3::repeat(f64::NAN); 3];
-            let [ra, va, _] = s.point(sp.from).unwrap_or(nan);
-            let [rb, vb, _] = s.point(sp.to).unwrap_or(nan);
-            let d = rb - ra;
-            let length = d.norm();
-            let e = if length > 0.0 {
-                d / length
-            } else {
-                Vector3::zeros()
-            };
-            let tension = sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
-            q += tension * e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
+            let pull = sp.pull(s);
+            q += pull.tension * pull.e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
         }
         Ok(q)
     }
@@ -457,6 +447,37 @@ pub(super) fn turning(
                 b.inertia,
             ),
         },
+    }
+}
+
+/// A spring's state at a motion: its ends, the unit vector e from the
+/// first to the second, and its tension.
+pub(super) struct Pull {
+    pub(super) ends: [Vector3<f64>; 2],
+    pub(super) e: Vector3<f64>,
+    pub(super) tension: f64,
+}
+
+impl ResolvedSpring {
+    /// The spring at the motion `s`: L = |r_B − r_A|, e = (r_B − r_A)/L and
+    /// f = k (L − L₀) + c e · (v_B − v_A).
+    pub(super) fn pull(&self, s: &dyn View) -> Pull {
+        let nan = [Vector3::repeat(f64::NAN); 3];
+        let [ra, va, _] = s.point(self.from).unwrap_or(nan);
+        let [rb, vb, _] = s.point(self.to).unwrap_or(nan);
+        let d = rb - ra;
+        let length = d.norm();
+        let e = if length > 0.0 {
+            d / length
+        } else {
+            Vector3::zeros()
+        };
+        Pull {
+            ends: [ra, rb],
+            e,
+            tension: self.stiffness * (length - self.free_length)
+                + self.damping * e.dot(&(vb - va)),
+        }
     }
 }
 

@@ -387,17 +387,10 @@ impl Dynamics {
         // f = k (L − L₀) + c L' along e, from A to B: +f e on A's body at A,
         // −f e on B's at B.
         for sp in &self.springs {
-            let ([ra, va, _], [rb, vb, _]) = (point(sp.from), point(sp.to));
-            let d = rb - ra;
-            let length = d.norm();
-            let e = if length > 0.0 {
-                d / length
-            } else {
-                Vector3::zeros()
-            };
-            let tension = sp.stiffness * (length - sp.free_length) + sp.damping * e.dot(&(vb - va));
+            let pull = sp.pull(s);
+            let (f, [ra, rb]) = (pull.e * pull.tension, pull.ends);
             let ends = sp.bodies.unwrap_or([None; 2]);
-            for (body, at, f) in [(ends[0], ra, e * tension), (ends[1], rb, -e * tension)] {
+            for (body, at, f) in [(ends[0], ra, f), (ends[1], rb, -f)] {
                 if let Some(b) = body {
                     let r = at - point(self.bodies[b].center)[0];
                     rhs[3 * b] -= f.x;

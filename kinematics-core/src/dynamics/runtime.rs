@@ -123,22 +123,15 @@ impl Dynamics {
             .filter(|c| c.role == Role::Driver)
             .map(|c| (c.name.to_string(), c.kind))
             .collect();
-        let mut samples = Vec::with_capacity(sweep.samples.len());
-        for s in &sweep.samples {
+        let n = drivers.len();
+        self.sweep_of(sweep.variable, sweep.kind, drivers, &sweep.samples, |s| {
             let f = self.inverse_of(model, &s.motion)?;
-            let reactions = if self.joints.is_empty() {
-                None
-            } else {
-                Some(self.reactions_of(model, &s.motion)?)
-            };
-            let effort = f.effort.iter().copied().take(drivers.len()).collect();
-            samples.push(ForceSample::new(s.at, effort, &f, reactions));
-        }
-        Ok(ForceSweep {
-            variable: sweep.variable.to_string(),
-            kind: sweep.kind,
-            drivers,
-            samples,
+            let reactions = self
+                .has_joints()
+                .then(|| self.reactions_of(model, &s.motion))
+                .transpose()?;
+            let effort = f.effort.iter().copied().take(n).collect();
+            Ok(ForceSample::new(s.at, effort, &f, reactions))
         })
     }
 
