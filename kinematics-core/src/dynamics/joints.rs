@@ -277,7 +277,8 @@ impl Dynamics {
     /// Newton–Euler equations of every body (see the [module](super)): the
     /// force each joint's first body exerts on its second, the moment at a
     /// prismatic joint, and the driver's effort in its joint, which equals
-    /// [`Dynamics::inverse`]'s.
+    /// [`Dynamics::inverse`]'s. The motion is all it reads: `m` names the
+    /// mechanism's type, and no analysis is repeated.
     ///
     /// # Errors
     /// [`Error::InvalidDynamics`] when the joints do not determine the

@@ -289,29 +289,22 @@ pub struct DynamicsBuilder {
 
 impl fmt::Debug for DynamicsBuilder {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let names = |v: &[(String, _)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+        let forces: Vec<&String> = self.forces.iter().map(|(p, _, _)| p).collect();
         f.debug_struct("DynamicsBuilder")
             .field("bodies", &self.bodies)
             .field("gravity", &self.gravity)
-            .field(
-                "forces at",
-                &self
-                    .forces
-                    .iter()
-                    .map(|(p, _, _)| p.clone())
-                    .collect::<Vec<_>>(),
-            )
-            .field("joints", &self.joints)
+            .field("forces at", &forces)
             .field("torques on", &names_of(&self.torques))
-            .field("coordinate forces on", &names(&self.coordinate_forces))
+            .field("coordinate forces on", &names_of(&self.coordinate_forces))
             .field("springs", &self.springs)
+            .field("joints", &self.joints)
             .finish()
     }
 }
 
-/// The names the loads of `v` act on.
-fn names_of(v: &[(String, VectorLoad)]) -> Vec<String> {
-    v.iter().map(|(n, _)| n.clone()).collect()
+/// The names the loads of `v` act on (the loads themselves are functions).
+fn names_of<T>(v: &[(String, T)]) -> Vec<&String> {
+    v.iter().map(|(n, _)| n).collect()
 }
 
 impl Default for DynamicsBuilder {
