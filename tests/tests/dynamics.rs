@@ -561,6 +561,60 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
     Ok(())
 }
 
+/// The gas force given as a force on the piston's coordinate x, acting in
+/// the cylinder joint that x measures: the same reactions and torque as
+/// the force applied to the piston at C; without the joint named, a clear
+/// error.
+#[test]
+fn a_force_on_a_coordinate_acts_in_its_joint() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let joints = |d: kinematics_core::dynamics::DynamicsBuilder, coordinate: bool| {
+        let cylinder = Joint::prismatic("cylinder", "C", GROUND, "piston", [1.0, 0.0]);
+        d.body(Body::new("crank", M2).center("G2").angle("phi").inertia(J2))
+            .body(Body::new("rod", M3).center("G3").angle("th").inertia(J3))
+            .body(Body::new("piston", M4).center("C"))
+            .gravity([0.0, -G, 0.0])
+            .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+            .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+            .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
+            .joint(if coordinate {
+                cylinder.coordinate("x")
+            } else {
+                cylinder
+            })
+    };
+    let on_x = joints(
+        Dynamics::builder().coordinate_force("x", |s| -gas(s.q(2))),
+        true,
+    )
+    .build::<Engine>()?;
+    let at_c = engine_with_joints().build::<Engine>()?;
+    for k in 0..12 {
+        let phi = TAU * f64::from(k) / 12.0 + 0.2;
+        let motion = engine_motion(&m, phi, 140.0, 300.0);
+        let (r1, r2) = (on_x.reactions(&m, &motion)?, at_c.reactions(&m, &motion)?);
+        for (a, b) in r1.joints.iter().zip(&r2.joints) {
+            for i in 0..2 {
+                close(a.force[i], b.force[i], 1e-10, "reaction");
+            }
+        }
+        close(
+            on_x.inverse(&m, &motion)?.effort.phi,
+            at_c.inverse(&m, &motion)?.effort.phi,
+            1e-10,
+            "torque",
+        );
+    }
+    let unplaced =
+        joints(Dynamics::builder().coordinate_force("x", |_| -100.0), false).build::<Engine>()?;
+    let motion = engine_motion(&m, 0.4, 140.0, 0.0);
+    let e = unplaced
+        .reactions(&m, &motion)
+        .expect_err("no joint measured by x");
+    assert!(e.to_string().contains(".coordinate("), "{e}");
+    Ok(())
+}
+
 /// Every joint reaction of the four-bar with gravity against the test's
 /// Newton–Euler solve (nine equations), over a full turn at varying speed.
 #[test]

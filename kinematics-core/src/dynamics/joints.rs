@@ -58,6 +58,7 @@ pub struct Joint {
     bodies: [String; 2],
     kind: JointKind,
     driver: Option<String>,
+    coordinate: Option<String>,
 }
 
 impl Joint {
@@ -72,6 +73,7 @@ impl Joint {
             bodies: [first.to_string(), second.to_string()],
             kind: JointKind::Revolute,
             driver: None,
+            coordinate: None,
         }
     }
 
@@ -88,6 +90,7 @@ impl Joint {
             bodies: [first.to_string(), second.to_string()],
             kind: JointKind::Prismatic(axis),
             driver: None,
+            coordinate: None,
         }
     }
 
@@ -97,6 +100,18 @@ impl Joint {
     #[must_use]
     pub fn driven_by(mut self, driver: &str) -> Self {
         self.driver = Some(driver.to_string());
+        self
+    }
+
+    /// The coordinate that measures this joint's motion (an unknown or a
+    /// driver): a force on it
+    /// ([`DynamicsBuilder::coordinate_force`](super::DynamicsBuilder::coordinate_force))
+    /// acts in this joint, a torque (revolute) or a force along the axis
+    /// (prismatic) that `first` exerts on `second`, which the joint
+    /// reactions then take.
+    #[must_use]
+    pub fn coordinate(mut self, coordinate: &str) -> Self {
+        self.coordinate = Some(coordinate.to_string());
         self
     }
 }
@@ -110,6 +125,8 @@ pub(super) struct ResolvedJoint {
     bodies: [Option<usize>; 2],
     kind: JointKind,
     driver: Option<usize>,
+    /// The coordinate measuring the joint's motion, where given.
+    coordinate: Option<usize>,
 }
 
 /// Resolves `joints` against the mechanism's names and the bodies.
@@ -215,12 +232,25 @@ pub(super) fn resolve(
                 Some(k)
             }
         };
+        let coordinate = match &j.coordinate {
+            None => None,
+            Some(c) => Some(
+                names
+                    .coordinates
+                    .iter()
+                    .position(|(n, _, _)| n == c)
+                    .ok_or_else(|| {
+                        invalid(item.clone(), format!("there is no coordinate `{c}`"))
+                    })?,
+            ),
+        };
         out.push(ResolvedJoint {
             name: j.name.clone(),
             at,
             bodies: pair,
             kind: j.kind.clone(),
             driver,
+            coordinate,
         });
     }
     Ok(out)
@@ -284,9 +314,9 @@ impl Dynamics {
     /// [`Error::InvalidDynamics`] when the joints do not determine the
     /// reactions (the count of unknowns is not three per body, or the
     /// system is singular at this pose), when a force does not name the
-    /// body it acts on ([`super::DynamicsBuilder::force_on`]) or a spring
-    /// the bodies of its ends ([`super::Spring::between`]), or for forces
-    /// on coordinates, which the reactions do not take yet.
+    /// body it acts on ([`super::DynamicsBuilder::force_on`]), a spring
+    /// the bodies of its ends ([`super::Spring::between`]), or a force on a
+    /// coordinate the joint it acts in ([`Joint::coordinate`]).
     pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
         let _ = m;
         self.fits_mechanism::<M>()?;
@@ -305,11 +335,20 @@ impl Dynamics {
                 "none given: declare them with `.joint(Joint::revolute(…))`".to_string(),
             ));
         }
-        if !self.coordinate_forces.is_empty() {
-            return Err(invalid(
-                "loads",
-                "the joint reactions do not yet take forces on coordinates".to_string(),
-            ));
+        // The joint each force on a coordinate acts in.
+        let mut in_joints = Vec::with_capacity(self.coordinate_forces.len());
+        for (c, f) in &self.coordinate_forces {
+            let Some(j) = self.joints.iter().find(|j| j.coordinate == Some(*c)) else {
+                return Err(invalid(
+                    "a force on a coordinate",
+                    format!(
+                        "no joint is measured by coordinate {}: name it on its joint with \
+                         `.coordinate(\"…\")` for the joint reactions",
+                        c + 1
+                    ),
+                ));
+            };
+            in_joints.push((j, f));
         }
         if self.springs.iter().any(|s| s.bodies.is_none()) {
             return Err(invalid(
@@ -400,6 +439,25 @@ impl Dynamics {
                 }
             }
         }
+        // A force on a coordinate: a torque about its revolute joint, or a
+        // force along its prismatic joint's axis, on the second body, and
+        // its opposite on the first.
+        for (j, f) in in_joints {
+            let value = f(&instant([Vector3::zeros(); 3]));
+            let r = point(j.at)[0];
+            let (force, torque) = match j.kind {
+                JointKind::Revolute => (Vector3::zeros(), value),
+                JointKind::Prismatic(axis) => (self.axis_of(j, axis, &angles) * value, 0.0),
+            };
+            for (body, sign) in [(j.bodies[1], 1.0), (j.bodies[0], -1.0)] {
+                if let Some(b) = body {
+                    let arm = r - point(self.bodies[b].center)[0];
+                    rhs[3 * b] -= sign * force.x;
+                    rhs[3 * b + 1] -= sign * force.y;
+                    rhs[3 * b + 2] -= sign * (arm.cross(&force).z + torque);
+                }
+            }
+        }
         // The joints' unknowns: a force (and moment) on the second body,
         // their opposites on the first.
         let mut place = |body: Option<usize>,
@@ -422,14 +480,7 @@ impl Dynamics {
             let (u, v) = match j.kind {
                 JointKind::Revolute => (Vector3::x(), Vector3::y()),
                 JointKind::Prismatic(axis) => {
-                    let turn = first.map_or(0.0, |b| angles[b]);
-                    let (s, co) = crate::math::sin_cos(turn);
-                    let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
-                    let e = Vector3::new(
-                        (co * axis[0] - s * axis[1]) / norm,
-                        (s * axis[0] + co * axis[1]) / norm,
-                        0.0,
-                    );
+                    let e = self.axis_of(j, axis, &angles);
                     (e, Vector3::new(-e.y, e.x, 0.0))
                 }
             };
@@ -497,5 +548,24 @@ impl Dynamics {
             });
         }
         Ok(Reactions { joints: out })
+    }
+}
+
+impl Dynamics {
+    /// The unit vector, in the fixed axes, of the prismatic joint `j`'s
+    /// `axis` (given in its first body's axes, turned by that body's angle
+    /// among `angles`).
+    fn axis_of(&self, j: &ResolvedJoint, axis: [f64; 2], angles: &[f64]) -> Vector3<f64> {
+        let turn = j.bodies[0]
+            .and_then(|b| angles.get(b))
+            .copied()
+            .unwrap_or(0.0);
+        let (s, c) = crate::math::sin_cos(turn);
+        let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
+        Vector3::new(
+            (c * axis[0] - s * axis[1]) / norm,
+            (s * axis[0] + c * axis[1]) / norm,
+            0.0,
+        )
     }
 }
