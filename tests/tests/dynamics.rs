@@ -120,11 +120,7 @@ fn forces_on_coordinates_and_torques_on_bodies_do_virtual_work() -> Result<(), E
         .torque("rocker", move |_| [0.0, 0.0, tau])
         .build::<MassFourBar>()?;
     let four_bar = FOUR_BAR;
-    let mut pose = four_bar.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = four_bar_start(&four_bar)?;
     for k in 0..12 {
         pose.phi = TAU * f64::from(k) / 12.0;
         let motion = four_bar.step(&pose, 7.0, 0.0)?;
@@ -311,6 +307,16 @@ const FOUR_BAR: MassFourBar = MassFourBar {
 const FOUR_BAR_MASSES: [f64; 3] = [0.3, 0.9, 0.7];
 const FOUR_BAR_INERTIAS: [f64; 3] = [5e-5, 1.4e-3, 7e-4];
 
+/// The four-bar assembled at φ = 0 on the branch of the guess
+/// θ3 = 1, θ4 = 1.6.
+fn four_bar_start(m: &MassFourBar) -> Result<MassFourBarCoords, Error> {
+    m.assemble(&MassFourBarCoords {
+        phi: 0.0,
+        th3: 1.0,
+        th4: 1.6,
+    })
+}
+
 /// The four-bar's three links as bodies, with gravity.
 fn four_bar_bodies() -> kinematics_core::dynamics::DynamicsBuilder {
     let ([m2, m3, m4], [j2, j3, j4]) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
@@ -344,11 +350,7 @@ fn a_four_bars_driving_torque_is_the_newton_euler_one() -> Result<(), Error> {
     let (masses, inertias) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
     let ([m2, m3, m4], [j2, j3, j4]) = (masses, inertias);
     let dynamics = four_bar_bodies().build::<MassFourBar>()?;
-    let mut pose = m.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = four_bar_start(&m)?;
     for k in 0..120 {
         let phi = TAU * f64::from(k) / 120.0;
         let (w2, al2) = (20.0 + 4.0 * phi.cos(), 60.0 * phi.sin());
@@ -628,11 +630,7 @@ fn a_four_bars_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> 
         .joint(Joint::revolute("C", "C", "coupler", "rocker"))
         .joint(Joint::revolute("D", "D", GROUND, "rocker"))
         .build::<MassFourBar>()?;
-    let mut pose = m.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = four_bar_start(&m)?;
     for k in 0..72 {
         let phi = TAU * f64::from(k) / 72.0;
         let (w2, al2) = (20.0 + 4.0 * phi.cos(), 60.0 * phi.sin());
@@ -695,11 +693,7 @@ fn a_spring_between_links_is_internal_to_the_reactions() -> Result<(), Error> {
         .joint(Joint::revolute("C", "C", "coupler", "rocker"))
         .joint(Joint::revolute("D", "D", GROUND, "rocker"))
         .build::<MassFourBar>()?;
-    let mut pose = m.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = four_bar_start(&m)?;
     for k in 0..24 {
         pose.phi = TAU * f64::from(k) / 24.0;
         let motion = m.step(&pose, 15.0, 40.0)?;
@@ -761,11 +755,7 @@ fn the_drivers_work_over_a_cycle_is_the_change_of_energy() -> Result<(), Error> 
     };
     let t1 = 0.9;
     let n = 4000;
-    let mut pose = m.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let mut pose = four_bar_start(&m)?;
     let (mut work, mut energy) = (0.0, [0.0f64; 2]);
     for i in 0..=n {
         let t = t1 * f64::from(i) / f64::from(n);
@@ -1143,11 +1133,7 @@ fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
     let dynamics = four_bar_bodies()
         .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
         .build::<MassFourBar>()?;
-    let start = m.assemble(&MassFourBarCoords {
-        phi: 0.0,
-        th3: 1.0,
-        th4: 1.6,
-    })?;
+    let start = four_bar_start(&m)?;
     let sweep = m
         .sweep(MassFourBar::PHI, &start)
         .to(TAU)
