@@ -256,8 +256,9 @@ pub fn circle_circle(
 /// The mode (±1) of [`circle_circle`] whose solution is nearest the
 /// guess g = (cos θ₀, sin θ₀, cos θ₁, sin θ₁), least (1 − cos Δθ₀) +
 /// (1 − cos Δθ₁): the one with the larger g · x. The two solutions differ
-/// by 2√Δ/R² times d = (d₀, d₁), with d₀ = (−b, a) in e₀ ([`angle`], a and
-/// b its coefficients 2 Pᵀk) and d₁ = −Qᵀ P d₀ / q² in e₁ (linear in e₀),
+/// by a positive multiple of d = (d₀, d₁), with d₀ = (−b, a) in e₀ for
+/// (a, b) = Pᵀk (half the coefficients of [`angle`]) and d₁ = −Qᵀ P d₀ / q²
+/// in e₁ (linear in e₀),
 /// so the plus mode is the nearer unless g · d < 0, tested as
 /// q² g₀·d₀ + g₁·(q² d₁): no solution computed twice. Kept out of line in
 /// unoptimised builds, where the stack of a model of hundreds of loops
