@@ -21,10 +21,25 @@ use crate::options::Options;
 /// coordinate).
 ///
 /// ```
-/// use kinematics_core::dynamics::Instant;
-/// // A damper on a piston at x = q[2]: −c ẋ.
-/// let damper = |s: &Instant<'_>| -40.0 * s.qd(2);
-/// # let _ = damper;
+/// use kinematics_core::{dynamics::Dynamics, mechanism};
+/// mechanism! {
+///     /// A slider driven along x.
+///     pub struct Slide {
+///         params   { }
+///         drivers  { x }
+///         unknowns { }
+///         points   { P = vec2(x, 0.0); }
+///     }
+/// }
+/// // A damper on the slider, −c ẋ with c = 40 N·s/m: at ẋ = 0.5 m/s the
+/// // driver must push with c ẋ = 20 N.
+/// let dynamics = Dynamics::builder()
+///     .coordinate_force("x", |s| -40.0 * s.qd(0))
+///     .build::<Slide>()?;
+/// let m = Slide {};
+/// let motion = m.analyze(&SlideCoords { x: 0.1 }, 0.5, 0.0)?;
+/// assert!((dynamics.inverse(&m, &motion)?.effort.x - 20.0).abs() < 1e-12);
+/// # Ok::<(), kinematics_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Instant<'a> {
