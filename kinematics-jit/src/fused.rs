@@ -21,9 +21,9 @@ use cranelift_codegen::ir::{types, AbiParam, BlockArg, InstBuilder, MemFlags, Us
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::JITModule;
 use cranelift_module::{Linkage, Module};
-use kinematics_compiler::ir::{Graph, Id};
+use kinematics_compiler::ir::{Func, Graph, Id, Leaf, Node};
 
-use crate::lower::{Imports, Lower, Sources};
+use crate::lower::{Imports, Lower, SignBits, Sources};
 use crate::{declare_imports, new_module, JitError};
 
 /// Where the leaves lie in the buffer: the index of the first parameter,
@@ -178,6 +178,31 @@ pub enum Op {
         /// The status returned.
         status: i64,
     },
+    /// `f[to..to + len]` = the first `len` values of the array at
+    /// `from` (of the [`Ports`] given to [`Fused::call_ports`]); with
+    /// `finite`, unless every one is finite the function then returns
+    /// that status.
+    Import {
+        /// The array read.
+        from: Port,
+        /// Where its first value is written.
+        to: usize,
+        /// How many values.
+        len: usize,
+        /// The status returned when a value is not finite (`None`: not
+        /// checked).
+        finite: Option<i64>,
+    },
+    /// The first `len` values of output array `to` (of the [`Ports`])
+    /// = `f[from..from + len]`.
+    Export {
+        /// The index of the output array written.
+        to: usize,
+        /// Where its first value is read.
+        from: usize,
+        /// How many values.
+        len: usize,
+    },
     /// Unless `f[from..from + len]` are all finite, the function returns
     /// `status`.
     Finite {
@@ -188,6 +213,40 @@ pub enum Op {
         /// The status returned when one is not finite.
         status: i64,
     },
+}
+
+/// An array a fused function reads or writes besides its buffer: one of
+/// the [`Ports`]' inputs or outputs, by index (below [`PORTS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Port {
+    /// `ports.inputs[i]`.
+    Input(usize),
+    /// `ports.outputs[i]`.
+    Output(usize),
+}
+
+/// The number of inputs, and of outputs, a fused function may use.
+pub const PORTS: usize = 4;
+
+impl Port {
+    /// Its slot in the table of pointers handed to the machine code.
+    fn slot(self) -> Option<usize> {
+        match self {
+            Port::Input(i) if i < PORTS => Some(i),
+            Port::Output(i) if i < PORTS => Some(PORTS + i),
+            _ => None,
+        }
+    }
+}
+
+/// The arrays a fused function reads and writes besides its buffer
+/// ([`Op::Import`], [`Op::Export`]): each must hold at least as many
+/// values as the function's ops use ([`Fused::call_ports`] checks).
+pub struct Ports<'a, 'b> {
+    /// The arrays read.
+    pub inputs: &'b [&'a [f64]],
+    /// The arrays written (and read).
+    pub outputs: &'b mut [&'a mut [f64]],
 }
 
 /// One row of a block of an [`Op::Solve`].
@@ -271,7 +330,7 @@ extern "C" fn trampoline(f: *mut f64, frame: *mut c_void, argument: u64) -> i64 
         .unwrap_or(HELPER_PANICKED)
 }
 
-type Entry = unsafe extern "C" fn(*mut f64, *mut c_void) -> i64;
+type Entry = unsafe extern "C" fn(*mut f64, *mut c_void, *const *mut f64) -> i64;
 
 /// One function of a [`Fused`] set: its ops, and the nodes it reads
 /// from the buffer (at the index given, past the parameters' first:
@@ -289,6 +348,8 @@ pub struct Function<'a> {
 pub struct Fused {
     module: ManuallyDrop<JITModule>,
     entries: Vec<Entry>,
+    /// For each function, how many values of each port (by slot) it uses.
+    needs: Vec<[usize; 2 * PORTS]>,
     len: usize,
 }
 
@@ -331,11 +392,14 @@ impl Fused {
         let mut sig = module.make_signature();
         sig.params.push(AbiParam::new(pointer));
         sig.params.push(AbiParam::new(pointer));
+        sig.params.push(AbiParam::new(pointer));
         sig.returns.push(AbiParam::new(types::I64));
         let mut ctx = module.make_context();
         let mut fcx = FunctionBuilderContext::new();
         let mut ids = Vec::with_capacity(functions.len());
+        let mut needs = Vec::with_capacity(functions.len());
         for (k, function) in functions.iter().enumerate() {
+            let mut need = [0; 2 * PORTS];
             let (ops, preset) = (function.ops, function.preset);
             let id = module
                 .declare_function(&format!("fused_{k}"), Linkage::Local, &sig)
@@ -360,7 +424,7 @@ impl Fused {
                 b.append_block_param(exit, types::I64);
                 b.switch_to_block(entry);
                 let args = b.block_params(entry).to_vec();
-                let (fp, cp) = (args[0], args[1]);
+                let (fp, cp, pp) = (args[0], args[1], args[2]);
                 let imports = Imports {
                     refs: imports
                         .iter()
@@ -439,7 +503,7 @@ impl Fused {
                                 let v = lower.value(&mut b, &sources, &imports, root)?;
                                 let s = b.ins().load(types::F64, flags, fp, within(scales + i)?);
                                 let p = b.ins().fmul(v, s);
-                                let r = b.ins().fabs(p);
+                                let r = b.abs(p);
                                 let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
                                 let nan = b.ins().fcmp(FloatCC::Unordered, r, r);
                                 let take = b.ins().bor(above, nan);
@@ -515,7 +579,7 @@ impl Fused {
                             let s0 = load(&mut b, carried + 1)?;
                             let x0 = load(&mut b, carried + 2)?;
                             let d = b.ins().fsub(x, x0);
-                            let ad = b.ins().fabs(d);
+                            let ad = b.abs(d);
                             let limit = b.ins().f64const(0.031_25);
                             let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
                             let (series, computed, join) =
@@ -554,9 +618,26 @@ impl Fused {
                             ] {
                                 b.ins().store(flags, v, fp, within(at)?);
                             }
-                            b.ins().jump(join, &[]);
+                            // The cosine and sine go on in registers (from
+                            // the helper, as it wrote them).
+                            let cos = b.append_block_param(join, types::F64);
+                            let sin = b.append_block_param(join, types::F64);
+                            b.ins()
+                                .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
                             b.switch_to_block(computed);
-                            call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, join);
+                            let helped = b.create_block();
+                            call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, helped);
+                            let c = load(&mut b, *to)?;
+                            let sn = load(&mut b, to + 1)?;
+                            b.ins()
+                                .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
+                            b.switch_to_block(join);
+                            let at = AngleAt {
+                                value: *value,
+                                trig: *to,
+                                carried: *carried,
+                            };
+                            seed(&mut lower, graph, &layout, at, x, cos, sin);
                         }
                         Op::CircleCircle {
                             coefficients,
@@ -606,16 +687,16 @@ impl Fused {
                             let y = mul(&mut b, p11, s0);
                             let w1 = b.ins().fadd(x, y);
                             let x = dot(&mut b, q00, w0, q10, w1);
-                            let ex = b.ins().fneg(x);
+                            let ex = b.neg(x);
                             let x = dot(&mut b, q01, w0, q11, w1);
-                            let ey = b.ins().fneg(x);
+                            let ey = b.neg(x);
                             let m = dot(&mut b, ex, ex, ey, ey);
                             let one = b.ins().f64const(1.0);
                             let r0 = b.ins().fdiv(one, q2);
                             let x = mul(&mut b, m, r0);
                             let x = mul(&mut b, x, r0);
                             let delta = b.ins().fsub(x, one);
-                            let adelta = b.ins().fabs(delta);
+                            let adelta = b.abs(delta);
                             let small = b.ins().f64const(1e-8);
                             let ok_unit = b.ins().fcmp(FloatCC::LessThanOrEqual, adelta, small);
                             ok = b.ins().band(ok, ok_unit);
@@ -626,7 +707,7 @@ impl Fused {
                             let c1 = mul(&mut b, ex, r);
                             let s1 = mul(&mut b, ey, r);
                             let solved = [(angles[0], c0, s0), (angles[1], c1, s1)];
-                            store_or_general(
+                            let after = store_or_general(
                                 &mut b,
                                 (fp, cp, helper_ref, exit),
                                 &within,
@@ -634,6 +715,9 @@ impl Fused {
                                 &solved,
                                 *general,
                             )?;
+                            for a in after {
+                                seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
+                            }
                         }
                         Op::ClosedAngle {
                             coefficients,
@@ -649,7 +733,7 @@ impl Fused {
                             let (a, bb, c) = (v(a)?, v(bb)?, v(c)?);
                             let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
                             let (c0, s0, ok) = angle_solution(&mut b, a, bb, c, sigma);
-                            store_or_general(
+                            let after = store_or_general(
                                 &mut b,
                                 (fp, cp, helper_ref, exit),
                                 &within,
@@ -657,6 +741,9 @@ impl Fused {
                                 &[(*angle, c0, s0)],
                                 *general,
                             )?;
+                            for a in after {
+                                seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
+                            }
                         }
                         Op::AtMost { at, bound, status } => {
                             let x = b.ins().load(types::F64, flags, fp, within(*at)?);
@@ -707,7 +794,7 @@ impl Fused {
                                 };
                                 let (c, s) = match a.as_slice() {
                                     [a00] => {
-                                        let p0 = b.ins().fabs(*a00);
+                                        let p0 = b.abs(*a00);
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
                                         let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
                                         let regular = b.ins().band(above, finite);
@@ -717,7 +804,7 @@ impl Fused {
                                         (p0, signum(&mut b, *a00))
                                     }
                                     [a00, a01, a10, a11] => {
-                                        let (x00, x10) = (b.ins().fabs(*a00), b.ins().fabs(*a10));
+                                        let (x00, x10) = (b.abs(*a00), b.abs(*a10));
                                         let greater = b.ins().fcmp(FloatCC::GreaterThan, x10, x00);
                                         let p0 = b.ins().select(greater, x10, x00);
                                         let m0 = b.ins().fmul(*a00, *a11);
@@ -725,15 +812,15 @@ impl Fused {
                                         let det = b.ins().fsub(m0, m1);
                                         let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
                                         regular_all = b.ins().band(regular_all, first);
-                                        let ad = b.ins().fabs(det);
+                                        let ad = b.abs(det);
                                         let tp = b.ins().fmul(thr, p0);
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
                                         let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
                                         let regular = b.ins().band(above, finite);
                                         regular_all = b.ins().band(regular_all, regular);
                                         let inv = b.ins().fdiv(one, det);
-                                        let n01 = b.ins().fneg(*a01);
-                                        let n10 = b.ins().fneg(*a10);
+                                        let n01 = b.neg(*a01);
+                                        let n10 = b.neg(*a10);
                                         let i00 = b.ins().fmul(*a11, inv);
                                         let i01 = b.ins().fmul(n01, inv);
                                         let i10 = b.ins().fmul(n10, inv);
@@ -744,7 +831,7 @@ impl Fused {
                                         // 1/‖A⁻¹‖_∞: the larger row sum (the
                                         // first where they tie or one is NaN).
                                         let row = |b: &mut FunctionBuilder<'_>, x: _, y: _| {
-                                            let (x, y) = (b.ins().fabs(x), b.ins().fabs(y));
+                                            let (x, y) = (b.abs(x), b.abs(y));
                                             let s = b.ins().fadd(zero, x);
                                             b.ins().fadd(s, y)
                                         };
@@ -753,7 +840,7 @@ impl Fused {
                                         let second = b.ins().fcmp(FloatCC::GreaterThan, s1, s0);
                                         let worst = b.ins().select(second, s1, s0);
                                         let c = b.ins().fdiv(one, worst);
-                                        let ac = b.ins().fabs(c);
+                                        let ac = b.abs(c);
                                         let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
                                         let c = b.ins().select(finite, c, zero);
                                         let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
@@ -781,6 +868,41 @@ impl Fused {
                             bail(&mut b, failed, status);
                             b.ins().store(flags, least, fp, within(*conditioning)?);
                             b.ins().store(flags, product, fp, within(*sign)?);
+                        }
+                        Op::Import {
+                            from,
+                            to,
+                            len,
+                            finite,
+                        } => {
+                            if *len == 0 {
+                                continue;
+                            }
+                            let slot = port_slot(*from, &mut need, *len)?;
+                            let base = b.ins().load(pointer, flags, pp, slot);
+                            let mut values = Vec::with_capacity(*len);
+                            for i in 0..*len {
+                                let v = b.ins().load(types::F64, flags, base, offset(i)?);
+                                b.ins().store(flags, v, fp, within(to + i)?);
+                                values.push(v);
+                            }
+                            if let Some(status) = *finite {
+                                if let Some(failed) = not_finite(&mut b, &values) {
+                                    let status = b.ins().iconst(types::I64, status);
+                                    bail(&mut b, failed, status);
+                                }
+                            }
+                        }
+                        Op::Export { to, from, len } => {
+                            if *len == 0 {
+                                continue;
+                            }
+                            let slot = port_slot(Port::Output(*to), &mut need, *len)?;
+                            let base = b.ins().load(pointer, flags, pp, slot);
+                            for i in 0..*len {
+                                let v = b.ins().load(types::F64, flags, fp, within(from + i)?);
+                                b.ins().store(flags, v, base, offset(i)?);
+                            }
                         }
                         Op::Finite { from, len, status } => {
                             if *len == 0 {
@@ -810,6 +932,7 @@ impl Fused {
                 .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
             module.clear_context(&mut ctx);
             ids.push(id);
+            needs.push(need);
         }
         module.finalize_definitions().map_err(|e| codegen(&e))?;
         let entries = ids
@@ -819,6 +942,7 @@ impl Fused {
         Ok(Fused {
             module: ManuallyDrop::new(module),
             entries,
+            needs,
             len: layout.len,
         })
     }
@@ -839,14 +963,52 @@ impl Fused {
     /// the buffer `f`, calling `helper` for each [`Op::Call`]: its status
     /// (0 when every op ran, else the first nonzero status of a call or
     /// check; [`HELPER_PANICKED`] when the helper panicked), or −1,
-    /// running nothing, when `f` is not of the layout's length or there is
-    /// no such function.
-    #[allow(unsafe_code)]
+    /// running nothing, when `f` is not of the layout's length, there is
+    /// no such function, or it reads or writes [`Ports`] (then
+    /// [`Fused::call_ports`] runs it).
     pub fn call(&self, which: usize, f: &mut [f64], helper: &mut dyn Helper) -> i64 {
-        let Some(&entry) = self.entries.get(which) else {
+        self.call_ports(
+            which,
+            f,
+            helper,
+            Ports {
+                inputs: &[],
+                outputs: &mut [],
+            },
+        )
+    }
+
+    /// [`Fused::call`] with the arrays its [`Op::Import`] and
+    /// [`Op::Export`] read and write: −1, running nothing, also when one
+    /// of them is missing or shorter than the ops use. The outputs are
+    /// written only by the function's [`Op::Export`]s (a function that
+    /// returns a nonzero status before them leaves them as they were).
+    #[allow(unsafe_code)]
+    #[inline]
+    pub fn call_ports(
+        &self,
+        which: usize,
+        f: &mut [f64],
+        helper: &mut dyn Helper,
+        ports: Ports<'_, '_>,
+    ) -> i64 {
+        let (Some(&entry), Some(needs)) = (self.entries.get(which), self.needs.get(which)) else {
             return -1;
         };
         if f.len() != self.len {
+            return -1;
+        }
+        let mut table = [core::ptr::null_mut::<f64>(); 2 * PORTS];
+        let mut have = [0; 2 * PORTS];
+        for (i, p) in ports.inputs.iter().take(PORTS).enumerate() {
+            table[i] = p.as_ptr().cast_mut();
+            have[i] = p.len();
+        }
+        for (i, p) in ports.outputs.iter_mut().take(PORTS).enumerate() {
+            table[PORTS + i] = p.as_mut_ptr();
+            have[PORTS + i] = p.len();
+        }
+        if needs.iter().zip(&have).any(|(need, have)| need > have) {
             return -1;
         }
         let mut frame = Frame {
@@ -854,15 +1016,35 @@ impl Fused {
             len: self.len,
         };
         // SAFETY: every offset the code reads or writes was checked
-        // against the layout's length, which is `f`'s; the frame lives for
-        // the call, and the trampoline reads it as a `Frame`.
+        // against the layout's length, which is `f`'s; every port it reads
+        // or writes holds at least as many values as it uses (checked
+        // above), the inputs are only read, and the outputs are borrowed
+        // mutably for the call; the frame lives for the call, and the
+        // trampoline reads it as a `Frame`.
         unsafe {
             entry(
                 f.as_mut_ptr(),
                 (&mut frame as *mut Frame<'_>).cast::<c_void>(),
+                table.as_ptr(),
             )
         }
     }
+}
+
+/// The slot of `port` in the table of pointers (its byte offset), with
+/// `len` values of it recorded as used.
+fn port_slot(port: Port, need: &mut [usize; 2 * PORTS], len: usize) -> Result<i32, JitError> {
+    let slot = port
+        .slot()
+        .ok_or_else(|| JitError::Codegen(format!("no port {port:?}")))?;
+    need[slot] = need[slot].max(len);
+    i32::try_from(slot * core::mem::size_of::<*mut f64>())
+        .map_err(|_| JitError::Codegen("port table too long".into()))
+}
+
+/// The byte offset of value `i` of an array.
+fn offset(i: usize) -> Result<i32, JitError> {
+    i32::try_from(i * 8).map_err(|_| JitError::Codegen("an array too long".into()))
 }
 
 /// (cos θ, sin θ) solving a cos θ + b sin θ + c = 0 in the mode σ (as
@@ -889,7 +1071,7 @@ fn angle_solution(
     let size = b.ins().fadd(r2, cc);
     let eps8 = b.ins().f64const(8.0 * f64::EPSILON);
     let tol = b.ins().fmul(eps8, size);
-    let ad = b.ins().fabs(d);
+    let ad = b.abs(d);
     let tiny = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, tol);
     let zero = b.ins().f64const(0.0);
     let disc = b.ins().select(tiny, zero, d);
@@ -905,12 +1087,12 @@ fn angle_solution(
     let inv = b.ins().fdiv(one, r2);
     let sq = b.ins().sqrt(disc);
     let root = b.ins().fmul(sigma, sq);
-    let na = b.ins().fneg(a);
+    let na = b.neg(a);
     let x0 = b.ins().fmul(na, c);
     let x1 = b.ins().fmul(bb, root);
     let x = b.ins().fsub(x0, x1);
     let cos = b.ins().fmul(x, inv);
-    let nb = b.ins().fneg(bb);
+    let nb = b.neg(bb);
     let x0 = b.ins().fmul(nb, c);
     let x1 = b.ins().fmul(a, root);
     let x = b.ins().fadd(x0, x1);
@@ -945,7 +1127,7 @@ fn store_or_general(
         cranelift_codegen::ir::Value,
     )],
     general: u64,
-) -> Result<(), JitError> {
+) -> Result<Vec<Angle>, JitError> {
     let flags = MemFlags::trusted();
     let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
     let mut results = Vec::with_capacity(solved.len());
@@ -974,11 +1156,11 @@ fn store_or_general(
         let theta = b.ins().fadd(tp, asin);
         let zero = b.ins().f64const(0.0);
         let ok_y = b.ins().fcmp(FloatCC::GreaterThan, y, zero);
-        let ax = b.ins().fabs(x);
+        let ax = b.abs(x);
         let limit = b.ins().f64const(0.031_25);
         let ok_x = b.ins().fcmp(FloatCC::LessThanOrEqual, ax, limit);
         let off = b.ins().fsub(theta, guess);
-        let aoff = b.ins().fabs(off);
+        let aoff = b.abs(off);
         let pi = b.ins().f64const(std::f64::consts::PI);
         let ok_ref = b.ins().fcmp(FloatCC::LessThanOrEqual, aoff, pi);
         ok = b.ins().band(ok, ok_y);
@@ -988,7 +1170,7 @@ fn store_or_general(
     }
     b.ins().brif(ok, fast, &[], slow, &[]);
     b.switch_to_block(fast);
-    for (at, cv, sv, theta) in results {
+    for &(at, cv, sv, theta) in &results {
         for (value, to) in [
             (theta, at.value),
             (cv, at.trig),
@@ -1000,10 +1182,77 @@ fn store_or_general(
             b.ins().store(flags, value, fp, within(to)?);
         }
     }
-    b.ins().jump(join, &[]);
+    // The angles, their cosines and sines go on in registers: from the
+    // fast path as computed, from the helper as it wrote them.
+    let mut args = Vec::with_capacity(3 * solved.len());
+    let mut after = Vec::with_capacity(solved.len());
+    for &(at, cv, sv, theta) in &results {
+        args.extend([theta, cv, sv].map(BlockArg::Value));
+        let mut param = || b.append_block_param(join, types::F64);
+        after.push(Angle {
+            at,
+            value: param(),
+            cos: param(),
+            sin: param(),
+        });
+    }
+    b.ins().jump(join, &args);
     b.switch_to_block(slow);
-    call_helper(b, (fp, cp, helper, exit), general, join);
-    Ok(())
+    let helped = b.create_block();
+    call_helper(b, (fp, cp, helper, exit), general, helped);
+    let mut args = Vec::with_capacity(3 * solved.len());
+    for (at, _, _, _) in results {
+        for from in [at.value, at.trig, at.trig + 1] {
+            let v = b.ins().load(types::F64, flags, fp, within(from)?);
+            args.push(BlockArg::Value(v));
+        }
+    }
+    b.ins().jump(join, &args);
+    b.switch_to_block(join);
+    Ok(after)
+}
+
+/// An angle solved by a closed form, as the code goes on with it: where
+/// it lies in the buffer, and its value, cosine and sine.
+#[derive(Clone, Copy)]
+struct Angle {
+    at: AngleAt,
+    value: cranelift_codegen::ir::Value,
+    cos: cranelift_codegen::ir::Value,
+    sin: cranelift_codegen::ir::Value,
+}
+
+/// Tells `lower` the values of coordinate q_j (of the angle at `at`, if
+/// it is one of the layout's coordinates) and of its cosine and sine,
+/// where the graph has those nodes: later ops use them from registers
+/// instead of reading the buffer.
+fn seed(
+    lower: &mut Lower<'_>,
+    graph: &Graph,
+    layout: &Layout,
+    at: AngleAt,
+    value: cranelift_codegen::ir::Value,
+    cos: cranelift_codegen::ir::Value,
+    sin: cranelift_codegen::ir::Value,
+) {
+    let Some(j) = at.value.checked_sub(layout.q) else {
+        return;
+    };
+    if at.trig != layout.trig + 2 * j || at.value >= layout.qd {
+        return;
+    }
+    let Ok(j) = u32::try_from(j) else {
+        return;
+    };
+    let Some(q) = graph.find(&Node::Leaf(Leaf::Q(j))) else {
+        return;
+    };
+    lower.seed(q, value);
+    for (f, v) in [(Func::Cos, cos), (Func::Sin, sin)] {
+        if let Some(id) = graph.find(&Node::Call(f, q)) {
+            lower.seed(id, v);
+        }
+    }
 }
 
 /// c₀ − x·(c₁ − x·(c₂ − …)) for the constants `c`, innermost first
@@ -1017,7 +1266,7 @@ fn alternating(
     // addition's second operand, which the instruction reads from memory.
     let mut rest = c.iter().rev();
     let mut t = b.ins().f64const(rest.next().copied().unwrap_or(0.0));
-    let nx = b.ins().fneg(x);
+    let nx = b.neg(x);
     for &k in rest {
         let m = b.ins().fmul(nx, t);
         let k = b.ins().f64const(k);

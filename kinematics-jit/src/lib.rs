@@ -65,7 +65,8 @@ mod fused;
 mod lower;
 
 pub use fused::{
-    AngleAt, Function, Fused, Helper, Layout, Op, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED,
+    AngleAt, Function, Fused, Helper, Layout, Op, Port, Ports, SmallBlock, SolveBlock, SolveRow,
+    HELPER_PANICKED, PORTS,
 };
 use lower::{Imports, Lower, Sources};
 

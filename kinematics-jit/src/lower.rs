@@ -131,6 +131,15 @@ impl<'g> Lower<'g> {
         self.get(id)
     }
 
+    /// Sets the value of node `id`, computed by the caller (a closed
+    /// form's angle, say): later uses take it instead of evaluating or
+    /// reading the node.
+    pub(crate) fn seed(&mut self, id: Id, value: Value) {
+        if let Some(slot) = self.values.get_mut(id.index()) {
+            *slot = Some(value);
+        }
+    }
+
     /// A lowered node's value.
     fn get(&self, id: Id) -> Result<Value, JitError> {
         self.values
@@ -217,7 +226,7 @@ impl<'g> Lower<'g> {
                 }
                 Node::Neg(x) => {
                     let x = self.get(x)?;
-                    b.ins().fneg(x)
+                    b.neg(x)
                 }
                 Node::Powi(x, n) => {
                     let x = self.get(x)?;
@@ -227,7 +236,7 @@ impl<'g> Lower<'g> {
                     let x = self.get(x)?;
                     match (f, symbol(f)) {
                         (Func::Sqrt, _) => b.ins().sqrt(x),
-                        (Func::Abs, _) => b.ins().fabs(x),
+                        (Func::Abs, _) => b.abs(x),
                         (_, Some(name)) => imports.call(b, name, &[x])?,
                         (_, None) => return Err(JitError::Codegen(format!("no code for {f:?}"))),
                     }
@@ -240,6 +249,28 @@ impl<'g> Lower<'g> {
             self.values[i] = Some(value);
         }
         Ok(())
+    }
+}
+
+/// |x| and −x as bitwise operations with a constant mask (clearing or
+/// flipping the sign bit: the same bits as `fabs` and `fneg`), which
+/// the x86-64 back end reads from the constant pool in one instruction
+/// where its `fabs` and `fneg` first build the mask in a register.
+pub(crate) trait SignBits {
+    /// |x|.
+    fn abs(&mut self, x: Value) -> Value;
+    /// −x.
+    fn neg(&mut self, x: Value) -> Value;
+}
+
+impl SignBits for FunctionBuilder<'_> {
+    fn abs(&mut self, x: Value) -> Value {
+        let mask = self.ins().f64const(f64::from_bits(0x7fff_ffff_ffff_ffff));
+        self.ins().band(x, mask)
+    }
+    fn neg(&mut self, x: Value) -> Value {
+        let mask = self.ins().f64const(f64::from_bits(0x8000_0000_0000_0000));
+        self.ins().bxor(x, mask)
     }
 }
 

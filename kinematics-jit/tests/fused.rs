@@ -196,36 +196,198 @@ fn block_solve_by_forward_substitution() {
 
 #[test]
 fn carried_cosines_and_sines() {
-    let g = Graph::new();
-    let ops = [Op::CarriedTrig {
-        value: 2,
-        carried: 20,
-        to: 8,
-        fresh: 3,
-    }];
+    // After the op, q₀'s cosine and sine as later expressions use them
+    // (from registers, not the buffer), times p₀: at 30–31.
+    let mut g = Graph::new();
+    let p = g.leaf(Leaf::Param(0));
+    let q = g.leaf(Leaf::Q(0));
+    let cq = g.intern(Node::Call(Func::Cos, q));
+    let sq = g.intern(Node::Call(Func::Sin, q));
+    let pc = g.intern(Node::Mul(p, cq));
+    let ps = g.intern(Node::Mul(p, sq));
+    let ops = [
+        Op::CarriedTrig {
+            value: 2,
+            carried: 20,
+            to: 8,
+            fresh: 3,
+        },
+        Op::Store {
+            roots: vec![pc, ps],
+            at: vec![30, 31],
+            finite: None,
+        },
+    ];
     let code = one(&g, &ops);
+    let used_after = |f: &[f64]| assert_eq!([f[30], f[31]], [2.0 * f[8], 2.0 * f[9]]);
     let mut h = Recorder {
         calls: Vec::new(),
         status: 0,
     };
     let mut f = vec![0.0; 40];
+    f[0] = 2.0;
     (f[20], f[21], f[22]) = (f64::NAN, f64::NAN, f64::NAN);
     // Nothing carried: computed afresh by the helper.
     f[2] = 1.0;
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.calls, [3]);
+    used_after(&f);
     // Then rotated in small steps, within 4e-15 of the library's.
     for k in 1..=16 {
         f[2] = 1.0 + 0.01 * f64::from(k);
         assert_eq!(code.call(0, &mut f, &mut h), 0);
         assert!((f[8] - f[2].cos()).abs() < 4e-15 && (f[9] - f[2].sin()).abs() < 4e-15);
         assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
+        used_after(&f);
     }
     assert_eq!(h.calls, [3], "no fresh computation within 1/32");
     // A jump beyond 1/32 is computed afresh.
     f[2] = 2.0;
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.calls, [3, 3]);
+    used_after(&f);
+}
+
+#[test]
+fn ports_are_read_and_written() {
+    use kinematics_jit::{Port, Ports};
+    // q₀, q₁ from input 0, q'₀ from input 1, a mode through output 0 (read
+    // into 12, written back from 12), and p₀ q₀ + q'₀ written to output 1.
+    let mut g = Graph::new();
+    let p = g.leaf(Leaf::Param(0));
+    let q = g.leaf(Leaf::Q(0));
+    let qd = g.leaf(Leaf::Qd(0));
+    let pq = g.intern(Node::Mul(p, q));
+    let sum = g.intern(Node::Add(pq, qd));
+    let ops = [
+        Op::Import {
+            from: Port::Input(0),
+            to: 2,
+            len: 2,
+            finite: Some(5),
+        },
+        Op::Import {
+            from: Port::Input(1),
+            to: 4,
+            len: 1,
+            finite: Some(5),
+        },
+        Op::Import {
+            from: Port::Output(0),
+            to: 12,
+            len: 1,
+            finite: None,
+        },
+        Op::Store {
+            roots: vec![sum],
+            at: vec![13],
+            finite: None,
+        },
+        Op::Call(7),
+        Op::Export {
+            to: 0,
+            from: 12,
+            len: 1,
+        },
+        Op::Export {
+            to: 1,
+            from: 13,
+            len: 1,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 40];
+    f[0] = 3.0;
+    let (mut mode, mut out) = ([f64::NAN], [0.0]);
+    let run = |f: &mut [f64],
+               q: &[f64],
+               qd: &[f64],
+               mode: &mut [f64],
+               out: &mut [f64],
+               h: &mut Recorder| {
+        code.call_ports(
+            0,
+            f,
+            h,
+            Ports {
+                inputs: &[q, qd],
+                outputs: &mut [mode, out],
+            },
+        )
+    };
+    assert_eq!(
+        run(&mut f, &[2.0, 5.0], &[0.5], &mut mode, &mut out, &mut h),
+        0
+    );
+    assert_eq!((f[2], f[3], f[4]), (2.0, 5.0, 0.5));
+    assert!(f[12].is_nan() && mode[0].is_nan());
+    assert_eq!(out, [6.5]); // 3·2 + 0.5
+                            // A value not finite: the import's status, the outputs untouched.
+    out = [-1.0];
+    assert_eq!(
+        run(
+            &mut f,
+            &[f64::INFINITY, 5.0],
+            &[0.5],
+            &mut mode,
+            &mut out,
+            &mut h
+        ),
+        5
+    );
+    assert_eq!(
+        run(
+            &mut f,
+            &[2.0, 5.0],
+            &[f64::NAN],
+            &mut mode,
+            &mut out,
+            &mut h
+        ),
+        5
+    );
+    assert_eq!(out, [-1.0]);
+    // A status before the exports leaves the outputs as they were too.
+    h.status = 42;
+    mode = [1.0];
+    assert_eq!(
+        run(&mut f, &[1.0, 5.0], &[0.5], &mut mode, &mut out, &mut h),
+        42
+    );
+    assert_eq!((mode, out), ([1.0], [-1.0]));
+    assert_eq!(f[12], 1.0, "the mode was read in");
+    // A port shorter than the ops use, or missing: nothing runs.
+    h.status = 0;
+    f[13] = 0.0;
+    assert_eq!(run(&mut f, &[1.0], &[0.5], &mut mode, &mut out, &mut h), -1);
+    assert_eq!(
+        run(&mut f, &[1.0, 5.0], &[], &mut mode, &mut out, &mut h),
+        -1
+    );
+    assert_eq!(
+        run(&mut f, &[1.0, 5.0], &[0.5], &mut mode, &mut [], &mut h),
+        -1
+    );
+    assert_eq!(f[13], 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), -1, "`call` has no ports");
+    // Longer ports are read and written as far as the ops use them.
+    let mut long = [0.0, 7.0];
+    assert_eq!(
+        run(
+            &mut f,
+            &[2.0, 5.0, 9.0],
+            &[0.5, 1.0],
+            &mut mode,
+            &mut long,
+            &mut h
+        ),
+        0
+    );
+    assert_eq!(long, [6.5, 7.0]);
 }
 
 #[test]
@@ -399,13 +561,29 @@ fn rrr_dyad_in_machine_code() {
             carried: 23,
         },
     ];
-    let ops = [Op::CircleCircle {
-        coefficients,
-        mode: 12,
-        angles,
-        general: 99,
-    }];
+    // After the dyad, its angles and their cosines and sines as later
+    // expressions use them (from registers, not the buffer): copied to
+    // 30–33.
+    let q0 = g.leaf(Leaf::Q(0));
+    let q1 = g.leaf(Leaf::Q(1));
+    let c0 = g.intern(Node::Call(Func::Cos, q0));
+    let s1 = g.intern(Node::Call(Func::Sin, q1));
+    let ops = [
+        Op::CircleCircle {
+            coefficients,
+            mode: 12,
+            angles,
+            general: 99,
+        },
+        Op::Store {
+            roots: vec![q0, c0, q1, s1],
+            at: vec![30, 31, 32, 33],
+            finite: None,
+        },
+    ];
     let code = one(&g, &ops);
+    let used_after =
+        |f: &[f64]| assert_eq!([f[30], f[31], f[32], f[33]], [f[2], f[8], f[3], f[11]]);
     /// The general solution's stand-in: records the call and the guesses
     /// and carried values it is handed (which the machine code must not
     /// have touched), and sets the mode to +1.
@@ -446,6 +624,7 @@ fn rrr_dyad_in_machine_code() {
     assert_eq!(h.0, 1);
     assert_eq!(h.1[0][..2], [1.0, 2.0]);
     assert!(h.1[0][2..].iter().all(|v| v.is_nan()));
+    used_after(&f);
     // Then the carried angles of a solution near φ = 1.5 (computed here
     // by atan2) let the machine code take the next steps itself.
     let solve_exact = |phi: f64, sigma: f64| {
@@ -475,6 +654,7 @@ fn rrr_dyad_in_machine_code() {
         let (e3, e4) = solve_exact(phi, 1.0);
         assert!((f[2] - e3).abs() < 1e-13 && (f[3] - e4).abs() < 1e-13);
         assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
+        used_after(&f);
     }
     assert_eq!(h.0, 1, "every step after the first in the machine code");
     // Past the limit (no real solution): the general solution decides,
@@ -485,6 +665,7 @@ fn rrr_dyad_in_machine_code() {
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.0, 2);
     assert_eq!(h.1[1], before);
+    used_after(&f);
 }
 
 #[test]

@@ -267,7 +267,7 @@ fn a_sweeps_samples_allocate_nothing_each() {
 
 /// The stepper of a model compiled at run time keeps its arrays: a turn of
 /// steps (Newton–Raphson, Φ_u's factors and conditioning, q', q'', every
-/// point and frame) allocates nothing, for a planar loop, a spatial loop,
+/// point and frame), into its `Motion` or as flat arrays, allocates nothing, for a planar loop, a spatial loop,
 /// a six-bar and a serial arm with frames.
 #[test]
 fn a_run_time_stepper_allocates_nothing() {
@@ -317,6 +317,14 @@ fn a_run_time_stepper_allocates_nothing() {
                 }
                 let s = stepper.step(&q, &rates, &accels).expect("steps");
                 q.copy_from_slice(&s.q);
+            }
+            // The motion as flat arrays, likewise.
+            for _ in 0..360 {
+                for d in &mut q[..nd] {
+                    *d += std::f64::consts::TAU / 360.0;
+                }
+                let s = stepper.step_flat(&q, &rates, &accels).expect("steps");
+                q.copy_from_slice(s.q);
             }
         });
     }

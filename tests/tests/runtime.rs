@@ -55,6 +55,8 @@ fn agree<M: Mechanism>(
     let mut r_start: Vec<f64> = (0..n).map(|j| start.get(j).unwrap_or(f64::NAN)).collect();
     let options = Options::DEFAULT;
     let mut stepper = r.stepper(&options).expect("valid options and parameters");
+    let mut flat = r.stepper(&options).expect("valid options and parameters");
+    let d = r.point_dimension();
     for k in 0..steps {
         let g = m
             .step_slices(&g_start, rates, accelerations, &options)
@@ -70,6 +72,41 @@ fn agree<M: Mechanism>(
             .step(&r_start, rates, accelerations)
             .unwrap_or_else(|e| panic!("{name}, step {k}, run-time stepper: {e}"))
             .clone();
+        // The same step read from the flat arrays: the same numbers.
+        let f = flat
+            .step_flat(&r_start, rates, accelerations)
+            .unwrap_or_else(|e| panic!("{name}, step {k}, run-time flat step: {e}"));
+        assert_eq!(
+            (f.q, f.qd, f.qdd),
+            (&kept.q[..], &kept.qd[..], &kept.qdd[..])
+        );
+        let mut outputs: Vec<f64> = Vec::new();
+        for p in &kept.points {
+            outputs.extend(p.position.iter().chain(&p.velocity).chain(&p.acceleration));
+        }
+        for fr in &kept.frames {
+            outputs.extend(fr.rotation.transpose().iter());
+            outputs.extend(
+                fr.angular_velocity
+                    .iter()
+                    .chain(fr.angular_acceleration.iter()),
+            );
+            outputs.extend(
+                fr.origin
+                    .iter()
+                    .chain(fr.velocity.iter())
+                    .chain(fr.acceleration.iter()),
+            );
+        }
+        assert_eq!(f.outputs, &outputs[..], "{name} {k}: flat outputs");
+        assert_eq!(
+            f.outputs.len(),
+            kept.points.len() * 3 * d + kept.frames.len() * 24
+        );
+        assert_eq!(
+            (f.conditioning, f.det_sign, f.residual),
+            (kept.conditioning, kept.det_sign, kept.residual)
+        );
         for (how, s) in [("step", &s), ("stepper", &kept)] {
             let name = format!("{name} ({how})");
             // The length scale of the positions: the largest |q| and point

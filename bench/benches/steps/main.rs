@@ -314,45 +314,67 @@ fn runtime_model(tokens: &proc_macro2::TokenStream, params: &[f64]) -> Model {
 /// from the unknowns `start` with the driver's rate and acceleration
 /// `rates`; the checksum sums the same values as the generated turns
 /// (the unknowns, their rates and accelerations, and point `point`).
-fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str) -> f64 {
+/// With `flat`, each step's motion is read from the stepper's flat arrays
+/// (`Stepper::step_flat`) instead of its `Motion` (`Stepper::step`).
+fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str, flat: bool) -> f64 {
     let (m, rates) = data((m, rates));
     let p = m
         .point_names()
         .iter()
         .position(|n| *n == point)
         .expect("the point");
+    let d = m.point_dimension();
     let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
     let mut pose: Vec<f64> = std::iter::once(0.0).chain(start.iter().copied()).collect();
     let mut sum = 0.0;
     for k in 0..STEPS {
         pose[0] = angle(k);
-        let s = stepper.step(&pose, &[rates.0], &[rates.1]).expect("step");
-        pose.copy_from_slice(&s.q);
-        let pt = &s.points[p];
-        sum += s.q[1..].iter().sum::<f64>()
-            + s.qd[1..].iter().sum::<f64>()
-            + s.qdd[1..].iter().sum::<f64>();
-        sum += pt.position.iter().sum::<f64>()
-            + pt.velocity.iter().sum::<f64>()
-            + pt.acceleration.iter().sum::<f64>();
+        if flat {
+            let s = stepper
+                .step_flat(&pose, &[rates.0], &[rates.1])
+                .expect("step");
+            pose.copy_from_slice(s.q);
+            sum += s.q[1..].iter().sum::<f64>()
+                + s.qd[1..].iter().sum::<f64>()
+                + s.qdd[1..].iter().sum::<f64>();
+            sum += s.outputs[3 * d * p..3 * d * (p + 1)].iter().sum::<f64>();
+        } else {
+            let s = stepper.step(&pose, &[rates.0], &[rates.1]).expect("step");
+            pose.copy_from_slice(&s.q);
+            let pt = &s.points[p];
+            sum += s.q[1..].iter().sum::<f64>()
+                + s.qd[1..].iter().sum::<f64>()
+                + s.qdd[1..].iter().sum::<f64>();
+            sum += pt.position.iter().sum::<f64>()
+                + pt.velocity.iter().sum::<f64>()
+                + pt.acceleration.iter().sum::<f64>();
+        }
     }
     sum
 }
 
-/// A full turn of the arm, a run-time model, through its stepper.
-fn runtime_m4(m: &Model) -> f64 {
+/// A full turn of the arm, a run-time model, through its stepper (with
+/// `flat`, read from the flat arrays, as in [`runtime_turn`]).
+fn runtime_m4(m: &Model, flat: bool) -> f64 {
     let m = data(m);
+    let d = m.point_dimension();
     let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
     let mut sum = 0.0;
     for k in 0..STEPS {
         let (q, qd, qdd) = arm_joints(k);
-        let s = stepper.step(&q, &qd, &qdd).expect("step");
-        let (p, f) = (&s.points[0], &s.frames[0]);
         sum += q.iter().sum::<f64>();
-        sum += p.position.iter().sum::<f64>()
-            + p.velocity.iter().sum::<f64>()
-            + p.acceleration.iter().sum::<f64>();
-        sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
+        if flat {
+            let s = stepper.step_flat(&q, &qd, &qdd).expect("step");
+            // The point's 3d values, then the frame's rotation, ω and α.
+            sum += s.outputs[..3 * d + 15].iter().sum::<f64>();
+        } else {
+            let s = stepper.step(&q, &qd, &qdd).expect("step");
+            let (p, f) = (&s.points[0], &s.frames[0]);
+            sum += p.position.iter().sum::<f64>()
+                + p.velocity.iter().sum::<f64>()
+                + p.acceleration.iter().sum::<f64>();
+            sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
+        }
     }
     sum
 }
@@ -412,26 +434,47 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     let r2 = runtime_model(&m2::tokens(), &p2);
     let r3 = runtime_model(&m3::tokens(), &p3);
     let r4 = runtime_model(&m4::tokens(), &p4);
+    let (f1, f2, f3, f4) = (r1.clone(), r2.clone(), r3.clone(), r4.clone());
     vec![
         (
             "M1 four-bar",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r1, &M1_START, M1_RATES, "P")),
+            Box::new(move || runtime_turn(&r1, &M1_START, M1_RATES, "P", false)),
         ),
         (
             "M2 RSSR",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r2, &M2_START, M2_RATES, "B")),
+            Box::new(move || runtime_turn(&r2, &M2_START, M2_RATES, "B", false)),
         ),
         (
             "M3 Watt six-bar",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r3, &M3_START, M3_RATES, "F")),
+            Box::new(move || runtime_turn(&r3, &M3_START, M3_RATES, "F", false)),
         ),
         (
             "M4 six-axis arm",
             "run-time stepper",
-            Box::new(move || runtime_m4(&r4)),
+            Box::new(move || runtime_m4(&r4, false)),
+        ),
+        (
+            "M1 four-bar",
+            "run-time flat",
+            Box::new(move || runtime_turn(&f1, &M1_START, M1_RATES, "P", true)),
+        ),
+        (
+            "M2 RSSR",
+            "run-time flat",
+            Box::new(move || runtime_turn(&f2, &M2_START, M2_RATES, "B", true)),
+        ),
+        (
+            "M3 Watt six-bar",
+            "run-time flat",
+            Box::new(move || runtime_turn(&f3, &M3_START, M3_RATES, "F", true)),
+        ),
+        (
+            "M4 six-axis arm",
+            "run-time flat",
+            Box::new(move || runtime_m4(&f4, true)),
         ),
         ("M1 four-bar", "generated", Box::new(gen_m1)),
         ("M1 four-bar", "stepper", Box::new(gen_m1s)),
@@ -558,7 +601,7 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
     ]
 }
 
-const VARIANTS: [&str; 9] = [
+const VARIANTS: [&str; 10] = [
     "generated",
     "stepper",
     "sweep",
@@ -568,6 +611,7 @@ const VARIANTS: [&str; 9] = [
     "finite differences",
     "interpreted DAG",
     "run-time stepper",
+    "run-time flat",
 ];
 const MECHANISMS: [&str; 4] = [
     "M1 four-bar",
@@ -764,12 +808,13 @@ fn main() {
 /// and the range of the middle 80 % of rounds.
 fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
     const ROUNDS: usize = 41;
-    const SHOWN: [&str; 6] = [
+    const SHOWN: [&str; 7] = [
         "generated",
         "stepper",
         "sweep",
         "sweep collected",
         "run-time stepper",
+        "run-time flat",
         "hand-written",
     ];
     let mut out = String::from(
@@ -778,10 +823,12 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
          of the middle 80 % of rounds. `sweep` streams the samples from its iterator, \
          `collected` gathers them into its `Vec` first (the arm, whose six drivers follow a \
          profile, has no sweep); `run-time` is the stepper of the same definition compiled \
-         at run time (`runtime::Model`).\n\n| mechanism | generated | stepper | \
-         sweep | collected | run-time | sweep / stepper | collected / stepper | \
-         run-time / stepper |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         at run time (`runtime::Model`), its motion read from the `Motion` of \
+         `Stepper::step` or from the flat arrays of `Stepper::step_flat`.\n\n| mechanism | \
+         generated | stepper | sweep | collected | run-time | run-time flat | \
+         sweep / stepper | collected / stepper | run-time / stepper | \
+         run-time flat / stepper |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let summary = |mut r: Vec<f64>| {
         if r.is_empty() {
@@ -798,7 +845,8 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
             .collect();
         let hand = SHOWN.len() - 1;
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); SHOWN.len()];
-        let (mut streamed, mut collected, mut runtime) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut streamed, mut collected) = (Vec::new(), Vec::new());
+        let (mut runtime, mut flat) = (Vec::new(), Vec::new());
         for _ in 0..ROUNDS {
             let mut round = [f64::NAN; SHOWN.len()];
             for &i in &shown {
@@ -820,11 +868,15 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
             if shown.contains(&4) {
                 runtime.push(round[4] / round[1]);
             }
+            if shown.contains(&5) {
+                flat.push(round[5] / round[1]);
+            }
         }
-        let mut cells = times.into_iter().take(5).map(summary);
+        let mut cells = times.into_iter().take(6).map(summary);
         let mut cell = || cells.next().unwrap_or_default();
         out += &format!(
-            "| {mech} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {mech} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            cell(),
             cell(),
             cell(),
             cell(),
@@ -832,7 +884,8 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
             cell(),
             summary(streamed),
             summary(collected),
-            summary(runtime)
+            summary(runtime),
+            summary(flat)
         );
     }
     out

@@ -14,7 +14,8 @@
 //! positions only (`poses()`); `r1s`–`r4s` run M1–M4 compiled at run time
 //! from the examples' text through the run-time stepper (the model is
 //! compiled before the turns: count two runs with different repeats and
-//! take the difference). `n`, `np` and `na` run a slider-crank in a
+//! take the difference), `r1f`–`r4f` the same with the motion read from
+//! the flat arrays of `Stepper::step_flat`. `n`, `np` and `na` run a slider-crank in a
 //! curved guide, which no closed form covers (Newton–Raphson on the whole
 //! system), through a sweep, a sweep of poses, and `assemble` from the
 //! previous pose. A second argument repeats the turn and prints the wall
@@ -335,8 +336,14 @@ fn runtime_model(which: &str) -> (kinematics_core::runtime::Model, Vec<f64>, Vec
 }
 
 /// One turn of a run-time model through its stepper (every driver set
-/// to the turn's angle); returns a checksum.
-fn runtime_turn(m: &kinematics_core::runtime::Model, start: &[f64], rates: &[f64]) -> f64 {
+/// to the turn's angle), with `flat` through `Stepper::step_flat`;
+/// returns a checksum.
+fn runtime_turn(
+    m: &kinematics_core::runtime::Model,
+    start: &[f64],
+    rates: &[f64],
+    flat: bool,
+) -> f64 {
     let accels = vec![0.0; rates.len()];
     let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
     let mut q = start.to_vec();
@@ -345,9 +352,15 @@ fn runtime_turn(m: &kinematics_core::runtime::Model, start: &[f64], rates: &[f64
         for d in &mut q[..m.drivers()] {
             *d = angle(k);
         }
-        let s = stepper.step(black_box(&q), rates, &accels).unwrap();
-        q.copy_from_slice(&s.q);
-        sum += s.qdd.iter().sum::<f64>();
+        if flat {
+            let s = stepper.step_flat(black_box(&q), rates, &accels).unwrap();
+            q.copy_from_slice(s.q);
+            sum += s.qdd.iter().sum::<f64>();
+        } else {
+            let s = stepper.step(black_box(&q), rates, &accels).unwrap();
+            q.copy_from_slice(&s.q);
+            sum += s.qdd.iter().sum::<f64>();
+        }
     }
     sum
 }
@@ -361,12 +374,18 @@ fn main() {
     let start = std::time::Instant::now();
     let mut sum = 0.0;
     if which.starts_with('r') {
+        // `r1f`–`r4f`: as `r1s`–`r4s`, the motion read from the flat
+        // arrays of `Stepper::step_flat`.
+        let (which, flat) = match which.strip_suffix('f') {
+            Some(w) => (format!("{w}s"), true),
+            None => (which.clone(), false),
+        };
         // The model is compiled once, before the turns (whose instruction
         // count is the difference of two runs with different repeats).
         let (m, q, rates) = runtime_model(&which);
         let start = std::time::Instant::now();
         for _ in 0..reps {
-            sum += runtime_turn(&m, &q, &rates);
+            sum += runtime_turn(&m, &q, &rates, flat);
         }
         black_box(sum);
         if reps > 1 {

@@ -238,9 +238,28 @@ impl Stepper<'_> {
         Ok(self.motion_now())
     }
 
+    /// [`Stepper::step`] with the motion as flat arrays borrowed from the
+    /// stepper ([`Flat`]: q, q', q'', then every point's position,
+    /// velocity and acceleration and every frame's 24 values), without
+    /// copying them into a [`Motion`]: the same numbers, for a loop that
+    /// reads a few of them or copies them into arrays of its own.
+    ///
+    /// # Errors
+    /// As [`Stepper::step`].
+    pub fn step_flat(
+        &mut self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Flat<'_>, Error> {
+        self.advance(start, rates, accelerations)?;
+        Ok(self.flat())
+    }
+
     /// [`Stepper::step`] without writing the fused step's results into
     /// the stepper's motion ([`Stepper::motion_now`] and
     /// [`Stepper::flat`] read them).
+    #[inline]
     pub(super) fn advance(
         &mut self,
         start: &[f64],
@@ -271,6 +290,7 @@ impl Stepper<'_> {
 
     /// The motion of the last step, written from the fused buffer if it
     /// is still there only.
+    #[inline]
     pub(super) fn motion_now(&mut self) -> &Motion {
         if self.pending {
             self.pending = false;
@@ -292,6 +312,7 @@ impl Stepper<'_> {
 
     /// The motion of the last step as flat arrays, from the fused buffer
     /// or from the general path's arrays.
+    #[inline]
     pub(super) fn flat(&self) -> Flat<'_> {
         if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
             let (io, f) = (run.io, &run.f);
@@ -366,33 +387,30 @@ impl Stepper<'_> {
     /// none, an input has the wrong length or a value not finite (which
     /// the general path reports), or the step left its common path, the
     /// stepper's state (its modes) then as before.
+    #[inline]
     fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
-        let Some(plan) = self.m.fused.as_deref() else {
-            return false;
-        };
-        if !self.fused_inputs(start, Some((rates, accelerations))) {
-            return false;
-        }
-        self.fused_run(plan, false)
+        self.fused_go(start, Some((rates, accelerations)))
     }
 
     /// The assembly through the model's fused code, with the points'
     /// positions (as [`Stepper::fused_step`]; `start` already checked).
+    #[inline]
     fn fused_pose(&mut self, start: &[f64]) -> bool {
-        let Some(plan) = self.m.fused.as_deref() else {
-            return false;
-        };
-        self.fused_inputs(start, None) && self.fused_run(plan, true)
+        self.fused_go(start, None)
     }
 
-    /// Writes `start` (and for a step the drivers' rates and
-    /// accelerations), the stepper's modes and the scaling into the fused
-    /// buffer, and refreshes the carried values when due: `false` without
-    /// fused code, or for an input of the wrong length or a value not
-    /// finite.
-    fn fused_inputs(&mut self, start: &[f64], motion: Option<(&[f64], &[f64])>) -> bool {
-        let m = self.m;
-        let (Some(plan), Some(run)) = (m.fused.as_deref(), self.fused.as_mut()) else {
+    /// Runs the fused step on `start` (and for a step the drivers' rates
+    /// and accelerations) in the stepper's modes, refreshing the carried
+    /// values when due; without rates, the pose, which also writes the
+    /// points' positions. The machine code copies the inputs into its
+    /// buffer and checks them, and writes the pose and the modes into the
+    /// stepper's once it has succeeded. `true` when it succeeded; `false`
+    /// without fused code, for an input of the wrong length or a value
+    /// not finite, or when the step left its common path (the pose and
+    /// modes then as before).
+    #[inline]
+    fn fused_go(&mut self, start: &[f64], motion: Option<(&[f64], &[f64])>) -> bool {
+        let (Some(plan), Some(run)) = (self.m.fused.as_deref(), self.fused.as_mut()) else {
             return false;
         };
         let io = run.io;
@@ -400,52 +418,30 @@ impl Stepper<'_> {
             return false;
         }
         if !run.scaled {
-            let length = m.scaling(start, &mut self.work, &self.options);
-            plan.set_scaling(&mut run.f, length, &self.work.rows, &self.work.weights);
-            run.scaled = m.fixed_scaling;
+            rescale(self.m, plan, run, start, &mut self.work, &self.options);
         }
-        let f = &mut run.f[..];
-        let mut zero = finite_zero(start);
-        copy_small(&mut f[io.q..io.q + io.n], start);
-        if let Some((rates, accelerations)) = motion {
-            if rates.len() != io.nd || accelerations.len() != io.nd {
-                return false;
-            }
-            zero += finite_zero(rates) + finite_zero(accelerations);
-            copy_small(&mut f[io.qd..io.qd + io.nd], rates);
-            copy_small(&mut f[io.qdd..io.qdd + io.nd], accelerations);
-        }
-        if zero != 0.0 {
-            return false;
-        }
-        copy_small(&mut f[io.modes..io.modes + io.k], &self.modes);
         run.steps = run.steps.wrapping_add(1);
         if run.steps % 16 == 0 {
-            plan.refresh(f, run.steps % 64 == 0);
+            plan.refresh(&mut run.f, run.steps % 64 == 0);
         }
-        true
-    }
-
-    /// Runs the fused step (or with `positions` the pose) on the buffer
-    /// as [`Stepper::fused_inputs`] left it; when it succeeds, the
-    /// stepper's pose and modes from the buffer (which then holds the
-    /// points' positions if `positions`).
-    fn fused_run(&mut self, plan: &super::fused::Plan, positions: bool) -> bool {
-        let Some(run) = self.fused.as_mut() else {
-            return false;
-        };
-        let status = if positions {
-            plan.pose(&mut run.f)
-        } else {
-            plan.step(&mut run.f)
+        let status = match motion {
+            Some((rates, accelerations)) => {
+                if rates.len() != io.nd || accelerations.len() != io.nd {
+                    return false;
+                }
+                plan.step(
+                    &mut run.f,
+                    [start, rates, accelerations],
+                    &mut self.modes,
+                    &mut self.q,
+                )
+            }
+            None => plan.pose(&mut run.f, start, &mut self.modes, &mut self.q),
         };
         if status != 0 {
             return false;
         }
-        let (io, f) = (run.io, &run.f[..]);
-        copy_small(&mut self.modes, &f[io.modes..io.modes + io.k]);
-        copy_small(&mut self.q, &f[io.q..io.q + io.n]);
-        run.positions = positions;
+        run.positions = motion.is_none();
         // The cosines and sines are in the buffer, not in the work: the
         // positions of a step are evaluated afresh when asked for.
         self.assembled = false;
@@ -477,13 +473,18 @@ impl Stepper<'_> {
     }
 }
 
-/// 0 when every value of `v` is finite, NaN otherwise (x·0 is 0 for a
-/// finite x and NaN otherwise).
-fn finite_zero(v: &[f64]) -> f64 {
-    match v {
-        [a] => a * 0.0,
-        [a, b] => a * 0.0 + b * 0.0,
-        [a, b, c] => a * 0.0 + b * 0.0 + c * 0.0,
-        _ => v.iter().map(|x| x * 0.0).sum(),
-    }
+/// Writes the scaling of `start` into the fused buffer (once for a
+/// model whose scaling every pose shares; at every step otherwise).
+#[cold]
+fn rescale(
+    m: &Model,
+    plan: &super::fused::Plan,
+    run: &mut FusedRun,
+    start: &[f64],
+    work: &mut Work,
+    options: &Options,
+) {
+    let length = m.scaling(start, work, options);
+    plan.set_scaling(&mut run.f, length, &work.rows, &work.weights);
+    run.scaled = m.fixed_scaling;
 }

@@ -33,7 +33,9 @@ use std::sync::OnceLock;
 
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
-use kinematics_jit::{AngleAt, Function, Fused, Layout, Op, SmallBlock, SolveBlock, SolveRow};
+use kinematics_jit::{
+    AngleAt, Function, Fused, Layout, Op, Port, Ports, SmallBlock, SolveBlock, SolveRow,
+};
 
 mod helper;
 
@@ -346,15 +348,59 @@ impl Plan {
             at: closing,
         });
 
-        let mut pose = assembly.clone();
+        // The inputs copied into the buffer (and checked: a value not
+        // finite takes the general path, which reports it), the modes
+        // followed read from the stepper; the pose and the modes written
+        // back once the function has succeeded.
+        let import = |rates: bool| {
+            let mut ops = vec![Op::Import {
+                from: Port::Input(0),
+                to: q,
+                len: n,
+                finite: Some(NOT_FINITE),
+            }];
+            if rates {
+                for (i, to) in [(1, qd), (2, qdd)] {
+                    ops.push(Op::Import {
+                        from: Port::Input(i),
+                        to,
+                        len: nd,
+                        finite: Some(NOT_FINITE),
+                    });
+                }
+            }
+            ops.push(Op::Import {
+                from: Port::Output(0),
+                to: modes,
+                len: mode_count,
+                finite: None,
+            });
+            ops
+        };
+        let export = [
+            Op::Export {
+                to: 0,
+                from: modes,
+                len: mode_count,
+            },
+            Op::Export {
+                to: 1,
+                from: q,
+                len: n,
+            },
+        ];
+        let mut pose = import(false);
+        pose.extend(assembly.iter().cloned());
         pose.push(Op::Call(CLOSING));
         pose.push(Op::Store {
             roots: h.map_all(&position_roots),
             at: (positions..positions + position_roots.len()).collect(),
             finite: Some(NOT_FINITE),
         });
+        pose.extend(export.iter().cloned());
 
-        let mut step = assembly;
+        let mut step = import(true);
+        step.extend(assembly);
         step.push(Op::MaxScaled {
             roots: phi,
             scales: rows,
@@ -460,6 +506,7 @@ impl Plan {
             len: nu,
             status: NOT_FINITE,
         });
+        step.extend(export.iter().cloned());
         // The invariants and offsets, computed once per stepper; the two
         // functions read them.
         let prelude = [
@@ -652,20 +699,54 @@ impl Plan {
         [self.conditioning, self.sign, self.residual]
     }
 
-    /// One step in the buffer `f` (set up by the caller: parameters,
-    /// scaling, options, q with the guess, the drivers' rates and
-    /// accelerations, the modes): 0 when the step is done, else the
-    /// status that sent it off the common path.
-    pub(super) fn step(&self, f: &mut [f64]) -> i64 {
-        self.code()
-            .map_or(-1, |c| c.call(STEP, f, &mut Context { plan: self }))
+    /// One step in the buffer, its inputs read from `start`, `rates` and
+    /// `accelerations` and the modes from `modes`: 0 when it is done
+    /// (`modes` and `q` then hold the modes followed and the pose, the
+    /// buffer the motion); otherwise the status that sends it to the
+    /// general path, `modes` and `q` as they were. A length that does not
+    /// match the model's is a status too (−1).
+    #[inline]
+    pub(super) fn step(
+        &self,
+        f: &mut [f64],
+        [start, rates, accelerations]: [&[f64]; 3],
+        modes: &mut [f64],
+        q: &mut [f64],
+    ) -> i64 {
+        self.code().map_or(-1, |c| {
+            c.call_ports(
+                STEP,
+                f,
+                &mut Context { plan: self },
+                Ports {
+                    inputs: &[start, rates, accelerations],
+                    outputs: &mut [modes, q],
+                },
+            )
+        })
     }
 
     /// One assembly in the buffer (as [`Plan::step`], without the rates),
     /// with the points' positions: 0 when it is done.
-    pub(super) fn pose(&self, f: &mut [f64]) -> i64 {
-        self.code()
-            .map_or(-1, |c| c.call(POSE, f, &mut Context { plan: self }))
+    #[inline]
+    pub(super) fn pose(
+        &self,
+        f: &mut [f64],
+        start: &[f64],
+        modes: &mut [f64],
+        q: &mut [f64],
+    ) -> i64 {
+        self.code().map_or(-1, |c| {
+            c.call_ports(
+                POSE,
+                f,
+                &mut Context { plan: self },
+                Ports {
+                    inputs: &[start],
+                    outputs: &mut [modes, q],
+                },
+            )
+        })
     }
 }
 
