@@ -55,8 +55,8 @@ pub enum Op {
         roots: Vec<Id>,
         /// Where each is written.
         at: Vec<usize>,
-        /// The status returned when a root is not finite (`None`: not
-        /// checked).
+        /// The status returned when a root is not finite, or (for roots
+        /// near 1.8e308) when their sum overflows (`None`: not checked).
         finite: Option<i64>,
     },
     /// status = helper(f, context, argument); unless 0, the function
@@ -179,7 +179,7 @@ pub enum Op {
         status: i64,
     },
     /// `f[to..to + len]` = the first `len` values of the array at
-    /// `from` (of the [`Ports`] given to [`Fused::call_ports`]); with
+    /// `from` (of the ports given to [`Fused::call_ports`]); with
     /// `finite`, unless every one is finite the function then returns
     /// that status.
     Import {
@@ -189,12 +189,12 @@ pub enum Op {
         to: usize,
         /// How many values.
         len: usize,
-        /// The status returned when a value is not finite (`None`: not
-        /// checked).
+        /// The status returned when a value is not finite, or (for values
+        /// near 1.8e308) when their sum overflows (`None`: not checked).
         finite: Option<i64>,
     },
-    /// The first `len` values of output array `to` (of the [`Ports`])
-    /// = `f[from..from + len]`.
+    /// The first `len` values of output array `to` (of the ports given
+    /// to [`Fused::call_ports`]) = `f[from..from + len]`.
     Export {
         /// The index of the output array written.
         to: usize,
@@ -203,8 +203,8 @@ pub enum Op {
         /// How many values.
         len: usize,
     },
-    /// Unless `f[from..from + len]` are all finite, the function returns
-    /// `status`.
+    /// Unless `f[from..from + len]` are all finite (and their sum is), the
+    /// function returns `status`.
     Finite {
         /// The first value checked.
         from: usize,
@@ -216,7 +216,8 @@ pub enum Op {
 }
 
 /// An array a fused function reads or writes besides its buffer: one of
-/// the [`Ports`]' inputs or outputs, by index (below [`PORTS`]).
+/// the inputs or outputs given to [`Fused::call_ports`], by index (below
+/// [`PORTS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Port {
     /// `ports.inputs[i]`.
@@ -237,16 +238,6 @@ impl Port {
             _ => None,
         }
     }
-}
-
-/// The arrays a fused function reads and writes besides its buffer
-/// ([`Op::Import`], [`Op::Export`]): each must hold at least as many
-/// values as the function's ops use ([`Fused::call_ports`] checks).
-pub struct Ports<'a, 'b> {
-    /// The arrays read.
-    pub inputs: &'b [&'a [f64]],
-    /// The arrays written (and read).
-    pub outputs: &'b mut [&'a mut [f64]],
 }
 
 /// One row of a block of an [`Op::Solve`].
@@ -964,52 +955,92 @@ impl Fused {
     /// (0 when every op ran, else the first nonzero status of a call or
     /// check; [`HELPER_PANICKED`] when the helper panicked), or −1,
     /// running nothing, when `f` is not of the layout's length, there is
-    /// no such function, or it reads or writes [`Ports`] (then
+    /// no such function, or it reads or writes ports (then
     /// [`Fused::call_ports`] runs it).
     pub fn call(&self, which: usize, f: &mut [f64], helper: &mut dyn Helper) -> i64 {
-        self.call_ports(
-            which,
-            f,
-            helper,
-            Ports {
-                inputs: &[],
-                outputs: &mut [],
-            },
-        )
+        self.call_ports(which, f, helper, [], [])
     }
 
     /// [`Fused::call`] with the arrays its [`Op::Import`] and
-    /// [`Op::Export`] read and write: −1, running nothing, also when one
-    /// of them is missing or shorter than the ops use. The outputs are
-    /// written only by the function's [`Op::Export`]s (a function that
-    /// returns a nonzero status before them leaves them as they were).
-    #[allow(unsafe_code)]
+    /// [`Op::Export`] read and write (`inputs[i]` is [`Port::Input`]`(i)`,
+    /// `outputs[i]` is [`Port::Output`]`(i)`): −1, running nothing, also
+    /// when one of them is missing or shorter than the ops use. The
+    /// outputs are written only by the function's [`Op::Export`]s (a
+    /// function that returns a nonzero status before them leaves them as
+    /// they were).
     #[inline]
-    pub fn call_ports(
+    pub fn call_ports<const I: usize, const O: usize>(
         &self,
         which: usize,
         f: &mut [f64],
         helper: &mut dyn Helper,
-        ports: Ports<'_, '_>,
+        inputs: [&[f64]; I],
+        outputs: [&mut [f64]; O],
     ) -> i64 {
-        let (Some(&entry), Some(needs)) = (self.entries.get(which), self.needs.get(which)) else {
+        self.function(which)
+            .map_or(-1, |c| c.call(f, helper, inputs, outputs))
+    }
+
+    /// Function `which`, to be called many times without looking it up
+    /// again (`None`: no such function).
+    #[must_use]
+    pub fn function(&self, which: usize) -> Option<Callable<'_>> {
+        Some(Callable {
+            entry: *self.entries.get(which)?,
+            needs: self.needs.get(which)?,
+            len: self.len,
+        })
+    }
+}
+
+/// One function of a [`Fused`] set, looked up once ([`Fused::function`]).
+#[derive(Clone, Copy)]
+pub struct Callable<'a> {
+    entry: Entry,
+    needs: &'a [usize; 2 * PORTS],
+    len: usize,
+}
+
+impl fmt::Debug for Callable<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Callable")
+            .field("len", &self.len)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Callable<'_> {
+    /// As [`Fused::call_ports`].
+    #[allow(unsafe_code)]
+    #[inline]
+    pub fn call<const I: usize, const O: usize>(
+        self,
+        f: &mut [f64],
+        helper: &mut dyn Helper,
+        inputs: [&[f64]; I],
+        outputs: [&mut [f64]; O],
+    ) -> i64 {
+        if f.len() != self.len || I > PORTS || O > PORTS {
             return -1;
+        }
+        // Every port the ops use is given, and long enough.
+        let (need_in, need_out) = self.needs.split_at(PORTS);
+        let short = |need: &[usize], have: &[usize]| {
+            need.iter()
+                .enumerate()
+                .any(|(i, &n)| n > 0 && have.get(i).is_none_or(|&h| h < n))
         };
-        if f.len() != self.len {
+        if short(need_in, &inputs.map(<[f64]>::len))
+            || short(need_out, &outputs.each_ref().map(|p| p.len()))
+        {
             return -1;
         }
         let mut table = [core::ptr::null_mut::<f64>(); 2 * PORTS];
-        let mut have = [0; 2 * PORTS];
-        for (i, p) in ports.inputs.iter().take(PORTS).enumerate() {
-            table[i] = p.as_ptr().cast_mut();
-            have[i] = p.len();
+        for (slot, p) in table.iter_mut().zip(inputs) {
+            *slot = p.as_ptr().cast_mut();
         }
-        for (i, p) in ports.outputs.iter_mut().take(PORTS).enumerate() {
-            table[PORTS + i] = p.as_mut_ptr();
-            have[PORTS + i] = p.len();
-        }
-        if needs.iter().zip(&have).any(|(need, have)| need > have) {
-            return -1;
+        for (slot, p) in table[PORTS..].iter_mut().zip(outputs) {
+            *slot = p.as_mut_ptr();
         }
         let mut frame = Frame {
             helper,
@@ -1022,7 +1053,7 @@ impl Fused {
         // mutably for the call; the frame lives for the call, and the
         // trampoline reads it as a `Frame`.
         unsafe {
-            entry(
+            (self.entry)(
                 f.as_mut_ptr(),
                 (&mut frame as *mut Frame<'_>).cast::<c_void>(),
                 table.as_ptr(),
@@ -1294,9 +1325,11 @@ fn call_helper(
     b.switch_to_block(join);
 }
 
-/// A flag set when one of `values` is not finite (`None` for none): x·0
-/// is 0 for a finite x and NaN otherwise, and the products are summed
-/// pairwise, so that the sum's dependency chain is as short as it can be.
+/// A flag set when one of `values` is not finite (`None` for none): their
+/// sum, taken pairwise so that its dependency chain is as short as it can
+/// be, is NaN or infinite when one is, and its product with 0 is then NaN
+/// (0 for a finite sum). Finite values whose sum overflows (beyond
+/// 1.8e308) set the flag too: the caller's general path then decides.
 fn not_finite(
     b: &mut FunctionBuilder<'_>,
     values: &[cranelift_codegen::ir::Value],
@@ -1308,7 +1341,7 @@ fn not_finite(
         .copied()
         .filter(|&v| constant(b, v).is_none_or(f64::is_nan))
         .collect();
-    let mut level: Vec<_> = varying.iter().map(|&v| b.ins().fmul(v, zero)).collect();
+    let mut level = varying;
     while level.len() > 1 {
         level = level
             .chunks(2)
@@ -1320,7 +1353,8 @@ fn not_finite(
             .collect();
     }
     let sum = level.pop()?;
-    Some(b.ins().fcmp(FloatCC::Unordered, sum, sum))
+    let test = b.ins().fmul(sum, zero);
+    Some(b.ins().fcmp(FloatCC::Unordered, test, test))
 }
 
 /// The value of `v` when it is a constant.

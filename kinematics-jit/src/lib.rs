@@ -65,7 +65,7 @@ mod fused;
 mod lower;
 
 pub use fused::{
-    AngleAt, Function, Fused, Helper, Layout, Op, Port, Ports, SmallBlock, SolveBlock, SolveRow,
+    AngleAt, Callable, Function, Fused, Helper, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
     HELPER_PANICKED, PORTS,
 };
 use lower::{Imports, Lower, Sources};

@@ -250,7 +250,7 @@ fn carried_cosines_and_sines() {
 
 #[test]
 fn ports_are_read_and_written() {
-    use kinematics_jit::{Port, Ports};
+    use kinematics_jit::Port;
     // q₀, q₁ from input 0, q'₀ from input 1, a mode through output 0 (read
     // into 12, written back from 12), and p₀ q₀ + q'₀ written to output 1.
     let mut g = Graph::new();
@@ -308,17 +308,7 @@ fn ports_are_read_and_written() {
                qd: &[f64],
                mode: &mut [f64],
                out: &mut [f64],
-               h: &mut Recorder| {
-        code.call_ports(
-            0,
-            f,
-            h,
-            Ports {
-                inputs: &[q, qd],
-                outputs: &mut [mode, out],
-            },
-        )
-    };
+               h: &mut Recorder| { code.call_ports(0, f, h, [q, qd], [mode, out]) };
     assert_eq!(
         run(&mut f, &[2.0, 5.0], &[0.5], &mut mode, &mut out, &mut h),
         0

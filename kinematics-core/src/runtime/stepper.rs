@@ -11,6 +11,7 @@ use crate::closed::Mode;
 use crate::error::Error;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
+use kinematics_jit::Callable;
 
 /// Steps of one run-time model with its arrays kept: made by
 /// [`Model::stepper`], which checks the options and the parameters once
@@ -58,7 +59,7 @@ pub struct Stepper<'m> {
     /// cosines and sines of `q`, as the assembly left them.
     assembled: bool,
     /// The fused step's buffer and factors, where the model has one.
-    fused: Option<FusedRun>,
+    fused: Option<FusedRun<'m>>,
     /// Whether the last step was fused and its motion is still in the
     /// buffer only (written into `motion` when asked for).
     pending: bool,
@@ -70,12 +71,41 @@ pub struct Stepper<'m> {
 /// the unknowns, as a generated stepper does), whether the buffer holds a
 /// scaling that every pose shares, and whether it holds the points'
 /// positions at the stepper's pose.
-struct FusedRun {
+struct FusedRun<'m> {
+    plan: &'m super::fused::Plan,
+    /// The step and pose functions of the plan's code.
+    step: Callable<'m>,
+    pose: Callable<'m>,
     f: Vec<f64>,
     steps: u32,
     scaled: bool,
     positions: bool,
     io: Io,
+}
+
+impl FusedRun<'_> {
+    /// The motion of the last fused step, in the buffer.
+    #[inline(always)]
+    fn flat(&self) -> Flat<'_> {
+        let io = self.io;
+        let f = &self.f[..];
+        // q, q' and q'' lie one after another (checked when the stepper
+        // was made), as do the conditioning and the sign.
+        let (motion, rest) = f[io.q..].split_at(3 * io.n);
+        let (q, rates) = motion.split_at(io.n);
+        let (qd, qdd) = rates.split_at(io.n);
+        let [c, _, r] = io.results;
+        let &[conditioning, det_sign] = <&[f64; 2]>::try_from(&f[c..c + 2]).unwrap_or(&[0.0; 2]);
+        Flat {
+            q,
+            qd,
+            qdd,
+            outputs: &rest[io.out - io.q - 3 * io.n..][..io.outputs],
+            conditioning,
+            det_sign,
+            residual: f[r],
+        }
+    }
 }
 
 /// Where a step's inputs and results lie in the fused buffer (from the
@@ -118,6 +148,7 @@ impl Model {
         self.validate()?;
         let work = self.work();
         let fused = self.fused.as_deref().and_then(|plan| {
+            let [step, pose] = plan.functions()?;
             let mut f = plan.buffer(&work.params);
             if !plan.prepare(&mut f) {
                 return None;
@@ -145,7 +176,17 @@ impl Model {
                 outputs,
                 results: plan.results_at(),
             };
-            // Every region lies in the buffer (the steps rely on it).
+            // q, q' and q'' lie one after another, as do the conditioning
+            // and the sign, and the outputs after them; every region lies
+            // in the buffer (the steps rely on it).
+            let [c, s, _] = io.results;
+            if io.qd != io.q + io.n
+                || io.qdd != io.qd + io.n
+                || s != c + 1
+                || io.out < io.q + 3 * io.n
+            {
+                return None;
+            }
             let ends = [
                 io.q + io.n,
                 io.qd + io.n,
@@ -157,6 +198,9 @@ impl Model {
                 return None;
             }
             Some(FusedRun {
+                plan,
+                step,
+                pose,
                 f,
                 steps: 0,
                 scaled: false,
@@ -252,8 +296,16 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<Flat<'_>, Error> {
-        self.advance(start, rates, accelerations)?;
-        Ok(self.flat())
+        self.forget();
+        if self.fused_step(start, rates, accelerations) {
+            self.pending = true;
+        } else {
+            self.general_step(start, rates, accelerations)?;
+        }
+        Ok(match (self.pending, self.fused.as_ref()) {
+            (true, Some(run)) => run.flat(),
+            _ => self.general_flat(),
+        })
     }
 
     /// [`Stepper::step`] without writing the fused step's results into
@@ -266,7 +318,6 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<(), Error> {
-        let m = self.m;
         self.forget();
         // The fused step checks the inputs as it copies them into its
         // buffer (lengths, every value finite) and leaves the errors to
@@ -275,6 +326,19 @@ impl Stepper<'_> {
             self.pending = true;
             return Ok(());
         }
+        self.general_step(start, rates, accelerations)
+    }
+
+    /// The step by the library's general code: the inputs checked, the
+    /// assembly block by block, the analysis into the stepper's motion.
+    #[inline(never)]
+    fn general_step(
+        &mut self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<(), Error> {
+        let m = self.m;
         m.check_inputs(start, rates, accelerations)?;
         self.assemble(start)?;
         m.analyze_into(
@@ -315,18 +379,13 @@ impl Stepper<'_> {
     #[inline]
     pub(super) fn flat(&self) -> Flat<'_> {
         if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
-            let (io, f) = (run.io, &run.f);
-            let [c, s, r] = io.results;
-            return Flat {
-                q: &f[io.q..io.q + io.n],
-                qd: &f[io.qd..io.qd + io.n],
-                qdd: &f[io.qdd..io.qdd + io.n],
-                outputs: &f[io.out..io.out + io.outputs],
-                conditioning: f[c],
-                det_sign: f[s],
-                residual: f[r],
-            };
+            return run.flat();
         }
+        self.general_flat()
+    }
+
+    /// The motion of the last step of the general path as flat arrays.
+    fn general_flat(&self) -> Flat<'_> {
         let m = &self.motion;
         Flat {
             q: &m.q,
@@ -387,7 +446,7 @@ impl Stepper<'_> {
     /// none, an input has the wrong length or a value not finite (which
     /// the general path reports), or the step left its common path, the
     /// stepper's state (its modes) then as before.
-    #[inline]
+    #[inline(always)]
     fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
         self.fused_go(start, Some((rates, accelerations)))
     }
@@ -408,9 +467,9 @@ impl Stepper<'_> {
     /// without fused code, for an input of the wrong length or a value
     /// not finite, or when the step left its common path (the pose and
     /// modes then as before).
-    #[inline]
+    #[inline(always)]
     fn fused_go(&mut self, start: &[f64], motion: Option<(&[f64], &[f64])>) -> bool {
-        let (Some(plan), Some(run)) = (self.m.fused.as_deref(), self.fused.as_mut()) else {
+        let Some(run) = self.fused.as_mut() else {
             return false;
         };
         let io = run.io;
@@ -418,25 +477,28 @@ impl Stepper<'_> {
             return false;
         }
         if !run.scaled {
-            rescale(self.m, plan, run, start, &mut self.work, &self.options);
+            rescale(self.m, run, start, &mut self.work, &self.options);
         }
         run.steps = run.steps.wrapping_add(1);
         if run.steps % 16 == 0 {
-            plan.refresh(&mut run.f, run.steps % 64 == 0);
+            run.plan.refresh(&mut run.f, run.steps % 64 == 0);
         }
         let status = match motion {
             Some((rates, accelerations)) => {
                 if rates.len() != io.nd || accelerations.len() != io.nd {
                     return false;
                 }
-                plan.step(
+                run.plan.step(
+                    run.step,
                     &mut run.f,
                     [start, rates, accelerations],
                     &mut self.modes,
                     &mut self.q,
                 )
             }
-            None => plan.pose(&mut run.f, start, &mut self.modes, &mut self.q),
+            None => run
+                .plan
+                .pose(run.pose, &mut run.f, start, &mut self.modes, &mut self.q),
         };
         if status != 0 {
             return false;
@@ -476,15 +538,9 @@ impl Stepper<'_> {
 /// Writes the scaling of `start` into the fused buffer (once for a
 /// model whose scaling every pose shares; at every step otherwise).
 #[cold]
-fn rescale(
-    m: &Model,
-    plan: &super::fused::Plan,
-    run: &mut FusedRun,
-    start: &[f64],
-    work: &mut Work,
-    options: &Options,
-) {
+fn rescale(m: &Model, run: &mut FusedRun<'_>, start: &[f64], work: &mut Work, options: &Options) {
     let length = m.scaling(start, work, options);
-    plan.set_scaling(&mut run.f, length, &work.rows, &work.weights);
+    run.plan
+        .set_scaling(&mut run.f, length, &work.rows, &work.weights);
     run.scaled = m.fixed_scaling;
 }

@@ -34,7 +34,7 @@ use std::sync::OnceLock;
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
 use kinematics_jit::{
-    AngleAt, Function, Fused, Layout, Op, Port, Ports, SmallBlock, SolveBlock, SolveRow,
+    AngleAt, Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
 };
 
 mod helper;
@@ -699,54 +699,43 @@ impl Plan {
         [self.conditioning, self.sign, self.residual]
     }
 
-    /// One step in the buffer, its inputs read from `start`, `rates` and
-    /// `accelerations` and the modes from `modes`: 0 when it is done
-    /// (`modes` and `q` then hold the modes followed and the pose, the
-    /// buffer the motion); otherwise the status that sends it to the
-    /// general path, `modes` and `q` as they were. A length that does not
-    /// match the model's is a status too (−1).
+    /// The step and pose functions, looked up once for a stepper (`None`
+    /// where the code did not compile).
+    pub(super) fn functions(&self) -> Option<[Callable<'_>; 2]> {
+        let code = self.code()?;
+        Some([code.function(STEP)?, code.function(POSE)?])
+    }
+
+    /// One step in the buffer through `step` (of [`Plan::functions`]), its
+    /// inputs read from `start`, `rates` and `accelerations` and the modes
+    /// from `modes`: 0 when it is done (`modes` and `q` then hold the
+    /// modes followed and the pose, the buffer the motion); otherwise the
+    /// status that sends it to the general path, `modes` and `q` as they
+    /// were. A port shorter than the model's is a status too (−1).
     #[inline]
     pub(super) fn step(
         &self,
+        step: Callable<'_>,
         f: &mut [f64],
-        [start, rates, accelerations]: [&[f64]; 3],
+        inputs: [&[f64]; 3],
         modes: &mut [f64],
         q: &mut [f64],
     ) -> i64 {
-        self.code().map_or(-1, |c| {
-            c.call_ports(
-                STEP,
-                f,
-                &mut Context { plan: self },
-                Ports {
-                    inputs: &[start, rates, accelerations],
-                    outputs: &mut [modes, q],
-                },
-            )
-        })
+        step.call(f, &mut Context { plan: self }, inputs, [modes, q])
     }
 
-    /// One assembly in the buffer (as [`Plan::step`], without the rates),
-    /// with the points' positions: 0 when it is done.
+    /// One assembly in the buffer through `pose` (as [`Plan::step`],
+    /// without the rates), with the points' positions: 0 when it is done.
     #[inline]
     pub(super) fn pose(
         &self,
+        pose: Callable<'_>,
         f: &mut [f64],
         start: &[f64],
         modes: &mut [f64],
         q: &mut [f64],
     ) -> i64 {
-        self.code().map_or(-1, |c| {
-            c.call_ports(
-                POSE,
-                f,
-                &mut Context { plan: self },
-                Ports {
-                    inputs: &[start],
-                    outputs: &mut [modes, q],
-                },
-            )
-        })
+        pose.call(f, &mut Context { plan: self }, [start], [modes, q])
     }
 }
 
