@@ -505,6 +505,7 @@ impl Model {
 
     /// The points and frames of `motion` from the values of the
     /// [`Program::OUTPUTS`] stage, `values`.
+    #[inline]
     pub(super) fn write_outputs(&self, values: &[f64], motion: &mut Motion) {
         let d = self.point_dim;
         if d == 2 {

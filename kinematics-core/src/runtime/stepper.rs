@@ -84,6 +84,19 @@ struct FusedRun<'m> {
 }
 
 impl FusedRun<'_> {
+    /// Writes the motion of the last fused step into `out`.
+    #[inline(always)]
+    fn write_motion(&self, m: &Model, out: &mut Motion) {
+        let flat = self.flat();
+        copy_small(&mut out.q, flat.q);
+        copy_small(&mut out.qd, flat.qd);
+        copy_small(&mut out.qdd, flat.qdd);
+        m.write_outputs(flat.outputs, out);
+        out.conditioning = flat.conditioning;
+        out.det_sign = flat.det_sign;
+        out.residual = flat.residual;
+    }
+
     /// The motion of the last fused step, in the buffer.
     #[inline(always)]
     fn flat(&self) -> Flat<'_> {
@@ -278,8 +291,17 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<&Motion, Error> {
-        self.advance(start, rates, accelerations)?;
-        Ok(self.motion_now())
+        self.forget();
+        if self.fused_step(start, rates, accelerations) {
+            // The buffer keeps the motion too (for `flat`).
+            self.pending = true;
+            if let Some(run) = self.fused.as_ref() {
+                run.write_motion(self.m, &mut self.motion);
+            }
+        } else {
+            self.general_step(start, rates, accelerations)?;
+        }
+        Ok(&self.motion)
     }
 
     /// [`Stepper::step`] with the motion as flat arrays borrowed from the
@@ -359,16 +381,7 @@ impl Stepper<'_> {
         if self.pending {
             self.pending = false;
             if let Some(run) = self.fused.as_ref() {
-                let (io, f) = (run.io, &run.f[..]);
-                let out = &mut self.motion;
-                copy_small(&mut out.q, &f[io.q..io.q + io.n]);
-                copy_small(&mut out.qd, &f[io.qd..io.qd + io.n]);
-                copy_small(&mut out.qdd, &f[io.qdd..io.qdd + io.n]);
-                self.m.write_outputs(&f[io.out..io.out + io.outputs], out);
-                let [c, s, r] = io.results;
-                out.conditioning = f[c];
-                out.det_sign = f[s];
-                out.residual = f[r];
+                run.write_motion(self.m, &mut self.motion);
             }
         }
         &self.motion
