@@ -142,11 +142,13 @@ pub enum Op {
     /// the mode is not set, Δ < 0, R² or q² is not positive and finite,
     /// the normalisation is off by more than 1e-8, or an angle is not
     /// within 1/32 of its carried value and π of its guess, the helper is
-    /// called with `general` instead, which solves the block itself (the
-    /// coefficients must be in the buffer for it).
+    /// called with `general` instead, which solves the block itself from
+    /// the coefficients, written at `f[store..]` first (only then).
     CircleCircle {
         /// k₀, k₁, P row by row, Q row by row.
         coefficients: Vec<Id>,
+        /// Where the coefficients are written for the helper.
+        store: usize,
         /// Where the mode (±1, NaN: not set) lies.
         mode: usize,
         /// The two angles.
@@ -161,6 +163,8 @@ pub enum Op {
     ClosedAngle {
         /// a, b, c.
         coefficients: Vec<Id>,
+        /// Where the coefficients are written for the helper.
+        store: usize,
         /// Where the mode lies.
         mode: usize,
         /// The angle.
@@ -632,6 +636,7 @@ impl Fused {
                         }
                         Op::CircleCircle {
                             coefficients,
+                            store,
                             mode,
                             angles,
                             general,
@@ -698,13 +703,14 @@ impl Fused {
                             let c1 = mul(&mut b, ex, r);
                             let s1 = mul(&mut b, ey, r);
                             let solved = [(angles[0], c0, s0), (angles[1], c1, s1)];
+                            let given = [k0, k1, p00, p01, p10, p11, q00, q01, q10, q11];
                             let after = store_or_general(
                                 &mut b,
                                 (fp, cp, helper_ref, exit),
                                 &within,
                                 ok,
                                 &solved,
-                                *general,
+                                (*general, &given, *store),
                             )?;
                             for a in after {
                                 seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
@@ -712,6 +718,7 @@ impl Fused {
                         }
                         Op::ClosedAngle {
                             coefficients,
+                            store,
                             mode,
                             angle,
                             general,
@@ -730,7 +737,7 @@ impl Fused {
                                 &within,
                                 ok,
                                 &[(*angle, c0, s0)],
-                                *general,
+                                (*general, &[a, bb, c], *store),
                             )?;
                             for a in after {
                                 seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
@@ -1157,7 +1164,7 @@ fn store_or_general(
         cranelift_codegen::ir::Value,
         cranelift_codegen::ir::Value,
     )],
-    general: u64,
+    (general, coefficients, store): (u64, &[cranelift_codegen::ir::Value], usize),
 ) -> Result<Vec<Angle>, JitError> {
     let flags = MemFlags::trusted();
     let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
@@ -1229,6 +1236,9 @@ fn store_or_general(
     }
     b.ins().jump(join, &args);
     b.switch_to_block(slow);
+    for (i, &v) in coefficients.iter().enumerate() {
+        b.ins().store(flags, v, fp, within(store + i)?);
+    }
     let helped = b.create_block();
     call_helper(b, (fp, cp, helper, exit), general, helped);
     let mut args = Vec::with_capacity(3 * solved.len());

@@ -15,7 +15,7 @@ const LAYOUT: Layout = Layout {
     qd: 4,
     qdd: 6,
     trig: 8,
-    len: 40,
+    len: 48,
 };
 
 /// Records its calls; returns `status` for argument 7, writes f[12] = 99
@@ -75,7 +75,7 @@ fn stores_calls_and_statuses() {
         },
     ];
     let code = one(&g, &ops);
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     f[0] = 3.0;
     f[8] = 0.5; // cos q₀, read from the array, not computed
     let mut h = Recorder {
@@ -86,7 +86,7 @@ fn stores_calls_and_statuses() {
     assert_eq!(h.calls, [1, 7]);
     assert_eq!((f[12], f[13], f[14]), (99.0, 1.5, 3.0));
     // A nonzero status stops the function there.
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     f[0] = 3.0;
     f[8] = 0.5;
     let mut h = Recorder {
@@ -100,7 +100,7 @@ fn stores_calls_and_statuses() {
     h.status = 0;
     assert_eq!(code.call(0, &mut f, &mut h), 5);
     // A buffer of another length, or no such function: nothing runs.
-    assert_eq!(code.call(0, &mut [0.0; 39], &mut h), -1);
+    assert_eq!(code.call(0, &mut [0.0; 47], &mut h), -1);
     assert_eq!(code.call(1, &mut f, &mut h), -1);
 }
 
@@ -112,7 +112,7 @@ fn a_panicking_helper_is_a_status() {
         calls: Vec::new(),
         status: 0,
     };
-    assert_eq!(code.call(0, &mut [0.0; 40], &mut h), HELPER_PANICKED);
+    assert_eq!(code.call(0, &mut [0.0; 48], &mut h), HELPER_PANICKED);
 }
 
 #[test]
@@ -137,7 +137,7 @@ fn scaled_maximum_and_finiteness() {
         calls: Vec::new(),
         status: 0,
     };
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     (f[2], f[3], f[12], f[13]) = (-2.0, 1.0, 0.25, 4.0);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(f[14], 4.0); // max(|−2·0.25|, |1·4|)
@@ -183,7 +183,7 @@ fn block_solve_by_forward_substitution() {
         to: 30,
     }];
     let code = one(&g, &ops);
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     (f[0], f[1]) = (6.0, 11.0);
     (f[12], f[13], f[14], f[15], f[16], f[17]) = (0.5, 0.25, 1.0, 1.0, 1.0, 10.0);
     let mut h = Recorder {
@@ -224,7 +224,7 @@ fn carried_cosines_and_sines() {
         calls: Vec::new(),
         status: 0,
     };
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     f[0] = 2.0;
     (f[20], f[21], f[22]) = (f64::NAN, f64::NAN, f64::NAN);
     // Nothing carried: computed afresh by the helper.
@@ -300,7 +300,7 @@ fn ports_are_read_and_written() {
         calls: Vec::new(),
         status: 0,
     };
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     f[0] = 3.0;
     let (mut mode, mut out) = ([f64::NAN], [0.0]);
     let run = |f: &mut [f64],
@@ -418,7 +418,7 @@ fn preset_nodes_are_read_not_computed() {
         calls: Vec::new(),
         status: 0,
     };
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     (f[0], f[2]) = (0.5, 2.0);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(f[15], 0.5f64.sin());
@@ -434,7 +434,7 @@ fn offsets_past_the_buffer_are_refused() {
     let a = g.leaf(Leaf::Param(0));
     let ops = [Op::Store {
         roots: vec![a],
-        at: vec![40],
+        at: vec![48],
         finite: None,
     }];
     assert!(Fused::new(
@@ -500,7 +500,7 @@ fn small_blocks_factored_and_judged() {
         status: 0,
     };
     let setup = |a: f64, threshold: f64, branch: f64| {
-        let mut f = vec![0.0; 40];
+        let mut f = vec![0.0; 48];
         f[0] = a;
         (f[12], f[13], f[14], f[15], f[16], f[17], f[18]) =
             (0.5, 1.0, 0.5, 1.0, 1.0, threshold, branch);
@@ -561,6 +561,7 @@ fn rrr_dyad_in_machine_code() {
     let ops = [
         Op::CircleCircle {
             coefficients,
+            store: 34,
             mode: 12,
             angles,
             general: 99,
@@ -581,6 +582,11 @@ fn rrr_dyad_in_machine_code() {
     impl Helper for General {
         fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
             assert_eq!(argument, 99);
+            // The coefficients are in the buffer for it.
+            assert_eq!(
+                f[34..44],
+                [f[0], f[1], 2.0, 0.0, 0.0, 2.0, -2.5, 0.0, 0.0, -2.5]
+            );
             self.0 += 1;
             self.1
                 .push([f[2], f[3], f[20], f[21], f[22], f[23], f[24], f[25]]);
@@ -594,7 +600,7 @@ fn rrr_dyad_in_machine_code() {
         let k = [a * phi.cos() - d, a * phi.sin()];
         (k[0] + 2.0 * c3 - 2.5 * c4, k[1] + 2.0 * s3 - 2.5 * s4)
     };
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     for (at, v) in [
         (20, f64::NAN),
         (21, f64::NAN),
@@ -669,6 +675,7 @@ fn angle_equation_in_machine_code() {
     let c = g.constant(-2.0);
     let ops = [Op::ClosedAngle {
         coefficients: vec![a, b, c],
+        store: 34,
         mode: 12,
         angle: AngleAt {
             value: 2,
@@ -684,7 +691,7 @@ fn angle_equation_in_machine_code() {
     };
     // θ = t + acos(2/3) (mode +1 takes the root with the + sign).
     let exact = |t: f64| t + (2.0f64 / 3.0).acos();
-    let mut f = vec![0.0; 40];
+    let mut f = vec![0.0; 48];
     let t0 = 0.2f64;
     let th = exact(t0);
     (f[20], f[21], f[22], f[12]) = (th.cos(), th.sin(), th, 1.0);
@@ -697,9 +704,16 @@ fn angle_equation_in_machine_code() {
         assert!((f[2] - exact(t)).abs() < 1e-14, "{step}");
     }
     assert!(h.calls.is_empty());
-    // No real solution (|c| > R): the helper, with the guess untouched.
+    assert_eq!(
+        f[34..37],
+        [0.0; 3],
+        "the coefficients are written for the helper only"
+    );
+    // No real solution (|c| > R): the helper, with the guess untouched
+    // and the coefficients in the buffer.
     (f[0], f[1], f[2]) = (1.0, 0.0, 5.0);
     assert_eq!(code.call(0, &mut f, &mut h), 42);
     assert_eq!(h.calls, [7]);
     assert_eq!(f[2], 5.0);
+    assert_eq!(f[34..37], [1.0, 0.0, -2.0]);
 }

@@ -303,14 +303,10 @@ impl Plan {
         let inline = blocks.len() <= 16;
         for (i, (b, part)) in blocks.iter().zip(&parts).enumerate() {
             let roots = h.map_all(&b.coefficients);
-            assembly.push(Op::Store {
-                roots: roots.clone(),
-                at: (coef..coef + b.coefficients.len()).collect(),
-                finite: None,
-            });
             // The RRR dyad and the angle equation in the machine code (the
             // helper where the mode is not set yet or off the common
-            // path); the other forms through the helper.
+            // path, the coefficients written into the buffer for it then);
+            // the other forms through the helper.
             match (part.form, part.mode) {
                 (Form::Rrr, Some(slot)) if roots.len() == 10 && inline => {
                     let angle = |j: usize| AngleAt {
@@ -320,6 +316,7 @@ impl Plan {
                     };
                     assembly.push(Op::CircleCircle {
                         coefficients: roots,
+                        store: coef,
                         mode: modes + slot,
                         angles: [angle(part.coords[0]), angle(part.coords[1])],
                         general: BLOCK + i as u64,
@@ -329,6 +326,7 @@ impl Plan {
                     let j = part.coords[0];
                     assembly.push(Op::ClosedAngle {
                         coefficients: roots,
+                        store: coef,
                         mode: modes + slot,
                         angle: AngleAt {
                             value: q + j,
@@ -338,7 +336,14 @@ impl Plan {
                         general: BLOCK + i as u64,
                     });
                 }
-                _ => assembly.push(Op::Call(BLOCK + i as u64)),
+                _ => {
+                    assembly.push(Op::Store {
+                        at: (coef..coef + roots.len()).collect(),
+                        roots,
+                        finite: None,
+                    });
+                    assembly.push(Op::Call(BLOCK + i as u64));
+                }
             }
         }
         let phi = h.map_all(&phi);
