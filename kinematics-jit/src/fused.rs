@@ -82,6 +82,9 @@ pub enum Op {
         blocks: Vec<SolveBlock>,
         /// Where unknown 0 is written.
         to: usize,
+        /// The status returned when an unknown is not finite (or, near
+        /// 1.8e308, when their sum overflows); `None`: not checked.
+        finite: Option<i64>,
     },
     /// The cosine and sine of x = `f[value]` from those of the x₀ carried at
     /// `f[carried..carried + 3]` as (cos x₀, sin x₀, x₀): where
@@ -506,12 +509,18 @@ impl Fused {
                             }
                             b.ins().store(flags, m, fp, within(*at)?);
                         }
-                        Op::Solve { rhs, blocks, to } => {
+                        Op::Solve {
+                            rhs,
+                            blocks,
+                            to,
+                            finite,
+                        } => {
                             lower.emit(&mut b, &sources, &imports, rhs)?;
                             let mut x: std::collections::HashMap<
                                 usize,
                                 cranelift_codegen::ir::Value,
                             > = std::collections::HashMap::new();
+                            let mut solved = Vec::new();
                             for block in blocks {
                                 let mut ys = Vec::with_capacity(block.rows.len());
                                 for row in &block.rows {
@@ -560,6 +569,13 @@ impl Fused {
                                     }
                                     b.ins().store(flags, v, fp, within(to + c)?);
                                     x.insert(c, v);
+                                    solved.push(v);
+                                }
+                            }
+                            if let Some(status) = *finite {
+                                if let Some(failed) = not_finite(&mut b, &solved) {
+                                    let status = b.ins().iconst(types::I64, status);
+                                    bail(&mut b, failed, status);
                                 }
                             }
                         }
@@ -652,10 +668,12 @@ impl Fused {
                             let (q00, q01, q10, q11) = (v(q00)?, v(q01)?, v(q10)?, v(q11)?);
                             let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
                             let mul = |b: &mut FunctionBuilder<'_>, x, y| b.ins().fmul(x, y);
+                            // x₀y₀ + x₁y₁, without the terms whose factor is
+                            // the constant 0 (the dyad's P and Q are often
+                            // diagonal): as the generated code, simplified
+                            // by the compiler, computes it.
                             let dot = |b: &mut FunctionBuilder<'_>, x0, y0, x1, y1| {
-                                let p = mul(b, x0, y0);
-                                let q = mul(b, x1, y1);
-                                b.ins().fadd(p, q)
+                                sum_of_products(b, &[(x0, y0), (x1, y1)])
                             };
                             // a cos θ₀ + b sin θ₀ + c = 0, from |k + P e₀| = q.
                             let p2 = dot(&mut b, p00, p00, p10, p10);
@@ -674,14 +692,10 @@ impl Fused {
                             ok = b.ins().band(ok, ok_q2);
                             // e₁ = −Qᵀ(k + P e₀), normalised by one Newton
                             // step from 1/q².
-                            let x = mul(&mut b, p00, c0);
-                            let x = b.ins().fadd(k0, x);
-                            let y = mul(&mut b, p01, s0);
-                            let w0 = b.ins().fadd(x, y);
-                            let x = mul(&mut b, p10, c0);
-                            let x = b.ins().fadd(k1, x);
-                            let y = mul(&mut b, p11, s0);
-                            let w1 = b.ins().fadd(x, y);
+                            let x = dot(&mut b, p00, c0, p01, s0);
+                            let w0 = b.ins().fadd(k0, x);
+                            let x = dot(&mut b, p10, c0, p11, s0);
+                            let w1 = b.ins().fadd(k1, x);
                             let x = dot(&mut b, q00, w0, q10, w1);
                             let ex = b.neg(x);
                             let x = dot(&mut b, q01, w0, q11, w1);
@@ -1294,6 +1308,32 @@ fn seed(
             lower.seed(id, v);
         }
     }
+}
+
+/// Σ xᵢ yᵢ over the pairs, the terms with a factor that is the constant
+/// ±0 left out (0 when every term is), a factor that is the constant 1
+/// not multiplied by.
+fn sum_of_products(
+    b: &mut FunctionBuilder<'_>,
+    pairs: &[(cranelift_codegen::ir::Value, cranelift_codegen::ir::Value)],
+) -> cranelift_codegen::ir::Value {
+    let mut sum = None;
+    for &(x, y) in pairs {
+        let (cx, cy) = (constant(b, x), constant(b, y));
+        if cx == Some(0.0) || cy == Some(0.0) {
+            continue;
+        }
+        let term = match (cx, cy) {
+            (Some(1.0), _) => y,
+            (_, Some(1.0)) => x,
+            _ => b.ins().fmul(x, y),
+        };
+        sum = Some(match sum {
+            None => term,
+            Some(s) => b.ins().fadd(s, term),
+        });
+    }
+    sum.unwrap_or_else(|| b.ins().f64const(0.0))
 }
 
 /// c₀ − x·(c₁ − x·(c₂ − …)) for the constants `c`, innermost first

@@ -181,6 +181,7 @@ fn block_solve_by_forward_substitution() {
             },
         ],
         to: 30,
+        finite: Some(9),
     }];
     let code = one(&g, &ops);
     let mut f = vec![0.0; 48];
@@ -192,6 +193,9 @@ fn block_solve_by_forward_substitution() {
     };
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!((f[30], f[31]), (3.0, 20.0));
+    // An unknown that is not finite returns the op's status.
+    f[1] = f64::INFINITY;
+    assert_eq!(code.call(0, &mut f, &mut h), 9);
 }
 
 #[test]

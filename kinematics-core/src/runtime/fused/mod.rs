@@ -490,26 +490,18 @@ impl Plan {
             rhs: h.map_all(c.velocity_rhs()),
             blocks: solve_blocks.clone(),
             to: qd + nd,
+            finite: Some(NOT_FINITE),
         });
         step.push(Op::Solve {
             rhs: h.map_all(c.acceleration_rhs()),
             blocks: solve_blocks,
             to: qdd + nd,
+            finite: Some(NOT_FINITE),
         });
         step.push(Op::Store {
             roots: h.map_all(&outputs),
             at: (out..out + outputs.len()).collect(),
             finite: Some(NOT_FINITE),
-        });
-        step.push(Op::Finite {
-            from: qd + nd,
-            len: nu,
-            status: NOT_FINITE,
-        });
-        step.push(Op::Finite {
-            from: qdd + nd,
-            len: nu,
-            status: NOT_FINITE,
         });
         step.extend(export.iter().cloned());
         // The invariants and offsets, computed once per stepper; the two
