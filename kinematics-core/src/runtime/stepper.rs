@@ -206,8 +206,9 @@ impl Model {
                 io.qdd + io.n,
                 io.modes + io.k,
                 io.out + io.outputs,
+                c + 2,
             ];
-            if ends.iter().chain(&io.results).any(|&e| e > f.len()) {
+            if ends.iter().any(|&e| e > f.len()) || io.results.iter().any(|&i| i >= f.len()) {
                 return None;
             }
             Some(FusedRun {
