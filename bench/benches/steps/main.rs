@@ -762,7 +762,7 @@ fn main() {
         "ns per step (one step: assemble from the previous pose, velocities, accelerations, one point{}), \
          median of criterion's samples; in brackets, the ratio to the hand-written code. \
          Each variant is timed in a run of its own, one after another: as the load of the \
-         machine varies, their ratios move by up to a fifth; the interleaved table below \
+         machine varies, their ratios can be off by as much as a third; the interleaved table below \
          compares them in the same rounds. Measured on {}, {}.\n\n| mechanism | {} |\n|---|{}\n",
         " and for the arm its tool frame",
         machine(),
