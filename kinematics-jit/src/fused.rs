@@ -463,7 +463,24 @@ impl Fused {
                 let load = |b: &mut FunctionBuilder<'_>, at: usize| {
                     Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
                 };
+                // The inverses FactorSmall wrote, by offset, for the solves
+                // after it to use from registers (forgotten at any op that
+                // may call the helper, which could rewrite the buffer).
+                let mut inverses: std::collections::HashMap<usize, cranelift_codegen::ir::Value> =
+                    std::collections::HashMap::new();
                 for op in ops {
+                    if !matches!(
+                        op,
+                        Op::Store { .. }
+                            | Op::MaxScaled { .. }
+                            | Op::Solve { .. }
+                            | Op::FactorSmall { .. }
+                            | Op::AtMost { .. }
+                            | Op::Finite { .. }
+                            | Op::Export { .. }
+                    ) {
+                        inverses.clear();
+                    }
                     match op {
                         Op::Store { roots, at, finite } => {
                             if roots.len() != at.len() {
@@ -552,7 +569,11 @@ impl Fused {
                                 for (i, &(c, scale)) in block.cols.iter().enumerate() {
                                     let mut acc = None;
                                     for (j, &y) in ys.iter().enumerate() {
-                                        let m = load(&mut b, block.inverse + i * n + j)?;
+                                        let at = block.inverse + i * n + j;
+                                        let m = match inverses.get(&at) {
+                                            Some(&m) => m,
+                                            None => load(&mut b, at)?,
+                                        };
                                         let p = b.ins().fmul(m, y);
                                         acc = Some(match acc {
                                             None => p,
@@ -813,6 +834,7 @@ impl Fused {
                                         regular_all = b.ins().band(regular_all, regular);
                                         let inv = b.ins().fdiv(one, *a00);
                                         b.ins().store(flags, inv, fp, within(block.inverse)?);
+                                        inverses.insert(block.inverse, inv);
                                         (p0, signum(&mut b, *a00))
                                     }
                                     [a00, a01, a10, a11] => {
@@ -839,6 +861,7 @@ impl Fused {
                                         let i11 = b.ins().fmul(*a00, inv);
                                         for (k, v) in [i00, i01, i10, i11].into_iter().enumerate() {
                                             b.ins().store(flags, v, fp, within(block.inverse + k)?);
+                                            inverses.insert(block.inverse + k, v);
                                         }
                                         // 1/‖A⁻¹‖_∞: the larger row sum (the
                                         // first where they tie or one is NaN).
