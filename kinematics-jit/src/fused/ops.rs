@@ -1,0 +1,286 @@
+//! The ops of a fused function and the types they are built from: where
+//! the leaves lie in the buffer, the ports, the blocks of the solves and
+//! factorisations, the helper the code calls back.
+
+use kinematics_compiler::ir::Id;
+
+/// Where the leaves lie in the buffer: the index of the first parameter,
+/// coordinate, rate, acceleration, and of cos q₀ (then sin q₀, cos q₁, …),
+/// and the buffer's length.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Layout {
+    /// p₀.
+    pub params: usize,
+    /// q₀.
+    pub q: usize,
+    /// q'₀.
+    pub qd: usize,
+    /// q''₀.
+    pub qdd: usize,
+    /// cos q₀.
+    pub trig: usize,
+    /// The number of values in the buffer.
+    pub len: usize,
+}
+
+/// One operation of a fused function, in order.
+#[derive(Clone, Debug)]
+pub enum Op {
+    /// `f[at[i]]` = root i; with `finite`, unless every root is finite the
+    /// function then returns that status.
+    Store {
+        /// The roots, nodes of the graph.
+        roots: Vec<Id>,
+        /// Where each is written.
+        at: Vec<usize>,
+        /// The status returned when a root is not finite, or (for roots
+        /// near 1.8e308) when their sum overflows (`None`: not checked).
+        finite: Option<i64>,
+    },
+    /// status = helper(f, context, argument); unless 0, the function
+    /// returns that status at once.
+    Call(u64),
+    /// `f[at]` = max |root i · `f[scales + i]`|, NaN when any product is NaN.
+    MaxScaled {
+        /// The roots.
+        roots: Vec<Id>,
+        /// The first of their factors.
+        scales: usize,
+        /// Where the maximum is written.
+        at: usize,
+    },
+    /// A linear solve by forward substitution over blocks whose inverses
+    /// lie in the buffer: block after block, each row's y = (root − Σ
+    /// known entry · its unknown) · scale, then each unknown x = (Σ
+    /// inverse row · y) · its column scale, written at `f[to + index]`.
+    Solve {
+        /// The right-hand sides.
+        rhs: Vec<Id>,
+        /// The blocks, in the order they are solved.
+        blocks: Vec<SolveBlock>,
+        /// Where unknown 0 is written.
+        to: usize,
+        /// The status returned when an unknown is not finite (or, near
+        /// 1.8e308, when their sum overflows); `None`: not checked.
+        finite: Option<i64>,
+    },
+    /// The cosine and sine of x = `f[value]` from those of the x₀ carried at
+    /// `f[carried..carried + 3]` as (cos x₀, sin x₀, x₀): where
+    /// |x − x₀| ≤ 1/32, rotated by Δ = x − x₀ with sin Δ and 1 − cos Δ by
+    /// their series (sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7!, 1 − cos Δ =
+    /// Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8!, truncation below 1e-19), written at
+    /// `f[to]`, `f[to + 1]` and carried; otherwise (a NaN x₀ among them) by
+    /// calling the helper with `fresh`, which computes and writes them.
+    CarriedTrig {
+        /// Where x lies.
+        value: usize,
+        /// Where (cos x₀, sin x₀, x₀) lie.
+        carried: usize,
+        /// Where cos x and sin x are written.
+        to: usize,
+        /// The helper's argument for a fresh computation.
+        fresh: u64,
+    },
+    /// The scaled diagonal blocks (each entry the root times its row's
+    /// and column's scales), of one or two unknowns each, factored as
+    /// `kinematics_core::solve::Lu` factors them: a 1 × 1 block a is
+    /// regular when threshold < |a| < ∞, its conditioning |a|, its
+    /// inverse 1/a; a 2 × 2 block when its first pivot p₀ = max(|a₀₀|,
+    /// |a₁₀|) exceeds the threshold and threshold·p₀ < |det| < ∞, its
+    /// inverse [[a₁₁, −a₀₁], [−a₁₀, a₀₀]]/det and its conditioning
+    /// 1/‖A⁻¹‖_∞ (0 if not finite), which must exceed the threshold too.
+    /// The conditioning written is the least of the blocks' (1 without
+    /// blocks), the sign the product of the signs of their determinants
+    /// (negated when `odd`); the function returns `singular` for a block
+    /// not regular, and `wrong_branch` when `f[branch]` is ±1 and the
+    /// sign is not it.
+    FactorSmall {
+        /// The blocks.
+        blocks: Vec<SmallBlock>,
+        /// Where the singularity threshold lies.
+        threshold: usize,
+        /// Where the sign asked for lies (0: either).
+        branch: usize,
+        /// Whether the sign of the product is reversed.
+        odd: bool,
+        /// Where the conditioning is written.
+        conditioning: usize,
+        /// Where the sign is written.
+        sign: usize,
+        /// The status of a singular block.
+        singular: i64,
+        /// The status of the other branch than asked.
+        wrong_branch: i64,
+    },
+    /// The RRR dyad k + P e₀ + Q e₁ = 0 (coefficients k, P, Q as
+    /// `kinematics_core::closed::circle_circle` takes them) in the mode
+    /// `f[mode]`, as that form solves it: with R² = a² + b², a = 2 (Pᵀk)₀,
+    /// b = 2 (Pᵀk)₁, c = |k|² + p² − q², Δ = R² − c² (0 within 8 ε of
+    /// R² + c²), cos θ₀ = (−a c − σ b √Δ)/R², sin θ₀ = (−b c + σ a √Δ)/R²,
+    /// and e₁ = −Qᵀ(k + P e₀) normalised by one Newton step from 1/q²;
+    /// each angle is the carried one plus asin of the rotation from it (by
+    /// its series), written with its cosine and sine and carried. Where
+    /// the mode is not set, Δ < 0, R² or q² is not positive and finite,
+    /// the normalisation is off by more than 1e-8, or an angle is not
+    /// within 1/32 of its carried value and π of its guess, the helper is
+    /// called with `general` instead, which solves the block itself from
+    /// the coefficients, written at `f[store..]` first (only then).
+    CircleCircle {
+        /// k₀, k₁, P row by row, Q row by row.
+        coefficients: Vec<Id>,
+        /// Where the coefficients are written for the helper.
+        store: usize,
+        /// Where the mode (±1, NaN: not set) lies.
+        mode: usize,
+        /// The two angles.
+        angles: [AngleAt; 2],
+        /// The helper's argument for the general solution.
+        general: u64,
+    },
+    /// a cos θ + b sin θ + c = 0 in the mode `f[mode]`, as
+    /// `kinematics_core::closed::angle` solves it, the angle taken from
+    /// its carried value as in [`Op::CircleCircle`], with the same
+    /// fallback to the helper.
+    ClosedAngle {
+        /// a, b, c.
+        coefficients: Vec<Id>,
+        /// Where the coefficients are written for the helper.
+        store: usize,
+        /// Where the mode lies.
+        mode: usize,
+        /// The angle.
+        angle: AngleAt,
+        /// The helper's argument for the general solution.
+        general: u64,
+    },
+    /// Unless `f[at] <= f[bound]` (false for a NaN), the function returns
+    /// `status`.
+    AtMost {
+        /// The value.
+        at: usize,
+        /// Its bound.
+        bound: usize,
+        /// The status returned.
+        status: i64,
+    },
+    /// `f[to..to + len]` = the first `len` values of the array at
+    /// `from` (of the ports given to
+    /// [`Fused::call_ports`](super::Fused::call_ports)); with `finite`,
+    /// unless every one is finite the function then returns that status.
+    Import {
+        /// The array read.
+        from: Port,
+        /// Where its first value is written.
+        to: usize,
+        /// How many values.
+        len: usize,
+        /// The status returned when a value is not finite, or (for values
+        /// near 1.8e308) when their sum overflows (`None`: not checked).
+        finite: Option<i64>,
+    },
+    /// The first `len` values of output array `to` (of the ports given
+    /// to [`Fused::call_ports`](super::Fused::call_ports)) =
+    /// `f[from..from + len]`.
+    Export {
+        /// The index of the output array written.
+        to: usize,
+        /// Where its first value is read.
+        from: usize,
+        /// How many values.
+        len: usize,
+    },
+    /// Unless `f[from..from + len]` are all finite (and their sum is), the
+    /// function returns `status`.
+    Finite {
+        /// The first value checked.
+        from: usize,
+        /// How many.
+        len: usize,
+        /// The status returned when one is not finite.
+        status: i64,
+    },
+}
+
+/// An array a fused function reads or writes besides its buffer: one of
+/// the inputs or outputs given to
+/// [`Fused::call_ports`](super::Fused::call_ports), by index (below
+/// [`PORTS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Port {
+    /// `ports.inputs[i]`.
+    Input(usize),
+    /// `ports.outputs[i]`.
+    Output(usize),
+}
+
+/// The number of inputs, and of outputs, a fused function may use.
+pub const PORTS: usize = 4;
+
+impl Port {
+    /// Its slot in the table of pointers handed to the machine code.
+    pub(super) fn slot(self) -> Option<usize> {
+        match self {
+            Port::Input(i) if i < PORTS => Some(i),
+            Port::Output(i) if i < PORTS => Some(PORTS + i),
+            _ => None,
+        }
+    }
+}
+
+/// One row of a block of an [`Op::Solve`].
+#[derive(Clone, Debug)]
+pub struct SolveRow {
+    /// Its right-hand side: an index into the op's roots.
+    pub rhs: usize,
+    /// Where its scale lies (the right-hand side, less the known terms,
+    /// is multiplied by it).
+    pub scale: usize,
+    /// The known terms: where each entry lies, and the index of the
+    /// unknown (solved in a block before) it multiplies.
+    pub known: Vec<(usize, usize)>,
+}
+
+/// One diagonal block of an [`Op::Solve`].
+#[derive(Clone, Debug)]
+pub struct SolveBlock {
+    /// Its rows, in the order of the inverse's columns.
+    pub rows: Vec<SolveRow>,
+    /// Where the inverse of its scaled matrix lies, row by row.
+    pub inverse: usize,
+    /// Its unknowns, in the order of the inverse's rows: each one's
+    /// index, and where its column scale lies (`None`: 1).
+    pub cols: Vec<(usize, Option<usize>)>,
+}
+
+/// Where an angle of an [`Op::CircleCircle`] lies: its value (the guess
+/// on entry), its cosine and sine, and its carried (cos, sin, angle).
+#[derive(Clone, Copy, Debug)]
+pub struct AngleAt {
+    /// The angle.
+    pub value: usize,
+    /// Its cosine, then its sine.
+    pub trig: usize,
+    /// The carried cosine, sine and angle.
+    pub carried: usize,
+}
+
+/// One diagonal block of an [`Op::FactorSmall`], of one or two unknowns.
+#[derive(Clone, Debug)]
+pub struct SmallBlock {
+    /// Its entries row by row (1 or 4): the root, where its row's scale
+    /// lies, and where its column's scale lies (`None`: 1).
+    pub entries: Vec<(Id, usize, Option<usize>)>,
+    /// Where the inverse of the scaled block is written, row by row.
+    pub inverse: usize,
+}
+
+/// What a fused function calls for [`Op::Call`]: with the buffer and the
+/// op's argument, a status (0: go on).
+pub trait Helper {
+    /// The part of the step that `argument` names, in the buffer `f`.
+    fn call(&mut self, f: &mut [f64], argument: u64) -> i64;
+}
+
+/// The status a fused function returns when its helper panicked (the
+/// panic stops at the helper: machine code cannot unwind).
+pub const HELPER_PANICKED: i64 = i64::MIN;
