@@ -311,6 +311,39 @@ impl Stepper<'_> {
     /// copying them into a [`Motion`]: the same numbers, for a loop that
     /// reads a few of them or copies them into arrays of its own.
     ///
+    /// ```
+    /// use kinematics_core::runtime::Model;
+    /// use kinematics_core::Options;
+    /// let mut m = Model::compile(
+    ///     "struct SliderCrank {
+    ///          params   { a, b }
+    ///          drivers  { phi }
+    ///          unknowns { th, x }
+    ///          points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    ///          loops    { B + polar(b, th) == C; }
+    ///      }",
+    /// )?;
+    /// m.set_values(&[0.1, 0.3])?;
+    /// let mut stepper = m.stepper(&Options::DEFAULT)?;
+    /// let mut q = vec![0.0, 0.0, 0.4];
+    /// let omega = 10.0;
+    /// for k in 1..=360 {
+    ///     q[0] = f64::from(k).to_radians();
+    ///     let s = stepper.step_flat(&q, &[omega], &[0.0])?;
+    ///     // The slider C: the second point, after B's six values
+    ///     // (position, velocity, acceleration of a planar point).
+    ///     let c = &s.outputs[6..12];
+    ///     let (sin, cos) = q[0].sin_cos();
+    ///     let root = (0.09 - 0.01 * sin * sin).sqrt();
+    ///     // x = a cos φ + √(b² − a² sin² φ), ẋ = −a ω sin φ (1 + a cos φ / √…).
+    ///     assert!((c[0] - (0.1 * cos + root)).abs() < 1e-14);
+    ///     let xd = -0.1 * omega * sin * (1.0 + 0.1 * cos / root);
+    ///     assert!((c[2] - xd).abs() < 1e-12);
+    ///     q.copy_from_slice(s.q);
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
     /// # Errors
     /// As [`Stepper::step`].
     pub fn step_flat(
