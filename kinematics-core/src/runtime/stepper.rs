@@ -65,7 +65,8 @@ pub struct Stepper<'m> {
     pending: bool,
 }
 
-/// What a stepper keeps for the fused step: its buffer (with the values
+/// What a stepper keeps for the fused step: the model's plan and its step
+/// and pose functions, looked up once; its buffer (with the values
 /// carried from step to step), the steps taken (the carried cosines and
 /// sines are refreshed every 16 steps for the drivers and every 64 for
 /// the unknowns, as a generated stepper does), whether the buffer holds a

@@ -47,9 +47,10 @@ struct Frame<'a> {
 /// helper on the buffer, with any panic caught.
 #[allow(unsafe_code)]
 extern "C" fn trampoline(f: *mut f64, frame: *mut c_void, argument: u64) -> i64 {
-    // SAFETY: the machine code passes on the two pointers `Fused::call`
-    // gave it: a buffer of `len` values, which the code itself does not
-    // touch while the helper runs, and a `Frame` living for the call.
+    // SAFETY: the machine code passes on the buffer and frame pointers
+    // `Callable::call` gave it: a buffer of `len` values, which the code
+    // itself does not touch while the helper runs, and a `Frame` living
+    // for the call.
     let (frame, f) = unsafe {
         let frame = &mut *frame.cast::<Frame<'_>>();
         let f = std::slice::from_raw_parts_mut(f, frame.len);
