@@ -368,6 +368,12 @@ fn ports_are_read_and_written() {
     );
     assert_eq!(f[13], 0.0);
     assert_eq!(code.call(0, &mut f, &mut h), -1, "`call` has no ports");
+    // Looked up with fewer ports than it uses, the function is not given.
+    assert!(code.function::<1, 2>(0).is_none());
+    assert!(code.function::<2, 1>(0).is_none());
+    assert!(code.function::<2, 2>(0).is_some());
+    assert!(code.function::<5, 2>(0).is_none(), "more ports than PORTS");
+    assert!(code.function::<2, 2>(1).is_none(), "no second function");
     // Longer ports are read and written as far as the ops use them.
     let mut long = [0.0, 7.0];
     assert_eq!(

@@ -5,13 +5,13 @@
 use alloc::vec::Vec;
 
 use super::fused::copy_small;
+use super::fused::{PoseFn, StepFn};
 use super::solve::Work;
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;
 use crate::error::Error;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
-use kinematics_jit::Callable;
 
 /// Steps of one run-time model with its arrays kept: made by
 /// [`Model::stepper`], which checks the options and the parameters once
@@ -75,8 +75,8 @@ pub struct Stepper<'m> {
 struct FusedRun<'m> {
     plan: &'m super::fused::Plan,
     /// The step and pose functions of the plan's code.
-    step: Callable<'m>,
-    pose: Callable<'m>,
+    step: StepFn<'m>,
+    pose: PoseFn<'m>,
     f: Vec<f64>,
     steps: u32,
     scaled: bool,
@@ -101,25 +101,35 @@ impl FusedRun<'_> {
     /// The motion of the last fused step, in the buffer.
     #[inline(always)]
     fn flat(&self) -> Flat<'_> {
-        let io = self.io;
+        let at = &self.io.flat;
         let f = &self.f[..];
-        // q, q' and q'' lie one after another (checked when the stepper
-        // was made), as do the conditioning and the sign.
-        let (motion, rest) = f[io.q..].split_at(3 * io.n);
-        let (q, rates) = motion.split_at(io.n);
-        let (qd, qdd) = rates.split_at(io.n);
-        let [c, _, r] = io.results;
-        let &[conditioning, det_sign] = <&[f64; 2]>::try_from(&f[c..c + 2]).unwrap_or(&[0.0; 2]);
         Flat {
-            q,
-            qd,
-            qdd,
-            outputs: &rest[io.out - io.q - 3 * io.n..][..io.outputs],
-            conditioning,
-            det_sign,
-            residual: f[r],
+            q: &f[at.q..at.qd],
+            qd: &f[at.qd..at.qdd],
+            qdd: &f[at.qdd..at.end],
+            outputs: &f[at.out..at.out_end],
+            conditioning: f[at.conditioning],
+            det_sign: f[at.conditioning + 1],
+            residual: f[at.residual],
         }
     }
+}
+
+/// Where the arrays and values of a [`Flat`] lie in the fused buffer:
+/// q, q' and q'' one after another (`q..qd`, `qd..qdd`, `qdd..end`), the
+/// outputs (`out..out_end`), the conditioning followed by the sign, and
+/// the residual; every range within the buffer (checked when the stepper
+/// is made).
+#[derive(Clone, Copy)]
+struct FlatAt {
+    q: usize,
+    qd: usize,
+    qdd: usize,
+    end: usize,
+    out: usize,
+    out_end: usize,
+    conditioning: usize,
+    residual: usize,
 }
 
 /// Where a step's inputs and results lie in the fused buffer (from the
@@ -141,6 +151,8 @@ struct Io {
     outputs: usize,
     /// The conditioning, the sign and the residual.
     results: [usize; 3],
+    /// The same places as a [`Flat`] reads them.
+    flat: FlatAt,
 }
 
 impl core::fmt::Debug for Stepper<'_> {
@@ -162,7 +174,7 @@ impl Model {
         self.validate()?;
         let work = self.work();
         let fused = self.fused.as_deref().and_then(|plan| {
-            let [step, pose] = plan.functions()?;
+            let (step, pose) = plan.functions()?;
             let mut f = plan.buffer(&work.params);
             if !plan.prepare(&mut f) {
                 return None;
@@ -178,6 +190,18 @@ impl Model {
             let at = plan.layout();
             let (modes, k) = plan.modes_at();
             let (out, outputs) = plan.outputs_at();
+            let n = self.coordinates.len();
+            let [c, s, r] = plan.results_at();
+            let flat = FlatAt {
+                q: at.q,
+                qd: at.q + n,
+                qdd: at.q + 2 * n,
+                end: at.q + 3 * n,
+                out,
+                out_end: out + outputs,
+                conditioning: c,
+                residual: r,
+            };
             let io = Io {
                 q: at.q,
                 qd: at.qd,
@@ -188,12 +212,12 @@ impl Model {
                 k,
                 out,
                 outputs,
-                results: plan.results_at(),
+                results: [c, s, r],
+                flat,
             };
             // q, q' and q'' lie one after another, as do the conditioning
             // and the sign, and the outputs after them; every region lies
             // in the buffer (the steps rely on it).
-            let [c, s, _] = io.results;
             if io.qd != io.q + io.n
                 || io.qdd != io.qd + io.n
                 || s != c + 1
@@ -537,7 +561,7 @@ impl Stepper<'_> {
                     return false;
                 }
                 run.plan.step(
-                    run.step,
+                    &run.step,
                     &mut run.f,
                     [start, rates, accelerations],
                     &mut self.modes,
@@ -546,7 +570,7 @@ impl Stepper<'_> {
             }
             None => run
                 .plan
-                .pose(run.pose, &mut run.f, start, &mut self.modes, &mut self.q),
+                .pose(&run.pose, &mut run.f, start, &mut self.modes, &mut self.q),
         };
         if status != 0 {
             return false;

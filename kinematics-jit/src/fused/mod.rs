@@ -14,6 +14,7 @@
 
 use std::ffi::c_void;
 use std::fmt;
+use std::marker::PhantomData;
 use std::mem::ManuallyDrop;
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
@@ -754,61 +755,80 @@ impl Fused {
         inputs: [&[f64]; I],
         outputs: [&mut [f64]; O],
     ) -> i64 {
-        self.function(which)
+        self.function::<I, O>(which)
             .map_or(-1, |c| c.call(f, helper, inputs, outputs))
     }
 
     /// Function `which`, to be called many times without looking it up
-    /// again (`None`: no such function).
+    /// again, with `I` input ports and `O` output ports (`None`: no such
+    /// function, more ports than [`PORTS`], or a function that uses a
+    /// port beyond them). The ports it uses and how many values it reads
+    /// or writes in each are looked up here, once; a call checks only the
+    /// lengths of the arrays it is given.
     #[must_use]
-    pub fn function(&self, which: usize) -> Option<Callable<'_>> {
+    pub fn function<const I: usize, const O: usize>(
+        &self,
+        which: usize,
+    ) -> Option<Callable<'_, I, O>> {
+        let needs = self.needs.get(which)?;
+        let (need_in, need_out) = needs.split_at(PORTS);
+        if I > PORTS
+            || O > PORTS
+            || need_in[I..].iter().any(|&n| n > 0)
+            || need_out[O..].iter().any(|&n| n > 0)
+        {
+            return None;
+        }
         Some(Callable {
             entry: *self.entries.get(which)?,
-            needs: self.needs.get(which)?,
+            need_in: core::array::from_fn(|i| need_in[i]),
+            need_out: core::array::from_fn(|i| need_out[i]),
             len: self.len,
+            code: PhantomData,
         })
     }
 }
 
-/// One function of a [`Fused`] set, looked up once ([`Fused::function`]).
+/// One function of a [`Fused`] set with `I` input and `O` output ports,
+/// looked up once ([`Fused::function`]).
 #[derive(Clone, Copy)]
-pub struct Callable<'a> {
+pub struct Callable<'a, const I: usize, const O: usize> {
     entry: Entry,
-    needs: &'a [usize; 2 * PORTS],
+    /// How many values the code reads from each input port and writes
+    /// into each output port.
+    need_in: [usize; I],
+    need_out: [usize; O],
     len: usize,
+    code: PhantomData<&'a Fused>,
 }
 
-impl fmt::Debug for Callable<'_> {
+impl<const I: usize, const O: usize> fmt::Debug for Callable<'_, I, O> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Callable")
             .field("len", &self.len)
+            .field("inputs", &self.need_in)
+            .field("outputs", &self.need_out)
             .finish_non_exhaustive()
     }
 }
 
-impl Callable<'_> {
+impl<const I: usize, const O: usize> Callable<'_, I, O> {
     /// As [`Fused::call_ports`].
     #[allow(unsafe_code)]
     #[inline]
-    pub fn call<const I: usize, const O: usize>(
-        self,
+    pub fn call(
+        &self,
         f: &mut [f64],
         helper: &mut dyn Helper,
         inputs: [&[f64]; I],
         outputs: [&mut [f64]; O],
     ) -> i64 {
-        if f.len() != self.len || I > PORTS || O > PORTS {
-            return -1;
-        }
-        // Every port the ops use is given, and long enough.
-        let (need_in, need_out) = self.needs.split_at(PORTS);
-        let short = |need: &[usize], have: &[usize]| {
-            need.iter()
-                .enumerate()
-                .any(|(i, &n)| n > 0 && have.get(i).is_none_or(|&h| h < n))
-        };
-        if short(need_in, &inputs.map(<[f64]>::len))
-            || short(need_out, &outputs.each_ref().map(|p| p.len()))
+        if f.len() != self.len
+            || inputs.iter().zip(&self.need_in).any(|(p, &n)| p.len() < n)
+            || outputs
+                .iter()
+                .zip(&self.need_out)
+                .any(|(p, &n)| p.len() < n)
         {
             return -1;
         }
@@ -824,11 +844,13 @@ impl Callable<'_> {
             len: self.len,
         };
         // SAFETY: every offset the code reads or writes was checked
-        // against the layout's length, which is `f`'s; every port it reads
-        // or writes holds at least as many values as it uses (checked
-        // above), the inputs are only read, and the outputs are borrowed
-        // mutably for the call; the frame lives for the call, and the
-        // trampoline reads it as a `Frame`.
+        // against the layout's length, which is `f`'s; the code uses no
+        // port beyond the I inputs and O outputs (checked when the
+        // function was looked up), and each of those holds at least as
+        // many values as it uses (checked above); the inputs are only
+        // read, and the outputs are borrowed mutably for the call; the
+        // frame lives for the call, and the trampoline reads it as a
+        // `Frame`.
         unsafe {
             (self.entry)(
                 f.as_mut_ptr(),

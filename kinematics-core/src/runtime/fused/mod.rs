@@ -37,6 +37,15 @@ use kinematics_jit::{
     AngleAt, Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
 };
 
+/// The step function of a plan's code: its inputs read from the start,
+/// the drivers' rates and their accelerations; the modes and the pose
+/// written back.
+pub(super) type StepFn<'a> = Callable<'a, 3, 2>;
+
+/// The pose function of a plan's code: its input read from the start;
+/// the modes and the pose written back.
+pub(super) type PoseFn<'a> = Callable<'a, 1, 2>;
+
 mod helper;
 
 use super::closed::Form;
@@ -698,9 +707,9 @@ impl Plan {
 
     /// The step and pose functions, looked up once for a stepper (`None`
     /// where the code did not compile).
-    pub(super) fn functions(&self) -> Option<[Callable<'_>; 2]> {
+    pub(super) fn functions(&self) -> Option<(StepFn<'_>, PoseFn<'_>)> {
         let code = self.code()?;
-        Some([code.function(STEP)?, code.function(POSE)?])
+        Some((code.function(STEP)?, code.function(POSE)?))
     }
 
     /// One step in the buffer through `step` (of [`Plan::functions`]), its
@@ -712,7 +721,7 @@ impl Plan {
     #[inline]
     pub(super) fn step(
         &self,
-        step: Callable<'_>,
+        step: &StepFn<'_>,
         f: &mut [f64],
         inputs: [&[f64]; 3],
         modes: &mut [f64],
@@ -726,7 +735,7 @@ impl Plan {
     #[inline]
     pub(super) fn pose(
         &self,
-        pose: Callable<'_>,
+        pose: &PoseFn<'_>,
         f: &mut [f64],
         start: &[f64],
         modes: &mut [f64],
