@@ -11,6 +11,86 @@ use super::{AngleAt, Layout, Port, PORTS};
 use crate::lower::{Lower, SignBits};
 use crate::JitError;
 
+/// The buffer as the code reads and writes it, with the values it is
+/// known to hold at the point being emitted: a load of one of them is
+/// the value itself, from a register, not a reload (a value imported, a
+/// coefficient, a scale read twice, the inverse of a block). What the
+/// code stored or loaded in a block that dominates the rest is known;
+/// everything is forgotten where the helper may have run (a call, the
+/// join after a closed form's fall-back), since it can rewrite any value.
+pub(super) struct Memory<'w> {
+    fp: cranelift_codegen::ir::Value,
+    within: &'w dyn Fn(usize) -> Result<i32, JitError>,
+    known: std::collections::HashMap<usize, cranelift_codegen::ir::Value>,
+}
+
+impl<'w> Memory<'w> {
+    /// The buffer at `fp`, every offset checked by `within`.
+    pub(super) fn new(
+        fp: cranelift_codegen::ir::Value,
+        within: &'w dyn Fn(usize) -> Result<i32, JitError>,
+    ) -> Self {
+        Self {
+            fp,
+            within,
+            known: std::collections::HashMap::new(),
+        }
+    }
+
+    /// The value at `at`: known, or loaded (and then known).
+    pub(super) fn load(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        at: usize,
+    ) -> Result<cranelift_codegen::ir::Value, JitError> {
+        if let Some(&v) = self.known.get(&at) {
+            return Ok(v);
+        }
+        let v = b
+            .ins()
+            .load(types::F64, MemFlags::trusted(), self.fp, (self.within)(at)?);
+        self.known.insert(at, v);
+        Ok(v)
+    }
+
+    /// Writes `v` at `at`, where the code goes on (it is then known).
+    pub(super) fn store(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        at: usize,
+        v: cranelift_codegen::ir::Value,
+    ) -> Result<(), JitError> {
+        self.write(b, at, v)?;
+        self.known.insert(at, v);
+        Ok(())
+    }
+
+    /// Writes `v` at `at` on a path that does not dominate the rest (a
+    /// fast path before its join): what was known there is forgotten.
+    pub(super) fn write(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        at: usize,
+        v: cranelift_codegen::ir::Value,
+    ) -> Result<(), JitError> {
+        b.ins()
+            .store(MemFlags::trusted(), v, self.fp, (self.within)(at)?);
+        self.known.remove(&at);
+        Ok(())
+    }
+
+    /// Records that `at` holds `v` (a join's parameter, which is what the
+    /// buffer holds there on every path into it).
+    pub(super) fn holds(&mut self, at: usize, v: cranelift_codegen::ir::Value) {
+        self.known.insert(at, v);
+    }
+
+    /// Forgets every value (the helper may have run).
+    pub(super) fn forget(&mut self) {
+        self.known.clear();
+    }
+}
+
 /// The slot of `port` in the table of pointers (its byte offset), with
 /// `len` values of it recorded as used.
 pub(super) fn port_slot(
@@ -103,7 +183,7 @@ pub(super) type HelperCall = (
 pub(super) fn store_or_general(
     b: &mut FunctionBuilder<'_>,
     (fp, cp, helper, exit): HelperCall,
-    within: &dyn Fn(usize) -> Result<i32, JitError>,
+    memory: &mut Memory<'_>,
     mut ok: cranelift_codegen::ir::Value,
     solved: &[(
         AngleAt,
@@ -112,14 +192,13 @@ pub(super) fn store_or_general(
     )],
     (general, coefficients, store): (u64, &[cranelift_codegen::ir::Value], usize),
 ) -> Result<Vec<Angle>, JitError> {
-    let flags = MemFlags::trusted();
     let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
     let mut results = Vec::with_capacity(solved.len());
     for &(at, cv, sv) in solved {
-        let cpv = b.ins().load(types::F64, flags, fp, within(at.carried)?);
-        let spv = b.ins().load(types::F64, flags, fp, within(at.carried + 1)?);
-        let tp = b.ins().load(types::F64, flags, fp, within(at.carried + 2)?);
-        let guess = b.ins().load(types::F64, flags, fp, within(at.value)?);
+        let cpv = memory.load(b, at.carried)?;
+        let spv = memory.load(b, at.carried + 1)?;
+        let tp = memory.load(b, at.carried + 2)?;
+        let guess = memory.load(b, at.value)?;
         let x0 = b.ins().fmul(cpv, sv);
         let x1 = b.ins().fmul(spv, cv);
         let x = b.ins().fsub(x0, x1);
@@ -163,7 +242,7 @@ pub(super) fn store_or_general(
             (sv, at.carried + 1),
             (theta, at.carried + 2),
         ] {
-            b.ins().store(flags, value, fp, within(to)?);
+            memory.write(b, to, value)?;
         }
     }
     // The angles, their cosines and sines go on in registers: from the
@@ -183,19 +262,28 @@ pub(super) fn store_or_general(
     b.ins().jump(join, &args);
     b.switch_to_block(slow);
     for (i, &v) in coefficients.iter().enumerate() {
-        b.ins().store(flags, v, fp, within(store + i)?);
+        memory.write(b, store + i, v)?;
     }
     let helped = b.create_block();
     call_helper(b, (fp, cp, helper, exit), general, helped);
+    memory.forget();
     let mut args = Vec::with_capacity(3 * solved.len());
     for (at, _, _, _) in results {
         for from in [at.value, at.trig, at.trig + 1] {
-            let v = b.ins().load(types::F64, flags, fp, within(from)?);
-            args.push(BlockArg::Value(v));
+            args.push(BlockArg::Value(memory.load(b, from)?));
         }
     }
     b.ins().jump(join, &args);
     b.switch_to_block(join);
+    // Past the join, the buffer holds what either path left: the angles,
+    // their cosines and sines are the join's parameters; the rest, which
+    // the helper may have rewritten, is read afresh.
+    memory.forget();
+    for a in &after {
+        memory.holds(a.at.value, a.value);
+        memory.holds(a.at.trig, a.cos);
+        memory.holds(a.at.trig + 1, a.sin);
+    }
     Ok(after)
 }
 

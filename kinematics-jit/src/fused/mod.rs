@@ -31,7 +31,7 @@ mod emit;
 mod ops;
 
 use emit::{
-    alternating, angle_solution, call_helper, not_finite, offset, port_slot, seed,
+    alternating, angle_solution, call_helper, not_finite, offset, port_slot, seed, Memory,
     store_or_general, sum_of_products,
 };
 pub use ops::{
@@ -193,28 +193,9 @@ impl Fused {
                         .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
                     b.switch_to_block(next);
                 };
-                // A value of the buffer.
-                let load = |b: &mut FunctionBuilder<'_>, at: usize| {
-                    Ok::<_, JitError>(b.ins().load(types::F64, flags, fp, within(at)?))
-                };
-                // The inverses FactorSmall wrote, by offset, for the solves
-                // after it to use from registers (forgotten at any op that
-                // may call the helper, which could rewrite the buffer).
-                let mut inverses: std::collections::HashMap<usize, cranelift_codegen::ir::Value> =
-                    std::collections::HashMap::new();
+                // The buffer, with the values the code holds in registers.
+                let mut memory = Memory::new(fp, &within);
                 for op in ops {
-                    if !matches!(
-                        op,
-                        Op::Store { .. }
-                            | Op::MaxScaled { .. }
-                            | Op::Solve { .. }
-                            | Op::FactorSmall { .. }
-                            | Op::AtMost { .. }
-                            | Op::Finite { .. }
-                            | Op::Export { .. }
-                    ) {
-                        inverses.clear();
-                    }
                     match op {
                         Op::Store { roots, at, finite } => {
                             if roots.len() != at.len() {
@@ -226,7 +207,7 @@ impl Fused {
                             let mut values = Vec::with_capacity(roots.len());
                             for (&root, &at) in roots.iter().zip(at) {
                                 let v = lower.value(&mut b, &sources, &imports, root)?;
-                                b.ins().store(flags, v, fp, within(at)?);
+                                memory.store(&mut b, at, v)?;
                                 values.push(v);
                             }
                             if let Some(status) = *finite {
@@ -244,13 +225,14 @@ impl Fused {
                             let status = b.inst_results(inst)[0];
                             let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
                             bail(&mut b, failed, status);
+                            memory.forget();
                         }
                         Op::MaxScaled { roots, scales, at } => {
                             lower.emit(&mut b, &sources, &imports, roots)?;
                             let mut m = b.ins().f64const(0.0);
                             for (i, &root) in roots.iter().enumerate() {
                                 let v = lower.value(&mut b, &sources, &imports, root)?;
-                                let s = b.ins().load(types::F64, flags, fp, within(scales + i)?);
+                                let s = memory.load(&mut b, scales + i)?;
                                 let p = b.ins().fmul(v, s);
                                 let r = b.abs(p);
                                 let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
@@ -258,7 +240,7 @@ impl Fused {
                                 let take = b.ins().bor(above, nan);
                                 m = b.ins().select(take, r, m);
                             }
-                            b.ins().store(flags, m, fp, within(*at)?);
+                            memory.store(&mut b, *at, m)?;
                         }
                         Op::Solve {
                             rhs,
@@ -286,7 +268,7 @@ impl Fused {
                                                 "a solve reads an unknown not solved".into(),
                                             )
                                         })?;
-                                        let entry = load(&mut b, e)?;
+                                        let entry = memory.load(&mut b, e)?;
                                         let p = b.ins().fmul(entry, xc);
                                         sum = Some(match sum {
                                             None => p,
@@ -296,7 +278,7 @@ impl Fused {
                                     if let Some(sum) = sum {
                                         t = b.ins().fsub(t, sum);
                                     }
-                                    let scale = load(&mut b, row.scale)?;
+                                    let scale = memory.load(&mut b, row.scale)?;
                                     ys.push(b.ins().fmul(t, scale));
                                 }
                                 let n = ys.len();
@@ -304,10 +286,7 @@ impl Fused {
                                     let mut acc = None;
                                     for (j, &y) in ys.iter().enumerate() {
                                         let at = block.inverse + i * n + j;
-                                        let m = match inverses.get(&at) {
-                                            Some(&m) => m,
-                                            None => load(&mut b, at)?,
-                                        };
+                                        let m = memory.load(&mut b, at)?;
                                         let p = b.ins().fmul(m, y);
                                         acc = Some(match acc {
                                             None => p,
@@ -319,10 +298,10 @@ impl Fused {
                                         None => b.ins().f64const(0.0),
                                     };
                                     if let Some(scale) = scale {
-                                        let s = load(&mut b, scale)?;
+                                        let s = memory.load(&mut b, scale)?;
                                         v = b.ins().fmul(v, s);
                                     }
-                                    b.ins().store(flags, v, fp, within(to + c)?);
+                                    memory.store(&mut b, to + c, v)?;
                                     x.insert(c, v);
                                     solved.push(v);
                                 }
@@ -340,10 +319,10 @@ impl Fused {
                             to,
                             fresh,
                         } => {
-                            let x = load(&mut b, *value)?;
-                            let c0 = load(&mut b, *carried)?;
-                            let s0 = load(&mut b, carried + 1)?;
-                            let x0 = load(&mut b, carried + 2)?;
+                            let x = memory.load(&mut b, *value)?;
+                            let c0 = memory.load(&mut b, *carried)?;
+                            let s0 = memory.load(&mut b, carried + 1)?;
+                            let x0 = memory.load(&mut b, carried + 2)?;
                             let d = b.ins().fsub(x, x0);
                             let ad = b.abs(d);
                             let limit = b.ins().f64const(0.031_25);
@@ -382,7 +361,7 @@ impl Fused {
                                 (sn, carried + 1),
                                 (x, carried + 2),
                             ] {
-                                b.ins().store(flags, v, fp, within(at)?);
+                                memory.write(&mut b, at, v)?;
                             }
                             // The cosine and sine go on in registers (from
                             // the helper, as it wrote them).
@@ -393,11 +372,17 @@ impl Fused {
                             b.switch_to_block(computed);
                             let helped = b.create_block();
                             call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, helped);
-                            let c = load(&mut b, *to)?;
-                            let sn = load(&mut b, to + 1)?;
+                            memory.forget();
+                            let c = memory.load(&mut b, *to)?;
+                            let sn = memory.load(&mut b, to + 1)?;
                             b.ins()
                                 .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
                             b.switch_to_block(join);
+                            // Past the join: the cosine and sine as either
+                            // path left them, the rest read afresh.
+                            memory.forget();
+                            memory.holds(*to, cos);
+                            memory.holds(to + 1, sin);
                             let at = AngleAt {
                                 value: *value,
                                 trig: *to,
@@ -421,7 +406,7 @@ impl Fused {
                             let (k0, k1) = (v(k0)?, v(k1)?);
                             let (p00, p01, p10, p11) = (v(p00)?, v(p01)?, v(p10)?, v(p11)?);
                             let (q00, q01, q10, q11) = (v(q00)?, v(q01)?, v(q10)?, v(q11)?);
-                            let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
+                            let sigma = memory.load(&mut b, *mode)?;
                             let mul = |b: &mut FunctionBuilder<'_>, x, y| b.ins().fmul(x, y);
                             // x₀y₀ + x₁y₁, without the terms whose factor is
                             // the constant 0 (the dyad's P and Q are often
@@ -476,7 +461,7 @@ impl Fused {
                             let after = store_or_general(
                                 &mut b,
                                 (fp, cp, helper_ref, exit),
-                                &within,
+                                &mut memory,
                                 ok,
                                 &solved,
                                 (*general, &given, *store),
@@ -498,12 +483,12 @@ impl Fused {
                             lower.emit(&mut b, &sources, &imports, coefficients)?;
                             let mut v = |id| lower.value(&mut b, &sources, &imports, id);
                             let (a, bb, c) = (v(a)?, v(bb)?, v(c)?);
-                            let sigma = b.ins().load(types::F64, flags, fp, within(*mode)?);
+                            let sigma = memory.load(&mut b, *mode)?;
                             let (c0, s0, ok) = angle_solution(&mut b, a, bb, c, sigma);
                             let after = store_or_general(
                                 &mut b,
                                 (fp, cp, helper_ref, exit),
-                                &within,
+                                &mut memory,
                                 ok,
                                 &[(*angle, c0, s0)],
                                 (*general, &[a, bb, c], *store),
@@ -513,8 +498,8 @@ impl Fused {
                             }
                         }
                         Op::AtMost { at, bound, status } => {
-                            let x = b.ins().load(types::F64, flags, fp, within(*at)?);
-                            let y = b.ins().load(types::F64, flags, fp, within(*bound)?);
+                            let x = memory.load(&mut b, *at)?;
+                            let y = memory.load(&mut b, *bound)?;
                             let within_bound = b.ins().fcmp(FloatCC::LessThanOrEqual, x, y);
                             let failed = b.ins().icmp_imm(IntCC::Equal, within_bound, 0);
                             let status = b.ins().iconst(types::I64, *status);
@@ -530,7 +515,7 @@ impl Fused {
                             singular,
                             wrong_branch,
                         } => {
-                            let thr = load(&mut b, *threshold)?;
+                            let thr = memory.load(&mut b, *threshold)?;
                             let zero_i = b.ins().iconst(types::I8, 0);
                             let inf = b.ins().f64const(f64::INFINITY);
                             let one = b.ins().f64const(1.0);
@@ -544,10 +529,10 @@ impl Fused {
                                 let mut a = Vec::with_capacity(block.entries.len());
                                 for &(root, row, col) in &block.entries {
                                     let v = lower.value(&mut b, &sources, &imports, root)?;
-                                    let r = load(&mut b, row)?;
+                                    let r = memory.load(&mut b, row)?;
                                     let mut x = b.ins().fmul(v, r);
                                     if let Some(col) = col {
-                                        let c = load(&mut b, col)?;
+                                        let c = memory.load(&mut b, col)?;
                                         x = b.ins().fmul(x, c);
                                     }
                                     a.push(x);
@@ -567,8 +552,7 @@ impl Fused {
                                         let regular = b.ins().band(above, finite);
                                         regular_all = b.ins().band(regular_all, regular);
                                         let inv = b.ins().fdiv(one, *a00);
-                                        b.ins().store(flags, inv, fp, within(block.inverse)?);
-                                        inverses.insert(block.inverse, inv);
+                                        memory.store(&mut b, block.inverse, inv)?;
                                         (p0, signum(&mut b, *a00))
                                     }
                                     [a00, a01, a10, a11] => {
@@ -594,8 +578,7 @@ impl Fused {
                                         let i10 = b.ins().fmul(n10, inv);
                                         let i11 = b.ins().fmul(*a00, inv);
                                         for (k, v) in [i00, i01, i10, i11].into_iter().enumerate() {
-                                            b.ins().store(flags, v, fp, within(block.inverse + k)?);
-                                            inverses.insert(block.inverse + k, v);
+                                            memory.store(&mut b, block.inverse + k, v)?;
                                         }
                                         // 1/‖A⁻¹‖_∞: the larger row sum (the
                                         // first where they tie or one is NaN).
@@ -629,14 +612,14 @@ impl Fused {
                             let failed = b.ins().icmp_imm(IntCC::Equal, regular_all, 0);
                             let singular = b.ins().iconst(types::I64, *singular);
                             bail(&mut b, failed, singular);
-                            let wanted = load(&mut b, *branch)?;
+                            let wanted = memory.load(&mut b, *branch)?;
                             let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
                             let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
                             let failed = b.ins().band(asked, other);
                             let status = b.ins().iconst(types::I64, *wrong_branch);
                             bail(&mut b, failed, status);
-                            b.ins().store(flags, least, fp, within(*conditioning)?);
-                            b.ins().store(flags, product, fp, within(*sign)?);
+                            memory.store(&mut b, *conditioning, least)?;
+                            memory.store(&mut b, *sign, product)?;
                         }
                         Op::Import {
                             from,
@@ -652,7 +635,7 @@ impl Fused {
                             let mut values = Vec::with_capacity(*len);
                             for i in 0..*len {
                                 let v = b.ins().load(types::F64, flags, base, offset(i)?);
-                                b.ins().store(flags, v, fp, within(to + i)?);
+                                memory.store(&mut b, to + i, v)?;
                                 values.push(v);
                             }
                             if let Some(status) = *finite {
@@ -669,7 +652,7 @@ impl Fused {
                             let slot = port_slot(Port::Output(*to), &mut need, *len)?;
                             let base = b.ins().load(pointer, flags, pp, slot);
                             for i in 0..*len {
-                                let v = b.ins().load(types::F64, flags, fp, within(from + i)?);
+                                let v = memory.load(&mut b, from + i)?;
                                 b.ins().store(flags, v, base, offset(i)?);
                             }
                         }
@@ -679,7 +662,7 @@ impl Fused {
                             }
                             let mut values = Vec::with_capacity(*len);
                             for i in 0..*len {
-                                values.push(b.ins().load(types::F64, flags, fp, within(from + i)?));
+                                values.push(memory.load(&mut b, from + i)?);
                             }
                             if let Some(failed) = not_finite(&mut b, &values) {
                                 let status = b.ins().iconst(types::I64, *status);
