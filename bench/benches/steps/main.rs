@@ -337,7 +337,7 @@ fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str, flat: 
             sum += s.q[1..].iter().sum::<f64>()
                 + s.qd[1..].iter().sum::<f64>()
                 + s.qdd[1..].iter().sum::<f64>();
-            sum += s.outputs[3 * d * p..3 * d * (p + 1)].iter().sum::<f64>();
+            sum += grouped_sum(&s.outputs[3 * d * p..], &[d, d, d]);
         } else {
             let s = stepper.step(&pose, &[rates.0], &[rates.1]).expect("step");
             pose.copy_from_slice(&s.q);
@@ -349,6 +349,21 @@ fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str, flat: 
                 + pt.velocity.iter().sum::<f64>()
                 + pt.acceleration.iter().sum::<f64>();
         }
+    }
+    sum
+}
+
+/// The sum of the first groups of `values`, `widths` long each, as the
+/// generated turns sum a motion's vectors: each group summed on its own,
+/// then the sums added (`p.position.sum() + p.velocity.sum() + …`), so
+/// that both checksums are the same chain of additions.
+fn grouped_sum(values: &[f64], widths: &[usize]) -> f64 {
+    let mut rest = values;
+    let mut sum = 0.0;
+    for &w in widths {
+        let (group, tail) = rest.split_at(w);
+        sum += group.iter().sum::<f64>();
+        rest = tail;
     }
     sum
 }
@@ -366,7 +381,7 @@ fn runtime_m4(m: &Model, flat: bool) -> f64 {
         if flat {
             let s = stepper.step_flat(&q, &qd, &qdd).expect("step");
             // The point's 3d values, then the frame's rotation, ω and α.
-            sum += s.outputs[..3 * d + 15].iter().sum::<f64>();
+            sum += grouped_sum(s.outputs, &[d, d, d, 9, 3, 3]);
         } else {
             let s = stepper.step(&q, &qd, &qdd).expect("step");
             let (p, f) = (&s.points[0], &s.frames[0]);

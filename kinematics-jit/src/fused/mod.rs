@@ -31,8 +31,8 @@ mod emit;
 mod ops;
 
 use emit::{
-    alternating, angle_solution, call_helper, not_finite, offset, port_slot, seed, Memory,
-    store_or_general, sum_of_products,
+    alternating, angle_solution, call_helper, not_finite, offset, port_slot, seed,
+    store_or_general, sum_of_products, Memory,
 };
 pub use ops::{
     AngleAt, Helper, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED, PORTS,
@@ -229,17 +229,24 @@ impl Fused {
                         }
                         Op::MaxScaled { roots, scales, at } => {
                             lower.emit(&mut b, &sources, &imports, roots)?;
-                            let mut m = b.ins().f64const(0.0);
+                            // max |vᵢ sᵢ|, NaN when one is: the absolute
+                            // values compared as their bit patterns, which
+                            // order the non-negative numbers as their values
+                            // do and put a NaN (its sign bit cleared) above
+                            // them all. An integer maximum is a conditional
+                            // move, where a float comparison would be a
+                            // branch, mispredicted as often as a residual
+                            // at rounding level is 0 or not.
+                            let mut m = b.ins().iconst(types::I64, 0);
                             for (i, &root) in roots.iter().enumerate() {
                                 let v = lower.value(&mut b, &sources, &imports, root)?;
                                 let s = memory.load(&mut b, scales + i)?;
                                 let p = b.ins().fmul(v, s);
                                 let r = b.abs(p);
-                                let above = b.ins().fcmp(FloatCC::GreaterThan, r, m);
-                                let nan = b.ins().fcmp(FloatCC::Unordered, r, r);
-                                let take = b.ins().bor(above, nan);
-                                m = b.ins().select(take, r, m);
+                                let bits = b.ins().bitcast(types::I64, MemFlags::new(), r);
+                                m = b.ins().umax(m, bits);
                             }
+                            let m = b.ins().bitcast(types::F64, MemFlags::new(), m);
                             memory.store(&mut b, *at, m)?;
                         }
                         Op::Solve {
@@ -557,7 +564,8 @@ impl Fused {
                                     }
                                     [a00, a01, a10, a11] => {
                                         let (x00, x10) = (b.abs(*a00), b.abs(*a10));
-                                        let greater = b.ins().fcmp(FloatCC::GreaterThan, x10, x00);
+                                        // The larger (a `maxsd`, no branch).
+                                        let greater = b.ins().fcmp(FloatCC::LessThan, x00, x10);
                                         let p0 = b.ins().select(greater, x10, x00);
                                         let m0 = b.ins().fmul(*a00, *a11);
                                         let m1 = b.ins().fmul(*a01, *a10);
@@ -589,7 +597,7 @@ impl Fused {
                                         };
                                         let s0 = row(&mut b, i00, i01);
                                         let s1 = row(&mut b, i10, i11);
-                                        let second = b.ins().fcmp(FloatCC::GreaterThan, s1, s0);
+                                        let second = b.ins().fcmp(FloatCC::LessThan, s0, s1);
                                         let worst = b.ins().select(second, s1, s0);
                                         let c = b.ins().fdiv(one, worst);
                                         let ac = b.abs(c);
