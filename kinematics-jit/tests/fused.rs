@@ -144,6 +144,20 @@ fn scaled_maximum_and_finiteness() {
     f[3] = f64::NAN;
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert!(f[14].is_nan(), "a NaN product is the maximum");
+    // First or last, with its sign bit set or not, a NaN stays the maximum.
+    (f[2], f[3]) = (-f64::NAN, 1.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert!(f[14].is_nan(), "a NaN before a number stays the maximum");
+    // An infinite product is above every finite one; tiny ones are ordered.
+    (f[2], f[3]) = (f64::NEG_INFINITY, 1.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[14], f64::INFINITY);
+    (f[2], f[3], f[12], f[13]) = (-4e-320, 1e-320, 1.0, 1.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[14], 4e-320, "subnormal magnitudes compare as numbers");
+    (f[2], f[3]) = (-0.0, 0.0);
+    assert_eq!(code.call(0, &mut f, &mut h), 0);
+    assert_eq!(f[14].to_bits(), 0, "+0 for zero residuals");
     f[5] = f64::NEG_INFINITY;
     assert_eq!(code.call(0, &mut f, &mut h), 9);
 }
@@ -726,4 +740,44 @@ fn angle_equation_in_machine_code() {
     assert_eq!(h.calls, [7]);
     assert_eq!(f[2], 5.0);
     assert_eq!(f[34..37], [1.0, 0.0, -2.0]);
+}
+
+#[test]
+fn a_value_the_helper_rewrites_is_read_again_after_the_call() {
+    // f[12] = p₀ is stored, then read (exported) from a register; the
+    // helper (argument 1) then writes 99 there, which the second export
+    // must read from the buffer, not from the register.
+    let mut g = Graph::new();
+    let a = g.leaf(Leaf::Param(0));
+    let ops = [
+        Op::Store {
+            roots: vec![a],
+            at: vec![12],
+            finite: None,
+        },
+        Op::Export {
+            to: 0,
+            from: 12,
+            len: 1,
+        },
+        Op::Call(1),
+        Op::Export {
+            to: 1,
+            from: 12,
+            len: 1,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 48];
+    f[0] = 2.5;
+    let (mut before, mut after) = ([0.0], [0.0]);
+    assert_eq!(
+        code.call_ports(0, &mut f, &mut h, [], [&mut before, &mut after]),
+        0
+    );
+    assert_eq!((before, after), ([2.5], [99.0]));
 }
