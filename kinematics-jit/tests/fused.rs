@@ -781,3 +781,46 @@ fn a_value_the_helper_rewrites_is_read_again_after_the_call() {
     );
     assert_eq!((before, after), ([2.5], [99.0]));
 }
+
+#[test]
+fn consecutive_imports_are_checked_together_even_past_an_empty_one() {
+    // Two imports with the same status, the second of no value, then one
+    // with none: a NaN in the first port is still the status; the third
+    // port is not checked.
+    use kinematics_jit::Port;
+    let g = Graph::new();
+    let ops = [
+        Op::Import {
+            from: Port::Input(0),
+            to: 12,
+            len: 2,
+            finite: Some(5),
+        },
+        Op::Import {
+            from: Port::Input(1),
+            to: 14,
+            len: 0,
+            finite: Some(5),
+        },
+        Op::Import {
+            from: Port::Input(2),
+            to: 15,
+            len: 1,
+            finite: None,
+        },
+    ];
+    let code = one(&g, &ops);
+    let mut h = Recorder {
+        calls: Vec::new(),
+        status: 0,
+    };
+    let mut f = vec![0.0; 48];
+    let run = |f: &mut [f64], a: &[f64], c: &[f64], h: &mut Recorder| {
+        code.call_ports::<3, 0>(0, f, h, [a, &[], c], [])
+    };
+    assert_eq!(run(&mut f, &[1.0, 2.0], &[f64::NAN], &mut h), 0);
+    assert_eq!((f[12], f[13]), (1.0, 2.0));
+    assert!(f[15].is_nan(), "the unchecked port is read as it is");
+    assert_eq!(run(&mut f, &[1.0, f64::INFINITY], &[0.0], &mut h), 5);
+    assert_eq!(run(&mut f, &[f64::NAN, 2.0], &[0.0], &mut h), 5);
+}

@@ -195,7 +195,10 @@ impl Fused {
                 };
                 // The buffer, with the values the code holds in registers.
                 let mut memory = Memory::new(fp, &within);
-                for op in ops {
+                // The values of consecutive imports with the same status,
+                // checked together after the last of them (one branch).
+                let mut imported = Vec::new();
+                for (k, op) in ops.iter().enumerate() {
                     match op {
                         Op::Store { roots, at, finite } => {
                             if roots.len() != at.len() {
@@ -635,22 +638,27 @@ impl Fused {
                             len,
                             finite,
                         } => {
-                            if *len == 0 {
-                                continue;
+                            if *len > 0 {
+                                let slot = port_slot(*from, &mut need, *len)?;
+                                let base = b.ins().load(pointer, flags, pp, slot);
+                                for i in 0..*len {
+                                    let v = b.ins().load(types::F64, flags, base, offset(i)?);
+                                    memory.store(&mut b, to + i, v)?;
+                                    if finite.is_some() {
+                                        imported.push(v);
+                                    }
+                                }
                             }
-                            let slot = port_slot(*from, &mut need, *len)?;
-                            let base = b.ins().load(pointer, flags, pp, slot);
-                            let mut values = Vec::with_capacity(*len);
-                            for i in 0..*len {
-                                let v = b.ins().load(types::F64, flags, base, offset(i)?);
-                                memory.store(&mut b, to + i, v)?;
-                                values.push(v);
-                            }
-                            if let Some(status) = *finite {
-                                if let Some(failed) = not_finite(&mut b, &values) {
+                            let checked_with_next = matches!(
+                                ops.get(k + 1),
+                                Some(Op::Import { finite: next, .. }) if next == finite
+                            );
+                            if let (Some(status), false) = (*finite, checked_with_next) {
+                                if let Some(failed) = not_finite(&mut b, &imported) {
                                     let status = b.ins().iconst(types::I64, status);
                                     bail(&mut b, failed, status);
                                 }
+                                imported.clear();
                             }
                         }
                         Op::Export { to, from, len } => {
