@@ -20,6 +20,7 @@ const LAYOUT: Layout = Layout {
 
 /// Records its calls; returns `status` for argument 7, writes f[12] = 99
 /// for argument 1, and panics for argument 13.
+#[derive(Default)]
 struct Recorder {
     calls: Vec<u64>,
     status: i64,
@@ -78,10 +79,7 @@ fn stores_calls_and_statuses() {
     let mut f = vec![0.0; 48];
     f[0] = 3.0;
     f[8] = 0.5; // cos q₀, read from the array, not computed
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.calls, [1, 7]);
     assert_eq!((f[12], f[13], f[14]), (99.0, 1.5, 3.0));
@@ -108,10 +106,7 @@ fn stores_calls_and_statuses() {
 fn a_panicking_helper_is_a_status() {
     let g = Graph::new();
     let code = one(&g, &[Op::Call(13)]);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     assert_eq!(code.call(0, &mut [0.0; 48], &mut h), HELPER_PANICKED);
 }
 
@@ -133,10 +128,7 @@ fn scaled_maximum_and_finiteness() {
         },
     ];
     let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     (f[2], f[3], f[12], f[13]) = (-2.0, 1.0, 0.25, 4.0);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
@@ -201,10 +193,7 @@ fn block_solve_by_forward_substitution() {
     let mut f = vec![0.0; 48];
     (f[0], f[1]) = (6.0, 11.0);
     (f[12], f[13], f[14], f[15], f[16], f[17]) = (0.5, 0.25, 1.0, 1.0, 1.0, 10.0);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!((f[30], f[31]), (3.0, 20.0));
     // An unknown that is not finite returns the op's status.
@@ -238,10 +227,7 @@ fn carried_cosines_and_sines() {
     ];
     let code = one(&g, &ops);
     let used_after = |f: &[f64]| assert_eq!([f[30], f[31]], [2.0 * f[8], 2.0 * f[9]]);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     f[0] = 2.0;
     (f[20], f[21], f[22]) = (f64::NAN, f64::NAN, f64::NAN);
@@ -314,10 +300,7 @@ fn ports_are_read_and_written() {
         },
     ];
     let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     f[0] = 3.0;
     let (mut mode, mut out) = ([f64::NAN], [0.0]);
@@ -438,10 +421,7 @@ fn preset_nodes_are_read_not_computed() {
         ],
     )
     .expect("compiles");
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     (f[0], f[2]) = (0.5, 2.0);
     assert_eq!(code.call(0, &mut f, &mut h), 0);
@@ -519,10 +499,7 @@ fn small_blocks_factored_and_judged() {
         },
     ];
     let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let setup = |a: f64, threshold: f64, branch: f64| {
         let mut f = vec![0.0; 48];
         f[0] = a;
@@ -768,10 +745,7 @@ fn a_value_the_helper_rewrites_is_read_again_after_the_call() {
         },
     ];
     let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     f[0] = 2.5;
     let (mut before, mut after) = ([0.0], [0.0]);
@@ -810,10 +784,7 @@ fn consecutive_imports_are_checked_together_even_past_an_empty_one() {
         },
     ];
     let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 0,
-    };
+    let mut h = Recorder::default();
     let mut f = vec![0.0; 48];
     let run = |f: &mut [f64], a: &[f64], c: &[f64], h: &mut Recorder| {
         code.call_ports::<3, 0>(0, f, h, [a, &[], c], [])
