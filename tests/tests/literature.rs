@@ -212,57 +212,58 @@ fn problem_g_beats_the_best_published_error() {
     solved_within(&PROBLEM_G, 0, 1.61e-3);
 }
 
-/// Problem F (25 points, free timing): the design the benchmark binary's
-/// run of seed 2 found (`cargo run --release -p kinematics-bench --bin
-/// literature 100 16 F`; the strategy's run takes seconds in a release
-/// build, too long for a test build), at its crank angles, checked as the
-/// others: below the ant search's 0.1814 by the closed form (scored with
-/// each target's own crank angle, in order, where the ant search took the
-/// nearest on a 1° grid in any order), within the bounds, a Grashof crank,
-/// the crank angles in sequence; and the library's model of the design
-/// puts the coupler point where the closed form does at every target.
+/// Problem F (25 points, free timing): the best design of the benchmark
+/// binary's 100 runs (`cargo run --release -p kinematics-bench --bin
+/// literature 100 16 F`: the run of seed 9, E = 0.0668; a run takes
+/// seconds in a release build, too long for a test build), at its crank
+/// angles, checked as the others: below the ant search's 0.1814 by the
+/// closed form (scored with each target's own crank angle, in order,
+/// where the ant search took the nearest on a 1° grid in any order),
+/// within the bounds, a Grashof crank, the crank angles in sequence; and
+/// the library's model of the design puts the coupler point where the
+/// closed form does at every target.
 #[test]
 fn problem_f_beats_the_published_error() {
     let x = [
-        15.522_277_586_492_148,
-        2.787_055_358_480_502_7,
-        8.679_293_335_562_841,
-        20.0,
-        4.579_720_860_620_021_5,
-        -8.152_630_880_216_911,
-        -2.258_678_243_505_908_5,
-        -1.507_396_145_816_461,
-        6.095_319_583_254_132,
+        7.819467646455125,
+        2.5162876286277767,
+        5.17264621918244,
+        5.52207168973548,
+        8.376090983292272,
+        -2.5146035123240082,
+        -2.7177836333809466,
+        0.5603565595108577,
+        0.0,
     ];
     let angles = [
-        1.193_803_835_848_889_8,
-        1.427_023_747_799_524_5,
-        1.594_489_535_771_963_5,
-        1.783_215_130_933_477_8,
-        2.019_315_333_027_381_4,
-        2.226_175_181_350_795,
-        2.481_078_117_043_487_5,
-        2.629_346_263_063_540_2,
-        2.819_902_553_662_492,
-        3.126_878_010_821_347,
-        3.733_442_535_764_645,
-        4.521_905_700_481_804,
-        4.897_075_551_912_917,
-        5.189_473_282_234_576,
-        5.458_078_829_648_628_4,
-        5.655_365_813_513_926,
-        5.856_849_597_348_306,
-        6.035_811_369_044_711,
-        6.203_956_411_419_726,
-        6.385_076_548_398_270_5,
-        6.544_224_616_188_158,
-        6.544_224_616_202_252,
-        6.806_708_131_771_195,
-        6.991_425_287_723_22,
-        7.209_318_584_049_639,
+        0.6937635516411041,
+        0.9728688065577908,
+        1.161259373796114,
+        1.36394260275592,
+        1.6024147140821177,
+        1.799451504107652,
+        2.0243570308272183,
+        2.144385818960774,
+        2.2845638185156796,
+        2.4706630105880336,
+        3.7889024020746986,
+        4.058183234850997,
+        4.327182639470977,
+        4.580938892509958,
+        4.841383235120834,
+        5.0439085505039145,
+        5.2559727553312605,
+        5.451828600948895,
+        5.643798707207388,
+        5.856972349119186,
+        6.042379031568457,
+        6.0423790315808805,
+        6.327180841774464,
+        6.505373843186803,
+        6.709518678720841,
     ];
     let e = design_within(&PROBLEM_F, x, &angles, 0.1814);
-    assert!(e < 0.095, "E = {e}");
+    assert!(e < 0.0669, "E = {e}");
     let m = from_vector(x);
     for &th2 in &angles {
         let ours = coupler_point(&m, th2).expect("assembles on the branch");
