@@ -4,8 +4,7 @@
 
 use alloc::vec::Vec;
 
-use super::fused::copy_small;
-use super::fused::{PoseFn, StepFn};
+use super::fused::{copy_small, PoseFn, StepFn};
 use super::solve::Work;
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;
