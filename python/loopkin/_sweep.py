@@ -134,8 +134,8 @@ class Sweep:
         self.q = _Columns(names, _readonly(c["q"]))
         self.qd = _Columns(names, _readonly(c["qd"]))
         self.qdd = _Columns(names, _readonly(c["qdd"]))
-        self._points = c["points"]
-        self._frames = c["frames"]
+        self._points = _readonly(c["points"])
+        self._frames = _readonly(c["frames"])
         self.conditioning: np.ndarray = _readonly(c["conditioning"])
         self.det_sign: np.ndarray = _readonly(c["det_sign"])
         self.residual: np.ndarray = _readonly(c["residual"])

@@ -88,6 +88,49 @@ impl Columns {
         self.residual.push(m.residual);
     }
 
+    /// The data columns moved out, leaving them empty (the names, the
+    /// frames, the stop and the change points stay): `at`, q, q', q'',
+    /// the points, the conditioning, the sign and the residual, for numpy
+    /// arrays that take them without a copy.
+    pub(crate) fn take_data(&mut self) -> [Vec<f64>; 8] {
+        let [q, qd, qdd] = &mut self.q;
+        [
+            &mut self.at,
+            q,
+            qd,
+            qdd,
+            &mut self.points,
+            &mut self.conditioning,
+            &mut self.det_sign,
+            &mut self.residual,
+        ]
+        .map(std::mem::take)
+    }
+
+    /// These columns with the data `data` (in the order of
+    /// [`Columns::take_data`]) copied back in: for the tables, the CSV,
+    /// the text, the animation and the deviations, which read them here.
+    pub(crate) fn with_data(&self, data: [&[f64]; 8]) -> Self {
+        let [at, q, qd, qdd, points, conditioning, det_sign, residual] = data.map(<[f64]>::to_vec);
+        Self {
+            variable: self.variable,
+            kind: self.kind,
+            coordinates: self.coordinates.clone(),
+            point_names: self.point_names.clone(),
+            frame_names: self.frame_names.clone(),
+            dim: self.dim,
+            at,
+            q: [q, qd, qdd],
+            points,
+            frames: self.frames.clone(),
+            conditioning,
+            det_sign,
+            residual,
+            stop: self.stop.clone(),
+            change_points: self.change_points.clone(),
+        }
+    }
+
     /// Records how the sweep ended.
     pub(crate) fn end(&mut self, end: SweepEnd) {
         self.stop = end.stop;

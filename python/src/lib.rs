@@ -14,7 +14,7 @@ use kinematics_core::runtime::{CompileError, Model as Runtime};
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::Projection;
 use kinematics_core::{Branch, Convergence, Error, Options};
-use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -457,10 +457,7 @@ impl Model {
             let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
             columns.end(end);
         });
-        Ok(Sweep {
-            columns,
-            model: self.model.clone(),
-        })
+        Sweep::new(py, columns, self.model.clone())
     }
 
     /// Positions only along a sweep of the driver `driver` from `start`
@@ -573,10 +570,7 @@ impl Model {
                 .for_each_flat(|at, sample| columns.push(at, sample));
             columns.end(end);
         });
-        Ok(Sweep {
-            columns,
-            model: self.model.clone(),
-        })
+        Sweep::new(py, columns, self.model.clone())
     }
 
     /// Runs a batch of designs (one row of `values` per design, a value
@@ -716,11 +710,80 @@ fn change_points(s: &str) -> PyResult<ChangePoints> {
     }
 }
 
-/// The samples of a sweep of a run-time model, and how it ended.
+/// The samples of a sweep of a run-time model, and how it ended: the
+/// columns handed to numpy without a copy (`arrays`), and what else the
+/// sweep knows (`columns`, whose data columns were moved out).
 #[pyclass(frozen, module = "loopkin._native")]
 struct Sweep {
     columns: Columns,
+    arrays: Py<PyDict>,
+    rows: usize,
     model: Runtime,
+}
+
+/// The names of the data columns, in the order of `Columns::take_data`.
+const DATA: [&str; 8] = [
+    "at",
+    "q",
+    "qd",
+    "qdd",
+    "points",
+    "conditioning",
+    "det_sign",
+    "residual",
+];
+
+impl Sweep {
+    /// The sweep of `model` whose samples are `columns`: its data columns
+    /// moved into numpy arrays (no copy), shaped as [`Sweep::columns`]
+    /// gives them.
+    fn new(py: Python<'_>, mut columns: Columns, model: Runtime) -> PyResult<Self> {
+        let n = columns.rows();
+        let nc = model.coordinates().len();
+        let np = model.point_names().len();
+        let nf = model.frame_names().len();
+        let dim = model.point_dimension();
+        let frames: Vec<f64> = columns
+            .frames
+            .iter()
+            .flat_map(convert::frame_values)
+            .collect();
+        let d = PyDict::new(py);
+        for (key, v) in DATA.into_iter().zip(columns.take_data()) {
+            let a = match key {
+                "q" | "qd" | "qdd" => shaped(py, v, vec![n, nc])?,
+                "points" => shaped(py, v, vec![n, np, 3, dim])?,
+                _ => array(py, v).into_any(),
+            };
+            d.set_item(key, a)?;
+        }
+        d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
+        Ok(Self {
+            columns,
+            arrays: d.unbind(),
+            rows: n,
+            model,
+        })
+    }
+
+    /// The columns with their data, read back from the arrays (a copy):
+    /// what the tables, the CSV, the text, the animation and the
+    /// deviations read.
+    fn full(&self, py: Python<'_>) -> PyResult<Columns> {
+        let d = self.arrays.bind(py);
+        let mut held = Vec::with_capacity(DATA.len());
+        for key in DATA {
+            let a = d
+                .get_item(key)?
+                .ok_or_else(|| PyValueError::new_err(format!("the column {key:?} is missing")))?;
+            held.push(a.cast_into::<numpy::PyArrayDyn<f64>>()?.readonly());
+        }
+        let mut data: [&[f64]; 8] = [&[]; 8];
+        for (slot, a) in data.iter_mut().zip(&held) {
+            *slot = a.as_slice()?;
+        }
+        Ok(self.columns.with_data(data))
+    }
 }
 
 #[pymethods]
@@ -732,31 +795,16 @@ impl Sweep {
     }
     /// The number of samples.
     fn __len__(&self) -> usize {
-        self.columns.rows()
+        self.rows
     }
     /// Every column as arrays: "at" (n), "q", "qd", "qdd" (n × coordinates),
     /// "points" (n × points × 3 × dim: position, velocity, acceleration),
     /// "frames" (n × frames × 24: rotation by rows, origin, velocity,
     /// acceleration, ω, α), "conditioning", "det_sign", "residual" (n).
-    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let c = &self.columns;
-        let n = c.rows();
-        let nc = self.model.coordinates().len();
-        let np = self.model.point_names().len();
-        let nf = self.model.frame_names().len();
-        let dim = self.model.point_dimension();
-        let d = PyDict::new(py);
-        d.set_item("at", array(py, c.at.clone()))?;
-        for (key, v) in ["q", "qd", "qdd"].into_iter().zip(&c.q) {
-            d.set_item(key, shaped(py, v.clone(), vec![n, nc])?)?;
-        }
-        d.set_item("points", shaped(py, c.points.clone(), vec![n, np, 3, dim])?)?;
-        let frames: Vec<f64> = c.frames.iter().flat_map(convert::frame_values).collect();
-        d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
-        d.set_item("conditioning", array(py, c.conditioning.clone()))?;
-        d.set_item("det_sign", array(py, c.det_sign.clone()))?;
-        d.set_item("residual", array(py, c.residual.clone()))?;
-        Ok(d)
+    /// The same arrays at every call: they hold the sweep's data (made
+    /// read-only by the Python class that wraps them).
+    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
+        self.arrays.bind(py).clone()
     }
 
     /// `None` when the sweep ran to its end; else a dict with "kind"
@@ -780,23 +828,22 @@ impl Sweep {
         py: Python<'py>,
         unit: &str,
     ) -> PyResult<(Vec<String>, Bound<'py, PyAny>)> {
-        let headers = self.columns.headers_in(unit);
+        let c = self.full(py)?;
+        let headers = c.headers_in(unit);
         let width = headers.len();
-        let rows: Vec<f64> = (0..self.columns.rows())
-            .flat_map(|i| self.columns.row(i))
-            .collect();
-        let n = self.columns.rows();
+        let rows: Vec<f64> = (0..c.rows()).flat_map(|i| c.row(i)).collect();
+        let n = c.rows();
         Ok((headers, shaped(py, rows, vec![n, width])?))
     }
 
     /// The CSV text (lengths in `unit`).
-    fn to_csv(&self, unit: &str) -> String {
-        self.columns.csv_in(unit)
+    fn to_csv(&self, py: Python<'_>, unit: &str) -> PyResult<String> {
+        Ok(self.full(py)?.csv_in(unit))
     }
 
     /// The aligned text table, every `every`-th sample.
-    fn to_text(&self, every: usize) -> String {
-        self.columns.text(every)
+    fn to_text(&self, py: Python<'_>, every: usize) -> PyResult<String> {
+        Ok(self.full(py)?.text(every))
     }
 
     /// Writes the HTML animation of the sweep to `path`, drawing the links
@@ -819,8 +866,9 @@ impl Sweep {
                 )))
             }
         };
+        let c = self.full(py)?;
         let nc = self.model.coordinates().len();
-        let first = self.columns.q[0]
+        let first = c.q[0]
             .get(..nc)
             .ok_or_else(|| PyValueError::new_err("the sweep has no sample to animate"))?;
         let roles = self.model.point_roles(first).map_err(|e| error(py, &e))?;
@@ -829,7 +877,7 @@ impl Sweep {
             .map(|(a, b)| (a.as_str(), b.as_str()))
             .collect();
         kinematics_core::animate::write_table_html(
-            &self.columns,
+            &c,
             self.model.name(),
             &roles,
             &links,
@@ -851,11 +899,12 @@ impl Sweep {
         tolerances: Vec<(String, f64)>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let t: Vec<(&str, f64)> = tolerances.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let c = self.full(py)?;
         let devs = py
             .detach(|| {
                 self.model.point_deviations_over(
-                    self.columns.rows(),
-                    |i, motion| self.columns.motion(i, motion),
+                    c.rows(),
+                    |i, motion| c.motion(i, motion),
                     point,
                     &t,
                 )

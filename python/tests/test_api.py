@@ -127,6 +127,23 @@ def test_csv_text_and_pandas_have_the_same_columns(four_bar, tmp_path):
     assert sw.to_csv(unit="mm").splitlines()[0].split(",")[header.index("P_x_m")] == "P_x_mm"
 
 
+def test_a_sweeps_columns_are_read_only_and_its_tables_read_them(four_bar):
+    # The columns are the sweep's own data (no copy): numpy refuses to
+    # write them, and the CSV and the deviations read the same values.
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=24, rate=2.0)
+    for column in (sw.at, sw["th3"], sw.qd["th4"], sw.qdd["th3"], sw.conditioning, sw.residual):
+        with pytest.raises(ValueError):
+            column[0] = 1.0
+    with pytest.raises(ValueError):
+        sw._points[0, 0, 0, 0] = 1.0
+    header, rows = sw._native.table("m")
+    assert rows.shape == (24, len(header))
+    assert np.array_equal(rows[:, header.index("th4_rad")], sw["th4"])
+    assert np.array_equal(rows[:, header.index("P_ay_m_s2")], sw.point("P").acceleration[:, 1])
+    assert sw._native.columns()["q"] is sw.q._table
+
+
 def test_the_animation_and_the_plots_are_written(four_bar, tmp_path):
     import matplotlib
 
