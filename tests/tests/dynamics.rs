@@ -1556,3 +1556,92 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
         .inverse(&four_bar, &motion);
     assert!(matches!(e, Err(Error::InvalidDynamics { .. })), "{e:?}");
 }
+
+/// The driving torque's sensitivities to each link's mass and moment of
+/// inertia, over a turn at a varying crank speed, against central
+/// differences of the test's own Newton–Euler torque with that mass or
+/// moment changed (the torque is linear in both, so the differences are
+/// exact to round-off).
+#[test]
+fn a_four_bars_torque_sensitivities_to_its_masses_are_newton_eulers() -> Result<(), Error> {
+    let m = FOUR_BAR;
+    let dynamics = four_bar_bodies().build::<MassFourBar>()?;
+    let mut pose = four_bar_start(&m)?;
+    for k in 0..24 {
+        let phi = TAU * f64::from(k) / 24.0;
+        pose.phi = phi;
+        let motion = m.step(&pose, 20.0 + 4.0 * phi.cos(), 60.0 * phi.sin())?;
+        pose = motion.q;
+        let s = dynamics.mass_sensitivities(&m, &motion)?;
+        let names: Vec<&str> = s.iter().map(|b| b.body.as_str()).collect();
+        assert_eq!(names, ["crank", "coupler", "rocker"]);
+        for (b, body) in s.iter().enumerate() {
+            let torque = |dm: f64, dj: f64| {
+                let (mut masses, mut inertias) = (FOUR_BAR_MASSES, FOUR_BAR_INERTIAS);
+                masses[b] += dm;
+                inertias[b] += dj;
+                let ne = four_bar_newton_euler(
+                    &motion,
+                    masses,
+                    inertias,
+                    (m.a, m.c, m.d),
+                    (m.g3x, m.g3y),
+                );
+                ne.x[8]
+            };
+            let (h, hj) = (1e-2, 1e-4);
+            let dm = (torque(h, 0.0) - torque(-h, 0.0)) / (2.0 * h);
+            let dj = (torque(0.0, hj) - torque(0.0, -hj)) / (2.0 * hj);
+            close(body.mass[0], dm, 1e-8, "∂T/∂m");
+            let inertia = body
+                .inertia
+                .as_ref()
+                .expect("a planar link turning by an angle");
+            close(inertia[0], dj, 1e-8, "∂T/∂J");
+        }
+    }
+    Ok(())
+}
+
+/// A run-time model's mass sensitivities are the generated mechanism's,
+/// on the spatial arm (three drivers; its links turn with frames, so no
+/// sensitivity to a moment of inertia).
+#[test]
+fn a_run_time_model_has_the_same_mass_sensitivities() -> Result<(), Box<dyn std::error::Error>> {
+    let generated = MassArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+    };
+    let model =
+        kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?.with_values(&[0.4, 0.5, 0.4])?;
+    let (dg, dr) = (
+        arm_bodies().build::<MassArm>()?,
+        arm_bodies().build_for(&model)?,
+    );
+    let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
+    let mg = generated.step(
+        &MassArmCoords {
+            q1: q[0],
+            q2: q[1],
+            q3: q[2],
+        },
+        qd,
+        qdd,
+    )?;
+    let mr = model.step(&q, &qd, &qdd)?;
+    let (sg, sr) = (
+        dg.mass_sensitivities(&generated, &mg)?,
+        dr.mass_sensitivities_of(&model, &mr)?,
+    );
+    assert_eq!(sg.len(), sr.len());
+    for (g, r) in sg.iter().zip(&sr) {
+        assert_eq!(g.body, r.body);
+        assert!(g.inertia.is_none() && r.inertia.is_none());
+        assert_eq!(g.mass.len(), 3);
+        for (a, b) in r.mass.iter().zip(&g.mass) {
+            close(*a, *b, 1e-12, "run-time ∂Q/∂m");
+        }
+    }
+    Ok(())
+}

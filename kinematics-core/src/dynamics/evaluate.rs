@@ -2,7 +2,7 @@
 //! reads, the loads' view of the instant, and the sums of virtual power.
 
 use alloc::format;
-use alloc::string::ToString;
+use alloc::string::{String, ToString};
 use alloc::vec;
 use alloc::vec::Vec;
 use core::ops::Deref;
@@ -109,6 +109,27 @@ impl<C> Forces<C> {
             shaking_moment: totals.shaking_moment,
         }
     }
+}
+
+/// How the drivers' efforts change with one body's mass and moment of
+/// inertia ([`Dynamics::mass_sensitivities`]): the efforts are linear in
+/// both, Q_k = Σ_b [m_b (a_G − g) · ∂v_G/∂ḋ_k + (I_b α + ω × I_b ω) ·
+/// ∂ω/∂ḋ_k] − (the loads' terms), so that ∂Q_k/∂m_b = (a_G − g) ·
+/// ∂v_G/∂ḋ_k exactly, and for a body turning by an angle in a planar
+/// mechanism (I_b = J_b about z) ∂Q_k/∂J_b = α_z ∂ω_z/∂ḋ_k: what a
+/// counterweight's or a link's mass changes in the driving torque, at the
+/// same motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassSensitivity {
+    /// The body's name.
+    pub body: String,
+    /// ∂Q_k/∂m for each driver k, in declaration order (N·m/kg for an
+    /// angle driver, N/kg for a length).
+    pub mass: Vec<f64>,
+    /// ∂Q_k/∂J for each driver (N·m/(kg·m²) for an angle driver, N/(kg·m²)
+    /// for a length), for a body that turns by an angle in a planar
+    /// mechanism; `None` for one that does not turn or turns with a frame.
+    pub inertia: Option<Vec<f64>>,
 }
 
 /// A motion as the sums read it: points' r, v, a (padded to three
@@ -226,27 +247,101 @@ impl Dynamics {
         motion: &M::Motion,
     ) -> Result<Forces<M::Coords>, Error> {
         self.fits_mechanism::<M>()?;
-        let pose = motion.q();
-        let mut rates = Buffer::zeros(self.drivers);
-        let zeros = Buffer::zeros(self.drivers);
         let mut effort = M::Coords::default();
         let (totals, power) = self.sums(
             &Generated(motion),
-            &mut |k, with| {
-                let r = rates.as_mut_slice();
-                r.iter_mut().for_each(|x| *x = 0.0);
-                if let Some(x) = r.get_mut(k) {
-                    *x = 1.0;
-                }
-                let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
-                with(&Generated(&u));
-                Ok(())
-            },
+            &mut unit_analyses(m, motion.q(), self.drivers),
             &mut |k, q| {
                 effort.set(k, q);
             },
         )?;
         Ok(Forces::new(effort, &totals, power))
+    }
+
+    /// How each driver's effort at `motion` changes with each body's mass
+    /// and moment of inertia, in the order the bodies were given
+    /// ([`MassSensitivity`]), from the same unit analyses as
+    /// [`Dynamics::inverse`].
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics};
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A crank whose centre of mass is at distance r.
+    ///     pub struct Crank { params { r } drivers { phi } unknowns { } points { G = polar(r, phi); } }
+    /// }
+    /// let m = Crank { r: 0.1 };
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("crank", 2.0).center("G").angle("phi").inertia(0.01))
+    ///     .gravity([0.0, -9.81, 0.0])
+    ///     .build::<Crank>()?;
+    /// // Horizontal, at rest, α = 3 rad/s²: Q = (m r² + J) α + m g r, so
+    /// // ∂Q/∂m = r² α + g r and ∂Q/∂J = α.
+    /// let motion = m.analyze(&CrankCoords { phi: 0.0 }, 0.0, 3.0)?;
+    /// let s = &dynamics.mass_sensitivities(&m, &motion)?[0];
+    /// assert!((s.mass[0] - (0.01 * 3.0 + 9.81 * 0.1)).abs() < 1e-12);
+    /// assert!((s.inertia.as_ref().unwrap()[0] - 3.0).abs() < 1e-12);
+    /// # Ok::<(), kinematics_core::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Dynamics::inverse`].
+    pub fn mass_sensitivities<M: Mechanism>(
+        &self,
+        m: &M,
+        motion: &M::Motion,
+    ) -> Result<Vec<MassSensitivity>, Error> {
+        self.fits_mechanism::<M>()?;
+        self.mass_partials(
+            &Generated(motion),
+            &mut unit_analyses(m, motion.q(), self.drivers),
+        )
+    }
+
+    /// ∂Q_k/∂m_b and ∂Q_k/∂J_b at the motion `s`, from the unit analyses
+    /// `unit` provides.
+    pub(crate) fn mass_partials(
+        &self,
+        s: &dyn View,
+        unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
+    ) -> Result<Vec<MassSensitivity>, Error> {
+        let g = self.gravity;
+        let mut out: Vec<MassSensitivity> = self
+            .bodies
+            .iter()
+            .map(|b| MassSensitivity {
+                body: b.name.clone(),
+                mass: vec![0.0; self.drivers],
+                inertia: (self.dim == 2 && matches!(b.turning, Turns::Angle(_)))
+                    .then(|| vec![0.0; self.drivers]),
+            })
+            .collect();
+        for k in 0..self.drivers {
+            unit(k, &mut |u| {
+                for (b, o) in self.bodies.iter().zip(out.iter_mut()) {
+                    let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+                    let v = u.point(b.center).map_or(Vector3::zeros(), |[_, v, _]| v);
+                    if let Some(x) = o.mass.get_mut(k) {
+                        *x = (a - g).dot(&v);
+                    }
+                    if let Some(x) = o.inertia.as_mut().and_then(|i| i.get_mut(k)) {
+                        *x = turning(b, s).1.z * turning(b, u).0.z;
+                    }
+                }
+            })?;
+        }
+        for o in &out {
+            for &value in o.mass.iter().chain(o.inertia.iter().flatten()) {
+                if !value.is_finite() {
+                    return Err(Error::NonFinite {
+                        input: Input::Computed,
+                        name: "the sensitivity of an effort to a body's mass or inertia",
+                        value,
+                    });
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// q, q' and q'' of every coordinate of `s`, as the loads read them.
@@ -426,6 +521,29 @@ impl Dynamics {
             q += pull.tension * pull.e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
         }
         Ok(q)
+    }
+}
+
+/// The unit analyses of a generated mechanism `m` at `pose`: for driver
+/// k, the motion at unit rate of k (the other drivers at rest, every
+/// acceleration zero), whose velocities are the partial velocities
+/// ∂v/∂ḋ_k and ∂ω/∂ḋ_k, handed to the closure.
+fn unit_analyses<'a, M: Mechanism>(
+    m: &'a M,
+    pose: &'a M::Coords,
+    drivers: usize,
+) -> impl FnMut(usize, WithUnit<'_>) -> Result<(), Error> + 'a {
+    let mut rates = Buffer::zeros(drivers);
+    let zeros = Buffer::zeros(drivers);
+    move |k, with| {
+        let r = rates.as_mut_slice();
+        r.iter_mut().for_each(|x| *x = 0.0);
+        if let Some(x) = r.get_mut(k) {
+            *x = 1.0;
+        }
+        let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
+        with(&Generated(&u));
+        Ok(())
     }
 }
 

@@ -95,7 +95,7 @@ use core::fmt;
 use nalgebra::{Matrix3, Vector3};
 
 pub use cycle::{ForceSample, ForceSweep};
-pub use evaluate::{Forces, Instant};
+pub use evaluate::{Forces, Instant, MassSensitivity};
 pub use joints::{Joint, JointReaction, Reactions, GROUND};
 
 use crate::error::Error;
@@ -546,6 +546,7 @@ impl DynamicsBuilder {
                 ));
             }
             bodies.push(ResolvedBody {
+                name: b.name.clone(),
                 mass: b.mass,
                 center,
                 turning,
@@ -654,6 +655,7 @@ enum Turns {
 /// A body with its names resolved to indices.
 #[derive(Clone, Debug, PartialEq)]
 struct ResolvedBody {
+    name: String,
     mass: f64,
     center: usize,
     turning: Turns,

@@ -8,8 +8,10 @@ use alloc::vec::Vec;
 
 use nalgebra::Vector3;
 
-use super::evaluate::View;
-use super::{Dynamics, DynamicsBuilder, ForceSample, ForceSweep, Forces, Names, Reactions};
+use super::evaluate::{View, WithUnit};
+use super::{
+    Dynamics, DynamicsBuilder, ForceSample, ForceSweep, Forces, MassSensitivity, Names, Reactions,
+};
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
 use crate::runtime::{Model, Motion, Sweep};
@@ -86,20 +88,10 @@ impl Dynamics {
     /// As [`Dynamics::inverse`].
     pub fn inverse_of(&self, model: &Model, motion: &Motion) -> Result<Forces<Vec<f64>>, Error> {
         self.fits_model(model)?;
-        let mut rates = vec![0.0; self.drivers];
-        let zeros = vec![0.0; self.drivers];
         let mut effort = vec![0.0; self.coordinates];
         let (totals, power) = self.sums(
             &RunTime(motion),
-            &mut |k, with| {
-                rates
-                    .iter_mut()
-                    .enumerate()
-                    .for_each(|(i, x)| *x = if i == k { 1.0 } else { 0.0 });
-                let u = model.analyze(&motion.q, &rates, &zeros)?;
-                with(&RunTime(&u));
-                Ok(())
-            },
+            &mut unit_analyses(model, &motion.q, self.drivers),
             &mut |k, q| {
                 if let Some(e) = effort.get_mut(k) {
                     *e = q;
@@ -107,6 +99,44 @@ impl Dynamics {
             },
         )?;
         Ok(Forces::new(effort, &totals, power))
+    }
+
+    /// [`Dynamics::mass_sensitivities`] for a model defined at run time:
+    /// how each driver's effort at `motion`, a motion of `model`, changes
+    /// with each body's mass and moment of inertia.
+    ///
+    /// # Errors
+    /// As [`Dynamics::inverse`].
+    pub fn mass_sensitivities_of(
+        &self,
+        model: &Model,
+        motion: &Motion,
+    ) -> Result<Vec<MassSensitivity>, Error> {
+        self.fits_model(model)?;
+        self.mass_partials(
+            &RunTime(motion),
+            &mut unit_analyses(model, &motion.q, self.drivers),
+        )
+    }
+}
+
+/// The unit analyses of `model` at `pose`, as the generated mechanisms'
+/// (driver k at unit rate, the others at rest, no acceleration).
+fn unit_analyses<'a>(
+    model: &'a Model,
+    pose: &'a [f64],
+    drivers: usize,
+) -> impl FnMut(usize, WithUnit<'_>) -> Result<(), Error> + 'a {
+    let mut rates = vec![0.0; drivers];
+    let zeros = vec![0.0; drivers];
+    move |k, with| {
+        rates
+            .iter_mut()
+            .enumerate()
+            .for_each(|(i, x)| *x = if i == k { 1.0 } else { 0.0 });
+        let u = model.analyze(pose, &rates, &zeros)?;
+        with(&RunTime(&u));
+        Ok(())
     }
 }
 
