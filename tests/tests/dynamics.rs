@@ -1288,35 +1288,57 @@ const MASS_ARM_TEXT: &str = "
         }
     }";
 
+/// The arm generated and compiled at run time, each stepped to the same
+/// motion (q = (0.3, −0.4, 0.9), q' = (1.2, −0.7, 2), q'' = (3, 1.6, −2.5)).
+struct ArmBothWays {
+    generated: MassArm,
+    model: kinematics_core::runtime::Model,
+    mg: MassArmMotion,
+    mr: kinematics_core::runtime::Motion,
+}
+
+impl ArmBothWays {
+    fn new() -> Result<Self, Box<dyn std::error::Error>> {
+        let generated = MassArm {
+            d1: 0.4,
+            a2: 0.5,
+            a3: 0.4,
+        };
+        let model = kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?
+            .with_values(&[0.4, 0.5, 0.4])?;
+        let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
+        let mg = generated.step(
+            &MassArmCoords {
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+            },
+            qd,
+            qdd,
+        )?;
+        let mr = model.step(&q, &qd, &qdd)?;
+        Ok(Self {
+            generated,
+            model,
+            mg,
+            mr,
+        })
+    }
+}
+
 /// The same description resolved against the arm compiled at run time
 /// gives the generated arm's forces (the same sums over the run-time
 /// model's own analysis), and the engine's likewise with its unknowns.
 #[test]
 fn a_run_time_model_has_the_same_forces() -> Result<(), Box<dyn std::error::Error>> {
     let describe = || arm_bodies().torque("fore", |s| [0.0, 0.3 * s.qd(2), 0.0]);
-    let generated = MassArm {
-        d1: 0.4,
-        a2: 0.5,
-        a3: 0.4,
-    };
-    let model =
-        kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?.with_values(&[0.4, 0.5, 0.4])?;
+    let arm = ArmBothWays::new()?;
     let (dg, dr) = (
         describe().build::<MassArm>()?,
-        describe().build_for(&model)?,
+        describe().build_for(&arm.model)?,
     );
-    let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
-    let mg = generated.step(
-        &MassArmCoords {
-            q1: q[0],
-            q2: q[1],
-            q3: q[2],
-        },
-        qd,
-        qdd,
-    )?;
-    let mr = model.step(&q, &qd, &qdd)?;
-    let (fg, fr) = (dg.inverse(&generated, &mg)?, dr.inverse_of(&model, &mr)?);
+    let (generated, model, mg, mr) = (&arm.generated, &arm.model, &arm.mg, &arm.mr);
+    let (fg, fr) = (dg.inverse(generated, mg)?, dr.inverse_of(model, mr)?);
     for (k, g) in [fg.effort.q1, fg.effort.q2, fg.effort.q3]
         .into_iter()
         .enumerate()
@@ -1608,31 +1630,14 @@ fn a_four_bars_torque_sensitivities_to_its_masses_are_newton_eulers() -> Result<
 /// sensitivity to a moment of inertia).
 #[test]
 fn a_run_time_model_has_the_same_mass_sensitivities() -> Result<(), Box<dyn std::error::Error>> {
-    let generated = MassArm {
-        d1: 0.4,
-        a2: 0.5,
-        a3: 0.4,
-    };
-    let model =
-        kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?.with_values(&[0.4, 0.5, 0.4])?;
+    let arm = ArmBothWays::new()?;
     let (dg, dr) = (
         arm_bodies().build::<MassArm>()?,
-        arm_bodies().build_for(&model)?,
+        arm_bodies().build_for(&arm.model)?,
     );
-    let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
-    let mg = generated.step(
-        &MassArmCoords {
-            q1: q[0],
-            q2: q[1],
-            q3: q[2],
-        },
-        qd,
-        qdd,
-    )?;
-    let mr = model.step(&q, &qd, &qdd)?;
     let (sg, sr) = (
-        dg.mass_sensitivities(&generated, &mg)?,
-        dr.mass_sensitivities_of(&model, &mr)?,
+        dg.mass_sensitivities(&arm.generated, &arm.mg)?,
+        dr.mass_sensitivities_of(&arm.model, &arm.mr)?,
     );
     assert_eq!(sg.len(), sr.len());
     for (g, r) in sg.iter().zip(&sr) {
