@@ -1307,15 +1307,7 @@ impl ArmBothWays {
         let model = kinematics_core::runtime::Model::compile(MASS_ARM_TEXT)?
             .with_values(&[0.4, 0.5, 0.4])?;
         let (q, qd, qdd) = ([0.3, -0.4, 0.9], [1.2, -0.7, 2.0], [3.0, 1.6, -2.5]);
-        let mg = generated.step(
-            &MassArmCoords {
-                q1: q[0],
-                q2: q[1],
-                q3: q[2],
-            },
-            qd,
-            qdd,
-        )?;
+        let mg = generated.step(&MassArmCoords::from(q), qd, qdd)?;
         let mr = model.step(&q, &qd, &qdd)?;
         Ok(Self {
             generated,
