@@ -131,26 +131,14 @@ struct FlatAt {
     residual: usize,
 }
 
-/// Where a step's inputs and results lie in the fused buffer (from the
-/// plan's layout, read once per stepper).
+/// What a step checks its inputs against and where its results lie in
+/// the fused buffer (from the plan's layout, read once per stepper).
 #[derive(Clone, Copy)]
 struct Io {
-    /// q, q' and q'' (n values each; the drivers' rates and
-    /// accelerations are the first `nd` of q' and q'').
-    q: usize,
-    qd: usize,
-    qdd: usize,
+    /// The coordinates and the drivers.
     n: usize,
     nd: usize,
-    /// The modes (`k` values).
-    modes: usize,
-    k: usize,
-    /// The outputs (`outputs` values).
-    out: usize,
-    outputs: usize,
-    /// The conditioning, the sign and the residual.
-    results: [usize; 3],
-    /// The same places as a [`Flat`] reads them.
+    /// Where a [`Flat`] reads the results.
     flat: FlatAt,
 }
 
@@ -201,40 +189,25 @@ impl Model {
                 conditioning: c,
                 residual: r,
             };
-            let io = Io {
-                q: at.q,
-                qd: at.qd,
-                qdd: at.qdd,
-                n: self.coordinates.len(),
-                nd: self.drivers,
-                modes,
-                k,
-                out,
-                outputs,
-                results: [c, s, r],
-                flat,
-            };
             // q, q' and q'' lie one after another, as do the conditioning
             // and the sign, and the outputs after them; every region lies
             // in the buffer (the steps rely on it).
-            if io.qd != io.q + io.n
-                || io.qdd != io.qd + io.n
+            if at.qd != at.q + n
+                || at.qdd != at.qd + n
                 || s != c + 1
-                || io.out < io.q + 3 * io.n
+                || out < flat.end
+                || [flat.end, modes + k, flat.out_end, c + 2]
+                    .iter()
+                    .any(|&e| e > f.len())
+                || [c, s, r].iter().any(|&i| i >= f.len())
             {
                 return None;
             }
-            let ends = [
-                io.q + io.n,
-                io.qd + io.n,
-                io.qdd + io.n,
-                io.modes + io.k,
-                io.out + io.outputs,
-                c + 2,
-            ];
-            if ends.iter().any(|&e| e > f.len()) || io.results.iter().any(|&i| i >= f.len()) {
-                return None;
-            }
+            let io = Io {
+                n,
+                nd: self.drivers,
+                flat,
+            };
             Some(FusedRun {
                 plan,
                 step,
