@@ -20,6 +20,8 @@
 //!   solves go block by block (a six-bar loop by loop), and the blocks
 //!   solved in closed form;
 //! * `sensitivity`: the partial derivatives with respect to parameters;
+//! * [`dynamics`]: the masses and loads of the `bodies` and `loads`
+//!   sections, as roots of the graph;
 //! * `cse`: which shared nodes get a `let`, in which order;
 //! * `emit`: the Rust back end, straight-line Rust and the generated types,
 //!   one file per item.
@@ -56,6 +58,7 @@ mod closed;
 mod cse;
 mod diagnostic;
 mod diff;
+pub mod dynamics;
 mod emit;
 pub mod ir;
 mod kinematics;

@@ -13,6 +13,8 @@
 //!         constraints { lhs == rhs; … }      // scalar equations
 //!         joints      { R: 4 }               // optional: mobility check
 //!         sensitivities { a, b }             // optional: ∂/∂ parameters
+//!         bodies      { rod(mass = m3, center = G3, angle = th3, inertia = j3); }
+//!         loads       { gravity(vec2(0.0, -9.81)); force(C, vec2(-p, 0.0)); }
 //!     }
 //! }
 //! ```
@@ -36,6 +38,8 @@ pub mod kw {
     syn::custom_keyword!(joints);
     syn::custom_keyword!(frames);
     syn::custom_keyword!(sensitivities);
+    syn::custom_keyword!(bodies);
+    syn::custom_keyword!(loads);
 }
 
 /// A whole `mechanism!` invocation.
@@ -66,6 +70,29 @@ pub struct Definition {
     /// The optional `sensitivities { a, b, … }` section: the parameters to
     /// differentiate the motion against.
     pub sensitivities: Option<(Span, Vec<Ident>)>,
+    /// The optional `bodies { name(mass = …, center = …, …); … }` section:
+    /// the links' masses and inertias.
+    pub bodies: Vec<Call>,
+    /// The optional `loads { gravity(…); force(…); … }` section.
+    pub loads: Vec<Call>,
+    /// The `bodies` keyword, where errors about the section as a whole
+    /// point.
+    pub dynamics_span: Option<Span>,
+}
+
+/// `name(argument, …, key = value, …)`: an item of the `bodies` section
+/// (named after the body) or of the `loads` section (named after the
+/// load's kind).
+#[derive(Clone)]
+pub struct Call {
+    pub docs: Vec<Attribute>,
+    pub name: Ident,
+    /// The arguments written without a key, in order.
+    pub positional: Vec<Expr>,
+    /// The `key = value` arguments, in order.
+    pub named: Vec<(Ident, Expr)>,
+    /// The whole item's tokens, where errors about it point.
+    pub tokens: proc_macro2::TokenStream,
 }
 
 /// `joints { links: 4, R: 3, P: 1, passive: 0 }`: the joint kinds and their
@@ -145,6 +172,9 @@ impl Parse for Definition {
             constraints: Vec::new(),
             joints: None,
             sensitivities: None,
+            bodies: Vec::new(),
+            loads: Vec::new(),
+            dynamics_span: None,
         };
         let mut seen: Vec<(String, Span)> = Vec::new();
         while !body.is_empty() {
@@ -177,6 +207,12 @@ impl Parse for Definition {
             } else if lookahead.peek(kw::sensitivities) {
                 body.parse::<kw::sensitivities>()?;
                 "sensitivities"
+            } else if lookahead.peek(kw::bodies) {
+                body.parse::<kw::bodies>()?;
+                "bodies"
+            } else if lookahead.peek(kw::loads) {
+                body.parse::<kw::loads>()?;
+                "loads"
             } else {
                 return Err(lookahead.error());
             };
@@ -202,6 +238,15 @@ impl Parse for Definition {
                 "frames" => def.frames = parse_items(&content, parse_point)?,
                 "loops" => def.loops = parse_items(&content, parse_equation)?,
                 "constraints" => def.constraints = parse_items(&content, parse_equation)?,
+                "bodies" | "loads" => {
+                    let items = parse_items(&content, parse_call)?;
+                    def.dynamics_span.get_or_insert(keyword_span);
+                    if section == "bodies" {
+                        def.bodies = items;
+                    } else {
+                        def.loads = items;
+                    }
+                }
                 "sensitivities" => {
                     let names = content.parse_terminated(Ident::parse, Token![,])?;
                     def.sensitivities = Some((keyword_span, names.into_iter().collect()));
@@ -413,6 +458,72 @@ fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
     Ok(PointDef { docs, name, expr })
 }
 
+fn parse_call(input: ParseStream<'_>) -> syn::Result<Call> {
+    let docs = doc_attributes(input.call(Attribute::parse_outer)?)?;
+    let expr: Expr = input.parse()?;
+    let tokens = quote::ToTokens::to_token_stream(&expr);
+    let Expr::Call(call) = expr else {
+        return Err(syn::Error::new_spanned(
+            expr,
+            "expected `name(…)`: a body is written `rod(mass = m3, center = G3, angle = th3, \
+             inertia = j3)`, a load `gravity(vec2(0.0, -9.81))`, `force(C, vec2(fx, fy))`, \
+             `torque(rod, t)` or `spring(A, B, stiffness = k, free_length = l0)`",
+        ));
+    };
+    let name = match &*call.func {
+        Expr::Path(p) if p.qself.is_none() => p.path.get_ident().cloned(),
+        _ => None,
+    };
+    let Some(name) = name else {
+        return Err(syn::Error::new_spanned(
+            &call.func,
+            "expected a single name before the parentheses",
+        ));
+    };
+    let mut positional = Vec::new();
+    let mut named: Vec<(Ident, Expr)> = Vec::new();
+    for arg in call.args {
+        match arg {
+            Expr::Assign(a) => {
+                let key = match &*a.left {
+                    Expr::Path(p) if p.qself.is_none() => p.path.get_ident().cloned(),
+                    _ => None,
+                };
+                let Some(key) = key else {
+                    return Err(syn::Error::new_spanned(
+                        &a.left,
+                        "expected a single name before `=`, e.g. `mass = m3`",
+                    ));
+                };
+                if let Some((first, _)) = named.iter().find(|(k, _)| *k == key) {
+                    let mut err = syn::Error::new(
+                        key.span(),
+                        format!("`{key}` is given twice; give it once"),
+                    );
+                    err.combine(syn::Error::new(first.span(), "first given here"));
+                    return Err(err);
+                }
+                named.push((key, *a.right));
+            }
+            other if named.is_empty() => positional.push(other),
+            other => {
+                return Err(syn::Error::new_spanned(
+                    other,
+                    "an argument without a key follows `key = value` arguments; write the \
+                     arguments without keys first",
+                ))
+            }
+        }
+    }
+    Ok(Call {
+        docs,
+        name,
+        positional,
+        named,
+        tokens,
+    })
+}
+
 fn parse_equation(input: ParseStream<'_>) -> syn::Result<Equation> {
     let expr: Expr = input.parse()?;
     let tokens = quote::ToTokens::to_token_stream(&expr);
@@ -520,7 +631,7 @@ mod tests {
     #[test]
     fn rejects_unknown_section_with_the_list_of_sections() {
         let r: syn::Result<Definition> = syn::parse2(quote::quote! {
-            struct M { bodies { R } }
+            struct M { linkages { R } }
         });
         let msg = r.err().map(|e| e.to_string()).unwrap_or_default();
         assert!(msg.contains("params") && msg.contains("loops"), "{msg}");

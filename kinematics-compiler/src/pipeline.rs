@@ -36,6 +36,7 @@ pub struct Compiled {
     offsets: Vec<Offset>,
     sensitivities: Option<Partials>,
     mobility: Option<Mobility>,
+    dynamics: Option<crate::dynamics::Dynamics>,
 }
 
 /// The kind of a coordinate: what its value measures.
@@ -222,6 +223,13 @@ impl Compiled {
         self.mobility
     }
 
+    /// The masses and loads of the `bodies` and `loads` sections, when the
+    /// definition has either.
+    #[must_use]
+    pub fn dynamics(&self) -> Option<&crate::dynamics::Dynamics> {
+        self.dynamics.as_ref()
+    }
+
     /// The partial derivatives behind the `sensitivities` section, when
     /// the definition has one.
     #[must_use]
@@ -324,7 +332,10 @@ impl Compiled {
             &self.scales,
             &self.closed,
             &self.offsets,
-            self.sensitivities.as_ref(),
+            &emit::Optional {
+                sensitivities: self.sensitivities.as_ref(),
+                dynamics: self.dynamics.as_ref(),
+            },
         )
     }
 }
@@ -345,6 +356,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
     let mobility = check::check_mobility(&def, model.spatial, &mut errors);
+    let dynamics = crate::dynamics::resolve(&def, &mut model, &mut errors);
     if errors.is_empty() {
         validate::validate(&def, &model, &mut errors);
     }
@@ -375,6 +387,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
         offsets,
         sensitivities,
         mobility,
+        dynamics,
     })
 }
 

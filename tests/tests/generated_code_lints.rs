@@ -249,3 +249,42 @@ fn expansion_is_usable() {
     let pose = s.assemble(&SpatialCoords { phi: 0.3, y: 0.19 });
     assert!(pose.is_ok());
 }
+
+kinematics_core::mechanism! {
+    /// A slider-crank with masses and every kind of load.
+    pub struct Loaded {
+        params {
+            /// Crank.
+            a,
+            /// Rod.
+            b,
+            /// Mass.
+            m,
+            /// Damping.
+            c
+        }
+        drivers  { phi }
+        unknowns { th, x }
+        points {
+            /// Crank pin.
+            B = polar(a, phi);
+            /// Piston.
+            C = vec2(x, 0.0);
+            /// A fixed point.
+            D = vec2(0.0, -a);
+        }
+        loops { B + polar(b, th) == C; }
+        bodies {
+            /// The rod, with its centre of mass at the crank pin.
+            rod(mass = m, center = B, angle = th, inertia = m * b * b / 12.0);
+            piston(mass = 2.0 * m, center = C);
+        }
+        loads {
+            gravity(vec2(0.0, -9.81));
+            force(C, vec2(-c * rate(x) - 1.0, 0.5 * sin(phi)), on = piston);
+            force(x, -c * rate(x));
+            torque(rod, -c * rate(th));
+            spring(D, B, stiffness = 100.0 * m, free_length = a, damping = c, between = (ground, rod));
+        }
+    }
+}

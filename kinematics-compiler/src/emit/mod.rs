@@ -24,6 +24,7 @@ mod assemble;
 mod closed;
 mod closed_solve;
 mod closed_step;
+mod dynamics;
 mod evaluate;
 mod fallback;
 mod guards;
@@ -395,6 +396,14 @@ impl<'a> Ctx<'a> {
 /// `Ctx::inline_core`).
 const LARGE_MODEL: usize = 32;
 
+/// What the optional sections of a definition add to its expansion.
+pub struct Optional<'a> {
+    /// The partial derivatives of the `sensitivities` section.
+    pub sensitivities: Option<&'a crate::sensitivity::Partials>,
+    /// The masses and loads of the `bodies` and `loads` sections.
+    pub dynamics: Option<&'a crate::dynamics::Dynamics>,
+}
+
 /// The full expansion of a checked model.
 pub fn expand(
     def: &Definition,
@@ -403,10 +412,11 @@ pub fn expand(
     scales: &Scales,
     closed: &[crate::closed::Closed],
     offsets: &[crate::closed::Offset],
-    sensitivities: Option<&crate::sensitivity::Partials>,
+    optional: &Optional<'_>,
 ) -> TokenStream {
     let cx = Ctx::new(def, model, d, scales, closed, offsets);
-    let sensitivities = sensitivity::sensitivities(&cx, sensitivities);
+    let sensitivities = sensitivity::sensitivities(&cx, optional.sensitivities);
+    let dynamics = dynamics::dynamics(&cx, optional.dynamics);
     let types = types(def, &cx.id, Some(&model.kinds), model.point_dim);
     let (name, pp, nd, nu, ne, np, nf) = (&cx.id.name, &cx.pp, cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let coord_names: Vec<String> = cx.id.coord.iter().map(|c| c.unraw().to_string()).collect();
@@ -488,5 +498,7 @@ pub fn expand(
         #mechanism_impl
 
         #sensitivities
+
+        #dynamics
     })
 }

@@ -18,6 +18,9 @@ impl Lowerer<'_> {
         };
         let name = fname.to_string();
         let span = fname.span();
+        if name == "rate" {
+            return self.rate(c);
+        }
         let Some(&(_, arity, usage)) = FUNCTIONS.iter().find(|(n, _, _)| *n == name) else {
             let hint = crate::names::suggest_function(&name)
                 .map(|s| format!("; did you mean `{s}`?"))

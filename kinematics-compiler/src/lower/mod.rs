@@ -15,6 +15,7 @@ use crate::names::{Errors, Names};
 use crate::parse::Definition;
 
 mod builtins;
+pub mod dynamics;
 mod expr;
 
 type Mat = [[Id; 3]; 3];
@@ -140,6 +141,8 @@ pub struct Model {
     /// (lowered as v·v − b²), with the constraint's text: each must be
     /// positive for the two forms to have the same solutions.
     pub distances: Vec<(u32, String)>,
+    /// The `bodies` and `loads` sections, where written.
+    pub dynamics: Option<dynamics::LoweredDynamics>,
 }
 
 impl Model {
@@ -162,6 +165,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         attached: HashMap::new(),
         bodies: HashMap::new(),
         spatial: false,
+        rates: false,
         errors,
     };
     let mut frames = Vec::new();
@@ -344,9 +348,15 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
             _ => {}
         }
     }
+    // The kinematics' nodes, below the dynamics' (which may not decide
+    // whether a coordinate is an angle).
+    let kinematic_nodes = cx.g.len();
+    let dim = point_dim.map_or(2, |(d, _)| d);
+    let dynamics = cx.dynamics(def, dim);
     let spatial = cx.spatial;
     let graph = cx.g;
     let model = Model {
+        dynamics,
         kinds: Vec::new(),
         loop_dims,
         drivers: count(def.drivers.len()),
@@ -359,7 +369,7 @@ pub fn lower(def: &Definition, names: &Names, errors: &mut Errors) -> Model {
         graph,
         distances,
     };
-    let kinds = coordinate_kinds(&model);
+    let kinds = coordinate_kinds(&model, kinematic_nodes);
     Model { kinds, ..model }
 }
 
@@ -390,14 +400,16 @@ fn count(n: usize) -> u32 {
     u32::try_from(n).unwrap_or(u32::MAX)
 }
 
-/// A coordinate is an angle when some sin, cos or tan has it in its argument.
-fn coordinate_kinds(model: &Model) -> Vec<CoordKind> {
+/// A coordinate is an angle when some sin, cos or tan of the first
+/// `nodes` nodes has it in its argument.
+fn coordinate_kinds(model: &Model, nodes: usize) -> Vec<CoordKind> {
     let g = &model.graph;
+    let nodes = nodes.min(g.len());
     let mut kinds = vec![CoordKind::Length; model.coords() as usize];
     let leaves: Vec<Option<usize>> = (0..model.coords())
-        .map(|j| (0..g.len()).find(|&i| g.node(Id::from_index(i)) == Node::Leaf(Leaf::Q(j))))
+        .map(|j| (0..nodes).find(|&i| g.node(Id::from_index(i)) == Node::Leaf(Leaf::Q(j))))
         .collect();
-    for i in 0..g.len() {
+    for i in 0..nodes {
         if let Node::Call(Func::Sin | Func::Cos | Func::Tan, arg) = g.node(Id::from_index(i)) {
             let live = g.reachable(&[arg]);
             for (kind, leaf) in kinds.iter_mut().zip(&leaves) {
@@ -426,6 +438,8 @@ struct Lowerer<'a> {
     /// The transforms built along chains, by rotation and origin.
     bodies: HashMap<(Mat, [Id; 3]), Body>,
     spatial: bool,
+    /// Whether `rate(x)` may be used (in a load's value).
+    rates: bool,
     errors: &'a mut Errors,
 }
 

@@ -708,3 +708,5 @@ impl fmt::Debug for Dynamics {
 
 #[cfg(feature = "runtime")]
 mod runtime;
+#[cfg(feature = "runtime")]
+pub(crate) use runtime::SectionCode;

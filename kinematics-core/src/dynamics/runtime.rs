@@ -2,7 +2,9 @@
 //! the same description resolved against a model's names, and the same
 //! sums over its motions.
 
+use alloc::format;
 use alloc::string::{String, ToString};
+use alloc::sync::Arc;
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -185,5 +187,206 @@ impl Dynamics {
             model.frame_names().len(),
             model.point_dimension(),
         )
+    }
+}
+
+/// The `bodies` and `loads` sections of a run-time model's definition,
+/// compiled: stage 0 gives the constants
+/// ([`kinematics_compiler::dynamics::Dynamics::constants`]), stage 1 + k
+/// the value of load k.
+pub(crate) struct SectionCode {
+    sections: kinematics_compiler::dynamics::Dynamics,
+    program: kinematics_jit::Program,
+    coordinates: usize,
+}
+
+impl SectionCode {
+    /// The sections of `c`, compiled, or `None` where it has none.
+    pub(crate) fn new(
+        c: &kinematics_compiler::Compiled,
+    ) -> Result<Option<Self>, kinematics_jit::JitError> {
+        let Some(sections) = c.dynamics() else {
+            return Ok(None);
+        };
+        let constants = sections.constants();
+        let mut stages: Vec<&[kinematics_compiler::ir::Id]> = vec![&constants];
+        stages.extend(sections.loads.iter().map(|l| l.value.as_slice()));
+        let coordinates = c.coordinates().len();
+        let program = kinematics_jit::Program::new(
+            c.graph(),
+            c.parameters().len() + 1,
+            coordinates,
+            &stages,
+        )?;
+        Ok(Some(Self {
+            sections: sections.clone(),
+            program,
+            coordinates,
+        }))
+    }
+
+    /// Stage `stage` at the parameters `values` (with the characteristic
+    /// length last) and the coordinates and rates of `instant` (NaN where
+    /// it has none), into `out`.
+    fn eval(
+        &self,
+        stage: usize,
+        values: &[f64],
+        instant: Option<&super::Instant<'_>>,
+        out: &mut [f64],
+    ) {
+        let n = self.coordinates;
+        let mut q = vec![0.0; 3 * n];
+        if let Some(i) = instant {
+            for j in 0..n {
+                q[j] = i.q(j);
+                q[n + j] = i.qd(j);
+                q[2 * n + j] = i.qdd(j);
+            }
+        }
+        let mut trig = vec![0.0; 2 * n];
+        self.program.trig(&q[..n], &mut trig, 0);
+        let inputs = kinematics_jit::Inputs {
+            params: values,
+            q: &q[..n],
+            qd: &q[n..2 * n],
+            qdd: &q[2 * n..],
+            trig: &trig,
+        };
+        if self.program.eval(stage, &inputs, out).is_err() {
+            // Lengths are the program's own; a mismatch cannot happen, and
+            // would show as NaN, which the sums report.
+            out.fill(f64::NAN);
+        }
+    }
+}
+
+impl Model {
+    /// The masses and loads of the definition's `bodies` and `loads`
+    /// sections, with the model's parameter values: the constants
+    /// (masses, inertias, gravity, springs) evaluated now, each load a
+    /// function of the instant in machine code. Add joints for the
+    /// reactions, then resolve it with [`DynamicsBuilder::build_for`], or
+    /// take [`Model::dynamics`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidDynamics`] when the definition has neither section.
+    pub fn dynamics_builder(&self) -> Result<DynamicsBuilder, Error> {
+        use super::{Body, Spring};
+        use kinematics_compiler::dynamics::{LoadTarget, Turning};
+        let Some(shared) = self.sections() else {
+            return Err(Error::InvalidDynamics {
+                item: format!("model `{}`", self.name()),
+                detail: "its definition has no `bodies` or `loads` section: describe the \
+                         links' masses there (`bodies { rod(mass = m3, center = G3, angle = \
+                         th3, inertia = j3); }`), or build the description with \
+                         `Dynamics::builder()`"
+                    .to_string(),
+            });
+        };
+        let code: &SectionCode = shared;
+        let values: Vec<f64> = self.all_values().to_vec();
+        let d = &code.sections;
+        let mut constants = vec![0.0; code.program.outputs(0)];
+        code.eval(0, &values, None, &mut constants);
+        let mut next = constants.iter().copied();
+        let mut take = || next.next().unwrap_or(f64::NAN);
+        let padded = |v: &[f64]| {
+            [
+                v.first().copied().unwrap_or(0.0),
+                v.get(1).copied().unwrap_or(0.0),
+                v.get(2).copied().unwrap_or(0.0),
+            ]
+        };
+        let mut b = DynamicsBuilder::new();
+        if !d.gravity.is_empty() {
+            let g: Vec<f64> = d.gravity.iter().map(|_| take()).collect();
+            b = b.gravity(padded(&g));
+        }
+        for body in &d.bodies {
+            let mut made = Body::new(&body.name, take()).center(&body.center);
+            match &body.turning {
+                Turning::No => {}
+                Turning::Angle(terms) => {
+                    let terms: Vec<(&str, f64)> =
+                        terms.iter().map(|(n, _)| (n.as_str(), take())).collect();
+                    made = made.angle_sum(&terms);
+                }
+                Turning::Frame(f) => made = made.frame(f),
+            }
+            match body.inertia.len() {
+                0 => {}
+                1 => made = made.inertia(take()),
+                _ => {
+                    let mut t = [[0.0; 3]; 3];
+                    t.iter_mut().flatten().for_each(|x| *x = take());
+                    made = made.inertia_tensor(t);
+                }
+            }
+            b = b.body(made);
+        }
+        for s in &d.springs {
+            let mut spring = Spring::new(&s.from, &s.to)
+                .stiffness(take())
+                .free_length(take())
+                .damping(take());
+            if let Some([first, second]) = &s.between {
+                spring = spring.between(first, second);
+            }
+            b = b.spring(spring);
+        }
+        for (k, load) in d.loads.iter().enumerate() {
+            let (code, values) = (Arc::clone(shared), values.clone());
+            let vector = move |i: &super::Instant<'_>| -> [f64; 3] {
+                let mut out = [0.0; 3];
+                let n = code.program.outputs(k + 1).min(3);
+                code.eval(k + 1, &values, Some(i), &mut out[..n]);
+                match n {
+                    1 => [0.0, 0.0, out[0]],
+                    _ => out,
+                }
+            };
+            b = match &load.target {
+                LoadTarget::Point { point, body: None } => b.force(point, vector),
+                LoadTarget::Point {
+                    point,
+                    body: Some(on),
+                } => b.force_on(on, point, vector),
+                LoadTarget::Torque { body } => b.torque(body, vector),
+                LoadTarget::Coordinate { coordinate } => {
+                    b.coordinate_force(coordinate, move |i| vector(i)[2])
+                }
+            };
+        }
+        Ok(b)
+    }
+
+    /// The definition's masses and loads resolved against the model
+    /// ([`Model::dynamics_builder`], then [`DynamicsBuilder::build_for`]).
+    ///
+    /// ```
+    /// use kinematics_core::runtime::Model;
+    /// let m = Model::compile(
+    ///     "struct Crank {
+    ///          params   { a, m }
+    ///          drivers  { phi }
+    ///          unknowns { }
+    ///          points   { G = polar(a, phi); }
+    ///          bodies   { crank(mass = m, center = G, angle = phi); }
+    ///          loads    { gravity(vec2(0.0, -9.81)); }
+    ///      }",
+    /// )?
+    /// .with_values(&[0.1, 2.0])?;
+    /// // Held at rest, horizontal: the torque holds the weight, m g a.
+    /// let motion = m.analyze(&[0.0], &[0.0], &[0.0])?;
+    /// let forces = m.dynamics()?.inverse_of(&m, &motion)?;
+    /// assert!((forces.effort[0] - 2.0 * 9.81 * 0.1).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Model::dynamics_builder`] and [`DynamicsBuilder::build_for`].
+    pub fn dynamics(&self) -> Result<Dynamics, Error> {
+        self.dynamics_builder()?.build_for(self)
     }
 }

@@ -198,6 +198,9 @@ pub struct Model {
     /// The fused step of a stepper, where the model has one (every block
     /// in closed form, none of more than four unknowns).
     fused: Option<Arc<fused::Plan>>,
+    /// The `bodies` and `loads` sections in machine code, where the
+    /// definition has them.
+    sections: Option<Arc<crate::dynamics::SectionCode>>,
 }
 
 impl fmt::Debug for Model {
@@ -224,6 +227,9 @@ impl Model {
         let c = compile_str(text).map_err(CompileError::Definition)?;
         let program = Program::for_model(&c).map_err(CompileError::Native)?;
         let fused = fused::Plan::new(&c).map(Arc::new);
+        let sections = crate::dynamics::SectionCode::new(&c)
+            .map_err(CompileError::Native)?
+            .map(Arc::new);
         let drivers = c.drivers();
         let coordinates = c
             .coordinates()
@@ -313,6 +319,7 @@ impl Model {
                 .collect(),
             program: Arc::new(program),
             fused,
+            sections,
         })
     }
 
@@ -336,6 +343,17 @@ impl Model {
     #[must_use]
     pub fn parameters(&self) -> &[Name] {
         &self.params
+    }
+
+    /// The compiled `bodies` and `loads` sections, where written.
+    pub(crate) fn sections(&self) -> Option<&Arc<crate::dynamics::SectionCode>> {
+        self.sections.as_ref()
+    }
+
+    /// The parameters' values with the characteristic length last, as the
+    /// machine code reads them.
+    pub(crate) fn all_values(&self) -> &[f64] {
+        &self.values
     }
 
     /// The parameters' values, in declaration order (NaN where not set).

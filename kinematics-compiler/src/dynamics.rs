@@ -1,0 +1,162 @@
+//! The masses and loads of the `bodies` and `loads` sections, as roots of
+//! the graph both back ends evaluate: the constants (from the parameters)
+//! and each load's value (from the parameters, the coordinates and their
+//! rates).
+//!
+//! A planar body's angle must be Σ c_j q_j plus a constant, the c_j
+//! constants (its angular velocity is then Σ c_j q̇_j); each c_j = ∂θ/∂q_j
+//! is found here by differentiating the angle as written, which must not
+//! depend on the coordinates, and every q_j with c_j ≠ 0 must be an angle.
+
+use crate::diff::{partial, Memo};
+use crate::ir::{Id, Leaf};
+use crate::lower::dynamics::LoweredDynamics;
+use crate::lower::{CoordKind, Model};
+use crate::names::Errors;
+use crate::parse::Definition;
+
+pub use crate::lower::dynamics::{Load, LoadTarget, Spring};
+
+/// How a body turns.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Turning {
+    /// It does not (a slider): no rotational inertia.
+    No,
+    /// Planar: its angle is Σ c_j q_j plus a constant, as (coordinate
+    /// name, c_j) with c_j a root (an expression of the parameters).
+    Angle(Vec<(String, Id)>),
+    /// Spatial: it moves with the frame of this name.
+    Frame(String),
+}
+
+/// A rigid link with mass.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MassBody {
+    /// Its name in the `bodies` section.
+    pub name: String,
+    /// m (a root of the parameters).
+    pub mass: Id,
+    /// The point at its centre of mass.
+    pub center: String,
+    /// How it turns.
+    pub turning: Turning,
+    /// Its inertia about the centre of mass: empty (none), one root
+    /// (planar: about the plane's normal) or nine, row by row (spatial: in
+    /// its frame's axes).
+    pub inertia: Vec<Id>,
+}
+
+/// The `bodies` and `loads` sections of a definition.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct Dynamics {
+    /// g (2 or 3 roots of the parameters), empty without gravity.
+    pub gravity: Vec<Id>,
+    /// The bodies, in declaration order.
+    pub bodies: Vec<MassBody>,
+    /// The forces and torques, in declaration order.
+    pub loads: Vec<Load>,
+    /// The springs, in declaration order.
+    pub springs: Vec<Spring>,
+}
+
+impl Dynamics {
+    /// Every root that depends on the parameters only, in a fixed order:
+    /// gravity, then each body's mass, angle coefficients and inertia,
+    /// then each spring's stiffness, free length and damping. Both back
+    /// ends evaluate these once per parameter set.
+    #[must_use]
+    pub fn constants(&self) -> Vec<Id> {
+        let mut out = self.gravity.clone();
+        for b in &self.bodies {
+            out.push(b.mass);
+            if let Turning::Angle(terms) = &b.turning {
+                out.extend(terms.iter().map(|(_, c)| *c));
+            }
+            out.extend(&b.inertia);
+        }
+        for s in &self.springs {
+            out.extend([s.stiffness, s.free_length, s.damping]);
+        }
+        out
+    }
+}
+
+/// The sections of `model`, their angles resolved into coefficients;
+/// errors at the angle's tokens.
+pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Option<Dynamics> {
+    let LoweredDynamics {
+        gravity,
+        bodies,
+        loads,
+        springs,
+    } = model.dynamics.take()?;
+    let coords = model.coords();
+    let coordinate_name = |j: u32| -> String {
+        def.drivers
+            .iter()
+            .chain(&def.unknowns)
+            .nth(j as usize)
+            .map(|d| syn::ext::IdentExt::unraw(&d.name).to_string())
+            .unwrap_or_default()
+    };
+    let mut memo = Memo::new();
+    let mut out = Dynamics {
+        gravity,
+        ..Dynamics::default()
+    };
+    for b in bodies {
+        let turning = match (&b.angle, &b.frame) {
+            (Some((angle, tokens)), _) => {
+                let mut terms = Vec::new();
+                for j in 0..coords {
+                    let c = partial(&mut model.graph, *angle, Leaf::Q(j), &mut memo);
+                    if model.graph.as_const(c) == Some(0.0) {
+                        continue;
+                    }
+                    let name = coordinate_name(j);
+                    if model
+                        .graph
+                        .leaves_under(c)
+                        .any(|l| !matches!(l, Leaf::Param(_)))
+                    {
+                        errors.spanned(
+                            tokens,
+                            format!(
+                                "the angle of body `{}` must be a sum of coordinates times \
+                                 constants (as `th3` or `th1 + th2`); this one is not linear in \
+                                 `{name}`",
+                                b.name
+                            ),
+                        );
+                        return None;
+                    }
+                    if model.kinds.get(j as usize) != Some(&CoordKind::Angle) {
+                        errors.spanned(
+                            tokens,
+                            format!(
+                                "the angle of body `{}` is made of `{name}`, which is a length \
+                                 (no sine or cosine of it appears in the mechanism)",
+                                b.name
+                            ),
+                        );
+                        return None;
+                    }
+                    terms.push((name, c));
+                }
+                Turning::Angle(terms)
+            }
+            (None, Some(frame)) => Turning::Frame(frame.clone()),
+            (None, None) => Turning::No,
+        };
+        out.bodies.push(MassBody {
+            name: b.name,
+            mass: b.mass,
+            center: b.center,
+            turning,
+            inertia: b.inertia,
+        });
+    }
+    out.loads = loads;
+    out.springs = springs;
+    Some(out)
+}

@@ -1,0 +1,170 @@
+//! The `bodies` and `loads` sections as Rust: `dynamics_builder`, the
+//! sections with one parameter set's values as a
+//! `kinematics_core::dynamics::DynamicsBuilder` (the constants evaluated
+//! once, each load a closure of the instant), and `dynamics`, the builder
+//! resolved against the mechanism. Nothing is emitted for a definition
+//! without the sections.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use super::print::bind;
+use super::Ctx;
+use crate::cse::schedule;
+use crate::dynamics::{Dynamics, LoadTarget, Turning};
+use crate::ir::{Id, Leaf};
+
+/// The two methods, or nothing without the sections.
+pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream {
+    let Some(dy) = dynamics else {
+        return TokenStream::new();
+    };
+    let (g, pp, allow) = (cx.g(), &cx.pp, &cx.allow);
+    let name = &cx.id.name;
+    let dm = quote!(::kinematics_core::dynamics);
+    let npar = cx.id.params.len();
+    // The parameters from `values`, the coordinates and rates from the
+    // instant a load is evaluated at.
+    let leaf = |l: Leaf| match l {
+        Leaf::Param(i) => {
+            let i = Literal::usize_unsuffixed(i as usize);
+            quote!(values[#i])
+        }
+        Leaf::Q(j) => {
+            let j = Literal::usize_unsuffixed(j as usize);
+            quote!(instant.q(#j))
+        }
+        Leaf::Qd(j) => {
+            let j = Literal::usize_unsuffixed(j as usize);
+            quote!(instant.qd(#j))
+        }
+        Leaf::Qdd(j) => {
+            let j = Literal::usize_unsuffixed(j as usize);
+            quote!(instant.qdd(#j))
+        }
+    };
+    let constants = dy.constants();
+    let sched = schedule(g, std::slice::from_ref(&constants));
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let c = |id: Id| pr.element(id);
+    let padded = |v: &[Id]| -> TokenStream {
+        let e: Vec<TokenStream> = v.iter().map(|&id| c(id)).collect();
+        match e.as_slice() {
+            [x, y] => quote!([#x, #y, 0.0]),
+            _ => quote!([#(#e),*]),
+        }
+    };
+    let mut calls = Vec::new();
+    if !dy.gravity.is_empty() {
+        let gv = padded(&dy.gravity);
+        calls.push(quote!(.gravity(#gv)));
+    }
+    for b in &dy.bodies {
+        let (bn, center, mass) = (&b.name, &b.center, c(b.mass));
+        let mut body = quote!(#dm::Body::new(#bn, #mass).center(#center));
+        match &b.turning {
+            Turning::No => {}
+            Turning::Angle(terms) => {
+                let names = terms.iter().map(|(n, _)| n);
+                let coefficients = terms.iter().map(|&(_, k)| c(k));
+                body.extend(quote!(.angle_sum(&[#((#names, #coefficients)),*])));
+            }
+            Turning::Frame(f) => body.extend(quote!(.frame(#f))),
+        }
+        match b.inertia.as_slice() {
+            [] => {}
+            [j] => {
+                let j = c(*j);
+                body.extend(quote!(.inertia(#j)));
+            }
+            rows => {
+                let rows = rows.chunks(3).map(|r| {
+                    let r = r.iter().map(|&id| c(id));
+                    quote!([#(#r),*])
+                });
+                body.extend(quote!(.inertia_tensor([#(#rows),*])));
+            }
+        }
+        calls.push(quote!(.body(#body)));
+    }
+    for s in &dy.springs {
+        let (from, to) = (&s.from, &s.to);
+        let (k, l0, damping) = (c(s.stiffness), c(s.free_length), c(s.damping));
+        let mut spring =
+            quote!(#dm::Spring::new(#from, #to).stiffness(#k).free_length(#l0).damping(#damping));
+        if let Some([first, second]) = &s.between {
+            spring.extend(quote!(.between(#first, #second)));
+        }
+        calls.push(quote!(.spring(#spring)));
+    }
+    for load in &dy.loads {
+        // Each load its own straight line, from the instant.
+        let sched = schedule(g, std::slice::from_ref(&load.value));
+        let (lp, lets) = bind(g, &sched, &leaf);
+        let e: Vec<TokenStream> = load.value.iter().map(|&id| lp.element(id)).collect();
+        let vector = match e.as_slice() {
+            [x, y] => quote!([#x, #y, 0.0]),
+            [z] => quote!([0.0, 0.0, #z]),
+            _ => quote!([#(#e),*]),
+        };
+        let closure = |value: TokenStream, ty: TokenStream| {
+            quote! {
+                move |instant: &#dm::Instant<'_>| -> #ty {
+                    #(#lets)*
+                    #value
+                }
+            }
+        };
+        calls.push(match &load.target {
+            LoadTarget::Point { point, body: None } => {
+                let f = closure(vector, quote!([f64; 3]));
+                quote!(.force(#point, #f))
+            }
+            LoadTarget::Point {
+                point,
+                body: Some(body),
+            } => {
+                let f = closure(vector, quote!([f64; 3]));
+                quote!(.force_on(#body, #point, #f))
+            }
+            LoadTarget::Torque { body } => {
+                let f = closure(vector, quote!([f64; 3]));
+                quote!(.torque(#body, #f))
+            }
+            LoadTarget::Coordinate { coordinate } => {
+                let f = e.first().cloned().unwrap_or_else(|| quote!(0.0));
+                let f = closure(f, quote!(f64));
+                quote!(.coordinate_force(#coordinate, #f))
+            }
+        });
+    }
+    quote! {
+        impl #name {
+            /// The masses and loads of the definition's `bodies` and
+            /// `loads` sections, with this parameter set's values: the
+            /// constants (masses, inertias, gravity, springs) evaluated
+            /// here, each load a function of the instant. Add joints for
+            /// the reactions, then resolve it with `build::<Self>()`, or
+            /// take [`Self::dynamics`].
+            #[must_use]
+            #allow
+            pub fn dynamics_builder(&self) -> #dm::DynamicsBuilder {
+                let values: [f64; #npar] = self.parameter_values();
+                #(#lets)*
+                #dm::DynamicsBuilder::new() #(#calls)*
+            }
+
+            /// The definition's masses and loads resolved against this
+            /// mechanism, ready for `Dynamics::inverse` (the driving
+            /// efforts, energies and shaking forces at a motion).
+            ///
+            /// # Errors
+            /// `Error::InvalidDynamics` for a value the parameters make
+            /// invalid (a negative or NaN mass, an inertia tensor that is
+            /// not symmetric, …).
+            pub fn dynamics(&self) -> #pp::Result<#dm::Dynamics, #pp::Error> {
+                self.dynamics_builder().build::<Self>()
+            }
+        }
+    }
+}

@@ -1,0 +1,664 @@
+//! Lowering of the `bodies` and `loads` sections: each body's mass,
+//! centre of mass, orientation and inertia, and each load, as roots of the
+//! graph, with their names and dimensions checked.
+//!
+//! The constants (masses, inertias, gravity, a spring's stiffness, free
+//! length and damping) may use the parameters only; a load's value may
+//! also use the coordinates and their rates (`rate(x)`).
+
+use syn::spanned::Spanned;
+use syn::{Expr, Ident};
+
+use super::{Lowerer, Value};
+use crate::ir::{Id, Leaf};
+use crate::names::Binding;
+use crate::parse::{Call, Definition};
+
+/// The name of the fixed frame, which no body may take.
+pub const GROUND: &str = "ground";
+
+/// The `bodies` and `loads` sections, lowered.
+pub struct LoweredDynamics {
+    /// g, 2 or 3 roots (empty without a `gravity` load).
+    pub gravity: Vec<Id>,
+    pub bodies: Vec<LoweredBody>,
+    pub loads: Vec<Load>,
+    pub springs: Vec<Spring>,
+}
+
+/// A body as written: its angle still an expression (its coefficients
+/// are found by differentiating it, after lowering).
+pub struct LoweredBody {
+    pub name: String,
+    pub mass: Id,
+    /// The point at its centre of mass.
+    pub center: String,
+    /// Planar: its angle, with the tokens errors about it point at.
+    pub angle: Option<(Id, proc_macro2::TokenStream)>,
+    /// Spatial: the frame it moves with.
+    pub frame: Option<String>,
+    /// Its inertia about the centre of mass: empty, one root (planar) or
+    /// nine, row by row, in the axes of its frame (spatial).
+    pub inertia: Vec<Id>,
+}
+
+/// What a load acts on (names checked against the definition).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum LoadTarget {
+    /// A force at a point (on the named body, where given).
+    Point {
+        /// The point.
+        point: String,
+        /// The body it acts on, where named.
+        body: Option<String>,
+    },
+    /// A generalised force on a coordinate (a force along a length, a
+    /// torque about an angle).
+    Coordinate {
+        /// The coordinate.
+        coordinate: String,
+    },
+    /// A torque on a body.
+    Torque {
+        /// The body.
+        body: String,
+    },
+}
+
+/// A load: what it acts on and its value, roots of the parameters, the
+/// coordinates and their rates (a force at a point: 2 or 3 components; a
+/// force on a coordinate: one; a torque: one about the normal of a planar
+/// mechanism, three in a spatial one).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Load {
+    /// What it acts on.
+    pub target: LoadTarget,
+    /// Its value.
+    pub value: Vec<Id>,
+}
+
+/// A linear spring and viscous damper between two points.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Spring {
+    /// The point at its first end.
+    pub from: String,
+    /// The point at its second end.
+    pub to: String,
+    /// k (a root of the parameters; zero where not given).
+    pub stiffness: Id,
+    /// L₀.
+    pub free_length: Id,
+    /// c.
+    pub damping: Id,
+    /// The bodies its ends are fixed to, where given (`ground` for the
+    /// frame).
+    pub between: Option<[String; 2]>,
+}
+
+/// What an expression may depend on.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Allowed {
+    /// Parameters and numbers.
+    Constant,
+    /// Also the coordinates and their rates.
+    Motion,
+}
+
+impl Lowerer<'_> {
+    /// The two sections, lowered; `None` when neither is written.
+    pub(super) fn dynamics(&mut self, def: &Definition, dim: usize) -> Option<LoweredDynamics> {
+        def.dynamics_span?;
+        // Gravity or a force written as a 3-D vector in a planar mechanism
+        // is a dimension error below, not a sign of a spatial mechanism.
+        let spatial = self.spatial;
+        let mut out = LoweredDynamics {
+            gravity: Vec::new(),
+            bodies: Vec::new(),
+            loads: Vec::new(),
+            springs: Vec::new(),
+        };
+        let mut body_names: Vec<&Ident> = Vec::new();
+        for item in &def.bodies {
+            let name = syn::ext::IdentExt::unraw(&item.name).to_string();
+            if let Some(first) = body_names.iter().find(|b| **b == &item.name) {
+                let mut err = syn::Error::new(
+                    item.name.span(),
+                    format!("body `{name}` is declared twice; give each body its own name"),
+                );
+                err.combine(syn::Error::new(first.span(), "first declared here"));
+                self.errors.push(err);
+                continue;
+            }
+            if name == GROUND {
+                self.errors.at(
+                    item.name.span(),
+                    "`ground` is the fixed frame, which has no mass; name the moving link \
+                     otherwise",
+                );
+                continue;
+            }
+            body_names.push(&item.name);
+            if let Some(b) = self.body_item(item, name, dim) {
+                out.bodies.push(b);
+            }
+        }
+        let bodies: Vec<String> = out.bodies.iter().map(|b| b.name.clone()).collect();
+        for item in &def.loads {
+            self.load_item(item, dim, &bodies, &mut out);
+        }
+        self.spatial = spatial;
+        Some(out)
+    }
+
+    /// One item of `bodies`.
+    fn body_item(&mut self, item: &Call, name: String, dim: usize) -> Option<LoweredBody> {
+        const KEYS: [&str; 5] = ["mass", "center", "angle", "frame", "inertia"];
+        if let Some(extra) = item.positional.first() {
+            self.errors.spanned(
+                extra,
+                format!(
+                    "a body's properties are given by name: `{name}(mass = m, center = G, \
+                     angle = th, inertia = j)`"
+                ),
+            );
+            return None;
+        }
+        self.known_keys(item, &KEYS)?;
+        let mass = match self.named(item, "mass") {
+            Some(e) => self.scalar(e, Allowed::Constant, &format!("the mass of body `{name}`"))?,
+            None => {
+                self.errors.spanned(
+                    &item.tokens,
+                    format!("body `{name}` has no mass: give it as `mass = m`"),
+                );
+                return None;
+            }
+        };
+        let center = match self.named(item, "center") {
+            Some(e) => self.point_name(e, &format!("the centre of mass of body `{name}`"))?,
+            None => {
+                self.errors.spanned(
+                    &item.tokens,
+                    format!(
+                        "body `{name}` has no centre of mass: give the point of `points {{ … }}` \
+                         at it as `center = G`"
+                    ),
+                );
+                return None;
+            }
+        };
+        let angle = match self.named(item, "angle") {
+            Some(e) if dim == 3 => {
+                self.errors.spanned(
+                    e,
+                    "the mechanism is spatial: a body turns with a frame (`frame = name`), not \
+                     an angle",
+                );
+                return None;
+            }
+            Some(e) => {
+                let what = format!("the angle of body `{name}`");
+                let id = self.scalar(e, Allowed::Motion, &what)?;
+                Some((id, quote::ToTokens::to_token_stream(e)))
+            }
+            None => None,
+        };
+        let frame = match self.named(item, "frame") {
+            Some(e) if dim == 2 => {
+                self.errors.spanned(
+                    e,
+                    "the mechanism is planar: a body turns by an angle (`angle = th3`), not \
+                     with a frame",
+                );
+                return None;
+            }
+            Some(e) => Some(self.frame_name(e)?),
+            None => None,
+        };
+        let inertia = match self.named(item, "inertia") {
+            None => Vec::new(),
+            Some(e) if angle.is_none() && frame.is_none() => {
+                let how = if dim == 2 {
+                    "angle = th"
+                } else {
+                    "frame = name"
+                };
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "body `{name}` has a moment of inertia but does not turn: give how it \
+                         turns (`{how}`)"
+                    ),
+                );
+                return None;
+            }
+            Some(e) if dim == 2 => {
+                vec![self.scalar(
+                    e,
+                    Allowed::Constant,
+                    &format!("the inertia of body `{name}`"),
+                )?]
+            }
+            Some(e) => self.tensor(e, &name)?,
+        };
+        Some(LoweredBody {
+            name,
+            mass,
+            center,
+            angle,
+            frame,
+            inertia,
+        })
+    }
+
+    /// A 3×3 inertia tensor written `[[…], […], […]]`, constant.
+    fn tensor(&mut self, e: &Expr, body: &str) -> Option<Vec<Id>> {
+        let rows: Option<Vec<&Expr>> = match e {
+            Expr::Array(a) if a.elems.len() == 3 => Some(a.elems.iter().collect()),
+            _ => None,
+        };
+        let entries: Option<Vec<&Expr>> = rows.and_then(|rows| {
+            let mut out = Vec::new();
+            for r in rows {
+                match r {
+                    Expr::Array(a) if a.elems.len() == 3 => out.extend(a.elems.iter()),
+                    _ => return None,
+                }
+            }
+            Some(out)
+        });
+        let Some(entries) = entries else {
+            self.errors.spanned(
+                e,
+                format!(
+                    "the inertia of body `{body}` in a spatial mechanism is a 3×3 tensor about \
+                     its centre of mass in its frame's axes, written row by row: \
+                     `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]`"
+                ),
+            );
+            return None;
+        };
+        let what = format!("the inertia of body `{body}`");
+        let mut out = Vec::with_capacity(9);
+        for x in entries {
+            out.push(self.scalar(x, Allowed::Constant, &what)?);
+        }
+        Some(out)
+    }
+
+    /// One item of `loads`.
+    fn load_item(&mut self, item: &Call, dim: usize, bodies: &[String], out: &mut LoweredDynamics) {
+        let kind = item.name.to_string();
+        let (positional, keys): (usize, &[&str]) = match kind.as_str() {
+            "gravity" => (1, &[]),
+            "force" => (2, &["on"]),
+            "torque" => (2, &[]),
+            "spring" => (2, &["stiffness", "free_length", "damping", "between"]),
+            _ => {
+                self.errors.at(
+                    item.name.span(),
+                    format!(
+                        "unknown load `{kind}`: the loads are `gravity(g)`, `force(P, f)` (at \
+                         a point, or on a coordinate), `torque(body, t)` and `spring(A, B, \
+                         stiffness = k, free_length = l0, damping = c)`"
+                    ),
+                );
+                return;
+            }
+        };
+        if item.positional.len() != positional {
+            let usage = match kind.as_str() {
+                "gravity" => "gravity(vec2(0.0, -9.81))",
+                "force" => "force(C, vec2(fx, fy))` or `force(x, f)",
+                "torque" => "torque(rod, t)",
+                _ => "spring(A, B, stiffness = k, free_length = l0, damping = c)",
+            };
+            self.errors.spanned(
+                &item.tokens,
+                format!(
+                    "`{kind}` takes {positional} argument{} without a key, but {} {} given; \
+                     write `{usage}`",
+                    if positional == 1 { "" } else { "s" },
+                    item.positional.len(),
+                    if item.positional.len() == 1 {
+                        "was"
+                    } else {
+                        "were"
+                    },
+                ),
+            );
+            return;
+        }
+        if self.known_keys(item, keys).is_none() {
+            return;
+        }
+        let args = &item.positional;
+        match kind.as_str() {
+            "gravity" => {
+                if !out.gravity.is_empty() {
+                    self.errors
+                        .spanned(&item.tokens, "gravity is given twice; give it once");
+                    return;
+                }
+                if let Some(g) = self.vector(&args[0], dim, Allowed::Constant, "gravity") {
+                    out.gravity = g;
+                }
+            }
+            "force" => {
+                let body = match self.named(item, "on") {
+                    Some(e) => match self.body_name(e, bodies) {
+                        Some(b) => Some(b),
+                        None => return,
+                    },
+                    None => None,
+                };
+                let target = self.binding(&args[0]);
+                match target {
+                    Some((name, Binding::Point(_))) => {
+                        let what = format!("the force at `{name}`");
+                        if let Some(value) = self.vector(&args[1], dim, Allowed::Motion, &what) {
+                            out.loads.push(Load {
+                                target: LoadTarget::Point { point: name, body },
+                                value,
+                            });
+                        }
+                    }
+                    Some((name, Binding::Coord(_))) if body.is_none() => {
+                        let what = format!("the force on coordinate `{name}`");
+                        if let Some(v) = self.scalar(&args[1], Allowed::Motion, &what) {
+                            out.loads.push(Load {
+                                target: LoadTarget::Coordinate { coordinate: name },
+                                value: vec![v],
+                            });
+                        }
+                    }
+                    Some((_, Binding::Coord(_))) => self.errors.spanned(
+                        &item.tokens,
+                        "a force on a coordinate acts in its joint, not on one body: remove \
+                         `on = …`",
+                    ),
+                    _ => self.errors.spanned(
+                        &args[0],
+                        "a force acts at a point of `points { … }` (`force(C, vec2(fx, fy))`) \
+                         or on a coordinate (`force(x, f)`, along a length or about an angle)",
+                    ),
+                }
+            }
+            "torque" => {
+                let Some(body) = self.body_name(&args[0], bodies) else {
+                    return;
+                };
+                let what = format!("the torque on `{body}`");
+                let value = if dim == 2 {
+                    self.scalar(&args[1], Allowed::Motion, &what)
+                        .map(|v| vec![v])
+                } else {
+                    self.vector(&args[1], 3, Allowed::Motion, &what)
+                };
+                if let Some(value) = value {
+                    out.loads.push(Load {
+                        target: LoadTarget::Torque { body },
+                        value,
+                    });
+                }
+            }
+            _ => {
+                let ends = [
+                    self.point_name(&args[0], "the first end of a spring"),
+                    self.point_name(&args[1], "the second end of a spring"),
+                ];
+                let mut constant = |key: &str| match self.named(item, key) {
+                    Some(e) => self.scalar(e, Allowed::Constant, &format!("a spring's {key}")),
+                    None => Some(self.g.constant(0.0)),
+                };
+                let (stiffness, free_length, damping) = (
+                    constant("stiffness"),
+                    constant("free_length"),
+                    constant("damping"),
+                );
+                let between = match self.named(item, "between") {
+                    None => None,
+                    Some(e) => match self.body_pair(e, bodies) {
+                        Some(pair) => Some(pair),
+                        None => return,
+                    },
+                };
+                if let ([Some(from), Some(to)], Some(stiffness), Some(free_length), Some(damping)) =
+                    (ends, stiffness, free_length, damping)
+                {
+                    out.springs.push(Spring {
+                        from,
+                        to,
+                        stiffness,
+                        free_length,
+                        damping,
+                        between,
+                    });
+                }
+            }
+        }
+    }
+
+    /// `Some(())` when every key of `item` is one of `keys`.
+    fn known_keys(&mut self, item: &Call, keys: &[&str]) -> Option<()> {
+        let mut ok = true;
+        for (key, _) in &item.named {
+            let k = key.to_string();
+            if !keys.contains(&k.as_str()) {
+                let list = if keys.is_empty() {
+                    "none".to_owned()
+                } else {
+                    keys.iter()
+                        .map(|k| format!("`{k}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                };
+                self.errors.at(
+                    key.span(),
+                    format!("`{}` takes no `{k}`; its keys: {list}", item.name),
+                );
+                ok = false;
+            }
+        }
+        ok.then_some(())
+    }
+
+    /// The value of `key = value` in `item`.
+    fn named<'e>(&self, item: &'e Call, key: &str) -> Option<&'e Expr> {
+        item.named.iter().find(|(k, _)| k == key).map(|(_, e)| e)
+    }
+
+    /// A scalar expression that depends on what `allowed` lets it.
+    fn scalar(&mut self, e: &Expr, allowed: Allowed, what: &str) -> Option<Id> {
+        match self.motion_expr(e, allowed)? {
+            Value::Scalar(id) => self.constant_check(e, id, allowed, what),
+            v => {
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "{what} must be a scalar, but this expression is {}",
+                        v.describe()
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    /// A vector of the mechanism's dimension.
+    fn vector(&mut self, e: &Expr, dim: usize, allowed: Allowed, what: &str) -> Option<Vec<Id>> {
+        let v = self.motion_expr(e, allowed)?;
+        let ids = match v {
+            Value::Vec2(a) if dim == 2 => a.to_vec(),
+            Value::Vec3(a) if dim == 3 => a.to_vec(),
+            v => {
+                let (write, kind) = if dim == 2 {
+                    ("vec2(x, y)", "planar")
+                } else {
+                    ("vec3(x, y, z)", "spatial")
+                };
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "{what} must be a {dim}-D vector (the mechanism is {kind}; write \
+                         `{write}`), but this expression is {}",
+                        v.describe()
+                    ),
+                );
+                return None;
+            }
+        };
+        for &id in &ids {
+            self.constant_check(e, id, allowed, what)?;
+        }
+        Some(ids)
+    }
+
+    /// Lowers `e` with `rate(x)` available where the coordinates are.
+    fn motion_expr(&mut self, e: &Expr, allowed: Allowed) -> Option<Value> {
+        let rates = self.rates;
+        self.rates = allowed == Allowed::Motion;
+        let v = self.expr(e);
+        self.rates = rates;
+        v
+    }
+
+    /// `id` when it depends on no coordinate (or when `allowed` lets it).
+    fn constant_check(&mut self, e: &Expr, id: Id, allowed: Allowed, what: &str) -> Option<Id> {
+        if allowed == Allowed::Constant {
+            let moving = self
+                .g
+                .leaves_under(id)
+                .find(|l| !matches!(l, Leaf::Param(_)));
+            if let Some(Leaf::Q(j) | Leaf::Qd(j) | Leaf::Qdd(j)) = moving {
+                let name = self
+                    .names
+                    .map
+                    .iter()
+                    .find(|(_, (b, _))| *b == Binding::Coord(j))
+                    .map_or_else(String::new, |(n, _)| n.clone());
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "{what} is a constant: it may use the parameters and numbers, but this \
+                         expression uses the coordinate `{name}`"
+                    ),
+                );
+                return None;
+            }
+        }
+        Some(id)
+    }
+
+    /// The name and binding of `e` when it is a single declared name.
+    fn binding(&self, e: &Expr) -> Option<(String, Binding)> {
+        let Expr::Path(p) = e else { return None };
+        let ident = p.path.get_ident()?;
+        let key = syn::ext::IdentExt::unraw(ident).to_string();
+        let (b, _) = self.names.map.get(&key)?;
+        Some((key, *b))
+    }
+
+    /// The name of a point of the `points` section.
+    fn point_name(&mut self, e: &Expr, what: &str) -> Option<String> {
+        match self.binding(e) {
+            Some((name, Binding::Point(_))) => Some(name),
+            _ => {
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "{what} is a point's name from `points {{ … }}`; define the point there \
+                         (`G3 = polar(a, phi) + polar(r3, th3);`) and name it here"
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    /// The name of a frame of the `frames` section.
+    fn frame_name(&mut self, e: &Expr) -> Option<String> {
+        match self.binding(e) {
+            Some((name, Binding::Frame(_))) => Some(name),
+            _ => {
+                self.errors.spanned(
+                    e,
+                    "a body turns with a frame of `frames { … }`: write `frame = name`",
+                );
+                None
+            }
+        }
+    }
+
+    /// The name of a body of the `bodies` section (or the ground, where
+    /// `ground` may be named).
+    fn body_name(&mut self, e: &Expr, bodies: &[String]) -> Option<String> {
+        let name = match e {
+            Expr::Path(p) => p
+                .path
+                .get_ident()
+                .map(|i| syn::ext::IdentExt::unraw(i).to_string()),
+            _ => None,
+        };
+        match name {
+            Some(n) if bodies.contains(&n) => Some(n),
+            _ => {
+                let list = if bodies.is_empty() {
+                    "there are none".to_owned()
+                } else {
+                    bodies.join(", ")
+                };
+                self.errors.spanned(
+                    e,
+                    format!("expected the name of a body of `bodies {{ … }}` ({list})"),
+                );
+                None
+            }
+        }
+    }
+
+    /// `(first, second)`: two bodies, either of them `ground`.
+    fn body_pair(&mut self, e: &Expr, bodies: &[String]) -> Option<[String; 2]> {
+        let Expr::Tuple(t) = e else {
+            self.errors.spanned(
+                e,
+                "the bodies a spring joins are written as a pair, `between = (ground, rocker)`",
+            );
+            return None;
+        };
+        if t.elems.len() != 2 {
+            self.errors
+                .spanned(e, "a spring joins two bodies: `between = (ground, rocker)`");
+            return None;
+        }
+        let mut with_ground = bodies.to_vec();
+        with_ground.push(GROUND.to_owned());
+        let first = self.body_name(&t.elems[0], &with_ground)?;
+        let second = self.body_name(&t.elems[1], &with_ground)?;
+        Some([first, second])
+    }
+}
+
+/// `rate(x)` in a load: the leaf q'_x.
+impl Lowerer<'_> {
+    pub(super) fn rate(&mut self, c: &syn::ExprCall) -> Option<Value> {
+        if !self.rates {
+            return self.fail(
+                c.func.span(),
+                "`rate(x)`, a coordinate's rate, may be used only in a load's value in \
+                 `loads { … }`",
+            );
+        }
+        let arg = match (c.args.len(), c.args.first()) {
+            (1, Some(a)) => self.binding(a),
+            _ => None,
+        };
+        match arg {
+            Some((_, Binding::Coord(j))) => Some(Value::Scalar(self.g.leaf(Leaf::Qd(j)))),
+            _ => self.fail(
+                c.span(),
+                "`rate` takes one coordinate (a driver or an unknown): `rate(x)`",
+            ),
+        }
+    }
+}
