@@ -104,7 +104,8 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
         gravity,
         ..Dynamics::default()
     };
-    for b in bodies {
+    let mut failed = false;
+    'bodies: for b in bodies {
         let turning = match (&b.angle, &b.frame) {
             (Some((angle, tokens)), _) => {
                 let mut terms = Vec::new();
@@ -128,7 +129,8 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
                                 b.name
                             ),
                         );
-                        return None;
+                        failed = true;
+                        continue 'bodies;
                     }
                     if model.kinds.get(j as usize) != Some(&CoordKind::Angle) {
                         errors.spanned(
@@ -139,7 +141,8 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
                                 b.name
                             ),
                         );
-                        return None;
+                        failed = true;
+                        continue 'bodies;
                     }
                     terms.push((name, c));
                 }
@@ -158,5 +161,5 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
     }
     out.loads = loads;
     out.springs = springs;
-    Some(out)
+    (!failed).then_some(out)
 }

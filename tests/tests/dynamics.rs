@@ -1831,3 +1831,115 @@ fn each_load_of_a_loads_section_does_its_virtual_work() -> Result<(), Error> {
     }
     Ok(())
 }
+
+/// The RSSR of [`MassRssr`] with its masses, inertia tensors and gravity
+/// in `bodies` and `loads` sections.
+const DEFINED_RSSR_TEXT: &str = "
+    /// An RSSR with its links' masses.
+    pub struct DefinedRssr {
+        params   { a, b, c, d, g }
+        drivers  { phi }
+        unknowns { psi }
+        frames {
+            crank = rot_y(-phi);
+            rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi);
+        }
+        points {
+            A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+            B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+            G2 = vec3(-a * cos(phi) / 2.0, 0.0, a * sin(phi) / 2.0);
+            G3 = 0.5 * (vec3(-a * cos(phi), 0.0, a * sin(phi)) + vec3(-d - c * cos(psi), c * sin(psi), 0.0));
+            G4 = vec3(-d - c * cos(psi) / 2.0, c * sin(psi) / 2.0, 0.0);
+        }
+        constraints { norm(B - A) == b; }
+        bodies {
+            crank(mass = 0.2, center = G2, frame = crank,
+                  inertia = [[3e-5, 2e-6, 0.0], [2e-6, 1e-5, 1e-6], [0.0, 1e-6, 3e-5]]);
+            coupler(mass = 0.4, center = G3);
+            rocker(mass = 0.3, center = G4, frame = rocker,
+                   inertia = [[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]);
+        }
+        loads { gravity(vec3(0.0, -g, -2.0)); }
+    }";
+
+mechanism! {
+    /// An RSSR with its links' masses.
+    pub struct DefinedRssr {
+        params   { a, b, c, d, g }
+        drivers  { phi }
+        unknowns { psi }
+        frames {
+            crank = rot_y(-phi);
+            rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi);
+        }
+        points {
+            A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+            B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+            G2 = vec3(-a * cos(phi) / 2.0, 0.0, a * sin(phi) / 2.0);
+            G3 = 0.5 * (vec3(-a * cos(phi), 0.0, a * sin(phi)) + vec3(-d - c * cos(psi), c * sin(psi), 0.0));
+            G4 = vec3(-d - c * cos(psi) / 2.0, c * sin(psi) / 2.0, 0.0);
+        }
+        constraints { norm(B - A) == b; }
+        bodies {
+            crank(mass = 0.2, center = G2, frame = crank,
+                  inertia = [[3e-5, 2e-6, 0.0], [2e-6, 1e-5, 1e-6], [0.0, 1e-6, 3e-5]]);
+            coupler(mass = 0.4, center = G3);
+            rocker(mass = 0.3, center = G4, frame = rocker,
+                   inertia = [[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]);
+        }
+        loads { gravity(vec3(0.0, -g, -2.0)); }
+    }
+}
+
+/// The RSSR defined with sections: the drivers' power against the
+/// fourth-order central difference of its energy T + V along a motion
+/// (gravity the only load), and the same forces from the definition
+/// compiled at run time.
+#[test]
+fn an_rssr_defined_with_bodies_and_loads_has_the_power_of_its_energy(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = DefinedRssr {
+        a: 0.03,
+        b: 0.12,
+        c: 0.08,
+        d: 0.1,
+        g: G,
+    };
+    let dynamics = m.dynamics()?;
+    let model = kinematics_core::runtime::Model::compile(DEFINED_RSSR_TEXT)?
+        .with_values(&m.parameter_values())?;
+    let run_time = model.dynamics()?;
+    let start = m.assemble(&DefinedRssrCoords { phi: 0.7, psi: 1.1 })?;
+    let at = |t: f64| (0.7 + 9.0 * t + 20.0 * t * t, 9.0 + 40.0 * t, 40.0);
+    let motion_at = |t: f64| -> Result<DefinedRssrMotion, Error> {
+        let (p, w, al) = at(t);
+        let mut q = start;
+        q.phi = p;
+        m.step(&q, w, al)
+    };
+    let energy = |t: f64| -> Result<f64, Error> {
+        let f = dynamics.inverse(&m, &motion_at(t)?)?;
+        Ok(f.kinetic_energy + f.potential_energy)
+    };
+    for t in [0.0, 0.01, 0.03] {
+        let h = 1e-4;
+        let rate = (-energy(t + 2.0 * h)? + 8.0 * energy(t + h)? - 8.0 * energy(t - h)?
+            + energy(t - 2.0 * h)?)
+            / (12.0 * h);
+        let motion = motion_at(t)?;
+        let f = dynamics.inverse(&m, &motion)?;
+        assert!(f.power.abs() > 1e-3, "power {} W: a test", f.power);
+        close(f.power, rate, 1e-8, "power against d(T + V)/dt");
+        let (_, w, al) = at(t);
+        let rm = model.analyze(&[motion.q.phi, motion.q.psi], &[w], &[al])?;
+        let rf = run_time.inverse_of(&model, &rm)?;
+        close(rf.effort[0], f.effort.phi, 1e-13, "run-time effort");
+        close(
+            rf.kinetic_energy,
+            f.kinetic_energy,
+            1e-13,
+            "run-time energy",
+        );
+    }
+    Ok(())
+}

@@ -604,13 +604,13 @@ impl Lowerer<'_> {
             Some(n) if bodies.contains(&n) => Some(n),
             _ => {
                 let list = if bodies.is_empty() {
-                    "there are none".to_owned()
+                    "it has none".to_owned()
                 } else {
-                    bodies.join(", ")
+                    format!("its bodies: {}", bodies.join(", "))
                 };
                 self.errors.spanned(
                     e,
-                    format!("expected the name of a body of `bodies {{ … }}` ({list})"),
+                    format!("expected the name of a body of the `bodies` section ({list})"),
                 );
                 None
             }

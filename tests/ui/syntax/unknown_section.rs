@@ -3,7 +3,7 @@ use kinematics_core::mechanism;
 mechanism! {
     struct M {
         params { a }
-        bodies { crank, rocker }
+        masses { crank, rocker }
     }
 }
 
