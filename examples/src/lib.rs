@@ -653,6 +653,84 @@ mechanism! {
     }
 }
 
+mechanism! {
+    /// Single-cylinder engine with its links' masses: crank a, rod b with
+    /// its centre of mass G3 at r3 from the crank pin, the piston at C on
+    /// the x axis, the crank balanced (its centre of mass on the shaft O).
+    /// The gas in the cylinder expands polytropically: its force on the
+    /// piston is p1 A (h1 / h)^1.3, h = h0 + a + b − x the height of the
+    /// gas above the piston.
+    pub struct GasEngine {
+        params {
+            /// Crank radius (m).
+            a,
+            /// Rod length (m).
+            b,
+            /// Rod's centre of mass from the crank pin (m).
+            r3,
+            /// Crank mass (kg).
+            m2,
+            /// Crank's moment of inertia about the shaft (kg·m²).
+            j2,
+            /// Rod mass (kg).
+            m3,
+            /// Rod's moment of inertia about G3 (kg·m²).
+            j3,
+            /// Piston mass (kg).
+            m4,
+            /// Gas pressure (Pa) at the height h1.
+            p1,
+            /// The height of the gas at which its pressure is p1 (m).
+            h1,
+            /// The piston's area (m²).
+            area,
+            /// Clearance above the piston at top dead centre (m).
+            h0
+        }
+        drivers  { phi }
+        unknowns { th, x }
+        points {
+            /// Crankshaft.
+            O = vec2(0.0, 0.0);
+            /// Crank pin.
+            B = polar(a, phi);
+            /// Rod's centre of mass.
+            G3 = B + polar(r3, th);
+            /// Piston pin.
+            C = vec2(x, 0.0);
+        }
+        loops { B + polar(b, th) == C; }
+        bodies {
+            crank(mass = m2, center = O, angle = phi, inertia = j2);
+            rod(mass = m3, center = G3, angle = th, inertia = j3);
+            piston(mass = m4, center = C);
+        }
+        loads {
+            gravity(vec2(0.0, -9.81));
+            force(C, vec2(-p1 * area * exp(1.3 * ln(h1 / (h0 + a + b - x))), 0.0), on = piston);
+        }
+    }
+}
+
+impl GasEngine {
+    /// A 50 mm bore engine: crank 25 mm, rod 100 mm, 40 bar at 5 mm of
+    /// clearance.
+    pub const SMALL: GasEngine = GasEngine {
+        a: 0.025,
+        b: 0.1,
+        r3: 0.03,
+        m2: 1.2,
+        j2: 6e-4,
+        m3: 0.25,
+        j3: 2.5e-4,
+        m4: 0.3,
+        p1: 40e5,
+        h1: 0.005,
+        area: 0.001_963_495_408_493_621,
+        h0: 0.005,
+    };
+}
+
 /// Path-generation problems from the literature on four-bar synthesis.
 pub mod literature {
     /// Five precision points on a straight line, with the ground pivots at

@@ -1,13 +1,15 @@
 //! `kinematics sweep`: a driver swept over a range from a start pose, and
 //! the files written from the samples: the CSV, the plots of the
-//! coordinates and of the points, the path of every moving point, and the
-//! HTML animation.
+//! coordinates and of the points, the path of every moving point, the
+//! HTML animation, and, for a definition with `bodies` or `loads`, the
+//! forces: the drivers' efforts, energies, power and shaking (`forces.csv`)
+//! and the plot of the driving effort beside its mean (`forces.svg`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use kinematics_core::animate::write_table_html;
-use kinematics_core::plot::{plot_motion_in, plot_path, plot_points_in, Units};
+use kinematics_core::plot::{plot_forces, plot_motion_in, plot_path, plot_points_in, Units};
 use kinematics_core::sweep::{ChangePoints, Table};
 use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Kind, Role};
@@ -131,7 +133,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let roles = m
         .point_roles(&sweep.samples[0].motion.q)
         .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
-    let written = write(
+    let mut written = write(
         &args.out,
         &sweep,
         &roles,
@@ -139,6 +141,25 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         (projection, units),
         m.name(),
     )?;
+    let mut mean = None;
+    if m.has_dynamics() {
+        let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
+        let forces = m
+            .dynamics()
+            .and_then(|d| d.along_of(&m, &sweep))
+            .map_err(failed)?;
+        let csv = args.out.join("forces.csv");
+        std::fs::write(&csv, forces.to_csv()).map_err(|e| {
+            Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
+        })?;
+        written.push(csv);
+        let svg = args.out.join("forces.svg");
+        plot_forces(&forces, &svg).map_err(failed)?;
+        written.push(svg);
+        mean = forces
+            .mean_effort(0)
+            .map(|q| (forces.drivers[0].clone(), q));
+    }
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -150,6 +171,10 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     );
     for at in &sweep.change_points {
         let _ = writeln!(out, "  passed a change point near {driver} = {at}");
+    }
+    if let Some(((name, kind), q)) = mean {
+        let unit = if kind == Kind::Angle { "N·m" } else { "N" };
+        let _ = writeln!(out, "  mean effort of {name}: {q} {unit}");
     }
     for f in &written {
         let _ = writeln!(out, "  wrote {}", f.display());

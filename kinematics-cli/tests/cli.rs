@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use kinematics_core::sweep::Table;
-use kinematics_examples::{FourBar, Rssr};
+use kinematics_examples::{FourBar, GasEngine, Rssr};
 
 fn mechanisms() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
@@ -493,5 +493,79 @@ fn sweep_passes_a_change_point_as_asked() {
             last[col("th3_rad")].abs() < 1e-12 && (last[col("th4_rad")] - 0.5).abs() < 1e-12;
         assert_eq!(on_it, parallelogram, "{how}: {last:?}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `kinematics sweep` of a definition with `bodies` and `loads` (the
+/// examples' gas engine) writes the forces beside the motion: its
+/// `forces.csv` against the forces of the library's sweep of the
+/// generated engine, value for value, and the plot of the torque.
+#[test]
+fn sweep_writes_the_forces_of_a_definition_with_bodies_and_loads() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-forces-{}", std::process::id()));
+    let engine = mechanisms().join("gas_engine.mech");
+    let params = mechanisms().join("gas_engine.toml");
+    let run_out = run(&[
+        "sweep",
+        engine.to_str().expect("a UTF-8 path"),
+        "--params",
+        params.to_str().expect("a UTF-8 path"),
+        "--turn",
+        "--steps",
+        "360",
+        "--rpm",
+        "3000",
+        "--out",
+        dir.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(run_out.status.success(), "{}", text(&run_out.stderr));
+    assert!(text(&run_out.stdout).contains("mean effort of phi:"));
+    let g = GasEngine::SMALL;
+    let start = g
+        .assemble(&[0.0, 0.0, 0.125].into())
+        .expect("the engine assembles");
+    let sweep = g
+        .sweep(GasEngine::PHI, &start)
+        .turn()
+        .steps(360)
+        .rpm(3000.0)
+        .run();
+    let forces = g
+        .dynamics()
+        .and_then(|d| d.along(&g, &sweep))
+        .expect("the forces");
+    let (header, rows) = read_csv(&dir.join("forces.csv"));
+    let library = forces.to_csv();
+    let want: Vec<Vec<f64>> = library
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
+        .collect();
+    assert_eq!(
+        header,
+        library
+            .lines()
+            .next()
+            .expect("a header")
+            .split(',')
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(rows.len(), 360);
+    for (c, name) in header.iter().enumerate() {
+        let scale = want.iter().map(|r| r[c].abs()).fold(1.0f64, f64::max);
+        for (i, (row, w)) in rows.iter().zip(&want).enumerate() {
+            assert!(
+                (row[c] - w[c]).abs() <= 1e-11 * scale,
+                "{name} at sample {i}: {} / {}",
+                row[c],
+                w[c]
+            );
+        }
+    }
+    // The torque is not trivially zero: the gas and the inertia load it.
+    let peak = rows.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
+    assert!(peak > 10.0, "peak torque {peak} N·m");
+    let svg = std::fs::read_to_string(dir.join("forces.svg")).expect("forces.svg");
+    assert!(svg.contains("driver efforts") && svg.contains("shaking force"));
     let _ = std::fs::remove_dir_all(&dir);
 }

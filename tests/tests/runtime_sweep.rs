@@ -252,10 +252,10 @@ fn a_run_time_sweep_reports_bad_input_as_a_stop_or_an_error() {
 #[test]
 fn every_example_describes_its_blocks_as_blocks_does() {
     use kinematics_examples::{
-        Crane, FiveBar, PlacedFourBar, RRtrRrt, RTrr, RobotArm, SatelliteDish, SixAxisArm,
-        SpatialSlider, Strider,
+        Crane, FiveBar, GasEngine, PlacedFourBar, RRtrRrt, RTrr, RobotArm, SatelliteDish,
+        SixAxisArm, SpatialSlider, Strider,
     };
-    let generated: [(&str, &[kinematics_core::closed::Block]); 14] = [
+    let generated: [(&str, &[kinematics_core::closed::Block]); 15] = [
         ("FourBar", FourBar::BLOCKS),
         ("SliderCrank", SliderCrank::BLOCKS),
         ("RTrr", RTrr::BLOCKS),
@@ -270,6 +270,7 @@ fn every_example_describes_its_blocks_as_blocks_does() {
         ("FiveBar", FiveBar::BLOCKS),
         ("Strider", Strider::BLOCKS),
         ("PlacedFourBar", PlacedFourBar::BLOCKS),
+        ("GasEngine", GasEngine::BLOCKS),
     ];
     assert_eq!(generated.len(), kinematics_examples::definitions().len());
     for (name, blocks) in generated {

@@ -262,6 +262,13 @@ impl SectionCode {
 }
 
 impl Model {
+    /// Whether the definition has a `bodies` or a `loads` section (then
+    /// [`Model::dynamics`] describes its masses and loads).
+    #[must_use]
+    pub fn has_dynamics(&self) -> bool {
+        self.sections().is_some()
+    }
+
     /// The masses and loads of the definition's `bodies` and `loads`
     /// sections, with the model's parameter values: the constants
     /// (masses, inertias, gravity, springs) evaluated now, each load a
