@@ -1643,36 +1643,20 @@ fn a_run_time_model_has_the_same_mass_sensitivities() -> Result<(), Box<dyn std:
     Ok(())
 }
 
-/// The engine of [`Engine`] with its masses, gravity and gas force written
-/// in the definition's `bodies` and `loads` sections rather than built at
-/// run time.
-const DEFINED_ENGINE_TEXT: &str = "
-    /// A slider-crank engine with its links' masses.
-    pub struct DefinedEngine {
-        params   { a, b, r3, m2, j2, m3, j3, m4, g, p0, x0 }
-        drivers  { phi }
-        unknowns { th, x }
-        points {
-            G2 = polar(a / 2.0, phi);
-            B = polar(a, phi);
-            G3 = polar(a, phi) + polar(r3, th);
-            C = vec2(x, 0.0);
-        }
-        loops { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
-        bodies {
-            crank(mass = m2, center = G2, angle = phi, inertia = j2);
-            rod(mass = m3, center = G3, angle = th, inertia = j3);
-            piston(mass = m4, center = C);
-        }
-        loads {
-            gravity(vec2(0.0, -g));
-            // The gas force falls with the volume: p0 (x0 / x)².
-            force(C, vec2(-p0 * powi(x0 / x, 2), 0.0), on = piston);
-        }
-    }";
+/// The text of this file's `mechanism!` of the mechanism `name`, for the
+/// same definition compiled at run time.
+fn text_of(name: &str) -> &'static str {
+    let head = format!("pub struct {name} {{");
+    kinematics_examples::mechanism_bodies(include_str!("dynamics.rs"))
+        .into_iter()
+        .map(|(text, _)| text)
+        .find(|text| text.contains(&head))
+        .expect("the definition is in this file")
+}
 
 mechanism! {
-    /// A slider-crank engine with its links' masses.
+    /// A slider-crank engine with its links' masses, gravity and gas force
+    /// in `bodies` and `loads` sections.
     pub struct DefinedEngine {
         params   { a, b, r3, m2, j2, m3, j3, m4, g, p0, x0 }
         drivers  { phi }
@@ -1720,7 +1704,7 @@ fn an_engine_defined_with_bodies_and_loads_has_the_newton_euler_torque(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let m = DEFINED_ENGINE;
     let dynamics = m.dynamics()?;
-    let model = kinematics_core::runtime::Model::compile(DEFINED_ENGINE_TEXT)?
+    let model = kinematics_core::runtime::Model::compile(text_of("DefinedEngine"))?
         .with_values(&m.parameter_values())?;
     let run_time = model.dynamics()?;
     for k in 0..90 {
@@ -1832,36 +1816,6 @@ fn each_load_of_a_loads_section_does_its_virtual_work() -> Result<(), Error> {
     Ok(())
 }
 
-/// The RSSR of [`MassRssr`] with its masses, inertia tensors and gravity
-/// in `bodies` and `loads` sections.
-const DEFINED_RSSR_TEXT: &str = "
-    /// An RSSR with its links' masses.
-    pub struct DefinedRssr {
-        params   { a, b, c, d, g }
-        drivers  { phi }
-        unknowns { psi }
-        frames {
-            crank = rot_y(-phi);
-            rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi);
-        }
-        points {
-            A = vec3(-a * cos(phi), 0.0, a * sin(phi));
-            B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
-            G2 = vec3(-a * cos(phi) / 2.0, 0.0, a * sin(phi) / 2.0);
-            G3 = 0.5 * (vec3(-a * cos(phi), 0.0, a * sin(phi)) + vec3(-d - c * cos(psi), c * sin(psi), 0.0));
-            G4 = vec3(-d - c * cos(psi) / 2.0, c * sin(psi) / 2.0, 0.0);
-        }
-        constraints { norm(B - A) == b; }
-        bodies {
-            crank(mass = 0.2, center = G2, frame = crank,
-                  inertia = [[3e-5, 2e-6, 0.0], [2e-6, 1e-5, 1e-6], [0.0, 1e-6, 3e-5]]);
-            coupler(mass = 0.4, center = G3);
-            rocker(mass = 0.3, center = G4, frame = rocker,
-                   inertia = [[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]);
-        }
-        loads { gravity(vec3(0.0, -g, -2.0)); }
-    }";
-
 mechanism! {
     /// An RSSR with its links' masses.
     pub struct DefinedRssr {
@@ -1906,7 +1860,7 @@ fn an_rssr_defined_with_bodies_and_loads_has_the_power_of_its_energy(
         g: G,
     };
     let dynamics = m.dynamics()?;
-    let model = kinematics_core::runtime::Model::compile(DEFINED_RSSR_TEXT)?
+    let model = kinematics_core::runtime::Model::compile(text_of("DefinedRssr"))?
         .with_values(&m.parameter_values())?;
     let run_time = model.dynamics()?;
     let start = m.assemble(&DefinedRssrCoords { phi: 0.7, psi: 1.1 })?;
