@@ -72,3 +72,15 @@ fn the_mutation_bases_are_valid_definitions() {
         assert!(!text.contains("compile_error"), "{def}\n{text}");
     }
 }
+
+/// A body's angle is a function of the pose: `rate(…)` in it is an error,
+/// not an angle that silently does not turn.
+#[test]
+fn a_bodys_angle_may_not_use_a_rate() {
+    let r = crate::compile_str(
+        "struct M { params { a } drivers { phi } unknowns { } points { B = polar(a, phi); }
+         bodies { crank(mass = 1.0, center = B, angle = rate(phi)); } }",
+    );
+    let message = r.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("may not use `rate(…)`"), "{message}");
+}

@@ -199,6 +199,21 @@ impl Lowerer<'_> {
             Some(e) => {
                 let what = format!("the angle of body `{name}`");
                 let id = self.scalar(e, Allowed::Motion, &what)?;
+                // An angle is a function of the pose: its rate is found
+                // from it, never written.
+                if self
+                    .g
+                    .leaves_under(id)
+                    .any(|l| matches!(l, Leaf::Qd(_) | Leaf::Qdd(_)))
+                {
+                    self.errors.spanned(
+                        e,
+                        format!(
+                            "{what} is a function of the coordinates; it may not use `rate(…)`"
+                        ),
+                    );
+                    return None;
+                }
                 Some((id, quote::ToTokens::to_token_stream(e)))
             }
             None => None,
