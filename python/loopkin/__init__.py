@@ -26,6 +26,7 @@ this process. See :func:`compile`, :class:`Mechanism`, :class:`Sweep` and
 
 from . import errors
 from ._model import (
+    Forces,
     FrameMotion,
     Mechanism,
     Motion,
@@ -37,7 +38,7 @@ from ._model import (
     compile,
     load,
 )
-from ._sweep import Batch, Deviations, PointColumns, Poses, Stop, Sweep
+from ._sweep import Batch, Deviations, ForceSweep, PointColumns, Poses, Stop, Sweep
 from .errors import *  # noqa: F401,F403
 
 __all__ = [
@@ -52,6 +53,8 @@ __all__ = [
     "FrameMotion",
     "Sensitivity",
     "Sweep",
+    "Forces",
+    "ForceSweep",
     "Poses",
     "Stop",
     "PointColumns",

@@ -296,6 +296,35 @@ class Motion:
         return f"Motion(q={self.q!r}, qd={self.qd!r}, qdd={self.qdd!r})"
 
 
+class Forces:
+    """The forces at one motion (:meth:`Mechanism.forces`).
+
+    Attributes:
+        effort: :class:`Values` of each driver's effort, the torque (N·m,
+            angle drivers) or force (N, length drivers) it must supply,
+            positive when it drives the coordinate's growth.
+        kinetic_energy: T = Σ ½ m |v_G|² + ½ ω · J ω (J).
+        potential_energy: V = −Σ m g · r_G + Σ ½ k (L − L₀)² (J).
+        power: Σ Q_k ḋ_k, the power the drivers supply (W).
+        shaking_force: −Σ m a_G, the force the links' inertia exerts on the
+            frame (N; 3 components).
+        shaking_moment: its moment about the origin (N·m; 3 components).
+    """
+
+    __slots__ = ("effort", "kinetic_energy", "potential_energy", "power", "shaking_force", "shaking_moment")
+
+    def __init__(self, drivers: Sequence[str], d: Dict[str, Any]) -> None:
+        self.effort = Values(drivers, _readonly(np.asarray(d["effort"])))
+        self.kinetic_energy = float(d["kinetic_energy"])
+        self.potential_energy = float(d["potential_energy"])
+        self.power = float(d["power"])
+        self.shaking_force: np.ndarray = _readonly(np.asarray(d["shaking_force"]))
+        self.shaking_moment: np.ndarray = _readonly(np.asarray(d["shaking_moment"]))
+
+    def __repr__(self) -> str:
+        return f"Forces(effort={self.effort!r}, power={self.power:.6g})"
+
+
 class Sensitivity:
     """The derivatives of a motion with respect to one parameter p:
     ∂q/∂p, ∂q'/∂p, ∂q''/∂p (:class:`Values`) and each point's ∂r/∂p,
@@ -595,6 +624,30 @@ class Mechanism(metaclass=MechanismType):
             self._driver_values("acceleration", acceleration, accelerations, 0.0),
         )
         return Motion(type(self), d)
+
+    @classmethod
+    def has_dynamics(cls) -> bool:
+        """Whether the definition has a ``bodies`` or ``loads`` section
+        (then :meth:`forces` and :meth:`Sweep.forces` compute forces)."""
+        return bool(cls._native.has_dynamics())
+
+    def forces(self, motion: Motion) -> "Forces":
+        """The forces at a motion of this design (from :meth:`analyze`,
+        :meth:`step` or a sweep's sample), from the definition's
+        ``bodies`` and ``loads`` sections, by virtual power: each driver's
+        effort Q_k = Σ_bodies [m (a_G − g) · ∂v_G/∂ḋ_k + (J α + ω × J ω) ·
+        ∂ω/∂ḋ_k] − Σ_loads (F · ∂v_P/∂ḋ_k + T · ∂ω/∂ḋ_k) (a torque in N·m
+        for an angle driver, a force in N for a length), the kinetic and
+        potential energy, the drivers' power and the shaking force and
+        moment on the frame.
+
+        Raises:
+            InvalidDynamicsError: the definition has neither section.
+            SingularError: at a singular pose.
+        """
+        nd = self._native.drivers
+        d = self._m.forces(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
+        return Forces(self.driver_names(), d)
 
     def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
         """Design sensitivities of a motion of this design: for each

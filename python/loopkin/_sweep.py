@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -15,7 +16,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ._model import Mechanism, MechanismType
 
-__all__ = ["Sweep", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
+__all__ = ["Sweep", "ForceSweep", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
 
 
 class Stop:
@@ -204,6 +205,24 @@ class Sweep:
         ``links`` (pairs of point names) drawn between them."""
         self._native.write_animation(os.fspath(path), [tuple(x) for x in links], projection)
 
+    def forces(self) -> "ForceSweep":
+        """The forces at every sample (as :meth:`Mechanism.forces` gives
+        them at one), from the definition's ``bodies`` and ``loads``
+        sections: the drivers' efforts over the cycle, their mean, the
+        energy a flywheel must absorb, the CSV table and the plot.
+
+        Raises:
+            InvalidDynamicsError: the definition has neither section.
+            ValueError: the samples are a simulation's (in time): take
+                :meth:`Mechanism.forces` of each motion instead.
+        """
+        if self.variable not in self._cls.driver_names():
+            raise ValueError(
+                "forces along a sweep need the samples of a driver's sweep (Mechanism.sweep); "
+                "these are a simulation's, in time: call Mechanism.forces on each sample's motion"
+            )
+        return ForceSweep(self._native.forces())
+
     def deviations(self, point: str, tolerances: Mapping[str, float]) -> Deviations:
         """The first-order deviations of ``point`` over the sweep for the
         parameter tolerances ``{name: ±t}`` (parameters of the
@@ -213,6 +232,97 @@ class Sweep:
     def __repr__(self) -> str:
         end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"
         return f"<Sweep of {self.variable}: {len(self)} samples{end}>"
+
+
+class ForceSweep:
+    """The forces along a sweep (:meth:`Sweep.forces`), as numpy columns.
+
+    ``at`` is the swept driver's values; ``effort["phi"]`` a driver's
+    effort at every sample (N·m for an angle driver, N for a length);
+    ``kinetic_energy``, ``potential_energy`` and ``power`` one value per
+    sample; ``shaking_force`` and ``shaking_moment`` samples × 3.
+    """
+
+    def __init__(self, native: "_native.ForceSweep") -> None:
+        self._native = native
+        c = native.columns()
+        self.drivers: Tuple[str, ...] = tuple(native.drivers)
+        self.at: np.ndarray = _readonly(c["at"])
+        self.effort = _Columns(self.drivers, _readonly(c["effort"]))
+        self.kinetic_energy: np.ndarray = _readonly(c["kinetic_energy"])
+        self.potential_energy: np.ndarray = _readonly(c["potential_energy"])
+        self.power: np.ndarray = _readonly(c["power"])
+        self.shaking_force: np.ndarray = _readonly(c["shaking_force"])
+        self.shaking_moment: np.ndarray = _readonly(c["shaking_moment"])
+
+    def __len__(self) -> int:
+        return len(self.at)
+
+    def _driver(self, driver: Optional[str]) -> str:
+        if driver is None:
+            if len(self.drivers) != 1:
+                raise TypeError(f"name the driver: this mechanism has {list(self.drivers)}")
+            return self.drivers[0]
+        if driver not in self.drivers:
+            raise KeyError(f"{driver!r} is not a driver: they are {list(self.drivers)}")
+        return driver
+
+    def mean_effort(self, driver: Optional[str] = None) -> float:
+        """The mean effort of ``driver`` over the swept range,
+        (1/(s_n − s_0)) ∫ Q ds by the trapezoidal rule: for a crank turned
+        at constant speed, the mean torque."""
+        return float(self._native.mean_effort(self._driver(driver)))
+
+    def energy_fluctuation(self, driver: Optional[str] = None) -> float:
+        """ΔE = max − min of ∫ (Q − Q̄) ds over the samples: the energy a
+        flywheel on the driver's shaft must store and give back for the
+        driver to supply the mean effort only (J)."""
+        return float(self._native.energy_fluctuation(self._driver(driver)))
+
+    def speed_fluctuation(self, inertia: float, speed: float, driver: Optional[str] = None) -> float:
+        """The coefficient of speed fluctuation C_s = ΔE / (I ω²) with a
+        flywheel of moment of inertia ``inertia`` (kg·m²) at the mean speed
+        ``speed`` (rad/s)."""
+        return float(self._native.speed_fluctuation(self._driver(driver), float(inertia), float(speed)))
+
+    def flywheel(self, fluctuation: float, speed: float, driver: Optional[str] = None) -> float:
+        """The flywheel's moment of inertia I = ΔE / (C_s ω²) (kg·m²) that
+        keeps the coefficient of speed fluctuation at ``fluctuation`` at the
+        mean speed ``speed`` (rad/s)."""
+        if not (fluctuation > 0.0 and speed != 0.0 and math.isfinite(fluctuation * speed * speed)):
+            raise ValueError(
+                f"the coefficient of speed fluctuation must be positive and the speed nonzero "
+                f"(C_s = {fluctuation}, ω = {speed})"
+            )
+        return self.energy_fluctuation(driver) / (fluctuation * speed * speed)
+
+    def to_csv(self, path: Optional[Union[str, "os.PathLike[str]"]] = None) -> str:
+        """The forces as CSV, a column per quantity with its unit in the
+        header, written to ``path`` when given."""
+        text = self._native.to_csv()
+        if path is not None:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+        return text
+
+    def to_pandas(self) -> "pandas.DataFrame":
+        """The CSV's columns as a pandas DataFrame (units in the column
+        names). Needs pandas."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover
+            raise ImportError("to_pandas needs pandas: pip install pandas") from e
+        import io
+
+        return pd.read_csv(io.StringIO(self._native.to_csv()))
+
+    def write_svg(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the plot of the driving effort over the sweep beside its
+        mean, and the polar diagram of the shaking force, as SVG."""
+        self._native.write_svg(os.fspath(path))
+
+    def __repr__(self) -> str:
+        return f"<ForceSweep: {len(self)} samples, drivers {list(self.drivers)}>"
 
 
 class Poses:

@@ -25,6 +25,7 @@ __all__ = [
     "InvalidParameterError",
     "InvalidOptionError",
     "WrongLengthError",
+    "InvalidDynamicsError",
 ]
 
 
@@ -102,3 +103,9 @@ class InvalidOptionError(KinematicsError, ValueError):
 
 class WrongLengthError(KinematicsError, ValueError):
     """An array has the wrong number of values."""
+
+
+class InvalidDynamicsError(KinematicsError, ValueError):
+    """The masses and loads cannot be used: the definition has no
+    ``bodies`` or ``loads`` section, or a body, load or spring is invalid
+    (a mass not positive, a value not finite)."""

@@ -10,7 +10,7 @@
 //! batches on every core.
 
 use kinematics_core::closed::Mode;
-use kinematics_core::runtime::{CompileError, Model as Runtime};
+use kinematics_core::runtime::{CompileError, Model as Runtime, Motion, Sample};
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::Projection;
 use kinematics_core::{Branch, Convergence, Error, Options};
@@ -23,6 +23,7 @@ use rayon::prelude::*;
 mod batch;
 mod columns;
 mod convert;
+mod forces;
 
 use columns::Columns;
 
@@ -31,7 +32,7 @@ use convert::{array, motion_dict, shaped};
 /// The exception for `e`: the class of `loopkin.errors` named after its
 /// kind, with the library's message, and the name and value at fault as
 /// attributes where the error has them.
-fn error(py: Python<'_>, e: &Error) -> PyErr {
+pub(crate) fn error(py: Python<'_>, e: &Error) -> PyErr {
     let (class, name, value): (&str, Option<&str>, Option<f64>) = match e {
         Error::NotConverged { .. } => ("NotConvergedError", None, None),
         Error::Singular { .. } => ("SingularError", None, None),
@@ -45,6 +46,7 @@ fn error(py: Python<'_>, e: &Error) -> PyErr {
         }
         Error::InvalidOption { .. } => ("InvalidOptionError", None, None),
         Error::WrongLength { .. } => ("WrongLengthError", None, None),
+        Error::InvalidDynamics { .. } => ("InvalidDynamicsError", None, None),
         _ => ("KinematicsError", None, None),
     };
     raise(py, class, &e.to_string(), |inst| {
@@ -371,6 +373,34 @@ impl Model {
             .step(&start, &rates, &accelerations)
             .map_err(|e| error(py, &e))?;
         motion_dict(py, &m, self.dim())
+    }
+
+    /// Whether the definition has a `bodies` or `loads` section.
+    fn has_dynamics(&self) -> bool {
+        self.model.has_dynamics()
+    }
+
+    /// The forces at the closed pose `q` with the drivers' rates and
+    /// accelerations, from the definition's `bodies` and `loads`
+    /// sections: a dict of "effort" (one per driver), "kinetic_energy",
+    /// "potential_energy", "power", "shaking_force" and "shaking_moment"
+    /// (3 each).
+    fn forces<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let model = &self.model;
+        let f = py
+            .detach(|| {
+                let dynamics = model.dynamics()?;
+                let motion = model.analyze(&q, &rates, &accelerations)?;
+                dynamics.inverse_of(model, &motion)
+            })
+            .map_err(|e| error(py, &e))?;
+        forces::instant(py, &f, model.drivers())
     }
 
     /// The design sensitivities at the closed pose `q` with the drivers'
@@ -887,6 +917,27 @@ impl Sweep {
         .map_err(|e| error(py, &e))
     }
 
+    /// The forces at every sample, from the definition's `bodies` and
+    /// `loads` sections.
+    fn forces(&self, py: Python<'_>) -> PyResult<forces::ForceSweep> {
+        let c = self.full(py)?;
+        let model = &self.model;
+        let sweep = py
+            .detach(|| {
+                let dynamics = model.dynamics()?;
+                let samples: Vec<Sample> = (0..c.rows())
+                    .map(|i| {
+                        let mut motion = Motion::default();
+                        let at = c.motion(i, &mut motion);
+                        Sample { at, motion }
+                    })
+                    .collect();
+                dynamics.along_samples_of(model, c.variable(), &samples)
+            })
+            .map_err(|e| error(py, &e))?;
+        Ok(forces::ForceSweep::new(sweep))
+    }
+
     /// The first-order deviations of point `point` for the tolerances
     /// `tolerances` ((parameter, ±t) pairs of the `sensitivities`
     /// section): a dict of arrays "at", "position_worst",
@@ -944,6 +995,7 @@ impl Sweep {
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Sweep>()?;
+    m.add_class::<forces::ForceSweep>()?;
     m.add_function(wrap_pyfunction!(compile, m)?)?;
     m.add_function(wrap_pyfunction!(default_options, m)?)?;
     Ok(())

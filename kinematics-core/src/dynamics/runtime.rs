@@ -16,7 +16,7 @@ use super::{
 };
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
-use crate::runtime::{Model, Motion, Sweep};
+use crate::runtime::{Model, Motion, Sample, Sweep};
 
 impl DynamicsBuilder {
     /// Resolves the names against the run-time model `model`, with the
@@ -149,6 +149,58 @@ impl Dynamics {
     /// # Errors
     /// As [`Dynamics::along`].
     pub fn along_of(&self, model: &Model, sweep: &Sweep) -> Result<ForceSweep, Error> {
+        self.along_samples_of(model, sweep.variable, &sweep.samples)
+    }
+
+    /// The forces at each of `samples`, motions of `model` in the order of
+    /// the driver `variable`'s values (their `at`): [`Dynamics::along_of`]
+    /// for samples gathered some other way than by a [`Sweep`] (a sweep
+    /// kept in columns, read back one motion at a time; a simulation).
+    ///
+    /// ```
+    /// use kinematics_core::runtime::{Model, Sample};
+    /// let m = Model::compile(
+    ///     "struct Crank {
+    ///          params   { a }
+    ///          drivers  { phi }
+    ///          unknowns { }
+    ///          points   { G = polar(a, phi); }
+    ///          bodies   { crank(mass = 2.0, center = G, angle = phi); }
+    ///          loads    { gravity(vec2(0.0, -9.81)); }
+    ///      }",
+    /// )?
+    /// .with_values(&[0.1])?;
+    /// let samples = (0..=4)
+    ///     .map(|k| {
+    ///         let phi = f64::from(k) * 0.25 * std::f64::consts::PI;
+    ///         Ok(Sample { at: phi, motion: m.analyze(&[phi], &[1.0], &[0.0])? })
+    ///     })
+    ///     .collect::<Result<Vec<_>, kinematics_core::Error>>()?;
+    /// let forces = m.dynamics()?.along_samples_of(&m, "phi", &samples)?;
+    /// // Holding the crank's weight: Q = m g a cos φ at constant speed.
+    /// let q = forces.samples[1].effort[0];
+    /// assert!((q - 2.0 * 9.81 * 0.1 * (0.25 * std::f64::consts::PI).cos()).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when `variable` is not one of the model's
+    /// drivers; otherwise as [`Dynamics::along`].
+    pub fn along_samples_of(
+        &self,
+        model: &Model,
+        variable: &str,
+        samples: &[Sample],
+    ) -> Result<ForceSweep, Error> {
+        let swept = model
+            .coordinates()
+            .iter()
+            .find(|c| c.role == Role::Driver && c.name == variable)
+            .ok_or_else(|| Error::InvalidOption {
+                name: crate::names::intern(variable),
+                value: f64::NAN,
+                requirement: "must be one of the model's drivers",
+            })?;
         let drivers: Vec<(String, Kind)> = model
             .coordinates()
             .iter()
@@ -156,7 +208,7 @@ impl Dynamics {
             .map(|c| (c.name.to_string(), c.kind))
             .collect();
         let n = drivers.len();
-        self.sweep_of(sweep.variable, sweep.kind, drivers, &sweep.samples, |s| {
+        self.sweep_of(swept.name, swept.kind, drivers, samples, |s| {
             let f = self.inverse_of(model, &s.motion)?;
             let reactions = self
                 .has_joints()

@@ -85,11 +85,14 @@ pub fn plot_forces(forces: &ForceSweep, path: &Path) -> Result<(), Error> {
             forces.samples.first(),
             forces.samples.last(),
         ) {
+            // The mean in a dark shade of the curve's colour: tied to its
+            // driver, and told apart from the curve where they cross.
+            let shade = |c: u8| u8::try_from(u16::from(c) * 2 / 5).unwrap_or(c);
             curves.push(Curve {
                 label: format!("mean {mean:.4} {unit}"),
                 points: vec![(first.at * scale, mean), (last.at * scale, mean)],
-                color,
-                width: 1,
+                color: RGBColor(shade(color.0), shade(color.1), shade(color.2)),
+                width: 2,
             });
         }
     }

@@ -142,8 +142,10 @@ pub struct Flat<'a> {
 }
 
 /// The motion at one pose: coordinates, rates and accelerations (drivers
-/// first, then unknowns), points, frames and diagnostics.
-#[derive(Clone, Debug, PartialEq)]
+/// first, then unknowns), points, frames and diagnostics. The default is
+/// empty (no coordinate, point or frame; zero diagnostics): storage for a
+/// motion to be written into.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Motion {
     /// q.
     pub q: Vec<f64>,

@@ -1,0 +1,144 @@
+"""Forces from the ``bodies`` and ``loads`` sections, through Python,
+against a closed form derived here: a slider-crank whose crank carries a
+mass under gravity and whose piston is pushed by a constant gas force.
+
+With the crank turning at a constant rate ω, its centre of mass G at r
+along it (r_G = r e(φ)), the rod and the piston massless and the gas
+force −P along x on the piston at x = a cos φ + √(b² − a² sin² φ):
+
+- the effort is the rate of the potential energies, by virtual work,
+  Q = m g r cos φ + P dx/dφ = m g r cos φ − P a sin φ (1 + a cos φ / √(b² − a² sin² φ));
+- T = ½ (J + m r²) ω², V = m g r sin φ, the power Q ω;
+- the shaking force −m a_G = m ω² r e(φ), and over [0, π]
+  ∫ Q dφ = P (x(π) − x(0)) = −2 a P.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import loopkin as kin
+from conftest import close
+
+ENGINE = """
+struct Engine {
+    params   { a, b, r, m, j, p }
+    drivers  { phi }
+    unknowns { th, x }
+    points   { G = polar(r, phi); C = vec2(x, 0.0); }
+    loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+    bodies   { crank(mass = m, center = G, angle = phi, inertia = j); }
+    loads    {
+        gravity(vec2(0.0, -9.81));
+        force(C, vec2(-p, 0.0));
+    }
+}
+"""
+
+A, B, R, M, J, P, G = 0.05, 0.2, 0.03, 1.5, 2e-3, 800.0, 9.81
+W = 40.0
+
+
+@pytest.fixture(scope="module")
+def Engine():
+    return kin.compile(ENGINE)
+
+
+@pytest.fixture(scope="module")
+def engine(Engine):
+    return Engine(a=A, b=B, r=R, m=M, j=J, p=P)
+
+
+def torque(phi):
+    root = math.sqrt(B * B - (A * math.sin(phi)) ** 2)
+    return M * G * R * math.cos(phi) - P * A * math.sin(phi) * (1.0 + A * math.cos(phi) / root)
+
+
+def start(engine):
+    return engine.assemble(phi=0.0, th=-0.1, x=0.24)
+
+
+def test_has_dynamics(Engine, FourBar):
+    assert Engine.has_dynamics()
+    assert not FourBar.has_dynamics()
+
+
+def test_forces_at_one_motion_match_the_closed_form(engine):
+    pose = start(engine)
+    for phi in np.linspace(0.1, 2 * math.pi - 0.1, 17):
+        q = engine.assemble(pose, phi=float(phi))
+        f = engine.forces(engine.analyze(q, rate=W))
+        scale = M * G * R + P * A * 2
+        assert close(f.effort["phi"], torque(phi), 1e-12, scale)
+        assert close(f.kinetic_energy, 0.5 * (J + M * R * R) * W * W, 1e-12)
+        assert close(f.potential_energy, M * G * R * math.sin(phi), 1e-12)
+        assert close(f.power, torque(phi) * W, 1e-12, scale * W)
+        e = np.array([math.cos(phi), math.sin(phi), 0.0])
+        assert close(f.shaking_force, M * W * W * R * e, 1e-12, M * W * W * R)
+        assert f.shaking_force.flags.writeable is False
+
+
+def test_forces_along_a_sweep(engine):
+    sw = engine.sweep("phi", start=start(engine), to=math.pi, steps=180, rate=W)
+    assert sw.stop is None and len(sw) == 181
+    fs = sw.forces()
+    assert fs.drivers == ("phi",) and len(fs) == 181
+    assert close(fs.at, sw.at, 0.0)
+    want = np.array([torque(phi) for phi in sw.at])
+    scale = M * G * R + P * A * 2
+    assert close(fs.effort["phi"], want, 1e-12, scale)
+    assert close(fs.power, want * W, 1e-12, scale * W)
+    assert fs.shaking_force.shape == (181, 3)
+    # The mean of the closed form by the same rule, and the exact mean
+    # −2aP/π within the rule's error.
+    h = np.diff(sw.at)
+    trapezoid = float(np.sum(0.5 * (want[1:] + want[:-1]) * h)) / math.pi
+    assert close(fs.mean_effort(), trapezoid, 1e-12, scale)
+    assert abs(fs.mean_effort("phi") - (-2 * A * P / math.pi)) < 1e-4 * scale
+    # The energy a flywheel must absorb, from the closed form's work.
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (want[1:] + want[:-1]) * h)])
+    excess = work - trapezoid * (sw.at - sw.at[0])
+    delta = float(excess.max() - excess.min())
+    assert close(fs.energy_fluctuation(), delta, 1e-12, scale)
+    assert close(fs.flywheel(0.02, W), delta / (0.02 * W * W), 1e-12)
+    assert close(fs.speed_fluctuation(0.5, W), delta / (0.5 * W * W), 1e-12)
+
+
+def test_forces_table_and_plot(engine, tmp_path):
+    fs = engine.sweep("phi", start=start(engine), turn=True, steps=72, rate=W).forces()
+    text = fs.to_csv(tmp_path / "forces.csv")
+    lines = text.strip().splitlines()
+    assert lines[0].startswith("phi (deg),Q_phi (N·m),T (J),V (J),P (W)")
+    assert len(lines) == 73
+    assert (tmp_path / "forces.csv").read_text(encoding="utf-8") == text
+    row = [float(x) for x in lines[10].split(",")]
+    assert close(row[1], torque(math.radians(row[0])), 1e-12, M * G * R + P * A * 2)
+    df = fs.to_pandas()
+    assert list(df.columns[:3]) == ["phi (deg)", "Q_phi (N·m)", "T (J)"]
+    assert close(df["Q_phi (N·m)"].to_numpy(), fs.effort["phi"], 1e-12, M * G * R + P * A * 2)
+    fs.write_svg(tmp_path / "forces.svg")
+    assert (tmp_path / "forces.svg").read_text(encoding="utf-8").lstrip().startswith("<svg")
+
+
+def test_forces_errors(engine, four_bar, FourBar):
+    with pytest.raises(kin.InvalidDynamicsError, match="no `bodies` or `loads` section") as e:
+        four_bar.forces(four_bar.analyze(four_bar.assemble(phi=0.5, th3=0.5, th4=1.5), rate=1.0))
+    assert isinstance(e.value, kin.KinematicsError) and isinstance(e.value, ValueError)
+    fs = engine.sweep("phi", start=start(engine), to=1.0, steps=4, rate=W).forces()
+    with pytest.raises(KeyError, match="not a driver"):
+        fs.mean_effort("th")
+    with pytest.raises(ValueError, match="positive"):
+        fs.flywheel(0.0, W)
+    with pytest.raises(ValueError, match="positive and finite"):
+        fs.speed_fluctuation(-1.0, W)
+    n = 5
+    sim = engine.simulate(
+        start=start(engine),
+        duration=0.01,
+        steps=n - 1,
+        values={"phi": np.linspace(0.0, 0.4, n)},
+        rates={"phi": np.full(n, 40.0)},
+    )
+    with pytest.raises(ValueError, match="simulation"):
+        sim.forces()
