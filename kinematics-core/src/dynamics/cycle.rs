@@ -145,7 +145,8 @@ impl ForceSweep {
     /// the swept value (deg for an angle), each driver's effort (N·m for an
     /// angle, N for a length), T, V and the power, the shaking force and
     /// moment's components, and for each joint of the reactions the x and y
-    /// of its force (and the moment at a prismatic joint).
+    /// of its force and its moment's z (every component of both in a
+    /// spatial mechanism).
     #[must_use]
     pub fn to_csv(&self) -> String {
         let angle = self.kind == Kind::Angle;
@@ -164,8 +165,17 @@ impl ForceSweep {
             ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)",
         );
         let joints = self.samples.first().and_then(|s| s.reactions.as_ref());
+        let spatial = joints.is_some_and(|r| r.spatial);
         for j in joints.map_or(&[][..], |r| &r.joints[..]) {
-            let _ = write!(out, ",R_{0}_x (N),R_{0}_y (N),M_{0} (N·m)", j.name);
+            if spatial {
+                let _ = write!(
+                    out,
+                    ",R_{0}_x (N),R_{0}_y (N),R_{0}_z (N),M_{0}_x (N·m),M_{0}_y (N·m),M_{0}_z (N·m)",
+                    j.name
+                );
+            } else {
+                let _ = write!(out, ",R_{0}_x (N),R_{0}_y (N),M_{0} (N·m)", j.name);
+            }
         }
         out.push('\n');
         for s in &self.samples {
@@ -182,7 +192,12 @@ impl ForceSweep {
                 s.kinetic_energy, s.potential_energy, s.power, f.x, f.y, f.z, m.x, m.y, m.z
             );
             for j in s.reactions.as_ref().map_or(&[][..], |r| &r.joints[..]) {
-                let _ = write!(out, ",{},{},{}", j.force.x, j.force.y, j.moment);
+                let (f, m) = (j.force, j.moment);
+                if spatial {
+                    let _ = write!(out, ",{},{},{},{},{},{}", f.x, f.y, f.z, m.x, m.y, m.z);
+                } else {
+                    let _ = write!(out, ",{},{},{}", f.x, f.y, m.z);
+                }
             }
             out.push('\n');
         }

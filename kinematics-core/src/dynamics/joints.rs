@@ -1,27 +1,39 @@
-//! Joint reactions of planar mechanisms by the Newton–Euler equations of
-//! every body at once: the joints ([`Joint`]) between the bodies and the
-//! ground, the reaction of each as unknowns, and the driver's effort at
-//! its joint.
+//! Joint reactions by the Newton–Euler equations of every body at once:
+//! the joints ([`Joint`]) between the bodies and the ground, the reaction
+//! of each as unknowns, and the driver's effort at its joint.
 //!
 //! For each body b with centre of mass G, the sum of the forces on it and
-//! their moment about G equal its rate of momentum:
+//! their moment about G equal its rate of momentum and of angular
+//! momentum:
 //!
 //! Σ F_joints + Σ F_applied + m g = m a_G,
-//! Σ (r_J − r_G) × F_joints + Σ M_joints + Σ (r_P − r_G) × F_applied + Σ T = J α,
+//! Σ (r_J − r_G) × F_joints + Σ M_joints + Σ (r_P − r_G) × F_applied + Σ T = J α + ω × J ω,
 //!
-//! three equations per body, linear in the reactions: at a revolute joint
-//! the force (2 components) the first body exerts on the second; at a
-//! prismatic joint the force normal to its axis and the moment (2); at the
-//! joint a driver acts in, its effort (a torque about a revolute, a force
-//! along a prismatic axis). With every moving link a body and every joint
-//! declared, a mechanism of one degree of freedom has as many unknowns as
-//! equations (Grübler's count), and the system is solved by LU.
+//! linear in the reactions. In a planar mechanism that is three equations
+//! per body (the force's x and y, the moment's z); at a revolute joint the
+//! force (2 components) the first body exerts on the second, at a
+//! prismatic joint the force normal to its axis and the moment (2), at
+//! the joint a driver acts in its effort (a torque about a revolute, a
+//! force along a prismatic axis). With every moving link a body and every
+//! joint declared, a mechanism of one degree of freedom has as many
+//! unknowns as equations (Grübler's count), solved by LU.
+//!
+//! In a spatial mechanism it is six equations per body, and a joint
+//! carries what it does not let move: a spherical joint a force (3), a
+//! revolute joint a force and the moment normal to its axis (5), a
+//! prismatic joint the force normal to its axis and a moment (5), a
+//! cylindrical joint the force and the moment normal to its axis (4). A
+//! link between two spherical joints may spin about the line through
+//! them without changing the mechanism: one of its moment equations then
+//! holds whatever the reactions are (a slender rod, or a body without
+//! inertia), the equations outnumber the unknowns by one, and they are
+//! solved by least squares, which must then satisfy every one of them.
 
 use alloc::format;
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::evaluate::{Generated, Instant, View};
 use super::{Dynamics, Names, ResolvedBody, Turns};
@@ -32,17 +44,52 @@ use crate::mechanism::{Kind, Mechanism, Role};
 pub const GROUND: &str = "ground";
 
 /// What a joint lets move.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum JointKind {
-    /// A pin: relative rotation.
+    /// A pin: relative rotation (about z in a planar mechanism, about
+    /// its axis in a spatial one).
     Revolute,
-    /// A slider along the axis fixed in the first body (in its axes).
-    Prismatic([f64; 2]),
+    /// A slider along its axis, fixed in the first body.
+    Prismatic,
+    /// A ball joint: relative rotation about every axis (spatial).
+    Spherical,
+    /// Rotation about its axis and sliding along it (spatial).
+    Cylindrical,
 }
 
-/// A joint of a planar mechanism between two bodies (or a body and
-/// [`GROUND`]), at one of the mechanism's points: a revolute joint (a pin)
-/// or a prismatic one (a slider), and the driver acting in it if any.
+impl JointKind {
+    fn word(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+            JointKind::Spherical => "spherical",
+            JointKind::Cylindrical => "cylindrical",
+        }
+    }
+}
+
+/// The axis of a joint, in its first body's axes: `[x, y]` in a planar
+/// mechanism, `[x, y, z]` in a spatial one (any length but zero).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis(pub [f64; 3]);
+
+impl From<[f64; 2]> for Axis {
+    fn from(a: [f64; 2]) -> Self {
+        Axis([a[0], a[1], 0.0])
+    }
+}
+
+impl From<[f64; 3]> for Axis {
+    fn from(a: [f64; 3]) -> Self {
+        Axis(a)
+    }
+}
+
+/// A joint between two bodies (or a body and [`GROUND`]), at one of the
+/// mechanism's points, and the driver acting in it if any: revolute or
+/// prismatic in a planar mechanism; also spherical and cylindrical in a
+/// spatial one, where a revolute, prismatic or cylindrical joint has an
+/// axis.
 ///
 /// ```
 /// use kinematics_core::dynamics::Joint;
@@ -50,6 +97,9 @@ enum JointKind {
 /// let a = Joint::revolute("A", "A", "ground", "crank").driven_by("phi");
 /// // The piston in its cylinder, sliding along x.
 /// let c = Joint::prismatic("cylinder", "C", "ground", "piston", [1.0, 0.0]);
+/// // In space: a bearing about y, and a ball joint.
+/// let o = Joint::revolute("O", "O", "ground", "crank").about([0.0, 1.0, 0.0]);
+/// let b = Joint::spherical("B", "B", "crank", "coupler");
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
@@ -57,41 +107,79 @@ pub struct Joint {
     at: String,
     bodies: [String; 2],
     kind: JointKind,
+    axis: Option<[f64; 3]>,
     driver: Option<String>,
     coordinate: Option<String>,
 }
 
 impl Joint {
-    /// A revolute joint named `name` at the point `at`, between the bodies
-    /// `first` and `second` ([`GROUND`] for the fixed frame); its reaction
-    /// is the force `first` exerts on `second`.
-    #[must_use]
-    pub fn revolute(name: &str, at: &str, first: &str, second: &str) -> Self {
+    fn new(name: &str, at: &str, first: &str, second: &str, kind: JointKind) -> Self {
         Joint {
             name: name.to_string(),
             at: at.to_string(),
             bodies: [first.to_string(), second.to_string()],
-            kind: JointKind::Revolute,
+            kind,
+            axis: None,
             driver: None,
             coordinate: None,
         }
     }
 
+    /// A revolute joint named `name` at the point `at`, between the bodies
+    /// `first` and `second` ([`GROUND`] for the fixed frame); its reaction
+    /// is the force (and in space the moment) `first` exerts on `second`.
+    /// In a spatial mechanism give its axis with [`Joint::about`].
+    #[must_use]
+    pub fn revolute(name: &str, at: &str, first: &str, second: &str) -> Self {
+        Self::new(name, at, first, second, JointKind::Revolute)
+    }
+
     /// A prismatic joint: `second` slides along `axis`, fixed in `first`
     /// and given in its axes (the fixed axes for [`GROUND`]; for a body,
-    /// the axes turned by its angle), through the point `at`. Its reaction
-    /// is the force normal to the axis and the moment `first` exerts on
-    /// `second`.
+    /// the axes turned by its angle or its frame), through the point
+    /// `at`: `[x, y]` in a planar mechanism, `[x, y, z]` in a spatial one.
+    /// Its reaction is the force normal to the axis and the moment
+    /// `first` exerts on `second`.
     #[must_use]
-    pub fn prismatic(name: &str, at: &str, first: &str, second: &str, axis: [f64; 2]) -> Self {
-        Joint {
-            name: name.to_string(),
-            at: at.to_string(),
-            bodies: [first.to_string(), second.to_string()],
-            kind: JointKind::Prismatic(axis),
-            driver: None,
-            coordinate: None,
-        }
+    pub fn prismatic(
+        name: &str,
+        at: &str,
+        first: &str,
+        second: &str,
+        axis: impl Into<Axis>,
+    ) -> Self {
+        let mut j = Self::new(name, at, first, second, JointKind::Prismatic);
+        j.axis = Some(axis.into().0);
+        j
+    }
+
+    /// A spherical (ball) joint of a spatial mechanism: its reaction is
+    /// the force `first` exerts on `second`, and no moment.
+    #[must_use]
+    pub fn spherical(name: &str, at: &str, first: &str, second: &str) -> Self {
+        Self::new(name, at, first, second, JointKind::Spherical)
+    }
+
+    /// A cylindrical joint of a spatial mechanism, turning about and
+    /// sliding along `axis` (in `first`'s axes): its reaction is the force
+    /// and the moment normal to the axis.
+    #[must_use]
+    pub fn cylindrical(name: &str, at: &str, first: &str, second: &str, axis: [f64; 3]) -> Self {
+        let mut j = Self::new(name, at, first, second, JointKind::Cylindrical);
+        j.axis = Some(axis);
+        j
+    }
+
+    /// The joint's axis, in `first`'s axes (the fixed axes for
+    /// [`GROUND`]; for a body, turned by its frame or angle): for a
+    /// revolute joint of a spatial mechanism, directed so that its driver
+    /// or coordinate grows as `second` turns positively about it relative
+    /// to `first` (right-hand rule). In a planar mechanism a revolute
+    /// joint's axis is z.
+    #[must_use]
+    pub fn about(mut self, axis: [f64; 3]) -> Self {
+        self.axis = Some(axis);
+        self
     }
 
     /// The driver `driver` acts in this joint: its effort is a torque
@@ -124,6 +212,9 @@ pub(super) struct ResolvedJoint {
     /// The two bodies; `None` for the ground.
     bodies: [Option<usize>; 2],
     kind: JointKind,
+    /// The unit axis in the first body's axes (z for a planar revolute
+    /// joint; unused at a spherical one).
+    axis: Vector3<f64>,
     driver: Option<usize>,
     /// The coordinate measuring the joint's motion, where given.
     coordinate: Option<usize>,
@@ -137,12 +228,7 @@ pub(super) fn resolve(
     bodies: &[ResolvedBody],
 ) -> Result<Vec<ResolvedJoint>, Error> {
     let invalid = |item: String, detail: String| Error::InvalidDynamics { item, detail };
-    if !joints.is_empty() && names.dim != 2 {
-        return Err(invalid(
-            "joints".to_string(),
-            "joint reactions are computed for planar mechanisms only".to_string(),
-        ));
-    }
+    let planar = names.dim == 2;
     let mut out = Vec::with_capacity(joints.len());
     for j in joints {
         let item = format!("joint `{}`", j.name);
@@ -182,14 +268,8 @@ pub(super) fn resolve(
         if pair[0] == pair[1] {
             return Err(invalid(item, format!("joins `{}` to itself", j.bodies[0])));
         }
-        if let JointKind::Prismatic(axis) = j.kind {
-            let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
-            if !(norm.is_finite() && norm > 0.0) {
-                return Err(invalid(
-                    item,
-                    format!("its axis {axis:?} must be finite and not zero"),
-                ));
-            }
+        let axis = joint_axis(j, planar).map_err(|detail| invalid(item.clone(), detail))?;
+        if planar && j.kind == JointKind::Prismatic {
             if let Some(b) = pair[0].and_then(|b| bodies.get(b)) {
                 if matches!(b.turning, Turns::Frame(_)) {
                     return Err(invalid(
@@ -209,7 +289,17 @@ pub(super) fn resolve(
                     .ok_or_else(|| invalid(item.clone(), format!("there is no driver `{d}`")))?;
                 let want = match j.kind {
                     JointKind::Revolute => Kind::Angle,
-                    JointKind::Prismatic(_) => Kind::Length,
+                    JointKind::Prismatic => Kind::Length,
+                    JointKind::Spherical | JointKind::Cylindrical => {
+                        return Err(invalid(
+                            item,
+                            format!(
+                                "a {} joint transmits no driver's effort: a driver acts in a \
+                                 revolute joint (an angle) or a prismatic one (a length)",
+                                j.kind.word()
+                            ),
+                        ))
+                    }
                 };
                 if names.coordinates[k].2 != want {
                     return Err(invalid(
@@ -248,12 +338,62 @@ pub(super) fn resolve(
             name: j.name.clone(),
             at,
             bodies: pair,
-            kind: j.kind.clone(),
+            kind: j.kind,
+            axis,
             driver,
             coordinate,
         });
     }
     Ok(out)
+}
+
+/// The unit axis of joint `j` in its first body's axes, checked against
+/// the kind of mechanism; or what is wrong with it.
+fn joint_axis(j: &Joint, planar: bool) -> Result<Vector3<f64>, String> {
+    let kind = j.kind.word();
+    let axis = match (j.kind, j.axis, planar) {
+        (JointKind::Spherical | JointKind::Cylindrical, _, true) => {
+            return Err(format!(
+                "a planar mechanism's joints are revolute or prismatic, not {kind}"
+            ))
+        }
+        (JointKind::Revolute, None, true) => return Ok(Vector3::z()),
+        (JointKind::Revolute, Some(a), true) => {
+            if a[0] == 0.0 && a[1] == 0.0 && a[2] > 0.0 {
+                return Ok(Vector3::z());
+            }
+            return Err(format!(
+                "its axis {a:?}: a planar mechanism's revolute joints turn about z; leave out \
+                 `.about(…)`"
+            ));
+        }
+        (JointKind::Spherical, None, false) => return Ok(Vector3::zeros()),
+        (JointKind::Spherical, Some(a), false) => {
+            return Err(format!(
+                "a spherical joint turns about every axis: leave out its axis {a:?}"
+            ))
+        }
+        (_, None, _) => {
+            return Err(format!(
+                "a {kind} joint of a spatial mechanism needs its axis: give it with \
+                 `.about([x, y, z])` (in the first body's axes)"
+            ))
+        }
+        (JointKind::Prismatic, Some(a), true) if a[2] != 0.0 => {
+            return Err(format!(
+                "its axis {a:?} leaves the plane: give `[x, y]` in a planar mechanism"
+            ))
+        }
+        (_, Some(a), _) => Vector3::from(a),
+    };
+    let norm = axis.norm();
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err(format!(
+            "its axis {:?} must be finite and not zero",
+            <[f64; 3]>::from(axis)
+        ));
+    }
+    Ok(axis / norm)
 }
 
 /// The reaction at one joint.
@@ -263,15 +403,20 @@ pub struct JointReaction {
     /// The joint's name.
     pub name: String,
     /// The force the first body exerts on the second, in the fixed axes
-    /// (N; z = 0). At a prismatic joint, normal to the axis (plus the
-    /// driver's force along it where a driver acts there).
+    /// (N; z = 0 in a planar mechanism). At a prismatic or cylindrical
+    /// joint, normal to the axis (plus the driver's force along it where
+    /// a driver acts there).
     pub force: Vector3<f64>,
     /// The same force in the second body's axes (turned by minus its
-    /// angle; the fixed axes for a body that does not turn).
+    /// angle, or by the transpose of its frame's rotation; the fixed axes
+    /// for a body that does not turn).
     pub force_in_body: Vector3<f64>,
-    /// The moment the first body exerts on the second at a prismatic
-    /// joint (N·m); zero at a revolute joint.
-    pub moment: f64,
+    /// The moment the first body exerts on the second, in the fixed axes
+    /// (N·m), other than the driver's torque: in a planar mechanism, along
+    /// z at a prismatic joint and zero at a revolute one; in a spatial
+    /// one, normal to the axis at a revolute or cylindrical joint, any at
+    /// a prismatic joint, zero at a spherical one.
+    pub moment: Vector3<f64>,
     /// The driver's effort transmitted in this joint, where one acts.
     pub effort: Option<f64>,
 }
@@ -283,6 +428,9 @@ pub struct JointReaction {
 pub struct Reactions {
     /// One per joint.
     pub joints: Vec<JointReaction>,
+    /// Whether the mechanism is spatial (the forces and moments then have
+    /// three components).
+    pub spatial: bool,
 }
 
 impl Reactions {
@@ -293,30 +441,140 @@ impl Reactions {
     }
 }
 
-/// The angle of body `b` (Σ c_j q_j; zero for one that does not turn).
-fn body_angle(b: &ResolvedBody, s: &dyn View) -> f64 {
+/// The rotation from body `b`'s axes to the fixed axes: its frame's, a
+/// turn about z by its angle, or none for a body that does not turn (and
+/// for the ground, `None`).
+fn rotation_of(bodies: &[ResolvedBody], b: Option<usize>, s: &dyn View) -> Matrix3<f64> {
+    let Some(b) = b.and_then(|b| bodies.get(b)) else {
+        return Matrix3::identity();
+    };
     match &b.turning {
-        Turns::Angle(terms) => terms.iter().map(|&(j, c)| c * s.coordinate(j)[0]).sum(),
-        Turns::No | Turns::Frame(_) => 0.0,
+        Turns::No => Matrix3::identity(),
+        Turns::Angle(terms) => {
+            let angle: f64 = terms.iter().map(|&(j, c)| c * s.coordinate(j)[0]).sum();
+            let (sin, cos) = crate::math::sin_cos(angle);
+            Matrix3::new(cos, -sin, 0.0, sin, cos, 0.0, 0.0, 0.0, 1.0)
+        }
+        Turns::Frame(f) => s
+            .frame(*f)
+            .map_or(Matrix3::repeat(f64::NAN), |f| f.rotation),
     }
+}
+
+/// Two unit vectors normal to the unit vector `e` and to each other, with
+/// (n₁, n₂, e) right-handed.
+fn normals(e: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    // The fixed axis least aligned with e.
+    let pick = if e.x.abs() <= e.y.abs() && e.x.abs() <= e.z.abs() {
+        Vector3::x()
+    } else if e.y.abs() <= e.z.abs() {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let n1 = e.cross(&pick).normalize();
+    (n1, e.cross(&n1))
+}
+
+/// What one unknown of a joint is: a unit force and a unit moment (in the
+/// fixed axes), applied to the second body at the joint and opposite on
+/// the first, and whether it is the driver's.
+#[derive(Clone, Copy)]
+struct Unit {
+    force: Vector3<f64>,
+    moment: Vector3<f64>,
+    driver: bool,
+}
+
+impl Unit {
+    fn force(force: Vector3<f64>) -> Self {
+        Unit {
+            force,
+            moment: Vector3::zeros(),
+            driver: false,
+        }
+    }
+    fn moment(moment: Vector3<f64>) -> Self {
+        Unit {
+            force: Vector3::zeros(),
+            moment,
+            driver: false,
+        }
+    }
+    fn driving(self) -> Self {
+        Unit {
+            driver: true,
+            ..self
+        }
+    }
+}
+
+/// The unknowns of joint `j` whose axis is `e` in the fixed axes.
+fn unknowns(j: &ResolvedJoint, e: Vector3<f64>, spatial: bool) -> Vec<Unit> {
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+    let mut u = match (j.kind, spatial) {
+        (JointKind::Revolute, false) => vec![Unit::force(x), Unit::force(y)],
+        (JointKind::Prismatic, false) => {
+            vec![Unit::force(Vector3::new(-e.y, e.x, 0.0)), Unit::moment(z)]
+        }
+        (JointKind::Spherical, _) => vec![Unit::force(x), Unit::force(y), Unit::force(z)],
+        (JointKind::Revolute, true) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(x),
+                Unit::force(y),
+                Unit::force(z),
+                Unit::moment(n1),
+                Unit::moment(n2),
+            ]
+        }
+        (JointKind::Prismatic, true) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(n1),
+                Unit::force(n2),
+                Unit::moment(x),
+                Unit::moment(y),
+                Unit::moment(z),
+            ]
+        }
+        (JointKind::Cylindrical, _) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(n1),
+                Unit::force(n2),
+                Unit::moment(n1),
+                Unit::moment(n2),
+            ]
+        }
+    };
+    if j.driver.is_some() {
+        u.push(match j.kind {
+            JointKind::Prismatic => Unit::force(e).driving(),
+            _ => Unit::moment(e).driving(),
+        });
+    }
+    u
 }
 
 impl Dynamics {
     /// The reaction at every joint given with [`super::DynamicsBuilder::joint`]
-    /// at `motion`, a motion of `m` (planar mechanisms), by the
-    /// Newton–Euler equations of every body (see the [module](super)): the
-    /// force each joint's first body exerts on its second, the moment at a
-    /// prismatic joint, and the driver's effort in its joint, which equals
-    /// [`Dynamics::inverse`]'s. The motion is all it reads: `m` names the
-    /// mechanism's type, and no analysis is repeated.
+    /// at `motion`, a motion of `m`, by the Newton–Euler equations of
+    /// every body (see the [module](super)): the force and moment each
+    /// joint's first body exerts on its second, and the driver's effort in
+    /// its joint, which equals [`Dynamics::inverse`]'s. The motion is all
+    /// it reads: `m` names the mechanism's type, and no analysis is
+    /// repeated.
     ///
     /// # Errors
     /// [`Error::InvalidDynamics`] when the joints do not determine the
-    /// reactions (the count of unknowns is not three per body, or the
-    /// system is singular at this pose), when a force does not name the
-    /// body it acts on ([`super::DynamicsBuilder::force_on`]), a spring
-    /// the bodies of its ends ([`super::Spring::between`]), or a force on a
-    /// coordinate the joint it acts in ([`Joint::coordinate`]).
+    /// reactions (in a planar mechanism, the count of unknowns is not
+    /// three per body; in a spatial one, more unknowns than six per body,
+    /// or equations no reactions satisfy; or the system is singular at
+    /// this pose), when a force does not name the body it acts on
+    /// ([`super::DynamicsBuilder::force_on`]), a spring the bodies of its
+    /// ends ([`super::Spring::between`]), or a force on a coordinate the
+    /// joint it acts in ([`Joint::coordinate`]).
     pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
         let _ = m;
         self.fits_mechanism::<M>()?;
@@ -348,6 +606,17 @@ impl Dynamics {
                     ),
                 ));
             };
+            if !matches!(j.kind, JointKind::Revolute | JointKind::Prismatic) {
+                return Err(invalid(
+                    "a force on a coordinate",
+                    format!(
+                        "it acts in joint `{}`, a {} joint, which transmits no effort along or \
+                         about one axis: measure the coordinate on a revolute or prismatic joint",
+                        j.name,
+                        j.kind.word()
+                    ),
+                ));
+            }
             in_joints.push((j, f));
         }
         if self.springs.iter().any(|s| s.bodies.is_none()) {
@@ -358,16 +627,23 @@ impl Dynamics {
                     .to_string(),
             ));
         }
+        let spatial = self.dim == 3;
+        // Rows per body: the force's x and y and the moment's z in a
+        // planar mechanism; every component in a spatial one.
+        let w = if spatial { 6 } else { 3 };
         let nb = self.bodies.len();
-        let rows = 3 * nb;
-        // The columns of each joint's unknowns.
-        let mut cols = 0;
-        let mut first_col = Vec::with_capacity(self.joints.len());
+        let rows = w * nb;
+        let nan = [Vector3::repeat(f64::NAN); 3];
+        let point = |p: usize| s.point(p).unwrap_or(nan);
+        let centre = |b: usize| point(self.bodies[b].center)[0];
+        // Each joint's axis in the fixed axes, and its unknowns.
+        let mut units = Vec::with_capacity(self.joints.len());
         for j in &self.joints {
-            first_col.push(cols);
-            cols += 2 + usize::from(j.driver.is_some());
+            let e = rotation_of(&self.bodies, j.bodies[0], s) * j.axis;
+            units.push((e, unknowns(j, e, spatial)));
         }
-        if cols != rows {
+        let cols: usize = units.iter().map(|(_, u)| u.len()).sum();
+        if (!spatial && cols != rows) || cols > rows {
             return Err(invalid(
                 "joints",
                 format!(
@@ -377,19 +653,31 @@ impl Dynamics {
                 ),
             ));
         }
-        let nan = [Vector3::repeat(f64::NAN); 3];
-        let point = |p: usize| s.point(p).unwrap_or(nan);
-        let angles: Vec<f64> = self.bodies.iter().map(|b| body_angle(b, s)).collect();
+        // A force f with moment m about G, on body b, into the rows of b.
+        let rows_of = |f: Vector3<f64>, m: Vector3<f64>| -> [f64; 6] {
+            if spatial {
+                [f.x, f.y, f.z, m.x, m.y, m.z]
+            } else {
+                [f.x, f.y, m.z, 0.0, 0.0, 0.0]
+            }
+        };
         let mut a = DMatrix::<f64>::zeros(rows, cols);
         let mut rhs = DVector::<f64>::zeros(rows);
-        // Each body's rate of momentum less gravity, and J α.
+        let mut load = |b: usize, f: Vector3<f64>, m: Vector3<f64>| {
+            for (k, v) in rows_of(f, m).iter().take(w).enumerate() {
+                rhs[w * b + k] += v;
+            }
+        };
+        // Each body's rate of momentum less gravity, and of angular
+        // momentum about G: J α + ω × J ω.
         for (i, b) in self.bodies.iter().enumerate() {
             let [_, _, acc] = point(b.center);
-            let f = (acc - self.gravity) * b.mass;
-            let (_, alpha, inertia) = super::evaluate::turning(b, s);
-            rhs[3 * i] = f.x;
-            rhs[3 * i + 1] = f.y;
-            rhs[3 * i + 2] = (inertia * alpha).z;
+            let (omega, alpha, inertia) = super::evaluate::turning(b, s);
+            load(
+                i,
+                (acc - self.gravity) * b.mass,
+                inertia * alpha + omega.cross(&(inertia * omega)),
+            );
         }
         // The applied loads, moved to the right-hand side.
         let [q, qd, qdd] = self.coordinates_of(s);
@@ -399,6 +687,13 @@ impl Dynamics {
             qdd: &qdd,
             position: at[0],
             velocity: at[1],
+        };
+        let planar = |v: Vector3<f64>| {
+            if spatial {
+                v
+            } else {
+                Vector3::new(v.x, v.y, 0.0)
+            }
         };
         for (p, body, f) in &self.forces {
             let Some(b) = *body else {
@@ -412,16 +707,18 @@ impl Dynamics {
                 ));
             };
             let at = point(*p);
-            let f = Vector3::from(f(&instant(at)));
-            let f = Vector3::new(f.x, f.y, 0.0);
-            let r = at[0] - point(self.bodies[b].center)[0];
-            rhs[3 * b] -= f.x;
-            rhs[3 * b + 1] -= f.y;
-            rhs[3 * b + 2] -= r.cross(&f).z;
+            let f = planar(Vector3::from(f(&instant(at))));
+            load(b, -f, -(at[0] - centre(b)).cross(&f));
         }
         for (b, t) in &self.torques {
             let at = point(self.bodies[*b].center);
-            rhs[3 * b + 2] -= t(&instant(at))[2];
+            let t = Vector3::from(t(&instant(at)));
+            let t = if spatial {
+                t
+            } else {
+                Vector3::new(0.0, 0.0, t.z)
+            };
+            load(*b, Vector3::zeros(), -t);
         }
         // Each spring pulls its ends together with its tension
         // f = k (L − L₀) + c L' along e, from A to B: +f e on A's body at A,
@@ -432,82 +729,44 @@ impl Dynamics {
             let ends = sp.bodies.unwrap_or([None; 2]);
             for (body, at, f) in [(ends[0], ra, f), (ends[1], rb, -f)] {
                 if let Some(b) = body {
-                    let r = at - point(self.bodies[b].center)[0];
-                    rhs[3 * b] -= f.x;
-                    rhs[3 * b + 1] -= f.y;
-                    rhs[3 * b + 2] -= r.cross(&f).z;
+                    load(b, -f, -(at - centre(b)).cross(&f));
                 }
             }
         }
-        // A force on a coordinate: a torque about its revolute joint, or a
-        // force along its prismatic joint's axis, on the second body, and
-        // its opposite on the first.
+        // A force on a coordinate: a torque about its revolute joint's
+        // axis, or a force along its prismatic joint's axis, on the second
+        // body, and its opposite on the first.
         for (j, f) in in_joints {
             let value = f(&instant([Vector3::zeros(); 3]));
             let r = point(j.at)[0];
+            let e = rotation_of(&self.bodies, j.bodies[0], s) * j.axis;
             let (force, torque) = match j.kind {
-                JointKind::Revolute => (Vector3::zeros(), value),
-                JointKind::Prismatic(axis) => (self.axis_of(j, axis, &angles) * value, 0.0),
+                JointKind::Prismatic => (e * value, Vector3::zeros()),
+                _ => (Vector3::zeros(), e * value),
             };
             for (body, sign) in [(j.bodies[1], 1.0), (j.bodies[0], -1.0)] {
                 if let Some(b) = body {
-                    let arm = r - point(self.bodies[b].center)[0];
-                    rhs[3 * b] -= sign * force.x;
-                    rhs[3 * b + 1] -= sign * force.y;
-                    rhs[3 * b + 2] -= sign * (arm.cross(&force).z + torque);
+                    let arm = r - centre(b);
+                    load(b, -force * sign, -(arm.cross(&force) + torque) * sign);
                 }
             }
         }
-        // The joints' unknowns: a force (and moment) on the second body,
+        // The joints' unknowns: a force and moment on the second body,
         // their opposites on the first.
-        let mut place = |body: Option<usize>,
-                         sign: f64,
-                         col: usize,
-                         r: Vector3<f64>,
-                         f: Vector3<f64>,
-                         m: f64| {
-            if let Some(b) = body {
-                let arm = r - point(self.bodies[b].center)[0];
-                a[(3 * b, col)] += sign * f.x;
-                a[(3 * b + 1, col)] += sign * f.y;
-                a[(3 * b + 2, col)] += sign * (arm.cross(&f).z + m);
-            }
-        };
-        let mut directions = Vec::with_capacity(self.joints.len());
-        for (j, &c) in self.joints.iter().zip(&first_col) {
+        let mut col = 0;
+        for (j, (_, us)) in self.joints.iter().zip(&units) {
             let r = point(j.at)[0];
-            let [first, second] = j.bodies;
-            let (u, v) = match j.kind {
-                JointKind::Revolute => (Vector3::x(), Vector3::y()),
-                JointKind::Prismatic(axis) => {
-                    let e = self.axis_of(j, axis, &angles);
-                    (e, Vector3::new(-e.y, e.x, 0.0))
-                }
-            };
-            directions.push((u, v));
-            match j.kind {
-                JointKind::Revolute => {
-                    for (k, d) in [u, v].into_iter().enumerate() {
-                        place(second, 1.0, c + k, r, d, 0.0);
-                        place(first, -1.0, c + k, r, d, 0.0);
-                    }
-                    if j.driver.is_some() {
-                        place(second, 1.0, c + 2, r, Vector3::zeros(), 1.0);
-                        place(first, -1.0, c + 2, r, Vector3::zeros(), 1.0);
+            for u in us {
+                for (body, sign) in [(j.bodies[1], 1.0), (j.bodies[0], -1.0)] {
+                    if let Some(b) = body {
+                        let arm = r - centre(b);
+                        let v = rows_of(u.force * sign, (arm.cross(&u.force) + u.moment) * sign);
+                        for (k, x) in v.iter().take(w).enumerate() {
+                            a[(w * b + k, col)] += x;
+                        }
                     }
                 }
-                JointKind::Prismatic(_) => {
-                    // The normal force, the moment, and the driver's force
-                    // along the axis.
-                    place(second, 1.0, c, r, v, 0.0);
-                    place(first, -1.0, c, r, v, 0.0);
-                    place(second, 1.0, c + 1, r, Vector3::zeros(), 1.0);
-                    place(first, -1.0, c + 1, r, Vector3::zeros(), 1.0);
-                    if j.driver.is_some() {
-                        place(second, 1.0, c + 2, r, u, 0.0);
-                        place(first, -1.0, c + 2, r, u, 0.0);
-                    }
-                }
+                col += 1;
             }
         }
         if !(a.iter().all(|v| v.is_finite()) && rhs.iter().all(|v| v.is_finite())) {
@@ -516,29 +775,22 @@ impl Dynamics {
                 "a position, acceleration or load at this pose is not finite".to_string(),
             ));
         }
-        let x = a
-            .lu()
-            .solve(&rhs)
-            .filter(|x| x.iter().all(|v| v.is_finite()))
-            .ok_or_else(|| {
-                invalid(
-                    "joints",
-                    "the equations of motion do not determine the reactions at this pose (a \
-                 singular pose, or a joint missing and another repeated)"
-                        .to_string(),
-                )
-            })?;
+        let x = solve(&a, &rhs).map_err(|why| invalid("joints", why))?;
         let mut out = Vec::with_capacity(self.joints.len());
-        for ((j, &c), (u, v)) in self.joints.iter().zip(&first_col).zip(directions) {
-            let effort = j.driver.map(|_| x[c + 2]);
-            let (force, moment) = match j.kind {
-                JointKind::Revolute => (u * x[c] + v * x[c + 1], 0.0),
-                JointKind::Prismatic(_) => (v * x[c] + u * effort.unwrap_or(0.0), x[c + 1]),
-            };
-            let turn = j.bodies[1].map_or(0.0, |b| angles[b]);
-            let (s, co) = crate::math::sin_cos(turn);
-            let force_in_body =
-                Vector3::new(co * force.x + s * force.y, -s * force.x + co * force.y, 0.0);
+        let mut col = 0;
+        for (j, (_, us)) in self.joints.iter().zip(&units) {
+            let (mut force, mut moment, mut effort) = (Vector3::zeros(), Vector3::zeros(), None);
+            for u in us {
+                let v = x[col];
+                col += 1;
+                force += u.force * v;
+                if u.driver {
+                    effort = Some(v);
+                } else {
+                    moment += u.moment * v;
+                }
+            }
+            let force_in_body = rotation_of(&self.bodies, j.bodies[1], s).transpose() * force;
             out.push(JointReaction {
                 name: j.name.clone(),
                 force,
@@ -547,25 +799,65 @@ impl Dynamics {
                 effort,
             });
         }
-        Ok(Reactions { joints: out })
+        Ok(Reactions {
+            joints: out,
+            spatial,
+        })
     }
 }
 
-impl Dynamics {
-    /// The unit vector, in the fixed axes, of the prismatic joint `j`'s
-    /// `axis` (given in its first body's axes, turned by that body's angle
-    /// among `angles`).
-    fn axis_of(&self, j: &ResolvedJoint, axis: [f64; 2], angles: &[f64]) -> Vector3<f64> {
-        let turn = j.bodies[0]
-            .and_then(|b| angles.get(b))
-            .copied()
-            .unwrap_or(0.0);
-        let (s, c) = crate::math::sin_cos(turn);
-        let norm = crate::math::sqrt(axis[0] * axis[0] + axis[1] * axis[1]);
-        Vector3::new(
-            (c * axis[0] - s * axis[1]) / norm,
-            (s * axis[0] + c * axis[1]) / norm,
-            0.0,
-        )
+/// The reactions x of A x = b: by LU for a square system; by least
+/// squares for one with more equations than unknowns (a link that spins
+/// freely), which must then satisfy every equation to round-off.
+fn solve(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, String> {
+    let singular = || {
+        "the equations of motion do not determine the reactions at this pose (a singular \
+         pose, or a joint missing and another repeated)"
+            .to_string()
+    };
+    if a.nrows() == a.ncols() {
+        return a
+            .clone()
+            .lu()
+            .solve(b)
+            .filter(|x| x.iter().all(|v| v.is_finite()))
+            .ok_or_else(singular);
     }
+    let svd = a.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    let rank = svd
+        .singular_values
+        .iter()
+        .filter(|&&v| v > largest * 1e-10)
+        .count();
+    if rank < a.ncols() {
+        return Err(singular());
+    }
+    let x = svd
+        .solve(b, largest * 1e-10)
+        .map_err(|_| singular())?
+        .into_iter()
+        .copied()
+        .collect::<Vec<f64>>();
+    let x = DVector::from_vec(x);
+    // The scale of the equations' terms, for the residual's test.
+    let scale = (0..a.nrows())
+        .map(|i| {
+            (0..a.ncols())
+                .map(|k| (a[(i, k)] * x[k]).abs())
+                .sum::<f64>()
+                .max(b[i].abs())
+        })
+        .fold(0.0, f64::max);
+    let residual = (a * &x - b).amax();
+    if !(x.iter().all(|v| v.is_finite()) && residual <= 1e-9 * scale) {
+        return Err(format!(
+            "no reactions satisfy every equation of motion at this pose (residual {residual:.3e} \
+             of terms up to {scale:.3e}): a link turns freely about an axis no joint holds (a \
+             link between two spherical joints spins about the line through them) and its \
+             inertia about that axis is not zero; make it a slender rod (no inertia about that \
+             axis), or hold it with a revolute or universal-like pair of joints"
+        ));
+    }
+    Ok(x)
 }

@@ -96,7 +96,7 @@ use nalgebra::{Matrix3, Vector3};
 
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
-pub use joints::{Joint, JointReaction, Reactions, GROUND};
+pub use joints::{Axis, Joint, JointReaction, Reactions, GROUND};
 
 use crate::error::Error;
 use crate::mechanism::{Kind, Mechanism, Role};
