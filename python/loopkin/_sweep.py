@@ -270,7 +270,9 @@ class ForceSweep:
     def mean_effort(self, driver: Optional[str] = None) -> float:
         """The mean effort of ``driver`` over the swept range,
         (1/(s_n − s_0)) ∫ Q ds by the trapezoidal rule: for a crank turned
-        at constant speed, the mean torque."""
+        at constant speed, the mean torque. For a whole cycle, sweep with
+        the end of the turn included (``to=start + 2π``): ``turn=True``
+        leaves out the last interval."""
         return float(self._native.mean_effort(self._driver(driver)))
 
     def energy_fluctuation(self, driver: Optional[str] = None) -> float:

@@ -77,7 +77,9 @@ impl ForceSweep {
     /// The mean effort of driver `k` over the swept range,
     /// (1/(s_n − s_0)) ∫ Q_k ds by the trapezoidal rule over the samples
     /// (s the swept value): for a crank turned at constant speed, the mean
-    /// torque. `None` with fewer than two samples or no such driver.
+    /// torque. For a whole cycle, sweep to the end of the turn included
+    /// (`.to(start + 2π)`): a sweep of `.turn()` leaves out its last
+    /// interval. `None` with fewer than two samples or no such driver.
     #[must_use]
     pub fn mean_effort(&self, k: usize) -> Option<f64> {
         let (first, last) = (self.samples.first()?, self.samples.last()?);
