@@ -65,7 +65,8 @@ impl ForceSweep {
     fn summary(value: Option<f64>, what: &str) -> PyResult<f64> {
         value.ok_or_else(|| {
             PyValueError::new_err(format!(
-                "no {what}: the sweep needs at least two samples over a range of the driver"
+                "no {what}: the sweep needs at least two samples over a range of the driver, \
+                 and efforts whose integral over it is finite"
             ))
         })
     }

@@ -81,3 +81,46 @@ def test_random_batches_never_return_nan_where_a_design_ran():
         assert np.all(np.isnan(res["th3"][i, k:]))
         assert (k == 6) == (res.stops[i] is None)
     assert res.ok.sum() > 20 and (~res.ok).sum() > 20
+
+
+def finite_forces(f):
+    arrays = [np.asarray(f.effort), f.shaking_force, f.shaking_moment]
+    scalars = [f.kinetic_energy, f.potential_energy, f.power]
+    return all(np.all(np.isfinite(a)) for a in arrays) and all(math.isfinite(x) for x in scalars)
+
+
+def test_random_engines_never_return_nan_forces():
+    """The engine's masses, inertias and gas law drawn as the designs
+    above (negative masses, a gas height below zero, overflowing powers):
+    every force is finite or raises a KinematicsError."""
+    cls = mechanism("gas_engine")
+    assert cls.has_dynamics()
+    rng = np.random.default_rng(2027)
+    params = cls.parameter_names()
+    counts = {"ok": 0, "raised": 0}
+    for trial in range(1500):
+        values = dict(zip(params, draw(rng, len(params))))
+        try:
+            m = cls(**values)
+            poses = m.assemble_all(dict(zip(cls.coordinate_names(), rng.uniform(-4, 4, 3))))
+        except kin.KinematicsError:
+            counts["raised"] += 1
+            continue
+        rate, acc = draw(rng, 2)
+        for pose in poses:
+            try:
+                f = m.forces(m.analyze(pose, rate=rate, acceleration=acc))
+            except kin.KinematicsError:
+                counts["raised"] += 1
+                continue
+            assert finite_forces(f), (values, pose)
+            counts["ok"] += 1
+        sw = m.sweep("phi", start=poses[0], steps=8, turn=True, rate=float(rate) if math.isfinite(rate) else 1.0)
+        try:
+            fs = sw.forces()
+        except kin.KinematicsError:
+            counts["raised"] += 1
+            continue
+        for col in (fs.effort["phi"], fs.kinetic_energy, fs.potential_energy, fs.power, fs.shaking_force):
+            assert np.all(np.isfinite(col)), values
+    assert counts["ok"] > 20 and counts["raised"] > 20, counts

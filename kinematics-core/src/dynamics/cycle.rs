@@ -79,7 +79,8 @@ impl ForceSweep {
     /// (s the swept value): for a crank turned at constant speed, the mean
     /// torque. For a whole cycle, sweep to the end of the turn included
     /// (`.to(start + 2π)`): a sweep of `.turn()` leaves out its last
-    /// interval. `None` with fewer than two samples or no such driver.
+    /// interval. `None` with fewer than two samples, no such driver, or
+    /// efforts whose integral overflows.
     #[must_use]
     pub fn mean_effort(&self, k: usize) -> Option<f64> {
         let (first, last) = (self.samples.first()?, self.samples.last()?);
@@ -87,7 +88,8 @@ impl ForceSweep {
         if self.samples.len() < 2 || span == 0.0 || k >= self.drivers.len() {
             return None;
         }
-        Some(self.work(k).last().copied().unwrap_or(0.0) / span)
+        let mean = self.work(k).last().copied().unwrap_or(0.0) / span;
+        mean.is_finite().then_some(mean)
     }
 
     /// The work of driver `k`'s effort from the first sample to each,
@@ -125,7 +127,8 @@ impl ForceSweep {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
                 (lo.min(e), hi.max(e))
             });
-        Some(hi - lo)
+        let delta = hi - lo;
+        delta.is_finite().then_some(delta)
     }
 
     /// The coefficient of speed fluctuation of driver `k` with a flywheel of
@@ -140,7 +143,8 @@ impl ForceSweep {
         if !(energy > 0.0 && energy.is_finite()) {
             return None;
         }
-        Some(self.energy_fluctuation(k)? / energy)
+        let c = self.energy_fluctuation(k)? / energy;
+        c.is_finite().then_some(c)
     }
 
     /// The table as CSV, a column per quantity with its unit in the header:

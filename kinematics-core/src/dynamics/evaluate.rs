@@ -418,6 +418,13 @@ impl Dynamics {
             power += effort_k * s.coordinate(k)[1];
             effort(k, effort_k);
         }
+        if !power.is_finite() {
+            return Err(Error::NonFinite {
+                input: Input::Computed,
+                name: "the drivers' power",
+                value: power,
+            });
+        }
         Ok((totals, power))
     }
 

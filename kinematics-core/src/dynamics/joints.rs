@@ -791,6 +791,18 @@ impl Dynamics {
                 }
             }
             let force_in_body = rotation_of(&self.bodies, j.bodies[1], s).transpose() * force;
+            if let Some(v) = force
+                .iter()
+                .chain(&moment)
+                .chain(&force_in_body)
+                .find(|v| !v.is_finite())
+            {
+                return Err(Error::NonFinite {
+                    input: crate::error::Input::Computed,
+                    name: "a joint's reaction",
+                    value: *v,
+                });
+            }
             out.push(JointReaction {
                 name: j.name.clone(),
                 force,
