@@ -659,7 +659,8 @@ mechanism! {
     /// the x axis, the crank balanced (its centre of mass on the shaft O).
     /// The gas in the cylinder expands polytropically: its force on the
     /// piston is p1 A (h1 / h)^1.3, h = h0 + a + b − x the height of the
-    /// gas above the piston.
+    /// gas above the piston. The joints: the main bearing, the crank pin,
+    /// the piston pin and the cylinder.
     pub struct GasEngine {
         params {
             /// Crank radius (m).
@@ -708,6 +709,12 @@ mechanism! {
         loads {
             gravity(vec2(0.0, -9.81));
             force(C, vec2(-p1 * area * exp(1.3 * ln(h1 / (h0 + a + b - x))), 0.0), on = piston);
+        }
+        joints {
+            bearing(revolute, O, between = (ground, crank), driver = phi);
+            crank_pin(revolute, B, between = (crank, rod));
+            piston_pin(revolute, C, between = (rod, piston));
+            cylinder(prismatic, C, between = (ground, piston), axis = vec2(1.0, 0.0));
         }
     }
 }

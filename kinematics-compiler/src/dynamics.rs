@@ -15,7 +15,7 @@ use crate::lower::{CoordKind, Model};
 use crate::names::Errors;
 use crate::parse::Definition;
 
-pub use crate::lower::dynamics::{Load, LoadTarget, Spring};
+pub use crate::lower::dynamics::{JointKind, Load, LoadTarget, Spring};
 
 /// How a body turns.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -46,6 +46,27 @@ pub struct MassBody {
     pub inertia: Vec<Id>,
 }
 
+/// A joint of the `joints` section, for the reactions.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Joint {
+    /// Its name.
+    pub name: String,
+    /// What it lets move.
+    pub kind: JointKind,
+    /// The point it is at.
+    pub point: String,
+    /// The two bodies it joins, either of them `ground`: the reaction is
+    /// the force the first exerts on the second.
+    pub between: [String; 2],
+    /// Its axis in the first body's axes: empty (a planar revolute or a
+    /// spherical joint), 2 or 3 roots of the parameters.
+    pub axis: Vec<Id>,
+    /// The driver acting in it.
+    pub driver: Option<String>,
+    /// The coordinate measuring its motion.
+    pub coordinate: Option<String>,
+}
+
 /// The `bodies` and `loads` sections of a definition.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct Dynamics {
@@ -57,13 +78,15 @@ pub struct Dynamics {
     pub loads: Vec<Load>,
     /// The springs, in declaration order.
     pub springs: Vec<Spring>,
+    /// The joints of the `joints` section, in declaration order.
+    pub joints: Vec<Joint>,
 }
 
 impl Dynamics {
     /// Every root that depends on the parameters only, in a fixed order:
     /// gravity, then each body's mass, angle coefficients and inertia,
-    /// then each spring's stiffness, free length and damping. Both back
-    /// ends evaluate these once per parameter set.
+    /// then each spring's stiffness, free length and damping, then each
+    /// joint's axis. Both back ends evaluate these once per parameter set.
     #[must_use]
     pub fn constants(&self) -> Vec<Id> {
         let mut out = self.gravity.clone();
@@ -77,6 +100,9 @@ impl Dynamics {
         for s in &self.springs {
             out.extend([s.stiffness, s.free_length, s.damping]);
         }
+        for j in &self.joints {
+            out.extend(&j.axis);
+        }
         out
     }
 }
@@ -89,6 +115,7 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
         bodies,
         loads,
         springs,
+        joints,
     } = model.dynamics.take()?;
     let coords = model.coords();
     let coordinate_name = |j: u32| -> String {
@@ -161,5 +188,43 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
     }
     out.loads = loads;
     out.springs = springs;
+    for j in joints {
+        let driver = match j.driver {
+            None => None,
+            Some((index, name, tokens)) => {
+                let want = match j.kind {
+                    JointKind::Prismatic => CoordKind::Length,
+                    _ => CoordKind::Angle,
+                };
+                if model.kinds.get(index as usize) != Some(&want) {
+                    let (is, kind, must) = if want == CoordKind::Angle {
+                        ("a length", "revolute", "an angle")
+                    } else {
+                        ("an angle", "prismatic", "a length")
+                    };
+                    errors.spanned(
+                        &tokens,
+                        format!(
+                            "driver `{name}` is {is}, but joint `{}` is {kind}: a driver acting \
+                             in it is {must}",
+                            j.name
+                        ),
+                    );
+                    failed = true;
+                    continue;
+                }
+                Some(name)
+            }
+        };
+        out.joints.push(Joint {
+            name: j.name,
+            kind: j.kind,
+            point: j.point,
+            between: j.between,
+            axis: j.axis,
+            driver,
+            coordinate: j.coordinate,
+        });
+    }
     (!failed).then_some(out)
 }

@@ -75,6 +75,11 @@ pub struct Definition {
     pub bodies: Vec<Call>,
     /// The optional `loads { gravity(…); force(…); … }` section.
     pub loads: Vec<Call>,
+    /// The `joints { name(kind, P, between = (first, second), …); … }`
+    /// section written with items: the joints whose reactions are
+    /// computed (the other form of `joints` counts them for the mobility
+    /// check).
+    pub joint_items: Vec<Call>,
     /// The `bodies` keyword, where errors about the section as a whole
     /// point.
     pub dynamics_span: Option<Span>,
@@ -174,6 +179,7 @@ impl Parse for Definition {
             sensitivities: None,
             bodies: Vec::new(),
             loads: Vec::new(),
+            joint_items: Vec::new(),
             dynamics_span: None,
         };
         let mut seen: Vec<(String, Span)> = Vec::new();
@@ -246,6 +252,10 @@ impl Parse for Definition {
                     } else {
                         def.loads = items;
                     }
+                }
+                "joints" if content.peek(Ident) && content.peek2(syn::token::Paren) => {
+                    def.joint_items = parse_items(&content, parse_call)?;
+                    def.dynamics_span.get_or_insert(keyword_span);
                 }
                 "sensitivities" => {
                     let names = content.parse_terminated(Ident::parse, Token![,])?;

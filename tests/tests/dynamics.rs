@@ -1950,6 +1950,12 @@ mechanism! {
                    inertia = [[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]);
         }
         loads { gravity(vec3(0.0, -9.81, -2.0)); }
+        joints {
+            bearing(revolute, O, between = (ground, crank), axis = vec3(0.0, 1.0, 0.0), driver = phi);
+            crank_ball(spherical, A, between = (crank, coupler));
+            rocker_ball(spherical, B, between = (coupler, rocker));
+            pivot(revolute, D, between = (ground, rocker), axis = vec3(0.0, 0.0, 1.0));
+        }
     }
 }
 
@@ -1969,9 +1975,11 @@ mechanism! {
 ///   each body's momentum, and their moments normal to the axes.
 ///
 /// ω and α of the links are those of their axes (φ' y, ψ' z), and the
-/// inertia tensors are turned by rotations written here. The driver's
-/// torque also equals the virtual-power effort, and the run-time model
-/// gives the same reactions.
+/// inertia tensors are turned by rotations written here. The joints are
+/// those of the definition's `joints` section; the driver's torque also
+/// equals the virtual-power effort, and the run-time model and the same
+/// joints declared in Rust (the bearing's axis not of unit length) give
+/// the same reactions.
 #[test]
 fn the_joint_reactions_of_an_rssr_match_a_newton_euler_solution(
 ) -> Result<(), Box<dyn std::error::Error>> {
@@ -1982,20 +1990,36 @@ fn the_joint_reactions_of_an_rssr_match_a_newton_euler_solution(
         c: 0.08,
         d: 0.1,
     };
-    let joints = |b: kinematics_core::dynamics::DynamicsBuilder| {
-        b.joint(
-            Joint::revolute("O", "O", GROUND, "crank")
-                .about([0.0, 1.0, 0.0])
+    // The joints of the definition's `joints` section, and the same
+    // joints declared in Rust (the reactions from both, compared below).
+    let dynamics = m.dynamics()?;
+    let declared = Dynamics::builder()
+        .body(
+            Body::new("crank", 0.2)
+                .center("G2")
+                .frame("crank")
+                .inertia_tensor([[3e-5, 2e-6, 0.0], [2e-6, 1e-5, 1e-6], [0.0, 1e-6, 3e-5]]),
+        )
+        .body(Body::new("coupler", 0.4).center("G3"))
+        .body(
+            Body::new("rocker", 0.3)
+                .center("G4")
+                .frame("rocker")
+                .inertia_tensor([[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]),
+        )
+        .gravity([0.0, -G, -2.0])
+        .joint(
+            Joint::revolute("bearing", "O", GROUND, "crank")
+                .about([0.0, 2.0, 0.0])
                 .driven_by("phi"),
         )
-        .joint(Joint::spherical("A", "A", "crank", "coupler"))
-        .joint(Joint::spherical("B", "B", "coupler", "rocker"))
-        .joint(Joint::revolute("D", "D", GROUND, "rocker").about([0.0, 0.0, 1.0]))
-    };
-    let dynamics = joints(m.dynamics_builder()).build::<ReactedRssr>()?;
+        .joint(Joint::spherical("crank_ball", "A", "crank", "coupler"))
+        .joint(Joint::spherical("rocker_ball", "B", "coupler", "rocker"))
+        .joint(Joint::revolute("pivot", "D", GROUND, "rocker").about([0.0, 0.0, 1.0]))
+        .build::<ReactedRssr>()?;
     let model = kinematics_core::runtime::Model::compile(text_of("ReactedRssr"))?
         .with_values(&m.parameter_values())?;
-    let run_time = joints(model.dynamics_builder()?).build_for(&model)?;
+    let run_time = model.dynamics()?;
     let g = Vector3::new(0.0, -G, -2.0);
     let (m2, m3, m4) = (0.2, 0.4, 0.3);
     let tensor = |x: f64, y: f64, z: f64| Matrix3::new(x, 2e-6, 0.0, 2e-6, y, 1e-6, 0.0, 1e-6, z);
@@ -2048,23 +2072,23 @@ fn the_joint_reactions_of_an_rssr_match_a_newton_euler_solution(
                 close(got[i] / scale, want[i] / scale, 1e-10, what);
             }
         };
-        same(get("A").force, f_a, "F_A");
-        same(get("B").force, f_b, "F_B");
-        same(get("O").force, f_o, "F_O");
-        same(get("D").force, f_d, "F_D");
-        same(get("O").moment, moment_o, "M_O");
-        same(get("D").moment, moment_d, "M_D");
+        same(get("crank_ball").force, f_a, "F_A");
+        same(get("rocker_ball").force, f_b, "F_B");
+        same(get("bearing").force, f_o, "F_O");
+        same(get("pivot").force, f_d, "F_D");
+        same(get("bearing").moment, moment_o, "M_O");
+        same(get("pivot").moment, moment_d, "M_D");
         same(
-            get("A").moment,
+            get("crank_ball").moment,
             Vector3::zeros(),
             "no moment at a ball joint",
         );
         same(
-            get("B").force_in_body,
+            get("rocker_ball").force_in_body,
             r4.transpose() * f_b,
             "F_B in the rocker's axes",
         );
-        let effort = get("O").effort.expect("driven");
+        let effort = get("bearing").effort.expect("driven");
         close(effort, torque, 1e-10, "the motor's torque");
         close(
             effort,
@@ -2074,9 +2098,14 @@ fn the_joint_reactions_of_an_rssr_match_a_newton_euler_solution(
         );
         let rm = model.analyze(&[motion.q.phi, motion.q.psi], &[w], &[al])?;
         let rr = run_time.reactions_of(&model, &rm)?;
-        for (x, y) in rr.joints.iter().zip(&r.joints) {
+        let rd = declared.reactions(&m, &motion)?;
+        assert_eq!((rr.joints.len(), rd.joints.len()), (4, 4));
+        for ((x, y), z) in rr.joints.iter().zip(&r.joints).zip(&rd.joints) {
+            assert!(x.name == y.name && z.name == y.name);
             same(x.force, y.force, "run-time force");
             same(x.moment, y.moment, "run-time moment");
+            same(z.force, y.force, "the joints declared in Rust");
+            same(z.moment, y.moment, "the joints declared in Rust");
         }
         checked += 1;
     }
@@ -2119,5 +2148,103 @@ fn a_spinning_coupler_with_inertia_is_an_error() -> Result<(), Box<dyn std::erro
         .reactions(&m, &motion)
         .expect_err("no reactions satisfy it");
     assert!(e.to_string().contains("spins about the line"), "{e}");
+    Ok(())
+}
+
+/// The examples' gas engine declares its joints in its definition: over a
+/// turn at varying speed its reactions are those of the same joints
+/// declared in Rust on the same bodies and loads, the bearing's torque is
+/// the virtual-power effort, and the frame's reactions (the bearing's and
+/// the cylinder's forces) balance the links' weight, inertia and the gas.
+#[test]
+fn the_joints_of_the_gas_engines_definition_give_its_reactions(
+) -> Result<(), Box<dyn std::error::Error>> {
+    use kinematics_examples::{GasEngine, GasEngineCoords};
+    let g = GasEngine::SMALL;
+    let dynamics = g.dynamics()?;
+    let gas = move |x: f64| g.p1 * g.area * (g.h1 / (g.h0 + g.a + g.b - x)).powf(1.3);
+    let declared = Dynamics::builder()
+        .body(
+            Body::new("crank", g.m2)
+                .center("O")
+                .angle("phi")
+                .inertia(g.j2),
+        )
+        .body(
+            Body::new("rod", g.m3)
+                .center("G3")
+                .angle("th")
+                .inertia(g.j3),
+        )
+        .body(Body::new("piston", g.m4).center("C"))
+        .gravity([0.0, -G, 0.0])
+        .force_on("piston", "C", move |s| [-gas(s.q(2)), 0.0, 0.0])
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank_pin", "B", "crank", "rod"))
+        .joint(Joint::revolute("piston_pin", "C", "rod", "piston"))
+        .joint(Joint::prismatic(
+            "cylinder",
+            "C",
+            GROUND,
+            "piston",
+            [2.0, 0.0],
+        ))
+        .build::<GasEngine>()?;
+    let mut pose = g.assemble(&GasEngineCoords {
+        phi: 0.0,
+        th: 0.0,
+        x: 0.125,
+    })?;
+    for k in 0..36 {
+        let phi = TAU * f64::from(k) / 36.0;
+        let (w, al) = (300.0 + 40.0 * phi.cos(), 2000.0 * phi.sin());
+        pose.phi = phi;
+        let motion = g.step(&pose, w, al)?;
+        pose = motion.q;
+        let r = dynamics.reactions(&g, &motion)?;
+        let rd = declared.reactions(&g, &motion)?;
+        assert!(!r.spatial);
+        let names: Vec<&str> = r.joints.iter().map(|j| j.name.as_str()).collect();
+        assert_eq!(names, ["bearing", "crank_pin", "piston_pin", "cylinder"]);
+        let scale = 1.0 + r.joints.iter().map(|j| j.force.norm()).fold(0.0, f64::max);
+        for (x, y) in r.joints.iter().zip(&rd.joints) {
+            for i in 0..3 {
+                close(x.force[i] / scale, y.force[i] / scale, 1e-12, &x.name);
+                close(x.moment[i] / scale, y.moment[i] / scale, 1e-12, &x.name);
+            }
+        }
+        let effort = r.get("bearing").and_then(|j| j.effort).expect("driven");
+        close(
+            effort,
+            dynamics.inverse(&g, &motion)?.effort.phi,
+            1e-10,
+            "the bearing's torque by virtual power",
+        );
+        // The frame holds the links: the force it exerts on them is their
+        // rate of momentum less their weight and the gas force.
+        let ground =
+            r.get("bearing").expect("bearing").force + r.get("cylinder").expect("cylinder").force;
+        let parts = [
+            (g.m2, motion.point_o().acceleration),
+            (g.m3, motion.point_g3().acceleration),
+            (g.m4, motion.point_c().acceleration),
+        ];
+        let momentum = parts
+            .iter()
+            .fold([0.0; 2], |s, (m, a)| [s[0] + m * a[0], s[1] + m * a[1]]);
+        let weight = -G * (g.m2 + g.m3 + g.m4);
+        close(
+            ground.x / scale,
+            (momentum[0] + gas(motion.q.x)) / scale,
+            1e-10,
+            "x balance",
+        );
+        close(
+            ground.y / scale,
+            (momentum[1] - weight) / scale,
+            1e-10,
+            "y balance",
+        );
+    }
     Ok(())
 }

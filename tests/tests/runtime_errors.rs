@@ -90,9 +90,9 @@ fn every_diagnostic_of_the_macro_is_reported_at_the_same_place() {
     }
     println!("{checked} diagnostics at the same place with the same message");
     // Every family of diagnostics is covered (names, syntax, dimensions,
-    // arity, counting, structure, mobility, bodies and loads).
+    // arity, counting, structure, mobility, bodies, loads and joints).
     assert_eq!(
-        checked, 75,
+        checked, 89,
         "diagnostics compared (the README gives this number)"
     );
 }

@@ -11,7 +11,7 @@ use quote::quote;
 use super::print::bind;
 use super::Ctx;
 use crate::cse::schedule;
-use crate::dynamics::{Dynamics, LoadTarget, Turning};
+use crate::dynamics::{Dynamics, JointKind, LoadTarget, Turning};
 use crate::ir::{Id, Leaf};
 
 /// The two methods, or nothing without the sections.
@@ -138,14 +138,39 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
             }
         });
     }
+    for j in &dy.joints {
+        let (jn, point, [first, second]) = (&j.name, &j.point, &j.between);
+        let axis: Vec<TokenStream> = j.axis.iter().map(|&id| c(id)).collect();
+        let mut joint = match j.kind {
+            JointKind::Revolute => quote!(#dm::Joint::revolute(#jn, #point, #first, #second)),
+            JointKind::Spherical => quote!(#dm::Joint::spherical(#jn, #point, #first, #second)),
+            JointKind::Prismatic => {
+                quote!(#dm::Joint::prismatic(#jn, #point, #first, #second, [#(#axis),*]))
+            }
+            JointKind::Cylindrical => {
+                quote!(#dm::Joint::cylindrical(#jn, #point, #first, #second, [#(#axis),*]))
+            }
+        };
+        if j.kind == JointKind::Revolute && !axis.is_empty() {
+            joint.extend(quote!(.about([#(#axis),*])));
+        }
+        if let Some(d) = &j.driver {
+            joint.extend(quote!(.driven_by(#d)));
+        }
+        if let Some(q) = &j.coordinate {
+            joint.extend(quote!(.coordinate(#q)));
+        }
+        calls.push(quote!(.joint(#joint)));
+    }
     quote! {
         impl #name {
             /// The masses and loads of the definition's `bodies` and
-            /// `loads` sections, with this parameter set's values: the
-            /// constants (masses, inertias, gravity, springs) evaluated
-            /// here, each load a function of the instant. Add joints for
-            /// the reactions, then resolve it with `build::<Self>()`, or
-            /// take [`Self::dynamics`].
+            /// `loads` sections (and the joints of `joints`), with this
+            /// parameter set's values: the constants (masses, inertias,
+            /// gravity, springs, axes) evaluated here, each load a
+            /// function of the instant. Add more joints for the reactions,
+            /// then resolve it with `build::<Self>()`, or take
+            /// [`Self::dynamics`].
             #[must_use]
             #allow
             pub fn dynamics_builder(&self) -> #dm::DynamicsBuilder {

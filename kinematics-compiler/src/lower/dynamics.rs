@@ -24,6 +24,7 @@ pub struct LoweredDynamics {
     pub bodies: Vec<LoweredBody>,
     pub loads: Vec<Load>,
     pub springs: Vec<Spring>,
+    pub joints: Vec<LoweredJoint>,
 }
 
 /// A body as written: its angle still an expression (its coefficients
@@ -95,6 +96,56 @@ pub struct Spring {
     pub between: Option<[String; 2]>,
 }
 
+/// What a joint lets move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    /// A pin: rotation about z (planar) or about its axis (spatial).
+    Revolute,
+    /// A slider along its axis.
+    Prismatic,
+    /// A ball joint (spatial).
+    Spherical,
+    /// Rotation about and sliding along its axis (spatial).
+    Cylindrical,
+}
+
+impl JointKind {
+    /// The word for it in the language.
+    #[must_use]
+    pub fn word(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+            JointKind::Spherical => "spherical",
+            JointKind::Cylindrical => "cylindrical",
+        }
+    }
+}
+
+/// A joint of the `joints` section, for the reactions: its kind, the
+/// point it is at, the bodies it joins (the reaction is the force the
+/// first exerts on the second), its axis in the first body's axes (roots
+/// of the parameters: none for a planar revolute or a spherical joint),
+/// and the driver acting in it and the coordinate measuring it, where
+/// given.
+pub struct LoweredJoint {
+    /// Its name.
+    pub name: String,
+    /// What it lets move.
+    pub kind: JointKind,
+    /// The point it is at.
+    pub point: String,
+    /// The two bodies, either of them `ground`.
+    pub between: [String; 2],
+    /// Its axis: empty, 2 or 3 roots.
+    pub axis: Vec<Id>,
+    /// The driver acting in it: its index among the coordinates, its
+    /// name and the tokens naming it.
+    pub driver: Option<(u32, String, proc_macro2::TokenStream)>,
+    /// The coordinate measuring its motion.
+    pub coordinate: Option<String>,
+}
+
 /// What an expression may depend on.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Allowed {
@@ -116,6 +167,7 @@ impl Lowerer<'_> {
             bodies: Vec::new(),
             loads: Vec::new(),
             springs: Vec::new(),
+            joints: Vec::new(),
         };
         let mut body_names: Vec<&Ident> = Vec::new();
         for item in &def.bodies {
@@ -146,8 +198,186 @@ impl Lowerer<'_> {
         for item in &def.loads {
             self.load_item(item, dim, &bodies, &mut out);
         }
+        let mut joint_names: Vec<&Ident> = Vec::new();
+        for item in &def.joint_items {
+            if let Some(first) = joint_names.iter().find(|j| **j == &item.name) {
+                let mut err = syn::Error::new(
+                    item.name.span(),
+                    format!(
+                        "joint `{}` is declared twice; give each joint its own name",
+                        syn::ext::IdentExt::unraw(&item.name)
+                    ),
+                );
+                err.combine(syn::Error::new(first.span(), "first declared here"));
+                self.errors.push(err);
+                continue;
+            }
+            joint_names.push(&item.name);
+            if let Some(j) = self.joint_item(item, dim, def.drivers.len(), &bodies) {
+                out.joints.push(j);
+            }
+        }
         self.spatial = spatial;
         Some(out)
+    }
+
+    /// One item of the `joints` section.
+    fn joint_item(
+        &mut self,
+        item: &Call,
+        dim: usize,
+        drivers: usize,
+        bodies: &[String],
+    ) -> Option<LoweredJoint> {
+        let name = syn::ext::IdentExt::unraw(&item.name).to_string();
+        let usage = if dim == 2 {
+            "`bearing(revolute, O, between = (ground, crank), driver = phi)` or \
+             `cylinder(prismatic, C, between = (ground, piston), axis = vec2(1.0, 0.0))`"
+        } else {
+            "`bearing(revolute, O, between = (ground, crank), axis = vec3(0.0, 0.0, 1.0))` or \
+             `ball(spherical, A, between = (crank, coupler))`"
+        };
+        let [kind_expr, point_expr] = item.positional.as_slice() else {
+            self.errors.spanned(
+                &item.tokens,
+                format!(
+                    "joint `{name}` is written with its kind and its point, then the bodies it \
+                     joins: {usage}"
+                ),
+            );
+            return None;
+        };
+        self.known_keys(item, &["between", "axis", "driver", "coordinate"])?;
+        let word = match kind_expr {
+            Expr::Path(p) => p.path.get_ident().map(ToString::to_string),
+            _ => None,
+        };
+        let kind = match word.as_deref() {
+            Some("revolute") => JointKind::Revolute,
+            Some("prismatic") => JointKind::Prismatic,
+            Some("spherical") => JointKind::Spherical,
+            Some("cylindrical") => JointKind::Cylindrical,
+            _ => {
+                self.errors.spanned(
+                    kind_expr,
+                    "a joint's kind is `revolute`, `prismatic`, `spherical` or `cylindrical`",
+                );
+                return None;
+            }
+        };
+        if dim == 2 && matches!(kind, JointKind::Spherical | JointKind::Cylindrical) {
+            self.errors.spanned(
+                kind_expr,
+                format!(
+                    "the mechanism is planar: its joints are `revolute` or `prismatic`, not `{}`",
+                    kind.word()
+                ),
+            );
+            return None;
+        }
+        let point = self.point_name(point_expr, &format!("the point of joint `{name}`"))?;
+        let Some(pair) = self.named(item, "between") else {
+            self.errors.spanned(
+                &item.tokens,
+                format!(
+                    "joint `{name}` does not say which bodies it joins: add `between = (first, \
+                     second)` (the reaction is the force the first exerts on the second; \
+                     `ground` for the frame)"
+                ),
+            );
+            return None;
+        };
+        let between = self.body_pair(pair, bodies, "joint")?;
+        if between[0] == between[1] {
+            self.errors.spanned(
+                pair,
+                format!("joint `{name}` joins `{}` to itself", between[0]),
+            );
+            return None;
+        }
+        let needs_axis = match kind {
+            JointKind::Revolute => dim == 3,
+            JointKind::Prismatic | JointKind::Cylindrical => true,
+            JointKind::Spherical => false,
+        };
+        let axis = match (self.named(item, "axis"), needs_axis) {
+            (Some(e), true) => self.vector(
+                e,
+                dim,
+                Allowed::Constant,
+                &format!("the axis of joint `{name}`"),
+            )?,
+            (Some(e), false) => {
+                let why = if kind == JointKind::Spherical {
+                    "a spherical joint turns about every axis"
+                } else {
+                    "a planar mechanism's revolute joints turn about z"
+                };
+                self.errors
+                    .spanned(e, format!("{why}: remove `axis = …` from joint `{name}`"));
+                return None;
+            }
+            (None, true) => {
+                let write = if dim == 2 {
+                    "axis = vec2(1.0, 0.0)"
+                } else {
+                    "axis = vec3(0.0, 0.0, 1.0)"
+                };
+                self.errors.spanned(
+                    &item.tokens,
+                    format!(
+                        "joint `{name}`, a {} joint, needs its axis, in the axes of its first \
+                         body (`{write}`)",
+                        kind.word()
+                    ),
+                );
+                return None;
+            }
+            (None, false) => Vec::new(),
+        };
+        let transmits = matches!(kind, JointKind::Revolute | JointKind::Prismatic);
+        let mut coordinate_of = |key: &str| -> Option<Option<(u32, String, &Expr)>> {
+            let Some(e) = self.named(item, key) else {
+                return Some(None);
+            };
+            if !transmits {
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "a {} joint transmits no effort along or about one axis: a `{key}` acts \
+                         in a revolute or prismatic joint",
+                        kind.word()
+                    ),
+                );
+                return None;
+            }
+            match self.binding(e) {
+                Some((n, Binding::Coord(j))) if key == "coordinate" || (j as usize) < drivers => {
+                    Some(Some((j, n, e)))
+                }
+                _ => {
+                    let what = if key == "driver" {
+                        "a driver of `drivers { … }`"
+                    } else {
+                        "a coordinate (a driver or an unknown)"
+                    };
+                    self.errors.spanned(e, format!("`{key} = …` names {what}"));
+                    None
+                }
+            }
+        };
+        let driver =
+            coordinate_of("driver")?.map(|(j, n, e)| (j, n, quote::ToTokens::to_token_stream(e)));
+        let coordinate = coordinate_of("coordinate")?.map(|(_, n, _)| n);
+        Some(LoweredJoint {
+            name,
+            kind,
+            point,
+            between,
+            axis,
+            driver,
+            coordinate,
+        })
     }
 
     /// One item of `bodies`.
@@ -433,7 +663,7 @@ impl Lowerer<'_> {
                 );
                 let between = match self.named(item, "between") {
                     None => None,
-                    Some(e) => match self.body_pair(e, bodies) {
+                    Some(e) => match self.body_pair(e, bodies, "spring") {
                         Some(pair) => Some(pair),
                         None => return,
                     },
@@ -632,18 +862,24 @@ impl Lowerer<'_> {
         }
     }
 
-    /// `(first, second)`: two bodies, either of them `ground`.
-    fn body_pair(&mut self, e: &Expr, bodies: &[String]) -> Option<[String; 2]> {
+    /// `(first, second)`: two bodies, either of them `ground`, that a
+    /// `what` (a spring, a joint) joins.
+    fn body_pair(&mut self, e: &Expr, bodies: &[String], what: &str) -> Option<[String; 2]> {
         let Expr::Tuple(t) = e else {
             self.errors.spanned(
                 e,
-                "the bodies a spring joins are written as a pair, `between = (ground, rocker)`",
+                format!(
+                    "the bodies a {what} joins are written as a pair, `between = (ground, \
+                     rocker)`"
+                ),
             );
             return None;
         };
         if t.elems.len() != 2 {
-            self.errors
-                .spanned(e, "a spring joins two bodies: `between = (ground, rocker)`");
+            self.errors.spanned(
+                e,
+                format!("a {what} joins two bodies: `between = (ground, rocker)`"),
+            );
             return None;
         }
         let mut with_ground = bodies.to_vec();

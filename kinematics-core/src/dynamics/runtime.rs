@@ -322,17 +322,17 @@ impl Model {
     }
 
     /// The masses and loads of the definition's `bodies` and `loads`
-    /// sections, with the model's parameter values: the constants
-    /// (masses, inertias, gravity, springs) evaluated now, each load a
-    /// function of the instant in machine code. Add joints for the
-    /// reactions, then resolve it with [`DynamicsBuilder::build_for`], or
-    /// take [`Model::dynamics`].
+    /// sections (and the joints of `joints`), with the model's parameter
+    /// values: the constants (masses, inertias, gravity, springs, axes)
+    /// evaluated now, each load a function of the instant in machine
+    /// code. Add more joints for the reactions, then resolve it with
+    /// [`DynamicsBuilder::build_for`], or take [`Model::dynamics`].
     ///
     /// # Errors
     /// [`Error::InvalidDynamics`] when the definition has neither section.
     pub fn dynamics_builder(&self) -> Result<DynamicsBuilder, Error> {
         use super::{Body, Spring};
-        use kinematics_compiler::dynamics::{LoadTarget, Turning};
+        use kinematics_compiler::dynamics::{JointKind, LoadTarget, Turning};
         let Some(shared) = self.sections() else {
             return Err(Error::InvalidDynamics {
                 item: format!("model `{}`", self.name()),
@@ -416,6 +416,33 @@ impl Model {
                     b.coordinate_force(coordinate, move |i| vector(i)[2])
                 }
             };
+        }
+        for j in &d.joints {
+            let (name, point, [first, second]) = (&j.name, &j.point, &j.between);
+            let axis: Vec<f64> = j.axis.iter().map(|_| take()).collect();
+            let mut joint = match (j.kind, axis.as_slice()) {
+                (JointKind::Prismatic, &[x, y]) => {
+                    super::Joint::prismatic(name, point, first, second, [x, y])
+                }
+                (JointKind::Prismatic, &[x, y, z]) => {
+                    super::Joint::prismatic(name, point, first, second, [x, y, z])
+                }
+                (JointKind::Cylindrical, &[x, y, z]) => {
+                    super::Joint::cylindrical(name, point, first, second, [x, y, z])
+                }
+                (JointKind::Spherical, _) => super::Joint::spherical(name, point, first, second),
+                (JointKind::Revolute, &[x, y, z]) => {
+                    super::Joint::revolute(name, point, first, second).about([x, y, z])
+                }
+                _ => super::Joint::revolute(name, point, first, second),
+            };
+            if let Some(d) = &j.driver {
+                joint = joint.driven_by(d);
+            }
+            if let Some(q) = &j.coordinate {
+                joint = joint.coordinate(q);
+            }
+            b = b.joint(joint);
         }
         Ok(b)
     }
