@@ -28,6 +28,7 @@ from . import errors
 from ._model import (
     Forces,
     FrameMotion,
+    JointReaction,
     Mechanism,
     Motion,
     Options,
@@ -38,7 +39,7 @@ from ._model import (
     compile,
     load,
 )
-from ._sweep import Batch, Deviations, ForceSweep, PointColumns, Poses, Stop, Sweep
+from ._sweep import Batch, Deviations, ForceSweep, PointColumns, Poses, ReactionColumns, Stop, Sweep
 from .errors import *  # noqa: F401,F403
 
 __all__ = [
@@ -55,6 +56,8 @@ __all__ = [
     "Sweep",
     "Forces",
     "ForceSweep",
+    "JointReaction",
+    "ReactionColumns",
     "Poses",
     "Stop",
     "PointColumns",

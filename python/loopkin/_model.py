@@ -325,6 +325,30 @@ class Forces:
         return f"Forces(effort={self.effort!r}, power={self.power:.6g})"
 
 
+class JointReaction:
+    """The reaction at one joint (:meth:`Mechanism.reactions`).
+
+    Attributes:
+        force: the force the joint's first body exerts on its second, in
+            the fixed axes (N; 3 components, z = 0 in a planar mechanism).
+        force_in_body: the same force in the second body's axes.
+        moment: the moment the first body exerts on the second (N·m), other
+            than a driver's torque.
+        effort: the driver's effort in this joint, or ``None``.
+    """
+
+    __slots__ = ("force", "force_in_body", "moment", "effort")
+
+    def __init__(self, d: Dict[str, Any]) -> None:
+        self.force: np.ndarray = _readonly(np.asarray(d["force"]))
+        self.force_in_body: np.ndarray = _readonly(np.asarray(d["force_in_body"]))
+        self.moment: np.ndarray = _readonly(np.asarray(d["moment"]))
+        self.effort: Optional[float] = None if d["effort"] is None else float(d["effort"])
+
+    def __repr__(self) -> str:
+        return f"JointReaction(force={self.force!r}, effort={self.effort!r})"
+
+
 class Sensitivity:
     """The derivatives of a motion with respect to one parameter p:
     ∂q/∂p, ∂q'/∂p, ∂q''/∂p (:class:`Values`) and each point's ∂r/∂p,
@@ -648,6 +672,21 @@ class Mechanism(metaclass=MechanismType):
         nd = self._native.drivers
         d = self._m.forces(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
         return Forces(self.driver_names(), d)
+
+    def reactions(self, motion: Motion) -> Dict[str, "JointReaction"]:
+        """The force and moment each joint of the definition's ``joints``
+        section carries at a motion of this design, by the Newton–Euler
+        equations of every body of ``bodies`` under the ``loads``: by joint
+        name, in the order declared.
+
+        Raises:
+            InvalidDynamicsError: no ``bodies``/``loads`` section, no
+                joints, or joints that do not determine the reactions.
+            SingularError: at a singular pose.
+        """
+        nd = self._native.drivers
+        out = self._m.reactions(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
+        return {d["name"]: JointReaction(d) for d in out}
 
     def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
         """Design sensitivities of a motion of this design: for each

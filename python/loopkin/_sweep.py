@@ -16,7 +16,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ._model import Mechanism, MechanismType
 
-__all__ = ["Sweep", "ForceSweep", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
+__all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
 
 
 class Stop:
@@ -234,13 +234,34 @@ class Sweep:
         return f"<Sweep of {self.variable}: {len(self)} samples{end}>"
 
 
+class ReactionColumns:
+    """One joint's reaction over a sweep: ``force`` and ``moment`` (samples
+    × 3, in the fixed axes: what the joint's first body exerts on its
+    second), and ``effort`` (the driver's, one per sample, or ``None``
+    where no driver acts in the joint)."""
+
+    def __init__(self, d: Mapping[str, Any]) -> None:
+        self.force: np.ndarray = _readonly(d["force"])
+        self.moment: np.ndarray = _readonly(d["moment"])
+        self.effort: Optional[np.ndarray] = None if d["effort"] is None else _readonly(d["effort"])
+
+    def magnitude(self) -> np.ndarray:
+        """|F| at every sample (N): the load the joint's bearing carries."""
+        return np.linalg.norm(self.force, axis=1)
+
+    def __repr__(self) -> str:
+        return f"<ReactionColumns: {len(self.force)} samples>"
+
+
 class ForceSweep:
     """The forces along a sweep (:meth:`Sweep.forces`), as numpy columns.
 
     ``at`` is the swept driver's values; ``effort["phi"]`` a driver's
     effort at every sample (N·m for an angle driver, N for a length);
     ``kinetic_energy``, ``potential_energy`` and ``power`` one value per
-    sample; ``shaking_force`` and ``shaking_moment`` samples × 3.
+    sample; ``shaking_force`` and ``shaking_moment`` samples × 3;
+    ``reactions["bearing"]`` a joint's :class:`ReactionColumns`, for the
+    joints of the definition's ``joints`` section (empty without).
     """
 
     def __init__(self, native: "_native.ForceSweep") -> None:
@@ -254,6 +275,9 @@ class ForceSweep:
         self.power: np.ndarray = _readonly(c["power"])
         self.shaking_force: np.ndarray = _readonly(c["shaking_force"])
         self.shaking_moment: np.ndarray = _readonly(c["shaking_moment"])
+        self.reactions: Dict[str, ReactionColumns] = {
+            name: ReactionColumns(d) for name, d in c["reactions"].items()
+        }
 
     def __len__(self) -> int:
         return len(self.at)

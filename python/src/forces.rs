@@ -35,6 +35,30 @@ pub(crate) fn instant<'py>(
     Ok(d)
 }
 
+/// The reactions at one motion as a list of dicts, one per joint in the
+/// order declared: "name", "force", "force_in_body", "moment" (3 each)
+/// and "effort" (the driver's, or None).
+pub(crate) fn reactions<'py>(
+    py: Python<'py>,
+    r: &kinematics_core::dynamics::Reactions,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    r.joints
+        .iter()
+        .map(|j| {
+            let d = PyDict::new(py);
+            d.set_item("name", &j.name)?;
+            d.set_item("force", array(py, j.force.iter().copied().collect()))?;
+            d.set_item(
+                "force_in_body",
+                array(py, j.force_in_body.iter().copied().collect()),
+            )?;
+            d.set_item("moment", array(py, j.moment.iter().copied().collect()))?;
+            d.set_item("effort", j.effort)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 /// The forces along a sweep: each driver's effort, the energies, the
 /// power and the shaking force and moment at every sample, the mean
 /// effort and the energy fluctuation of each driver, the CSV table and
@@ -82,7 +106,9 @@ impl ForceSweep {
 
     /// Every column: "at" (n), "effort" (n × drivers),
     /// "kinetic_energy", "potential_energy", "power" (n each),
-    /// "shaking_force", "shaking_moment" (n × 3).
+    /// "shaking_force", "shaking_moment" (n × 3), and "reactions": for
+    /// each joint by name, its "force" and "moment" (n × 3) and "effort"
+    /// (n, or None where no driver acts in it).
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.sweep.samples;
         let n = s.len();
@@ -111,6 +137,52 @@ impl ForceSweep {
             .flat_map(|x| x.shaking_moment.iter().copied())
             .collect();
         d.set_item("shaking_moment", shaped(py, moment, vec![n, 3])?)?;
+        // Each joint's force, moment (n × 3) and effort (n, or None), by
+        // name, where the description declares joints.
+        let joints = PyDict::new(py);
+        let names: Vec<String> = s
+            .first()
+            .and_then(|x| x.reactions.as_ref())
+            .map_or_else(Vec::new, |r| {
+                r.joints.iter().map(|j| j.name.clone()).collect()
+            });
+        for (k, name) in names.iter().enumerate() {
+            fn joint(
+                x: &kinematics_core::dynamics::ForceSample,
+                k: usize,
+            ) -> Option<&kinematics_core::dynamics::JointReaction> {
+                x.reactions.as_ref().and_then(|r| r.joints.get(k))
+            }
+            let vectors = |pick: fn(&kinematics_core::dynamics::JointReaction) -> [f64; 3]| {
+                s.iter()
+                    .flat_map(|x| joint(x, k).map_or([f64::NAN; 3], pick))
+                    .collect::<Vec<f64>>()
+            };
+            let j = PyDict::new(py);
+            j.set_item(
+                "force",
+                shaped(py, vectors(|r| r.force.into()), vec![n, 3])?,
+            )?;
+            j.set_item(
+                "moment",
+                shaped(py, vectors(|r| r.moment.into()), vec![n, 3])?,
+            )?;
+            let driven = s
+                .first()
+                .and_then(|x| joint(x, k))
+                .is_some_and(|r| r.effort.is_some());
+            if driven {
+                let e: Vec<f64> = s
+                    .iter()
+                    .map(|x| joint(x, k).and_then(|r| r.effort).unwrap_or(f64::NAN))
+                    .collect();
+                j.set_item("effort", array(py, e))?;
+            } else {
+                j.set_item("effort", py.None())?;
+            }
+            joints.set_item(name, j)?;
+        }
+        d.set_item("reactions", joints)?;
         Ok(d)
     }
 

@@ -403,6 +403,27 @@ impl Model {
         forces::instant(py, &f, model.drivers())
     }
 
+    /// The joint reactions at the closed pose `q` with the drivers' rates
+    /// and accelerations, from the definition's `bodies`, `loads` and
+    /// `joints` sections: a list of dicts, one per joint.
+    fn reactions<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let model = &self.model;
+        let r = py
+            .detach(|| {
+                let dynamics = model.dynamics()?;
+                let motion = model.analyze(&q, &rates, &accelerations)?;
+                dynamics.reactions_of(model, &motion)
+            })
+            .map_err(|e| error(py, &e))?;
+        forces::reactions(py, &r)
+    }
+
     /// The design sensitivities at the closed pose `q` with the drivers'
     /// rates and accelerations: a dict from each parameter of the
     /// `sensitivities` section to a dict of ∂q/∂p, ∂q'/∂p, ∂q''/∂p and the

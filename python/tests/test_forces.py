@@ -142,3 +142,46 @@ def test_forces_errors(engine, four_bar, FourBar):
     )
     with pytest.raises(ValueError, match="simulation"):
         sim.forces()
+
+
+def test_reactions_of_the_gas_engines_joints():
+    """The examples' gas engine declares its joints: at every sample the
+    bearing's torque is the virtual-power effort, the cylinder pushes
+    normal to its axis, and the frame's forces on the links (bearing and
+    cylinder) balance their rate of momentum less their weight and the
+    gas force on the piston, p1 A (h1 / (h0 + a + b − x))^1.3."""
+    from conftest import mechanism
+
+    GasEngine = mechanism("gas_engine")
+    v = dict(a=0.025, b=0.1, r3=0.03, m2=1.2, j2=6e-4, m3=0.25, j3=2.5e-4, m4=0.3, p1=40e5, h1=0.005, area=0.0019634954084936207, h0=0.005)
+    e = GasEngine(**v)
+    start = e.assemble(phi=0.0, th=0.0, x=0.125)
+    sw = e.sweep("phi", start=start, turn=True, steps=72, rpm=3000)
+    fs = sw.forces()
+    assert list(fs.reactions) == ["bearing", "crank_pin", "piston_pin", "cylinder"]
+    bearing, cylinder = fs.reactions["bearing"], fs.reactions["cylinder"]
+    assert fs.reactions["crank_pin"].effort is None
+    scale = np.max(np.abs(bearing.force))
+    assert close(bearing.effort, fs.effort["phi"], 1e-10, scale)
+    assert np.all(np.abs(cylinder.force[:, 0]) <= 1e-12 * scale)
+    m = (v["m2"], v["m3"], v["m4"])
+    acc = sum(mass * sw.point(p).acceleration for mass, p in zip(m, ("O", "G3", "C")))
+    x = sw["x"]
+    gas = v["p1"] * v["area"] * (v["h1"] / (v["h0"] + v["a"] + v["b"] - x)) ** 1.3
+    ground = bearing.force + cylinder.force
+    assert close(ground[:, 0], acc[:, 0] + gas, 1e-10, scale)
+    assert close(ground[:, 1], acc[:, 1] + 9.81 * sum(m), 1e-10, scale)
+    assert np.all(bearing.magnitude() >= 0.0) and bearing.force.flags.writeable is False
+    # One motion: the same reactions as the sweep's sample.
+    i = 10
+    r = e.reactions(e.analyze(sw.pose(i), rate=sw.qd["phi"][i]))
+    assert close(r["bearing"].force, bearing.force[i], 1e-12, scale)
+    assert close(r["bearing"].effort, bearing.effort[i], 1e-12, scale)
+    assert r["cylinder"].effort is None
+
+
+def test_reactions_need_joints(engine):
+    with pytest.raises(kin.InvalidDynamicsError, match="none given"):
+        engine.reactions(engine.analyze(start(engine), rate=1.0))
+    fs = engine.sweep("phi", start=start(engine), to=1.0, steps=4, rate=W).forces()
+    assert fs.reactions == {}

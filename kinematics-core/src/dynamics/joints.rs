@@ -590,7 +590,10 @@ impl Dynamics {
         if self.joints.is_empty() {
             return Err(invalid(
                 "joints",
-                "none given: declare them with `.joint(Joint::revolute(…))`".to_string(),
+                "none given: declare them in the definition's `joints` section \
+                 (`bearing(revolute, O, between = (ground, crank));`) or with \
+                 `.joint(Joint::revolute(…))`"
+                    .to_string(),
             ));
         }
         // The joint each force on a coordinate acts in.
