@@ -180,6 +180,27 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<Model> {
     }
 }
 
+impl Model {
+    /// `f` of the definition's dynamics, the model and its motion at the
+    /// closed pose `q` with the drivers' rates and accelerations (`at`:
+    /// q, rates, accelerations), run with the interpreter released.
+    fn at_motion<T: Send>(
+        &self,
+        py: Python<'_>,
+        at: [&[f64]; 3],
+        f: impl FnOnce(&kinematics_core::dynamics::Dynamics, &Runtime, &Motion) -> Result<T, Error>
+            + Send,
+    ) -> PyResult<T> {
+        let model = &self.model;
+        py.detach(|| {
+            let dynamics = model.dynamics()?;
+            let motion = model.analyze(at[0], at[1], at[2])?;
+            f(&dynamics, model, &motion)
+        })
+        .map_err(|e| error(py, &e))
+    }
+}
+
 #[pymethods]
 impl Model {
     /// The definition's text.
@@ -392,15 +413,10 @@ impl Model {
         rates: Vec<f64>,
         accelerations: Vec<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let model = &self.model;
-        let f = py
-            .detach(|| {
-                let dynamics = model.dynamics()?;
-                let motion = model.analyze(&q, &rates, &accelerations)?;
-                dynamics.inverse_of(model, &motion)
-            })
-            .map_err(|e| error(py, &e))?;
-        forces::instant(py, &f, model.drivers())
+        let f = self.at_motion(py, [&q, &rates, &accelerations], |d, m, motion| {
+            d.inverse_of(m, motion)
+        })?;
+        forces::instant(py, &f, self.model.drivers())
     }
 
     /// The joint reactions at the closed pose `q` with the drivers' rates
@@ -413,14 +429,9 @@ impl Model {
         rates: Vec<f64>,
         accelerations: Vec<f64>,
     ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        let model = &self.model;
-        let r = py
-            .detach(|| {
-                let dynamics = model.dynamics()?;
-                let motion = model.analyze(&q, &rates, &accelerations)?;
-                dynamics.reactions_of(model, &motion)
-            })
-            .map_err(|e| error(py, &e))?;
+        let r = self.at_motion(py, [&q, &rates, &accelerations], |d, m, motion| {
+            d.reactions_of(m, motion)
+        })?;
         forces::reactions(py, &r)
     }
 
