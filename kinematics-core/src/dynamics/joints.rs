@@ -31,6 +31,7 @@
 
 use alloc::format;
 use alloc::string::{String, ToString};
+use alloc::vec;
 use alloc::vec::Vec;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
