@@ -2154,8 +2154,10 @@ fn a_spinning_coupler_with_inertia_is_an_error() -> Result<(), Box<dyn std::erro
 /// The examples' gas engine declares its joints in its definition: over a
 /// turn at varying speed its reactions are those of the same joints
 /// declared in Rust on the same bodies and loads, the bearing's torque is
-/// the virtual-power effort, and the frame's reactions (the bearing's and
-/// the cylinder's forces) balance the links' weight, inertia and the gas.
+/// the virtual-power effort (also with a torque on the driver's
+/// coordinate, which acts in the bearing), and the frame's reactions (the
+/// bearing's and the cylinder's forces) balance the links' weight,
+/// inertia and the gas.
 #[test]
 fn the_joints_of_the_gas_engines_definition_give_its_reactions(
 ) -> Result<(), Box<dyn std::error::Error>> {
@@ -2190,6 +2192,10 @@ fn the_joints_of_the_gas_engines_definition_give_its_reactions(
             [2.0, 0.0],
         ))
         .build::<GasEngine>()?;
+    let helped = g
+        .dynamics_builder()
+        .coordinate_force("phi", |_| 5.0)
+        .build::<GasEngine>()?;
     let mut pose = g.assemble(&GasEngineCoords {
         phi: 0.0,
         th: 0.0,
@@ -2219,6 +2225,20 @@ fn the_joints_of_the_gas_engines_definition_give_its_reactions(
             dynamics.inverse(&g, &motion)?.effort.phi,
             1e-10,
             "the bearing's torque by virtual power",
+        );
+        // A torque of 5 N·m on the crank's coordinate acts in the joint its
+        // driver acts in: the motor gives 5 N·m less, by both methods.
+        let helped_torque = helped
+            .reactions(&g, &motion)?
+            .get("bearing")
+            .and_then(|j| j.effort)
+            .expect("driven");
+        close(helped_torque, effort - 5.0, 1e-10, "a torque on phi");
+        close(
+            helped_torque,
+            helped.inverse(&g, &motion)?.effort.phi,
+            1e-10,
+            "a torque on phi by virtual power",
         );
         // The frame holds the links: the force it exerts on them is their
         // rate of momentum less their weight and the gas force.

@@ -193,7 +193,8 @@ impl Joint {
     }
 
     /// The coordinate that measures this joint's motion (an unknown or a
-    /// driver): a force on it
+    /// driver; the driver acting in the joint measures it without this):
+    /// a force on it
     /// ([`DynamicsBuilder::coordinate_force`](super::DynamicsBuilder::coordinate_force))
     /// acts in this joint, a torque (revolute) or a force along the axis
     /// (prismatic) that `first` exerts on `second`, which the joint
@@ -600,12 +601,15 @@ impl Dynamics {
         // The joint each force on a coordinate acts in.
         let mut in_joints = Vec::with_capacity(self.coordinate_forces.len());
         for (c, f) in &self.coordinate_forces {
-            let Some(j) = self.joints.iter().find(|j| j.coordinate == Some(*c)) else {
+            // The joint a driver acts in is measured by that driver.
+            let measured = |j: &&ResolvedJoint| j.coordinate == Some(*c) || j.driver == Some(*c);
+            let Some(j) = self.joints.iter().find(measured) else {
                 return Err(invalid(
                     "a force on a coordinate",
                     format!(
-                        "no joint is measured by coordinate {}: name it on its joint with \
-                         `.coordinate(\"…\")` for the joint reactions",
+                        "no joint is measured by coordinate {}: name it on its joint \
+                         (`coordinate = x` in the definition's `joints` section, or \
+                         `.coordinate(\"x\")`) for the joint reactions",
                         c + 1
                     ),
                 ));
