@@ -325,6 +325,29 @@ class Forces:
         return f"Forces(effort={self.effort!r}, power={self.power:.6g})"
 
 
+class MassSensitivity:
+    """How the drivers' efforts change with one body's mass and moment of
+    inertia (:meth:`Mechanism.mass_sensitivities`).
+
+    Attributes:
+        mass: :class:`Values` of ∂Q_k/∂m for each driver (N·m/kg for an
+            angle driver, N/kg for a length).
+        inertia: :class:`Values` of ∂Q_k/∂J for each driver, for a body
+            turning by an angle in a planar mechanism; ``None`` otherwise.
+    """
+
+    __slots__ = ("mass", "inertia")
+
+    def __init__(self, drivers: Sequence[str], d: Dict[str, Any]) -> None:
+        self.mass = Values(drivers, _readonly(np.asarray(d["mass"])))
+        self.inertia: Optional[Values] = (
+            None if d["inertia"] is None else Values(drivers, _readonly(np.asarray(d["inertia"])))
+        )
+
+    def __repr__(self) -> str:
+        return f"MassSensitivity(mass={self.mass!r}, inertia={self.inertia!r})"
+
+
 class JointReaction:
     """The reaction at one joint (:meth:`Mechanism.reactions`).
 
@@ -687,6 +710,24 @@ class Mechanism(metaclass=MechanismType):
         nd = self._native.drivers
         out = self._m.reactions(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
         return {d["name"]: JointReaction(d) for d in out}
+
+    def mass_sensitivities(self, motion: Motion) -> Dict[str, "MassSensitivity"]:
+        """How each driver's effort at a motion changes with each body's
+        mass and moment of inertia, by body name: the efforts are linear in
+        both, so ∂Q_k/∂m = (a_G − g) · ∂v_G/∂ḋ_k and, for a planar body
+        turning by an angle, ∂Q_k/∂J = α ∂ω/∂ḋ_k, exactly: what a
+        counterweight's or a link's mass changes in the driving torque.
+
+        Raises:
+            InvalidDynamicsError: the definition has no ``bodies`` or
+                ``loads`` section.
+        """
+        nd = self._native.drivers
+        out = self._m.mass_sensitivities(
+            list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd])
+        )
+        drivers = self.driver_names()
+        return {d["body"]: MassSensitivity(drivers, d) for d in out}
 
     def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
         """Design sensitivities of a motion of this design: for each

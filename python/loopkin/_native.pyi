@@ -54,6 +54,9 @@ class Model:
     def reactions(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> List[Dict[str, Any]]: ...
+    def mass_sensitivities(
+        self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
+    ) -> List[Dict[str, Any]]: ...
     def sensitivities(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> Dict[str, Dict[str, Any]]: ...

@@ -435,6 +435,31 @@ impl Model {
         forces::reactions(py, &r)
     }
 
+    /// How each driver's effort at the closed pose `q` with the drivers'
+    /// rates and accelerations changes with each body's mass and moment
+    /// of inertia: a list of dicts, one per body of `bodies`, of "body",
+    /// "mass" (one per driver) and "inertia" (one per driver, or None).
+    fn mass_sensitivities<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let s = self.at_motion(py, [&q, &rates, &accelerations], |d, m, motion| {
+            d.mass_sensitivities_of(m, motion)
+        })?;
+        s.into_iter()
+            .map(|b| {
+                let d = PyDict::new(py);
+                d.set_item("body", b.body)?;
+                d.set_item("mass", array(py, b.mass))?;
+                d.set_item("inertia", b.inertia.map(|i| array(py, i)))?;
+                Ok(d)
+            })
+            .collect()
+    }
+
     /// The design sensitivities at the closed pose `q` with the drivers'
     /// rates and accelerations: a dict from each parameter of the
     /// `sensitivities` section to a dict of ∂q/∂p, ∂q'/∂p, ∂q''/∂p and the

@@ -185,3 +185,32 @@ def test_reactions_need_joints(engine):
         engine.reactions(engine.analyze(start(engine), rate=1.0))
     fs = engine.sweep("phi", start=start(engine), to=1.0, steps=4, rate=W).forces()
     assert fs.reactions == {}
+
+
+def test_mass_sensitivities_are_the_slopes_of_the_effort():
+    """The efforts are linear in the masses and moments of inertia: each
+    ∂Q/∂m and ∂Q/∂J equals the central difference of the gas engine's
+    torque between two designs whose body differs by ±δ (the motion is the
+    same: the masses do not change the kinematics)."""
+    from conftest import mechanism
+
+    GasEngine = mechanism("gas_engine")
+    v = dict(a=0.025, b=0.1, r3=0.03, m2=1.2, j2=6e-4, m3=0.25, j3=2.5e-4, m4=0.3, p1=40e5, h1=0.005, area=0.0019634954084936207, h0=0.005)
+    e = GasEngine(**v)
+    pose = e.assemble(phi=0.7, th=-0.2, x=0.12)
+    motion = e.analyze(pose, rate=300.0, acceleration=1500.0)
+    s = e.mass_sensitivities(motion)
+    assert list(s) == ["crank", "rod", "piston"]
+    assert s["piston"].inertia is None and s["rod"].inertia is not None
+
+    def slope(name, d=1e-3):
+        plus = e.replace(**{name: v[name] + d}).forces(motion).effort["phi"]
+        minus = e.replace(**{name: v[name] - d}).forces(motion).effort["phi"]
+        return (plus - minus) / (2 * d)
+
+    for body, mass, inertia in (("crank", "m2", "j2"), ("rod", "m3", "j3"), ("piston", "m4", None)):
+        assert abs(s[body].mass["phi"] - slope(mass)) <= 1e-6 * (1.0 + abs(slope(mass)))
+        if inertia is not None:
+            assert abs(s[body].inertia["phi"] - slope(inertia, 1e-6)) <= 1e-6 * (1.0 + abs(slope(inertia, 1e-6)))
+    # The rod's mass matters here: a test that can fail.
+    assert abs(s["rod"].mass["phi"]) > 1e-3
