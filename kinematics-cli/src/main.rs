@@ -327,8 +327,50 @@ fn check(file: &Path) -> Result<String, Failure> {
             );
         }
         None => {
-            let _ = writeln!(out, "mobility: not counted (no `joints {{ … }}` section)");
+            let _ = writeln!(
+                out,
+                "mobility: not counted (no `joints {{ R: …, … }}` section of counts)"
+            );
         }
+    }
+    if let Some(d) = c.dynamics() {
+        use kinematics_compiler::dynamics::LoadTarget;
+        let bodies: Vec<String> = d.bodies.iter().map(|b| b.name.clone()).collect();
+        let mut loads: Vec<String> = Vec::new();
+        if !d.gravity.is_empty() {
+            loads.push("gravity".to_string());
+        }
+        for l in &d.loads {
+            loads.push(match &l.target {
+                LoadTarget::Point { point, .. } => format!("a force at {point}"),
+                LoadTarget::Coordinate { coordinate } => format!("a force on {coordinate}"),
+                LoadTarget::Torque { body } => format!("a torque on {body}"),
+            });
+        }
+        for s in &d.springs {
+            loads.push(format!("a spring {}–{}", s.from, s.to));
+        }
+        let joints: Vec<String> = d
+            .joints
+            .iter()
+            .map(|j| {
+                let driver = j
+                    .driver
+                    .as_ref()
+                    .map_or_else(String::new, |d| format!(", driven by {d}"));
+                format!(
+                    "{} ({} at {}, {}–{}{driver})",
+                    j.name,
+                    j.kind.word(),
+                    j.point,
+                    j.between[0],
+                    j.between[1]
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "bodies: {}", list(&bodies));
+        let _ = writeln!(out, "loads:  {}", list(&loads));
+        let _ = writeln!(out, "joints: {}", list(&joints));
     }
     let _ = writeln!(
         out,

@@ -98,6 +98,22 @@ fn check_prints_the_blocks_and_the_assemblies() {
         stdout.contains("mobility: F = 6(4 − 4 − 1) + 8 − 1 = 1 (Kutzbach–Gruebler)\n"),
         "{stdout}"
     );
+    // The gas engine: its bodies, loads and joints.
+    let engine = mechanisms().join("gas_engine.mech");
+    let stdout = text(&run(&["check", engine.to_str().expect("a UTF-8 path")]).stdout);
+    assert!(stdout.contains("bodies: crank, rod, piston\n"), "{stdout}");
+    assert!(
+        stdout.contains("loads:  gravity, a force at C\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(
+            "joints: bearing (revolute at O, ground–crank, driven by phi), crank_pin \
+             (revolute at B, crank–rod), piston_pin (revolute at C, rod–piston), cylinder \
+             (prismatic at C, ground–piston)\n"
+        ),
+        "{stdout}"
+    );
     // The Watt six-bar: two RRR dyads, four assemblies.
     let watt = mechanisms().join("watt.mech");
     let stdout = text(&run(&["check", watt.to_str().expect("a UTF-8 path")]).stdout);
