@@ -355,6 +355,24 @@ fn figures_are_written(out: &Path, moving: &[&str], samples: usize) {
     assert_eq!(frames.matches('[').count(), samples + 1);
 }
 
+/// `kinematics sweep` of the definition `mech` with the parameters file
+/// `params` over a turn of 360 steps at `rpm`, into `out`.
+fn sweep_a_turn(mech: &Path, params: &Path, rpm: &str, out: &Path) -> Output {
+    run(&[
+        "sweep",
+        mech.to_str().expect("a UTF-8 path"),
+        "--params",
+        params.to_str().expect("a UTF-8 path"),
+        "--turn",
+        "--steps",
+        "360",
+        "--rpm",
+        rpm,
+        "--out",
+        out.to_str().expect("a UTF-8 path"),
+    ])
+}
+
 /// `kinematics sweep` of the four-bar and of the RSSR, from their
 /// parameters files (with their start poses), against the library's own
 /// sweeps of the generated mechanisms.
@@ -364,19 +382,7 @@ fn sweep_writes_the_library_sweep_as_csv_with_its_figures() {
     let four_bar = mechanisms().join("four_bar.mech");
     let params = mechanisms().join("four_bar.toml");
     let out = dir.join("four_bar");
-    let run_out = run(&[
-        "sweep",
-        four_bar.to_str().expect("a UTF-8 path"),
-        "--params",
-        params.to_str().expect("a UTF-8 path"),
-        "--turn",
-        "--steps",
-        "360",
-        "--rpm",
-        "600",
-        "--out",
-        out.to_str().expect("a UTF-8 path"),
-    ]);
+    let run_out = sweep_a_turn(&four_bar, &params, "600", &out);
     assert!(run_out.status.success(), "{}", text(&run_out.stderr));
     assert!(text(&run_out.stdout).starts_with("FourBar: 360 samples of phi"));
     let g = FourBar::CRANK_ROCKER;
@@ -521,19 +527,7 @@ fn sweep_writes_the_forces_of_a_definition_with_bodies_and_loads() {
     let dir = std::env::temp_dir().join(format!("kinematics-cli-forces-{}", std::process::id()));
     let engine = mechanisms().join("gas_engine.mech");
     let params = mechanisms().join("gas_engine.toml");
-    let run_out = run(&[
-        "sweep",
-        engine.to_str().expect("a UTF-8 path"),
-        "--params",
-        params.to_str().expect("a UTF-8 path"),
-        "--turn",
-        "--steps",
-        "360",
-        "--rpm",
-        "3000",
-        "--out",
-        dir.to_str().expect("a UTF-8 path"),
-    ]);
+    let run_out = sweep_a_turn(&engine, &params, "3000", &dir);
     assert!(run_out.status.success(), "{}", text(&run_out.stderr));
     assert!(text(&run_out.stdout).contains("mean effort of phi:"));
     let g = GasEngine::SMALL;

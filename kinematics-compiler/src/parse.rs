@@ -80,14 +80,14 @@ pub struct Definition {
     /// computed (the other form of `joints` counts them for the mobility
     /// check).
     pub joint_items: Vec<Call>,
-    /// The `bodies` keyword, where errors about the section as a whole
-    /// point.
+    /// The keyword of the first of the `bodies`, `loads` and item-form
+    /// `joints` sections, where errors about them as a whole point.
     pub dynamics_span: Option<Span>,
 }
 
 /// `name(argument, …, key = value, …)`: an item of the `bodies` section
-/// (named after the body) or of the `loads` section (named after the
-/// load's kind).
+/// (named after the body), of the `loads` section (named after the load's
+/// kind) or of the item form of `joints` (named after the joint).
 #[derive(Clone)]
 pub struct Call {
     pub docs: Vec<Attribute>,
@@ -477,7 +477,8 @@ fn parse_call(input: ParseStream<'_>) -> syn::Result<Call> {
             expr,
             "expected `name(…)`: a body is written `rod(mass = m3, center = G3, angle = th3, \
              inertia = j3)`, a load `gravity(vec2(0.0, -9.81))`, `force(C, vec2(fx, fy))`, \
-             `torque(rod, t)` or `spring(A, B, stiffness = k, free_length = l0)`",
+             `torque(rod, t)` or `spring(A, B, stiffness = k, free_length = l0)`, a joint \
+             `bearing(revolute, O, between = (ground, crank))`",
         ));
     };
     let name = match &*call.func {

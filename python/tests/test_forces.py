@@ -171,7 +171,14 @@ def test_reactions_of_the_gas_engines_joints():
     ground = bearing.force + cylinder.force
     assert close(ground[:, 0], acc[:, 0] + gas, 1e-10, scale)
     assert close(ground[:, 1], acc[:, 1] + 9.81 * sum(m), 1e-10, scale)
-    assert np.all(bearing.magnitude() >= 0.0) and bearing.force.flags.writeable is False
+    # The crank is balanced (its centre of mass on the shaft, which does
+    # not move): the bearing holds the crank pin's force and the crank's
+    # weight, F_O = F_B + m2 g (0, 1).
+    crank_pin = fs.reactions["crank_pin"].force
+    assert close(bearing.force[:, 0], crank_pin[:, 0], 1e-10, scale)
+    assert close(bearing.force[:, 1], crank_pin[:, 1] + 9.81 * v["m2"], 1e-10, scale)
+    assert close(bearing.magnitude(), np.hypot(bearing.force[:, 0], bearing.force[:, 1]), 1e-15, scale)
+    assert bearing.force.flags.writeable is False
     # One motion: the same reactions as the sweep's sample.
     i = 10
     r = e.reactions(e.analyze(sw.pose(i), rate=sw.qd["phi"][i]))
