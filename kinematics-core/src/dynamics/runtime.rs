@@ -278,8 +278,8 @@ impl SectionCode {
     }
 
     /// Stage `stage` at the parameters `values` (with the characteristic
-    /// length last) and the coordinates and rates of `instant` (NaN where
-    /// it has none), into `out`.
+    /// length last) and the coordinates and rates of `instant` (zero
+    /// without one: the constants' stage reads none), into `out`.
     fn eval(
         &self,
         stage: usize,
