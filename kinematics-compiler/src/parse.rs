@@ -253,7 +253,7 @@ impl Parse for Definition {
                         def.loads = items;
                     }
                 }
-                "joints" if content.peek(Ident) && content.peek2(syn::token::Paren) => {
+                "joints" if joint_items_follow(&content) => {
                     def.joint_items = parse_items(&content, parse_call)?;
                     def.dynamics_span.get_or_insert(keyword_span);
                 }
@@ -466,6 +466,13 @@ fn parse_point(input: ParseStream<'_>) -> syn::Result<PointDef> {
     })?;
     let expr: Expr = input.parse()?;
     Ok(PointDef { docs, name, expr })
+}
+
+/// Whether a `joints` section is written with items (`name(…)`, each
+/// perhaps with doc comments) rather than counts (`R: 4`).
+fn joint_items_follow(content: ParseStream<'_>) -> bool {
+    let fork = content.fork();
+    fork.call(Attribute::parse_outer).is_ok() && fork.peek(Ident) && fork.peek2(syn::token::Paren)
 }
 
 fn parse_call(input: ParseStream<'_>) -> syn::Result<Call> {

@@ -286,5 +286,11 @@ kinematics_core::mechanism! {
             torque(rod, -c * rate(th));
             spring(D, B, stiffness = 100.0 * m, free_length = a, damping = c, between = (ground, rod));
         }
+        joints {
+            /// The crank pin.
+            pin(revolute, B, between = (ground, rod), driver = phi);
+            /// The cylinder, its axis from the parameters.
+            cylinder(prismatic, C, between = (ground, piston), axis = vec2(a / b, 0.0), coordinate = x);
+        }
     }
 }
