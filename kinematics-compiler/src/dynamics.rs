@@ -1,7 +1,7 @@
-//! The masses and loads of the `bodies` and `loads` sections, as roots of
-//! the graph both back ends evaluate: the constants (from the parameters)
-//! and each load's value (from the parameters, the coordinates and their
-//! rates).
+//! The masses, loads and joints of the `bodies`, `loads` and (item form)
+//! `joints` sections, as roots of the graph both back ends evaluate: the
+//! constants (from the parameters, the joints' axes among them) and each
+//! load's value (from the parameters, the coordinates and their rates).
 //!
 //! A planar body's angle must be Σ c_j q_j plus a constant, the c_j
 //! constants (its angular velocity is then Σ c_j q̇_j); each c_j = ∂θ/∂q_j
@@ -67,7 +67,8 @@ pub struct Joint {
     pub coordinate: Option<String>,
 }
 
-/// The `bodies` and `loads` sections of a definition.
+/// The `bodies`, `loads` and (item form) `joints` sections of a
+/// definition.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct Dynamics {
     /// g (2 or 3 roots of the parameters), empty without gravity.

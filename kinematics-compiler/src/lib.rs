@@ -20,8 +20,8 @@
 //!   solves go block by block (a six-bar loop by loop), and the blocks
 //!   solved in closed form;
 //! * `sensitivity`: the partial derivatives with respect to parameters;
-//! * [`dynamics`]: the masses and loads of the `bodies` and `loads`
-//!   sections, as roots of the graph;
+//! * [`dynamics`]: the masses, loads and joints of the `bodies`, `loads`
+//!   and `joints` sections, as roots of the graph;
 //! * `cse`: which shared nodes get a `let`, in which order;
 //! * `emit`: the Rust back end, straight-line Rust and the generated types,
 //!   one file per item.

@@ -1,9 +1,9 @@
-//! The `bodies` and `loads` sections as Rust: `dynamics_builder`, the
-//! sections with one parameter set's values as a
+//! The `bodies`, `loads` and (item form) `joints` sections as Rust:
+//! `dynamics_builder`, the sections with one parameter set's values as a
 //! `kinematics_core::dynamics::DynamicsBuilder` (the constants evaluated
-//! once, each load a closure of the instant), and `dynamics`, the builder
-//! resolved against the mechanism. Nothing is emitted for a definition
-//! without the sections.
+//! once, each load a closure of the instant, each joint with its axis),
+//! and `dynamics`, the builder resolved against the mechanism. Nothing is
+//! emitted for a definition without the sections.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;

@@ -1,6 +1,7 @@
-//! Lowering of the `bodies` and `loads` sections: each body's mass,
-//! centre of mass, orientation and inertia, and each load, as roots of the
-//! graph, with their names and dimensions checked.
+//! Lowering of the `bodies` and `loads` sections and of the item form of
+//! `joints`: each body's mass, centre of mass, orientation and inertia,
+//! each load, and each joint's axis, as roots of the graph, with their
+//! names, kinds and dimensions checked.
 //!
 //! The constants (masses, inertias, gravity, a spring's stiffness, free
 //! length and damping) may use the parameters only; a load's value may
