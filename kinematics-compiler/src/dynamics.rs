@@ -81,6 +81,27 @@ pub struct Dynamics {
     pub springs: Vec<Spring>,
     /// The joints of the `joints` section, in declaration order.
     pub joints: Vec<Joint>,
+    /// The partial derivatives the efforts' sensitivities need, with a
+    /// `sensitivities` section.
+    pub partials: Option<Partials>,
+}
+
+/// The partial derivatives of the sections with respect to the parameters
+/// of the `sensitivities` section (K of them, in its order), for the
+/// sensitivities of the efforts: the loads' also with respect to the
+/// coordinates, their rates and accelerations (n coordinates), through
+/// which the parameters act on them along a motion.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct Partials {
+    /// The parameters p_k (indices among the definition's parameters).
+    pub params: Vec<u32>,
+    /// ∂c/∂p_k of every root of [`Dynamics::constants`], flattened
+    /// `[k][constant]`.
+    pub constants: Vec<Id>,
+    /// For each load, ∂value/∂x flattened `[x][component]`, over the
+    /// K + 3n variables x: p_0 … p_{K−1}, then q_0 … q_{n−1}, q̇_0 …,
+    /// q̈_0 ….
+    pub loads: Vec<Vec<Id>>,
 }
 
 impl Dynamics {
@@ -106,6 +127,92 @@ impl Dynamics {
         }
         out
     }
+}
+
+impl Dynamics {
+    /// One parameter's partials of the constants, `chunk` (in the order
+    /// of [`Dynamics::constants`]), in the layout the runtime's
+    /// `DynamicsBuilder::design_parameters` reads: gravity's 3
+    /// components, then for each body its mass, its angle's coefficients
+    /// and the 9 entries of its inertia (a planar moment at entry 8), then
+    /// each spring's stiffness, free length and damping. `None` where the
+    /// definition has no such constant (zero).
+    #[must_use]
+    pub fn design_layout<T: Copy>(&self, chunk: &[T]) -> Vec<Option<T>> {
+        let mut next = chunk.iter().copied();
+        let mut out = Vec::new();
+        let mut gravity: Vec<Option<T>> = self.gravity.iter().map(|_| next.next()).collect();
+        gravity.resize(3, None);
+        out.extend(gravity);
+        for b in &self.bodies {
+            out.push(next.next());
+            if let Turning::Angle(terms) = &b.turning {
+                out.extend(terms.iter().map(|_| next.next()));
+            }
+            let mut inertia = [None; 9];
+            match b.inertia.len() {
+                0 => {}
+                1 => inertia[8] = next.next(),
+                _ => inertia.iter_mut().for_each(|x| *x = next.next()),
+            }
+            out.extend(inertia);
+        }
+        for _ in &self.springs {
+            out.extend([next.next(), next.next(), next.next()]);
+        }
+        out
+    }
+}
+
+impl Load {
+    /// Where component `c` of this load's value goes in the three the
+    /// runtime's loads carry: a scalar torque about z, a scalar force on a
+    /// coordinate first, a vector's components in place.
+    #[must_use]
+    pub fn slot(&self, c: usize) -> usize {
+        match (self.value.len(), &self.target) {
+            (1, LoadTarget::Coordinate { .. }) => 0,
+            (1, _) => 2,
+            _ => c,
+        }
+    }
+}
+
+/// The partial derivatives of the sections `d` of `model` with respect to
+/// the parameters `params` (indices among the definition's parameters),
+/// in the layout of [`Partials`].
+pub fn partials(model: &mut Model, d: &Dynamics, params: &[u32]) -> Partials {
+    let mut memo = Memo::new();
+    let g = &mut model.graph;
+    let constants = d.constants();
+    let mut out = Partials {
+        params: params.to_vec(),
+        ..Partials::default()
+    };
+    for &k in params {
+        for &c in &constants {
+            let p = partial(g, c, Leaf::Param(k), &mut memo);
+            out.constants.push(p);
+        }
+    }
+    let n = model.kinds.len();
+    let variables: Vec<Leaf> = params
+        .iter()
+        .map(|&k| Leaf::Param(k))
+        .chain((0..n as u32).map(Leaf::Q))
+        .chain((0..n as u32).map(Leaf::Qd))
+        .chain((0..n as u32).map(Leaf::Qdd))
+        .collect();
+    for load in &d.loads {
+        let mut one = Vec::with_capacity(variables.len() * load.value.len());
+        for &x in &variables {
+            for &v in &load.value {
+                one.push(partial(g, v, x, &mut memo));
+            }
+        }
+        out.loads.push(one);
+    }
+    out
 }
 
 /// The sections of `model`, their angles resolved into coefficients;

@@ -356,7 +356,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
     let names = check::check(&def, &mut errors);
     let mut model = lower::lower(&def, &names, &mut errors);
     let mobility = check::check_mobility(&def, model.spatial, &mut errors);
-    let dynamics = crate::dynamics::resolve(&def, &mut model, &mut errors);
+    let mut dynamics = crate::dynamics::resolve(&def, &mut model, &mut errors);
     if errors.is_empty() {
         validate::validate(&def, &model, &mut errors);
     }
@@ -378,6 +378,9 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
             .collect();
         sensitivity::partials(&mut model, &derived, &params)
     });
+    if let (Some(d), Some(s)) = (dynamics.as_mut(), sensitivities.as_ref()) {
+        d.partials = Some(crate::dynamics::partials(&mut model, d, &s.params));
+    }
     Ok(Compiled {
         def,
         model,

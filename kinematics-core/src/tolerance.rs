@@ -57,6 +57,21 @@ pub trait Sensitive: Mechanism {
     fn point_sensitivities_into(&self, motion: &Self::Motion, out: &mut [f64])
         -> Result<(), Error>;
 
+    /// The sensitivities of the whole of `motion`: ∂q/∂p, ∂q'/∂p and
+    /// ∂q''/∂p into `coordinates` as `[parameter][q, q', q''][coordinate]`
+    /// (zero for the drivers), and every point's ∂r/∂p, ∂v/∂p and ∂a/∂p
+    /// into `points` as `[parameter][point][position, velocity,
+    /// acceleration][component]` (as many as fit in each).
+    ///
+    /// # Errors
+    /// As the generated `sensitivities`.
+    fn motion_sensitivities_into(
+        &self,
+        motion: &Self::Motion,
+        coordinates: &mut [f64],
+        points: &mut [f64],
+    ) -> Result<(), Error>;
+
     /// The position-level sensitivities of `motion`, for synthesis:
     /// ∂q/∂p into `coordinates` as `[parameter][coordinate]` (zero for the
     /// drivers) and ∂r/∂p into `points` as `[parameter][point][component]`

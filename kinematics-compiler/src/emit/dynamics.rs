@@ -44,7 +44,11 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
         }
     };
     let constants = dy.constants();
-    let sched = schedule(g, std::slice::from_ref(&constants));
+    let mut roots = constants.clone();
+    if let Some(p) = &dy.partials {
+        roots.extend(&p.constants);
+    }
+    let sched = schedule(g, std::slice::from_ref(&roots));
     let (pr, lets) = bind(g, &sched, &leaf);
     let c = |id: Id| pr.element(id);
     let padded = |v: &[Id]| -> TokenStream {
@@ -97,7 +101,7 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
         }
         calls.push(quote!(.spring(#spring)));
     }
-    for load in &dy.loads {
+    for (index, load) in dy.loads.iter().enumerate() {
         // Each load its own straight line, from the instant.
         let sched = schedule(g, std::slice::from_ref(&load.value));
         let (lp, lets) = bind(g, &sched, &leaf);
@@ -115,6 +119,31 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
                 }
             }
         };
+        let partials = dy.partials.as_ref().and_then(|p| p.loads.get(index)).map(|roots| {
+            let sched = schedule(g, std::slice::from_ref(roots));
+            let (dp, lets) = bind(g, &sched, &leaf);
+            let m = load.value.len().max(1);
+            let stores: Vec<TokenStream> = roots
+                .iter()
+                .enumerate()
+                .filter(|(_, &id)| g.as_const(id) != Some(0.0))
+                .map(|(i, &id)| {
+                    let (x, slot) = (i / m, load.slot(i % m));
+                    let e = dp.element(id);
+                    quote!(out[#x][#slot] = #e;)
+                })
+                .collect();
+            let n = roots.len() / m;
+            quote! {
+                .load_partials(move |instant: &#dm::Instant<'_>, out: &mut [[f64; 3]]| {
+                    if out.len() < #n {
+                        return;
+                    }
+                    #(#lets)*
+                    #(#stores)*
+                })
+            }
+        });
         calls.push(match &load.target {
             LoadTarget::Point { point, body: None } => {
                 let f = closure(vector, quote!([f64; 3]));
@@ -137,6 +166,26 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
                 quote!(.coordinate_force(#coordinate, #f))
             }
         });
+        calls.extend(partials);
+    }
+    if let Some(p) = &dy.partials {
+        // The constants' partials, in the builder's layout.
+        let names: Vec<String> = p
+            .params
+            .iter()
+            .map(|&k| syn::ext::IdentExt::unraw(&cx.def.params[k as usize].name).to_string())
+            .collect();
+        let per = constants.len();
+        let design: Vec<TokenStream> = if per == 0 {
+            Vec::new()
+        } else {
+            p.constants
+                .chunks(per)
+                .flat_map(|chunk| dy.design_layout(chunk))
+                .map(|x| x.map_or_else(|| quote!(0.0), c))
+                .collect()
+        };
+        calls.push(quote!(.design_parameters(&[#(#names),*], &[#(#design),*])));
     }
     for j in &dy.joints {
         let (jn, point, [first, second]) = (&j.name, &j.point, &j.between);

@@ -274,6 +274,42 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
                 ::core::result::Result::Ok(())
             }
 
+            fn motion_sensitivities_into(
+                &self,
+                motion: &#motion,
+                coordinates: &mut [f64],
+                points: &mut [f64],
+            ) -> #pp::Result<(), #pp::Error> {
+                let all = self.sensitivities(motion)?;
+                let (mut i, mut j) = (0usize, 0usize);
+                for one in all.to_array() {
+                    for c in [&one.q, &one.qd, &one.qdd] {
+                        let mut k = 0usize;
+                        while let ::core::option::Option::Some(v) = #pp::Coordinates::get(c, k) {
+                            if let ::core::option::Option::Some(o) = coordinates.get_mut(i) {
+                                *o = v;
+                            }
+                            i += 1;
+                            k += 1;
+                        }
+                    }
+                    for p in &one.points {
+                        for v in p
+                            .position
+                            .iter()
+                            .chain(p.velocity.iter())
+                            .chain(p.acceleration.iter())
+                        {
+                            if let ::core::option::Option::Some(o) = points.get_mut(j) {
+                                *o = *v;
+                            }
+                            j += 1;
+                        }
+                    }
+                }
+                ::core::result::Result::Ok(())
+            }
+
             fn position_sensitivities_into(
                 &self,
                 motion: &#motion,

@@ -85,6 +85,7 @@
 mod cycle;
 mod evaluate;
 mod joints;
+mod sensitivity;
 
 use alloc::boxed::Box;
 use alloc::format;
@@ -97,6 +98,7 @@ use nalgebra::{Matrix3, Vector3};
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
 pub use joints::{Axis, Joint, JointReaction, Reactions, GROUND};
+pub use sensitivity::EffortSensitivity;
 
 use crate::error::Error;
 use crate::mechanism::{Kind, Mechanism, Role};
@@ -108,6 +110,46 @@ type VectorLoad = Box<dyn Fn(&Instant<'_>) -> [f64; 3] + Send + Sync>;
 /// A scalar load on one coordinate: a force along a length, a torque about
 /// an angle.
 type ScalarLoad = Box<dyn Fn(&Instant<'_>) -> f64 + Send + Sync>;
+/// The partial derivatives of a load ([`DynamicsBuilder::load_partials`]).
+type LoadPartials = Box<dyn Fn(&Instant<'_>, &mut [[f64; 3]]) + Send + Sync>;
+
+/// The partial derivatives of the loads, where given: one entry per load
+/// of each kind, in the order the loads were added.
+#[derive(Default)]
+struct PartialsOfLoads {
+    forces: Vec<Option<LoadPartials>>,
+    torques: Vec<Option<LoadPartials>>,
+    coordinate_forces: Vec<Option<LoadPartials>>,
+    /// The kind of the load added last.
+    last: Option<LoadKind>,
+    /// Whether partials were given before any load.
+    orphan: bool,
+}
+
+/// The three kinds of load.
+#[derive(Clone, Copy)]
+enum LoadKind {
+    Force,
+    Torque,
+    Coordinate,
+}
+
+impl PartialsOfLoads {
+    /// Room for the partials of a load of kind `kind` just added.
+    fn add(&mut self, kind: LoadKind) {
+        self.of(kind).push(None);
+        self.last = Some(kind);
+    }
+
+    /// The partials of the loads of kind `kind`.
+    fn of(&mut self, kind: LoadKind) -> &mut Vec<Option<LoadPartials>> {
+        match kind {
+            LoadKind::Force => &mut self.forces,
+            LoadKind::Torque => &mut self.torques,
+            LoadKind::Coordinate => &mut self.coordinate_forces,
+        }
+    }
+}
 
 /// How a body turns.
 #[derive(Clone, Debug, PartialEq)]
@@ -285,6 +327,10 @@ pub struct DynamicsBuilder {
     torques: Vec<(String, VectorLoad)>,
     coordinate_forces: Vec<(String, ScalarLoad)>,
     springs: Vec<Spring>,
+    /// The design parameters and the constants' partial derivatives
+    /// ([`DynamicsBuilder::design_parameters`]).
+    design: Option<(Vec<String>, Vec<f64>)>,
+    load_partials: PartialsOfLoads,
 }
 
 impl fmt::Debug for DynamicsBuilder {
@@ -298,7 +344,8 @@ impl fmt::Debug for DynamicsBuilder {
             .field("coordinate forces on", &names_of(&self.coordinate_forces))
             .field("springs", &self.springs)
             .field("joints", &self.joints)
-            .finish()
+            .field("design parameters", &self.design.as_ref().map(|d| &d.0))
+            .finish_non_exhaustive()
     }
 }
 
@@ -325,6 +372,8 @@ impl DynamicsBuilder {
             torques: Vec::new(),
             coordinate_forces: Vec::new(),
             springs: Vec::new(),
+            design: None,
+            load_partials: PartialsOfLoads::default(),
         }
     }
 
@@ -353,6 +402,7 @@ impl DynamicsBuilder {
         force: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
     ) -> Self {
         self.forces.push((point.to_string(), None, Box::new(force)));
+        self.load_partials.add(LoadKind::Force);
         self
     }
 
@@ -369,6 +419,7 @@ impl DynamicsBuilder {
     ) -> Self {
         self.forces
             .push((point.to_string(), Some(body.to_string()), Box::new(force)));
+        self.load_partials.add(LoadKind::Force);
         self
     }
 
@@ -389,6 +440,7 @@ impl DynamicsBuilder {
         torque: impl Fn(&Instant<'_>) -> [f64; 3] + Send + Sync + 'static,
     ) -> Self {
         self.torques.push((body.to_string(), Box::new(torque)));
+        self.load_partials.add(LoadKind::Torque);
         self
     }
 
@@ -404,6 +456,7 @@ impl DynamicsBuilder {
     ) -> Self {
         self.coordinate_forces
             .push((coordinate.to_string(), Box::new(force)));
+        self.load_partials.add(LoadKind::Coordinate);
         self
     }
 
@@ -411,6 +464,89 @@ impl DynamicsBuilder {
     #[must_use]
     pub fn spring(mut self, spring: Spring) -> Self {
         self.springs.push(spring);
+        self
+    }
+
+    /// The design parameters p_0 … p_{K−1} the efforts' sensitivities are
+    /// taken with respect to ([`Dynamics::effort_sensitivities`]), in the
+    /// order of the mechanism's `sensitivities` section, and how this
+    /// description's constants change with each: `constants` holds, for
+    /// each parameter in turn, ∂/∂p_k of
+    ///
+    /// * gravity's three components;
+    /// * for each body in the order given: its mass, the coefficient of
+    ///   each term of its angle (in the order of [`Body::angle_sum`]'s
+    ///   terms; none for a body turning with a frame or not at all), and
+    ///   the nine entries of its inertia row by row (a planar moment of
+    ///   inertia is the entry (2, 2));
+    /// * for each spring in the order given: its stiffness, free length
+    ///   and damping.
+    ///
+    /// An empty `constants` says that no constant depends on the
+    /// parameters. A definition with `bodies` and `sensitivities` sections
+    /// declares both itself (its `dynamics_builder`); a description written
+    /// in Rust whose masses are numbers needs only the names, or nothing
+    /// when the mechanism's `sensitivities` section is meant.
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics};
+    /// // A crank of mass m = 2 kg whose moment of inertia depends on the
+    /// // design parameter `a` as J = m a²/3: ∂J/∂a = 2 m a / 3.
+    /// let a = 0.1;
+    /// let b = Dynamics::builder()
+    ///     .body(Body::new("crank", 2.0).center("G").angle("phi").inertia(2.0 * a * a / 3.0))
+    ///     .design_parameters(&["a"], &{
+    ///         let mut d = [0.0; 3 + 1 + 1 + 9];
+    ///         d[3 + 1 + 1 + 8] = 4.0 * a / 3.0;
+    ///         d
+    ///     });
+    /// # let _ = b;
+    /// ```
+    #[must_use]
+    pub fn design_parameters(mut self, parameters: &[&str], constants: &[f64]) -> Self {
+        self.design = Some((
+            parameters.iter().map(|p| p.to_string()).collect(),
+            constants.to_vec(),
+        ));
+        self
+    }
+
+    /// The partial derivatives of the load added last (by
+    /// [`Self::force`], [`Self::force_on`], [`Self::torque`] or
+    /// [`Self::coordinate_force`]), for the efforts' sensitivities: the
+    /// function writes, for each variable x in turn, ∂(load)/∂x into
+    /// `out[x]`, over the K design parameters
+    /// ([`Self::design_parameters`], or the mechanism's `sensitivities`
+    /// section), then q_0 … q_{n−1}, then q̇_0 …, then q̈_0 … (`out` has
+    /// K + 3n entries): a force's or torque's three components as the
+    /// load gives them, a force on a coordinate in entry 0. These are the
+    /// load's explicit dependences; one that reads the instant's
+    /// `position` or `velocity` includes their derivatives through the
+    /// coordinates. Without them, [`Dynamics::effort_sensitivities`]
+    /// reports the load as not differentiable.
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::Dynamics;
+    /// // A damper on the second coordinate, −c q̇₁ with c = 40: its only
+    /// // partial is ∂/∂q̇₁ = −40, at x = K + n + 1 (here K = 1, n = 2).
+    /// let b = Dynamics::builder()
+    ///     .coordinate_force("x", |s| -40.0 * s.qd(1))
+    ///     .load_partials(|_, out| out[1 + 2 + 1][0] = -40.0);
+    /// # let _ = b;
+    /// ```
+    #[must_use]
+    pub fn load_partials(
+        mut self,
+        partials: impl Fn(&Instant<'_>, &mut [[f64; 3]]) + Send + Sync + 'static,
+    ) -> Self {
+        match self.load_partials.last {
+            Some(kind) => {
+                if let Some(slot) = self.load_partials.of(kind).last_mut() {
+                    *slot = Some(Box::new(partials));
+                }
+            }
+            None => self.load_partials.orphan = true,
+        }
         self
     }
 
@@ -609,6 +745,23 @@ impl DynamicsBuilder {
                 bodies,
             });
         }
+        if self.load_partials.orphan {
+            return Err(invalid(
+                "load partials".to_string(),
+                "`load_partials` was called before any load was added: call it after the \
+                 `force`, `torque` or `coordinate_force` it differentiates"
+                    .to_string(),
+            ));
+        }
+        let design = match self.design {
+            None => None,
+            Some((parameters, constants)) => Some(Design::new(
+                parameters,
+                &constants,
+                &bodies,
+                springs.len(),
+            )?),
+        };
         Ok(Dynamics {
             drivers: names
                 .coordinates
@@ -626,6 +779,8 @@ impl DynamicsBuilder {
             coordinate_forces,
             springs,
             joints,
+            design,
+            load_partials: self.load_partials,
         })
     }
 }
@@ -690,6 +845,97 @@ pub struct Dynamics {
     coordinate_forces: Vec<(usize, ScalarLoad)>,
     springs: Vec<ResolvedSpring>,
     joints: Vec<joints::ResolvedJoint>,
+    /// The design parameters and the constants' partials, where declared.
+    design: Option<Design>,
+    load_partials: PartialsOfLoads,
+}
+
+/// The design parameters of a description and its constants' partial
+/// derivatives ([`DynamicsBuilder::design_parameters`]).
+#[derive(Clone, Debug, PartialEq)]
+struct Design {
+    parameters: Vec<String>,
+    /// One per parameter (empty: no constant depends on them).
+    constants: Vec<ConstantPartials>,
+}
+
+/// ∂/∂p of a description's constants, for one parameter p.
+#[derive(Clone, Debug, PartialEq)]
+struct ConstantPartials {
+    gravity: Vector3<f64>,
+    /// Per body: ∂m, ∂c_j of its angle's terms, ∂J (in the body's axes).
+    bodies: Vec<(f64, Vec<f64>, Matrix3<f64>)>,
+    /// Per spring: ∂k, ∂L₀, ∂c.
+    springs: Vec<[f64; 3]>,
+}
+
+impl Design {
+    /// The design of `parameters` with the flat partials `constants`
+    /// (laid out as [`DynamicsBuilder::design_parameters`] says) for
+    /// `bodies` and `springs` springs.
+    fn new(
+        parameters: Vec<String>,
+        constants: &[f64],
+        bodies: &[ResolvedBody],
+        springs: usize,
+    ) -> Result<Self, Error> {
+        let terms = |b: &ResolvedBody| match &b.turning {
+            Turns::Angle(t) => t.len(),
+            _ => 0,
+        };
+        let per: usize = 3 + bodies.iter().map(|b| 1 + terms(b) + 9).sum::<usize>() + 3 * springs;
+        if !constants.is_empty() && constants.len() != per * parameters.len() {
+            return Err(Error::InvalidDynamics {
+                item: "design parameters".to_string(),
+                detail: format!(
+                    "{} partial derivatives of the constants were given for {} parameters; \
+                     this description has {per} constants per parameter (gravity 3, each body \
+                     1 + its angle's terms + 9, each spring 3)",
+                    constants.len(),
+                    parameters.len()
+                ),
+            });
+        }
+        if let Some(v) = constants.iter().find(|v| !v.is_finite()) {
+            return Err(Error::InvalidDynamics {
+                item: "design parameters".to_string(),
+                detail: format!("a partial derivative of the constants is {v}; it must be finite"),
+            });
+        }
+        let constants = constants
+            .chunks(per)
+            .map(|c| {
+                let mut next = c.iter().copied();
+                let mut take = || next.next().unwrap_or(0.0);
+                let gravity = Vector3::new(take(), take(), take());
+                let bodies = bodies
+                    .iter()
+                    .map(|b| {
+                        let mass = take();
+                        let angle = (0..terms(b)).map(|_| take()).collect();
+                        let inertia = Matrix3::from_fn(|_, _| 0.0);
+                        let mut inertia = inertia;
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                inertia[(i, j)] = take();
+                            }
+                        }
+                        (mass, angle, inertia)
+                    })
+                    .collect();
+                let springs = (0..springs).map(|_| [take(), take(), take()]).collect();
+                ConstantPartials {
+                    gravity,
+                    bodies,
+                    springs,
+                }
+            })
+            .collect();
+        Ok(Design {
+            parameters,
+            constants,
+        })
+    }
 }
 
 impl fmt::Debug for Dynamics {

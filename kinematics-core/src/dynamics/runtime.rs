@@ -11,12 +11,14 @@ use alloc::vec::Vec;
 use nalgebra::Vector3;
 
 use super::evaluate::{View, WithUnit};
+use super::sensitivity::Tangent;
 use super::{
-    Dynamics, DynamicsBuilder, ForceSample, ForceSweep, Forces, MassSensitivity, Names, Reactions,
+    Dynamics, DynamicsBuilder, EffortSensitivity, ForceSample, ForceSweep, Forces,
+    MassSensitivity, Names, Reactions,
 };
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
-use crate::runtime::{Model, Motion, Sample, Sweep};
+use crate::runtime::{Model, Motion, Sample, Sensitivity, Sweep};
 
 impl DynamicsBuilder {
     /// Resolves the names against the run-time model `model`, with the
@@ -120,6 +122,88 @@ impl Dynamics {
             &mut unit_analyses(model, &motion.q, self.drivers),
         )
     }
+}
+
+impl Dynamics {
+    /// [`Dynamics::effort_sensitivities`] for a model defined at run
+    /// time: how each driver's effort at `motion`, a motion of `model`,
+    /// changes with each parameter of its `sensitivities` section (empty
+    /// without one), from [`Model::sensitivities`] of the motion and of
+    /// each unit-rate analysis.
+    ///
+    /// ```
+    /// use kinematics_core::runtime::Model;
+    /// let m = Model::compile(
+    ///     "struct Crank {
+    ///          params   { a, m }
+    ///          drivers  { phi }
+    ///          unknowns { }
+    ///          points   { G = polar(a, phi); }
+    ///          bodies   { crank(mass = m, center = G, angle = phi); }
+    ///          loads    { gravity(vec2(0.0, -9.81)); }
+    ///          sensitivities { a, m }
+    ///      }",
+    /// )?
+    /// .with_values(&[0.1, 2.0])?;
+    /// // Q = m g a cos φ at constant speed: ∂Q/∂a = m g cos φ.
+    /// let motion = m.analyze(&[0.3], &[4.0], &[0.0])?;
+    /// let s = m.dynamics()?.effort_sensitivities_of(&m, &motion)?;
+    /// assert!((s[0].effort[0] - 2.0 * 9.81 * 0.3f64.cos()).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Dynamics::effort_sensitivities`] and [`Model::sensitivities`].
+    pub fn effort_sensitivities_of(
+        &self,
+        model: &Model,
+        motion: &Motion,
+    ) -> Result<Vec<EffortSensitivity>, Error> {
+        self.fits_model(model)?;
+        let names: Vec<&str> = model
+            .sensitivity_parameters()
+            .iter()
+            .map(|n| n.as_ref())
+            .collect();
+        let ds = tangents(&model.sensitivities(motion)?);
+        let mut rates = vec![0.0; self.drivers];
+        let zeros = vec![0.0; self.drivers];
+        self.effort_partials(&names, &RunTime(motion), &ds, &mut |d, with| {
+            rates
+                .iter_mut()
+                .enumerate()
+                .for_each(|(i, x)| *x = if i == d { 1.0 } else { 0.0 });
+            let u = model.analyze(&motion.q, &rates, &zeros)?;
+            with(&RunTime(&u), &tangents(&model.sensitivities(&u)?));
+            Ok(())
+        })
+    }
+}
+
+/// The tangents of a run-time model's sensitivities, one per parameter.
+fn tangents(s: &[Sensitivity]) -> Vec<Tangent> {
+    s.iter()
+        .map(|s| Tangent {
+            coordinates: s
+                .q
+                .iter()
+                .zip(&s.qd)
+                .zip(&s.qdd)
+                .map(|((q, qd), qdd)| [*q, *qd, *qdd])
+                .collect(),
+            points: s
+                .points
+                .iter()
+                .map(|p| {
+                    [
+                        super::evaluate::padded(&p.position),
+                        super::evaluate::padded(&p.velocity),
+                        super::evaluate::padded(&p.acceleration),
+                    ]
+                })
+                .collect(),
+        })
+        .collect()
 }
 
 /// The unit analyses of `model` at `pose`, as the generated mechanisms'
@@ -245,7 +329,9 @@ impl Dynamics {
 /// The `bodies` and `loads` sections of a run-time model's definition,
 /// compiled: stage 0 gives the constants
 /// ([`kinematics_compiler::dynamics::Dynamics::constants`]), stage 1 + k
-/// the value of load k.
+/// the value of load k; with a `sensitivities` section, stage 1 + L (L
+/// loads) the constants' partials and stage 2 + L + k load k's
+/// ([`kinematics_compiler::dynamics::Partials`]).
 pub(crate) struct SectionCode {
     sections: kinematics_compiler::dynamics::Dynamics,
     program: kinematics_jit::Program,
@@ -263,6 +349,12 @@ impl SectionCode {
         let constants = sections.constants();
         let mut stages: Vec<&[kinematics_compiler::ir::Id]> = vec![&constants];
         stages.extend(sections.loads.iter().map(|l| l.value.as_slice()));
+        // With a `sensitivities` section: the constants' partials, then
+        // each load's.
+        if let Some(p) = &sections.partials {
+            stages.push(&p.constants);
+            stages.extend(p.loads.iter().map(Vec::as_slice));
+        }
         let coordinates = c.coordinates().len();
         let program = kinematics_jit::Program::new(
             c.graph(),
@@ -395,11 +487,11 @@ impl Model {
             b = b.spring(spring);
         }
         for (k, load) in d.loads.iter().enumerate() {
-            let (code, values) = (Arc::clone(shared), values.clone());
+            let (code, at) = (Arc::clone(shared), values.clone());
             let vector = move |i: &super::Instant<'_>| -> [f64; 3] {
                 let mut out = [0.0; 3];
                 let n = code.program.outputs(k + 1).min(3);
-                code.eval(k + 1, &values, Some(i), &mut out[..n]);
+                code.eval(k + 1, &at, Some(i), &mut out[..n]);
                 match n {
                     1 => [0.0, 0.0, out[0]],
                     _ => out,
@@ -416,6 +508,39 @@ impl Model {
                     b.coordinate_force(coordinate, move |i| vector(i)[2])
                 }
             };
+            if d.partials.is_some() {
+                let (code, values) = (Arc::clone(shared), values.clone());
+                let stage = d.loads.len() + 2 + k;
+                let load = load.clone();
+                b = b.load_partials(move |i, out| {
+                    let m = load.value.len();
+                    let mut flat = vec![0.0; code.program.outputs(stage)];
+                    code.eval(stage, &values, Some(i), &mut flat);
+                    for (x, o) in out.iter_mut().enumerate() {
+                        *o = [0.0; 3];
+                        for c in 0..m {
+                            o[load.slot(c)] = flat.get(x * m + c).copied().unwrap_or(f64::NAN);
+                        }
+                    }
+                });
+            }
+        }
+        if d.partials.is_some() {
+            let stage = d.loads.len() + 1;
+            let mut flat = vec![0.0; code.program.outputs(stage)];
+            code.eval(stage, &values, None, &mut flat);
+            let per = constants.len().max(1);
+            let design: Vec<f64> = flat
+                .chunks(per)
+                .flat_map(|chunk| d.design_layout(chunk))
+                .map(|x| x.unwrap_or(0.0))
+                .collect();
+            let names: Vec<&str> = self
+                .sensitivity_parameters()
+                .iter()
+                .map(|n| n.as_ref())
+                .collect();
+            b = b.design_parameters(&names, if constants.is_empty() { &[] } else { &design });
         }
         for j in &d.joints {
             let (name, point, [first, second]) = (&j.name, &j.point, &j.between);
