@@ -292,5 +292,6 @@ kinematics_core::mechanism! {
             /// The cylinder, its axis from the parameters.
             cylinder(prismatic, C, between = (ground, piston), axis = vec2(a / b, 0.0), coordinate = x);
         }
+        sensitivities { a, m, c }
     }
 }

@@ -119,31 +119,35 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
                 }
             }
         };
-        let partials = dy.partials.as_ref().and_then(|p| p.loads.get(index)).map(|roots| {
-            let sched = schedule(g, std::slice::from_ref(roots));
-            let (dp, lets) = bind(g, &sched, &leaf);
-            let m = load.value.len().max(1);
-            let stores: Vec<TokenStream> = roots
-                .iter()
-                .enumerate()
-                .filter(|(_, &id)| g.as_const(id) != Some(0.0))
-                .map(|(i, &id)| {
-                    let (x, slot) = (i / m, load.slot(i % m));
-                    let e = dp.element(id);
-                    quote!(out[#x][#slot] = #e;)
-                })
-                .collect();
-            let n = roots.len() / m;
-            quote! {
-                .load_partials(move |instant: &#dm::Instant<'_>, out: &mut [[f64; 3]]| {
-                    if out.len() < #n {
-                        return;
-                    }
-                    #(#lets)*
-                    #(#stores)*
-                })
-            }
-        });
+        let partials = dy
+            .partials
+            .as_ref()
+            .and_then(|p| p.loads.get(index))
+            .map(|roots| {
+                let sched = schedule(g, std::slice::from_ref(roots));
+                let (dp, lets) = bind(g, &sched, &leaf);
+                let m = load.value.len().max(1);
+                let stores: Vec<TokenStream> = roots
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &id)| g.as_const(id) != Some(0.0))
+                    .map(|(i, &id)| {
+                        let (x, slot) = (i / m, load.slot(i % m));
+                        let e = dp.element(id);
+                        quote!(out[#x][#slot] = #e;)
+                    })
+                    .collect();
+                let n = roots.len() / m;
+                quote! {
+                    .load_partials(move |instant: &#dm::Instant<'_>, out: &mut [[f64; 3]]| {
+                        if out.len() < #n {
+                            return;
+                        }
+                        #(#lets)*
+                        #(#stores)*
+                    })
+                }
+            });
         calls.push(match &load.target {
             LoadTarget::Point { point, body: None } => {
                 let f = closure(vector, quote!([f64; 3]));

@@ -623,7 +623,11 @@ impl ResolvedSpring {
 
 /// An error for the load `what` number `i` when a component is not
 /// finite.
-pub(super) fn finite_load(values: impl IntoIterator<Item = f64>, what: &str, i: usize) -> Result<(), Error> {
+pub(super) fn finite_load(
+    values: impl IntoIterator<Item = f64>,
+    what: &str,
+    i: usize,
+) -> Result<(), Error> {
     for v in values {
         if !v.is_finite() {
             return Err(Error::InvalidDynamics {

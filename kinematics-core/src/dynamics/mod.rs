@@ -755,12 +755,9 @@ impl DynamicsBuilder {
         }
         let design = match self.design {
             None => None,
-            Some((parameters, constants)) => Some(Design::new(
-                parameters,
-                &constants,
-                &bodies,
-                springs.len(),
-            )?),
+            Some((parameters, constants)) => {
+                Some(Design::new(parameters, &constants, &bodies, springs.len())?)
+            }
         };
         Ok(Dynamics {
             drivers: names

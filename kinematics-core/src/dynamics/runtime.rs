@@ -13,8 +13,8 @@ use nalgebra::Vector3;
 use super::evaluate::{View, WithUnit};
 use super::sensitivity::Tangent;
 use super::{
-    Dynamics, DynamicsBuilder, EffortSensitivity, ForceSample, ForceSweep, Forces,
-    MassSensitivity, Names, Reactions,
+    Dynamics, DynamicsBuilder, EffortSensitivity, ForceSample, ForceSweep, Forces, MassSensitivity,
+    Names, Reactions,
 };
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};

@@ -97,9 +97,8 @@ impl Tangent {
                     .map(|i| {
                         let base = (p * np + i) * 3 * dim;
                         let v = |w: usize| {
-                            let c: Vec<f64> = (0..dim)
-                                .map(|c| at(points, base + w * dim + c))
-                                .collect();
+                            let c: Vec<f64> =
+                                (0..dim).map(|c| at(points, base + w * dim + c)).collect();
                             padded(&c)
                         };
                         [v(0), v(1), v(2)]
@@ -124,11 +123,21 @@ impl Dynamics {
     /// How each driver's effort at `motion` changes with each parameter
     /// of the mechanism's `sensitivities` section, the drivers' motion
     /// (d, d', d'') held ([`EffortSensitivity`], in the section's order):
-    /// the exact derivative of [`Dynamics::inverse`]'s efforts (see the
-    /// [module](self) for the formulas), from the motion's sensitivities
-    /// and those of one unit-rate analysis per driver. What a link
-    /// length, a counterweight or a spring changes in the driving torque,
-    /// for design by gradient.
+    /// the exact derivative of [`Dynamics::inverse`]'s efforts, from the
+    /// motion's sensitivities and those of one unit-rate analysis per
+    /// driver. What a link length, a counterweight or a spring changes in
+    /// the driving torque, for design by gradient.
+    ///
+    /// Every term of the virtual-power sum is differentiated by the
+    /// product rule: for a body, ∂m (a_G − g) · v_G^k + m (∂a_G − ∂g) ·
+    /// v_G^k + m (a_G − g) · ∂v_G^k + (∂J α + J ∂α) ω^k + J α ∂ω^k, where
+    /// v_G^k and ω^k are the unit-rate motion's and ∂v_G^k, ∂ω^k its
+    /// sensitivities, α = Σ c_j q̈_j and ω^k = Σ c_j q̇_j^k for a planar
+    /// body's angle Σ c_j q_j; for a load F(p, q, q', q''), ∂F = F_p +
+    /// F_q ∂q + F_q' ∂q' + F_q'' ∂q''; for a spring of length L = |r_B −
+    /// r_A| along e, ∂L = e · ∂(r_B − r_A), ∂e = (∂(r_B − r_A) − e ∂L)/L
+    /// and ∂f = ∂k (L − L₀) + k (∂L − ∂L₀) + ∂c e · Δv + c (∂e · Δv + e ·
+    /// ∂Δv).
     ///
     /// The constants (masses, inertias, gravity, springs) change with the
     /// parameters as [`DynamicsBuilder::design_parameters`] says (a
@@ -193,17 +202,15 @@ impl Dynamics {
         let pose = motion.q();
         let mut rates = vec![0.0; self.drivers];
         let zeros = vec![0.0; self.drivers];
-        self.effort_partials(
-            M::PARAMETERS,
-            &Generated(motion),
-            &ds,
-            &mut |d, with| {
-                rates.iter_mut().enumerate().for_each(|(i, r)| *r = f64::from(u8::from(i == d)));
-                let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
-                with(&Generated(&u), &tangents(&u)?);
-                Ok(())
-            },
-        )
+        self.effort_partials(M::PARAMETERS, &Generated(motion), &ds, &mut |d, with| {
+            rates
+                .iter_mut()
+                .enumerate()
+                .for_each(|(i, r)| *r = f64::from(u8::from(i == d)));
+            let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
+            with(&Generated(&u), &tangents(&u)?);
+            Ok(())
+        })
     }
 
     /// ∂Q_k/∂p_i at the motion `s` with tangents `ds` (one per parameter
@@ -360,7 +367,11 @@ impl Dynamics {
             return Ok(None);
         };
         if design.parameters.len() != parameters.len()
-            || design.parameters.iter().zip(parameters).any(|(a, b)| a != b)
+            || design
+                .parameters
+                .iter()
+                .zip(parameters)
+                .any(|(a, b)| a != b)
         {
             return Err(Error::InvalidDynamics {
                 item: "design parameters".to_string(),
@@ -404,10 +415,7 @@ impl Dynamics {
             .zip(&self.load_partials.coordinate_forces)
         {
             if d.is_none() {
-                return Err(missing(format!(
-                    "the force on coordinate number {}",
-                    j + 1
-                )));
+                return Err(missing(format!("the force on coordinate number {}", j + 1)));
             }
         }
         let spinning = |b: &super::ResolvedBody| matches!(b.turning, Turns::Frame(_));
@@ -446,19 +454,22 @@ impl Dynamics {
         // ω_z and its tangent of a planar body's angle Σ c_j q_j, from the
         // coordinates' rates (w = 1) or accelerations (w = 2) of `x` and
         // `dx`, with the coefficients' partials `dc`.
-        let turning = |terms: &[(usize, f64)], dc: &[f64], x: &dyn View, dx: &dyn View, w: usize| {
-            let (mut value, mut tangent) = (0.0, 0.0);
-            for (n, &(j, cj)) in terms.iter().enumerate() {
-                let (v, dv) = (x.coordinate(j)[w], dx.coordinate(j)[w]);
-                value += cj * v;
-                tangent += dc.get(n).copied().unwrap_or(0.0) * v + cj * dv;
-            }
-            (value, tangent)
-        };
+        let turning =
+            |terms: &[(usize, f64)], dc: &[f64], x: &dyn View, dx: &dyn View, w: usize| {
+                let (mut value, mut tangent) = (0.0, 0.0);
+                for (n, &(j, cj)) in terms.iter().enumerate() {
+                    let (v, dv) = (x.coordinate(j)[w], dx.coordinate(j)[w]);
+                    value += cj * v;
+                    tangent += dc.get(n).copied().unwrap_or(0.0) * v + cj * dv;
+                }
+                (value, tangent)
+            };
         for (b_index, b) in self.bodies.iter().enumerate() {
             let (dm, dc, dj): (f64, &[f64], Matrix3<f64>) = c
                 .and_then(|c| c.bodies.get(b_index))
-                .map_or((0.0, &[], Matrix3::zeros()), |(m, a, j)| (*m, a.as_slice(), *j));
+                .map_or((0.0, &[], Matrix3::zeros()), |(m, a, j)| {
+                    (*m, a.as_slice(), *j)
+                });
             let [_, _, a] = s.point(b.center).unwrap_or(nan);
             let [_, _, da] = t.point(b.center).unwrap_or(nan);
             let (v, dv) = (velocity(u, b.center), velocity(ut, b.center));
