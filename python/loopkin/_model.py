@@ -729,6 +729,28 @@ class Mechanism(metaclass=MechanismType):
         drivers = self.driver_names()
         return {d["body"]: MassSensitivity(drivers, d) for d in out}
 
+    def effort_sensitivities(self, motion: Motion) -> Dict[str, Values]:
+        """How each driver's effort at a motion changes with each parameter
+        of the definition's ``sensitivities`` section, the drivers' motion
+        (angle, rate, acceleration) held: ∂Q_k/∂p by parameter, as
+        :class:`Values` by driver. Exact: the virtual-power sum of
+        :meth:`forces` differentiated by the product rule, with the
+        compiler's partial derivatives of the masses, inertias, gravity,
+        springs and loads. Empty without the section.
+
+        Raises:
+            InvalidDynamicsError: the definition has no ``bodies`` or
+                ``loads`` section, or a body turning with a frame has
+                inertia (only point masses are covered in spatial
+                mechanisms).
+        """
+        nd = self._native.drivers
+        out = self._m.effort_sensitivities(
+            list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd])
+        )
+        drivers = self.driver_names()
+        return {p: Values(drivers, _readonly(np.asarray(v))) for p, v in out.items()}
+
     def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
         """Design sensitivities of a motion of this design: for each
         parameter p of the definition's ``sensitivities`` section, ∂u/∂p

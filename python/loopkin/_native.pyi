@@ -57,6 +57,9 @@ class Model:
     def mass_sensitivities(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> List[Dict[str, Any]]: ...
+    def effort_sensitivities(
+        self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
+    ) -> Dict[str, Any]: ...
     def sensitivities(
         self, q: Sequence[float], rates: Sequence[float], accelerations: Sequence[float]
     ) -> Dict[str, Dict[str, Any]]: ...

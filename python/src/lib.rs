@@ -460,6 +460,27 @@ impl Model {
             .collect()
     }
 
+    /// How each driver's effort at the closed pose `q` with the drivers'
+    /// rates and accelerations changes with each parameter of the
+    /// `sensitivities` section, the drivers' motion held: a dict from each
+    /// parameter to ∂Q_k/∂p, one per driver.
+    fn effort_sensitivities<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        rates: Vec<f64>,
+        accelerations: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.at_motion(py, [&q, &rates, &accelerations], |d, m, motion| {
+            d.effort_sensitivities_of(m, motion)
+        })?;
+        let out = PyDict::new(py);
+        for p in s {
+            out.set_item(p.parameter, array(py, p.effort))?;
+        }
+        Ok(out)
+    }
+
     /// The design sensitivities at the closed pose `q` with the drivers'
     /// rates and accelerations: a dict from each parameter of the
     /// `sensitivities` section to a dict of ∂q/∂p, ∂q'/∂p, ∂q''/∂p and the

@@ -221,3 +221,52 @@ def test_mass_sensitivities_are_the_slopes_of_the_effort():
             assert abs(s[body].inertia["phi"] - slope(inertia, 1e-6)) <= 1e-6 * (1.0 + abs(slope(inertia, 1e-6)))
     # The rod's mass matters here: a test that can fail.
     assert abs(s["rod"].mass["phi"]) > 1e-3
+
+
+SENSED = """
+struct Sensed {
+    params   { a, b, r, m, k, c }
+    drivers  { phi }
+    unknowns { th, x }
+    points   { G = polar(r, phi); B = polar(a, phi); C = vec2(x, 0.0); D = vec2(0.0, 0.1); }
+    loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+    bodies   { crank(mass = m, center = G, angle = phi, inertia = m * r * r / 3.0); }
+    loads    {
+        gravity(vec2(0.0, -9.81));
+        force(x, -c * rate(x));
+        spring(D, B, stiffness = k, free_length = 0.01);
+    }
+    sensitivities { a, b, r, m, k }
+}
+"""
+
+
+def test_effort_sensitivities_are_the_slopes_between_designs():
+    """Each ∂Q/∂p equals the fourth-order central difference of the crank
+    torque between designs assembled at the same crank angle and analysed
+    at the same speed and acceleration (the lengths change the motion, the
+    mass and the spring's stiffness the loads)."""
+    Sensed = kin.compile(SENSED)
+    v = dict(a=0.05, b=0.2, r=0.03, m=1.5, k=400.0, c=2.0)
+    e = Sensed(**v)
+    for phi in (0.3, 2.0, 4.4):
+        pose = e.assemble(phi=phi, th=-0.1, x=0.24)
+        motion = e.analyze(pose, rate=W, acceleration=300.0)
+        s = e.effort_sensitivities(motion)
+        assert list(s) == ["a", "b", "r", "m", "k"]
+
+        def effort(name, step):
+            d = e.replace(**{name: v[name] + step})
+            m = d.analyze(d.assemble(phi=phi, th=pose["th"], x=pose["x"]), rate=W, acceleration=300.0)
+            return d.forces(m).effort["phi"]
+
+        for name, value in s.items():
+            h = 1e-3 * v[name]
+            slope = (-effort(name, 2 * h) + 8 * effort(name, h) - 8 * effort(name, -h) + effort(name, -2 * h)) / (12 * h)
+            assert abs(slope) > 1e-3, (name, slope)
+            assert abs(value["phi"] - slope) <= 1e-7 * abs(slope), (name, value["phi"], slope)
+
+
+def test_effort_sensitivities_without_the_section_are_empty(engine):
+    motion = engine.analyze(start(engine), rate=W)
+    assert engine.effort_sensitivities(motion) == {}

@@ -767,6 +767,16 @@ impl DynamicsBuilder {
                 .count(),
             coordinates: names.coordinates.len(),
             points: names.points.len(),
+            load_names: LoadNames {
+                forces: forces
+                    .iter()
+                    .map(|(p, _, _)| names.points[*p].clone())
+                    .collect(),
+                coordinate_forces: coordinate_forces
+                    .iter()
+                    .map(|(j, _)| coordinate_names[*j].clone())
+                    .collect(),
+            },
             frames: names.frames.len(),
             dim: names.dim,
             gravity: Vector3::from(self.gravity),
@@ -844,7 +854,17 @@ pub struct Dynamics {
     joints: Vec<joints::ResolvedJoint>,
     /// The design parameters and the constants' partials, where declared.
     design: Option<Design>,
+    /// The names of the points and coordinates the loads act on.
+    load_names: LoadNames,
     load_partials: PartialsOfLoads,
+}
+
+/// The names of the points the forces act at and of the coordinates the
+/// coordinate forces act on, in the order given, for messages.
+#[derive(Clone, Debug, PartialEq, Default)]
+struct LoadNames {
+    forces: Vec<String>,
+    coordinate_forces: Vec<String>,
 }
 
 /// The design parameters of a description and its constants' partial

@@ -223,12 +223,12 @@ impl Dynamics {
         ds: &[Tangent],
         unit: &mut dyn FnMut(usize, WithUnitTangents<'_>) -> Result<(), Error>,
     ) -> Result<Vec<EffortSensitivity>, Error> {
-        let constants = self.design_for(parameters)?;
-        self.differentiable()?;
         let k = parameters.len();
         if k == 0 {
             return Ok(Vec::new());
         }
+        let constants = self.design_for(parameters)?;
+        self.differentiable()?;
         let planar = self.dim == 2;
         let [q, qd, qdd] = self.coordinates_of(s);
         let instant = |at: Option<[Vector3<f64>; 3]>| {
@@ -398,10 +398,15 @@ impl Dynamics {
                      definition's `loads` section, which differentiates it"
                 .to_string(),
         };
-        for ((p, _, _), d) in self.forces.iter().zip(&self.load_partials.forces) {
-            if d.is_none() {
-                return Err(missing(format!("the force at point number {}", p + 1)));
-            }
+        let unknown = |names: &[String], partials: &[Option<LoadPartials>]| {
+            names
+                .iter()
+                .zip(partials)
+                .find(|(_, d)| d.is_none())
+                .map(|(n, _)| n.clone())
+        };
+        if let Some(p) = unknown(&self.load_names.forces, &self.load_partials.forces) {
+            return Err(missing(format!("the force at `{p}`")));
         }
         for ((b, _), d) in self.torques.iter().zip(&self.load_partials.torques) {
             if d.is_none() {
@@ -409,14 +414,11 @@ impl Dynamics {
                 return Err(missing(format!("the torque on `{name}`")));
             }
         }
-        for ((j, _), d) in self
-            .coordinate_forces
-            .iter()
-            .zip(&self.load_partials.coordinate_forces)
-        {
-            if d.is_none() {
-                return Err(missing(format!("the force on coordinate number {}", j + 1)));
-            }
+        if let Some(c) = unknown(
+            &self.load_names.coordinate_forces,
+            &self.load_partials.coordinate_forces,
+        ) {
+            return Err(missing(format!("the force on coordinate `{c}`")));
         }
         let spinning = |b: &super::ResolvedBody| matches!(b.turning, Turns::Frame(_));
         for (i, b) in self.bodies.iter().enumerate() {
