@@ -102,6 +102,11 @@ pub struct Partials {
     /// K + 3n variables x: p_0 … p_{K−1}, then q_0 … q_{n−1}, q̇_0 …,
     /// q̈_0 ….
     pub loads: Vec<Vec<Id>>,
+    /// For each frame a body turns with (by name, in the order of first
+    /// use), ∂/∂x of its rotation R (row by row), angular velocity ω and
+    /// angular acceleration α, flattened `[x][15]` over the same
+    /// variables.
+    pub frames: Vec<(String, Vec<Id>)>,
 }
 
 impl Dynamics {
@@ -180,8 +185,14 @@ impl Load {
 
 /// The partial derivatives of the sections `d` of `model` with respect to
 /// the parameters `params` (indices among the definition's parameters),
-/// in the layout of [`Partials`].
-pub fn partials(model: &mut Model, d: &Dynamics, params: &[u32]) -> Partials {
+/// in the layout of [`Partials`]; `frames` are the frames' names with
+/// their R (row by row), ω and α.
+pub fn partials(
+    model: &mut Model,
+    d: &Dynamics,
+    params: &[u32],
+    frames: &[(String, [Id; 15])],
+) -> Partials {
     let mut memo = Memo::new();
     let g = &mut model.graph;
     let constants = d.constants();
@@ -211,6 +222,24 @@ pub fn partials(model: &mut Model, d: &Dynamics, params: &[u32]) -> Partials {
             }
         }
         out.loads.push(one);
+    }
+    for b in &d.bodies {
+        let Turning::Frame(name) = &b.turning else {
+            continue;
+        };
+        if out.frames.iter().any(|(n, _)| n == name) {
+            continue;
+        }
+        let Some((_, roots)) = frames.iter().find(|(n, _)| n == name) else {
+            continue;
+        };
+        let mut one = Vec::with_capacity(variables.len() * 15);
+        for &x in &variables {
+            for &r in roots {
+                one.push(partial(g, r, x, &mut memo));
+            }
+        }
+        out.frames.push((name.clone(), one));
     }
     out
 }

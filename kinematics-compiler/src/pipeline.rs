@@ -379,7 +379,20 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
         sensitivity::partials(&mut model, &derived, &params)
     });
     if let (Some(d), Some(s)) = (dynamics.as_mut(), sensitivities.as_ref()) {
-        d.partials = Some(crate::dynamics::partials(&mut model, d, &s.params));
+        let frames: Vec<(String, [crate::ir::Id; 15])> = def
+            .frames
+            .iter()
+            .zip(&derived.frames)
+            .map(|(f, d)| {
+                let mut roots = [d.omega[0]; 15];
+                let all = d.rotation.iter().flatten().chain(&d.omega).chain(&d.alpha);
+                for (r, &id) in roots.iter_mut().zip(all) {
+                    *r = id;
+                }
+                (syn::ext::IdentExt::unraw(&f.name).to_string(), roots)
+            })
+            .collect();
+        d.partials = Some(crate::dynamics::partials(&mut model, d, &s.params, &frames));
     }
     Ok(Compiled {
         def,

@@ -740,9 +740,7 @@ class Mechanism(metaclass=MechanismType):
 
         Raises:
             InvalidDynamicsError: the definition has no ``bodies`` or
-                ``loads`` section, or a body turning with a frame has
-                inertia (only point masses are covered in spatial
-                mechanisms).
+                ``loads`` section.
         """
         nd = self._native.drivers
         out = self._m.effort_sensitivities(

@@ -67,12 +67,18 @@ const ENGINE: SensedEngine = SensedEngine {
 };
 
 mechanism! {
-    /// An RSSR whose links are point masses at their middles, under
-    /// gravity.
+    /// An RSSR under gravity: the crank and the rocker with inertia
+    /// tensors in the frames they turn with (the rocker's tilted about
+    /// its arm by the parameter `tilt`, the crank's scaled with its mass),
+    /// the coupler a point mass at its middle.
     pub struct SensedRssr {
-        params   { a, b, c, d, m2, m3, m4, g }
+        params   { a, b, c, d, m2, m3, m4, g, tilt }
         drivers  { phi }
         unknowns { psi }
+        frames {
+            crank = rot_y(-phi);
+            rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi) * rot_x(tilt);
+        }
         points {
             A = vec3(-a * cos(phi), 0.0, a * sin(phi));
             B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
@@ -82,12 +88,17 @@ mechanism! {
         }
         constraints { norm(B - A) == b; }
         bodies {
-            crank(mass = m2, center = G2);
+            crank(mass = m2, center = G2, frame = crank,
+                  inertia = [[m2 * 1.5e-4, 1e-5, 0.0], [1e-5, m2 * 5e-5, 5e-6], [0.0, 5e-6, m2 * 1.5e-4]]);
             coupler(mass = m3, center = G3);
-            rocker(mass = m4, center = G4);
+            rocker(mass = m4, center = G4, frame = rocker,
+                   inertia = [[2e-3, 2e-4, 0.0], [2e-4, 4e-3, 1e-4], [0.0, 1e-4, 5e-3]]);
         }
-        loads { gravity(vec3(0.0, -g, -2.0)); }
-        sensitivities { a, b, c, d, m3, g }
+        loads {
+            gravity(vec3(0.0, -g, -2.0));
+            torque(rocker, vec3(0.0, 0.0, -0.02 * c * rate(psi)));
+        }
+        sensitivities { a, b, c, d, m2, m3, g, tilt }
     }
 }
 
@@ -100,7 +111,40 @@ const RSSR: SensedRssr = SensedRssr {
     m3: 0.4,
     m4: 0.3,
     g: 9.81,
+    tilt: 0.3,
 };
+
+mechanism! {
+    /// Three links of an arm with inertia tensors: waist q1 about z,
+    /// shoulder q2 and elbow q3 about axes twisted by `tw` about the
+    /// upper arm, so that every frame's rotation, angular velocity and
+    /// acceleration depend on a parameter along moving axes.
+    pub struct SensedArm {
+        params   { d1, a2, a3, tw, m3, g }
+        drivers  { q1, q2, q3 }
+        unknowns { }
+        frames {
+            base = t3(0.0, 0.0, d1, q1);
+            upper = base * rot_x(tw) * t2(0.0, 0.0, 0.0, q2);
+            fore = upper * t2(a2, 0.0, 0.0, q3);
+        }
+        points {
+            G1 = base * vec3(0.0, 0.01, -d1 / 2.0);
+            G2 = upper * vec3(a2 / 2.0, 0.0, 0.01);
+            G3 = fore * vec3(a3 / 2.0, 0.005, 0.0);
+        }
+        bodies {
+            base(mass = 4.0, center = G1, frame = base,
+                 inertia = [[0.05, 0.002, 0.0], [0.002, 0.05, 0.001], [0.0, 0.001, 0.02]]);
+            upper(mass = 3.0, center = G2, frame = upper,
+                  inertia = [[0.01, 0.002, 0.0], [0.002, 0.07, 0.001], [0.0, 0.001, 0.07]]);
+            fore(mass = m3, center = G3, frame = fore,
+                 inertia = [[0.003 * m3, 0.002, 0.0], [0.002, m3 * a3 * a3 / 12.0, 0.001], [0.0, 0.001, m3 * a3 * a3 / 12.0]]);
+        }
+        loads { gravity(vec3(0.0, 0.0, -g)); }
+        sensitivities { a2, a3, tw, m3, g }
+    }
+}
 
 /// The text of this file's `mechanism!` of the mechanism `name`.
 fn text_of(name: &str) -> &'static str {
@@ -196,7 +240,8 @@ fn an_engines_torque_sensitivities_are_the_differences_between_designs(
     Ok(())
 }
 
-/// The RSSR's crank-torque sensitivities, generated and at run time,
+/// The RSSR's crank-torque sensitivities (inertia tensors turning with
+/// frames, a damping torque on the rocker), generated and at run time,
 /// against the central differences over 12 poses of a turn.
 #[test]
 fn an_rssrs_torque_sensitivities_are_the_differences_between_designs(
@@ -300,8 +345,8 @@ fn a_description_in_rust_gives_its_loads_partials() -> Result<(), Box<dyn std::e
 }
 
 /// What cannot be differentiated is an error that says why: a spatial
-/// body with inertia (its frame's sensitivities are not computed), and a
-/// description made for other design parameters.
+/// body with inertia described in Rust without its frame's partial
+/// derivatives, and a description made for other design parameters.
 #[test]
 fn what_cannot_be_differentiated_says_why() -> Result<(), Box<dyn std::error::Error>> {
     let m = Model::compile(
@@ -311,17 +356,23 @@ fn what_cannot_be_differentiated_says_why() -> Result<(), Box<dyn std::error::Er
              unknowns { }
              frames   { crank = rot_z(phi); }
              points   { G = vec3(a * cos(phi), a * sin(phi), 0.0); }
-             bodies   { crank(mass = 1.0, center = G, frame = crank,
-                              inertia = [[1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0], [0.0, 0.0, 2e-3]]); }
              sensitivities { a }
          }",
     )?
     .with_values(&[0.1])?;
     let motion = m.analyze(&[0.3], &[2.0], &[1.0])?;
-    match m.dynamics()?.effort_sensitivities_of(&m, &motion) {
+    let spun = Dynamics::builder()
+        .body(
+            Body::new("crank", 1.0)
+                .center("G")
+                .frame("crank")
+                .inertia_tensor([[1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0], [0.0, 0.0, 2e-3]]),
+        )
+        .build_for(&m)?;
+    match spun.effort_sensitivities_of(&m, &motion) {
         Err(Error::InvalidDynamics { item, detail }) => {
             assert_eq!(item, "body `crank`");
-            assert!(detail.contains("point masses"), "{detail}");
+            assert!(detail.contains("frame_partials"), "{detail}");
         }
         other => panic!("expected an error for the spinning body, got {other:?}"),
     }
@@ -346,6 +397,69 @@ fn what_cannot_be_differentiated_says_why() -> Result<(), Box<dyn std::error::Er
             assert!(detail.contains("with respect to [a]"), "{detail}");
         }
         other => panic!("expected an error for other parameters, got {other:?}"),
+    }
+    Ok(())
+}
+
+/// The arm's three joint torques' sensitivities, generated and at run
+/// time, against the central differences at three instants of a joint
+/// trajectory.
+#[test]
+fn an_arms_torque_sensitivities_are_the_differences_between_designs(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = SensedArm {
+        d1: 0.4,
+        a2: 0.5,
+        a3: 0.4,
+        tw: 0.2,
+        m3: 2.0,
+        g: 9.81,
+    };
+    let dynamics = m.dynamics()?;
+    let model = Model::compile(text_of("SensedArm"))?.with_values(&m.parameter_values())?;
+    let run_time = model.dynamics()?;
+    let names = <SensedArm as Sensitive>::PARAMETERS;
+    let mut worst = vec![0.0f64; names.len()];
+    let mut scale = vec![0.0f64; names.len()];
+    for t in [0.1, 0.4, 0.7] {
+        let q = SensedArmCoords {
+            q1: 0.3 + 1.2 * t,
+            q2: -0.4 + 0.8 * t * t,
+            q3: 0.9 - 1.5 * t + t * t * t,
+        };
+        let qd = [1.2, 1.6 * t, -1.5 + 3.0 * t * t];
+        let qdd = [0.5, 1.6, 6.0 * t];
+        let motion = m.step(&q, qd, qdd)?;
+        let s = dynamics.effort_sensitivities(&m, &motion)?;
+        let rm = model.analyze(&[q.q1, q.q2, q.q3], &qd, &qdd)?;
+        let rs = run_time.effort_sensitivities_of(&model, &rm)?;
+        for driver in 0..3 {
+            let effort = |d: &SensedArm, start: &SensedArmCoords| -> Result<f64, Error> {
+                let motion = d.step(start, qd, qdd)?;
+                let e = d.dynamics()?.inverse(d, &motion)?.effort;
+                Ok([e.q1, e.q2, e.q3][driver])
+            };
+            for i in 0..names.len() {
+                let fd = central_difference(&m, i, &q, &effort)?;
+                let e = s[i].effort[driver];
+                worst[i] = worst[i].max((e - fd).abs());
+                scale[i] = scale[i].max(fd.abs());
+                assert!(
+                    (rs[i].effort[driver] - e).abs() <= 1e-12 * e.abs().max(1.0),
+                    "run-time ∂Q/∂{}",
+                    names[i]
+                );
+            }
+        }
+    }
+    for (i, name) in names.iter().enumerate() {
+        assert!(scale[i] > 1e-3, "∂Q/∂{name} is {} at most", scale[i]);
+        assert!(
+            worst[i] <= 1e-7 * scale[i],
+            "∂Q/∂{name}: off by {} of {}",
+            worst[i],
+            scale[i]
+        );
     }
     Ok(())
 }

@@ -190,6 +190,30 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
                 .collect()
         };
         calls.push(quote!(.design_parameters(&[#(#names),*], &[#(#design),*])));
+        for (frame, roots) in &p.frames {
+            let sched = schedule(g, std::slice::from_ref(roots));
+            let (fp, lets) = bind(g, &sched, &leaf);
+            let stores: Vec<TokenStream> = roots
+                .iter()
+                .enumerate()
+                .filter(|(_, &id)| g.as_const(id) != Some(0.0))
+                .map(|(i, &id)| {
+                    let (x, c) = (i / 15, i % 15);
+                    let e = fp.element(id);
+                    quote!(out[#x][#c] = #e;)
+                })
+                .collect();
+            let n = roots.len() / 15;
+            calls.push(quote! {
+                .frame_partials(#frame, move |instant: &#dm::Instant<'_>, out: &mut [[f64; 15]]| {
+                    if out.len() < #n {
+                        return;
+                    }
+                    #(#lets)*
+                    #(#stores)*
+                })
+            });
+        }
     }
     for j in &dy.joints {
         let (jn, point, [first, second]) = (&j.name, &j.point, &j.between);

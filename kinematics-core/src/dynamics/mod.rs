@@ -112,6 +112,9 @@ type VectorLoad = Box<dyn Fn(&Instant<'_>) -> [f64; 3] + Send + Sync>;
 type ScalarLoad = Box<dyn Fn(&Instant<'_>) -> f64 + Send + Sync>;
 /// The partial derivatives of a load ([`DynamicsBuilder::load_partials`]).
 type LoadPartials = Box<dyn Fn(&Instant<'_>, &mut [[f64; 3]]) + Send + Sync>;
+/// The partial derivatives of a frame's R, ω and α
+/// ([`DynamicsBuilder::frame_partials`]).
+type FramePartials = Box<dyn Fn(&Instant<'_>, &mut [[f64; 15]]) + Send + Sync>;
 
 /// The partial derivatives of the loads, where given: one entry per load
 /// of each kind, in the order the loads were added.
@@ -331,6 +334,7 @@ pub struct DynamicsBuilder {
     /// ([`DynamicsBuilder::design_parameters`]).
     design: Option<(Vec<String>, Vec<f64>)>,
     load_partials: PartialsOfLoads,
+    frame_partials: Vec<(String, FramePartials)>,
 }
 
 impl fmt::Debug for DynamicsBuilder {
@@ -374,6 +378,7 @@ impl DynamicsBuilder {
             springs: Vec::new(),
             design: None,
             load_partials: PartialsOfLoads::default(),
+            frame_partials: Vec::new(),
         }
     }
 
@@ -547,6 +552,26 @@ impl DynamicsBuilder {
             }
             None => self.load_partials.orphan = true,
         }
+        self
+    }
+
+    /// The partial derivatives of the frame `frame`'s rotation R, angular
+    /// velocity ω and angular acceleration α, for the efforts'
+    /// sensitivities of the spatial bodies that turn with it and have
+    /// inertia or a torque: the function writes, for each variable x of
+    /// [`Self::load_partials`] in turn (the K design parameters, then q,
+    /// q̇, q̈), ∂/∂x of R's nine entries row by row, then ω's three, then
+    /// α's three, into `out[x]`, at the coordinates, rates and
+    /// accelerations of the instant. A definition's `bodies` section
+    /// gives them for its frames.
+    #[must_use]
+    pub fn frame_partials(
+        mut self,
+        frame: &str,
+        partials: impl Fn(&Instant<'_>, &mut [[f64; 15]]) + Send + Sync + 'static,
+    ) -> Self {
+        self.frame_partials
+            .push((frame.to_string(), Box::new(partials)));
         self
     }
 
@@ -753,6 +778,11 @@ impl DynamicsBuilder {
                     .to_string(),
             ));
         }
+        let mut frame_partials = Vec::with_capacity(self.frame_partials.len());
+        for (frame, f) in self.frame_partials {
+            let item = format!("partials of frame `{frame}`");
+            frame_partials.push((find(names.frames, "frame", &frame, &item)?, f));
+        }
         let design = match self.design {
             None => None,
             Some((parameters, constants)) => {
@@ -788,6 +818,7 @@ impl DynamicsBuilder {
             joints,
             design,
             load_partials: self.load_partials,
+            frame_partials,
         })
     }
 }
@@ -856,6 +887,8 @@ pub struct Dynamics {
     design: Option<Design>,
     /// The names of the points and coordinates the loads act on.
     load_names: LoadNames,
+    /// (frame index, the partials of its R, ω, α).
+    frame_partials: Vec<(usize, FramePartials)>,
     load_partials: PartialsOfLoads,
 }
 

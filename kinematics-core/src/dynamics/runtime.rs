@@ -330,7 +330,8 @@ impl Dynamics {
 /// compiled: stage 0 gives the constants
 /// ([`kinematics_compiler::dynamics::Dynamics::constants`]), stage 1 + k
 /// the value of load k; with a `sensitivities` section, stage 1 + L (L
-/// loads) the constants' partials and stage 2 + L + k load k's
+/// loads) the constants' partials, stage 2 + L + k load k's and stage
+/// 2 + 2L + f those of the frame f of the partials' list
 /// ([`kinematics_compiler::dynamics::Partials`]).
 pub(crate) struct SectionCode {
     sections: kinematics_compiler::dynamics::Dynamics,
@@ -354,6 +355,7 @@ impl SectionCode {
         if let Some(p) = &sections.partials {
             stages.push(&p.constants);
             stages.extend(p.loads.iter().map(Vec::as_slice));
+            stages.extend(p.frames.iter().map(|(_, f)| f.as_slice()));
         }
         let coordinates = c.coordinates().len();
         let program = kinematics_jit::Program::new(
@@ -541,6 +543,19 @@ impl Model {
                 .map(|n| n.as_ref())
                 .collect();
             b = b.design_parameters(&names, if constants.is_empty() { &[] } else { &design });
+            for (f, (frame, _)) in d.partials.iter().flat_map(|p| &p.frames).enumerate() {
+                let (code, at) = (Arc::clone(shared), values.clone());
+                let stage = 2 + 2 * d.loads.len() + f;
+                b = b.frame_partials(frame, move |i, out| {
+                    let mut flat = vec![0.0; code.program.outputs(stage)];
+                    code.eval(stage, &at, Some(i), &mut flat);
+                    for (x, o) in out.iter_mut().enumerate() {
+                        for (c, v) in o.iter_mut().enumerate() {
+                            *v = flat.get(x * 15 + c).copied().unwrap_or(f64::NAN);
+                        }
+                    }
+                });
+            }
         }
         for j in &d.joints {
             let (name, point, [first, second]) = (&j.name, &j.point, &j.between);

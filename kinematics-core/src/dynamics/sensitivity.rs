@@ -130,7 +130,11 @@ impl Dynamics {
     ///
     /// Every term of the virtual-power sum is differentiated by the
     /// product rule: for a body, ∂m (a_G − g) · v_G^k + m (∂a_G − ∂g) ·
-    /// v_G^k + m (a_G − g) · ∂v_G^k + (∂J α + J ∂α) ω^k + J α ∂ω^k, where
+    /// v_G^k + m (a_G − g) · ∂v_G^k + (∂J α + J ∂α) ω^k + J α ∂ω^k
+    /// (planar), or ∂h · ω^k + h · ∂ω^k with h = J_w α + ω × J_w ω,
+    /// J_w = R J Rᵀ, ∂J_w = ∂R J Rᵀ + R ∂J Rᵀ + R J ∂Rᵀ and ∂h = ∂J_w α +
+    /// J_w ∂α + ∂ω × J_w ω + ω × (∂J_w ω + J_w ∂ω) (spatial, with the
+    /// frame's ∂R, ∂ω, ∂α from its partial derivatives), where
     /// v_G^k and ω^k are the unit-rate motion's and ∂v_G^k, ∂ω^k its
     /// sensitivities, α = Σ c_j q̈_j and ω^k = Σ c_j q̇_j^k for a planar
     /// body's angle Σ c_j q_j; for a load F(p, q, q', q''), ∂F = F_p +
@@ -174,12 +178,14 @@ impl Dynamics {
     /// # Errors
     /// [`Error::InvalidDynamics`] when the description's design parameters
     /// are not the mechanism's, a load has no partial derivatives, or a
-    /// body turning with a frame has a moment of inertia or a torque
-    /// (the frames' sensitivities are not computed); otherwise as
-    /// [`Dynamics::inverse`] and the generated `sensitivities`.
+    /// body turning with a frame has a moment of inertia or a torque and
+    /// its frame has none ([`DynamicsBuilder::frame_partials`]);
+    /// otherwise as [`Dynamics::inverse`] and the generated
+    /// `sensitivities`.
     ///
     /// [`DynamicsBuilder::design_parameters`]: super::DynamicsBuilder::design_parameters
     /// [`DynamicsBuilder::load_partials`]: super::DynamicsBuilder::load_partials
+    /// [`DynamicsBuilder::frame_partials`]: super::DynamicsBuilder::frame_partials
     pub fn effort_sensitivities<M: Sensitive>(
         &self,
         m: &M,
@@ -256,18 +262,7 @@ impl Dynamics {
             let tangents = ds
                 .iter()
                 .enumerate()
-                .map(|(i, t)| {
-                    let mut d = Vector3::from(scratch[i]);
-                    for j in 0..n {
-                        let [dq, dqd, dqdd] = t.coordinate(j);
-                        for (w, dx) in [(0, dq), (1, dqd), (2, dqdd)] {
-                            if dx != 0.0 {
-                                d += Vector3::from(scratch[k + w * n + j]) * dx;
-                            }
-                        }
-                    }
-                    mask(d)
-                })
+                .map(|(i, t)| mask(Vector3::from(along(&scratch, i, k, n, t))))
                 .collect();
             Differentiated {
                 value: mask(value),
@@ -321,6 +316,35 @@ impl Dynamics {
             finite_load(value.iter().copied(), "a force on a coordinate", i)?;
             coordinate_forces.push(differentiate(value, partials.as_ref(), &at, scalar_mask));
         }
+        // The frames' R, ω, α and their partials at the motion, per body.
+        let at_frames = |x: &dyn View, coords: [&[f64]; 3]| -> Vec<Option<FrameDiff>> {
+            let at = Instant {
+                q: coords[0],
+                qd: coords[1],
+                qdd: coords[2],
+                position: Vector3::zeros(),
+                velocity: Vector3::zeros(),
+            };
+            self.bodies
+                .iter()
+                .map(|b| {
+                    let Turns::Frame(f) = b.turning else {
+                        return None;
+                    };
+                    let state = x.frame(f)?;
+                    let (_, partials) = self.frame_partials.iter().find(|(g, _)| *g == f)?;
+                    let mut out = vec![[0.0; 15]; k + 3 * n];
+                    partials(&at, &mut out);
+                    Some(FrameDiff {
+                        rotation: state.rotation,
+                        omega: state.angular_velocity,
+                        alpha: state.angular_acceleration,
+                        partials: out,
+                    })
+                })
+                .collect()
+        };
+        let frames_s = at_frames(s, [&q, &qd, &qdd]);
         let mut out: Vec<EffortSensitivity> = parameters
             .iter()
             .map(|p| EffortSensitivity {
@@ -329,19 +353,34 @@ impl Dynamics {
             })
             .collect();
         let loads = Loads {
+            parameters: k,
             forces: &forces,
             torques: &torques,
             coordinate_forces: &coordinate_forces,
         };
+        let any_frames = frames_s.iter().any(Option::is_some);
         for d in 0..self.drivers {
             unit(d, &mut |u, du| {
+                let frames_u = if any_frames {
+                    let [uq, uqd, uqdd] = self.coordinates_of(u);
+                    at_frames(u, [&uq, &uqd, &uqdd])
+                } else {
+                    Vec::new()
+                };
                 for (i, o) in out.iter_mut().enumerate() {
                     let (Some(t), Some(ut)) = (ds.get(i), du.get(i)) else {
                         continue;
                     };
                     let c = constants.as_ref().and_then(|c| c.get(i));
                     if let Some(x) = o.effort.get_mut(d) {
-                        *x = self.effort_tangent([s, t], [u, ut], c, &loads, i);
+                        *x = self.effort_tangent(
+                            [s, t],
+                            [u, ut],
+                            [&frames_s, &frames_u],
+                            c,
+                            &loads,
+                            i,
+                        );
                     }
                 }
             })?;
@@ -388,8 +427,8 @@ impl Dynamics {
     }
 
     /// Checks that every term can be differentiated: each load has its
-    /// partial derivatives, and no body turning with a frame has inertia
-    /// or a torque (its frame's derivatives are not known).
+    /// partial derivatives, and so has the frame of each body turning
+    /// with one that has inertia or a torque.
     fn differentiable(&self) -> Result<(), Error> {
         let missing = |what: String| Error::InvalidDynamics {
             item: what,
@@ -420,16 +459,19 @@ impl Dynamics {
         ) {
             return Err(missing(format!("the force on coordinate `{c}`")));
         }
-        let spinning = |b: &super::ResolvedBody| matches!(b.turning, Turns::Frame(_));
         for (i, b) in self.bodies.iter().enumerate() {
+            let Turns::Frame(f) = b.turning else {
+                continue;
+            };
             let torqued = self.torques.iter().any(|(t, _)| *t == i);
-            if spinning(b) && (b.inertia.amax() > 0.0 || torqued) {
+            let known = self.frame_partials.iter().any(|(g, _)| *g == f);
+            if (b.inertia.amax() > 0.0 || torqued) && !known {
                 return Err(Error::InvalidDynamics {
                     item: format!("body `{}`", b.name),
-                    detail: "turns with a frame and has a moment of inertia or a torque: the \
-                             sensitivities of a frame's angular velocity and acceleration are \
-                             not computed, so the efforts' sensitivities are available for \
-                             spatial bodies as point masses only"
+                    detail: "turns with a frame and has a moment of inertia or a torque, but the \
+                             partial derivatives of its frame's rotation, angular velocity and \
+                             acceleration are not known: give them with `frame_partials`, or \
+                             declare the body in the definition's `bodies` section"
                         .to_string(),
                 });
             }
@@ -444,10 +486,12 @@ impl Dynamics {
         &self,
         [s, t]: [&dyn View; 2],
         [u, ut]: [&dyn View; 2],
+        [frames_s, frames_u]: [&[Option<FrameDiff>]; 2],
         c: Option<&ConstantPartials>,
         loads: &Loads<'_>,
         i: usize,
     ) -> f64 {
+        let (k, n) = (loads.parameters, self.coordinates);
         let nan = [Vector3::repeat(f64::NAN); 3];
         let velocity = |v: &dyn View, p: usize| v.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
         let g = self.gravity;
@@ -484,8 +528,26 @@ impl Dynamics {
                     dq += (djz * alpha + j * dalpha) * omega + j * alpha * domega;
                 }
                 Turns::Frame(f) => {
-                    // A point mass in rotation (checked): only ∂J acts.
-                    if let (Some(fs), Some(fu)) = (s.frame(*f), u.frame(*f)) {
+                    let (fs, fu) = (frames_s.get(b_index), frames_u.get(b_index));
+                    if let (Some(Some(fs)), Some(Some(fu))) = (fs, fu) {
+                        // dJ_w = dR J Rᵀ + R dJ Rᵀ + R J dRᵀ, h = J_w α + ω × J_w ω.
+                        let x = along(&fs.partials, i, k, n, t);
+                        let dr = Matrix3::from_row_slice(&x[..9]);
+                        let dw = Vector3::new(x[9], x[10], x[11]);
+                        let da = Vector3::new(x[12], x[13], x[14]);
+                        let (r, w, a) = (fs.rotation, fs.omega, fs.alpha);
+                        let jw = r * b.inertia * r.transpose();
+                        let djw = dr * b.inertia * r.transpose()
+                            + r * dj * r.transpose()
+                            + r * b.inertia * dr.transpose();
+                        let h = jw * a + w.cross(&(jw * w));
+                        let dh =
+                            djw * a + jw * da + dw.cross(&(jw * w)) + w.cross(&(djw * w + jw * dw));
+                        let xu = along(&fu.partials, i, k, n, ut);
+                        let dwk = Vector3::new(xu[9], xu[10], xu[11]);
+                        dq += dh.dot(&fu.omega) + h.dot(&dwk);
+                    } else if let (Some(fs), Some(fu)) = (s.frame(*f), u.frame(*f)) {
+                        // A point mass in rotation (checked): only ∂J acts.
                         let dj = fs.rotation * dj * fs.rotation.transpose();
                         let w = fs.angular_velocity;
                         let h = dj * fs.angular_acceleration + w.cross(&(dj * w));
@@ -500,6 +562,12 @@ impl Dynamics {
             dq -= f.tangents[i].dot(&v) + f.value.dot(&dv);
         }
         for ((b, _), tq) in self.torques.iter().zip(loads.torques) {
+            if let (Some(Some(_)), Some(Some(fu))) = (frames_s.get(*b), frames_u.get(*b)) {
+                let xu = along(&fu.partials, i, k, n, ut);
+                let dwk = Vector3::new(xu[9], xu[10], xu[11]);
+                dq -= tq.tangents[i].dot(&fu.omega) + tq.value.dot(&dwk);
+                continue;
+            }
             if let Some(body) = self.bodies.get(*b) {
                 if let Turns::Angle(terms) = &body.turning {
                     let dc = c
@@ -548,7 +616,40 @@ impl Dynamics {
 
 /// The loads' values and tangents at one motion.
 struct Loads<'a> {
+    /// The number of design parameters, K.
+    parameters: usize,
     forces: &'a [Differentiated],
     torques: &'a [Differentiated],
     coordinate_forces: &'a [Differentiated],
+}
+
+/// A frame's R, ω and α at a motion, with the partial derivatives of its
+/// 15 values with respect to the K + 3n variables.
+struct FrameDiff {
+    rotation: Matrix3<f64>,
+    omega: Vector3<f64>,
+    alpha: Vector3<f64>,
+    partials: Vec<[f64; 15]>,
+}
+
+/// The derivative along parameter `i` of values whose partials with
+/// respect to the K = `k` parameters and the q, q̇, q̈ of `n` coordinates
+/// are `x`, with `t` the motion's tangent along p_i: x_p + Σ_j (x_q ∂q_j
+/// + x_q̇ ∂q̇_j + x_q̈ ∂q̈_j).
+fn along<const N: usize>(x: &[[f64; N]], i: usize, k: usize, n: usize, t: &dyn View) -> [f64; N] {
+    let mut d = x.get(i).copied().unwrap_or([0.0; N]);
+    for j in 0..n {
+        let dx = t.coordinate(j);
+        for (w, dx) in dx.into_iter().enumerate() {
+            if dx == 0.0 {
+                continue;
+            }
+            if let Some(row) = x.get(k + w * n + j) {
+                for (o, v) in d.iter_mut().zip(row) {
+                    *o += v * dx;
+                }
+            }
+        }
+    }
+    d
 }
