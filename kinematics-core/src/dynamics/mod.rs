@@ -495,17 +495,34 @@ impl DynamicsBuilder {
     ///
     /// ```
     /// use kinematics_core::dynamics::{Body, Dynamics};
-    /// // A crank of mass m = 2 kg whose moment of inertia depends on the
-    /// // design parameter `a` as J = m a²/3: ∂J/∂a = 2 m a / 3.
-    /// let a = 0.1;
-    /// let b = Dynamics::builder()
-    ///     .body(Body::new("crank", 2.0).center("G").angle("phi").inertia(2.0 * a * a / 3.0))
-    ///     .design_parameters(&["a"], &{
-    ///         let mut d = [0.0; 3 + 1 + 1 + 9];
-    ///         d[3 + 1 + 1 + 8] = 4.0 * a / 3.0;
-    ///         d
-    ///     });
-    /// # let _ = b;
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A crank turning about its centre of mass O; its length a
+    ///     /// changes only its moment of inertia.
+    ///     pub struct Spin {
+    ///         params   { a }
+    ///         drivers  { phi }
+    ///         unknowns { }
+    ///         points   { O = vec2(0.0, 0.0); B = polar(a, phi); }
+    ///         sensitivities { a }
+    ///     }
+    /// }
+    /// let (m, a) = (2.0, 0.1);
+    /// // J = m a²/3, so ∂J/∂a = 2 m a/3, the constant at index 3 + 1 + 1 + 8
+    /// // (gravity, the mass, the angle's one coefficient, the inertia's
+    /// // entry (2, 2)).
+    /// let mut partials = [0.0; 3 + 1 + 1 + 9];
+    /// partials[13] = 2.0 * m * a / 3.0;
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("crank", m).center("O").angle("phi").inertia(m * a * a / 3.0))
+    ///     .design_parameters(&["a"], &partials)
+    ///     .build::<Spin>()?;
+    /// // Q = J φ'', so ∂Q/∂a = (2 m a/3) φ''.
+    /// let spin = Spin { a };
+    /// let motion = spin.analyze(&SpinCoords { phi: 0.4 }, 3.0, 5.0)?;
+    /// let s = dynamics.effort_sensitivities(&spin, &motion)?;
+    /// assert!((s[0].effort[0] - 2.0 * m * a / 3.0 * 5.0).abs() < 1e-14);
+    /// # Ok::<(), kinematics_core::Error>(())
     /// ```
     #[must_use]
     pub fn design_parameters(mut self, parameters: &[&str], constants: &[f64]) -> Self {
@@ -532,12 +549,32 @@ impl DynamicsBuilder {
     ///
     /// ```
     /// use kinematics_core::dynamics::Dynamics;
-    /// // A damper on the second coordinate, −c q̇₁ with c = 40: its only
-    /// // partial is ∂/∂q̇₁ = −40, at x = K + n + 1 (here K = 1, n = 2).
-    /// let b = Dynamics::builder()
-    ///     .coordinate_force("x", |s| -40.0 * s.qd(1))
-    ///     .load_partials(|_, out| out[1 + 2 + 1][0] = -40.0);
-    /// # let _ = b;
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A slider following x = a cos φ.
+    ///     pub struct Follower {
+    ///         params   { a }
+    ///         drivers  { phi }
+    ///         unknowns { x }
+    ///         constraints { x == a * cos(phi); }
+    ///         sensitivities { a }
+    ///     }
+    /// }
+    /// // A damper −c ẋ on the slider: its one partial is ∂/∂ẋ = −c, at
+    /// // x = K + n + 1 (K = 1 parameter, n = 2 coordinates, x the second).
+    /// let c = 40.0;
+    /// let dynamics = Dynamics::builder()
+    ///     .coordinate_force("x", move |s| -c * s.qd(1))
+    ///     .load_partials(move |_, out| out[1 + 2 + 1][0] = -c)
+    ///     .build::<Follower>()?;
+    /// // Q = c ẋ ∂ẋ/∂φ' = c a² sin²φ φ', so ∂Q/∂a = 2 c a sin²φ φ'.
+    /// let (a, phi, w) = (0.1, 0.7, 3.0);
+    /// let m = Follower { a };
+    /// let pose = m.assemble(&FollowerCoords { phi, x: 0.07 })?;
+    /// let s = dynamics.effort_sensitivities(&m, &m.analyze(&pose, w, 0.0)?)?;
+    /// let expected = 2.0 * c * a * phi.sin().powi(2) * w;
+    /// assert!((s[0].effort[0] - expected).abs() < 1e-12);
+    /// # Ok::<(), kinematics_core::Error>(())
     /// ```
     #[must_use]
     pub fn load_partials(
@@ -963,8 +1000,7 @@ impl Design {
                     .map(|b| {
                         let mass = take();
                         let angle = (0..terms(b)).map(|_| take()).collect();
-                        let inertia = Matrix3::from_fn(|_, _| 0.0);
-                        let mut inertia = inertia;
+                        let mut inertia = Matrix3::zeros();
                         for i in 0..3 {
                             for j in 0..3 {
                                 inertia[(i, j)] = take();
