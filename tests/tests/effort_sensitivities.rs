@@ -180,7 +180,7 @@ fn central_difference<M: Sensitive + Clone>(
 
 /// Every sensitivity of the engine's crank torque, generated and at run
 /// time, against the central differences over 24 poses of a turn at
-/// varying speed, to 10⁻⁷ of the largest difference of the parameter over
+/// varying speed, to 10⁻⁸ of the largest difference of the parameter over
 /// the turn; the run-time model against the generated one to 10⁻¹².
 #[test]
 fn an_engines_torque_sensitivities_are_the_differences_between_designs(
@@ -232,7 +232,7 @@ fn an_engines_torque_sensitivities_are_the_differences_between_designs(
         );
         for (e, d) in exact[i].iter().zip(&differences[i]) {
             assert!(
-                (e - d).abs() <= 1e-7 * scale,
+                (e - d).abs() <= 1e-8 * scale,
                 "∂Q/∂{name}: {e} against the difference {d} (scale {scale})"
             );
         }
@@ -283,7 +283,7 @@ fn an_rssrs_torque_sensitivities_are_the_differences_between_designs(
     for (i, name) in names.iter().enumerate() {
         assert!(scale[i] > 1e-4, "∂Q/∂{name} is {} at most", scale[i]);
         assert!(
-            worst[i] <= 1e-7 * scale[i],
+            worst[i] <= 1e-8 * scale[i],
             "∂Q/∂{name}: off by {} of {}",
             worst[i],
             scale[i]
@@ -337,7 +337,7 @@ fn a_description_in_rust_gives_its_loads_partials() -> Result<(), Box<dyn std::e
     let fd = central_difference(&m, 0, &pose, &effort)?;
     assert!(fd.abs() > 1.0, "∂Q/∂a = {fd}: a test");
     assert!(
-        (s[0].effort[0] - fd).abs() <= 1e-7 * fd.abs(),
+        (s[0].effort[0] - fd).abs() <= 1e-8 * fd.abs(),
         "∂Q/∂a {} against {fd}",
         s[0].effort[0]
     );
@@ -455,7 +455,7 @@ fn an_arms_torque_sensitivities_are_the_differences_between_designs(
     for (i, name) in names.iter().enumerate() {
         assert!(scale[i] > 1e-3, "∂Q/∂{name} is {} at most", scale[i]);
         assert!(
-            worst[i] <= 1e-7 * scale[i],
+            worst[i] <= 1e-8 * scale[i],
             "∂Q/∂{name}: off by {} of {}",
             worst[i],
             scale[i]
