@@ -223,6 +223,29 @@ class Sweep:
             )
         return ForceSweep(self._native.forces())
 
+    def effort_sensitivities(self) -> Dict[str, np.ndarray]:
+        """How each driver's effort at every sample changes with each
+        parameter of the definition's ``sensitivities`` section, the
+        drivers' motion held (as :meth:`Mechanism.effort_sensitivities`
+        gives them at one motion): ∂Q_k/∂p by parameter, an array of shape
+        (samples, drivers). Their mean over a cycle is the slope of the
+        mean effort; with the efforts of :meth:`forces`, the gradient of
+        any measure of the torque curve (its RMS, its peak) for the design
+        of counterweights and links. Empty without the section.
+
+        Raises:
+            InvalidDynamicsError: the definition has neither a ``bodies``
+                nor a ``loads`` section.
+            ValueError: the samples are a simulation's (in time).
+        """
+        if self.variable not in self._cls.driver_names():
+            raise ValueError(
+                "effort sensitivities along a sweep need the samples of a driver's sweep "
+                "(Mechanism.sweep); these are a simulation's: call "
+                "Mechanism.effort_sensitivities on each sample's motion"
+            )
+        return {p: _readonly(v) for p, v in self._native.effort_sensitivities().items()}
+
     def deviations(self, point: str, tolerances: Mapping[str, float]) -> Deviations:
         """The first-order deviations of ``point`` over the sweep for the
         parameter tolerances ``{name: ±t}`` (parameters of the

@@ -1016,6 +1016,41 @@ impl Sweep {
         Ok(forces::ForceSweep::new(sweep))
     }
 
+    /// How each driver's effort at every sample changes with each
+    /// parameter of the `sensitivities` section, the drivers' motion held:
+    /// a dict from each parameter to an array of shape (samples, drivers).
+    fn effort_sensitivities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.full(py)?;
+        let model = &self.model;
+        let nd = model.drivers();
+        let names: Vec<String> = model
+            .sensitivity_parameters()
+            .iter()
+            .map(|n| n.to_string())
+            .collect();
+        let rows = c.rows();
+        let columns = py
+            .detach(|| -> Result<Vec<Vec<f64>>, Error> {
+                let dynamics = model.dynamics()?;
+                let mut columns = vec![Vec::with_capacity(rows * nd); names.len()];
+                let mut motion = Motion::default();
+                for i in 0..rows {
+                    c.motion(i, &mut motion);
+                    let s = dynamics.effort_sensitivities_of(model, &motion)?;
+                    for (column, one) in columns.iter_mut().zip(s) {
+                        column.extend(one.effort);
+                    }
+                }
+                Ok(columns)
+            })
+            .map_err(|e| error(py, &e))?;
+        let out = PyDict::new(py);
+        for (name, column) in names.into_iter().zip(columns) {
+            out.set_item(name, shaped(py, column, vec![rows, nd])?)?;
+        }
+        Ok(out)
+    }
+
     /// The first-order deviations of point `point` for the tolerances
     /// `tolerances` ((parameter, ±t) pairs of the `sensitivities`
     /// section): a dict of arrays "at", "position_worst",

@@ -270,3 +270,31 @@ def test_effort_sensitivities_are_the_slopes_between_designs():
 def test_effort_sensitivities_without_the_section_are_empty(engine):
     motion = engine.analyze(start(engine), rate=W)
     assert engine.effort_sensitivities(motion) == {}
+
+
+def test_a_sweeps_effort_sensitivities_are_the_slope_of_its_mean_effort():
+    """Over two radians at constant speed, the mean of ∂Q/∂p over the
+    samples (the trapezoid rule, as `mean_effort`) equals the central
+    difference of the mean effort between designs swept from the same
+    start: the mean is linear in the samples."""
+    Sensed = kin.compile(SENSED)
+    v = dict(a=0.05, b=0.2, r=0.03, m=1.5, k=400.0, c=2.0)
+    e = Sensed(**v)
+    pose = e.assemble(phi=0.0, th=-0.1, x=0.24)
+
+    def sweep(d):
+        return d.sweep("phi", start=pose, to=2.0, steps=90, rate=W, acceleration=0.0)
+
+    sw = sweep(e)
+    s = sw.effort_sensitivities()
+    assert set(s) == {"a", "b", "r", "m", "k"}
+    assert all(x.shape == (len(sw), 1) for x in s.values())
+    at = sw.at
+    trapezoid = getattr(np, "trapezoid", None) or np.trapz
+    for name, values in s.items():
+        mean = trapezoid(values[:, 0], at) / (at[-1] - at[0])
+        h = 1e-3 * v[name]
+        means = [sweep(e.replace(**{name: v[name] + t * h})).forces().mean_effort() for t in (2, 1, -1, -2)]
+        slope = (-means[0] + 8 * means[1] - 8 * means[2] + means[3]) / (12 * h)
+        assert abs(slope) > 1e-4, (name, slope)
+        assert abs(mean - slope) <= 1e-7 * abs(slope), (name, mean, slope)
