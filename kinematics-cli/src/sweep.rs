@@ -3,7 +3,9 @@
 //! coordinates and of the points, the path of every moving point, the
 //! HTML animation, and, for a definition with `bodies` or `loads`, the
 //! forces: the drivers' efforts, energies, power and shaking (`forces.csv`)
-//! and the plot of the driving effort beside its mean (`forces.svg`).
+//! and the plot of the driving effort beside its mean (`forces.svg`); with
+//! a `sensitivities` section as well, the efforts' sensitivities to its
+//! parameters (`effort_sensitivities.csv`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -144,10 +146,16 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let mut mean = None;
     if m.has_dynamics() {
         let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
-        let forces = m
-            .dynamics()
-            .and_then(|d| d.along_of(&m, &sweep))
-            .map_err(failed)?;
+        let dynamics = m.dynamics().map_err(failed)?;
+        let forces = dynamics.along_of(&m, &sweep).map_err(failed)?;
+        if !m.sensitivity_parameters().is_empty() {
+            let text = effort_sensitivities_csv(&m, &dynamics, &sweep, &forces).map_err(failed)?;
+            let csv = args.out.join("effort_sensitivities.csv");
+            std::fs::write(&csv, text).map_err(|e| {
+                Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
+            })?;
+            written.push(csv);
+        }
         let csv = args.out.join("forces.csv");
         std::fs::write(&csv, forces.to_csv()).map_err(|e| {
             Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
@@ -185,6 +193,38 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
             "{out}error: the sweep stopped early: {stop}\n(the files hold the samples before the stop)"
         ))),
     }
+}
+
+/// The sensitivities of the drivers' efforts to the parameters of the
+/// `sensitivities` section at every sample of `sweep`, as CSV: the swept
+/// driver (degrees for an angle), then ∂Q/∂p of each driver for each
+/// parameter in turn, with units.
+fn effort_sensitivities_csv(
+    m: &kinematics_core::runtime::Model,
+    dynamics: &kinematics_core::dynamics::Dynamics,
+    sweep: &kinematics_core::runtime::Sweep,
+    forces: &kinematics_core::dynamics::ForceSweep,
+) -> Result<String, kinematics_core::Error> {
+    let angle = forces.kind == Kind::Angle;
+    let mut out = format!("{} ({})", forces.variable, if angle { "deg" } else { "m" });
+    for p in m.sensitivity_parameters() {
+        for (name, kind) in &forces.drivers {
+            let unit = if *kind == Kind::Angle { "N·m" } else { "N" };
+            let _ = write!(out, ",dQ_{name}/d{p} ({unit} per unit of {p})");
+        }
+    }
+    out.push('\n');
+    for s in &sweep.samples {
+        let at = if angle { s.at.to_degrees() } else { s.at };
+        let _ = write!(out, "{at}");
+        for one in dynamics.effort_sensitivities_of(m, &s.motion)? {
+            for e in one.effort {
+                let _ = write!(out, ",{e}");
+            }
+        }
+        out.push('\n');
+    }
+    Ok(out)
 }
 
 /// Writes the CSV, the figures and the animation into `dir`; returns

@@ -579,3 +579,69 @@ fn sweep_writes_the_forces_of_a_definition_with_bodies_and_loads() {
     assert!(svg.contains("driver efforts") && svg.contains("shaking force"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `kinematics sweep` of a definition with `bodies`, `loads` and a
+/// `sensitivities` section (the gas engine with three of its parameters
+/// listed) writes the efforts' sensitivities at every sample: its
+/// `effort_sensitivities.csv` against the library's, the same definition
+/// compiled at run time and assembled at each row's crank angle, to 1e-11
+/// of each column's largest magnitude.
+#[test]
+fn sweep_writes_the_effort_sensitivities_of_a_definition_with_them() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-sens-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let engine = std::fs::read_to_string(mechanisms().join("gas_engine.mech")).expect("readable");
+    let end = engine.trim_end().rfind('}').expect("the definition's end");
+    let sensed = format!("{}    sensitivities {{ a, r3, m3 }}\n}}\n", &engine[..end]);
+    let file = dir.join("sensed_engine.mech");
+    std::fs::write(&file, &sensed).expect("writable");
+    let params = mechanisms().join("gas_engine.toml");
+    let out = dir.join("out");
+    let run_out = sweep_a_turn(&file, &params, "3000", &out);
+    assert!(run_out.status.success(), "{}", text(&run_out.stderr));
+    assert!(text(&run_out.stdout).contains("effort_sensitivities.csv"));
+    let (header, rows) = read_csv(&out.join("effort_sensitivities.csv"));
+    assert_eq!(
+        header,
+        [
+            "phi (deg)",
+            "dQ_phi/da (N·m per unit of a)",
+            "dQ_phi/dr3 (N·m per unit of r3)",
+            "dQ_phi/dm3 (N·m per unit of m3)"
+        ]
+    );
+    assert_eq!(rows.len(), 360);
+    let g = GasEngine::SMALL;
+    let model = kinematics_core::runtime::Model::compile(&sensed)
+        .expect("the definition compiles")
+        .with_values(&g.parameter_values())
+        .expect("the engine's values");
+    let dynamics = model.dynamics().expect("its dynamics");
+    let w = 3000.0 * std::f64::consts::TAU / 60.0;
+    let mut want = Vec::new();
+    for row in &rows {
+        let phi = row[0].to_radians();
+        let th = (-(g.a / g.b) * phi.sin()).asin();
+        let x = g.a * phi.cos() + g.b * th.cos();
+        let pose = model.assemble(&[phi, th, x]).expect("the engine assembles");
+        let motion = model.analyze(&pose, &[w], &[0.0]).expect("a motion");
+        let s = dynamics
+            .effort_sensitivities_of(&model, &motion)
+            .expect("the sensitivities");
+        want.push(s.iter().map(|p| p.effort[0]).collect::<Vec<f64>>());
+    }
+    for c in 0..3 {
+        let scale = want.iter().map(|r| r[c].abs()).fold(0.0f64, f64::max);
+        assert!(scale > 1e-3, "{} is {scale} at most", header[c + 1]);
+        for (i, (row, w)) in rows.iter().zip(&want).enumerate() {
+            assert!(
+                (row[c + 1] - w[c]).abs() <= 1e-11 * scale,
+                "{} at sample {i}: {} / {}",
+                header[c + 1],
+                row[c + 1],
+                w[c]
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
