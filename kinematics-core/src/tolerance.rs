@@ -50,12 +50,18 @@ pub trait Sensitive: Mechanism {
     /// The sensitivities of every point of `motion` to every parameter of
     /// [`Sensitive::PARAMETERS`], written into `out` as
     /// `[parameter][point][position, velocity, acceleration][component]`
-    /// (`PARAMETERS.len() × POINTS × 3 × POINT_DIM` numbers; as many as fit).
+    /// (`PARAMETERS.len() × POINTS × 3 × POINT_DIM` numbers; as many as fit):
+    /// [`Sensitive::motion_sensitivities_into`] without the coordinates.
     ///
     /// # Errors
     /// As the generated `sensitivities`.
-    fn point_sensitivities_into(&self, motion: &Self::Motion, out: &mut [f64])
-        -> Result<(), Error>;
+    fn point_sensitivities_into(
+        &self,
+        motion: &Self::Motion,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        self.motion_sensitivities_into(motion, &mut [], out)
+    }
 
     /// The sensitivities of the whole of `motion`: ∂q/∂p, ∂q'/∂p and
     /// ∂q''/∂p into `coordinates` as `[parameter][q, q', q''][coordinate]`

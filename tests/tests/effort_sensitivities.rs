@@ -178,6 +178,54 @@ fn central_difference<M: Sensitive + Clone>(
     Ok((-at(2.0)? + 8.0 * at(1.0)? - 8.0 * at(-1.0)? + at(-2.0)?) / (12.0 * h))
 }
 
+/// The exact sensitivities of one test against the central differences:
+/// per parameter, the largest difference over the poses (its scale) and
+/// the largest error; each run-time value checked against the generated
+/// one on the way.
+struct Agreement {
+    names: &'static [&'static str],
+    worst: Vec<f64>,
+    scale: Vec<f64>,
+}
+
+impl Agreement {
+    fn new(names: &'static [&'static str]) -> Self {
+        Agreement {
+            names,
+            worst: vec![0.0; names.len()],
+            scale: vec![0.0; names.len()],
+        }
+    }
+
+    /// Parameter i at one pose: the generated `exact`, the run-time
+    /// `run_time` (to 1e-12 of it) and the central difference `fd`.
+    fn add(&mut self, i: usize, exact: f64, run_time: f64, fd: f64) {
+        assert!(
+            (run_time - exact).abs() <= 1e-12 * exact.abs().max(1.0),
+            "run-time ∂Q/∂{}: {run_time} against {exact}",
+            self.names[i]
+        );
+        self.worst[i] = self.worst[i].max((exact - fd).abs());
+        self.scale[i] = self.scale[i].max(fd.abs());
+    }
+
+    /// Every parameter's error within 1e-8 of its scale, and each scale
+    /// above `least` (a sensitivity that is not zero: a test).
+    fn check(&self, least: f64) {
+        for (i, name) in self.names.iter().enumerate() {
+            let (worst, scale) = (self.worst[i], self.scale[i]);
+            assert!(
+                scale > least,
+                "∂Q/∂{name} is {scale} at most: a test of nothing"
+            );
+            assert!(
+                worst <= 1e-8 * scale,
+                "∂Q/∂{name}: off by {worst} of {scale}"
+            );
+        }
+    }
+}
+
 /// Every sensitivity of the engine's crank torque, generated and at run
 /// time, against the central differences over 24 poses of a turn at
 /// varying speed, to 10⁻⁸ of the largest difference of the parameter over
@@ -190,8 +238,7 @@ fn an_engines_torque_sensitivities_are_the_differences_between_designs(
     let model = Model::compile(text_of("SensedEngine"))?.with_values(&m.parameter_values())?;
     let run_time = model.dynamics()?;
     let names = <SensedEngine as Sensitive>::PARAMETERS;
-    let mut exact = vec![Vec::new(); names.len()];
-    let mut differences = vec![Vec::new(); names.len()];
+    let mut agreement = Agreement::new(names);
     for n in 0..24 {
         let phi = TAU * f64::from(n) / 24.0 + 0.1;
         let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
@@ -213,30 +260,10 @@ fn an_engines_torque_sensitivities_are_the_differences_between_designs(
             assert_eq!(s[i].parameter, *name);
             assert_eq!(rs[i].parameter, *name);
             let fd = central_difference(&m, i, &start, &effort)?;
-            exact[i].push(s[i].effort[0]);
-            differences[i].push(fd);
-            let scale = s[i].effort[0].abs().max(1.0);
-            assert!(
-                (rs[i].effort[0] - s[i].effort[0]).abs() <= 1e-12 * scale,
-                "run-time ∂Q/∂{name}: {} against {}",
-                rs[i].effort[0],
-                s[i].effort[0]
-            );
+            agreement.add(i, s[i].effort[0], rs[i].effort[0], fd);
         }
     }
-    for (i, name) in names.iter().enumerate() {
-        let scale = differences[i].iter().fold(0.0f64, |a, d| a.max(d.abs()));
-        assert!(
-            scale > 1e-3,
-            "∂Q/∂{name} is {scale} at most: a test of nothing"
-        );
-        for (e, d) in exact[i].iter().zip(&differences[i]) {
-            assert!(
-                (e - d).abs() <= 1e-8 * scale,
-                "∂Q/∂{name}: {e} against the difference {d} (scale {scale})"
-            );
-        }
-    }
+    agreement.check(1e-3);
     Ok(())
 }
 
@@ -250,10 +277,8 @@ fn an_rssrs_torque_sensitivities_are_the_differences_between_designs(
     let dynamics = m.dynamics()?;
     let model = Model::compile(text_of("SensedRssr"))?.with_values(&m.parameter_values())?;
     let run_time = model.dynamics()?;
-    let names = <SensedRssr as Sensitive>::PARAMETERS;
+    let mut agreement = Agreement::new(<SensedRssr as Sensitive>::PARAMETERS);
     let mut psi = 1.1;
-    let mut worst = vec![0.0f64; names.len()];
-    let mut scale = vec![0.0f64; names.len()];
     for n in 0..12 {
         let phi = 0.7 + TAU * f64::from(n) / 12.0;
         let (w, al) = (9.0 + 2.0 * phi.cos(), 40.0 * phi.sin());
@@ -268,27 +293,12 @@ fn an_rssrs_torque_sensitivities_are_the_differences_between_designs(
         let s = dynamics.effort_sensitivities(&m, &motion)?;
         let rm = model.analyze(&[phi, psi], &[w], &[al])?;
         let rs = run_time.effort_sensitivities_of(&model, &rm)?;
-        for i in 0..names.len() {
+        for i in 0..s.len() {
             let fd = central_difference(&m, i, &start, &effort)?;
-            worst[i] = worst[i].max((s[i].effort[0] - fd).abs());
-            scale[i] = scale[i].max(fd.abs());
-            let e = s[i].effort[0];
-            assert!(
-                (rs[i].effort[0] - e).abs() <= 1e-12 * e.abs().max(1.0),
-                "run-time ∂Q/∂{}",
-                names[i]
-            );
+            agreement.add(i, s[i].effort[0], rs[i].effort[0], fd);
         }
     }
-    for (i, name) in names.iter().enumerate() {
-        assert!(scale[i] > 1e-4, "∂Q/∂{name} is {} at most", scale[i]);
-        assert!(
-            worst[i] <= 1e-8 * scale[i],
-            "∂Q/∂{name}: off by {} of {}",
-            worst[i],
-            scale[i]
-        );
-    }
+    agreement.check(1e-4);
     Ok(())
 }
 
@@ -418,9 +428,7 @@ fn an_arms_torque_sensitivities_are_the_differences_between_designs(
     let dynamics = m.dynamics()?;
     let model = Model::compile(text_of("SensedArm"))?.with_values(&m.parameter_values())?;
     let run_time = model.dynamics()?;
-    let names = <SensedArm as Sensitive>::PARAMETERS;
-    let mut worst = vec![0.0f64; names.len()];
-    let mut scale = vec![0.0f64; names.len()];
+    let mut agreement = Agreement::new(<SensedArm as Sensitive>::PARAMETERS);
     for t in [0.1, 0.4, 0.7] {
         let q = SensedArmCoords {
             q1: 0.3 + 1.2 * t,
@@ -439,27 +447,12 @@ fn an_arms_torque_sensitivities_are_the_differences_between_designs(
                 let e = d.dynamics()?.inverse(d, &motion)?.effort;
                 Ok([e.q1, e.q2, e.q3][driver])
             };
-            for i in 0..names.len() {
+            for i in 0..s.len() {
                 let fd = central_difference(&m, i, &q, &effort)?;
-                let e = s[i].effort[driver];
-                worst[i] = worst[i].max((e - fd).abs());
-                scale[i] = scale[i].max(fd.abs());
-                assert!(
-                    (rs[i].effort[driver] - e).abs() <= 1e-12 * e.abs().max(1.0),
-                    "run-time ∂Q/∂{}",
-                    names[i]
-                );
+                agreement.add(i, s[i].effort[driver], rs[i].effort[driver], fd);
             }
         }
     }
-    for (i, name) in names.iter().enumerate() {
-        assert!(scale[i] > 1e-3, "∂Q/∂{name} is {} at most", scale[i]);
-        assert!(
-            worst[i] <= 1e-8 * scale[i],
-            "∂Q/∂{name}: off by {} of {}",
-            worst[i],
-            scale[i]
-        );
-    }
+    agreement.check(1e-3);
     Ok(())
 }

@@ -249,31 +249,6 @@ pub(super) fn sensitivities(cx: &Ctx<'_>, s: Option<&Partials>) -> TokenStream {
         impl ::kinematics_core::tolerance::Sensitive for #name {
             const PARAMETERS: &'static [&'static str] = &[#(#pname_text),*];
 
-            fn point_sensitivities_into(
-                &self,
-                motion: &#motion,
-                out: &mut [f64],
-            ) -> #pp::Result<(), #pp::Error> {
-                let all = self.sensitivities(motion)?;
-                let mut i = 0usize;
-                for one in all.to_array() {
-                    for p in &one.points {
-                        for v in p
-                            .position
-                            .iter()
-                            .chain(p.velocity.iter())
-                            .chain(p.acceleration.iter())
-                        {
-                            if let ::core::option::Option::Some(o) = out.get_mut(i) {
-                                *o = *v;
-                            }
-                            i += 1;
-                        }
-                    }
-                }
-                ::core::result::Result::Ok(())
-            }
-
             fn motion_sensitivities_into(
                 &self,
                 motion: &#motion,
