@@ -153,14 +153,7 @@ impl Columns {
             v.clear();
             v.extend_from_slice(&self.q[k][i * nc..(i + 1) * nc]);
         }
-        out.points.resize(
-            np,
-            PointState {
-                position: vec![0.0; d],
-                velocity: vec![0.0; d],
-                acceleration: vec![0.0; d],
-            },
-        );
+        out.points.resize(np, PointState::zeros(d));
         for (k, p) in out.points.iter_mut().enumerate() {
             let [r, v, a] = self.point(i, k);
             p.position.clone_from_slice(r);

@@ -542,9 +542,9 @@ fn sensitivities_agree_both_ways() {
                     .iter()
                     .map(|p| {
                         [
-                            p.position.clone(),
-                            p.velocity.clone(),
-                            p.acceleration.clone(),
+                            p.position.to_vec(),
+                            p.velocity.to_vec(),
+                            p.acceleration.to_vec(),
                         ]
                     })
                     .collect();

@@ -76,6 +76,7 @@ mod stepper;
 mod sweep;
 #[cfg(feature = "synthesis")]
 mod synthesis;
+mod vector;
 
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
@@ -83,6 +84,7 @@ pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder, SweepEnd};
 #[cfg(feature = "synthesis")]
 #[doc(hidden)]
 pub use synthesis::SynthesisState;
+pub use vector::Vector;
 
 /// Why a definition given as text did not become a [`Model`].
 #[derive(Debug)]
@@ -106,15 +108,28 @@ impl fmt::Display for CompileError {
 impl std::error::Error for CompileError {}
 
 /// A point's position r, velocity v and acceleration a (2 or 3
-/// components each).
-#[derive(Clone, Debug, PartialEq)]
+/// components each, held inline: see [`Vector`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointState {
     /// r.
-    pub position: Vec<f64>,
+    pub position: Vector,
     /// v = dr/dt.
-    pub velocity: Vec<f64>,
+    pub velocity: Vector,
     /// a = dv/dt.
-    pub acceleration: Vec<f64>,
+    pub acceleration: Vector,
+}
+
+impl PointState {
+    /// r = v = a = 0, of `dimension` components (2 or 3).
+    #[must_use]
+    pub const fn zeros(dimension: usize) -> Self {
+        let z = Vector::zeros(dimension);
+        Self {
+            position: z,
+            velocity: z,
+            acceleration: z,
+        }
+    }
 }
 
 /// The motion at one pose as flat arrays, borrowed from the stepper or

@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 use kinematics_jit::Program;
 
 use super::solve::{apply_factors, factor_jacobian};
-use super::{Model, Motion, PointState, Sweep};
+use super::{Model, Motion, PointState, Sweep, Vector};
 use crate::error::{Error, Input};
 use crate::names::Name;
 use crate::options::Options;
@@ -160,24 +160,20 @@ impl Model {
                     let c = |cc: usize| pt * dim + cc;
                     let kp = |cc: usize| (p * np + pt) * dim + cc;
                     PointState {
-                        position: (0..dim)
-                            .map(|cc| out[pos_p + kp(cc)] + dot(pos_u, c(cc), &s))
-                            .collect(),
-                        velocity: (0..dim)
-                            .map(|cc| {
-                                out[vel_pt_p + kp(cc)]
-                                    + dot(vel_pt_u, c(cc), &s)
-                                    + dot(vel_pt_ud, c(cc), &sd)
-                            })
-                            .collect(),
-                        acceleration: (0..dim)
-                            .map(|cc| {
-                                out[acc_pt_p + kp(cc)]
-                                    + dot(acc_pt_u, c(cc), &s)
-                                    + dot(acc_pt_ud, c(cc), &sd)
-                                    + dot(acc_pt_udd, c(cc), &sdd)
-                            })
-                            .collect(),
+                        position: Vector::from_fn(dim, |cc| {
+                            out[pos_p + kp(cc)] + dot(pos_u, c(cc), &s)
+                        }),
+                        velocity: Vector::from_fn(dim, |cc| {
+                            out[vel_pt_p + kp(cc)]
+                                + dot(vel_pt_u, c(cc), &s)
+                                + dot(vel_pt_ud, c(cc), &sd)
+                        }),
+                        acceleration: Vector::from_fn(dim, |cc| {
+                            out[acc_pt_p + kp(cc)]
+                                + dot(acc_pt_u, c(cc), &s)
+                                + dot(acc_pt_ud, c(cc), &sd)
+                                + dot(acc_pt_udd, c(cc), &sdd)
+                        }),
                     }
                 })
                 .collect::<Vec<_>>();

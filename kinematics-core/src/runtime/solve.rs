@@ -10,7 +10,7 @@ use kinematics_jit::{Inputs, Program};
 use nalgebra::{Matrix3, Vector3};
 
 use super::linalg::{conditioning, lu, lu_apply};
-use super::{Model, Motion, PointState};
+use super::{Model, Motion, PointState, Vector};
 use crate::error::{Error, Input};
 use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
@@ -114,14 +114,7 @@ impl Model {
             q: vec![0.0; n],
             qd: vec![0.0; n],
             qdd: vec![0.0; n],
-            points: vec![
-                PointState {
-                    position: vec![0.0; d],
-                    velocity: vec![0.0; d],
-                    acceleration: vec![0.0; d],
-                };
-                self.points.len()
-            ],
+            points: vec![PointState::zeros(d); self.points.len()],
             frames: vec![zero; self.frames.len()],
             conditioning: 0.0,
             det_sign: 0.0,
@@ -511,34 +504,20 @@ impl Model {
         if d == 2 {
             // Planar points, written element by element.
             for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(6)) {
-                if let ([r0, r1], [v0, v1], [a0, a1], [c0, c1, c2, c3, c4, c5]) = (
-                    &mut p.position[..],
-                    &mut p.velocity[..],
-                    &mut p.acceleration[..],
-                    c,
-                ) {
-                    (*r0, *r1, *v0, *v1, *a0, *a1) = (*c0, *c1, *c2, *c3, *c4, *c5);
+                if let [r0, r1, v0, v1, a0, a1] = *c {
+                    p.position = Vector::from([r0, r1]);
+                    p.velocity = Vector::from([v0, v1]);
+                    p.acceleration = Vector::from([a0, a1]);
                 }
             }
         } else if d == 3 {
             // Spatial points, likewise.
             for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(9)) {
-                if let (Ok(r), Ok(v), Ok(a), Ok(c)) = (
-                    <&mut [f64; 3]>::try_from(&mut p.position[..]),
-                    <&mut [f64; 3]>::try_from(&mut p.velocity[..]),
-                    <&mut [f64; 3]>::try_from(&mut p.acceleration[..]),
-                    <&[f64; 9]>::try_from(c),
-                ) {
-                    *r = [c[0], c[1], c[2]];
-                    *v = [c[3], c[4], c[5]];
-                    *a = [c[6], c[7], c[8]];
+                if let [r0, r1, r2, v0, v1, v2, a0, a1, a2] = *c {
+                    p.position = Vector::from([r0, r1, r2]);
+                    p.velocity = Vector::from([v0, v1, v2]);
+                    p.acceleration = Vector::from([a0, a1, a2]);
                 }
-            }
-        } else {
-            for (p, c) in motion.points.iter_mut().zip(values.chunks_exact(3 * d)) {
-                super::fused::copy_small(&mut p.position, &c[..d]);
-                super::fused::copy_small(&mut p.velocity, &c[d..2 * d]);
-                super::fused::copy_small(&mut p.acceleration, &c[2 * d..]);
             }
         }
         let frames = values.get(self.points.len() * 3 * d..).unwrap_or(&[]);

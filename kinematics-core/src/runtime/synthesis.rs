@@ -58,7 +58,7 @@ impl Model {
 ///     .iter()
 ///     .map(|&phi| {
 ///         let s = truth.step(&[phi, start[1], start[2]], &[0.0], &[0.0])?;
-///         Ok(s.points[0].position.clone())
+///         Ok(s.points[0].position.to_vec())
 ///     })
 ///     .collect::<Result<_, kinematics_core::Error>>()?;
 /// // From a design 10 % off, with the crank angles prescribed.
@@ -188,7 +188,7 @@ impl Subject for Model {
                 x.motion
                     .points
                     .get(point)
-                    .map(|p| (x.at, p.position.clone()))
+                    .map(|p| (x.at, p.position.to_vec()))
             })
             .collect();
         (samples, sweep.stop.is_some())
