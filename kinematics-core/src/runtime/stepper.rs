@@ -283,6 +283,7 @@ impl Stepper<'_> {
     /// # Errors
     /// As [`Model::step`], but for the options and the parameters, which
     /// [`Model::stepper`] checked.
+    #[inline]
     pub fn step(
         &mut self,
         start: &[f64],
@@ -343,6 +344,7 @@ impl Stepper<'_> {
     ///
     /// # Errors
     /// As [`Stepper::step`].
+    #[inline]
     pub fn step_flat(
         &mut self,
         start: &[f64],
