@@ -795,3 +795,49 @@ fn consecutive_imports_are_checked_together_even_past_an_empty_one() {
     assert_eq!(run(&mut f, &[1.0, f64::INFINITY], &[0.0], &mut h), 5);
     assert_eq!(run(&mut f, &[f64::NAN, 2.0], &[0.0], &mut h), 5);
 }
+
+/// A call entered after 256-bit code left the upper halves of the vector
+/// registers in use computes the same values, to the bit, as one entered
+/// with them clear (the library clears them before the machine code).
+#[test]
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+fn a_call_after_256_bit_code_computes_the_same() {
+    if !std::arch::is_x86_feature_detected!("avx") {
+        return;
+    }
+    let mut g = Graph::new();
+    let p = g.leaf(Leaf::Param(0));
+    let q = g.leaf(Leaf::Q(0));
+    let cq = g.intern(Node::Call(Func::Cos, q));
+    let s = g.intern(Node::Add(p, cq));
+    let r = g.intern(Node::Mul(s, s));
+    let code = one(
+        &g,
+        &[Op::Store {
+            roots: vec![s, r],
+            at: vec![30, 31],
+            finite: None,
+        }],
+    );
+    let run = |dirty: bool| {
+        let mut f = vec![0.0; 48];
+        (f[0], f[2], f[8]) = (0.25, 1.0, 1.0_f64.cos());
+        if dirty {
+            // SAFETY: the host has AVX (checked above); writes ymm15 only.
+            unsafe {
+                core::arch::asm!(
+                    "vpcmpeqd ymm15, ymm15, ymm15",
+                    out("xmm15") _,
+                    options(nomem, nostack)
+                );
+            }
+        }
+        let status = code.call(0, &mut f, &mut Recorder::default());
+        (status, f[30].to_bits(), f[31].to_bits())
+    };
+    let clear = run(false);
+    let s = 0.25 + 1.0_f64.cos();
+    assert_eq!(clear, (0, s.to_bits(), (s * s).to_bits()));
+    assert_eq!(run(true), clear);
+}

@@ -25,7 +25,7 @@ use cranelift_module::{Linkage, Module};
 use kinematics_compiler::ir::{Graph, Id};
 
 use crate::lower::{Imports, Lower, SignBits, Sources};
-use crate::{declare_imports, new_module, JitError};
+use crate::{clear_upper, declare_imports, new_module, vex_encoded, JitError};
 
 mod emit;
 mod ops;
@@ -83,6 +83,8 @@ pub struct Fused {
     /// For each function, how many values of each port (by slot) it uses.
     needs: Vec<[usize; 2 * PORTS]>,
     len: usize,
+    /// The code is VEX-encoded (`vzeroupper` before a call).
+    vex: bool,
 }
 
 impl fmt::Debug for Fused {
@@ -708,6 +710,7 @@ impl Fused {
             .map(|id| entry(module.get_finalized_function(id)))
             .collect();
         Ok(Fused {
+            vex: vex_encoded(&module),
             module: ManuallyDrop::new(module),
             entries,
             needs,
@@ -783,6 +786,7 @@ impl Fused {
             need_in: core::array::from_fn(|i| need_in[i]),
             need_out: core::array::from_fn(|i| need_out[i]),
             len: self.len,
+            vex: self.vex,
             code: PhantomData,
         })
     }
@@ -798,6 +802,7 @@ pub struct Callable<'a, const I: usize, const O: usize> {
     need_in: [usize; I],
     need_out: [usize; O],
     len: usize,
+    vex: bool,
     code: PhantomData<&'a Fused>,
 }
 
@@ -842,6 +847,7 @@ impl<const I: usize, const O: usize> Callable<'_, I, O> {
             helper,
             len: self.len,
         };
+        clear_upper(self.vex);
         // SAFETY: every offset the code reads or writes was checked
         // against the layout's length, which is `f`'s; the code uses no
         // port beyond the I inputs and O outputs (checked when the
