@@ -310,84 +310,110 @@ fn runtime_model(tokens: &proc_macro2::TokenStream, params: &[f64]) -> Model {
     m
 }
 
+/// M3's pose to start from: the driver, then [`M3_START`].
+fn m3_start() -> [f64; 5] {
+    let [a, b, c, d] = M3_START;
+    [0.0, a, b, c, d]
+}
+
 /// A full turn of a run-time model with one driver through its stepper,
-/// from the unknowns `start` with the driver's rate and acceleration
-/// `rates`; the checksum sums the same values as the generated turns
-/// (the unknowns, their rates and accelerations, and point `point`).
-/// With `flat`, each step's motion is read from the stepper's flat arrays
-/// (`Stepper::step_flat`) instead of its `Motion` (`Stepper::step`).
-fn runtime_turn(m: &Model, start: &[f64], rates: (f64, f64), point: &str, flat: bool) -> f64 {
+/// from the pose `start` (the driver first, then the unknowns) with the
+/// driver's rate and acceleration `rates`; the checksum sums the same
+/// values as the generated turns (the unknowns, their rates and
+/// accelerations, and point `point`). With `FLAT`, each step's motion is
+/// read from the stepper's flat arrays (`Stepper::step_flat`) instead of
+/// its `Motion` (`Stepper::step`).
+///
+/// The counts are known when the harness is compiled, as they are in the
+/// generated turns: `Q` coordinates and points of `D` components (checked
+/// against the model's before the turn). So both checksums are the same
+/// fixed run of loads and additions, and the ratio is the library's,
+/// not the harness's: summed over slices of lengths known only at run
+/// time (short loops of one to three values), the checksum alone made
+/// the RSSR's turn about 10 % longer.
+fn runtime_turn<const Q: usize, const D: usize, const FLAT: bool>(
+    m: &Model,
+    start: [f64; Q],
+    rates: (f64, f64),
+    point: &str,
+) -> f64 {
     let (m, rates) = data((m, rates));
+    assert_eq!(
+        (m.drivers() + m.unknowns(), m.point_dimension()),
+        (Q, D),
+        "the harness's counts"
+    );
     let p = m
         .point_names()
         .iter()
         .position(|n| *n == point)
         .expect("the point");
-    let d = m.point_dimension();
+    let at = 3 * D * p;
     let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
-    let mut pose: Vec<f64> = std::iter::once(0.0).chain(start.iter().copied()).collect();
+    let mut pose = start;
     let mut sum = 0.0;
     for k in 0..STEPS {
         pose[0] = angle(k);
-        if flat {
+        if FLAT {
             let s = stepper
                 .step_flat(&pose, &[rates.0], &[rates.1])
                 .expect("step");
             pose.copy_from_slice(s.q);
-            sum += s.q[1..].iter().sum::<f64>()
-                + s.qd[1..].iter().sum::<f64>()
-                + s.qdd[1..].iter().sum::<f64>();
-            sum += grouped_sum(&s.outputs[3 * d * p..], &[d, d, d]);
+            sum += s.q[1..Q].iter().sum::<f64>()
+                + s.qd[1..Q].iter().sum::<f64>()
+                + s.qdd[1..Q].iter().sum::<f64>();
+            sum += grouped_sum::<D>(&s.outputs[at..at + 3 * D], 3);
         } else {
             let s = stepper.step(&pose, &[rates.0], &[rates.1]).expect("step");
             pose.copy_from_slice(&s.q);
             let pt = &s.points[p];
-            sum += s.q[1..].iter().sum::<f64>()
-                + s.qd[1..].iter().sum::<f64>()
-                + s.qdd[1..].iter().sum::<f64>();
-            sum += pt.position.iter().sum::<f64>()
-                + pt.velocity.iter().sum::<f64>()
-                + pt.acceleration.iter().sum::<f64>();
+            sum += s.q[1..Q].iter().sum::<f64>()
+                + s.qd[1..Q].iter().sum::<f64>()
+                + s.qdd[1..Q].iter().sum::<f64>();
+            sum += pt.position[..D].iter().sum::<f64>()
+                + pt.velocity[..D].iter().sum::<f64>()
+                + pt.acceleration[..D].iter().sum::<f64>();
         }
     }
     sum
 }
 
-/// The sum of the first groups of `values`, `widths` long each, as the
+/// The sum of the first `groups` groups of `W` values of `values`, as the
 /// generated turns sum a motion's vectors: each group summed on its own,
 /// then the sums added (`p.position.sum() + p.velocity.sum() + …`), so
 /// that both checksums are the same chain of additions.
-fn grouped_sum(values: &[f64], widths: &[usize]) -> f64 {
-    let mut rest = values;
-    let mut sum = 0.0;
-    for &w in widths {
-        let (group, tail) = rest.split_at(w);
-        sum += group.iter().sum::<f64>();
-        rest = tail;
-    }
-    sum
+fn grouped_sum<const W: usize>(values: &[f64], groups: usize) -> f64 {
+    values
+        .chunks_exact(W)
+        .take(groups)
+        .map(|g| g.iter().sum::<f64>())
+        .sum()
 }
 
 /// A full turn of the arm, a run-time model, through its stepper (with
-/// `flat`, read from the flat arrays, as in [`runtime_turn`]).
-fn runtime_m4(m: &Model, flat: bool) -> f64 {
+/// `FLAT`, read from the flat arrays, as in [`runtime_turn`], whose
+/// fixed counts it shares: a 3-D point and a frame).
+fn runtime_m4<const FLAT: bool>(m: &Model) -> f64 {
     let m = data(m);
-    let d = m.point_dimension();
+    assert_eq!(m.point_dimension(), 3, "the harness's counts");
     let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
     let mut sum = 0.0;
     for k in 0..STEPS {
         let (q, qd, qdd) = arm_joints(k);
         sum += q.iter().sum::<f64>();
-        if flat {
+        if FLAT {
             let s = stepper.step_flat(&q, &qd, &qdd).expect("step");
             // The point's 3d values, then the frame's rotation, ω and α.
-            sum += grouped_sum(s.outputs, &[d, d, d, 9, 3, 3]);
+            let o = &s.outputs[..24];
+            sum += grouped_sum::<3>(&o[..9], 3)
+                + o[9..18].iter().sum::<f64>()
+                + grouped_sum::<3>(&o[18..], 2);
         } else {
             let s = stepper.step(&q, &qd, &qdd).expect("step");
             let (p, f) = (&s.points[0], &s.frames[0]);
-            sum += p.position.iter().sum::<f64>()
-                + p.velocity.iter().sum::<f64>()
-                + p.acceleration.iter().sum::<f64>();
+            sum += p.position[..3].iter().sum::<f64>()
+                + p.velocity[..3].iter().sum::<f64>()
+                + p.acceleration[..3].iter().sum::<f64>();
             sum += f.rotation.sum() + f.angular_velocity.sum() + f.angular_acceleration.sum();
         }
     }
@@ -454,42 +480,46 @@ fn sweeps() -> Vec<(&'static str, &'static str, Sweep)> {
         (
             "M1 four-bar",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r1, &M1_START, M1_RATES, "P", false)),
+            Box::new(move || {
+                runtime_turn::<3, 2, false>(&r1, [0.0, M1_START[0], M1_START[1]], M1_RATES, "P")
+            }),
         ),
         (
             "M2 RSSR",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r2, &M2_START, M2_RATES, "B", false)),
+            Box::new(move || runtime_turn::<2, 3, false>(&r2, [0.0, M2_START[0]], M2_RATES, "B")),
         ),
         (
             "M3 Watt six-bar",
             "run-time stepper",
-            Box::new(move || runtime_turn(&r3, &M3_START, M3_RATES, "F", false)),
+            Box::new(move || runtime_turn::<5, 2, false>(&r3, m3_start(), M3_RATES, "F")),
         ),
         (
             "M4 six-axis arm",
             "run-time stepper",
-            Box::new(move || runtime_m4(&r4, false)),
+            Box::new(move || runtime_m4::<false>(&r4)),
         ),
         (
             "M1 four-bar",
             "run-time flat",
-            Box::new(move || runtime_turn(&f1, &M1_START, M1_RATES, "P", true)),
+            Box::new(move || {
+                runtime_turn::<3, 2, true>(&f1, [0.0, M1_START[0], M1_START[1]], M1_RATES, "P")
+            }),
         ),
         (
             "M2 RSSR",
             "run-time flat",
-            Box::new(move || runtime_turn(&f2, &M2_START, M2_RATES, "B", true)),
+            Box::new(move || runtime_turn::<2, 3, true>(&f2, [0.0, M2_START[0]], M2_RATES, "B")),
         ),
         (
             "M3 Watt six-bar",
             "run-time flat",
-            Box::new(move || runtime_turn(&f3, &M3_START, M3_RATES, "F", true)),
+            Box::new(move || runtime_turn::<5, 2, true>(&f3, m3_start(), M3_RATES, "F")),
         ),
         (
             "M4 six-axis arm",
             "run-time flat",
-            Box::new(move || runtime_m4(&f4, true)),
+            Box::new(move || runtime_m4::<true>(&f4)),
         ),
         ("M1 four-bar", "generated", Box::new(gen_m1)),
         ("M1 four-bar", "stepper", Box::new(gen_m1s)),
