@@ -11,7 +11,7 @@
 //! velocity of a point at the end of a six-joint chain then costs a few
 //! times its position, not six times.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use crate::ir::{Func, Graph, Id, Leaf, Node};
 
@@ -36,7 +36,7 @@ pub enum Along {
 }
 
 /// Memo of derivatives, shared across roots and directions.
-pub type Memo = HashMap<(Id, Along), Id>;
+pub type Memo = crate::ir::FastMap<(Id, Along), Id>;
 
 /// ∂root/∂wrt.
 pub fn partial(g: &mut Graph, root: Id, wrt: Leaf, memo: &mut Memo) -> Id {
@@ -245,7 +245,7 @@ mod tests {
         let x = g.leaf(Leaf::Q(0));
         let y = g.leaf(Leaf::Q(1));
         let e = build(&mut g, x, y);
-        let mut memo = Memo::new();
+        let mut memo = Memo::default();
         let dx = partial(&mut g, e, Leaf::Q(0), &mut memo);
         let dy = partial(&mut g, e, Leaf::Q(1), &mut memo);
         for k in 0..20 {
@@ -365,7 +365,7 @@ mod tests {
         let r = g.leaf(Leaf::Param(0));
         let c = g.call(Func::Cos, th);
         let x = g.mul(r, c);
-        let mut memo = Memo::new();
+        let mut memo = Memo::default();
         let v = time_derivative(&mut g, x, Accelerating::All, &mut memo);
         let a = time_derivative(&mut g, v, Accelerating::All, &mut memo);
         let (t, w, al, rr) = (0.7_f64, 3.0_f64, -2.0_f64, 0.25_f64);

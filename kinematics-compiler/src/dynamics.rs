@@ -193,7 +193,7 @@ pub fn partials(
     params: &[u32],
     frames: &[(String, [Id; 15])],
 ) -> Partials {
-    let mut memo = Memo::new();
+    let mut memo = Memo::default();
     let g = &mut model.graph;
     let constants = d.constants();
     let mut out = Partials {
@@ -263,7 +263,7 @@ pub fn resolve(def: &Definition, model: &mut Model, errors: &mut Errors) -> Opti
             .map(|d| syn::ext::IdentExt::unraw(&d.name).to_string())
             .unwrap_or_default()
     };
-    let mut memo = Memo::new();
+    let mut memo = Memo::default();
     let mut out = Dynamics {
         gravity,
         ..Dynamics::default()

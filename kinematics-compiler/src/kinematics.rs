@@ -59,7 +59,7 @@ enum Method {
 /// ways and keeping the one whose analysis takes fewer operations after
 /// common-subexpression elimination.
 pub fn derive(model: &mut Model) -> Derived {
-    let mut memo = Memo::new();
+    let mut memo = Memo::default();
     let by_partials = derive_with(model, Method::Partials, &mut memo);
     let forward = derive_with(model, Method::Forward, &mut memo);
     let cost = |d: &Derived| operation_counts(model, d)[1].1.shared;

@@ -111,7 +111,7 @@ pub fn partials(model: &mut Model, d: &Derived, params: &[u32]) -> Partials {
     let nd = model.drivers;
     let nu = model.unknowns;
     let g = &mut model.graph;
-    let mut memo = Memo::new();
+    let mut memo = Memo::default();
     // The velocity and acceleration residuals, V = Φ_u u' − (−Φ_d d') and
     // A = Φ_u u'' − (−Φ_d d'' − γ).
     let mut vel = Vec::new();
