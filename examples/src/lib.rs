@@ -6,6 +6,7 @@
 
 use kinematics_core::mechanism;
 
+#[cfg(feature = "synthesis")]
 pub mod benchmarks;
 mod definitions;
 pub use definitions::{definition, definitions, mechanism_bodies};
@@ -29,7 +30,7 @@ mechanism! {
     /// Planar four-bar. Ground pivots A = (0, 0) and D = (d, 0); crank AB at
     /// angle φ, coupler BC at θ3, rocker DC at θ4 measured at D; coupler point
     /// P = B + p·(cos(θ3 + β), sin(θ3 + β)).
-    #[derive(serde::Serialize, serde::Deserialize)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct FourBar {
         params {
             /// Crank length AB.
@@ -779,6 +780,7 @@ pub mod literature {
 /// The literature's path-generation problems solved from seeded random
 /// starting designs, shared by the synthesis example, its tests and the
 /// synthesis benchmark.
+#[cfg(feature = "synthesis")]
 pub mod synthesis_runs {
     use super::literature::{MORGAN_WAMPLER_7, NINE_POINTS};
     use super::{FourBar, FourBarCoords, FourBarModes, PlacedFourBar, PlacedFourBarModes};

@@ -17,6 +17,7 @@ use crate::parse::Definition;
 /// Runs the declaration checks and builds the name table.
 pub fn check(def: &Definition, errors: &mut Errors) -> Names {
     check_not_empty(def, errors);
+    check_coordinate_count(def, errors);
     let names = check_unique_names(def, errors);
     check_point_accessors_distinct(def, errors);
     check_driver_handles_distinct(def, errors);
@@ -173,6 +174,24 @@ fn check_not_empty(def: &Definition, errors: &mut Errors) {
                 "mechanism `{}` has no drivers and no unknowns, so there is nothing to analyse; \
                  declare the input in `drivers {{ … }}` and the joint variables to solve for in \
                  `unknowns {{ … }}`",
+                def.name
+            ),
+        );
+    }
+}
+
+/// At most [`MAX_COORDINATES`](crate::limits::MAX_COORDINATES) drivers
+/// and unknowns together: the derivatives and the blocks of Φ_u cost the
+/// square of their number.
+fn check_coordinate_count(def: &Definition, errors: &mut Errors) {
+    let max = crate::limits::MAX_COORDINATES;
+    if let Some(extra) = def.drivers.iter().chain(&def.unknowns).nth(max) {
+        errors.at(
+            extra.name.span(),
+            format!(
+                "this is coordinate {} of `{}`, more than the {max} drivers and unknowns a \
+                 mechanism may have; split it into mechanisms that hand their outputs on",
+                max + 1,
                 def.name
             ),
         );

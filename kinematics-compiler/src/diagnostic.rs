@@ -3,10 +3,69 @@
 //! the line with a caret under the offending tokens).
 
 use std::fmt;
+use std::ops::Range;
+use std::sync::Arc;
 
 use proc_macro2::{LineColumn, TokenStream};
 
+use crate::limits::MAX_TEXT_BYTES;
 use crate::pipeline::{compile, Compiled};
+
+/// The line of the text that a [`Diagnostic`] points into. Every
+/// diagnostic of one text shares that text (one copy, however many
+/// errors), and reads as the line's `&str`.
+#[derive(Clone)]
+pub struct Excerpt {
+    text: Arc<str>,
+    range: Range<usize>,
+}
+
+impl Excerpt {
+    /// The line, without its line break.
+    #[must_use]
+    pub fn as_str(&self) -> &str {
+        self.text.get(self.range.clone()).unwrap_or("")
+    }
+}
+
+impl std::ops::Deref for Excerpt {
+    type Target = str;
+    fn deref(&self) -> &str {
+        self.as_str()
+    }
+}
+
+impl fmt::Debug for Excerpt {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self.as_str(), f)
+    }
+}
+
+impl fmt::Display for Excerpt {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl PartialEq for Excerpt {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_str() == other.as_str()
+    }
+}
+
+impl Eq for Excerpt {}
+
+impl PartialEq<str> for Excerpt {
+    fn eq(&self, other: &str) -> bool {
+        self.as_str() == other
+    }
+}
+
+impl PartialEq<&str> for Excerpt {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
 
 /// One error in a definition given as text.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -20,8 +79,9 @@ pub struct Diagnostic {
     /// Line and column (as above) just past the last offending character;
     /// on a later line when the offending tokens span several.
     pub end: (usize, usize),
-    /// The text of the line `line`.
-    pub excerpt: String,
+    /// The text of the line `line` (shared with the other diagnostics of
+    /// the same text).
+    pub excerpt: Excerpt,
 }
 
 impl Diagnostic {
@@ -71,22 +131,40 @@ impl fmt::Display for Shown<'_> {
             None => writeln!(f, "{pad}--> {}:{}", d.line, d.column)?,
         }
         writeln!(f, "{pad} |")?;
-        writeln!(f, "{number} | {}", d.excerpt)?;
+        // A long line is shown as a window of at most `WINDOW` characters
+        // around the caret, so that what is printed stays in proportion
+        // to the number of errors, not to the length of the line.
+        const WINDOW: usize = 160;
+        let line = d.excerpt.as_str();
+        let length = line.chars().count();
+        let column = d.column.saturating_sub(1);
         let width = if d.end.0 == d.line {
             d.end.1.saturating_sub(d.column).max(1)
         } else {
             // To the end of the line.
-            (d.excerpt.chars().count() + 1)
-                .saturating_sub(d.column)
-                .max(1)
+            (length + 1).saturating_sub(d.column).max(1)
         };
+        let (skip, ellipsis) = if length > WINDOW && column > WINDOW / 2 {
+            (column - WINDOW / 2, "…")
+        } else {
+            (0, "")
+        };
+        let shown: String = line.chars().skip(skip).take(WINDOW).collect();
+        let tail = if skip + WINDOW < length { "…" } else { "" };
+        writeln!(f, "{number} | {ellipsis}{shown}{tail}")?;
         // Tabs kept as tabs, so that the caret lines up in a terminal.
-        let lead: String = d
-            .excerpt
+        let lead: String = ellipsis
             .chars()
-            .take(d.column.saturating_sub(1))
-            .map(|c| if c == '\t' { '\t' } else { ' ' })
+            .map(|_| ' ')
+            .chain(line.chars().skip(skip).take(column - skip).map(|c| {
+                if c == '\t' {
+                    '\t'
+                } else {
+                    ' '
+                }
+            }))
             .collect();
+        let width = width.min(WINDOW + 1 - (column - skip).min(WINDOW));
         write!(f, "{pad} | {lead}{}", "^".repeat(width))
     }
 }
@@ -136,10 +214,34 @@ impl std::error::Error for Diagnostics {}
 /// assert!(d.message.contains("`y`"), "{}", d.message);
 /// ```
 pub fn compile_str(text: &str) -> Result<Compiled, Diagnostics> {
+    if text.len() > MAX_TEXT_BYTES {
+        let source = Source::new(text);
+        let start = LineColumn { line: 1, column: 0 };
+        return Err(Diagnostics(vec![source.diagnostic(
+            format!(
+                "this definition is {} bytes long, more than the {} MiB a definition may have",
+                text.len(),
+                MAX_TEXT_BYTES >> 20
+            ),
+            start,
+            start,
+        )]));
+    }
+    let result = compile_tokens(text);
+    // The lexer keeps every text it has read, for the locations of its
+    // tokens, in a table of the thread's; the locations are all read by
+    // now, so the table is emptied: a thread that compiles many
+    // definitions does not grow.
+    release_locations();
+    result
+}
+
+/// [`compile_str`] without the check of the text's size and the release
+/// of its locations.
+fn compile_tokens(text: &str) -> Result<Compiled, Diagnostics> {
     let tokens: TokenStream = text.parse().map_err(|e: proc_macro2::LexError| {
         let span = e.span();
-        Diagnostics(vec![diagnostic(
-            text,
+        Diagnostics(vec![Source::new(text).diagnostic(
             "this text is not a sequence of Rust tokens: a bracket, brace or parenthesis \
              left open or closed twice, or a string, character or block comment not closed"
                 .to_string(),
@@ -150,50 +252,96 @@ pub fn compile_str(text: &str) -> Result<Compiled, Diagnostics> {
     // Locations are relative to the text's own first token: other texts
     // parsed earlier on this thread do not shift them.
     compile(tokens).map_err(|errors| {
+        let source = Source::new(text);
         Diagnostics(
             errors
                 .into_iter()
                 .map(|e| {
                     let span = e.span();
-                    diagnostic(text, e.to_string(), span.start(), span.end())
+                    source.diagnostic(e.to_string(), span.start(), span.end())
                 })
                 .collect(),
         )
     })
 }
 
-/// A diagnostic at `start..end` (as `proc_macro2` reports them: lines from
-/// 1, columns from 0) in `text`; a location outside the text (an error at
-/// the end of the input) is put just past its last character.
-fn diagnostic(text: &str, message: String, start: LineColumn, end: LineColumn) -> Diagnostic {
-    let lines: Vec<&str> = text.lines().collect();
-    let past_end = || {
-        let line = lines.len().max(1);
-        let column = lines.last().map_or(0, |l| l.chars().count()) + 1;
-        (line, column)
-    };
-    let inside = |lc: LineColumn| {
-        lc.line >= 1
-            && lines
-                .get(lc.line - 1)
-                .is_some_and(|l| lc.column <= l.chars().count())
-    };
-    let (line, column) = if inside(start) {
-        (start.line, start.column + 1)
-    } else {
-        past_end()
-    };
-    let end = if inside(end) && (end.line, end.column + 1) > (line, column) {
-        (end.line, end.column + 1)
-    } else {
-        (line, column + 1)
-    };
-    Diagnostic {
-        message,
-        line,
-        column,
-        end,
-        excerpt: lines.get(line - 1).copied().unwrap_or("").to_string(),
+/// Empties the thread's table of the texts its lexer has read (see
+/// `proc_macro2::extra::invalidate_current_thread_spans`). Inside a
+/// procedural macro, where the compiler keeps the locations, there is no
+/// such table and nothing is done.
+fn release_locations() {
+    // The call panics (before changing anything) only inside a procedural
+    // macro, where `compile_str` has no use: `compile` takes the macro's
+    // tokens. The unwind, if any, stops here.
+    let _ = std::panic::catch_unwind(proc_macro2::extra::invalidate_current_thread_spans);
+}
+
+/// A text and where its lines start, for the diagnostics of one compile:
+/// the lines are found once, and every excerpt shares the text.
+struct Source {
+    text: Arc<str>,
+    /// The byte offset at which each line starts, and its length in bytes
+    /// (without the line break) and in characters.
+    lines: Vec<(usize, usize, usize)>,
+}
+
+impl Source {
+    fn new(text: &str) -> Self {
+        let mut lines = Vec::new();
+        let mut start = 0;
+        for line in text.lines() {
+            lines.push((start, line.len(), line.chars().count()));
+            // `lines` splits at "\n" and drops a "\r" before it.
+            start += line.len();
+            let rest = &text.as_bytes()[start.min(text.len())..];
+            start += match rest {
+                [b'\r', b'\n', ..] => 2,
+                [b'\n', ..] => 1,
+                _ => 0,
+            };
+        }
+        Source {
+            text: Arc::from(text),
+            lines,
+        }
+    }
+
+    /// A diagnostic at `start..end` (as `proc_macro2` reports them: lines
+    /// from 1, columns from 0); a location outside the text (an error at
+    /// the end of the input) is put just past its last character.
+    fn diagnostic(&self, message: String, start: LineColumn, end: LineColumn) -> Diagnostic {
+        let lines = &self.lines;
+        let past_end = || {
+            let line = lines.len().max(1);
+            let column = lines.last().map_or(0, |l| l.2) + 1;
+            (line, column)
+        };
+        let inside = |lc: LineColumn| {
+            lc.line >= 1 && lines.get(lc.line - 1).is_some_and(|l| lc.column <= l.2)
+        };
+        let (line, column) = if inside(start) {
+            (start.line, start.column + 1)
+        } else {
+            past_end()
+        };
+        let end = if inside(end) && (end.line, end.column + 1) > (line, column) {
+            (end.line, end.column + 1)
+        } else {
+            (line, column + 1)
+        };
+        let range = lines
+            .get(line - 1)
+            .map_or(0..0, |&(from, bytes, _)| from..from + bytes);
+        Diagnostic {
+            message,
+            line,
+            column,
+            end,
+            excerpt: Excerpt {
+                text: Arc::clone(&self.text),
+                range,
+            },
+        }
     }
 }
 

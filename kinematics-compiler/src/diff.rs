@@ -65,11 +65,17 @@ pub fn time_derivative_by_partials(
     // Only the coordinates `root` involves have nonzero partials: the
     // others are skipped rather than differentiated to zero (a loop of a
     // chain involves a few of its hundreds of coordinates).
-    let involved: HashSet<Leaf> = g.leaves_under(root).collect();
-    for j in 0..coords {
-        if !involved.contains(&Leaf::Q(j)) && !involved.contains(&Leaf::Qd(j)) {
-            continue;
-        }
+    let mut involved: Vec<u32> = g
+        .leaves_under(root)
+        .filter_map(|l| match l {
+            Leaf::Q(j) | Leaf::Qd(j) if j < coords => Some(j),
+            _ => None,
+        })
+        .collect();
+    // In the order of the coordinates, as the sum has always been formed.
+    involved.sort_unstable();
+    involved.dedup();
+    for j in involved {
         let dq = partial(g, root, Leaf::Q(j), memo);
         let qd = g.leaf(Leaf::Qd(j));
         let t = g.mul(dq, qd);
@@ -122,7 +128,8 @@ fn derivative(g: &mut Graph, root: Id, along: Along, memo: &mut Memo) -> Id {
     // size of the new part of the DAG, not of the whole arena (a Jacobian
     // of a chain of n loops asks for n² derivatives of small expressions).
     let mut order = Vec::new();
-    let mut seen = HashSet::new();
+    let mut seen: HashSet<Id, std::hash::BuildHasherDefault<crate::ir::FastHasher>> =
+        HashSet::default();
     let mut stack = vec![root];
     while let Some(id) = stack.pop() {
         if memo.contains_key(&(id, along)) || !seen.insert(id) {
@@ -167,7 +174,12 @@ fn derivative(g: &mut Graph, root: Id, along: Along, memo: &mut Memo) -> Id {
                 // (aⁿ)' = n·aⁿ⁻¹·a'
                 let da = d(memo, a);
                 let nn = g.constant(f64::from(n));
-                let p = g.powi(a, n - 1);
+                // aⁿ⁻¹, or aⁿ / a where n − 1 is past i32's range (n
+                // = i32::MIN, from folded powers of powers).
+                let p = match n.checked_sub(1) {
+                    Some(m) => g.powi(a, m),
+                    None => g.div(id, a),
+                };
                 let np = g.mul(nn, p);
                 g.mul(np, da)
             }

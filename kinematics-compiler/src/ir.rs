@@ -226,6 +226,11 @@ impl Graph {
         self.nodes.is_empty()
     }
 
+    /// The node at position `index` of the arena, if any.
+    pub fn node_at(&self, index: usize) -> Option<Node> {
+        self.nodes.get(index).copied()
+    }
+
     /// The node behind an id.
     pub fn node(&self, id: Id) -> Node {
         self.nodes[id.index()]
@@ -281,17 +286,25 @@ impl Graph {
         seen
     }
 
-    /// Evaluates `roots` with the leaves given by `leaf`; all nodes are
-    /// computed once, in arena order.
+    /// Evaluates `roots` with the leaves given by `leaf`; each node under
+    /// them is computed once, in arena order. The cost is the size of the
+    /// expressions, not of the arena (the closed forms and the scales ask
+    /// this of every block and equation of a model of hundreds of loops).
     pub fn eval(&self, roots: &[Id], leaf: &dyn Fn(Leaf) -> f64) -> Vec<f64> {
-        let live = self.reachable(roots);
-        let mut val = vec![0.0; self.nodes.len()];
-        for (i, node) in self.nodes.iter().enumerate() {
-            if !live[i] {
-                continue;
+        let mut order: Vec<Id> = Vec::new();
+        let mut seen: FastMap<Id, f64> = FastMap::default();
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if seen.insert(id, 0.0).is_none() {
+                order.push(id);
+                stack.extend(self.node(id).children());
             }
-            let v = |id: Id| val[id.index()];
-            val[i] = match *node {
+        }
+        // Children come before their parents in the arena.
+        order.sort_unstable();
+        for id in order {
+            let v = |c: Id| seen.get(&c).copied().unwrap_or(f64::NAN);
+            let value = match self.node(id) {
                 Node::Const(bits) => f64::from_bits(bits),
                 Node::Leaf(l) => leaf(l),
                 Node::Add(a, b) => v(a) + v(b),
@@ -302,8 +315,12 @@ impl Graph {
                 Node::Call(f, a) => f.apply(v(a)),
                 Node::Atan2(y, x) => v(y).atan2(v(x)),
             };
+            seen.insert(id, value);
         }
-        roots.iter().map(|r| val[r.index()]).collect()
+        roots
+            .iter()
+            .map(|r| seen.get(r).copied().unwrap_or(f64::NAN))
+            .collect()
     }
 
     /// Number of operations in the expressions `roots` written as trees,
@@ -336,7 +353,8 @@ impl Graph {
     /// (a model of hundreds of loops asks this of thousands of small
     /// expressions).
     pub fn leaves_under(&self, id: Id) -> impl Iterator<Item = Leaf> + '_ {
-        let mut seen = std::collections::HashSet::new();
+        let mut seen: std::collections::HashSet<Id, BuildHasherDefault<FastHasher>> =
+            std::collections::HashSet::default();
         let mut stack = vec![id];
         core::iter::from_fn(move || {
             while let Some(i) = stack.pop() {

@@ -84,7 +84,10 @@ fn derive_with(model: &mut Model, method: Method, memo: &mut Memo) -> Derived {
     let jac = phi
         .iter()
         .map(|&p| {
-            let involved: std::collections::HashSet<Leaf> = g.leaves_under(p).collect();
+            let involved: std::collections::HashSet<
+                Leaf,
+                std::hash::BuildHasherDefault<crate::ir::FastHasher>,
+            > = g.leaves_under(p).collect();
             (nd..nq)
                 .map(|j| {
                     if involved.contains(&Leaf::Q(j)) {

@@ -7,6 +7,8 @@
 //! parse → check → lower → (simplify, on construction) → diff → cse → emit
 //! ```
 //!
+//! * [`limits`]: the nesting and size of the tokens, checked without
+//!   recursion before anything recurses on them;
 //! * `parse`: tokens to the syntax tree, spans kept;
 //! * `check`: declarations (names, mobility), every error reported at once;
 //! * `lower`: typed expressions to a hash-consed scalar DAG ([`ir`]);
@@ -62,6 +64,7 @@ pub mod dynamics;
 mod emit;
 pub mod ir;
 mod kinematics;
+pub mod limits;
 mod lower;
 mod names;
 mod parse;
@@ -78,6 +81,11 @@ pub use pipeline::{
 };
 pub use sensitivity::Partials;
 
+/// Definitions built by structure to pass the limits, for robustness
+/// tests. Not part of the API.
+#[cfg(any(test, feature = "fuzz"))]
+#[doc(hidden)]
+pub mod adversarial;
 /// Seeded mutations of valid definitions, for robustness tests. Not part of
 /// the API.
 #[cfg(any(test, feature = "fuzz"))]

@@ -89,11 +89,38 @@ pub fn suggest_function(wanted: &str) -> Option<String> {
     closest(wanted, function_names().collect())
 }
 
+/// The longest name for which a "did you mean" is looked for: a longer
+/// one is not a typo of a name a person wrote, and comparing it would cost
+/// the product of the lengths.
+const MAX_SUGGESTED_LENGTH: usize = 64;
+
+/// The most candidates compared for one hint: a definition with more
+/// names than this gets its hints from the first ones (in the table's
+/// order), so that many misspelt names among many declared ones cost a
+/// bounded time each.
+const MAX_CANDIDATES: usize = 4096;
+
+/// The candidate nearest `wanted` in edit distance (an insertion,
+/// deletion, substitution or transposition of neighbours counts one), if
+/// within a third of the longer name's length: `btea` for `beta`, `th5`
+/// for `th3`.
 fn closest(wanted: &str, candidates: Vec<&str>) -> Option<String> {
+    let length = wanted.chars().count();
+    if length > MAX_SUGGESTED_LENGTH {
+        return None;
+    }
     candidates
         .into_iter()
-        .map(|c| (edit_distance(wanted, c), c))
-        .filter(|(d, c)| *d <= (wanted.len().max(c.len()) / 3).max(1))
+        .filter(|c| c.len() <= 4 * MAX_SUGGESTED_LENGTH)
+        .take(MAX_CANDIDATES)
+        .filter_map(|c| {
+            let n = c.chars().count();
+            let allowed = (length.max(n) / 3).max(1);
+            // The distance is at least the difference of the lengths.
+            (n.abs_diff(length) <= allowed)
+                .then(|| (edit_distance(wanted, c), c))
+                .filter(|(d, _)| *d <= allowed)
+        })
         .min()
         .map(|(_, c)| c.to_owned())
 }
@@ -170,18 +197,25 @@ pub fn accessor_name(name: &Ident) -> String {
     format!("point_{}", name.unraw().to_string().to_lowercase())
 }
 
-/// Levenshtein distance between two short names.
+/// The edit distance between two short names, transpositions of
+/// neighbours counting one (the optimal string alignment distance).
 fn edit_distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
+    // Rows i − 2, i − 1 and i of the table.
+    let mut before: Vec<usize> = Vec::new();
     let mut prev: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.iter().enumerate() {
         let mut cur = vec![i + 1];
         for (j, cb) in b.iter().enumerate() {
             let sub = prev[j] + usize::from(ca != cb);
-            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+            let mut d = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+            if i > 0 && j > 0 && *ca == b[j - 1] && a[i - 1] == *cb {
+                d = d.min(before[j - 1] + 1);
+            }
+            cur.push(d);
         }
-        prev = cur;
+        before = std::mem::replace(&mut prev, cur);
     }
     prev[b.len()]
 }
@@ -195,5 +229,9 @@ mod tests {
         assert_eq!(edit_distance("th3", "th4"), 1);
         assert_eq!(edit_distance("theta", "th"), 3);
         assert_eq!(edit_distance("", "ab"), 2);
+        // A transposition of neighbours is one edit.
+        assert_eq!(edit_distance("btea", "beta"), 1);
+        assert_eq!(edit_distance("ab", "ba"), 1);
+        assert_eq!(edit_distance("abc", "ca"), 3);
     }
 }

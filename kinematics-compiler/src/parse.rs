@@ -52,6 +52,10 @@ pub struct Definition {
     /// The derives among them that name `Serialize` or `Deserialize`, also
     /// applied to the coordinates, motion and modes types.
     pub serde_derives: Vec<syn::Path>,
+    /// The same derives written inside `#[cfg_attr(predicate, derive(…))]`:
+    /// each predicate with its paths, applied to the generated types under
+    /// the same predicate.
+    pub serde_cfg_derives: Vec<(proc_macro2::TokenStream, Vec<syn::Path>)>,
     pub vis: Visibility,
     pub name: Ident,
     pub params: Vec<Decl>,
@@ -150,6 +154,7 @@ impl Parse for Definition {
         }
         check_struct_attributes(&attrs)?;
         let serde_derives = serde_derives(&attrs)?;
+        let serde_cfg_derives = serde_cfg_derives(&attrs)?;
         let vis: Visibility = input.parse()?;
         input.parse::<Token![struct]>().map_err(|e| {
             syn::Error::new(
@@ -165,6 +170,7 @@ impl Parse for Definition {
             docs,
             attrs,
             serde_derives,
+            serde_cfg_derives,
             vis,
             unknowns_span: name.span(),
             name,
@@ -338,17 +344,50 @@ fn check_struct_attributes(attrs: &[Attribute]) -> syn::Result<()> {
 fn serde_derives(attrs: &[Attribute]) -> syn::Result<Vec<syn::Path>> {
     let mut out = Vec::new();
     for attr in attrs.iter().filter(|a| a.path().is_ident("derive")) {
-        let paths = attr.parse_args_with(
-            syn::punctuated::Punctuated::<syn::Path, Token![,]>::parse_terminated,
-        )?;
-        for p in paths {
-            let last = p.segments.last().map(|s| s.ident.to_string());
-            if matches!(last.as_deref(), Some("Serialize" | "Deserialize")) {
-                out.push(p);
-            }
+        out.extend(serde_paths(&attr.meta)?);
+    }
+    Ok(out)
+}
+
+/// The serde derives inside `#[cfg_attr(predicate, …, derive(…), …)]`
+/// attributes, with their predicates: a mechanism whose serde support is
+/// behind a feature of the user's crate.
+fn serde_cfg_derives(
+    attrs: &[Attribute],
+) -> syn::Result<Vec<(proc_macro2::TokenStream, Vec<syn::Path>)>> {
+    let mut out = Vec::new();
+    for attr in attrs.iter().filter(|a| a.path().is_ident("cfg_attr")) {
+        let (predicate, metas) = attr.parse_args_with(|input: ParseStream<'_>| {
+            let predicate: syn::Meta = input.parse()?;
+            input.parse::<Token![,]>()?;
+            let metas =
+                syn::punctuated::Punctuated::<syn::Meta, Token![,]>::parse_terminated(input)?;
+            Ok((predicate, metas))
+        })?;
+        let mut paths = Vec::new();
+        for meta in metas.iter().filter(|m| m.path().is_ident("derive")) {
+            paths.extend(serde_paths(meta)?);
+        }
+        if !paths.is_empty() {
+            out.push((quote::ToTokens::to_token_stream(&predicate), paths));
         }
     }
     Ok(out)
+}
+
+/// The paths of one `derive(…)` whose last segment is `Serialize` or
+/// `Deserialize`.
+fn serde_paths(meta: &syn::Meta) -> syn::Result<Vec<syn::Path>> {
+    let list = meta.require_list()?;
+    let paths = list
+        .parse_args_with(syn::punctuated::Punctuated::<syn::Path, Token![,]>::parse_terminated)?;
+    Ok(paths
+        .into_iter()
+        .filter(|p| {
+            let last = p.segments.last().map(|s| s.ident.to_string());
+            matches!(last.as_deref(), Some("Serialize" | "Deserialize"))
+        })
+        .collect())
 }
 
 /// Keeps `///` comments; any other attribute is an error at its tokens.

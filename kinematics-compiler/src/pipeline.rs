@@ -350,6 +350,7 @@ struct Failure {
 
 /// The front and middle end.
 fn run(input: TokenStream) -> Result<Compiled, Failure> {
+    crate::limits::check(&input).map_err(|error| Failure { def: None, error })?;
     let def: parse::Definition =
         syn::parse2(input).map_err(|error| Failure { def: None, error })?;
     let mut errors = names::Errors::default();
@@ -438,6 +439,7 @@ pub fn expand(input: TokenStream) -> TokenStream {
 /// differentiation.
 #[must_use]
 pub fn op_counts(input: TokenStream) -> Option<[(&'static str, OpCount); 2]> {
+    crate::limits::check(&input).ok()?;
     let def: parse::Definition = syn::parse2(input).ok()?;
     let mut errors = names::Errors::default();
     let names = check::check(&def, &mut errors);

@@ -3,7 +3,7 @@
 //! that Φ_u is structurally regular.
 
 use crate::blocks::maximum_matching;
-use crate::ir::Leaf;
+use crate::ir::{Leaf, Node};
 use crate::lower::Model;
 use crate::names::Errors;
 use crate::parse::Definition;
@@ -35,15 +35,21 @@ fn check_drivers_used(def: &Definition, model: &Model, errors: &mut Errors) {
                 .flat_map(|f| f.rotation.iter().flatten().chain(&f.origin).copied()),
         )
         .collect();
+    // The coordinates under any root, found in one walk of the graph.
+    let live = model.graph.reachable(&roots);
+    let mut used = vec![false; def.drivers.len()];
+    for (i, &alive) in live.iter().enumerate() {
+        if let (true, Some(Node::Leaf(Leaf::Q(j)))) = (alive, model.graph.node_at(i)) {
+            if let Some(u) = used.get_mut(j as usize) {
+                *u = true;
+            }
+        }
+    }
     for (j, decl) in def.drivers.iter().enumerate() {
         if decl.allow_unused {
             continue;
         }
-        let leaf = Leaf::Q(index(j));
-        if !roots
-            .iter()
-            .any(|&r| model.graph.depends_on(r, &|l| l == leaf))
-        {
+        if !used[j] {
             errors.at(
                 decl.name.span(),
                 format!(
@@ -73,12 +79,17 @@ fn check_structural_rank(def: &Definition, model: &Model, errors: &mut Errors) {
         .equations
         .iter()
         .map(|e| {
-            (0..nu)
-                .filter(|&k| {
-                    let leaf = Leaf::Q(nd + index(k));
-                    model.graph.depends_on(e.residual, &|l| l == leaf)
+            let mut unknowns: Vec<usize> = model
+                .graph
+                .leaves_under(e.residual)
+                .filter_map(|l| match l {
+                    Leaf::Q(j) if j >= nd => Some((j - nd) as usize),
+                    _ => None,
                 })
-                .collect()
+                .filter(|&k| k < nu)
+                .collect();
+            unknowns.sort_unstable();
+            unknowns
         })
         .collect();
     let matching = maximum_matching(&involves, nu);

@@ -29,3 +29,26 @@ macro_rules! __with_serde {
         $item
     };
 }
+
+/// Nothing: a definition's `#[cfg_attr(…, derive(Serialize, …))]` is
+/// served by the `serde` feature (see the other version).
+#[cfg(feature = "serde")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __serde_required {
+    () => {};
+}
+
+/// Where a definition derives serde's traits under a `cfg_attr` predicate
+/// that holds, the error that says which feature to turn on.
+#[cfg(not(feature = "serde"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __serde_required {
+    () => {
+        ::core::compile_error!(
+            "deriving Serialize or Deserialize on a mechanism needs the `serde` feature of \
+             kinematics-core: `kinematics-core = { version = \"0.1\", features = [\"serde\"] }`"
+        );
+    };
+}

@@ -17,7 +17,7 @@ use kinematics_core::{Branch, Convergence, Error, Options};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyString};
 use rayon::prelude::*;
 
 mod batch;
@@ -158,12 +158,25 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<Model> {
         }),
         Err(CompileError::Definition(d)) => {
             let message = d.to_string();
-            let list: Vec<(String, usize, usize, String)> =
+            // One Python string per line of the text, shared by the
+            // diagnostics on that line (a line with thousands of errors is
+            // not copied thousands of times).
+            let mut excerpts: std::collections::HashMap<usize, Py<PyString>> =
+                std::collections::HashMap::new();
+            let list: Vec<(String, usize, usize, Py<PyString>)> =
                 d.0.iter()
-                    .map(|x| (x.message.clone(), x.line, x.column, x.excerpt.clone()))
+                    .map(|x| {
+                        let excerpt = excerpts
+                            .entry(x.line)
+                            .or_insert_with(|| PyString::new(py, x.excerpt.as_str()).unbind())
+                            .clone_ref(py);
+                        (x.message.clone(), x.line, x.column, excerpt)
+                    })
                     .collect();
             Err(raise(py, "DefinitionError", &message, |inst| {
-                let first = list.first().cloned();
+                let first = list
+                    .first()
+                    .map(|(m, l, c, e)| (m.clone(), *l, *c, e.clone_ref(py)));
                 inst.setattr("diagnostics", list)?;
                 if let Some((msg, line, column, excerpt)) = first {
                     inst.setattr("line", line)?;

@@ -190,6 +190,7 @@ pub(super) fn types(
             }
         },
     );
+    let serde_required = serde_required(def);
     let coords_item = with_serde(
         def,
         quote! {
@@ -211,6 +212,8 @@ pub(super) fn types(
         }
 
         #coords_item
+
+        #serde_required
 
         #positions_item
 
@@ -388,14 +391,33 @@ fn driver_handles(def: &Definition, id: &Idents, kinds: Option<&[CoordKind]>) ->
 }
 
 /// `item` with the serde derives of the definition, if any (see
-/// `kinematics_core::__with_serde`).
+/// `kinematics_core::__with_serde`): those under a `cfg_attr` predicate
+/// under the same predicate.
 pub(super) fn with_serde(def: &Definition, item: TokenStream) -> TokenStream {
+    let conditional = def
+        .serde_cfg_derives
+        .iter()
+        .map(|(predicate, paths)| quote!(#[cfg_attr(#predicate, derive(#(#paths),*))]));
+    let item = quote!(#(#conditional)* #item);
     let paths = &def.serde_derives;
     if paths.is_empty() {
         item
     } else {
         quote!(::kinematics_core::__with_serde! { [#(#paths),*] #item })
     }
+}
+
+/// For each `cfg_attr` predicate under which the definition derives serde's
+/// traits, a check (under the same predicate) that kinematics-core has its
+/// `serde` feature, with the fix in the error.
+fn serde_required(def: &Definition) -> TokenStream {
+    let checks = def.serde_cfg_derives.iter().map(|(predicate, _)| {
+        quote!(
+            #[cfg(#predicate)]
+            ::kinematics_core::__serde_required! {}
+        )
+    });
+    quote!(#(#checks)*)
 }
 
 /// The positions of the points by name: `FourBarPositions { A, B, … }`.

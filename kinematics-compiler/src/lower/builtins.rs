@@ -57,6 +57,17 @@ impl Lowerer<'_> {
                 );
                 return None;
             };
+            if n.unsigned_abs() > crate::limits::MAX_POWI_EXPONENT {
+                self.errors.spanned(
+                    &c.args[1],
+                    format!(
+                        "the exponent of `powi` is {n}, outside the range ±{} it may take; \
+                         for larger exponents use `exp(k * ln(x))`",
+                        crate::limits::MAX_POWI_EXPONENT
+                    ),
+                );
+                return None;
+            }
             return match base? {
                 Value::Scalar(a) => Some(Value::Scalar(self.g.powi(a, n))),
                 v => {
