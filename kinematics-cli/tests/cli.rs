@@ -645,3 +645,75 @@ fn sweep_writes_the_effort_sensitivities_of_a_definition_with_them() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// 10 000 nested parentheses aborted the command (a stack overflow of its
+/// 8 MiB main thread): `check` now exits with the located error that
+/// names the limit.
+#[test]
+fn deeply_nested_text_is_a_located_error_not_an_abort() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-deep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let file = dir.join("deep.mech");
+    let depth = 10_000;
+    let definition = format!(
+        "pub struct FourBar {{\n    params {{ a, b, c, d }}\n    drivers {{ phi }}\n    \
+         unknowns {{ th3, th4 }}\n    loops {{ polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + \
+         polar({}c{}, th4); }}\n}}\n",
+        "(".repeat(depth),
+        ")".repeat(depth)
+    );
+    std::fs::write(&file, definition).expect("written");
+    let path = file.to_string_lossy().into_owned();
+    let out = run(&["check", &path]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("nest more than 64 deep"), "{stderr}");
+    assert!(stderr.contains("deep.mech:5:"), "{stderr}");
+    // The excerpt is a window of the long line, not all 20 000 brackets.
+    assert!(stderr.len() < 2000, "{}", stderr.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The commands of the README's and the CLI guide's shell blocks run as
+/// printed (`kinematics …` and `cargo run --release -p kinematics-cli --
+/// …` alike, with this build of the command), from a folder where
+/// `examples/` is the project's, and succeed; `sweep` writes its table.
+#[cfg(unix)]
+#[test]
+fn the_readme_and_guide_commands_run_as_printed() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-readme-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    std::os::unix::fs::symlink(root.join("examples"), dir.join("examples")).expect("a link");
+    let mut ran = 0;
+    for page in ["README.md", "kinematics-core/docs/cli.md"] {
+        let page_text = std::fs::read_to_string(root.join(page)).expect("the page");
+        for block in page_text.split("```sh\n").skip(1) {
+            let block = block.split("```").next().unwrap_or("");
+            let joined = block.replace("\\\n", " ");
+            for line in joined.lines() {
+                let command = line.split(" #").next().unwrap_or("").trim();
+                let args = command
+                    .strip_prefix("kinematics ")
+                    .or_else(|| command.strip_prefix("cargo run --release -p kinematics-cli -- "));
+                let Some(args) = args else { continue };
+                let args: Vec<&str> = args.split_whitespace().collect();
+                let out = Command::new(env!("CARGO_BIN_EXE_kinematics"))
+                    .args(&args)
+                    .current_dir(&dir)
+                    .output()
+                    .expect("the command runs");
+                assert!(
+                    out.status.success(),
+                    "{page}: `{command}` failed: {}",
+                    text(&out.stderr)
+                );
+                ran += 1;
+            }
+        }
+    }
+    assert!(ran >= 6, "{ran} commands");
+    assert!(dir.join("out/sweep.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -119,11 +119,37 @@ pub mod guide {
     pub mod failures {}
     #[doc = include_str!("../docs/compile-errors.md")]
     pub mod compile_errors {}
+    #[doc = include_str!("../docs/assembly.md")]
+    pub mod assembly {}
+    // Its example derives serde's traits: compiled as a test with the
+    // `serde` feature, which the workspace's tests turn on.
+    #[cfg(any(not(doctest), feature = "serde"))]
+    #[doc = include_str!("../docs/simulation.md")]
+    pub mod simulation {}
+    #[doc = include_str!("../docs/forces.md")]
+    pub mod forces {}
+    #[doc = include_str!("../docs/tolerances.md")]
+    pub mod tolerances {}
+    #[doc = include_str!("../docs/synthesis.md")]
+    pub mod synthesis {}
+    #[doc = include_str!("../docs/spatial.md")]
+    pub mod spatial {}
+    #[doc = include_str!("../docs/toolkit.md")]
+    pub mod toolkit {}
     #[cfg(feature = "runtime")]
     #[cfg_attr(docsrs_nightly, doc(cfg(feature = "runtime")))]
     #[doc = include_str!("../docs/runtime.md")]
     #[cfg_attr(feature = "synthesis", doc = include_str!("../docs/runtime-synthesis.md"))]
+    #[doc = include_str!("../docs/runtime-models.md")]
     pub mod runtime {}
+    #[doc = include_str!("../docs/cli.md")]
+    pub mod cli {}
+    #[doc = include_str!("../docs/errors.md")]
+    pub mod errors {}
+    #[doc = include_str!("../docs/verification.md")]
+    pub mod verification {}
+    #[doc = include_str!("../docs/performance.md")]
+    pub mod performance {}
 }
 pub use mechanism::{
     Coordinate, Coordinates, DriverValues, FrameState, Kind, Mechanism, MotionState, PointMotion,

@@ -1,28 +1,53 @@
-"""The README's Python example runs as printed."""
+"""The Python code of the project's README and of the package's README runs
+as printed, from a fresh namespace, in a temporary folder."""
 
+import math
 import os
 import re
 from pathlib import Path
 
-import numpy as np
-
-README = Path(__file__).resolve().parents[2] / "README.md"
+ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_the_readme_example_runs(tmp_path):
-    text = README.read_text(encoding="utf-8")
-    section = text[text.index("## Python") :]
-    section = section[: section.index("\n## ", 1)]
-    blocks = re.findall(r"```python\n(.*?)```", section, re.S)
-    assert len(blocks) == 2
+def blocks(path):
+    text = path.read_text(encoding="utf-8")
+    return re.findall(r"```python\n(.*?)```", text, re.S)
+
+
+def run(path, tmp_path):
+    scope = {}
     here = os.getcwd()
     os.chdir(tmp_path)
     try:
-        scope = {"a_values": np.linspace(0.03, 0.05, 50), "b_values": np.full(50, 0.12)}
-        for code in blocks:
-            exec(compile(code, "README.md", "exec"), scope)
+        for code in blocks(path):
+            exec(compile(code, str(path), "exec"), scope)
     finally:
         os.chdir(here)
+    return scope
+
+
+def test_the_front_page_quick_start_runs(tmp_path, capsys):
+    assert len(blocks(ROOT / "README.md")) == 1
+    scope = run(ROOT / "README.md", tmp_path)
+    sw = scope["sw"]
+    assert len(sw) == 360 and sw.stop is None
+    # The rocker's swing, against the law of cosines at the two dead
+    # centres of the crank-rocker (crank and coupler in line: the rocker
+    # pin at distance b + a and b − a from the crank's pivot).
+    a, b, c, d = 0.04, 0.12, 0.10, 0.11
+
+    def rocker(r):
+        # Angle at D between DA (pointing to −x) and DC, with |AC| = r.
+        return math.pi - math.acos((c * c + d * d - r * r) / (2 * c * d))
+
+    swing = abs(rocker(b + a) - rocker(b - a))
+    assert abs((sw["th4"].max() - sw["th4"].min()) - swing) < 1e-3
+    assert "None" in capsys.readouterr().out
+
+
+def test_the_package_readme_runs(tmp_path):
+    assert len(blocks(ROOT / "python" / "README.md")) == 2
+    scope = run(ROOT / "python" / "README.md", tmp_path)
     fs = scope["fs"]
     assert len(fs) == 360 and (tmp_path / "engine-forces.svg").exists()
     assert fs.flywheel(0.02, 40.0) > 0.0

@@ -22,7 +22,7 @@
 //! Before timing, every variant's checksum over a full turn is compared with
 //! the hand-written one. `cargo bench -p kinematics-bench --bench steps`
 //! prints the table; with `KINEMATICS_BENCH_README=1` it also rewrites the
-//! table in README.md.
+//! table in the performance guide (`kinematics-core/docs/performance.md`).
 
 // Benchmark code: a failed setup should stop the run (panics), and the
 // numerical loops index several arrays in step, as in the formulas.
@@ -844,7 +844,7 @@ fn main() {
         if complete {
             write_readme(&table);
         } else {
-            eprintln!("not all benchmarks ran (a filter was given?); README.md left unchanged");
+            eprintln!("not all benchmarks ran (a filter was given?); the performance guide left unchanged");
         }
     }
 }
@@ -939,21 +939,24 @@ fn interleaved(all: &mut [(&'static str, &'static str, Sweep)]) -> String {
 }
 
 fn write_readme(table: &str) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../kinematics-core/docs/performance.md"
+    );
     let (start, end) = (
         "<!-- benchmark table: start -->",
         "<!-- benchmark table: end -->",
     );
     let Ok(readme) = std::fs::read_to_string(path) else {
-        eprintln!("README.md not found at {path}");
+        eprintln!("the performance guide not found at {path}");
         return;
     };
     let (Some(a), Some(b)) = (readme.find(start), readme.find(end)) else {
-        eprintln!("README.md has no benchmark table markers");
+        eprintln!("the performance guide has no benchmark table markers");
         return;
     };
     let new = format!("{}{start}\n{table}{}", &readme[..a], &readme[b..]);
     if std::fs::write(path, new).is_ok() {
-        eprintln!("README.md updated");
+        eprintln!("{path} updated");
     }
 }
