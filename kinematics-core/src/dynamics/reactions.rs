@@ -1,0 +1,501 @@
+//! The joint reactions at a motion: the Newton–Euler equations of every
+//! body at once, linear in the reactions of the joints resolved in
+//! the `joints` module (see there for the mathematics), solved in the
+//! least-squares sense where the joints over-constrain the bodies.
+
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec;
+use alloc::vec::Vec;
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use super::evaluate::{Generated, Instant, View};
+use super::joints::*;
+use super::{Dynamics, ResolvedBody, Turns};
+use crate::error::Error;
+use crate::mechanism::Mechanism;
+
+/// The reaction at one joint.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct JointReaction {
+    /// The joint's name.
+    pub name: String,
+    /// The force the first body exerts on the second, in the fixed axes
+    /// (N; z = 0 in a planar mechanism). At a prismatic or cylindrical
+    /// joint, normal to the axis (plus the driver's force along it where
+    /// a driver acts there).
+    pub force: Vector3<f64>,
+    /// The same force in the second body's axes (turned by minus its
+    /// angle, or by the transpose of its frame's rotation; the fixed axes
+    /// for a body that does not turn).
+    pub force_in_body: Vector3<f64>,
+    /// The moment the first body exerts on the second, in the fixed axes
+    /// (N·m), other than the driver's torque: in a planar mechanism, along
+    /// z at a prismatic joint and zero at a revolute one; in a spatial
+    /// one, normal to the axis at a revolute or cylindrical joint, any at
+    /// a prismatic joint, zero at a spherical one.
+    pub moment: Vector3<f64>,
+    /// The driver's effort transmitted in this joint, where one acts.
+    pub effort: Option<f64>,
+}
+
+/// The reactions at every joint ([`Dynamics::reactions`]), in the order
+/// the joints were given.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Reactions {
+    /// One per joint.
+    pub joints: Vec<JointReaction>,
+    /// Whether the mechanism is spatial (the forces and moments then have
+    /// three components).
+    pub spatial: bool,
+}
+
+impl Reactions {
+    /// The reaction at the joint named `name`.
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&JointReaction> {
+        self.joints.iter().find(|j| j.name == name)
+    }
+}
+
+/// The rotation from body `b`'s axes to the fixed axes: its frame's, a
+/// turn about z by its angle, or none for a body that does not turn (and
+/// for the ground, `None`).
+fn rotation_of(bodies: &[ResolvedBody], b: Option<usize>, s: &dyn View) -> Matrix3<f64> {
+    let Some(b) = b.and_then(|b| bodies.get(b)) else {
+        return Matrix3::identity();
+    };
+    match &b.turning {
+        Turns::No => Matrix3::identity(),
+        Turns::Angle(terms) => {
+            let angle: f64 = terms.iter().map(|&(j, c)| c * s.coordinate(j)[0]).sum();
+            let (sin, cos) = crate::math::sin_cos(angle);
+            Matrix3::new(cos, -sin, 0.0, sin, cos, 0.0, 0.0, 0.0, 1.0)
+        }
+        Turns::Frame(f) => s
+            .frame(*f)
+            .map_or(Matrix3::repeat(f64::NAN), |f| f.rotation),
+    }
+}
+
+/// Two unit vectors normal to the unit vector `e` and to each other, with
+/// (n₁, n₂, e) right-handed.
+fn normals(e: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    // The fixed axis least aligned with e.
+    let pick = if e.x.abs() <= e.y.abs() && e.x.abs() <= e.z.abs() {
+        Vector3::x()
+    } else if e.y.abs() <= e.z.abs() {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let n1 = e.cross(&pick).normalize();
+    (n1, e.cross(&n1))
+}
+
+/// What one unknown of a joint is: a unit force and a unit moment (in the
+/// fixed axes), applied to the second body at the joint and opposite on
+/// the first, and whether it is the driver's.
+#[derive(Clone, Copy)]
+struct Unit {
+    force: Vector3<f64>,
+    moment: Vector3<f64>,
+    driver: bool,
+}
+
+impl Unit {
+    fn force(force: Vector3<f64>) -> Self {
+        Unit {
+            force,
+            moment: Vector3::zeros(),
+            driver: false,
+        }
+    }
+    fn moment(moment: Vector3<f64>) -> Self {
+        Unit {
+            force: Vector3::zeros(),
+            moment,
+            driver: false,
+        }
+    }
+    fn driving(self) -> Self {
+        Unit {
+            driver: true,
+            ..self
+        }
+    }
+}
+
+/// The unknowns of joint `j` whose axis is `e` in the fixed axes.
+fn unknowns(j: &ResolvedJoint, e: Vector3<f64>, spatial: bool) -> Vec<Unit> {
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+    let mut u = match (j.kind, spatial) {
+        (JointKind::Revolute, false) => vec![Unit::force(x), Unit::force(y)],
+        (JointKind::Prismatic, false) => {
+            vec![Unit::force(Vector3::new(-e.y, e.x, 0.0)), Unit::moment(z)]
+        }
+        (JointKind::Spherical, _) => vec![Unit::force(x), Unit::force(y), Unit::force(z)],
+        (JointKind::Revolute, true) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(x),
+                Unit::force(y),
+                Unit::force(z),
+                Unit::moment(n1),
+                Unit::moment(n2),
+            ]
+        }
+        (JointKind::Prismatic, true) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(n1),
+                Unit::force(n2),
+                Unit::moment(x),
+                Unit::moment(y),
+                Unit::moment(z),
+            ]
+        }
+        (JointKind::Cylindrical, _) => {
+            let (n1, n2) = normals(e);
+            vec![
+                Unit::force(n1),
+                Unit::force(n2),
+                Unit::moment(n1),
+                Unit::moment(n2),
+            ]
+        }
+    };
+    if j.driver.is_some() {
+        u.push(match j.kind {
+            JointKind::Prismatic => Unit::force(e).driving(),
+            _ => Unit::moment(e).driving(),
+        });
+    }
+    u
+}
+
+impl Dynamics {
+    /// The reaction at every joint given with [`super::DynamicsBuilder::joint`]
+    /// at `motion`, a motion of `m`, by the Newton–Euler equations of
+    /// every body (see the [module](super)): the force and moment each
+    /// joint's first body exerts on its second, and the driver's effort in
+    /// its joint, which equals [`Dynamics::inverse`]'s. The motion is all
+    /// it reads: `m` names the mechanism's type, and no analysis is
+    /// repeated.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDynamics`] when the joints do not determine the
+    /// reactions (in a planar mechanism, the count of unknowns is not
+    /// three per body; in a spatial one, more unknowns than six per body,
+    /// or equations no reactions satisfy; or the system is singular at
+    /// this pose), when a force does not name the body it acts on
+    /// ([`super::DynamicsBuilder::force_on`]), a spring the bodies of its
+    /// ends ([`super::Spring::between`]), or a force on a coordinate the
+    /// joint it acts in ([`Joint::coordinate`]).
+    pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
+        let _ = m;
+        self.fits_mechanism::<M>()?;
+        self.reactions_in(&Generated(motion))
+    }
+
+    /// [`Dynamics::reactions`] over a view of the motion.
+    pub(super) fn reactions_in(&self, s: &dyn View) -> Result<Reactions, Error> {
+        let invalid = |item: &str, detail: String| Error::InvalidDynamics {
+            item: item.to_string(),
+            detail,
+        };
+        if self.joints.is_empty() {
+            return Err(invalid(
+                "joints",
+                "none given: declare them in the definition's `joints` section \
+                 (`bearing(revolute, O, between = (ground, crank));`) or with \
+                 `.joint(Joint::revolute(…))`"
+                    .to_string(),
+            ));
+        }
+        // The joint each force on a coordinate acts in.
+        let mut in_joints = Vec::with_capacity(self.coordinate_forces.len());
+        for (c, f) in &self.coordinate_forces {
+            // The joint a driver acts in is measured by that driver.
+            let measured = |j: &&ResolvedJoint| j.coordinate == Some(*c) || j.driver == Some(*c);
+            let Some(j) = self.joints.iter().find(measured) else {
+                return Err(invalid(
+                    "a force on a coordinate",
+                    format!(
+                        "no joint is measured by coordinate {}: name it on its joint \
+                         (`coordinate = x` in the definition's `joints` section, or \
+                         `.coordinate(\"x\")`) for the joint reactions",
+                        c + 1
+                    ),
+                ));
+            };
+            if !matches!(j.kind, JointKind::Revolute | JointKind::Prismatic) {
+                return Err(invalid(
+                    "a force on a coordinate",
+                    format!(
+                        "it acts in joint `{}`, a {} joint, which transmits no effort along or \
+                         about one axis: measure the coordinate on a revolute or prismatic joint",
+                        j.name,
+                        j.kind.word()
+                    ),
+                ));
+            }
+            in_joints.push((j, f));
+        }
+        if self.springs.iter().any(|s| s.bodies.is_none()) {
+            return Err(invalid(
+                "a spring",
+                "it does not name the bodies its ends are fixed to: give them with \
+                 `.between(\"first\", \"second\")` for the joint reactions"
+                    .to_string(),
+            ));
+        }
+        let spatial = self.dim == 3;
+        // Rows per body: the force's x and y and the moment's z in a
+        // planar mechanism; every component in a spatial one.
+        let w = if spatial { 6 } else { 3 };
+        let nb = self.bodies.len();
+        let rows = w * nb;
+        let nan = [Vector3::repeat(f64::NAN); 3];
+        let point = |p: usize| s.point(p).unwrap_or(nan);
+        let centre = |b: usize| point(self.bodies[b].center)[0];
+        // Each joint's axis in the fixed axes, and its unknowns.
+        let mut units = Vec::with_capacity(self.joints.len());
+        for j in &self.joints {
+            let e = rotation_of(&self.bodies, j.bodies[0], s) * j.axis;
+            units.push((e, unknowns(j, e, spatial)));
+        }
+        let cols: usize = units.iter().map(|(_, u)| u.len()).sum();
+        if (!spatial && cols != rows) || cols > rows {
+            return Err(invalid(
+                "joints",
+                format!(
+                    "they give {cols} unknown reaction components for the {rows} equations of \
+                     motion of {nb} bodies: declare every moving link as a body and every joint \
+                     between them (with the driver's), so that the reactions are determined"
+                ),
+            ));
+        }
+        // A force f with moment m about G, on body b, into the rows of b.
+        let rows_of = |f: Vector3<f64>, m: Vector3<f64>| -> [f64; 6] {
+            if spatial {
+                [f.x, f.y, f.z, m.x, m.y, m.z]
+            } else {
+                [f.x, f.y, m.z, 0.0, 0.0, 0.0]
+            }
+        };
+        let mut a = DMatrix::<f64>::zeros(rows, cols);
+        let mut rhs = DVector::<f64>::zeros(rows);
+        let mut load = |b: usize, f: Vector3<f64>, m: Vector3<f64>| {
+            for (k, v) in rows_of(f, m).iter().take(w).enumerate() {
+                rhs[w * b + k] += v;
+            }
+        };
+        // Each body's rate of momentum less gravity, and of angular
+        // momentum about G: J α + ω × J ω.
+        for (i, b) in self.bodies.iter().enumerate() {
+            let [_, _, acc] = point(b.center);
+            let (omega, alpha, inertia) = super::evaluate::turning(b, s);
+            load(
+                i,
+                (acc - self.gravity) * b.mass,
+                inertia * alpha + omega.cross(&(inertia * omega)),
+            );
+        }
+        // The applied loads, moved to the right-hand side.
+        let [q, qd, qdd] = self.coordinates_of(s);
+        let instant = |at: [Vector3<f64>; 3]| Instant {
+            q: &q,
+            qd: &qd,
+            qdd: &qdd,
+            position: at[0],
+            velocity: at[1],
+        };
+        let planar = |v: Vector3<f64>| {
+            if spatial {
+                v
+            } else {
+                Vector3::new(v.x, v.y, 0.0)
+            }
+        };
+        for (p, body, f) in &self.forces {
+            let Some(b) = *body else {
+                return Err(invalid(
+                    "a force",
+                    format!(
+                        "the force at point {} does not name the body it acts on: give it with \
+                         `.force_on(\"body\", \"point\", …)` for the joint reactions",
+                        p + 1
+                    ),
+                ));
+            };
+            let at = point(*p);
+            let f = planar(Vector3::from(f(&instant(at))));
+            load(b, -f, -(at[0] - centre(b)).cross(&f));
+        }
+        for (b, t) in &self.torques {
+            let at = point(self.bodies[*b].center);
+            let t = Vector3::from(t(&instant(at)));
+            let t = if spatial {
+                t
+            } else {
+                Vector3::new(0.0, 0.0, t.z)
+            };
+            load(*b, Vector3::zeros(), -t);
+        }
+        // Each spring pulls its ends together with its tension
+        // f = k (L − L₀) + c L' along e, from A to B: +f e on A's body at A,
+        // −f e on B's at B.
+        for sp in &self.springs {
+            let pull = sp.pull(s);
+            let (f, [ra, rb]) = (pull.e * pull.tension, pull.ends);
+            let ends = sp.bodies.unwrap_or([None; 2]);
+            for (body, at, f) in [(ends[0], ra, f), (ends[1], rb, -f)] {
+                if let Some(b) = body {
+                    load(b, -f, -(at - centre(b)).cross(&f));
+                }
+            }
+        }
+        // A force on a coordinate: a torque about its revolute joint's
+        // axis, or a force along its prismatic joint's axis, on the second
+        // body, and its opposite on the first.
+        for (j, f) in in_joints {
+            let value = f(&instant([Vector3::zeros(); 3]));
+            let r = point(j.at)[0];
+            let e = rotation_of(&self.bodies, j.bodies[0], s) * j.axis;
+            let (force, torque) = match j.kind {
+                JointKind::Prismatic => (e * value, Vector3::zeros()),
+                _ => (Vector3::zeros(), e * value),
+            };
+            for (body, sign) in [(j.bodies[1], 1.0), (j.bodies[0], -1.0)] {
+                if let Some(b) = body {
+                    let arm = r - centre(b);
+                    load(b, -force * sign, -(arm.cross(&force) + torque) * sign);
+                }
+            }
+        }
+        // The joints' unknowns: a force and moment on the second body,
+        // their opposites on the first.
+        let mut col = 0;
+        for (j, (_, us)) in self.joints.iter().zip(&units) {
+            let r = point(j.at)[0];
+            for u in us {
+                for (body, sign) in [(j.bodies[1], 1.0), (j.bodies[0], -1.0)] {
+                    if let Some(b) = body {
+                        let arm = r - centre(b);
+                        let v = rows_of(u.force * sign, (arm.cross(&u.force) + u.moment) * sign);
+                        for (k, x) in v.iter().take(w).enumerate() {
+                            a[(w * b + k, col)] += x;
+                        }
+                    }
+                }
+                col += 1;
+            }
+        }
+        if !(a.iter().all(|v| v.is_finite()) && rhs.iter().all(|v| v.is_finite())) {
+            return Err(invalid(
+                "joints",
+                "a position, acceleration or load at this pose is not finite".to_string(),
+            ));
+        }
+        let x = solve(&a, &rhs).map_err(|why| invalid("joints", why))?;
+        let mut out = Vec::with_capacity(self.joints.len());
+        let mut col = 0;
+        for (j, (_, us)) in self.joints.iter().zip(&units) {
+            let (mut force, mut moment, mut effort) = (Vector3::zeros(), Vector3::zeros(), None);
+            for u in us {
+                let v = x[col];
+                col += 1;
+                force += u.force * v;
+                if u.driver {
+                    effort = Some(v);
+                } else {
+                    moment += u.moment * v;
+                }
+            }
+            let force_in_body = rotation_of(&self.bodies, j.bodies[1], s).transpose() * force;
+            if let Some(v) = force
+                .iter()
+                .chain(&moment)
+                .chain(&force_in_body)
+                .find(|v| !v.is_finite())
+            {
+                return Err(Error::NonFinite {
+                    input: crate::error::Input::Computed,
+                    name: "a joint's reaction",
+                    value: *v,
+                });
+            }
+            out.push(JointReaction {
+                name: j.name.clone(),
+                force,
+                force_in_body,
+                moment,
+                effort,
+            });
+        }
+        Ok(Reactions {
+            joints: out,
+            spatial,
+        })
+    }
+}
+
+/// The reactions x of A x = b: by LU for a square system; by least
+/// squares for one with more equations than unknowns (a link that spins
+/// freely), which must then satisfy every equation to round-off.
+fn solve(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, String> {
+    let singular = || {
+        "the equations of motion do not determine the reactions at this pose (a singular \
+         pose, or a joint missing and another repeated)"
+            .to_string()
+    };
+    if a.nrows() == a.ncols() {
+        return a
+            .clone()
+            .lu()
+            .solve(b)
+            .filter(|x| x.iter().all(|v| v.is_finite()))
+            .ok_or_else(singular);
+    }
+    let svd = a.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    let rank = svd
+        .singular_values
+        .iter()
+        .filter(|&&v| v > largest * 1e-10)
+        .count();
+    if rank < a.ncols() {
+        return Err(singular());
+    }
+    let x = svd
+        .solve(b, largest * 1e-10)
+        .map_err(|_| singular())?
+        .into_iter()
+        .copied()
+        .collect::<Vec<f64>>();
+    let x = DVector::from_vec(x);
+    // The scale of the equations' terms, for the residual's test.
+    let scale = (0..a.nrows())
+        .map(|i| {
+            (0..a.ncols())
+                .map(|k| (a[(i, k)] * x[k]).abs())
+                .sum::<f64>()
+                .max(b[i].abs())
+        })
+        .fold(0.0, f64::max);
+    let residual = (a * &x - b).amax();
+    if !(x.iter().all(|v| v.is_finite()) && residual <= 1e-9 * scale) {
+        return Err(format!(
+            "no reactions satisfy every equation of motion at this pose (residual {residual:.3e} \
+             of terms up to {scale:.3e}): a link turns freely about an axis no joint holds (a \
+             link between two spherical joints spins about the line through them) and its \
+             inertia about that axis is not zero; make it a slender rod (no inertia about that \
+             axis), or hold it with a revolute or universal-like pair of joints"
+        ));
+    }
+    Ok(x)
+}

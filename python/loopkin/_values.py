@@ -1,0 +1,296 @@
+"""The values a mechanism hands back: options, poses, motions of points and
+frames, forces, reactions and sensitivities, each a read-only view of the
+native results with its names."""
+
+from __future__ import annotations
+
+from typing import (
+    TYPE_CHECKING,
+    Any,
+    Dict,
+    Iterator,
+    Mapping,
+    Optional,
+    Sequence,
+    Tuple,
+)
+
+import numpy as np
+
+from . import _native
+
+if TYPE_CHECKING:
+    from ._model import MechanismType
+
+class Options:
+    """Solver options, shared by assembly, analysis, sweeps and batches.
+
+    Attributes:
+        tolerance: Newton–Raphson has converged when every |Φ_i| is at most
+            ``tolerance`` times its equation's term scale S_i (relative), or
+            at most ``tolerance`` in the equation's units when ``absolute``.
+        max_iterations: the largest number of Newton iterations.
+        singularity_threshold: Φ_u is singular when its conditioning (the
+            distance of the scaled Jacobian to the nearest singular matrix)
+            is at or below this.
+        branch: "any" (the branch nearest the guess), "positive" or
+            "negative" (by the sign of det Φ_u).
+        absolute: whether ``tolerance`` is absolute.
+    """
+
+    __slots__ = ("tolerance", "max_iterations", "singularity_threshold", "branch", "absolute")
+
+    def __init__(
+        self,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+        singularity_threshold: Optional[float] = None,
+        branch: str = "any",
+        absolute: bool = False,
+    ) -> None:
+        t, n, s, _, _ = _native.default_options()
+        self.tolerance = float(t if tolerance is None else tolerance)
+        self.max_iterations = int(n if max_iterations is None else max_iterations)
+        self.singularity_threshold = float(s if singularity_threshold is None else singularity_threshold)
+        self.branch = branch
+        self.absolute = bool(absolute)
+
+    def _tuple(self) -> Tuple[float, int, float, str, bool]:
+        return (self.tolerance, self.max_iterations, self.singularity_threshold, self.branch, self.absolute)
+
+    def __repr__(self) -> str:
+        return (
+            f"Options(tolerance={self.tolerance!r}, max_iterations={self.max_iterations!r}, "
+            f"singularity_threshold={self.singularity_threshold!r}, branch={self.branch!r}, "
+            f"absolute={self.absolute!r})"
+        )
+
+
+def _opts(options: Optional[Options]) -> Tuple[float, int, float, str, bool]:
+    return (options or Options())._tuple()
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+class Values(Mapping[str, float]):
+    """Values by name (coordinates, or their rates or accelerations); the
+    array, in the mechanism's order, is :attr:`array`."""
+
+    __slots__ = ("_names", "array")
+
+    def __init__(self, names: Sequence[str], array: np.ndarray) -> None:
+        self._names = tuple(names)
+        self.array = _readonly(np.asarray(array, dtype=float))
+
+    def __getitem__(self, name: str) -> float:
+        try:
+            return float(self.array[self._names.index(name)])
+        except ValueError:
+            raise KeyError(f"{name!r} is not one of {list(self._names)}") from None
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return np.asarray(self.array, dtype=dtype)
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{n}={v:.12g}" for n, v in zip(self._names, self.array))
+        return f"{{{inner}}}"
+
+
+class Pose(Values):
+    """A pose of a mechanism: every coordinate (drivers first) by name, and
+    the assembly modes it was assembled in (``None`` when unknown).
+
+    ``pose["th3"]`` is a coordinate; ``pose.array`` all of them in order;
+    ``pose.modes`` a tuple of "+"/"-", one per block with two modes.
+    """
+
+    __slots__ = ("modes",)
+
+    def __init__(self, names: Sequence[str], array: np.ndarray, modes: Optional[Sequence[str]] = None) -> None:
+        super().__init__(names, array)
+        self.modes = None if modes is None else tuple(modes)
+
+    def __repr__(self) -> str:
+        m = "" if self.modes is None else f" modes={''.join(self.modes)}"
+        return f"Pose({super().__repr__()}{m})"
+
+
+class PointMotion:
+    """A point's position r, velocity v and acceleration a (numpy arrays of
+    2 or 3 components), with the speed |v| and |a|."""
+
+    __slots__ = ("position", "velocity", "acceleration")
+
+    def __init__(self, values: np.ndarray) -> None:
+        self.position = _readonly(values[0].copy())
+        self.velocity = _readonly(values[1].copy())
+        self.acceleration = _readonly(values[2].copy())
+
+    @property
+    def speed(self) -> float:
+        """|v|."""
+        return float(np.linalg.norm(self.velocity))
+
+    def __repr__(self) -> str:
+        return f"PointMotion(position={self.position}, velocity={self.velocity}, acceleration={self.acceleration})"
+
+
+class FrameMotion:
+    """A body frame's motion: rotation matrix R (its axes in fixed
+    coordinates), origin o, the origin's velocity and acceleration, angular
+    velocity ω and angular acceleration α."""
+
+    __slots__ = ("rotation", "origin", "velocity", "acceleration", "angular_velocity", "angular_acceleration")
+
+    def __init__(self, values: np.ndarray) -> None:
+        v = np.asarray(values, dtype=float)
+        self.rotation = _readonly(v[..., 0:9].reshape(v.shape[:-1] + (3, 3)).copy())
+        self.origin = _readonly(v[..., 9:12].copy())
+        self.velocity = _readonly(v[..., 12:15].copy())
+        self.acceleration = _readonly(v[..., 15:18].copy())
+        self.angular_velocity = _readonly(v[..., 18:21].copy())
+        self.angular_acceleration = _readonly(v[..., 21:24].copy())
+
+    def __repr__(self) -> str:
+        return f"FrameMotion(origin={self.origin}, angular_velocity={self.angular_velocity})"
+
+
+class Motion:
+    """The motion at one pose: ``q``, ``qd`` (q') and ``qdd`` (q'') by
+    name, every point and frame by name, and the diagnostics.
+
+    Attributes:
+        q, qd, qdd: :class:`Values` of every coordinate, drivers first.
+        points: ``{name: PointMotion}``.
+        frames: ``{name: FrameMotion}``.
+        conditioning: 1/‖Φ̃_u⁻¹‖∞ of the scaled Jacobian, 0 at a singular
+            pose.
+        det_sign: the sign of det Φ_u (the assembly branch).
+        residual: max |Φ_i| / S_i at q.
+    """
+
+    __slots__ = ("q", "qd", "qdd", "points", "frames", "conditioning", "det_sign", "residual")
+
+    def __init__(self, cls: "MechanismType", d: Dict[str, Any]) -> None:
+        names = [c[0] for c in cls._native.coordinates]
+        self.q = Pose(names, d["q"])
+        self.qd = Values(names, d["qd"])
+        self.qdd = Values(names, d["qdd"])
+        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
+        self.frames = {n: FrameMotion(v) for n, v in zip(cls._native.frames, d["frames"])}
+        self.conditioning = float(d["conditioning"])
+        self.det_sign = float(d["det_sign"])
+        self.residual = float(d["residual"])
+
+    @property
+    def pose(self) -> Pose:
+        """The pose, as :class:`Pose`."""
+        return self.q
+
+    def __repr__(self) -> str:
+        return f"Motion(q={self.q!r}, qd={self.qd!r}, qdd={self.qdd!r})"
+
+
+class Forces:
+    """The forces at one motion (:meth:`Mechanism.forces`).
+
+    Attributes:
+        effort: :class:`Values` of each driver's effort, the torque (N·m,
+            angle drivers) or force (N, length drivers) it must supply,
+            positive when it drives the coordinate's growth.
+        kinetic_energy: T = Σ ½ m |v_G|² + ½ ω · J ω (J).
+        potential_energy: V = −Σ m g · r_G + Σ ½ k (L − L₀)² (J).
+        power: Σ Q_k ḋ_k, the power the drivers supply (W).
+        shaking_force: −Σ m a_G, the force the links' inertia exerts on the
+            frame (N; 3 components).
+        shaking_moment: its moment about the origin (N·m; 3 components).
+    """
+
+    __slots__ = ("effort", "kinetic_energy", "potential_energy", "power", "shaking_force", "shaking_moment")
+
+    def __init__(self, drivers: Sequence[str], d: Dict[str, Any]) -> None:
+        self.effort = Values(drivers, _readonly(np.asarray(d["effort"])))
+        self.kinetic_energy = float(d["kinetic_energy"])
+        self.potential_energy = float(d["potential_energy"])
+        self.power = float(d["power"])
+        self.shaking_force: np.ndarray = _readonly(np.asarray(d["shaking_force"]))
+        self.shaking_moment: np.ndarray = _readonly(np.asarray(d["shaking_moment"]))
+
+    def __repr__(self) -> str:
+        return f"Forces(effort={self.effort!r}, power={self.power:.6g})"
+
+
+class MassSensitivity:
+    """How the drivers' efforts change with one body's mass and moment of
+    inertia (:meth:`Mechanism.mass_sensitivities`).
+
+    Attributes:
+        mass: :class:`Values` of ∂Q_k/∂m for each driver (N·m/kg for an
+            angle driver, N/kg for a length).
+        inertia: :class:`Values` of ∂Q_k/∂J for each driver, for a body
+            turning by an angle in a planar mechanism; ``None`` otherwise.
+    """
+
+    __slots__ = ("mass", "inertia")
+
+    def __init__(self, drivers: Sequence[str], d: Dict[str, Any]) -> None:
+        self.mass = Values(drivers, _readonly(np.asarray(d["mass"])))
+        self.inertia: Optional[Values] = (
+            None if d["inertia"] is None else Values(drivers, _readonly(np.asarray(d["inertia"])))
+        )
+
+    def __repr__(self) -> str:
+        return f"MassSensitivity(mass={self.mass!r}, inertia={self.inertia!r})"
+
+
+class JointReaction:
+    """The reaction at one joint (:meth:`Mechanism.reactions`).
+
+    Attributes:
+        force: the force the joint's first body exerts on its second, in
+            the fixed axes (N; 3 components, z = 0 in a planar mechanism).
+        force_in_body: the same force in the second body's axes.
+        moment: the moment the first body exerts on the second (N·m), other
+            than a driver's torque.
+        effort: the driver's effort in this joint, or ``None``.
+    """
+
+    __slots__ = ("force", "force_in_body", "moment", "effort")
+
+    def __init__(self, d: Dict[str, Any]) -> None:
+        self.force: np.ndarray = _readonly(np.asarray(d["force"]))
+        self.force_in_body: np.ndarray = _readonly(np.asarray(d["force_in_body"]))
+        self.moment: np.ndarray = _readonly(np.asarray(d["moment"]))
+        self.effort: Optional[float] = None if d["effort"] is None else float(d["effort"])
+
+    def __repr__(self) -> str:
+        return f"JointReaction(force={self.force!r}, effort={self.effort!r})"
+
+
+class Sensitivity:
+    """The derivatives of a motion with respect to one parameter p:
+    ∂q/∂p, ∂q'/∂p, ∂q''/∂p (:class:`Values`) and each point's ∂r/∂p,
+    ∂v/∂p, ∂a/∂p (:class:`PointMotion`, in the point's units per unit of
+    p)."""
+
+    __slots__ = ("parameter", "q", "qd", "qdd", "points")
+
+    def __init__(self, cls: "MechanismType", parameter: str, d: Dict[str, Any]) -> None:
+        names = [c[0] for c in cls._native.coordinates]
+        self.parameter = parameter
+        self.q = Values(names, d["q"])
+        self.qd = Values(names, d["qd"])
+        self.qdd = Values(names, d["qdd"])
+        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
+
+    def __repr__(self) -> str:
+        return f"Sensitivity({self.parameter}: q={self.q!r})"

@@ -1,0 +1,332 @@
+//! The `Sweep` class: the samples of a run-time model's sweep as numpy
+//! columns handed over without a copy, the stop as a dict, and the views
+//! the Python layer builds its `Sweep` from.
+
+use super::*;
+
+/// A sweep's stop as a dict: "kind" ("limit_position", "change_point",
+/// "singular", "not_assembled" or "invalid"), "at", "message" and, where
+/// the reason has them, "unknowns", "from" and "to"; `None` for none.
+pub(crate) fn stop_dict<'py>(
+    py: Python<'py>,
+    stop: Option<&Stop>,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(stop) = stop else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("at", stop.at)?;
+    d.set_item("message", stop.to_string())?;
+    let kind = match &stop.reason {
+        StopReason::LimitPosition { unknowns } => {
+            d.set_item("unknowns", *unknowns)?;
+            "limit_position"
+        }
+        StopReason::ChangePoint { from, to } => {
+            d.set_item("from", *from)?;
+            d.set_item("to", *to)?;
+            "change_point"
+        }
+        StopReason::Singular(_) => "singular",
+        StopReason::NotAssembled(_) => "not_assembled",
+        StopReason::Invalid(_) => "invalid",
+    };
+    d.set_item("kind", kind)?;
+    Ok(Some(d))
+}
+
+pub(crate) fn change_points(s: &str) -> PyResult<ChangePoints> {
+    match s {
+        "stop" => Ok(ChangePoints::Stop),
+        "smooth" => Ok(ChangePoints::Smooth),
+        "switch" => Ok(ChangePoints::Switch),
+        other => Err(PyValueError::new_err(format!(
+            "change_points must be \"stop\", \"smooth\" or \"switch\", not {other:?}"
+        ))),
+    }
+}
+
+/// The samples of a sweep of a run-time model, and how it ended: the
+/// columns handed to numpy without a copy (`arrays`), and what else the
+/// sweep knows (`columns`, whose data columns were moved out).
+#[pyclass(frozen, module = "loopkin._native")]
+pub(crate) struct Sweep {
+    pub(crate) columns: Columns,
+    pub(crate) arrays: Py<PyDict>,
+    pub(crate) rows: usize,
+    pub(crate) model: Runtime,
+}
+
+/// The names of the data columns, in the order of `Columns::take_data`.
+const DATA: [&str; 8] = [
+    "at",
+    "q",
+    "qd",
+    "qdd",
+    "points",
+    "conditioning",
+    "det_sign",
+    "residual",
+];
+
+impl Sweep {
+    /// The sweep of `model` whose samples are `columns`: its data columns
+    /// moved into numpy arrays (no copy), shaped as [`Sweep::columns`]
+    /// gives them.
+    pub(crate) fn new(py: Python<'_>, mut columns: Columns, model: Runtime) -> PyResult<Self> {
+        let n = columns.rows();
+        let nc = model.coordinates().len();
+        let np = model.point_names().len();
+        let nf = model.frame_names().len();
+        let dim = model.point_dimension();
+        let frames: Vec<f64> = columns
+            .frames
+            .iter()
+            .flat_map(convert::frame_values)
+            .collect();
+        let d = PyDict::new(py);
+        for (key, v) in DATA.into_iter().zip(columns.take_data()) {
+            let a = match key {
+                "q" | "qd" | "qdd" => shaped(py, v, vec![n, nc])?,
+                "points" => shaped(py, v, vec![n, np, 3, dim])?,
+                _ => array(py, v).into_any(),
+            };
+            d.set_item(key, a)?;
+        }
+        d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
+        Ok(Self {
+            columns,
+            arrays: d.unbind(),
+            rows: n,
+            model,
+        })
+    }
+
+    /// The columns with their data, read back from the arrays (a copy):
+    /// what the tables, the CSV, the text, the animation and the
+    /// deviations read.
+    fn full(&self, py: Python<'_>) -> PyResult<Columns> {
+        let d = self.arrays.bind(py);
+        let mut held = Vec::with_capacity(DATA.len());
+        for key in DATA {
+            let a = d
+                .get_item(key)?
+                .ok_or_else(|| PyValueError::new_err(format!("the column {key:?} is missing")))?;
+            held.push(a.cast_into::<numpy::PyArrayDyn<f64>>()?.readonly());
+        }
+        let mut data: [&[f64]; 8] = [&[]; 8];
+        for (slot, a) in data.iter_mut().zip(&held) {
+            *slot = a.as_slice()?;
+        }
+        Ok(self.columns.with_data(data))
+    }
+}
+
+#[pymethods]
+impl Sweep {
+    /// The swept driver's name.
+    #[getter]
+    fn variable(&self) -> &'static str {
+        self.columns.variable()
+    }
+    /// The number of samples.
+    fn __len__(&self) -> usize {
+        self.rows
+    }
+    /// Every column as arrays: "at" (n), "q", "qd", "qdd" (n × coordinates),
+    /// "points" (n × points × 3 × dim: position, velocity, acceleration),
+    /// "frames" (n × frames × 24: rotation by rows, origin, velocity,
+    /// acceleration, ω, α), "conditioning", "det_sign", "residual" (n).
+    /// The same arrays at every call: they hold the sweep's data (made
+    /// read-only by the Python class that wraps them).
+    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
+        self.arrays.bind(py).clone()
+    }
+
+    /// `None` when the sweep ran to its end; else a dict with "kind"
+    /// ("limit_position", "change_point", "singular", "not_assembled" or
+    /// "invalid"), "at", "message" and, where the reason has them,
+    /// "unknowns", "from" and "to".
+    fn stop<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        stop_dict(py, self.columns.stop.as_ref())
+    }
+
+    /// The change points passed (estimates of the driver's value at each).
+    #[getter]
+    fn change_points(&self) -> Vec<f64> {
+        self.columns.change_points.clone()
+    }
+
+    /// The column headers, with units (lengths in `unit`), and the rows as
+    /// a 2-D array, as the CSV has them.
+    fn table<'py>(
+        &self,
+        py: Python<'py>,
+        unit: &str,
+    ) -> PyResult<(Vec<String>, Bound<'py, PyAny>)> {
+        let c = self.full(py)?;
+        let headers = c.headers_in(unit);
+        let width = headers.len();
+        let rows: Vec<f64> = (0..c.rows()).flat_map(|i| c.row(i)).collect();
+        let n = c.rows();
+        Ok((headers, shaped(py, rows, vec![n, width])?))
+    }
+
+    /// The CSV text (lengths in `unit`).
+    fn to_csv(&self, py: Python<'_>, unit: &str) -> PyResult<String> {
+        Ok(self.full(py)?.csv_in(unit))
+    }
+
+    /// The aligned text table, every `every`-th sample.
+    fn to_text(&self, py: Python<'_>, every: usize) -> PyResult<String> {
+        Ok(self.full(py)?.text(every))
+    }
+
+    /// Writes the HTML animation of the sweep to `path`, drawing the links
+    /// `links` (pairs of point names) in the projection `projection`
+    /// ("xy", "xz" or "yz").
+    fn write_animation(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        links: Vec<(String, String)>,
+        projection: &str,
+    ) -> PyResult<()> {
+        let projection = match projection {
+            "xy" => Projection::XY,
+            "xz" => Projection::XZ,
+            "yz" => Projection::YZ,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "projection must be \"xy\", \"xz\" or \"yz\", not {other:?}"
+                )))
+            }
+        };
+        let c = self.full(py)?;
+        let nc = self.model.coordinates().len();
+        let first = c.q[0]
+            .get(..nc)
+            .ok_or_else(|| PyValueError::new_err("the sweep has no sample to animate"))?;
+        let roles = self.model.point_roles(first).map_err(|e| error(py, &e))?;
+        let links: Vec<(&str, &str)> = links
+            .iter()
+            .map(|(a, b)| (a.as_str(), b.as_str()))
+            .collect();
+        kinematics_core::animate::write_table_html(
+            &c,
+            self.model.name(),
+            &roles,
+            &links,
+            projection,
+            &path,
+        )
+        .map_err(|e| error(py, &e))
+    }
+
+    /// The forces at every sample, from the definition's `bodies` and
+    /// `loads` sections.
+    fn forces(&self, py: Python<'_>) -> PyResult<forces::ForceSweep> {
+        let c = self.full(py)?;
+        let model = &self.model;
+        let sweep = py
+            .detach(|| {
+                let dynamics = model.dynamics()?;
+                let samples: Vec<Sample> = (0..c.rows())
+                    .map(|i| {
+                        let mut motion = Motion::default();
+                        let at = c.motion(i, &mut motion);
+                        Sample { at, motion }
+                    })
+                    .collect();
+                dynamics.along_samples_of(model, c.variable(), &samples)
+            })
+            .map_err(|e| error(py, &e))?;
+        Ok(forces::ForceSweep::new(sweep))
+    }
+
+    /// How each driver's effort at every sample changes with each
+    /// parameter of the `sensitivities` section, the drivers' motion held:
+    /// a dict from each parameter to an array of shape (samples, drivers).
+    fn effort_sensitivities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.full(py)?;
+        let model = &self.model;
+        let nd = model.drivers();
+        let names: Vec<String> = model
+            .sensitivity_parameters()
+            .iter()
+            .map(|n| n.to_string())
+            .collect();
+        let rows = c.rows();
+        let columns = py
+            .detach(|| -> Result<Vec<Vec<f64>>, Error> {
+                let dynamics = model.dynamics()?;
+                let mut columns = vec![Vec::with_capacity(rows * nd); names.len()];
+                let mut motion = Motion::default();
+                for i in 0..rows {
+                    c.motion(i, &mut motion);
+                    let s = dynamics.effort_sensitivities_of(model, &motion)?;
+                    for (column, one) in columns.iter_mut().zip(s) {
+                        column.extend(one.effort);
+                    }
+                }
+                Ok(columns)
+            })
+            .map_err(|e| error(py, &e))?;
+        let out = PyDict::new(py);
+        for (name, column) in names.into_iter().zip(columns) {
+            out.set_item(name, shaped(py, column, vec![rows, nd])?)?;
+        }
+        Ok(out)
+    }
+
+    /// The first-order deviations of point `point` for the tolerances
+    /// `tolerances` ((parameter, ±t) pairs of the `sensitivities`
+    /// section): a dict of arrays "at", "position_worst",
+    /// "position_components" (n × dim), "position_rss" (n × dim),
+    /// "velocity_worst", "velocity_components", "velocity_rss".
+    fn deviations<'py>(
+        &self,
+        py: Python<'py>,
+        point: &str,
+        tolerances: Vec<(String, f64)>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let t: Vec<(&str, f64)> = tolerances.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let c = self.full(py)?;
+        let devs = py
+            .detach(|| {
+                self.model.point_deviations_over(
+                    c.rows(),
+                    |i, motion| c.motion(i, motion),
+                    point,
+                    &t,
+                )
+            })
+            .map_err(|e| error(py, &e))?;
+        let n = devs.len();
+        let dim = self.model.point_dimension();
+        let d = PyDict::new(py);
+        d.set_item("at", array(py, devs.iter().map(|x| x.at).collect()))?;
+        d.set_item(
+            "position_worst",
+            array(py, devs.iter().map(|x| x.position_worst).collect()),
+        )?;
+        d.set_item(
+            "velocity_worst",
+            array(py, devs.iter().map(|x| x.velocity_worst).collect()),
+        )?;
+        for (key, pick) in [
+            (
+                "position_components",
+                (|x: &kinematics_core::tolerance::Deviation| &x.position_components)
+                    as fn(&kinematics_core::tolerance::Deviation) -> &Vec<f64>,
+            ),
+            ("position_rss", |x| &x.position_rss),
+            ("velocity_components", |x| &x.velocity_components),
+            ("velocity_rss", |x| &x.velocity_rss),
+        ] {
+            let flat: Vec<f64> = devs.iter().flat_map(|x| pick(x).iter().copied()).collect();
+            d.set_item(key, shaped(py, flat, vec![n, dim])?)?;
+        }
+        Ok(d)
+    }
+}
