@@ -35,6 +35,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use kinematics_compiler::ClosedForm;
 use kinematics_core::runtime::{CompileError, Model};
 
 mod sweep;
@@ -283,20 +284,19 @@ fn check(file: &Path) -> Result<String, Failure> {
             .map(|&k| coords[nd + k].0.as_str())
             .collect();
         let rows: Vec<String> = b.equations.iter().map(|r| (r + 1).to_string()).collect();
-        let how = match b.closed_form {
+        let how = match &b.form {
             Some(form) => {
-                // Every closed form but the linear one and the TRT dyad
-                // has two solutions: two assembly modes.
-                let modes = !matches!(form, "linear" | "TRT");
+                let modes = form.has_modes();
                 if modes {
                     two_modes += 1;
                 }
-                let kind = if form == "angle" {
-                    "a cos θ + b sin θ + c = 0".to_string()
-                } else if form == "linear" {
-                    "linear".to_string()
-                } else {
-                    format!("{form} dyad")
+                let kind = match form {
+                    ClosedForm::Angle { .. } => "a cos θ + b sin θ + c = 0".to_string(),
+                    ClosedForm::Linear { .. } => "linear".to_string(),
+                    ClosedForm::CircleCircle { .. }
+                    | ClosedForm::CircleLine { .. }
+                    | ClosedForm::Slide { .. }
+                    | ClosedForm::LineLine { .. } => format!("{} dyad", form.name()),
                 };
                 format!(
                     "closed form, {kind}{}",

@@ -717,3 +717,42 @@ fn the_readme_and_guide_commands_run_as_printed() {
     assert!(dir.join("out/sweep.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The parallelogram four-bar swept over a turn in 360 steps from 30°, so
+/// that samples land exactly on its folds: `--change-points smooth` left
+/// it at a misleading "dead-centre … or redundant constraint" (exit 1);
+/// it now passes both folds, writes 358 rows and names the change points.
+#[test]
+fn a_parallelogram_swept_onto_its_folds_passes_them() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-fold-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let params = dir.join("parallelogram.toml");
+    std::fs::write(
+        &params,
+        "a = 0.04\nb = 0.09\nc = 0.04\nd = 0.09\np = 0.0\nbeta = 0.0\n\n[start]\n\
+         phi = 0.5235987755982988\nth3 = 0.0\nth4 = 0.5235987755982988\n",
+    )
+    .expect("written");
+    let four_bar = mechanisms().join("four_bar.mech");
+    let out_dir = dir.join("out");
+    let out = run(&[
+        "sweep",
+        four_bar.to_str().expect("a UTF-8 path"),
+        "--params",
+        params.to_str().expect("a UTF-8 path"),
+        "--turn",
+        "--steps",
+        "360",
+        "--rpm",
+        "120",
+        "--change-points",
+        "smooth",
+        "--out",
+        out_dir.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (_, rows) = read_csv(&out_dir.join("sweep.csv"));
+    assert_eq!(rows.len(), 358);
+    let _ = std::fs::remove_dir_all(&dir);
+}

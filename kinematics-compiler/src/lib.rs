@@ -74,6 +74,7 @@ mod sensitivity;
 mod simplify;
 mod validate;
 
+pub use closed::ClosedForm;
 pub use diagnostic::{compile_str, Diagnostic, Diagnostics};
 pub use kinematics::DerivedFrame;
 pub use pipeline::{

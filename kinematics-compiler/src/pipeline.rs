@@ -6,7 +6,7 @@
 use proc_macro2::TokenStream;
 
 pub use crate::check::Mobility;
-use crate::closed::{Closed, Offset};
+use crate::closed::{Closed, ClosedForm, Offset, Pattern};
 use crate::ir::{Graph, Id, OpCount};
 use crate::kinematics::{Derived, DerivedFrame};
 use crate::lower::{CoordKind, Model};
@@ -69,23 +69,32 @@ pub struct Block {
     pub equations: Vec<usize>,
     /// Its unknowns (0-based among the unknowns).
     pub unknowns: Vec<usize>,
-    /// The closed form that solves it (`"angle"`, `"linear"`, `"RRR"`,
-    /// `"RRT"`, `"RTR"`, `"TRT"`), or `None` for Newton–Raphson.
-    pub closed_form: Option<&'static str>,
+    /// The closed form that solves it, with its coefficients as roots of
+    /// [`Compiled::graph`] (expressions of the parameters, the drivers and
+    /// the unknowns of the blocks before), or `None` for Newton–Raphson.
+    /// The unknowns are in the order of the form's results (the angle
+    /// first for the RRT and RTR dyads).
+    pub form: Option<ClosedForm<Id>>,
     /// How it is solved, in words, as a generated mechanism's `BLOCKS`
     /// says it: "closed form: …" or "Newton–Raphson".
     pub method: &'static str,
+}
+
+impl Block {
     /// Whether its closed form has two solutions (two assembly modes).
-    pub modes: bool,
-    /// The closed form's coefficients, roots of [`Compiled::graph`]
-    /// (expressions of the parameters, the drivers and the unknowns of
-    /// the blocks before), in the order the forms of
-    /// `kinematics_core::closed` take them, matrices row by row:
-    /// `angle` a, b, c; `linear` a, c; `RRR` k, P, Q; `RRT` k, P, v;
-    /// `RTR` k, P, W; `TRT` k, v₀, v₁. Empty for Newton–Raphson. The
-    /// unknowns are in the order of the form's results (the angle first
-    /// for the RRT and RTR dyads).
-    pub coefficients: Vec<Id>,
+    #[must_use]
+    pub fn has_modes(&self) -> bool {
+        self.form.as_ref().is_some_and(ClosedForm::has_modes)
+    }
+
+    /// The closed form's coefficients in one list
+    /// ([`ClosedForm::coefficients`]); empty for Newton–Raphson.
+    #[must_use]
+    pub fn coefficients(&self) -> Vec<Id> {
+        self.form
+            .as_ref()
+            .map_or_else(Vec::new, ClosedForm::coefficients)
+    }
 }
 
 /// A body frame's rotation R (row by row), angular velocity ω and
@@ -251,35 +260,13 @@ impl Compiled {
     /// The diagonal blocks of Φ_u in solve order.
     #[must_use]
     pub fn blocks(&self) -> Vec<Block> {
-        use crate::closed::Pattern;
         self.closed
             .iter()
             .map(|b| Block {
                 equations: b.rows.clone(),
                 unknowns: b.cols.clone(),
-                closed_form: b.pattern.as_ref().map(|p| match p {
-                    Pattern::Angle { .. } => "angle",
-                    Pattern::Linear { .. } => "linear",
-                    Pattern::CircleCircle { .. } => "RRR",
-                    Pattern::CircleLine { .. } => "RRT",
-                    Pattern::Slide { .. } => "RTR",
-                    Pattern::LineLine { .. } => "TRT",
-                }),
+                form: b.pattern,
                 method: b.pattern.as_ref().map_or(NEWTON, Pattern::describe),
-                modes: b.pattern.as_ref().is_some_and(Pattern::has_modes),
-                coefficients: b.pattern.as_ref().map_or_else(Vec::new, |p| {
-                    let flat = |m: &[[Id; 2]; 2]| [m[0][0], m[0][1], m[1][0], m[1][1]];
-                    match p {
-                        Pattern::Angle { a, b, c } => vec![*a, *b, *c],
-                        Pattern::Linear { a, c } => vec![*a, *c],
-                        Pattern::CircleCircle { k, p, q } => {
-                            [k.as_slice(), &flat(p), &flat(q)].concat()
-                        }
-                        Pattern::CircleLine { k, p, v } => [k.as_slice(), &flat(p), v].concat(),
-                        Pattern::Slide { k, p, w } => [k.as_slice(), &flat(p), &flat(w)].concat(),
-                        Pattern::LineLine { k, v0, v1 } => [k.as_slice(), v0, v1].concat(),
-                    }
-                }),
             })
             .collect()
     }

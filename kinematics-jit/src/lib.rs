@@ -400,7 +400,11 @@ impl Program {
             model.full_term_scales(),
             &partials,
         ];
-        stages.extend(blocks.iter().map(|b| b.coefficients.as_slice()));
+        let coefficients: Vec<Vec<Id>> = blocks
+            .iter()
+            .map(kinematics_compiler::Block::coefficients)
+            .collect();
+        stages.extend(coefficients.iter().map(Vec::as_slice));
         Self::new(
             model.graph(),
             model.parameters().len() + 1,

@@ -27,44 +27,189 @@ use crate::ir::{Func, Graph, Id, Leaf, Node};
 use crate::lower::{CoordKind, Model};
 use poly::{expand, reduce, Mono, Similarity, Values, ONE};
 
-/// A 2-vector of coefficients, one per equation of the block.
-pub type Vec2 = [Id; 2];
 /// A 2×2 matrix of coefficients, row-major: one row per equation, column 0
 /// multiplying cos θ and column 1 sin θ.
 pub type Mat2 = [[Id; 2]; 2];
 
-/// The closed forms (`kinematics_core::closed`).
-#[derive(Debug, Clone)]
-pub enum Pattern {
+/// The closed forms (`kinematics_core::closed`), each with its
+/// coefficients as named fields of the type `T` that stands for a
+/// coefficient: an expression of the graph (`T = Id`) in the
+/// compiler, its place in a buffer or its value in a back end
+/// ([`ClosedForm::map`]). Every back end matches on this enum without a
+/// wildcard, so a new form is listed by the compiler wherever it must be
+/// handled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClosedForm<T> {
     /// a cos θ + b sin θ + c = 0.
-    Angle { a: Id, b: Id, c: Id },
+    Angle {
+        /// a, multiplying cos θ.
+        a: T,
+        /// b, multiplying sin θ.
+        b: T,
+        /// c.
+        c: T,
+    },
     /// a λ + c = 0.
-    Linear { a: Id, c: Id },
-    /// k + P e₀ + Q e₁ = 0 (RRR dyad).
-    CircleCircle { k: Vec2, p: Mat2, q: Mat2 },
+    Linear {
+        /// a, multiplying λ.
+        a: T,
+        /// c.
+        c: T,
+    },
+    /// k + P e₀ + Q e₁ = 0 (RRR dyad), eᵢ = (cos θᵢ, sin θᵢ).
+    CircleCircle {
+        /// k.
+        k: [T; 2],
+        /// P, row by row.
+        p: [[T; 2]; 2],
+        /// Q, row by row.
+        q: [[T; 2]; 2],
+    },
     /// k + P e + λ v = 0 (RRT dyad).
-    CircleLine { k: Vec2, p: Mat2, v: Vec2 },
+    CircleLine {
+        /// k.
+        k: [T; 2],
+        /// P, row by row.
+        p: [[T; 2]; 2],
+        /// v, the line's direction.
+        v: [T; 2],
+    },
     /// k + (P + λ W) e = 0 (RTR dyad).
-    Slide { k: Vec2, p: Mat2, w: Mat2 },
+    Slide {
+        /// k.
+        k: [T; 2],
+        /// P, row by row.
+        p: [[T; 2]; 2],
+        /// W, row by row.
+        w: [[T; 2]; 2],
+    },
     /// k + λ₀ v₀ + λ₁ v₁ = 0 (TRT dyad).
-    LineLine { k: Vec2, v0: Vec2, v1: Vec2 },
+    LineLine {
+        /// k.
+        k: [T; 2],
+        /// v₀, the first line's direction.
+        v0: [T; 2],
+        /// v₁, the second line's direction.
+        v1: [T; 2],
+    },
 }
 
-impl Pattern {
+/// A closed form whose coefficients are expressions of the graph.
+pub type Pattern = ClosedForm<Id>;
+
+impl<T: Copy> ClosedForm<T> {
+    /// The same form with each coefficient `x` replaced by `f(x)`, visited
+    /// in the order of [`ClosedForm::coefficients`].
+    pub fn map<U>(&self, mut f: impl FnMut(T) -> U) -> ClosedForm<U> {
+        let mut v = |x: [T; 2]| {
+            let a = f(x[0]);
+            [a, f(x[1])]
+        };
+        // Written out so that the order of the calls is the coefficients'.
+        match *self {
+            ClosedForm::Angle { a, b, c } => {
+                let (a, b) = (f(a), f(b));
+                ClosedForm::Angle { a, b, c: f(c) }
+            }
+            ClosedForm::Linear { a, c } => {
+                let a = f(a);
+                ClosedForm::Linear { a, c: f(c) }
+            }
+            ClosedForm::CircleCircle { k, p, q } => {
+                let (k, p0, p1, q0) = (v(k), v(p[0]), v(p[1]), v(q[0]));
+                ClosedForm::CircleCircle {
+                    k,
+                    p: [p0, p1],
+                    q: [q0, v(q[1])],
+                }
+            }
+            ClosedForm::CircleLine { k, p, v: d } => {
+                let (k, p0, p1) = (v(k), v(p[0]), v(p[1]));
+                ClosedForm::CircleLine {
+                    k,
+                    p: [p0, p1],
+                    v: v(d),
+                }
+            }
+            ClosedForm::Slide { k, p, w } => {
+                let (k, p0, p1, w0) = (v(k), v(p[0]), v(p[1]), v(w[0]));
+                ClosedForm::Slide {
+                    k,
+                    p: [p0, p1],
+                    w: [w0, v(w[1])],
+                }
+            }
+            ClosedForm::LineLine { k, v0, v1 } => {
+                let (k, v0) = (v(k), v(v0));
+                ClosedForm::LineLine { k, v0, v1: v(v1) }
+            }
+        }
+    }
+
+    /// The coefficients in one list, in the order the fields are
+    /// declared (matrices row by row): what a block's stage evaluates.
+    pub fn coefficients(&self) -> Vec<T> {
+        let mut out = Vec::with_capacity(10);
+        self.map(|x| out.push(x));
+        out
+    }
+
+    /// The place of each coefficient in [`ClosedForm::coefficients`]: the
+    /// typed layout of the list a back end evaluates.
+    #[must_use]
+    pub fn places(&self) -> ClosedForm<usize> {
+        let mut next = 0;
+        self.map(|_| {
+            next += 1;
+            next - 1
+        })
+    }
+
     /// Whether the block has two solutions (an assembly mode to choose).
     pub fn has_modes(&self) -> bool {
-        !matches!(self, Pattern::Linear { .. } | Pattern::LineLine { .. })
+        match self {
+            ClosedForm::Angle { .. }
+            | ClosedForm::CircleCircle { .. }
+            | ClosedForm::CircleLine { .. }
+            | ClosedForm::Slide { .. } => true,
+            ClosedForm::Linear { .. } | ClosedForm::LineLine { .. } => false,
+        }
+    }
+
+    /// How many of the form's unknowns, first in its order, are angles
+    /// (the others are lengths).
+    pub fn angles(&self) -> usize {
+        match self {
+            ClosedForm::CircleCircle { .. } => 2,
+            ClosedForm::Angle { .. } | ClosedForm::CircleLine { .. } | ClosedForm::Slide { .. } => {
+                1
+            }
+            ClosedForm::Linear { .. } | ClosedForm::LineLine { .. } => 0,
+        }
+    }
+
+    /// The form's short name: "angle", "linear", or the dyad ("RRR",
+    /// "RRT", "RTR", "TRT").
+    pub fn name(&self) -> &'static str {
+        match self {
+            ClosedForm::Angle { .. } => "angle",
+            ClosedForm::Linear { .. } => "linear",
+            ClosedForm::CircleCircle { .. } => "RRR",
+            ClosedForm::CircleLine { .. } => "RRT",
+            ClosedForm::Slide { .. } => "RTR",
+            ClosedForm::LineLine { .. } => "TRT",
+        }
     }
 
     /// How the block is solved, in words.
     pub fn describe(&self) -> &'static str {
         match self {
-            Pattern::Angle { .. } => "closed form: a cos θ + b sin θ + c = 0",
-            Pattern::Linear { .. } => "closed form: linear in one length",
-            Pattern::CircleCircle { .. } => "closed form: RRR dyad (circle–circle)",
-            Pattern::CircleLine { .. } => "closed form: RRT dyad (circle–line)",
-            Pattern::Slide { .. } => "closed form: RTR dyad (slider on a turning link)",
-            Pattern::LineLine { .. } => "closed form: TRT dyad (line–line)",
+            ClosedForm::Angle { .. } => "closed form: a cos θ + b sin θ + c = 0",
+            ClosedForm::Linear { .. } => "closed form: linear in one length",
+            ClosedForm::CircleCircle { .. } => "closed form: RRR dyad (circle–circle)",
+            ClosedForm::CircleLine { .. } => "closed form: RRT dyad (circle–line)",
+            ClosedForm::Slide { .. } => "closed form: RTR dyad (slider on a turning link)",
+            ClosedForm::LineLine { .. } => "closed form: TRT dyad (line–line)",
         }
     }
 }

@@ -407,16 +407,7 @@ fn angle_trig(cx: &Ctx<'_>, coords: &[usize]) -> (HashMap<Id, syn::Ident>, Angle
 
 /// The coefficients of a pattern (what its block's stage evaluates).
 pub(super) fn coefficients(p: Option<&Pattern>) -> Vec<Id> {
-    let flat = |m: &[[Id; 2]; 2]| m.iter().flatten().copied().collect::<Vec<_>>();
-    match p {
-        None => Vec::new(),
-        Some(Pattern::Angle { a, b, c }) => vec![*a, *b, *c],
-        Some(Pattern::Linear { a, c }) => vec![*a, *c],
-        Some(Pattern::CircleCircle { k, p, q }) => [k.to_vec(), flat(p), flat(q)].concat(),
-        Some(Pattern::CircleLine { k, p, v }) => [k.to_vec(), flat(p), v.to_vec()].concat(),
-        Some(Pattern::Slide { k, p, w }) => [k.to_vec(), flat(p), flat(w)].concat(),
-        Some(Pattern::LineLine { k, v0, v1 }) => [k.to_vec(), v0.to_vec(), v1.to_vec()].concat(),
-    }
+    p.map_or_else(Vec::new, Pattern::coefficients)
 }
 
 /// The call of the block's closed form, `mode` being `&mut modes[k],` or

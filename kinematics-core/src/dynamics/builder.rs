@@ -7,7 +7,7 @@ use super::*;
 /// [`Dynamics::builder`], add bodies and loads, then resolve the names
 /// against a mechanism with [`DynamicsBuilder::build`] (or, for a
 /// mechanism defined at run time, `runtime::Model::dynamics`). See the
-/// [module](self) for the mathematics.
+/// [module](crate::dynamics) for the mathematics.
 pub struct DynamicsBuilder {
     pub(super) bodies: Vec<Body>,
     pub(super) gravity: [f64; 3],

@@ -8,6 +8,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use kinematics_compiler::ClosedForm;
 use kinematics_jit::Program;
 
 use super::solve::{det_sign, Work};
@@ -18,85 +19,45 @@ use crate::names::Name;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
 
-/// The closed forms of [`crate::closed`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Form {
-    /// a cos θ + b sin θ + c = 0.
-    Angle,
-    /// a λ + c = 0.
-    Linear,
-    /// The RRR dyad.
-    Rrr,
-    /// The RRT dyad.
-    Rrt,
-    /// The RTR dyad.
-    Rtr,
-    /// The TRT dyad.
-    Trt,
-}
+/// A block's closed form as the run-time assembly reads it: each
+/// coefficient's place in the list its stage evaluates (the compiler's
+/// [`ClosedForm::places`]).
+pub(super) type Form = ClosedForm<usize>;
 
-impl Form {
-    /// The form the compiler names `name`.
-    pub(super) fn named(name: &str) -> Option<Self> {
-        Some(match name {
-            "angle" => Self::Angle,
-            "linear" => Self::Linear,
-            "RRR" => Self::Rrr,
-            "RRT" => Self::Rrt,
-            "RTR" => Self::Rtr,
-            "TRT" => Self::Trt,
-            _ => return None,
-        })
-    }
-
-    /// Whether the form has two solutions.
-    pub(super) fn has_modes(self) -> bool {
-        !matches!(self, Self::Linear | Self::Trt)
-    }
-
-    /// How many of the form's unknowns, first in its order, are angles
-    /// (the others are lengths).
-    pub(super) fn angles(self) -> usize {
-        match self {
-            Self::Rrr => 2,
-            Self::Angle | Self::Rrt | Self::Rtr => 1,
-            Self::Linear | Self::Trt => 0,
+/// The form `form` solved by [`crate::closed`] from the coefficients `k`
+/// (read at the places `form` holds), in the mode `*mode` (NaN: the mode
+/// nearest the guess, whose unknowns' cosines and sines `trig_of(slot)`
+/// gives, and whose second unknown is `length`, then stored): the cosine
+/// and sine of each angle, then each length, in the form's order of its
+/// unknowns.
+///
+/// # Errors
+/// As the form in [`crate::closed`]: a negative discriminant past a
+/// limit position, NaN where the form is degenerate.
+pub(super) fn solve(
+    form: &Form,
+    k: &[f64],
+    mode: &mut f64,
+    trig_of: impl Fn(usize) -> [f64; 2],
+    length: f64,
+) -> Result<[f64; 4], f64> {
+    match form.map(|at| k.get(at).copied().unwrap_or(f64::NAN)) {
+        ClosedForm::Angle { a, b, c } => {
+            closed::angle(a, b, c, mode, || trig_of(0)).map(|[cs, sn]| [cs, sn, 0.0, 0.0])
         }
-    }
-
-    /// The form solved from its coefficients `k` (in the order of
-    /// `Block::coefficients`) by [`crate::closed`], in the mode `*mode`
-    /// (NaN: the mode nearest the guess, whose unknowns' cosines and sines
-    /// `trig_of(slot)` gives, and whose second unknown is `length`, then
-    /// stored): the cosine and sine of each angle, then each length, in
-    /// the form's order of its unknowns.
-    ///
-    /// # Errors
-    /// As the form in [`crate::closed`]: a negative discriminant past a
-    /// limit position, NaN where the form is degenerate.
-    pub(super) fn solve(
-        self,
-        k: &[f64],
-        mode: &mut f64,
-        trig_of: impl Fn(usize) -> [f64; 2],
-        length: f64,
-    ) -> Result<[f64; 4], f64> {
-        let c = |at: usize| k.get(at).copied().unwrap_or(f64::NAN);
-        let v = |at: usize| [c(at), c(at + 1)];
-        let m = |at: usize| [[c(at), c(at + 1)], [c(at + 2), c(at + 3)]];
-        match self {
-            Self::Angle => closed::angle(c(0), c(1), c(2), mode, || trig_of(0))
-                .map(|[cs, sn]| [cs, sn, 0.0, 0.0]),
-            Self::Linear => closed::linear(c(0), c(1)).map(|l| [l, 0.0, 0.0, 0.0]),
-            Self::Rrr => closed::circle_circle(v(0), m(2), m(6), mode, || {
-                let ([c0, s0], [c1, s1]) = (trig_of(0), trig_of(1));
-                [c0, s0, c1, s1]
-            }),
-            Self::Rrt => closed::circle_line(v(0), m(2), v(6), mode, || trig_of(0))
-                .map(|[cs, sn, l]| [cs, sn, l, 0.0]),
-            Self::Rtr => closed::slide(v(0), m(2), m(6), mode, || [length, 0.0])
-                .map(|[cs, sn, l]| [cs, sn, l, 0.0]),
-            Self::Trt => closed::line_line(v(0), v(2), v(4)).map(|[a, b]| [a, b, 0.0, 0.0]),
+        ClosedForm::Linear { a, c } => closed::linear(a, c).map(|l| [l, 0.0, 0.0, 0.0]),
+        ClosedForm::CircleCircle { k, p, q } => closed::circle_circle(k, p, q, mode, || {
+            let ([c0, s0], [c1, s1]) = (trig_of(0), trig_of(1));
+            [c0, s0, c1, s1]
+        }),
+        ClosedForm::CircleLine { k, p, v } => {
+            closed::circle_line(k, p, v, mode, || trig_of(0)).map(|[cs, sn, l]| [cs, sn, l, 0.0])
+        }
+        ClosedForm::Slide { k, p, w } => {
+            closed::slide(k, p, w, mode, || [length, 0.0]).map(|[cs, sn, l]| [cs, sn, l, 0.0])
+        }
+        ClosedForm::LineLine { k, v0, v1 } => {
+            closed::line_line(k, v0, v1).map(|[a, b]| [a, b, 0.0, 0.0])
         }
     }
 }
@@ -130,7 +91,7 @@ impl Model {
     pub fn mode_count(&self) -> usize {
         self.parts
             .iter()
-            .filter(|p| p.form.is_some_and(Form::has_modes))
+            .filter(|p| p.form.as_ref().is_some_and(Form::has_modes))
             .count()
     }
 
@@ -189,7 +150,7 @@ impl Model {
                 [c, s]
             };
             let length = part.cols.get(1).map_or(f64::NAN, |&c| guess[nd + c]);
-            let solved = form.solve(&w.coef, sign, trig_of, length);
+            let solved = solve(&form, &w.coef, sign, trig_of, length);
             let x = match solved {
                 Ok(x) => x,
                 Err(disc) if disc < 0.0 => {

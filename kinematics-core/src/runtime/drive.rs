@@ -108,7 +108,10 @@ pub(super) fn drive_each(
     let mut q = start.to_vec();
     let mut predicted = q.clone();
     let mut history = History(VecDeque::with_capacity(3));
-    for &at in &ats {
+    // A sample left out because Φ_u is singular exactly there (a change
+    // point met on the grid), its value: the branch is chosen at the next.
+    let mut crossing: Option<f64> = None;
+    for (i, &at) in ats.iter().enumerate() {
         predict(&history, at, nd, &mut q);
         set(at, &mut q[..nd], &mut rates, &mut accelerations);
         predicted.copy_from_slice(&q);
@@ -116,6 +119,39 @@ pub(super) fn drive_each(
         // carried from sample to sample by the stepper.
         match stepper.advance(&q, &rates, &accelerations) {
             Ok(()) => {}
+            Err(e @ Error::Singular { .. }) if history.len() > 0 && crossing.is_none() => {
+                if change_points != ChangePoints::Stop {
+                    // Exactly at a change point: this sample is left out,
+                    // and the branch chosen at the next.
+                    crossing = Some(at);
+                    continue;
+                }
+                // A change point met exactly, if the conditioning rises
+                // again past it as it fell before it (a V); else a
+                // singular position.
+                let last = history.last(1);
+                let (from, before) = (last.at, last.conditioning);
+                let modes = stepper.signs_mut().to_vec();
+                let after = ats.get(i + 1).and_then(|&next| {
+                    let mut probe = q.clone();
+                    predict(&history, next, nd, &mut probe);
+                    let (mut r, mut a) = (vec![0.0; nd], vec![0.0; nd]);
+                    set(next, &mut probe[..nd], &mut r, &mut a);
+                    let mut trial = modes.clone();
+                    m.assemble_into(&mut probe, &mut w, &mut trial, options, false)
+                        .ok()?;
+                    let motion = m.analyze_at(&probe, &r, &a, &mut w, options, false).ok()?;
+                    Some((next, motion.conditioning))
+                });
+                let reason = match after {
+                    Some((to, c2)) if c2 < 2.0 * before && before < 2.0 * c2 => {
+                        StopReason::ChangePoint { from, to }
+                    }
+                    _ => StopReason::from_error(e),
+                };
+                end.stop = Some(stop(at, reason));
+                return end;
+            }
             Err(Error::CannotAssemble { unknowns, .. }) if history.len() > 0 => {
                 // A limit position between the last sample and this
                 // value: the last value that assembles, by bisection.
@@ -140,11 +176,13 @@ pub(super) fn drive_each(
         if history.len() > 0 {
             let last = history.last(1);
             let at_fold = folded(&history, &q, &predicted, nd);
-            if at_fold.is_some() || last.det_sign != det_sign {
-                // Two branches met between the samples.
-                let estimate = at_fold
-                    .unwrap_or(0.5 * (last.at + at))
-                    .clamp(last.at.min(at), last.at.max(at));
+            let crossed = crossing.take();
+            if crossed.is_some() || at_fold.is_some() || last.det_sign != det_sign {
+                // Two branches met between the samples (at the sample left
+                // out, where one was).
+                let estimate = crossed.or(at_fold).map_or(0.5 * (last.at + at), |x| {
+                    x.clamp(last.at.min(at), last.at.max(at))
+                });
                 let branch = (change_points != ChangePoints::Stop)
                     .then(|| {
                         let rates = (&rates[..], &accelerations[..]);

@@ -277,7 +277,7 @@ impl Model {
                 Block {
                     unknowns: intern_list(&names),
                     method: b.method,
-                    modes: b.modes,
+                    modes: b.has_modes(),
                 }
             })
             .collect();
@@ -291,7 +291,7 @@ impl Model {
                     .map(|&k| coordinates[drivers + k].name)
                     .collect();
                 closed::Part {
-                    form: b.closed_form.and_then(closed::Form::named),
+                    form: b.form.as_ref().map(kinematics_compiler::ClosedForm::places),
                     rows: b.equations.clone(),
                     cols: b.unknowns.clone(),
                     names: intern(&names.join(", ")),

@@ -61,7 +61,8 @@ impl Plan {
         let mut mode = part.mode.map_or(f64::NAN, |slot| f[self.modes + slot]);
         let trig_of =
             |slot: usize| closed::guess_trig(&carried_of(part.coords[slot]), guesses[slot]);
-        let solved = part.form.solve(
+        let solved = super::super::closed::solve(
+            &part.form,
             &f[self.coef..self.coef + 12],
             &mut mode,
             trig_of,

@@ -183,7 +183,7 @@ impl Plan {
         let blocks = c.blocks();
         if blocks
             .iter()
-            .any(|b| b.closed_form.is_none() || b.unknowns.len() > 4)
+            .any(|b| b.form.is_none() || b.unknowns.len() > 4)
         {
             return None;
         }
@@ -216,7 +216,7 @@ impl Plan {
         let mut parts = Vec::new();
         let mut mode_count = 0;
         for b in &blocks {
-            let form = b.closed_form.and_then(Form::named)?;
+            let form = b.form.as_ref()?.places();
             let mode = form.has_modes().then(|| {
                 mode_count += 1;
                 mode_count - 1
@@ -246,7 +246,7 @@ impl Plan {
             .flat_map(|(r, row)| row.iter().enumerate().map(move |(col, &e)| (r, col, e)))
             .filter(|&(_, _, e)| !is_zero(e))
             .collect();
-        let mut all_roots: Vec<Id> = blocks.iter().flat_map(|b| b.coefficients.clone()).collect();
+        let mut all_roots: Vec<Id> = blocks.iter().flat_map(|b| b.coefficients()).collect();
         all_roots.extend(&phi);
         all_roots.extend(jac_entries.iter().map(|&(_, _, e)| e));
         all_roots.extend(c.velocity_rhs());
@@ -311,13 +311,13 @@ impl Plan {
         // to compile a function grows faster than its branches).
         let inline = blocks.len() <= 16;
         for (i, (b, part)) in blocks.iter().zip(&parts).enumerate() {
-            let roots = h.map_all(&b.coefficients);
+            let roots = h.map_all(&b.coefficients());
             // The RRR dyad and the angle equation in the machine code (the
             // helper where the mode is not set yet or off the common
             // path, the coefficients written into the buffer for it then);
             // the other forms through the helper.
             match (part.form, part.mode) {
-                (Form::Rrr, Some(slot)) if roots.len() == 10 && inline => {
+                (Form::CircleCircle { .. }, Some(slot)) if roots.len() == 10 && inline => {
                     let angle = |j: usize| AngleAt {
                         value: q + j,
                         trig: trig + 2 * j,
@@ -331,7 +331,7 @@ impl Plan {
                         general: BLOCK + i as u64,
                     });
                 }
-                (Form::Angle, Some(slot)) if roots.len() == 3 && inline => {
+                (Form::Angle { .. }, Some(slot)) if roots.len() == 3 && inline => {
                     let j = part.coords[0];
                     assembly.push(Op::ClosedAngle {
                         coefficients: roots,
