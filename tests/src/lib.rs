@@ -7,6 +7,8 @@
 // Component loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]
 
+pub mod heap;
+
 use kinematics_core::{solve::Lu, Coordinates, Mechanism, MotionState, Options, PointState};
 
 /// The project's one seeded random generator for tests (`fastrand`'s

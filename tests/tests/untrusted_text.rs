@@ -8,63 +8,13 @@
 //! their peak.
 // Test code asserts by panicking.
 #![allow(clippy::expect_used, clippy::panic, clippy::unwrap_used)]
-// Implementing `GlobalAlloc` requires `unsafe`; it only forwards to the
-// system allocator and counts.
-#![allow(unsafe_code)]
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
 use kinematics_compiler::{compile_str, limits, Diagnostics};
 use kinematics_core::runtime::Model;
-
-struct Counting;
-
-thread_local! {
-    static LIVE: Cell<isize> = const { Cell::new(0) };
-    static PEAK: Cell<isize> = const { Cell::new(0) };
-}
-
-fn add(bytes: isize) {
-    // `try_with`: nothing is counted while the thread's locals are torn
-    // down.
-    let _ = LIVE.try_with(|live| {
-        let now = live.get() + bytes;
-        live.set(now);
-        let _ = PEAK.try_with(|peak| peak.set(peak.get().max(now)));
-    });
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator, which
-// upholds the `GlobalAlloc` contract; the counting touches no memory the
-// allocator hands out.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        add(layout.size() as isize);
-        // SAFETY: same layout as requested.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        add(-(layout.size() as isize));
-        // SAFETY: `ptr` was allocated by `System` with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        add(new_size as isize - layout.size() as isize);
-        // SAFETY: as for `System::realloc`, with the caller's guarantees.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use kinematics_tests::heap::{live_and_peak, Counting};
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
-
-/// The bytes live on this thread, and the peak since the last call.
-fn live_and_peak() -> (isize, isize) {
-    let live = LIVE.with(Cell::get);
-    let peak = PEAK.with(|p| p.replace(live));
-    (live, peak)
-}
 
 /// Runs `f` on a fresh thread of 2 MiB of stack (the default of a spawned
 /// thread, and what a web server's worker or a notebook's thread has).

@@ -13,53 +13,13 @@
 //!
 //! Prints the number of cases, aborts, hangs, cases over 1 s, the slowest,
 //! and the peak of heap bytes per byte of text, in all and by kind.
-// Implementing `GlobalAlloc` requires `unsafe`; it only forwards to the
-// system allocator and counts.
-#![allow(unsafe_code)]
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use kinematics_compiler::adversarial::{case, KINDS};
-
-struct Counting;
-
-thread_local! {
-    static LIVE: Cell<isize> = const { Cell::new(0) };
-    static PEAK: Cell<isize> = const { Cell::new(0) };
-}
-
-fn add(bytes: isize) {
-    let _ = LIVE.try_with(|live| {
-        let now = live.get() + bytes;
-        live.set(now);
-        let _ = PEAK.try_with(|peak| peak.set(peak.get().max(now)));
-    });
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator, which
-// upholds the `GlobalAlloc` contract; the counting touches no memory the
-// allocator hands out.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        add(layout.size() as isize);
-        // SAFETY: same layout as requested.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        add(-(layout.size() as isize));
-        // SAFETY: `ptr` was allocated by `System` with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        add(new_size as isize - layout.size() as isize);
-        // SAFETY: as for `System::realloc`, with the caller's guarantees.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use kinematics_tests::heap::{live_and_peak, reset, Counting};
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
@@ -86,8 +46,7 @@ fn child(from: u64, to: u64) {
                 let kind = KINDS.iter().position(|&k| k == kind).unwrap_or(0);
                 // The text itself is not counted: the peak is the
                 // compiler's, above the text it was handed.
-                LIVE.with(|l| l.set(0));
-                PEAK.with(|p| p.set(0));
+                reset();
                 let started = Instant::now();
                 let result = kinematics_compiler::compile_str(&text);
                 let seconds = started.elapsed().as_secs_f64();
@@ -100,7 +59,7 @@ fn child(from: u64, to: u64) {
                 };
                 let compiled = result.is_ok();
                 drop(result);
-                let peak = PEAK.with(Cell::get);
+                let (_, peak) = live_and_peak();
                 (kind, text.len(), located, compiled, seconds, peak)
             });
         let Ok(Ok((kind, bytes, located, compiled, seconds, peak))) = worker.map(|w| w.join())
