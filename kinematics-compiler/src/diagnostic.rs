@@ -193,9 +193,16 @@ impl std::error::Error for Diagnostics {}
 /// sections).
 ///
 /// Tokens are located within `text`, whatever else was parsed before on
-/// the thread. The locations are kept in the thread's table of source
-/// text (as `proc_macro2` keeps them), which grows with every text
-/// compiled on that thread.
+/// the thread. The lexer keeps each text it reads in a table of the
+/// thread's (as `proc_macro2` keeps them), for the tokens' locations;
+/// once the diagnostics are made the table is emptied, so a thread that
+/// compiles many definitions does not grow. (The table is
+/// `proc_macro2`'s: other text parsed with it on the same thread loses
+/// its locations too; `Span::start` on its tokens then panics.)
+///
+/// The text is untrusted input: past the limits of
+/// [`limits`](crate::limits) (nesting, length of an expression, items,
+/// size) it is an error at the offending token, never a stack overflow.
 ///
 /// # Errors
 /// The same errors `mechanism!` reports, each located by line and column

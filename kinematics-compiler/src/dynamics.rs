@@ -109,34 +109,110 @@ pub struct Partials {
     pub frames: Vec<(String, Vec<Id>)>,
 }
 
+/// Where each constant of the sections stands in the list
+/// [`Dynamics::constants`]: the one layout every back end reads, made by
+/// the same walk that makes the list.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ConstantPlaces {
+    /// Gravity's components (none, 2 or 3).
+    pub gravity: Vec<usize>,
+    /// Each body's constants, in the order of [`Dynamics::bodies`].
+    pub bodies: Vec<BodyPlaces>,
+    /// Each spring's constants, in the order of [`Dynamics::springs`].
+    pub springs: Vec<SpringPlaces>,
+    /// Each joint's axis components, in the order of [`Dynamics::joints`].
+    pub joints: Vec<Vec<usize>>,
+}
+
+/// Where one body's constants stand in [`Dynamics::constants`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct BodyPlaces {
+    /// Its mass.
+    pub mass: usize,
+    /// The coefficients of its angle, one per term (a body that turns
+    /// with a sum of coordinates).
+    pub angle: Vec<usize>,
+    /// Its inertia: none, one planar moment, or the 9 entries of the
+    /// tensor row by row.
+    pub inertia: Vec<usize>,
+}
+
+/// Where one spring's constants stand in [`Dynamics::constants`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SpringPlaces {
+    /// Its stiffness.
+    pub stiffness: usize,
+    /// Its free length.
+    pub free_length: usize,
+    /// Its damping.
+    pub damping: usize,
+}
+
 impl Dynamics {
-    /// Every root that depends on the parameters only, in a fixed order:
-    /// gravity, then each body's mass, angle coefficients and inertia,
-    /// then each spring's stiffness, free length and damping, then each
-    /// joint's axis. Both back ends evaluate these once per parameter set.
+    /// Every root that depends on the parameters only (gravity, then each
+    /// body's mass, angle coefficients and inertia, then each spring's
+    /// stiffness, free length and damping, then each joint's axis), and
+    /// where each stands in that list. Both back ends evaluate the list
+    /// once per parameter set and read it through the places.
+    #[must_use]
+    pub fn constant_layout(&self) -> (Vec<Id>, ConstantPlaces) {
+        let mut out: Vec<Id> = Vec::new();
+        let mut put = |id: Id| {
+            out.push(id);
+            out.len() - 1
+        };
+        let gravity = self.gravity.iter().map(|&g| put(g)).collect();
+        let bodies = self
+            .bodies
+            .iter()
+            .map(|b| BodyPlaces {
+                mass: put(b.mass),
+                angle: match &b.turning {
+                    Turning::Angle(terms) => terms.iter().map(|(_, c)| put(*c)).collect(),
+                    Turning::No | Turning::Frame(_) => Vec::new(),
+                },
+                inertia: b.inertia.iter().map(|&i| put(i)).collect(),
+            })
+            .collect();
+        let springs = self
+            .springs
+            .iter()
+            .map(|s| SpringPlaces {
+                stiffness: put(s.stiffness),
+                free_length: put(s.free_length),
+                damping: put(s.damping),
+            })
+            .collect();
+        let joints = self
+            .joints
+            .iter()
+            .map(|j| j.axis.iter().map(|&a| put(a)).collect())
+            .collect();
+        let places = ConstantPlaces {
+            gravity,
+            bodies,
+            springs,
+            joints,
+        };
+        (out, places)
+    }
+
+    /// The constants of [`Dynamics::constant_layout`].
     #[must_use]
     pub fn constants(&self) -> Vec<Id> {
-        let mut out = self.gravity.clone();
-        for b in &self.bodies {
-            out.push(b.mass);
-            if let Turning::Angle(terms) = &b.turning {
-                out.extend(terms.iter().map(|(_, c)| *c));
-            }
-            out.extend(&b.inertia);
-        }
-        for s in &self.springs {
-            out.extend([s.stiffness, s.free_length, s.damping]);
-        }
-        for j in &self.joints {
-            out.extend(&j.axis);
-        }
-        out
+        self.constant_layout().0
+    }
+
+    /// The places of [`Dynamics::constant_layout`].
+    #[must_use]
+    pub fn places(&self) -> ConstantPlaces {
+        self.constant_layout().1
     }
 }
 
 impl Dynamics {
-    /// One parameter's partials of the constants, `chunk` (in the order
-    /// of [`Dynamics::constants`]), in the layout the runtime's
+    /// One parameter's partials of the constants, `chunk` (laid out as
+    /// [`Dynamics::constants`]), in the layout the runtime's
     /// `DynamicsBuilder::design_parameters` reads: gravity's 3
     /// components, then for each body its mass, its angle's coefficients
     /// and the 9 entries of its inertia (a planar moment at entry 8), then
@@ -144,26 +220,29 @@ impl Dynamics {
     /// definition has no such constant (zero).
     #[must_use]
     pub fn design_layout<T: Copy>(&self, chunk: &[T]) -> Vec<Option<T>> {
-        let mut next = chunk.iter().copied();
+        let places = self.places();
+        let at = |i: usize| chunk.get(i).copied();
         let mut out = Vec::new();
-        let mut gravity: Vec<Option<T>> = self.gravity.iter().map(|_| next.next()).collect();
+        let mut gravity: Vec<Option<T>> = places.gravity.iter().map(|&i| at(i)).collect();
         gravity.resize(3, None);
         out.extend(gravity);
-        for b in &self.bodies {
-            out.push(next.next());
-            if let Turning::Angle(terms) = &b.turning {
-                out.extend(terms.iter().map(|_| next.next()));
-            }
+        for b in &places.bodies {
+            out.push(at(b.mass));
+            out.extend(b.angle.iter().map(|&i| at(i)));
             let mut inertia = [None; 9];
-            match b.inertia.len() {
-                0 => {}
-                1 => inertia[8] = next.next(),
-                _ => inertia.iter_mut().for_each(|x| *x = next.next()),
+            match b.inertia.as_slice() {
+                [] => {}
+                [moment] => inertia[8] = at(*moment),
+                all => {
+                    for (x, &i) in inertia.iter_mut().zip(all) {
+                        *x = at(i);
+                    }
+                }
             }
             out.extend(inertia);
         }
-        for _ in &self.springs {
-            out.extend([next.next(), next.next(), next.next()]);
+        for s in &places.springs {
+            out.extend([at(s.stiffness), at(s.free_length), at(s.damping)]);
         }
         out
     }

@@ -442,8 +442,10 @@ impl Model {
         let d = &code.sections;
         let mut constants = vec![0.0; code.program.outputs(0)];
         code.eval(0, &values, None, &mut constants);
-        let mut next = constants.iter().copied();
-        let mut take = || next.next().unwrap_or(f64::NAN);
+        // Each constant read at its place in the evaluated list: the
+        // compiler's layout, made by the walk that made the list.
+        let places = d.places();
+        let at = |i: usize| constants.get(i).copied().unwrap_or(f64::NAN);
         let padded = |v: &[f64]| {
             [
                 v.first().copied().unwrap_or(0.0),
@@ -452,37 +454,42 @@ impl Model {
             ]
         };
         let mut b = DynamicsBuilder::new();
-        if !d.gravity.is_empty() {
-            let g: Vec<f64> = d.gravity.iter().map(|_| take()).collect();
+        if !places.gravity.is_empty() {
+            let g: Vec<f64> = places.gravity.iter().map(|&i| at(i)).collect();
             b = b.gravity(padded(&g));
         }
-        for body in &d.bodies {
-            let mut made = Body::new(&body.name, take()).center(&body.center);
+        for (body, place) in d.bodies.iter().zip(&places.bodies) {
+            let mut made = Body::new(&body.name, at(place.mass)).center(&body.center);
             match &body.turning {
                 Turning::No => {}
                 Turning::Angle(terms) => {
-                    let terms: Vec<(&str, f64)> =
-                        terms.iter().map(|(n, _)| (n.as_str(), take())).collect();
+                    let terms: Vec<(&str, f64)> = terms
+                        .iter()
+                        .zip(&place.angle)
+                        .map(|((n, _), &i)| (n.as_str(), at(i)))
+                        .collect();
                     made = made.angle_sum(&terms);
                 }
                 Turning::Frame(f) => made = made.frame(f),
             }
-            match body.inertia.len() {
-                0 => {}
-                1 => made = made.inertia(take()),
-                _ => {
+            match place.inertia.as_slice() {
+                [] => {}
+                [moment] => made = made.inertia(at(*moment)),
+                all => {
                     let mut t = [[0.0; 3]; 3];
-                    t.iter_mut().flatten().for_each(|x| *x = take());
+                    for (x, &i) in t.iter_mut().flatten().zip(all) {
+                        *x = at(i);
+                    }
                     made = made.inertia_tensor(t);
                 }
             }
             b = b.body(made);
         }
-        for s in &d.springs {
+        for (s, place) in d.springs.iter().zip(&places.springs) {
             let mut spring = Spring::new(&s.from, &s.to)
-                .stiffness(take())
-                .free_length(take())
-                .damping(take());
+                .stiffness(at(place.stiffness))
+                .free_length(at(place.free_length))
+                .damping(at(place.damping));
             if let Some([first, second]) = &s.between {
                 spring = spring.between(first, second);
             }
@@ -557,9 +564,9 @@ impl Model {
                 });
             }
         }
-        for j in &d.joints {
+        for (j, place) in d.joints.iter().zip(&places.joints) {
             let (name, point, [first, second]) = (&j.name, &j.point, &j.between);
-            let axis: Vec<f64> = j.axis.iter().map(|_| take()).collect();
+            let axis: Vec<f64> = place.iter().map(|&i| at(i)).collect();
             let mut joint = match (j.kind, axis.as_slice()) {
                 (JointKind::Prismatic, &[x, y]) => {
                     super::Joint::prismatic(name, point, first, second, [x, y])
