@@ -54,7 +54,7 @@ pub struct ForceSweep {
 impl ForceSample {
     /// The sample at `at` of the forces `f`, its drivers' efforts
     /// `effort` and the `reactions`.
-    pub(super) fn new<C>(
+    pub(crate) fn new<C>(
         at: f64,
         effort: Vec<f64>,
         f: &Forces<C>,
@@ -240,13 +240,13 @@ impl Dynamics {
 
     /// Whether the description declares joints (then the sweeps carry the
     /// reactions).
-    pub(super) fn has_joints(&self) -> bool {
+    pub(crate) fn has_joints(&self) -> bool {
         !self.joints.is_empty()
     }
 
     /// The sweep of forces of the swept `variable` of `kind`, with the
     /// `drivers`' names and kinds, from `sample` at each of `samples`.
-    pub(super) fn sweep_of<S>(
+    pub(crate) fn sweep_of<S>(
         &self,
         variable: &str,
         kind: Kind,

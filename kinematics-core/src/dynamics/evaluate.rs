@@ -99,7 +99,7 @@ pub struct Forces<C> {
 
 impl<C> Forces<C> {
     /// The forces of the efforts `effort`, the totals and the power.
-    pub(super) fn new(effort: C, totals: &Totals, power: f64) -> Self {
+    pub(crate) fn new(effort: C, totals: &Totals, power: f64) -> Self {
         Forces {
             effort,
             kinetic_energy: totals.kinetic_energy,

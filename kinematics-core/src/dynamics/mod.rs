@@ -84,10 +84,10 @@
 
 mod builder;
 mod cycle;
-mod evaluate;
+pub(crate) mod evaluate;
 mod joints;
 mod reactions;
-mod sensitivity;
+pub(crate) mod sensitivity;
 
 use alloc::boxed::Box;
 use alloc::format;
@@ -368,8 +368,8 @@ struct ResolvedSpring {
 /// Masses and loads resolved against one mechanism, ready to evaluate:
 /// [`Dynamics::inverse`]. Built by [`DynamicsBuilder::build`].
 pub struct Dynamics {
-    drivers: usize,
-    coordinates: usize,
+    pub(crate) drivers: usize,
+    pub(crate) coordinates: usize,
     points: usize,
     frames: usize,
     dim: usize,
@@ -498,8 +498,3 @@ impl fmt::Debug for Dynamics {
             .finish_non_exhaustive()
     }
 }
-
-#[cfg(feature = "runtime")]
-mod runtime;
-#[cfg(feature = "runtime")]
-pub(crate) use runtime::SectionCode;

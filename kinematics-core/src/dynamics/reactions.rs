@@ -202,7 +202,7 @@ impl Dynamics {
     }
 
     /// [`Dynamics::reactions`] over a view of the motion.
-    pub(super) fn reactions_in(&self, s: &dyn View) -> Result<Reactions, Error> {
+    pub(crate) fn reactions_in(&self, s: &dyn View) -> Result<Reactions, Error> {
         let invalid = |item: &str, detail: String| Error::InvalidDynamics {
             item: item.to_string(),
             detail,

@@ -67,6 +67,7 @@ use crate::options::Options;
 
 mod closed;
 mod drive;
+mod dynamics;
 mod fused;
 mod invariant;
 mod linalg;
@@ -217,7 +218,7 @@ pub struct Model {
     fused: Option<Arc<fused::Plan>>,
     /// The `bodies` and `loads` sections in machine code, where the
     /// definition has them.
-    sections: Option<Arc<crate::dynamics::SectionCode>>,
+    sections: Option<Arc<dynamics::SectionCode>>,
 }
 
 impl fmt::Debug for Model {
@@ -244,7 +245,7 @@ impl Model {
         let c = compile_str(text).map_err(CompileError::Definition)?;
         let program = Program::for_model(&c).map_err(CompileError::Native)?;
         let fused = fused::Plan::new(&c).map(Arc::new);
-        let sections = crate::dynamics::SectionCode::new(&c)
+        let sections = dynamics::SectionCode::new(&c)
             .map_err(CompileError::Native)?
             .map(Arc::new);
         let drivers = c.drivers();
@@ -363,7 +364,7 @@ impl Model {
     }
 
     /// The compiled `bodies` and `loads` sections, where written.
-    pub(crate) fn sections(&self) -> Option<&Arc<crate::dynamics::SectionCode>> {
+    pub(crate) fn sections(&self) -> Option<&Arc<dynamics::SectionCode>> {
         self.sections.as_ref()
     }
 

@@ -12,7 +12,9 @@ use super::Model;
 use crate::error::Error;
 use crate::mechanism::Role;
 use crate::options::Options;
-use crate::synthesis::{DriverOf, Shape, Solved, Subject};
+use crate::synthesis::{DriverOf, Sealed, Shape, Solved, Subject};
+
+impl Sealed for Model {}
 
 /// What one analysis of a run-time model carries: its options and the
 /// assembly modes, as signs (NaN: from the next pose).

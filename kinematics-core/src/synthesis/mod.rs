@@ -85,4 +85,5 @@ mod problem;
 mod subject;
 
 pub use design::{Synthesis, Synthesized, Timing};
+pub(crate) use subject::sealed::Sealed;
 pub use subject::{DriverOf, Shape, Solved, Subject};

@@ -12,11 +12,12 @@ use crate::options::Options;
 use crate::sweep::{Driver, SweepBuilder};
 use crate::tolerance::Sensitive;
 
-mod sealed {
+/// The seal of [`Subject`]: implemented here for the generated
+/// mechanisms, and by the run-time model's own module for
+/// `runtime::Model` (the synthesis knows no run-time model).
+pub(crate) mod sealed {
     pub trait Sealed {}
     impl<M: crate::tolerance::Sensitive + Clone> Sealed for M {}
-    #[cfg(feature = "runtime")]
-    impl Sealed for crate::runtime::Model {}
 }
 
 /// A mechanism a [`Synthesis`](super::Synthesis) can vary: every

@@ -10,15 +10,15 @@ use alloc::vec::Vec;
 
 use nalgebra::Vector3;
 
-use super::evaluate::{View, WithUnit};
-use super::sensitivity::Tangent;
-use super::{
+use super::{Model, Motion, Sample, Sensitivity, Sweep};
+use crate::dynamics::evaluate::{View, WithUnit};
+use crate::dynamics::sensitivity::Tangent;
+use crate::dynamics::{
     Dynamics, DynamicsBuilder, EffortSensitivity, ForceSample, ForceSweep, Forces, MassSensitivity,
     Names, Reactions,
 };
 use crate::error::Error;
 use crate::mechanism::{FrameState, Kind, Role};
-use crate::runtime::{Model, Motion, Sample, Sensitivity, Sweep};
 
 impl DynamicsBuilder {
     /// Resolves the names against the run-time model `model`, with the
@@ -68,9 +68,9 @@ impl View for RunTime<'_> {
     fn point(&self, i: usize) -> Option<[Vector3<f64>; 3]> {
         let p = self.0.points.get(i)?;
         Some([
-            super::evaluate::padded(&p.position),
-            super::evaluate::padded(&p.velocity),
-            super::evaluate::padded(&p.acceleration),
+            crate::dynamics::evaluate::padded(&p.position),
+            crate::dynamics::evaluate::padded(&p.velocity),
+            crate::dynamics::evaluate::padded(&p.acceleration),
         ])
     }
     fn frame(&self, i: usize) -> Option<&FrameState> {
@@ -196,9 +196,9 @@ fn tangents(s: &[Sensitivity]) -> Vec<Tangent> {
                 .iter()
                 .map(|p| {
                     [
-                        super::evaluate::padded(&p.position),
-                        super::evaluate::padded(&p.velocity),
-                        super::evaluate::padded(&p.acceleration),
+                        crate::dynamics::evaluate::padded(&p.position),
+                        crate::dynamics::evaluate::padded(&p.velocity),
+                        crate::dynamics::evaluate::padded(&p.acceleration),
                     ]
                 })
                 .collect(),
@@ -378,7 +378,7 @@ impl SectionCode {
         &self,
         stage: usize,
         values: &[f64],
-        instant: Option<&super::Instant<'_>>,
+        instant: Option<&crate::dynamics::Instant<'_>>,
         out: &mut [f64],
     ) {
         let n = self.coordinates;
@@ -425,7 +425,7 @@ impl Model {
     /// # Errors
     /// [`Error::InvalidDynamics`] when the definition has neither section.
     pub fn dynamics_builder(&self) -> Result<DynamicsBuilder, Error> {
-        use super::{Body, Spring};
+        use crate::dynamics::{Body, Spring};
         use kinematics_compiler::dynamics::{JointKind, LoadTarget, Turning};
         let Some(shared) = self.sections() else {
             return Err(Error::InvalidDynamics {
@@ -497,7 +497,7 @@ impl Model {
         }
         for (k, load) in d.loads.iter().enumerate() {
             let (code, at) = (Arc::clone(shared), values.clone());
-            let vector = move |i: &super::Instant<'_>| -> [f64; 3] {
+            let vector = move |i: &crate::dynamics::Instant<'_>| -> [f64; 3] {
                 let mut out = [0.0; 3];
                 let n = code.program.outputs(k + 1).min(3);
                 code.eval(k + 1, &at, Some(i), &mut out[..n]);
@@ -569,19 +569,21 @@ impl Model {
             let axis: Vec<f64> = place.iter().map(|&i| at(i)).collect();
             let mut joint = match (j.kind, axis.as_slice()) {
                 (JointKind::Prismatic, &[x, y]) => {
-                    super::Joint::prismatic(name, point, first, second, [x, y])
+                    crate::dynamics::Joint::prismatic(name, point, first, second, [x, y])
                 }
                 (JointKind::Prismatic, &[x, y, z]) => {
-                    super::Joint::prismatic(name, point, first, second, [x, y, z])
+                    crate::dynamics::Joint::prismatic(name, point, first, second, [x, y, z])
                 }
                 (JointKind::Cylindrical, &[x, y, z]) => {
-                    super::Joint::cylindrical(name, point, first, second, [x, y, z])
+                    crate::dynamics::Joint::cylindrical(name, point, first, second, [x, y, z])
                 }
-                (JointKind::Spherical, _) => super::Joint::spherical(name, point, first, second),
+                (JointKind::Spherical, _) => {
+                    crate::dynamics::Joint::spherical(name, point, first, second)
+                }
                 (JointKind::Revolute, &[x, y, z]) => {
-                    super::Joint::revolute(name, point, first, second).about([x, y, z])
+                    crate::dynamics::Joint::revolute(name, point, first, second).about([x, y, z])
                 }
-                _ => super::Joint::revolute(name, point, first, second),
+                _ => crate::dynamics::Joint::revolute(name, point, first, second),
             };
             if let Some(d) = &j.driver {
                 joint = joint.driven_by(d);
