@@ -893,9 +893,11 @@ fn every_example_sweeps_alike_both_ways() {
         },
         |b| b.turn().steps(120).rate(10.0),
         // Both sweeps stop Newton–Raphson on this constraint's scaled
-        // residual (|Φ|/S ≤ 1e-14, S being inflated for |B − A| = b), at
-        // different points a few 1e-8 mm off the root (see
-        // `the_spatial_sliders_inflated_scale_is_as_the_readme_says`).
+        // residual (|Φ|/S ≤ 1e-14, S being inflated for |B − A| = b), a
+        // few 1e-8 mm off the root (see
+        // `the_spatial_sliders_inflated_scale_is_as_the_readme_says`):
+        // the same point from the same prediction, but near it the
+        // velocities are as sensitive to the two back ends' round-off.
         1e-9
     );
     swept += swept_both_ways!(
@@ -992,13 +994,17 @@ fn every_example_sweeps_alike_both_ways() {
     assert!(swept > 900, "{swept} samples");
 }
 
-/// What the README says of the spatial slider's term scale: the poses of
+/// What the guide says of the spatial slider's term scale: the poses of
 /// both sweeps are within the tolerance by the scaled residual
 /// (|Φ|/S ≤ 1e-14), yet their raw residuals of |B − A|² − b² reach more
 /// than 1e-12 of b² + h² + y² (about 6·10⁴ mm², what the terms of the
-/// equation measure), and they lie up to about 3e-8 mm apart. (When the
-/// characteristic length is made a length for equations in length², this
-/// test fails, and the README's note goes.)
+/// equation measure), and Newton–Raphson stops up to about 3e-8 mm off
+/// the root (the residual over its derivative in y, the derivative by a
+/// central difference, exact for this quadratic in y). Both kinds of
+/// model, stepped by the one sweep driver from the same predictions, stop
+/// at the same poses (to 1e-12 mm). (When the characteristic length is
+/// made a length for equations in length², this test fails, and the
+/// guide's note goes.)
 #[test]
 fn the_spatial_sliders_inflated_scale_is_as_the_readme_says() {
     use kinematics_examples::{SpatialSlider, SpatialSliderCoords};
@@ -1027,19 +1033,26 @@ fn the_spatial_sliders_inflated_scale_is_as_the_readme_says() {
         .steps(120)
         .rate(10.0)
         .run();
-    let (mut off, mut raw_max) = (0.0f64, 0.0f64);
+    assert_eq!(generated.samples.len(), run_time.samples.len());
+    let (mut apart, mut off_root, mut raw_max) = (0.0f64, 0.0f64, 0.0f64);
+    let raw = |pose: &[f64]| r.residual(pose).expect("a residual")[0];
     for (gs, rs) in generated.samples.iter().zip(&run_time.samples) {
         let q = [gs.motion.q.phi, gs.motion.q.y];
         for pose in [&q[..], &rs.motion.q[..]] {
             let scaled = r.analyze(pose, &[10.0], &[0.0]).expect("analyses").residual;
             assert!(scaled <= 1e-14, "{scaled:e}");
-            raw_max = raw_max.max(r.residual(pose).expect("a residual")[0].abs());
+            let value = raw(pose);
+            raw_max = raw_max.max(value.abs());
+            let h = 1e-3;
+            let slope = (raw(&[pose[0], pose[1] + h]) - raw(&[pose[0], pose[1] - h])) / (2.0 * h);
+            off_root = off_root.max((value / slope).abs());
         }
-        off = off.max((q[1] - rs.motion.q[1]).abs());
+        apart = apart.max((q[1] - rs.motion.q[1]).abs());
     }
     let terms = 175.0f64.powi(2) + 75.0f64.powi(2) + 150.0f64.powi(2);
     assert!(raw_max > 1e-12 * terms, "{raw_max:e} mm²");
-    assert!(off > 1e-10 && off < 1e-7, "{off:e} mm");
+    assert!(off_root > 1e-10 && off_root < 1e-7, "{off_root:e} mm");
+    assert!(apart <= 1e-12, "{apart:e} mm");
 }
 
 /// Past a parallelogram's fold both ways: with `ChangePoints::Smooth` the
@@ -1370,13 +1383,6 @@ fn a_parallelogram_swept_onto_its_folds_agrees_both_ways() {
                 .change_points(how)
                 .run();
             let case = format!("{steps} steps, {how:?}");
-            if steps == 361 && how != ChangePoints::Stop {
-                assert!(
-                    generated.stop.is_none() && run_time.stop.is_none(),
-                    "{case}"
-                );
-                continue;
-            }
             assert_eq!(
                 generated.samples.len(),
                 run_time.samples.len(),

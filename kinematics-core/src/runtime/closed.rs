@@ -95,6 +95,12 @@ impl Model {
             .count()
     }
 
+    /// Whether every block has a closed form (the guess of a pose then
+    /// names its branch only).
+    pub(super) fn all_closed(&self) -> bool {
+        self.parts.iter().all(|p| p.form.is_some())
+    }
+
     /// Whether some block has a closed form: then a model assembles block
     /// by block, as a generated mechanism does.
     pub(super) fn closed_path(&self) -> bool {

@@ -1,235 +1,396 @@
-//! The loop of a run-time sweep: each sample assembled from the last
-//! (the closed forms in their carried modes, the Newton blocks from the
-//! parabola through the last three samples) and analysed, the stop at a
-//! limit position found by bisection, the branch chosen past a change
-//! point, and the sinks the samples are handed to.
+//! A run-time model as the one sweep driver ([`SweepIter`]) steps it: the
+//! model's [`Engine`] (poses as vectors, a [`Stepper`] as the state
+//! carried from step to step), the samples the stepper holds, and the
+//! loop that hands them to a sink without copying them.
+//!
+//! The prediction, the bisection of limit positions, the change-point
+//! tests and the choice of branch past one are the driver's, the same
+//! code as for generated mechanisms.
 
-use alloc::collections::VecDeque;
+use alloc::boxed::Box;
+use alloc::vec;
+use alloc::vec::Vec;
 
-use super::fused::copy_small;
 use super::sweep::SweepEnd;
-use super::{Flat, Model, Motion};
+use super::{Flat, Model, Motion, Stepper};
 use crate::error::Error;
-use crate::mechanism::Kind;
+use crate::mechanism::Coordinate;
 use crate::names::Name;
 use crate::options::Options;
-use crate::sweep::{ChangePoints, Stop, StopReason};
+use crate::sweep::{ChangePoints, Drive, Engine, Grid, Solved, Stop, StopReason, SweepIter, Wrap};
 
-/// A sample remembered for the prediction of the next pose, the test for
-/// a change of branch and the bisection of a limit position.
-pub(super) struct Recent {
-    pub(super) at: f64,
-    pub(super) q: Vec<f64>,
-    pub(super) conditioning: f64,
-    pub(super) det_sign: f64,
+/// A run-time model as a sweep steps it.
+pub(super) struct Stepped<'m> {
+    m: &'m Model,
+    /// Whether some block is solved by Newton–Raphson (then the guess is
+    /// predicted from the rates; else the previous pose names the
+    /// branch).
+    newton: bool,
 }
 
-/// The last three samples, oldest first (their vectors reused as the
-/// sweep moves on: no allocation per sample).
-struct History(VecDeque<Recent>);
+impl<'m> Stepped<'m> {
+    pub(super) fn new(m: &'m Model) -> Self {
+        Self {
+            m,
+            newton: m.unknowns() > 0 && !m.all_closed(),
+        }
+    }
+}
 
-impl History {
-    fn len(&self) -> usize {
-        self.0.len()
+impl<'m> Engine for Stepped<'m> {
+    type Pose = Vec<f64>;
+    type State = Stepper<'m>;
+
+    fn drivers(&self) -> usize {
+        self.m.drivers
     }
-    /// The k-th sample from the end (1: the last).
-    fn last(&self, k: usize) -> &Recent {
-        &self.0[self.0.len() - k]
+
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.m.coordinates
     }
-    fn push(&mut self, at: f64, pose: &[f64], conditioning: f64, det_sign: f64) {
-        // The oldest sample's vector, once there are three.
-        let mut q = if self.0.len() == 3 {
-            self.0.pop_front().map(|r| r.q).unwrap_or_default()
-        } else {
-            Vec::with_capacity(pose.len())
-        };
-        q.resize(pose.len(), 0.0);
-        copy_small(&mut q, pose);
-        self.0.push_back(Recent {
+
+    fn newton_guess(&self) -> bool {
+        self.newton
+    }
+
+    fn zero_pose(&self) -> Vec<f64> {
+        vec![0.0; self.m.coordinates.len()]
+    }
+
+    #[inline(always)]
+    fn get(pose: &Vec<f64>, j: usize) -> f64 {
+        pose.get(j).copied().unwrap_or(f64::NAN)
+    }
+
+    #[inline(always)]
+    fn set(pose: &mut Vec<f64>, j: usize, value: f64) {
+        if let Some(x) = pose.get_mut(j) {
+            *x = value;
+        }
+    }
+
+    fn state(&self, options: &Options) -> Result<Stepper<'m>, Error> {
+        self.m.stepper(options)
+    }
+
+    fn modes<'s>(state: &'s mut Stepper<'m>) -> &'s mut [f64] {
+        state.signs_mut()
+    }
+
+    fn assembles(&self, guess: &Vec<f64>, options: &Options) -> bool {
+        !matches!(
+            self.m.assemble_with(guess, options),
+            Err(Error::CannotAssemble { .. })
+        )
+    }
+}
+
+/// A sample of a run-time sweep: the last step of the sweep's stepper,
+/// read from it when handed out (no copy), or a motion copied out of it
+/// (a sample held back past the next step).
+#[derive(Debug)]
+pub(super) enum Held {
+    /// The stepper's last step, at the value `at`.
+    Current {
+        at: f64,
+        conditioning: f64,
+        det_sign: f64,
+    },
+    /// A motion of its own.
+    Kept { at: f64, motion: Box<Motion> },
+}
+
+impl<'m> Solved<Stepped<'m>> for Held {
+    const RATES: bool = true;
+    type Step = (f64, f64);
+
+    #[inline(always)]
+    fn step(
+        m: &Stepped<'m>,
+        start: &Vec<f64>,
+        rates: &Vec<f64>,
+        accelerations: &Vec<f64>,
+        state: &mut Stepper<'m>,
+    ) -> Result<(f64, f64), Error> {
+        let nd = m.m.drivers;
+        state.advance(start, &rates[..nd], &accelerations[..nd])?;
+        let f = state.flat();
+        Ok((f.conditioning, f.det_sign))
+    }
+
+    #[inline(always)]
+    fn step_det_sign(step: &(f64, f64)) -> f64 {
+        step.1
+    }
+
+    #[inline(always)]
+    fn sample(at: f64, (conditioning, det_sign): (f64, f64)) -> Self {
+        Held::Current {
             at,
-            q,
             conditioning,
             det_sign,
-        });
+        }
+    }
+
+    fn at(&self) -> f64 {
+        match self {
+            Held::Current { at, .. } | Held::Kept { at, .. } => *at,
+        }
+    }
+
+    #[inline(always)]
+    fn record(&self, state: &Stepper<'m>, q: &mut Vec<f64>, qd: Option<&mut Vec<f64>>) {
+        let (from_q, from_qd) = match self {
+            Held::Current { .. } => {
+                let f = state.flat();
+                (f.q, f.qd)
+            }
+            Held::Kept { motion, .. } => (&motion.q[..], &motion.qd[..]),
+        };
+        q.copy_from_slice(from_q);
+        if let Some(qd) = qd {
+            qd.copy_from_slice(from_qd);
+        }
+    }
+
+    fn q_mut(&mut self) -> Option<&mut Vec<f64>> {
+        None
+    }
+
+    fn conditioning(&self) -> f64 {
+        match self {
+            Held::Current { conditioning, .. } => *conditioning,
+            Held::Kept { motion, .. } => motion.conditioning,
+        }
+    }
+
+    fn det_sign(&self) -> f64 {
+        match self {
+            Held::Current { det_sign, .. } => *det_sign,
+            Held::Kept { motion, .. } => motion.det_sign,
+        }
+    }
+
+    fn keep(self, state: &mut Stepper<'m>) -> Self {
+        match self {
+            Held::Current { at, .. } => Held::Kept {
+                at,
+                motion: Box::new(state.motion_now().clone()),
+            },
+            kept @ Held::Kept { .. } => kept,
+        }
     }
 }
 
-/// The samples at the values `ats` of the swept variable, the drivers,
-/// their rates and their accelerations at each set by `set(at, d, d',
-/// d'')`; from the pose `start`, each handed to `emit` as it is solved.
-/// Each sample is assembled (the closed forms in the modes of the start,
-/// carried; the Newton blocks from the parabola through the last three
-/// samples) and analysed; the sweep stops at a limit position (by
-/// bisection), where two branches meet, and at any error.
-pub(super) fn drive_each(
-    m: &Model,
-    (variable, _kind, first): (Name, Kind, f64),
-    start: &[f64],
-    (options, change_points): (&Options, ChangePoints),
-    ats: Result<Vec<f64>, Error>,
-    mut set: impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
+/// A pose of a run-time sweep of positions: the last pose of the sweep's
+/// stepper. Its conditioning is not judged (a sweep of poses looks for
+/// no change point): reported as 1, the sign of det Φ_u as +1.
+#[derive(Debug)]
+pub(super) struct PoseOnly {
+    at: f64,
+}
+
+impl<'m> Solved<Stepped<'m>> for PoseOnly {
+    const RATES: bool = false;
+    type Step = ();
+
+    #[inline(always)]
+    fn step(
+        _: &Stepped<'m>,
+        start: &Vec<f64>,
+        _: &Vec<f64>,
+        _: &Vec<f64>,
+        state: &mut Stepper<'m>,
+    ) -> Result<(), Error> {
+        state.pose(start).map(|_| ())
+    }
+
+    fn step_det_sign((): &()) -> f64 {
+        1.0
+    }
+
+    fn sample(at: f64, (): ()) -> Self {
+        PoseOnly { at }
+    }
+
+    fn at(&self) -> f64 {
+        self.at
+    }
+
+    fn record(&self, state: &Stepper<'m>, q: &mut Vec<f64>, _: Option<&mut Vec<f64>>) {
+        q.copy_from_slice(state.pose_now());
+    }
+
+    fn q_mut(&mut self) -> Option<&mut Vec<f64>> {
+        None
+    }
+
+    fn conditioning(&self) -> f64 {
+        1.0
+    }
+
+    fn det_sign(&self) -> f64 {
+        1.0
+    }
+}
+
+/// How a run-time sweep is set up: its variable, the value it starts
+/// from (where a stop before the first sample is reported), the options
+/// and what to do at a change point.
+pub(super) struct Setup<'a> {
+    pub(super) variable: Name,
+    pub(super) first: f64,
+    pub(super) start: &'a [f64],
+    pub(super) options: &'a Options,
+    pub(super) change_points: ChangePoints,
+}
+
+/// The sweep of `m` over `grid`, its drivers following `drive`, each
+/// sample assembled and analysed by the model's stepper and handed to
+/// `sink` as it is solved; how it ended.
+pub(super) fn drive_each<'m, D: Drive<Stepped<'m>>>(
+    m: &'m Model,
+    setup: &Setup<'_>,
+    grid: Result<Grid, Error>,
+    drive: D,
     mut sink: impl Sink,
 ) -> SweepEnd {
-    let mut end = SweepEnd {
-        stop: None,
-        change_points: Vec::new(),
+    let engine = Stepped::new(m);
+    let mut it = match start::<D, Held>(&engine, setup, grid, drive) {
+        Ok(it) => it,
+        Err(end) => return end,
     };
-    let stop = |at: f64, reason: StopReason| Stop {
-        variable,
-        at,
-        reason,
-    };
-    let nd = m.drivers;
-    let mut rates = vec![0.0; nd];
-    let mut accelerations = vec![0.0; nd];
-    let checked = ats.and_then(|ats| {
-        options.validate()?;
-        m.validate()?;
-        m.check_inputs(start, &rates, &accelerations)?;
-        Ok(ats)
-    });
-    let ats = match checked {
-        Ok(a) => a,
-        Err(e) => {
-            end.stop = Some(stop(first, StopReason::from_error(e)));
-            return end;
-        }
-    };
-    // The steps through a stepper (the model's fused code where it has
-    // one); the limit and change-point searches with arrays of their own.
-    let mut stepper = match m.stepper(options) {
-        Ok(s) => s,
-        Err(e) => {
-            end.stop = Some(stop(first, StopReason::from_error(e)));
-            return end;
-        }
-    };
-    let mut w = m.work();
-    let mut q = start.to_vec();
-    let mut predicted = q.clone();
-    let mut history = History(VecDeque::with_capacity(3));
-    // A sample left out because Φ_u is singular exactly there (a change
-    // point met on the grid), its value: the branch is chosen at the next.
-    let mut crossing: Option<f64> = None;
-    for (i, &at) in ats.iter().enumerate() {
-        predict(&history, at, nd, &mut q);
-        set(at, &mut q[..nd], &mut rates, &mut accelerations);
-        predicted.copy_from_slice(&q);
-        // The assembly modes of the closed-form blocks: the start's, then
-        // carried from sample to sample by the stepper.
-        match stepper.advance(&q, &rates, &accelerations) {
-            Ok(()) => {}
-            Err(e @ Error::Singular { .. }) if history.len() > 0 && crossing.is_none() => {
-                if change_points != ChangePoints::Stop {
-                    // Exactly at a change point: this sample is left out,
-                    // and the branch chosen at the next.
-                    crossing = Some(at);
-                    continue;
+    let mut stop = None;
+    while let Some(item) = it.next() {
+        match item {
+            Ok(Held::Current { at, .. }) => {
+                if let Some(stepper) = it.state_mut() {
+                    sink.stepped(at, stepper);
                 }
-                // A change point met exactly, if the conditioning rises
-                // again past it as it fell before it (a V); else a
-                // singular position.
-                let last = history.last(1);
-                let (from, before) = (last.at, last.conditioning);
-                let modes = stepper.signs_mut().to_vec();
-                let after = ats.get(i + 1).and_then(|&next| {
-                    let mut probe = q.clone();
-                    predict(&history, next, nd, &mut probe);
-                    let (mut r, mut a) = (vec![0.0; nd], vec![0.0; nd]);
-                    set(next, &mut probe[..nd], &mut r, &mut a);
-                    let mut trial = modes.clone();
-                    m.assemble_into(&mut probe, &mut w, &mut trial, options, false)
-                        .ok()?;
-                    let motion = m.analyze_at(&probe, &r, &a, &mut w, options, false).ok()?;
-                    Some((next, motion.conditioning))
-                });
-                let reason = match after {
-                    Some((to, c2)) if c2 < 2.0 * before && before < 2.0 * c2 => {
-                        StopReason::ChangePoint { from, to }
-                    }
-                    _ => StopReason::from_error(e),
-                };
-                end.stop = Some(stop(at, reason));
-                return end;
             }
-            Err(Error::CannotAssemble { unknowns, .. }) if history.len() > 0 => {
-                // A limit position between the last sample and this
-                // value: the last value that assembles, by bisection.
-                let modes = stepper.signs_mut().to_vec();
-                let limit = limit(m, history.last(1), at, &modes, options, &mut set, &mut w);
-                end.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
-                return end;
-            }
-            Err(e) => {
-                end.stop = Some(stop(at, StopReason::from_error(e)));
-                return end;
-            }
-        }
-        // The pose, its conditioning and its branch, kept before the
-        // tests of a change of branch.
-        let (conditioning, det_sign) = {
-            let new = stepper.flat();
-            copy_small(&mut q, new.q);
-            (new.conditioning, new.det_sign)
-        };
-        let mut chosen: Option<Motion> = None;
-        if history.len() > 0 {
-            let last = history.last(1);
-            let at_fold = folded(&history, &q, &predicted, nd);
-            let crossed = crossing.take();
-            if crossed.is_some() || at_fold.is_some() || last.det_sign != det_sign {
-                // Two branches met between the samples (at the sample left
-                // out, where one was).
-                let estimate = crossed.or(at_fold).map_or(0.5 * (last.at + at), |x| {
-                    x.clamp(last.at.min(at), last.at.max(at))
-                });
-                let branch = (change_points != ChangePoints::Stop)
-                    .then(|| {
-                        let rates = (&rates[..], &accelerations[..]);
-                        past(
-                            m,
-                            &predicted,
-                            stepper.signs_mut(),
-                            rates,
-                            options,
-                            change_points,
-                            &mut w,
-                        )
-                    })
-                    .flatten();
-                let Some(motion) = branch else {
-                    end.stop = Some(stop(
-                        estimate,
-                        StopReason::ChangePoint {
-                            from: last.at,
-                            to: at,
-                        },
-                    ));
-                    return end;
-                };
-                chosen = Some(motion);
-                end.change_points.push(estimate);
-            }
-        }
-        match &chosen {
-            Some(motion) => {
-                q.copy_from_slice(&motion.q);
-                history.push(at, &motion.q, motion.conditioning, motion.det_sign);
-                sink.motion(at, motion);
-            }
-            None => {
-                history.push(at, &q, conditioning, det_sign);
-                sink.stepped(at, &mut stepper);
-            }
+            Ok(Held::Kept { at, motion }) => sink.motion(at, &motion),
+            Err(s) => stop = Some(s),
         }
     }
-    end
+    SweepEnd {
+        stop,
+        change_points: it.change_points().to_vec(),
+    }
+}
+
+/// The sweep of positions of `m` over `grid`: each pose assembled by the
+/// model's stepper ([`Stepper::pose`]) and handed to `f` with every
+/// point's position; how it ended.
+pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
+    m: &'m Model,
+    setup: &Setup<'_>,
+    grid: Result<Grid, Error>,
+    drive: D,
+    mut f: impl FnMut(f64, &[f64], &[f64]),
+) -> SweepEnd {
+    let engine = Stepped::new(m);
+    let mut it = match start::<D, PoseOnly>(&engine, setup, grid, drive) {
+        Ok(it) => it,
+        Err(end) => return end,
+    };
+    let mut positions = vec![0.0; m.points.len() * m.point_dim];
+    let mut stop = None;
+    while let Some(item) = it.next() {
+        match item {
+            Ok(PoseOnly { at }) => {
+                let Some(stepper) = it.state_mut() else {
+                    break;
+                };
+                match stepper.positions(&mut positions) {
+                    Ok(()) => f(at, stepper.pose_now(), &positions),
+                    Err(e) => {
+                        stop = Some(Stop {
+                            variable: setup.variable,
+                            at,
+                            reason: StopReason::from_error(e),
+                        });
+                        break;
+                    }
+                }
+            }
+            Err(s) => stop = Some(s),
+        }
+    }
+    SweepEnd {
+        stop,
+        change_points: it.change_points().to_vec(),
+    }
+}
+
+/// The driver over `engine`, once the inputs are checked; or how the
+/// sweep ended before its first sample.
+fn start<'e, 'm, D: Drive<Stepped<'m>>, S: Solved<Stepped<'m>>>(
+    engine: &'e Stepped<'m>,
+    setup: &Setup<'_>,
+    grid: Result<Grid, Error>,
+    drive: D,
+) -> Result<SweepIter<'e, Stepped<'m>, D, S>, SweepEnd> {
+    let m = engine.m;
+    let checked = grid.and_then(|grid| {
+        setup.options.validate()?;
+        m.validate()?;
+        m.check_pose(setup.start)?;
+        Ok(grid)
+    });
+    match checked {
+        Ok(grid) => Ok(SweepIter::new(
+            engine,
+            &setup.start.to_vec(),
+            setup.variable,
+            Ok(grid),
+            drive,
+            setup.options,
+            Wrap::Continuous,
+            setup.change_points,
+        )),
+        Err(e) => Err(SweepEnd {
+            stop: Some(Stop {
+                variable: setup.variable,
+                at: setup.first,
+                reason: StopReason::from_error(e),
+            }),
+            change_points: Vec::new(),
+        }),
+    }
+}
+
+/// The drivers of a run-time simulation following a profile of time
+/// `profile(t, d, d', d'')` (one entry per driver; a driver it does not
+/// write keeps its start value, at rest).
+pub(super) struct Profiled<P> {
+    pub(super) start: Vec<f64>,
+    pub(super) drivers: usize,
+    pub(super) profile: P,
+}
+
+impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Drive<Stepped<'m>> for Profiled<P> {
+    fn start(&self, _: &mut Vec<f64>, _: &mut Vec<f64>) {}
+
+    fn drive(&mut self, t: f64, pose: &mut Vec<f64>, rates: &mut Vec<f64>, accels: &mut Vec<f64>) {
+        let nd = self.drivers;
+        if pose.len() < nd || rates.len() < nd || accels.len() < nd || self.start.len() < nd {
+            return;
+        }
+        pose[..nd].copy_from_slice(&self.start[..nd]);
+        rates.fill(0.0);
+        accels.fill(0.0);
+        (self.profile)(t, &mut pose[..nd], &mut rates[..nd], &mut accels[..nd]);
+    }
+
+    fn variable_rate(&self) -> f64 {
+        1.0
+    }
 }
 
 /// What a sweep hands its samples to: a step's (read from the stepper,
-/// as a [`Motion`] or flat arrays) or a motion chosen past a change point.
+/// as a [`Motion`] or flat arrays) or a motion held back past a step.
 pub(super) trait Sink {
-    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>);
+    fn stepped(&mut self, at: f64, stepper: &mut Stepper<'_>);
     fn motion(&mut self, at: f64, motion: &Motion);
 }
 
@@ -237,7 +398,7 @@ pub(super) trait Sink {
 pub(super) struct Motions<F>(pub(super) F);
 
 impl<F: FnMut(f64, &Motion)> Sink for Motions<F> {
-    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>) {
+    fn stepped(&mut self, at: f64, stepper: &mut Stepper<'_>) {
         (self.0)(at, stepper.motion_now());
     }
     fn motion(&mut self, at: f64, motion: &Motion) {
@@ -245,8 +406,8 @@ impl<F: FnMut(f64, &Motion)> Sink for Motions<F> {
     }
 }
 
-/// Hands each sample to a callback as flat arrays (a motion chosen past a
-/// change point through arrays of its own).
+/// Hands each sample to a callback as flat arrays (a motion held back
+/// through arrays of its own).
 pub(super) struct Flats<'m, F> {
     f: F,
     m: &'m Model,
@@ -264,7 +425,7 @@ impl<'m, F> Flats<'m, F> {
 }
 
 impl<F: FnMut(f64, &Flat<'_>)> Sink for Flats<'_, F> {
-    fn stepped(&mut self, at: f64, stepper: &mut super::Stepper<'_>) {
+    fn stepped(&mut self, at: f64, stepper: &mut Stepper<'_>) {
         (self.f)(at, &stepper.flat());
     }
     fn motion(&mut self, at: f64, motion: &Motion) {
@@ -281,178 +442,5 @@ impl<F: FnMut(f64, &Flat<'_>)> Sink for Flats<'_, F> {
                 residual: motion.residual,
             },
         );
-    }
-}
-
-/// The pose past a change point on the branch `change_points` asks for:
-/// every combination of the closed forms' modes is assembled from the
-/// extrapolated pose `predicted` (for up to 16 two-mode blocks); `Smooth`
-/// takes the assembly nearest it, `Switch` the nearest of the others.
-/// `modes` is set to the chosen combination. `None` where there is no
-/// choice to make (no two-mode block, or no assembly but one).
-fn past(
-    m: &Model,
-    predicted: &[f64],
-    modes: &mut [f64],
-    (rates, accelerations): (&[f64], &[f64]),
-    options: &Options,
-    change_points: ChangePoints,
-    w: &mut super::solve::Work,
-) -> Option<Motion> {
-    let k = modes.len();
-    if !(1..=16).contains(&k) || !m.closed_path() {
-        return None;
-    }
-    let nd = m.drivers;
-    let mut candidates: Vec<(f64, Vec<f64>, Vec<f64>)> = Vec::new();
-    for combination in 0..1usize << k {
-        let mut trial: Vec<f64> = (0..k)
-            .map(|j| if combination >> j & 1 == 1 { -1.0 } else { 1.0 })
-            .collect();
-        let mut q = predicted.to_vec();
-        if m.assemble_into(&mut q, w, &mut trial, options, true)
-            .is_err()
-        {
-            continue;
-        }
-        // The distance from the extrapolated pose, angles and lengths
-        // alike (as the generated sweep measures it).
-        let d = q[nd..]
-            .iter()
-            .zip(&predicted[nd..])
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f64>();
-        let same = candidates.iter().any(|(_, c, _)| {
-            c.iter()
-                .zip(&q)
-                .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
-        });
-        if !same {
-            candidates.push((d, q, trial));
-        }
-    }
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let chosen = match change_points {
-        ChangePoints::Smooth => candidates.first(),
-        ChangePoints::Switch => candidates.get(1),
-        ChangePoints::Stop => None,
-    }?;
-    if candidates.len() < 2 {
-        return None;
-    }
-    let (_, q, trial) = chosen;
-    modes.copy_from_slice(trial);
-    m.analyze_at(q, rates, accelerations, w, options, false)
-        .ok()
-}
-
-/// The last value of the swept variable between the sample `last`, which
-/// assembles, and `failed`, which does not (a closed-form block has no
-/// real solution there), in the modes `modes`: by bisection, to the
-/// resolution of `f64`.
-pub(super) fn limit(
-    m: &Model,
-    last: &Recent,
-    failed: f64,
-    modes: &[f64],
-    options: &Options,
-    set: &mut impl FnMut(f64, &mut [f64], &mut [f64], &mut [f64]),
-    w: &mut super::solve::Work,
-) -> f64 {
-    let nd = m.drivers;
-    let (mut good, mut bad) = (last.at, failed);
-    let mut q = last.q.clone();
-    let (mut rates, mut accelerations) = (vec![0.0; nd], vec![0.0; nd]);
-    let mut trial_modes = modes.to_vec();
-    for _ in 0..200 {
-        let mid = 0.5 * (good + bad);
-        if mid == good || mid == bad {
-            break;
-        }
-        q.copy_from_slice(&last.q);
-        set(mid, &mut q[..nd], &mut rates, &mut accelerations);
-        trial_modes.copy_from_slice(modes);
-        match m.assemble_into(&mut q, w, &mut trial_modes, options, false) {
-            Ok(()) => good = mid,
-            Err(_) => bad = mid,
-        }
-    }
-    good
-}
-
-/// Whether two branches met between the last sample and `new`, solved
-/// from the guess `predicted`: the conditioning of the last two samples
-/// falls (by the line through them) to zero less than two steps past the
-/// last, the last is below 0.5 (a regular pose is of order one), and the
-/// new pose is off the prediction by more than half the last step's
-/// change (on a smooth branch the parabola through three samples is off
-/// by the step cubed: a jump of the order of the step is a change of
-/// branch, as at a parallelogram's fold, where a closed form in its mode
-/// passes from one branch to the other). Returns where the line meets
-/// zero.
-fn folded(history: &History, new: &[f64], predicted: &[f64], drivers: usize) -> Option<f64> {
-    if history.len() < 2 {
-        return None;
-    }
-    let (a, b) = (history.last(2), history.last(1));
-    let (ca, cb) = (a.conditioning, b.conditioning);
-    let step = b.at - a.at;
-    if !(cb < ca && cb < 0.5 && step != 0.0) {
-        return None;
-    }
-    // The line through (a, ca) and (b, cb) meets zero at b + t·step.
-    let t = cb / (ca - cb);
-    let largest = |x: &mut dyn Iterator<Item = f64>| x.fold(0.0f64, f64::max);
-    let change = largest(
-        &mut a.q[drivers..]
-            .iter()
-            .zip(&b.q[drivers..])
-            .map(|(x, y)| (x - y).abs()),
-    );
-    let off = largest(
-        &mut new[drivers..]
-            .iter()
-            .zip(&predicted[drivers..])
-            .map(|(x, y)| (x - y).abs()),
-    );
-    (t < 2.0 && off > 0.5 * change).then_some(b.at + t * step)
-}
-
-/// The guess of the unknowns at `at` (written into `q` past the
-/// `drivers`): the parabola through the last three samples, the line
-/// through the last two, or the last pose.
-fn predict(history: &History, at: f64, drivers: usize, q: &mut [f64]) {
-    let n = history.len();
-    let last = |k: usize| history.last(k);
-    match n {
-        0 => {}
-        1 => q[drivers..].copy_from_slice(&last(1).q[drivers..]),
-        _ => {
-            // The interpolating polynomial in Lagrange's form: its weights
-            // depend on the sample values alone, computed once for every
-            // coordinate.
-            let (a, b) = (last(2), last(1));
-            let (xa, xb) = (a.at, b.at);
-            let (wa, wb, wc, c) = match (n >= 3).then(|| last(3)) {
-                Some(c) => {
-                    let xc = c.at;
-                    (
-                        (at - xb) * (at - xc) / ((xa - xb) * (xa - xc)),
-                        (at - xa) * (at - xc) / ((xb - xa) * (xb - xc)),
-                        (at - xa) * (at - xb) / ((xc - xa) * (xc - xb)),
-                        Some(c),
-                    )
-                }
-                None => ((at - xb) / (xa - xb), (at - xa) / (xb - xa), 0.0, None),
-            };
-            for (j, qj) in q.iter_mut().enumerate().skip(drivers) {
-                let yb = b.q[j];
-                let mut y = wa * a.q[j] + wb * yb;
-                if let Some(c) = c {
-                    y += wc * c.q[j];
-                }
-                *qj = if y.is_finite() { y } else { yb };
-            }
-        }
     }
 }

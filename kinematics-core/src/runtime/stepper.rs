@@ -465,6 +465,14 @@ impl Stepper<'_> {
         Ok(&self.q)
     }
 
+    /// The pose of the last [`Stepper::pose`] or step, drivers first.
+    pub(super) fn pose_now(&self) -> &[f64] {
+        if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
+            return run.flat().q;
+        }
+        &self.q
+    }
+
     /// The positions of every point at the last pose of
     /// [`Stepper::pose`] or [`Stepper::step`], into `out`
     /// ([`Model::point_dimension`] components per point, in declaration

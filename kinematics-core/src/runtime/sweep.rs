@@ -4,13 +4,13 @@
 
 use core::f64::consts::TAU;
 
-use super::drive::{drive_each, limit, Flats, Motions, Recent, Sink};
+use super::drive::{drive_each, drive_poses, Flats, Motions, Profiled, Setup, Sink};
 use super::{Flat, Model, Motion};
 use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::{intern, Name};
 use crate::options::Options;
-use crate::sweep::{grid, ChangePoints, End, Layout, Stop, StopReason, Table};
+use crate::sweep::{grid, ChangePoints, End, Grid, Layout, Stop, SweepDrive, Table};
 use crate::view::{point_roles_by, PointRole};
 
 /// One sample of a run-time sweep: the driver's value and the motion
@@ -303,24 +303,32 @@ impl SweepBuilder<'_> {
 
     /// The sweep, its samples handed to `sink`.
     fn drive(self, sink: impl Sink) -> SweepEnd {
-        let m = self.m;
-        let coordinate = m.coordinates[self.driver];
-        let from = self.first();
-        let (j, rate, acceleration) = (self.driver, self.rate, self.acceleration);
-        let grid = grid(from, self.end, self.steps, coordinate.kind);
-        drive_each(
-            m,
-            (coordinate.name, coordinate.kind, from),
-            &self.start,
-            (&self.options, self.change_points),
-            grid.map(|g| (0..g.count).map(|k| g.at(k)).collect()),
-            |at, d, rates, accelerations| {
-                d[j] = at;
-                rates[j] = rate;
-                accelerations[j] = acceleration;
-            },
-            sink,
-        )
+        let (grid, drive) = self.parts();
+        drive_each(self.m, &self.setup(), grid, drive, sink)
+    }
+
+    /// The sweep's setup: its variable, first value, start, options and
+    /// rule at change points.
+    fn setup(&self) -> Setup<'_> {
+        Setup {
+            variable: self.m.coordinates[self.driver].name,
+            first: self.first(),
+            start: &self.start,
+            options: &self.options,
+            change_points: self.change_points,
+        }
+    }
+
+    /// The sweep's grid and the drive of its driver.
+    fn parts(&self) -> (Result<Grid, Error>, SweepDrive) {
+        let kind = self.m.coordinates[self.driver].kind;
+        let grid = grid(self.first(), self.end, self.steps, kind);
+        let drive = SweepDrive {
+            driver: self.driver,
+            rate: self.rate,
+            acceleration: self.acceleration,
+        };
+        (grid, drive)
     }
 
     /// Runs the sweep for positions only, handing `f` the swept value, the
@@ -334,72 +342,11 @@ impl SweepBuilder<'_> {
     /// assemble: at a limit position, found by bisection as
     /// [`SweepBuilder::run`] finds it, or with the error. No allocation
     /// per sample.
-    pub fn for_each_pose(self, mut f: impl FnMut(f64, &[f64], &[f64])) -> SweepEnd {
-        let m = self.m;
-        let coordinate = m.coordinates[self.driver];
-        let from = self.first();
-        let j = self.driver;
-        let mut end = SweepEnd {
-            stop: None,
-            change_points: Vec::new(),
-        };
-        let stop = |at: f64, reason: StopReason| Stop {
-            variable: coordinate.name,
-            at,
-            reason,
-        };
-        let started = grid(from, self.end, self.steps, coordinate.kind).and_then(|g| {
-            m.check_pose(&self.start)?;
-            Ok((g, m.stepper(&self.options)?))
-        });
-        let (grid, mut stepper) = match started {
-            Ok(s) => s,
-            Err(e) => {
-                end.stop = Some(stop(from, StopReason::from_error(e)));
-                return end;
-            }
-        };
-        let mut q = self.start.clone();
-        let mut positions = vec![0.0; m.points.len() * m.point_dim];
-        let mut last: Option<f64> = None;
-        for k in 0..grid.count {
-            let at = grid.at(k);
-            let before = q[j];
-            q[j] = at;
-            let solved = stepper
-                .pose(&q)
-                .map(|pose| q.copy_from_slice(pose))
-                .and_then(|()| stepper.positions(&mut positions));
-            match solved {
-                Ok(()) => {
-                    f(at, &q, &positions);
-                    last = Some(at);
-                }
-                Err(Error::CannotAssemble { unknowns, .. }) if last.is_some() => {
-                    q[j] = before;
-                    let recent = Recent {
-                        at: last.unwrap_or(at),
-                        q: q.clone(),
-                        conditioning: 0.0,
-                        det_sign: 0.0,
-                    };
-                    let modes: Vec<f64> = stepper
-                        .modes()
-                        .map(|ms| ms.iter().map(|m| m.sign()).collect())
-                        .unwrap_or_default();
-                    let mut w = m.work();
-                    let mut set = |at: f64, d: &mut [f64], _: &mut [f64], _: &mut [f64]| d[j] = at;
-                    let limit = limit(m, &recent, at, &modes, &self.options, &mut set, &mut w);
-                    end.stop = Some(stop(limit, StopReason::LimitPosition { unknowns }));
-                    return end;
-                }
-                Err(e) => {
-                    end.stop = Some(stop(at, StopReason::from_error(e)));
-                    return end;
-                }
-            }
-        }
-        end
+    pub fn for_each_pose(self, f: impl FnMut(f64, &[f64], &[f64])) -> SweepEnd {
+        let (grid, drive) = self.parts();
+        let mut setup = self.setup();
+        setup.change_points = ChangePoints::Stop;
+        drive_poses(self.m, &setup, grid, drive, f)
     }
 
     /// Runs the sweep, collecting its samples.
@@ -544,12 +491,9 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
 
     /// The simulation, its samples handed to `sink`.
     fn drive(self, sink: impl Sink) -> SweepEnd {
-        let times = if self.duration.is_finite() && self.duration > 0.0 {
+        let grid = if self.duration.is_finite() && self.duration > 0.0 {
             let steps = self.steps.max(1);
-            #[allow(clippy::cast_precision_loss)]
-            Ok((0..=steps)
-                .map(|k| self.duration * k as f64 / steps as f64)
-                .collect())
+            Ok(Grid::even(0.0, self.duration, steps, steps + 1))
         } else {
             Err(Error::InvalidOption {
                 name: "duration",
@@ -558,25 +502,19 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
             })
         };
         let m = self.m;
-        let nd = m.drivers;
-        let start = self.start.clone();
-        let mut profile = self.profile;
-        drive_each(
-            m,
-            ("t", Kind::Length, 0.0),
-            &self.start,
-            (&self.options, ChangePoints::Stop),
-            times,
-            |t, d, rates, accelerations| {
-                if d.len() == nd && start.len() >= nd {
-                    d.copy_from_slice(&start[..nd]);
-                }
-                rates.fill(0.0);
-                accelerations.fill(0.0);
-                profile(t, d, rates, accelerations);
-            },
-            sink,
-        )
+        let setup = Setup {
+            variable: "t",
+            first: 0.0,
+            start: &self.start,
+            options: &self.options,
+            change_points: ChangePoints::Stop,
+        };
+        let drive = Profiled {
+            start: self.start.clone(),
+            drivers: m.drivers,
+            profile: self.profile,
+        };
+        drive_each(m, &setup, grid, drive, sink)
     }
 }
 

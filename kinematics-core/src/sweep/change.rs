@@ -6,59 +6,60 @@
 use alloc::vec::Vec;
 
 use super::drive::Drive;
+use super::engine::Engine;
 use super::handles::{ChangePoints, Wrap};
-use super::iter::{Candidate, Head, SweepIter};
+use super::iter::{Candidate, SweepIter};
 use super::sample::{Solved, StopReason};
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, Mechanism, Role};
+use crate::mechanism::{Kind, Role};
 
-impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
+impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// A new sample `s` near a possible change point, or after a held one.
     #[cold]
     #[inline(never)]
     pub(super) fn unusual(&mut self, s: S) {
-        let Some(&h) = self.head() else {
+        let Some((h_at, c1, h_det_sign)) = self.head().map(|h| (h.at, h.conditioning, h.det_sign))
+        else {
             self.k += 1;
             self.push_head(&s);
             self.out.push_back(Ok(s));
             return;
         };
-        let (c1, c2) = (h.conditioning, s.conditioning());
-        if h.det_sign * s.det_sign() < 0.0 {
+        let c2 = s.conditioning();
+        if h_det_sign * s.det_sign() < 0.0 {
             // det Φ_u changed sign between the newest sample and `s`.
-            let at = h.at + (s.at() - h.at) * c1 / (c1 + c2);
+            let at = h_at + (s.at() - h_at) * c1 / (c1 + c2);
             self.release();
-            return self.change_point(at, h.at, s.at());
+            return self.change_point(at, h_at, s.at());
         }
         if self.held.is_some() {
             // Does the conditioning dip to zero in a V around the held
             // sample?
-            if let Some(&Head {
-                at: a,
-                conditioning: c0,
-                ..
-            }) = self.back(1)
-            {
+            if let Some((a, c0)) = self.back(1).map(|p| (p.at, p.conditioning)) {
                 if let Some(t) = v_zero(c0, c1, c2) {
                     let at = if t > 0.0 {
-                        h.at + t * (s.at() - h.at)
+                        h_at + t * (s.at() - h_at)
                     } else {
-                        h.at + t * (h.at - a)
+                        h_at + t * (h_at - a)
                     };
                     // A held sample already at round-off is on the point.
                     let on_it = c1 < 1e-3 * c0.min(c2);
                     if on_it || self.singular_at(at, c1) {
                         if t > 0.0 {
                             self.release();
-                            return self.change_point(at, h.at, s.at());
+                            return self.change_point(at, h_at, s.at());
                         }
                         // The held sample is past the point: dropped,
                         // never handed out, and forgotten.
                         self.held = None;
-                        self.history[self.newest & 3] = Head::default();
+                        self.history[self.newest & 3].clear();
                         self.newest = self.newest.wrapping_sub(1) & 3;
-                        return self.change_point(at, a, h.at);
+                        return self.change_point(at, a, h_at);
                     }
+                }
+                if let Some(at) = self.jumped(&s, (a, c0), (h_at, c1)) {
+                    self.release();
+                    return self.change_point(at, h_at, s.at());
                 }
             }
             self.release();
@@ -68,11 +69,47 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         let fast = self.falling;
         self.push_head(&s);
         if fast {
-            self.held = Some(s);
+            // Kept past the next step, which may overwrite what the state
+            // holds of it.
+            self.held = self.state.as_mut().map(|state| s.keep(state));
         } else {
             let s = self.wrapped(s);
             self.out.push_back(Ok(s));
         }
+    }
+
+    /// Whether `s`, after the held sample (at `h_at`, conditioning `c1`,
+    /// the one before it at `a`, `c0`), left the branch: the line through
+    /// the two conditionings meets zero less than two steps past the held
+    /// sample, and `s` is off the pose extrapolated from the last three
+    /// (Lagrange's parabola) by more than half the change of the last
+    /// step, in the largest unknown. On a smooth branch the parabola is
+    /// off by the step cubed; a jump of the order of the step is a
+    /// change of branch, as at a parallelogram's fold midway between two
+    /// samples, where a closed form in its mode passes from one branch to
+    /// the other with no dip of the conditioning at a sample and no change
+    /// of the sign of det Φ_u. Returns where the line meets zero.
+    fn jumped(&self, s: &S, (a, c0): (f64, f64), (h_at, c1): (f64, f64)) -> Option<f64> {
+        if !(c1 < c0 && h_at != a) {
+            return None;
+        }
+        let t = c1 / (c0 - c1);
+        if t >= 2.0 {
+            return None;
+        }
+        let known = self.known();
+        let [.., (_, before), (_, last)] = known.as_slice() else {
+            return None;
+        };
+        let predicted = extrapolated(self.m, &known, s.at());
+        let mut q = self.m.zero_pose();
+        s.record(self.state.as_ref()?, &mut q, None);
+        let (mut change, mut off) = (0.0f64, 0.0f64);
+        for j in self.m.drivers()..self.m.coordinates().len() {
+            change = change.max((M::get(last, j) - M::get(before, j)).abs());
+            off = off.max((M::get(&q, j) - M::get(&predicted, j)).abs());
+        }
+        (off > 0.5 * change).then_some(h_at + t * (h_at - a))
     }
 
     /// Sample `k` failed with `e`.
@@ -116,8 +153,8 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
             return None;
         }
         let target = self.grid.at(k);
-        let guess = extrapolated::<M>(&self.known(), target);
-        let mut state = self.m.step_state(&self.options).ok()?;
+        let guess = extrapolated(self.m, &self.known(), target);
+        let mut state = self.m.state(&self.options).ok()?;
         let s = self.solve(k, &guess, &mut state).ok()?;
         Some((s.at(), s.conditioning()))
     }
@@ -151,10 +188,10 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
 
     /// The accepted poses before a change point, oldest first: (value,
     /// pose).
-    fn known(&self) -> Vec<(f64, M::Coords)> {
+    fn known(&self) -> Vec<(f64, M::Pose)> {
         (0..=2)
             .rev()
-            .filter_map(|n| self.back(n).map(|h| (h.at, h.q)))
+            .filter_map(|n| self.back(n).map(|h| (h.at, h.q.clone())))
             .collect()
     }
 
@@ -162,28 +199,31 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// the next that assembles) on the branch `self.change_points` names.
     fn cross(&mut self, at: f64, k: usize) {
         let known = self.known();
-        let Ok(fresh) = self.m.step_state(&self.options) else {
+        let Ok(mut probe) = self.m.state(&self.options) else {
             self.done = true;
             return;
         };
-        let mut probe = fresh.clone();
-        let modes = M::step_modes(&mut probe).len();
+        let modes = M::modes(&mut probe).len();
+        let mut q = self.m.zero_pose();
         for k in k..(k + 3).min(self.grid.count) {
             let target = self.grid.at(k);
-            let guess = extrapolated::<M>(&known, target);
+            let guess = extrapolated(self.m, &known, target);
             // Every combination of assembly modes (one, from the guess, for
             // Newton–Raphson), each from a fresh state, ranked by distance
             // from the extrapolated pose.
             let mut best: [Option<Candidate<M, S>>; 2] = [None, None];
             for combo in 0..1usize << modes {
-                let mut state = fresh.clone();
-                for (i, m) in M::step_modes(&mut state).iter_mut().enumerate() {
+                let Ok(mut state) = self.m.state(&self.options) else {
+                    continue;
+                };
+                for (i, m) in M::modes(&mut state).iter_mut().enumerate() {
                     *m = if combo >> i & 1 == 1 { -1.0 } else { 1.0 };
                 }
                 let Ok(s) = self.solve(k, &guess, &mut state) else {
                     continue;
                 };
-                let d = distance::<M>(&guess, s.q());
+                s.record(&state, &mut q, None);
+                let d = distance(self.m, &guess, &q);
                 let entry = Some((d, s, state));
                 if best[0].as_ref().is_none_or(|b| d < b.0) {
                     best[1] = best[0].take();
@@ -229,21 +269,18 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// or a change point where the two solutions touch and round-off makes
     /// them vanish over a tiny interval.
     fn no_solution(&mut self, k: usize, at: f64, unknowns: &'static str) {
-        let Some(&h) = self.head() else {
+        let Some((h_at, pose)) = self.head().map(|h| (h.at, h.q.clone())) else {
             self.finish(at, StopReason::LimitPosition { unknowns });
             return;
         };
-        let pose = h.q;
-        let assembles = |it: &mut Self, v: f64| {
-            let mut guess = pose;
+        let mut guess = pose.clone();
+        let mut assembles = |it: &mut Self, v: f64| {
+            guess.clone_from(&pose);
             it.drive.drive(v, &mut guess, &mut it.rates, &mut it.accels);
-            !matches!(
-                it.m.assemble_with(&guess, &it.options),
-                Err(Error::CannotAssemble { .. })
-            )
+            it.m.assembles(&guess, &it.options)
         };
         // The last value that assembles, by bisection.
-        let (mut good, mut bad) = (h.at, at);
+        let (mut good, mut bad) = (h_at, at);
         for _ in 0..200 {
             let mid = good + 0.5 * (bad - good);
             if mid == good || mid == bad {
@@ -275,7 +312,7 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
                 let scale = 1.0 + good.abs().max(hi.abs());
                 if (hi - good).abs() <= 1e-6 * scale {
                     self.release();
-                    return self.change_point(0.5 * (good + hi), h.at, next);
+                    return self.change_point(0.5 * (good + hi), h_at, next);
                 }
             }
         }
@@ -286,12 +323,12 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
 
 /// The pose at `target` extrapolated from the `known` poses (up to three:
 /// quadratic in the sweep variable), unknowns only.
-fn extrapolated<M: Mechanism>(known: &[(f64, M::Coords)], target: f64) -> M::Coords {
+fn extrapolated<E: Engine>(m: &E, known: &[(f64, E::Pose)], target: f64) -> E::Pose {
     let Some(last) = known.last() else {
-        return M::Coords::default();
+        return m.zero_pose();
     };
-    let mut guess = last.1;
-    for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
+    let mut guess = last.1.clone();
+    for j in m.drivers()..m.coordinates().len() {
         // Lagrange's polynomial through the known poses.
         let mut value = 0.0;
         for (i, (ai, qi)) in known.iter().enumerate() {
@@ -301,16 +338,16 @@ fn extrapolated<M: Mechanism>(known: &[(f64, M::Coords)], target: f64) -> M::Coo
                     w *= (target - al) / (ai - al);
                 }
             }
-            value += w * qi.get(j).unwrap_or(f64::NAN);
+            value += w * E::get(qi, j);
         }
         if value.is_finite() {
-            guess.set(j, value);
+            E::set(&mut guess, j, value);
         }
     }
     guess
 }
 
-impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
+impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// Whether Φ_u is singular at `at` (where the conditioning, `c` at the
     /// nearest sample, extrapolates to zero): its conditioning there below
     /// a tenth of `c`, or a singular Jacobian. Tells a change point
@@ -318,10 +355,10 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     #[cold]
     fn singular_at(&mut self, at: f64, c: f64) -> bool {
         let known = self.known();
-        let mut guess = extrapolated::<M>(&known, at);
+        let mut guess = extrapolated(self.m, &known, at);
         self.drive
             .drive(at, &mut guess, &mut self.rates, &mut self.accels);
-        let Ok(mut state) = self.m.step_state(&self.options) else {
+        let Ok(mut state) = self.m.state(&self.options) else {
             return false;
         };
         match S::solve(self.m, at, &guess, &self.rates, &self.accels, &mut state) {
@@ -367,15 +404,13 @@ fn v_zero(c0: f64, c1: f64, c2: f64) -> Option<f64> {
 
 /// The distance between two poses: unknown angles compared modulo 2π,
 /// lengths as they are.
-fn distance<M: Mechanism>(a: &M::Coords, b: &M::Coords) -> f64 {
+fn distance<E: Engine>(m: &E, a: &E::Pose, b: &E::Pose) -> f64 {
     let mut d = 0.0;
-    for (j, c) in M::COORDINATES.iter().enumerate() {
+    for (j, c) in m.coordinates().iter().enumerate() {
         if c.role == Role::Driver {
             continue;
         }
-        let (Some(x), Some(y)) = (a.get(j), b.get(j)) else {
-            continue;
-        };
+        let (x, y) = (E::get(a, j), E::get(b, j));
         let e = if c.kind == Kind::Angle {
             Wrap::Signed.apply(y - x)
         } else {

@@ -5,6 +5,7 @@
 use alloc::vec::Vec;
 
 use super::collected::{collect, Sweep};
+use super::engine::Engine;
 use super::handles::{ChangePoints, Driver, Wrap};
 use super::iter::SweepIter;
 use super::sample::{PoseSample, Sample, Solved, Stop};
@@ -300,7 +301,7 @@ pub(crate) struct Grid {
 
 impl Grid {
     #[allow(clippy::cast_precision_loss)]
-    pub(super) fn even(from: f64, to: f64, steps: usize, count: usize) -> Self {
+    pub(crate) fn even(from: f64, to: f64, steps: usize, count: usize) -> Self {
         Self {
             from,
             to,
@@ -311,7 +312,7 @@ impl Grid {
         }
     }
 
-    fn given(values: Vec<f64>) -> Self {
+    pub(crate) fn given(values: Vec<f64>) -> Self {
         Self {
             from: values.first().copied().unwrap_or(0.0),
             to: values.last().copied().unwrap_or(0.0),
@@ -359,19 +360,13 @@ impl Grid {
 }
 
 /// How the drivers follow the sweep variable.
-pub trait Drive<M: Mechanism> {
+pub trait Drive<E: Engine> {
     /// Sets, before the first sample, the drivers' rates and accelerations
     /// that are the same at every sample.
-    fn start(&self, rates: &mut M::Coords, accels: &mut M::Coords);
+    fn start(&self, rates: &mut E::Pose, accels: &mut E::Pose);
     /// Sets the drivers of `pose` for the value `at` of the sweep variable,
     /// and the rates and accelerations that change with it.
-    fn drive(
-        &mut self,
-        at: f64,
-        pose: &mut M::Coords,
-        rates: &mut M::Coords,
-        accels: &mut M::Coords,
-    );
+    fn drive(&mut self, at: f64, pose: &mut E::Pose, rates: &mut E::Pose, accels: &mut E::Pose);
     /// The rate of the sweep variable (for the predictor): the swept
     /// driver's d', or 1 for the time.
     fn variable_rate(&self) -> f64;
@@ -380,20 +375,20 @@ pub trait Drive<M: Mechanism> {
 /// One driver swept at a constant rate (see [`SweepBuilder`](super::SweepBuilder)).
 #[derive(Debug, Clone, Copy)]
 pub struct SweepDrive {
-    pub(super) driver: usize,
-    pub(super) rate: f64,
-    pub(super) acceleration: f64,
+    pub(crate) driver: usize,
+    pub(crate) rate: f64,
+    pub(crate) acceleration: f64,
 }
 
-impl<M: Mechanism> Drive<M> for SweepDrive {
-    fn start(&self, rates: &mut M::Coords, accels: &mut M::Coords) {
-        rates.set(self.driver, self.rate);
-        accels.set(self.driver, self.acceleration);
+impl<E: Engine> Drive<E> for SweepDrive {
+    fn start(&self, rates: &mut E::Pose, accels: &mut E::Pose) {
+        E::set(rates, self.driver, self.rate);
+        E::set(accels, self.driver, self.acceleration);
     }
 
     #[inline(always)]
-    fn drive(&mut self, at: f64, pose: &mut M::Coords, _: &mut M::Coords, _: &mut M::Coords) {
-        pose.set(self.driver, at);
+    fn drive(&mut self, at: f64, pose: &mut E::Pose, _: &mut E::Pose, _: &mut E::Pose) {
+        E::set(pose, self.driver, at);
     }
 
     fn variable_rate(&self) -> f64 {

@@ -7,19 +7,22 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use super::drive::{Drive, Grid};
+use super::engine::Engine;
 use super::handles::{ChangePoints, Wrap};
 use super::sample::{Sample, Solved, Stop, StopReason};
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, Mechanism};
+use crate::mechanism::Kind;
 use crate::options::Options;
 
 /// A branch tried past a change point: its distance from the extrapolated
 /// pose, its sample and its step state.
-pub(super) type Candidate<M, S> = (f64, S, <M as Mechanism>::StepState);
+pub(super) type Candidate<E, S> = (f64, S, <E as Engine>::State);
 
 /// What the sweep keeps of an accepted sample: for the predictor, the
 /// change-point tests and the extrapolation past a change point.
+#[derive(Clone)]
 pub(super) struct Head<C> {
+    /// NaN when the entry holds no sample.
     pub(super) at: f64,
     pub(super) q: C,
     qd: C,
@@ -27,23 +30,23 @@ pub(super) struct Head<C> {
     pub(super) det_sign: f64,
 }
 
-impl<C: Copy> Clone for Head<C> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<C: Copy> Copy for Head<C> {}
-
-impl<C: Default> Default for Head<C> {
-    fn default() -> Self {
+impl<C: Clone> Head<C> {
+    /// An entry holding no sample, its poses shaped as `zero`.
+    fn empty(zero: &C) -> Self {
         Self {
             at: f64::NAN,
-            q: C::default(),
-            qd: C::default(),
+            q: zero.clone(),
+            qd: zero.clone(),
             conditioning: f64::NAN,
             det_sign: f64::NAN,
         }
+    }
+
+    /// Empties the entry (its poses kept, to be written over).
+    pub(super) fn clear(&mut self) {
+        self.at = f64::NAN;
+        self.conditioning = f64::NAN;
+        self.det_sign = f64::NAN;
     }
 }
 
@@ -52,10 +55,15 @@ impl<C: Default> Default for Head<C> {
 /// iterating a [`SweepBuilder`](super::SweepBuilder) or a [`Simulation`](super::Simulation); allocates nothing per
 /// sample.
 ///
+/// It is the one sweep driver: generated mechanisms and run-time models
+/// (`runtime::Model::sweep`, which reads its samples from its stepper) go
+/// through it, so that both predict, bisect limit positions, test for
+/// change points and choose the branch past one by the same code.
+///
 /// A sample that may lie past a change point (Φ_u's conditioning falling
 /// fast towards zero) is held back until the next one is solved, so that a
 /// sample on the wrong side of a change point is never handed out.
-pub struct SweepIter<'m, M: Mechanism, D, S = Sample<M>> {
+pub struct SweepIter<'m, M: Engine, D, S = Sample<M>> {
     pub(super) m: &'m M,
     pub(super) drive: D,
     pub(super) options: Options,
@@ -66,17 +74,19 @@ pub struct SweepIter<'m, M: Mechanism, D, S = Sample<M>> {
     wrap: Wrap,
     pub(super) change_points: ChangePoints,
     pub(super) variable: &'static str,
-    pub(super) state: Option<M::StepState>,
+    pub(super) state: Option<M::State>,
     /// The next grid index to solve.
     pub(super) k: usize,
     /// The drivers' rates and accelerations (their entries only).
-    pub(super) rates: M::Coords,
-    pub(super) accels: M::Coords,
+    pub(super) rates: M::Pose,
+    pub(super) accels: M::Pose,
+    /// The guess of the next sample (its drivers set by the drive).
+    guess: M::Pose,
     /// The last accepted samples, a ring: `history[newest]` the newest,
     /// the one before it at `newest − 1` (mod 4), and so on; an entry
     /// whose value `at` is NaN holds none (before the first sample, and
     /// after a change point).
-    pub(super) history: [Head<M::Coords>; 4],
+    pub(super) history: [Head<M::Pose>; 4],
     pub(super) newest: usize,
     /// Whether the conditioning falls so fast at the newest sample that it
     /// could reach zero before the next: the line through it and the one
@@ -100,7 +110,7 @@ pub struct SweepIter<'m, M: Mechanism, D, S = Sample<M>> {
     open: usize,
 }
 
-impl<M: Mechanism, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
+impl<M: Engine, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("SweepIter")
             .field("variable", &self.variable)
@@ -111,11 +121,11 @@ impl<M: Mechanism, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
     }
 }
 
-impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
+impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn new(
+    pub(crate) fn new(
         m: &'m M,
-        start: &M::Coords,
+        start: &M::Pose,
         variable: &'static str,
         grid: Result<Grid, Error>,
         drive: D,
@@ -129,6 +139,7 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         } else {
             0.0
         };
+        let zero = m.zero_pose();
         let mut it = Self {
             m,
             drive,
@@ -140,9 +151,10 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
             variable,
             state: None,
             k: 0,
-            rates: M::Coords::default(),
-            accels: M::Coords::default(),
-            history: [Head::default(); 4],
+            rates: zero.clone(),
+            accels: zero.clone(),
+            guess: zero.clone(),
+            history: core::array::from_fn(|_| Head::empty(&zero)),
             newest: 0,
             falling: false,
             gate: 0.0,
@@ -153,7 +165,7 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
             open: 0,
         };
         it.drive.start(&mut it.rates, &mut it.accels);
-        let checked = grid.and_then(|g| Ok((g, m.step_state(options)?)));
+        let checked = grid.and_then(|g| Ok((g, m.state(options)?)));
         match checked {
             Ok((grid, state)) => {
                 it.grid = grid;
@@ -180,6 +192,13 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         };
     }
 
+    /// The state the newest step was taken with (for a run-time model,
+    /// its stepper, which holds the sample just handed out).
+    #[cfg(feature = "runtime")]
+    pub(crate) fn state_mut(&mut self) -> Option<&mut M::State> {
+        self.state.as_mut()
+    }
+
     /// The change points passed so far.
     #[must_use]
     pub fn change_points(&self) -> &[f64] {
@@ -201,22 +220,24 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     pub(super) fn solve(
         &mut self,
         k: usize,
-        guess: &M::Coords,
-        state: &mut M::StepState,
+        guess: &M::Pose,
+        state: &mut M::State,
     ) -> Result<S, Error> {
         let at = self.grid.at(k);
-        let mut pose = *guess;
+        let mut pose = guess.clone();
         self.drive
             .drive(at, &mut pose, &mut self.rates, &mut self.accels);
         S::solve(self.m, at, &pose, &self.rates, &self.accels, state)
     }
 
     /// The first sample, from `start`: handed out as it is.
-    fn first(&mut self, start: &M::Coords) {
+    fn first(&mut self, start: &M::Pose) {
         let Some(mut state) = self.state.take() else {
             return;
         };
-        match self.solve(0, start, &mut state) {
+        let solved = self.solve(0, start, &mut state);
+        self.state = Some(state);
+        match solved {
             Ok(s) => {
                 self.push_head(&s);
                 let s = self.wrapped(s);
@@ -228,19 +249,18 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
                 self.finish(at, StopReason::from_error(e));
             }
         }
-        self.state = Some(state);
     }
 
     /// The newest accepted sample.
     #[inline(always)]
-    pub(super) fn head(&self) -> Option<&Head<M::Coords>> {
+    pub(super) fn head(&self) -> Option<&Head<M::Pose>> {
         self.back(0)
     }
 
     /// The accepted sample `n` (at most 2) before the newest (0: the
     /// newest).
     #[inline(always)]
-    pub(super) fn back(&self, n: usize) -> Option<&Head<M::Coords>> {
+    pub(super) fn back(&self, n: usize) -> Option<&Head<M::Pose>> {
         debug_assert!(n <= 2, "the sweep keeps three samples");
         let h = &self.history[self.newest.wrapping_sub(n) & 3];
         (!h.at.is_nan()).then_some(h)
@@ -258,12 +278,11 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         self.newest = (self.newest + 1) & 3;
         let h = &mut self.history[self.newest];
         h.at = s.at();
-        h.q = *s.q();
         // The rates only where the predictor uses them.
-        if M::NEWTON_GUESS {
-            if let Some(qd) = s.qd() {
-                h.qd = *qd;
-            }
+        let qd = (S::RATES && self.m.newton_guess()).then_some(&mut h.qd);
+        match &self.state {
+            Some(state) => s.record(state, &mut h.q, qd),
+            None => h.at = f64::NAN,
         }
         h.conditioning = conditioning;
         h.det_sign = det_sign;
@@ -281,44 +300,48 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
 
     /// Forgets every accepted sample.
     pub(super) fn forget(&mut self) {
-        self.history = [Head::default(); 4];
+        for h in &mut self.history {
+            h.clear();
+        }
         self.falling = false;
     }
 
-    /// The guess at `at`, where Newton–Raphson starts from it: the newest
-    /// pose advanced along its rates, u + (du/dt)·Δt, or without rates
-    /// along the secant from the pose before it; the newest pose where the
-    /// guess only names the branch.
+    /// Sets `guess` to the guess at `at`, where Newton–Raphson starts
+    /// from it: the newest pose advanced along its rates,
+    /// u + (du/dt)·Δt, or without rates along the secant from the pose
+    /// before it; the newest pose where the guess only names the branch.
     #[inline(always)]
-    fn predicted(&self, at: f64) -> M::Coords {
-        let Some(h) = self.head() else {
-            return M::Coords::default();
-        };
-        let mut guess = h.q;
-        if !M::NEWTON_GUESS {
-            return guess;
+    fn predict(&mut self, at: f64) {
+        let h = &self.history[self.newest & 3];
+        if h.at.is_nan() {
+            for j in 0..self.m.coordinates().len() {
+                M::set(&mut self.guess, j, 0.0);
+            }
+            return;
+        }
+        self.guess.clone_from(&h.q);
+        if !self.m.newton_guess() {
+            return;
         }
         let (rate, from) = if S::RATES {
             (&h.qd, None)
         } else {
-            match self.back(1) {
-                Some(p) if p.at != h.at => (&h.q, Some((p, 1.0 / (h.at - p.at)))),
-                _ => return guess,
+            let p = &self.history[self.newest.wrapping_sub(1) & 3];
+            if p.at.is_nan() || p.at == h.at {
+                return;
             }
+            (&h.q, Some((p, 1.0 / (h.at - p.at))))
         };
         let dt = (at - h.at) * if S::RATES { self.per_rate } else { 1.0 };
-        for j in M::DRIVERS..M::DRIVERS + M::UNKNOWNS {
-            let (Some(u), Some(r)) = (guess.get(j), rate.get(j)) else {
-                continue;
-            };
+        for j in self.m.drivers()..self.m.coordinates().len() {
+            let (u, r) = (M::get(&self.guess, j), M::get(rate, j));
             // The secant's slope (u − u_prev) / (at_h − at_prev).
             let slope = match from {
-                Some((p, inv)) => (r - p.q.get(j).unwrap_or(r)) * inv,
+                Some((p, inv)) => (r - M::get(&p.q, j)) * inv,
                 None => r,
             };
-            guess.set(j, u + slope * dt);
+            M::set(&mut self.guess, j, u + slope * dt);
         }
-        guess
     }
 
     /// A sample as handed out: its angles wrapped as asked.
@@ -332,12 +355,13 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     #[inline(always)]
     fn wrap_angles(&self, s: &mut S) {
         if self.wrap != Wrap::Continuous {
-            let q = s.q_mut();
-            for (j, c) in M::COORDINATES.iter().enumerate() {
+            let Some(q) = s.q_mut() else {
+                return;
+            };
+            for (j, c) in self.m.coordinates().iter().enumerate() {
                 if c.kind == Kind::Angle {
-                    if let Some(v) = q.get(j) {
-                        q.set(j, self.wrap.apply(v));
-                    }
+                    let v = M::get(q, j);
+                    M::set(q, j, self.wrap.apply(v));
                 }
             }
         }
@@ -363,11 +387,11 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     /// it where it is kept (returned, or pushed onto a vector).
     #[inline(always)]
     fn advance_to<R>(&mut self, k: usize, at: f64, place: impl FnOnce(S) -> R) -> Option<R> {
-        let mut pose = self.predicted(at);
+        self.predict(at);
         self.drive
-            .drive(at, &mut pose, &mut self.rates, &mut self.accels);
+            .drive(at, &mut self.guess, &mut self.rates, &mut self.accels);
         let state = self.state.as_mut()?;
-        match S::step(self.m, &pose, &self.rates, &self.accels, state) {
+        match S::step(self.m, &self.guess, &self.rates, &self.accels, state) {
             // The common case, handed out at once: det Φ_u keeps its sign,
             // the conditioning was not falling so fast that it could reach
             // zero before this sample, and nothing is held back (`gate`).
@@ -409,7 +433,7 @@ impl<'m, M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     }
 }
 
-impl<M: Mechanism, D: Drive<M>, S: Solved<M>> Iterator for SweepIter<'_, M, D, S> {
+impl<M: Engine, D: Drive<M>, S: Solved<M>> Iterator for SweepIter<'_, M, D, S> {
     type Item = Result<S, Stop>;
 
     #[inline]
@@ -427,7 +451,7 @@ impl<M: Mechanism, D: Drive<M>, S: Solved<M>> Iterator for SweepIter<'_, M, D, S
     }
 }
 
-impl<M: Mechanism, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
+impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// [`Iterator::next`] off the fast path: the items waiting, the end,
     /// the last value of an even grid.
     #[inline(never)]

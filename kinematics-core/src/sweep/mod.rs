@@ -55,6 +55,7 @@ mod builder;
 mod change;
 mod collected;
 mod drive;
+mod engine;
 mod handles;
 mod iter;
 mod sample;
@@ -64,10 +65,14 @@ pub use builder::SweepBuilder;
 #[cfg(feature = "runtime")]
 pub(crate) use builder::{grid, End};
 pub use collected::Sweep;
+#[cfg(feature = "runtime")]
+pub(crate) use drive::Grid;
 pub use drive::{
     constant_acceleration, constant_speed, AtRest, Drive, Profile, Simulation, SweepDrive,
     TimeDrive,
 };
+#[doc(hidden)]
+pub use engine::Engine;
 pub use handles::{Angle, ChangePoints, Driver, Length, Wrap};
 pub use iter::SweepIter;
 pub use sample::{PoseSample, Sample, Solved, Stop, StopReason};

@@ -3,6 +3,7 @@
 
 use core::fmt;
 
+use super::engine::Engine;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, MotionState, Pose};
 use crate::names::Name;
@@ -119,26 +120,26 @@ impl<M: Mechanism> fmt::Debug for PoseSample<M> {
 
 /// What a sweep hands out for each sample: a [`Sample`] (the motion, from
 /// the mechanism's step) or a [`PoseSample`] (positions only, from its
-/// positions-only step). The sweep reads the pose, the conditioning and
-/// the sign of det Φ_u of each to follow the branch and find change
-/// points.
-pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
-    /// Whether [`Solved::qd`] returns the rates.
+/// positions-only step), or for a run-time model a sample its stepper
+/// holds. The sweep reads the pose, the conditioning and the sign of
+/// det Φ_u of each to follow the branch and find change points.
+pub trait Solved<E: Engine>: Sized + fmt::Debug {
+    /// Whether [`Solved::record`] writes the rates.
     const RATES: bool;
-    /// What the mechanism's step returns: the motion, or the pose.
+    /// What the model's step returns: the motion, or the pose.
     type Step;
-    /// Takes the mechanism's step at the drivers of `start` (the guess of
-    /// its unknowns), with the drivers' `rates` and `accelerations`,
-    /// carrying `state`.
+    /// Takes the model's step at the drivers of `start` (the guess of its
+    /// unknowns), with the drivers' `rates` and `accelerations`, carrying
+    /// `state`.
     ///
     /// # Errors
-    /// As the mechanism's step.
+    /// As the model's step.
     fn step(
-        m: &M,
-        start: &M::Coords,
-        rates: &M::Coords,
-        accelerations: &M::Coords,
-        state: &mut M::StepState,
+        m: &E,
+        start: &E::Pose,
+        rates: &E::Pose,
+        accelerations: &E::Pose,
+        state: &mut E::State,
     ) -> Result<Self::Step, Error>;
     /// The sign of det Φ_u of a step's result.
     fn step_det_sign(step: &Self::Step) -> f64;
@@ -147,30 +148,37 @@ pub trait Solved<M: Mechanism>: Copy + fmt::Debug {
     /// Solves the sample at `at` from `start`, as [`Solved::step`].
     ///
     /// # Errors
-    /// As the mechanism's step.
+    /// As the model's step.
     #[inline(always)]
     fn solve(
-        m: &M,
+        m: &E,
         at: f64,
-        start: &M::Coords,
-        rates: &M::Coords,
-        accelerations: &M::Coords,
-        state: &mut M::StepState,
+        start: &E::Pose,
+        rates: &E::Pose,
+        accelerations: &E::Pose,
+        state: &mut E::State,
     ) -> Result<Self, Error> {
         Self::step(m, start, rates, accelerations, state).map(|s| Self::sample(at, s))
     }
     /// The value of the sweep variable.
     fn at(&self) -> f64;
-    /// The coordinates.
-    fn q(&self) -> &M::Coords;
-    /// The coordinates, to change (the sweep wraps the angles it reports).
-    fn q_mut(&mut self) -> &mut M::Coords;
-    /// The rates, where they are computed.
-    fn qd(&self) -> Option<&M::Coords>;
+    /// Writes the pose into `q` and, when asked and [`Solved::RATES`], the
+    /// rates into `qd`; `state` is the one whose step made the sample.
+    fn record(&self, state: &E::State, q: &mut E::Pose, qd: Option<&mut E::Pose>);
+    /// The pose, to wrap the angles the sweep reports (`None` where the
+    /// state holds it: reported as solved).
+    fn q_mut(&mut self) -> Option<&mut E::Pose>;
     /// See [`MotionState::conditioning`].
     fn conditioning(&self) -> f64;
     /// See [`MotionState::det_sign`].
     fn det_sign(&self) -> f64;
+    /// The sample, made to outlive the next step of `state` (the one
+    /// that made it): a sample the state holds is copied out of it.
+    #[inline(always)]
+    #[must_use]
+    fn keep(self, _state: &mut E::State) -> Self {
+        self
+    }
 }
 
 impl<M: Mechanism> Solved<M> for Sample<M> {
@@ -199,16 +207,15 @@ impl<M: Mechanism> Solved<M> for Sample<M> {
         self.at
     }
     #[inline(always)]
-    fn q(&self) -> &M::Coords {
-        self.motion.q()
+    fn record(&self, _: &M::StepState, q: &mut M::Coords, qd: Option<&mut M::Coords>) {
+        *q = *self.motion.q();
+        if let Some(qd) = qd {
+            *qd = *self.motion.qd();
+        }
     }
     #[inline(always)]
-    fn q_mut(&mut self) -> &mut M::Coords {
-        self.motion.q_mut()
-    }
-    #[inline(always)]
-    fn qd(&self) -> Option<&M::Coords> {
-        Some(self.motion.qd())
+    fn q_mut(&mut self) -> Option<&mut M::Coords> {
+        Some(self.motion.q_mut())
     }
     #[inline(always)]
     fn conditioning(&self) -> f64 {
@@ -246,16 +253,12 @@ impl<M: Mechanism> Solved<M> for PoseSample<M> {
         self.at
     }
     #[inline(always)]
-    fn q(&self) -> &M::Coords {
-        &self.pose.q
+    fn record(&self, _: &M::StepState, q: &mut M::Coords, _: Option<&mut M::Coords>) {
+        *q = self.pose.q;
     }
     #[inline(always)]
-    fn q_mut(&mut self) -> &mut M::Coords {
-        &mut self.pose.q
-    }
-    #[inline(always)]
-    fn qd(&self) -> Option<&M::Coords> {
-        None
+    fn q_mut(&mut self) -> Option<&mut M::Coords> {
+        Some(&mut self.pose.q)
     }
     #[inline(always)]
     fn conditioning(&self) -> f64 {
