@@ -126,8 +126,7 @@ impl Model {
         let mut mode = 0;
         for (i, part) in self.parts.iter().enumerate() {
             let Some(form) = part.form else {
-                self.newton_eval(q, w);
-                match self.solve_part(q, w, options, &part.rows, &part.cols) {
+                match self.solve_part(q, w, options, (&part.rows, &part.cols), true) {
                     Ok(()) => continue,
                     Err(e) if strict => return Err(e),
                     Err(_) => return Ok(Assembled::Degenerate),
@@ -200,7 +199,7 @@ impl Model {
         if r <= bound.min(limit) {
             Ok(Assembled::Closed)
         } else if r <= limit {
-            self.solve_part(q, w, options, &self.all, &self.all)?;
+            self.solve_part(q, w, options, (&self.all, &self.all), false)?;
             Ok(Assembled::Closed)
         } else {
             Ok(Assembled::Degenerate)
@@ -277,8 +276,7 @@ impl Model {
             q.copy_from_slice(&w.guess);
             self.program.trig(q, &mut w.trig, 0);
         }
-        self.newton_eval(q, w);
-        self.solve_part(q, w, options, &self.all, &self.all)
+        self.solve_part(q, w, options, (&self.all, &self.all), false)
     }
 
     /// Assembles at the drivers of `start` in the assembly modes `modes`

@@ -6,17 +6,35 @@
 /// the factors in place, the row permutation into `perm`; the sign of the
 /// permutation, or `None` at a zero or non-finite pivot.
 pub(super) fn lu(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
+    lu_above(a, perm, n, 0.0).ok()
+}
+
+/// [`lu`] whose pivots must exceed `threshold` in magnitude (and be
+/// finite), as `solve::Lu::factor` requires of generated code's: at the
+/// first that does not, `Err((k, |pivot|))` for column k.
+pub(super) fn lu_above(
+    a: &mut [f64],
+    perm: &mut [usize],
+    n: usize,
+    threshold: f64,
+) -> Result<f64, (usize, f64)> {
     if n == 2 {
-        lu2(a, perm)
+        lu2(a, perm, threshold)
     } else {
-        lu_general(a, perm, n)
+        lu_general(a, perm, n, threshold)
     }
+}
+
+/// Whether a pivot of magnitude `p` is regular: above the threshold and
+/// finite (false for a NaN).
+fn regular(p: f64, threshold: f64) -> bool {
+    p > threshold && p.is_finite()
 }
 
 /// [`lu`] of a 2 × 2 matrix: the same operations, unrolled (loops over
 /// ranges this short cost more than the arithmetic); the same pivot, the
 /// last of equals, as `max_by` takes it.
-fn lu2(a: &mut [f64], perm: &mut [usize]) -> Option<f64> {
+fn lu2(a: &mut [f64], perm: &mut [usize], threshold: f64) -> Result<f64, (usize, f64)> {
     if let ([a00, a01, a10, a11], [p0, p1]) = (&mut *a, &mut *perm) {
         let swap = a10.abs().total_cmp(&a00.abs()).is_ge();
         if swap {
@@ -24,31 +42,38 @@ fn lu2(a: &mut [f64], perm: &mut [usize]) -> Option<f64> {
             core::mem::swap(a01, a11);
         }
         (*p0, *p1) = if swap { (1, 0) } else { (0, 1) };
-        if *a00 == 0.0 || !a00.is_finite() {
-            return None;
+        if !regular(a00.abs(), threshold) {
+            return Err((0, a00.abs()));
         }
         let f = *a10 / *a00;
         *a10 = f;
         *a11 -= f * *a01;
-        if *a11 == 0.0 || !a11.is_finite() {
-            return None;
+        if !regular(a11.abs(), threshold) {
+            return Err((1, a11.abs()));
         }
-        return Some(if swap { -1.0 } else { 1.0 });
+        return Ok(if swap { -1.0 } else { 1.0 });
     }
-    lu_general(a, perm, 2)
+    lu_general(a, perm, 2, threshold)
 }
 
 /// [`lu`] of any size.
-fn lu_general(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
+fn lu_general(
+    a: &mut [f64],
+    perm: &mut [usize],
+    n: usize,
+    threshold: f64,
+) -> Result<f64, (usize, f64)> {
     for (i, p) in perm.iter_mut().enumerate() {
         *p = i;
     }
     let mut sign = 1.0;
     for k in 0..n {
-        let p = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))?;
+        let p = (k..n)
+            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+            .unwrap_or(k);
         let pivot = a[p * n + k];
-        if pivot == 0.0 || !pivot.is_finite() {
-            return None;
+        if !regular(pivot.abs(), threshold) {
+            return Err((k, pivot.abs()));
         }
         if p != k {
             for j in 0..n {
@@ -65,7 +90,7 @@ fn lu_general(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
             }
         }
     }
-    Some(sign)
+    Ok(sign)
 }
 
 /// x with A x = b, from the factors of [`lu`] (NaN where A is singular).
@@ -181,12 +206,17 @@ mod tests {
             [1.0, f64::INFINITY, 2.0, 3.0],
             [1.0, 2.0, 3.0, f64::NAN],
         ]);
-        for m in cases {
+        for (m, threshold) in cases.iter().flat_map(|m| [(*m, 0.0), (*m, 0.5)]) {
             let (mut a, mut b) = (m.to_vec(), m.to_vec());
             let (mut pa, mut pb) = ([0; 2], [0; 2]);
-            let (sa, sb) = (lu2(&mut a, &mut pa), lu_general(&mut b, &mut pb, 2));
+            // The pivot that fails compared by its column (its magnitude
+            // may be NaN).
+            let (sa, sb) = (
+                lu2(&mut a, &mut pa, threshold).map_err(|e| e.0),
+                lu_general(&mut b, &mut pb, 2, threshold).map_err(|e| e.0),
+            );
             assert_eq!(sa, sb, "{m:?}");
-            if sa.is_none() {
+            if sa.is_err() {
                 continue;
             }
             assert_eq!(pa, pb, "{m:?}");

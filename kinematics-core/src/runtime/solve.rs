@@ -9,12 +9,12 @@ use alloc::vec::Vec;
 use kinematics_jit::{Inputs, Program};
 use nalgebra::{Matrix3, Vector3};
 
-use super::linalg::{conditioning, lu, lu_apply};
+use super::linalg::{conditioning, lu, lu_above, lu_apply};
 use super::{Model, Motion, PointState, Vector};
 use crate::error::{Error, Input};
 use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
-use crate::solve::CLOSED;
+use crate::solve::{describe_by, fast_then_damped, iterate, Failure, Judge, Space, System};
 
 /// The arrays of a solve and an analysis, sized for one model.
 pub(super) struct Work {
@@ -34,9 +34,11 @@ pub(super) struct Work {
     /// permutation.
     lu: Vec<f64>,
     perm: Vec<usize>,
-    /// Newton's step, and the unknowns before it.
-    step: Vec<f64>,
-    before: Vec<f64>,
+    /// The arrays of a Newton–Raphson solve of a block.
+    space: Part,
+    /// Whether the whole system is solved as a step, which must close to
+    /// round-off (a stepper's), rather than as an assembly.
+    pub(super) closing: bool,
     /// One diagonal block of Φ_u scaled (rows by 1/S_i, length columns by
     /// L) with its permutation; a column of the block's inverse, a unit
     /// vector and the inverse's absolute row sums.
@@ -57,6 +59,70 @@ pub(super) struct Work {
     /// Whether `rows`, `weights` and the characteristic length hold the
     /// scaling of every pose (the model's term scales read no coordinate).
     scaling_kept: bool,
+}
+
+/// The arrays of a Newton–Raphson solve of a block ([`iterate`]), each of
+/// the unknowns' number: the block's unknowns and equations, their row
+/// scales and convergence weights, and its scratch.
+#[derive(Default)]
+struct Part {
+    u: Vec<f64>,
+    phi: Vec<f64>,
+    row: Vec<f64>,
+    weights: Vec<f64>,
+    start: Vec<f64>,
+    step: Vec<f64>,
+    origin: Vec<f64>,
+}
+
+/// The equations `rows` of a model in the unknowns `cols` (the others
+/// held in `q`), as Newton–Raphson iterates on them.
+struct Subsystem<'a> {
+    m: &'a Model,
+    q: &'a mut [f64],
+    w: &'a mut Work,
+    rows: &'a [usize],
+    cols: &'a [usize],
+    threshold: f64,
+}
+
+impl System for Subsystem<'_> {
+    fn eval(&mut self, u: &[f64], phi: &mut [f64]) {
+        let nd = self.m.drivers;
+        for (x, &c) in u.iter().zip(self.cols) {
+            self.q[nd + c] = *x;
+        }
+        self.m.newton_eval(self.q, self.w);
+        for (p, &r) in phi.iter_mut().zip(self.rows) {
+            *p = self.w.phi[r];
+        }
+    }
+
+    fn step(&mut self, phi: &[f64], step: &mut [f64]) -> Result<(), Failure> {
+        let (m, nu) = (self.cols.len(), self.m.unknowns());
+        let w = &mut *self.w;
+        let length = w.params[self.m.params.len()];
+        let lengths = &self.m.length_unknowns;
+        let unit = |c: usize| if lengths[c] { length } else { 1.0 };
+        for (a, &r) in self.rows.iter().enumerate() {
+            // Φ̃_u = diag(1/S) Φ_u diag(unit), and diag(1/S) Φ.
+            for (b, &c) in self.cols.iter().enumerate() {
+                w.lu[a * m + b] = w.jac[r * nu + c] * w.rows[r] * unit(c);
+            }
+            w.rhs[a] = phi[a] * w.rows[r];
+        }
+        lu_above(&mut w.lu[..m * m], &mut w.perm[..m], m, self.threshold).map_err(
+            |(unknown, pivot)| Failure::Singular {
+                unknown,
+                conditioning: if pivot.is_finite() { pivot } else { 0.0 },
+            },
+        )?;
+        lu_apply(&w.lu, &w.perm, &w.rhs, step, m);
+        for (x, &c) in step.iter_mut().zip(self.cols) {
+            *x *= unit(c);
+        }
+        Ok(())
+    }
 }
 
 impl Work {
@@ -81,8 +147,16 @@ impl Model {
             zeros: vec![0.0; self.coordinates.len()],
             lu: vec![0.0; nu * nu],
             perm: vec![0; nu],
-            step: vec![0.0; nu],
-            before: vec![0.0; nu],
+            space: Part {
+                u: vec![0.0; nu],
+                phi: vec![0.0; nu],
+                row: vec![0.0; nu],
+                weights: vec![0.0; nu],
+                start: vec![0.0; nu],
+                step: vec![0.0; nu],
+                origin: vec![0.0; nu],
+            },
+            closing: false,
             sub: vec![0.0; widest * widest],
             sub_perm: vec![0; widest],
             col: vec![0.0; widest],
@@ -235,111 +309,98 @@ impl Model {
     }
 
     /// Newton–Raphson on the equations `rows` for the unknowns `cols`
-    /// (0-based among the unknowns; the others fixed), from q, with Φ and
-    /// Φ_u at q in `w` (as [`Model::newton_eval`] leaves them) and the
-    /// scaling at its drivers: a diagonal block, or the whole system.
+    /// (0-based among the unknowns; the others fixed), from q, with the
+    /// scaling at its drivers (as [`Model::scaling`] leaves it): a
+    /// diagonal block of an assembly in closed form and by Newton–Raphson
+    /// (`block`), or the whole system. The iteration and its convergence
+    /// rule are generated code's: for a block, and for the whole system
+    /// in a stepper's step, [`FastNewton`](crate::solve::FastNewton)'s
+    /// common path first ([`fast_then_damped`]); for an assembly,
+    /// [`iterate`]. The Newton step
+    /// is solved through the block's scaled Φ_u, whose pivots at or below
+    /// the singularity threshold fail, as generated code solves it. On
+    /// return `w` holds Φ and Φ_u at q.
     pub(super) fn solve_part(
         &self,
         q: &mut [f64],
         w: &mut Work,
         options: &Options,
-        rows: &[usize],
-        cols: &[usize],
+        (rows, cols): (&[usize], &[usize]),
+        block: bool,
     ) -> Result<(), Error> {
         let (nd, m) = (self.drivers, cols.len());
-        let nu = self.unknowns();
-        let merit = |w: &Work| -> (f64, f64) {
-            let mut sum = 0.0f64;
-            let mut max = 0.0f64;
-            for &i in rows {
-                let r = w.phi[i] * w.weights[i];
-                sum += r * r;
-                max = max.max(r.abs());
-                if r.is_nan() {
-                    return (f64::NAN, f64::NAN);
-                }
-            }
-            (sum, max)
+        let closing = w.closing;
+        let mut space = core::mem::take(&mut w.space);
+        let Part {
+            u,
+            phi,
+            row,
+            weights,
+            start,
+            step,
+            origin,
+        } = &mut space;
+        for (x, &c) in u.iter_mut().zip(cols) {
+            *x = q[nd + c];
+        }
+        for ((s, wt), &r) in row.iter_mut().zip(weights.iter_mut()).zip(rows) {
+            *s = w.rows[r];
+            *wt = w.weights[r];
+        }
+        let mut system = Subsystem {
+            m: self,
+            q: &mut *q,
+            w: &mut *w,
+            rows,
+            cols,
+            threshold: options.singularity_threshold,
         };
-        let (mut f0, mut max) = merit(w);
-        let mut iterations = 0;
-        let mut polished = false;
-        loop {
-            if max <= options.tolerance && (polished || max <= CLOSED) {
-                return Ok(());
-            }
-            if max <= options.tolerance {
-                // One more step towards round-off, kept only if better.
-                polished = true;
-            }
-            if iterations >= options.max_iterations || !f0.is_finite() {
-                return Err(self.not_converged(q, w, iterations));
-            }
-            iterations += 1;
-            for (a, &r) in rows.iter().enumerate() {
-                w.rhs[a] = w.phi[r];
-                for (b, &c) in cols.iter().enumerate() {
-                    w.lu[a * m + b] = w.jac[r * nu + c];
-                }
-            }
-            let solved = lu(&mut w.lu[..m * m], &mut w.perm[..m], m).is_some() && {
-                lu_apply(&w.lu, &w.perm, &w.rhs, &mut w.step[..m], m);
-                w.step[..m].iter().all(|v| v.is_finite())
+        let scratch = Space {
+            row: &row[..m],
+            weights: &weights[..m],
+            start: &mut start[..m],
+            step: &mut step[..m],
+        };
+        let solved = if block {
+            // A block of an assembly in closed form and by Newton–Raphson:
+            // its common path to the tolerance, at most 1e-12.
+            let fine = Options {
+                tolerance: options.tolerance.min(1e-12),
+                ..*options
             };
-            if !solved {
-                return Err(self.not_converged(q, w, iterations));
-            }
-            for (b, &c) in w.before.iter_mut().zip(cols) {
-                *b = q[nd + c];
-            }
-            let mut t = 1.0;
-            loop {
-                for ((&c, b), s) in cols.iter().zip(&w.before).zip(&w.step) {
-                    q[nd + c] = b - t * s;
-                }
-                self.newton_eval(q, w);
-                let (f1, m1) = merit(w);
-                if f1 < f0 || (polished && m1 <= max) {
-                    f0 = f1;
-                    max = m1;
-                    break;
-                }
-                if polished {
-                    // Already within the tolerance: the step did not help;
-                    // keep the pose before it.
-                    for (&c, b) in cols.iter().zip(&w.before) {
-                        q[nd + c] = *b;
-                    }
-                    self.newton_eval(q, w);
-                    return Ok(());
-                }
-                t *= 0.5;
-                if t < 1e-3 {
-                    return Err(self.not_converged(q, w, iterations));
-                }
-            }
-        }
-    }
-
-    fn not_converged(&self, q: &[f64], w: &Work, iterations: usize) -> Error {
-        let (mut at, mut rel) = (0, f64::NEG_INFINITY);
-        for (i, (p, s)) in w.phi.iter().zip(&w.weights).enumerate() {
-            let r = (p * s).abs();
-            if r > rel || r.is_nan() {
-                at = i;
-                rel = r;
-                if r.is_nan() {
-                    break;
-                }
-            }
-        }
-        Error::NotConverged {
-            iterations,
-            residual: w.phi.get(at).copied().unwrap_or(f64::NAN),
-            relative: rel,
-            equation: self.equations.get(at).copied().unwrap_or(""),
-            configuration: self.configuration(q),
-        }
+            let judge = (Judge::Assess, &fine);
+            fast_then_damped(
+                &mut system,
+                &mut u[..m],
+                &mut phi[..m],
+                scratch,
+                &mut origin[..m],
+                judge,
+                options,
+            )
+        } else if closing {
+            let judge = (Judge::Closing, options);
+            fast_then_damped(
+                &mut system,
+                &mut u[..m],
+                &mut phi[..m],
+                scratch,
+                &mut origin[..m],
+                judge,
+                options,
+            )
+        } else {
+            iterate(&mut system, &mut u[..m], &mut phi[..m], scratch, options)
+        };
+        w.space = space;
+        solved.map(|_| ()).map_err(|f| {
+            describe_by(
+                f.in_subsystem(rows, cols),
+                |u| self.coordinates.get(nd + u).map_or("?", |c| c.name),
+                |e| self.equations.get(e).copied().unwrap_or("?"),
+                self.configuration(q),
+            )
+        })
     }
 
     pub(super) fn configuration(&self, q: &[f64]) -> crate::names::Configuration {

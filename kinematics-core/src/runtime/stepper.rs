@@ -159,7 +159,8 @@ impl Model {
     pub fn stepper(&self, options: &Options) -> Result<Stepper<'_>, Error> {
         options.validate()?;
         self.validate()?;
-        let work = self.work();
+        let mut work = self.work();
+        work.closing = true;
         let fused = self.fused.as_deref().and_then(|plan| {
             let (step, pose) = plan.functions()?;
             let mut f = plan.buffer(&work.params);

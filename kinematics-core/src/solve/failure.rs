@@ -8,7 +8,6 @@ use crate::options::Options;
 use alloc::vec::Vec;
 
 use super::newton::worst;
-use super::scaling::Scaling;
 
 /// Why a numerical step failed, without names (generated code turns it
 /// into an [`Error`] naming the equation or unknown, off the hot path).
@@ -129,27 +128,23 @@ pub fn branch_check(sign: f64, options: &Options) -> Result<(), Failure> {
 
 /// The failure for a residual vector with a NaN or an infinite entry.
 #[cold]
-pub(super) fn non_finite<const N: usize>(phi: &[f64; N], w: &[f64; N]) -> Failure {
+pub(super) fn non_finite(phi: &[f64], w: &[f64]) -> Failure {
     let i = worst(phi, w);
     Failure::NonFiniteResidual {
         equation: i,
-        value: phi[i],
+        value: phi.get(i).copied().unwrap_or(f64::NAN),
     }
 }
 
 /// The failure of an iteration that ended away from a solution.
 #[cold]
-pub(super) fn not_converged<const N: usize>(
-    iterations: usize,
-    phi: &[f64; N],
-    scaling: &Scaling<N>,
-    w: &[f64; N],
-) -> Failure {
+pub(super) fn not_converged(iterations: usize, phi: &[f64], row: &[f64], w: &[f64]) -> Failure {
     let i = worst(phi, w);
+    let value = phi.get(i).copied().unwrap_or(f64::NAN);
     Failure::NotConverged {
         iterations,
-        residual: phi[i].abs(),
-        relative: (phi[i] * scaling.row[i]).abs(),
+        residual: value.abs(),
+        relative: (value * row.get(i).copied().unwrap_or(1.0)).abs(),
         equation: i,
     }
 }
@@ -179,17 +174,34 @@ pub fn describe(failure: Failure, names: &Names, q: &[f64]) -> Error {
         .copied()
         .zip(q.iter().copied())
         .collect();
-    let equation = |i: usize| names.equations.get(i).copied().unwrap_or("?");
+    describe_by(
+        failure,
+        |u| {
+            names
+                .coordinates
+                .get(names.drivers + u)
+                .copied()
+                .unwrap_or("?")
+        },
+        |i| names.equations.get(i).copied().unwrap_or("?"),
+        configuration,
+    )
+}
+
+/// [`describe`] with the names of unknown `u` (0 the first unknown) and of
+/// equation `i` given by functions: for either kind of model.
+pub(crate) fn describe_by(
+    failure: Failure,
+    unknown: impl Fn(usize) -> &'static str,
+    equation: impl Fn(usize) -> &'static str,
+    configuration: Vec<(&'static str, f64)>,
+) -> Error {
     match failure {
         Failure::Singular {
-            unknown,
+            unknown: u,
             conditioning,
         } => Error::Singular {
-            unknown: names
-                .coordinates
-                .get(names.drivers + unknown)
-                .copied()
-                .unwrap_or("?"),
+            unknown: unknown(u),
             conditioning,
             configuration,
         },

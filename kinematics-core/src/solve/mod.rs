@@ -1,8 +1,10 @@
 //! Dense linear solves and Newton–Raphson on fixed-size arrays.
 //!
-//! Everything here works on `[f64; N]` and `[[f64; N]; N]` on the stack, so
+//! Generated code works on `[f64; N]` and `[[f64; N]; N]` on the stack, so
 //! assembling near a known pose and analysing velocities and accelerations
-//! allocate nothing.
+//! allocate nothing. The Newton–Raphson iteration itself ([`iterate`]) is
+//! written once over slices and a [`System`], and serves run-time models
+//! too, with one convergence rule.
 
 mod failure;
 mod linalg;
@@ -11,7 +13,11 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 
+pub(crate) use failure::describe_by;
 pub use failure::{branch_check, describe, Failure, Names};
 pub use linalg::{dense_solve, Lu};
-pub use newton::{newton, sin_cos_after, FastNewton, Next, CLOSED, POLISH, ROUND_OFF};
+pub use newton::{
+    fast_then_damped, iterate, newton, sin_cos_after, FastNewton, Judge, Next, Space, System,
+    CLOSED, POLISH, ROUND_OFF,
+};
 pub use scaling::{characteristic_length, Scaling};

@@ -13,11 +13,11 @@ use super::scaling::Scaling;
 /// ½‖w∘v‖² and max|w_i v_i| (infinite when some entry is not finite) in one
 /// pass.
 #[inline(always)]
-fn norms<const N: usize>(v: &[f64; N], w: &[f64; N]) -> (f64, f64) {
+fn norms(v: &[f64], w: &[f64]) -> (f64, f64) {
     let mut sq = 0.0;
     let mut max = 0.0f64;
-    for i in 0..N {
-        let x = v[i] * w[i];
+    for (x, wi) in v.iter().zip(w) {
+        let x = x * wi;
         sq += x * x;
         // A plain comparison (not `f64::max`, whose NaN rule costs more):
         // a NaN shows up in `sq` instead.
@@ -35,9 +35,9 @@ fn norms<const N: usize>(v: &[f64; N], w: &[f64; N]) -> (f64, f64) {
 }
 
 /// The index of the largest |w_i v_i| (or of the first non-finite entry).
-pub(super) fn worst<const N: usize>(v: &[f64; N], w: &[f64; N]) -> usize {
+pub(super) fn worst(v: &[f64], w: &[f64]) -> usize {
     let mut at = 0;
-    for i in 0..N {
+    for i in 0..v.len().min(w.len()) {
         if !v[i].is_finite() {
             return i;
         }
@@ -125,12 +125,106 @@ pub fn newton<const N: usize, J>(
     jac: &mut J,
     scaling: &Scaling<N>,
     options: &Options,
-    mut eval: impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+    eval: impl FnMut(&[f64; N], &mut [f64; N], &mut J),
     solve: impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
 ) -> Result<usize, Failure> {
     let w = scaling.weights(options);
-    eval(u, phi, jac);
-    let (mut f0, mut max) = norms(phi, &w);
+    let mut system = Arrays::<N, J, _, _> { jac, eval, solve };
+    let (mut start, mut step) = ([0.0; N], [0.0; N]);
+    let space = Space {
+        row: &scaling.row,
+        weights: &w,
+        start: &mut start,
+        step: &mut step,
+    };
+    iterate(&mut system, u, phi, space, options)
+}
+
+/// What Newton–Raphson iterates on: Φ at a point, and the Newton step
+/// there, for storage of any kind (generated code's arrays, a run-time
+/// model's vectors), so that one iteration with one convergence rule
+/// ([`iterate`]) serves both kinds of model.
+pub trait System {
+    /// Φ(u) into `phi`, keeping what [`System::step`] needs (Φ_u).
+    fn eval(&mut self, u: &[f64], phi: &mut [f64]);
+    /// Δ with Φ_u Δ = `phi`, Φ_u that of the last evaluation, into `step`:
+    /// solved through the scaled matrix Φ̃_u = diag(1/S) Φ_u diag(unit),
+    /// whose pivots at or below the singularity threshold fail.
+    ///
+    /// # Errors
+    /// [`Failure::Singular`] at such a pivot.
+    fn step(&mut self, phi: &[f64], step: &mut [f64]) -> Result<(), Failure>;
+}
+
+/// The scales and the scratch of [`iterate`], each of the system's size:
+/// the row scales 1/S_i, the convergence weights
+/// ([`Scaling::weights`]), and room for the iterate before a step and for
+/// the step.
+pub struct Space<'a> {
+    /// 1/S_i.
+    pub row: &'a [f64],
+    /// The weights w of the convergence test max|w_i Φ_i| ≤ tolerance.
+    pub weights: &'a [f64],
+    /// Scratch: the iterate a step starts from.
+    pub start: &'a mut [f64],
+    /// Scratch: the step.
+    pub step: &'a mut [f64],
+}
+
+/// [`newton`]'s closures over fixed-size arrays as a [`System`].
+struct Arrays<'j, const N: usize, J, E, S> {
+    jac: &'j mut J,
+    eval: E,
+    solve: S,
+}
+
+impl<const N: usize, J, E, S> System for Arrays<'_, N, J, E, S>
+where
+    E: FnMut(&[f64; N], &mut [f64; N], &mut J),
+    S: Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
+{
+    #[inline(always)]
+    fn eval(&mut self, u: &[f64], phi: &mut [f64]) {
+        // Always of length N: `newton` hands its own arrays.
+        if let (Ok(u), Ok(phi)) = (<&[f64; N]>::try_from(u), <&mut [f64; N]>::try_from(phi)) {
+            (self.eval)(u, phi, self.jac);
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self, phi: &[f64], step: &mut [f64]) -> Result<(), Failure> {
+        if let Ok(phi) = <&[f64; N]>::try_from(phi) {
+            let x = (self.solve)(self.jac, phi)?;
+            step.copy_from_slice(&x);
+        }
+        Ok(())
+    }
+}
+
+/// Newton–Raphson on `system` from the value in `u`, as [`newton`]
+/// describes it (the damped step, the Armijo test, the end at round-off,
+/// the polish): the one iteration of both kinds of model. When it
+/// returns, `phi` and the system's last evaluation are at the returned
+/// `u`. Every slice has the system's size.
+///
+/// # Errors
+/// As [`newton`]; `u` then holds the last iterate.
+#[inline]
+pub fn iterate(
+    system: &mut impl System,
+    u: &mut [f64],
+    phi: &mut [f64],
+    space: Space<'_>,
+    options: &Options,
+) -> Result<usize, Failure> {
+    let Space {
+        row,
+        weights: w,
+        start,
+        step,
+    } = space;
+    system.eval(u, phi);
+    let (mut f0, mut max) = norms(phi, w);
     let mut iterations = 0;
     loop {
         if max <= options.tolerance {
@@ -138,38 +232,38 @@ pub fn newton<const N: usize, J>(
         }
         // `norms` makes both infinite when Φ is not finite.
         if max == f64::INFINITY {
-            return Err(non_finite(phi, &w));
+            return Err(non_finite(phi, w));
         }
         if iterations >= options.max_iterations {
-            return Err(not_converged(iterations, phi, scaling, &w));
+            return Err(not_converged(iterations, phi, row, w));
         }
         iterations += 1;
-        let step = solve(jac, phi)?;
-        let start = *u;
-        for i in 0..N {
-            u[i] = start[i] - step[i];
+        system.step(phi, step)?;
+        start.copy_from_slice(u);
+        for ((ui, s), d) in u.iter_mut().zip(&*start).zip(&*step) {
+            *ui = s - d;
         }
-        eval(u, phi, jac);
-        let (f, m) = norms(phi, &w);
+        system.eval(u, phi);
+        let (f, m) = norms(phi, w);
         if f <= (1.0 - ARMIJO) * f0 {
             (f0, max) = (f, m);
             continue;
         }
         let search = Search {
-            start: &start,
-            step: &step,
+            start,
+            step,
             f0,
             last_max: m,
             iterations,
-            scaling,
-            w: &w,
+            row,
+            w,
         };
-        match search.run(u, phi, jac, &mut eval)? {
+        match search.run(u, phi, system)? {
             Some((f, m)) => (f0, max) = (f, m),
             None => return Ok(iterations),
         }
     }
-    polish(u, phi, jac, scaling, options, &mut eval, &solve);
+    polish(system, u, phi, (row, w), (start, step), options);
     Ok(iterations)
 }
 
@@ -182,38 +276,90 @@ pub fn newton<const N: usize, J>(
 /// linearly, a few more bring the pose as close to the solution as
 /// double precision resolves it.
 #[cold]
-fn polish<const N: usize, J>(
-    u: &mut [f64; N],
-    phi: &mut [f64; N],
-    jac: &mut J,
-    scaling: &Scaling<N>,
+fn polish(
+    system: &mut impl System,
+    u: &mut [f64],
+    phi: &mut [f64],
+    (row, w): (&[f64], &[f64]),
+    (start, step): (&mut [f64], &mut [f64]),
     options: &Options,
-    eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
-    solve: &impl Fn(&J, &[f64; N]) -> Result<[f64; N], Failure>,
 ) {
-    let w = scaling.weights(options);
     for _ in 0..options.max_iterations {
-        let (_, before) = norms(phi, &scaling.row);
-        let (_, weighted) = norms(phi, &w);
+        let (_, before) = norms(phi, row);
+        let (_, weighted) = norms(phi, w);
         if before == 0.0 || weighted <= POLISH * options.tolerance {
             return;
         }
-        let Ok(step) = solve(jac, phi) else {
+        if system.step(phi, step).is_err() {
             return;
-        };
-        let start = *u;
-        for i in 0..N {
-            u[i] -= step[i];
         }
-        eval(u, phi, jac);
-        let (_, after) = norms(phi, &scaling.row);
+        start.copy_from_slice(u);
+        for (ui, d) in u.iter_mut().zip(&*step) {
+            *ui -= d;
+        }
+        system.eval(u, phi);
+        let (_, after) = norms(phi, row);
         let kept = after < before;
         if !kept {
-            *u = start;
-            eval(u, phi, jac);
+            u.copy_from_slice(start);
+            system.eval(u, phi);
             return;
         }
     }
+}
+
+/// How the common path of [`fast_then_damped`] judges each iterate, as generated
+/// code judges it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Judge {
+    /// [`FastNewton::assess`]: converged within the tolerance (a block of
+    /// an assembly in closed form and by Newton–Raphson, with the
+    /// tolerance at most 1e-12).
+    Assess,
+    /// [`FastNewton::assess_closing`]: a step, which must close to
+    /// round-off.
+    Closing,
+}
+
+/// Newton–Raphson as generated code runs it: full steps while
+/// [`FastNewton`] judges them on its common path (by `judge`, with the
+/// options `fast`), and on the first event off it, [`iterate`] from the
+/// start with `options`, which retraces the same iterates, damps, detects
+/// round-off or reports the failure. `origin` is scratch of the system's
+/// size. Returns the iterations used.
+///
+/// # Errors
+/// As [`iterate`].
+#[allow(clippy::too_many_arguments)]
+pub fn fast_then_damped(
+    system: &mut impl System,
+    u: &mut [f64],
+    phi: &mut [f64],
+    space: Space<'_>,
+    origin: &mut [f64],
+    (judge, fast_options): (Judge, &Options),
+    options: &Options,
+) -> Result<usize, Failure> {
+    origin.copy_from_slice(u);
+    let mut fast = FastNewton::new();
+    loop {
+        system.eval(u, phi);
+        let next = match judge {
+            Judge::Assess => fast.assess(phi, space.weights, fast_options),
+            Judge::Closing => fast.assess_closing(phi, space.weights, fast_options),
+        };
+        match next {
+            Next::Converged => return Ok(fast.iterations),
+            Next::Continue => {}
+            Next::Fallback => break,
+        }
+        if system.step(phi, space.step).is_err() {
+            break;
+        }
+        fast.advance(u, space.step);
+    }
+    u.copy_from_slice(origin);
+    iterate(system, u, phi, space, options)
 }
 
 /// What [`FastNewton::assess`] found at the latest evaluation. Used by
@@ -281,12 +427,7 @@ impl FastNewton {
     /// path, or [`Next::Continue`]: take the full Newton step
     /// Δu = −Φ_u⁻¹ Φ with [`FastNewton::advance`].
     #[inline(always)]
-    pub fn assess<const N: usize>(
-        &mut self,
-        phi: &[f64; N],
-        w: &[f64; N],
-        options: &Options,
-    ) -> Next {
+    pub fn assess(&mut self, phi: &[f64], w: &[f64], options: &Options) -> Next {
         self.judge(phi, w, options, false)
     }
 
@@ -299,25 +440,14 @@ impl FastNewton {
     /// step takes a pose at 1e-13 to round-off; from a closed form that
     /// lost digits at extreme scales, likewise.
     #[inline(always)]
-    pub fn assess_closing<const N: usize>(
-        &mut self,
-        phi: &[f64; N],
-        w: &[f64; N],
-        options: &Options,
-    ) -> Next {
+    pub fn assess_closing(&mut self, phi: &[f64], w: &[f64], options: &Options) -> Next {
         self.judge(phi, w, options, true)
     }
 
     /// [`FastNewton::assess`], or with `closing`
     /// [`FastNewton::assess_closing`].
     #[inline(always)]
-    fn judge<const N: usize>(
-        &mut self,
-        phi: &[f64; N],
-        w: &[f64; N],
-        options: &Options,
-        closing: bool,
-    ) -> Next {
+    fn judge(&mut self, phi: &[f64], w: &[f64], options: &Options, closing: bool) -> Next {
         let (f, max) = norms(phi, w);
         if closing && self.polishing {
             return if max <= options.tolerance {
@@ -350,18 +480,18 @@ impl FastNewton {
     /// takes.
     #[inline(always)]
     #[must_use]
-    pub fn unpolished<const N: usize>(phi: &[f64; N], w: &[f64; N], options: &Options) -> bool {
+    pub fn unpolished(phi: &[f64], w: &[f64], options: &Options) -> bool {
         let (_, max) = norms(phi, w);
         max > POLISH * options.tolerance || max.is_nan()
     }
 
     /// u ← u − `step`, where `step` = Φ_u⁻¹ Φ at the assessed iterate.
     #[inline(always)]
-    pub fn advance<const N: usize>(&mut self, u: &mut [f64; N], step: &[f64; N]) {
+    pub fn advance(&mut self, u: &mut [f64], step: &[f64]) {
         self.iterations += 1;
         self.f0 = self.f;
-        for i in 0..N {
-            u[i] -= step[i];
+        for (x, d) in u.iter_mut().zip(step) {
+            *x -= d;
         }
     }
 }
@@ -395,48 +525,48 @@ pub fn sin_cos_after(s: f64, c: f64, x: f64, d: f64) -> (f64, f64) {
 }
 
 /// A Newton step whose full length did not decrease the merit f = ½‖w∘Φ‖²
-/// enough: the slow path of [`newton`].
-struct Search<'a, const N: usize> {
-    start: &'a [f64; N],
-    step: &'a [f64; N],
+/// enough: the slow path of [`iterate`].
+struct Search<'a> {
+    start: &'a [f64],
+    step: &'a [f64],
     /// f at `start`.
     f0: f64,
     /// max|w_i Φ_i| after the full step.
     last_max: f64,
     iterations: usize,
-    scaling: &'a Scaling<N>,
-    w: &'a [f64; N],
+    /// 1/S_i.
+    row: &'a [f64],
+    w: &'a [f64],
 }
 
-impl<const N: usize> Search<'_, N> {
+impl Search<'_> {
     /// `Ok(None)` when the step is at the level of round-off and so is the
     /// residual at the start: u is put back at the start (and Φ, Φ_u
     /// evaluated there). Else halves t from 1 until the Armijo test
     /// passes, `Ok(Some((f, max|w_i Φ_i|)))` at the new u.
     #[cold]
-    fn run<J>(
+    fn run(
         &self,
-        u: &mut [f64; N],
-        phi: &mut [f64; N],
-        jac: &mut J,
-        eval: &mut impl FnMut(&[f64; N], &mut [f64; N], &mut J),
+        u: &mut [f64],
+        phi: &mut [f64],
+        system: &mut impl System,
     ) -> Result<Option<(f64, f64)>, Failure> {
         let (start, step) = (self.start, self.step);
-        let mut tiny = true;
-        for i in 0..N {
-            tiny &= step[i].abs() <= 1e-14 * (1.0 + start[i].abs());
-        }
+        let tiny = step
+            .iter()
+            .zip(start)
+            .all(|(d, s)| d.abs() <= 1e-14 * (1.0 + s.abs()));
         if tiny {
-            *u = *start;
-            eval(u, phi, jac);
-            let (_, relative) = norms(phi, &self.scaling.row);
+            u.copy_from_slice(start);
+            system.eval(u, phi);
+            let (_, relative) = norms(phi, self.row);
             if relative <= ROUND_OFF {
                 return Ok(None);
             }
             // A step that cannot move u (an unknown so large that its
             // floating-point spacing exceeds the step) while the equations
             // are far from closed: no solution is reachable from here.
-            return Err(not_converged(self.iterations, phi, self.scaling, self.w));
+            return Err(not_converged(self.iterations, phi, self.row, self.w));
         }
         let mut t = 1.0;
         let mut m = self.last_max;
@@ -447,13 +577,13 @@ impl<const N: usize> Search<'_, N> {
                 }
                 // No decrease along the Newton direction: a local minimum
                 // of ‖Φ‖ that is not a solution.
-                return Err(not_converged(self.iterations, phi, self.scaling, self.w));
+                return Err(not_converged(self.iterations, phi, self.row, self.w));
             }
             t *= 0.5;
-            for i in 0..N {
-                u[i] = start[i] - t * step[i];
+            for ((ui, s), d) in u.iter_mut().zip(start).zip(step) {
+                *ui = s - t * d;
             }
-            eval(u, phi, jac);
+            system.eval(u, phi);
             let (f, max) = norms(phi, self.w);
             m = max;
             if f <= (1.0 - ARMIJO * t) * self.f0 {
