@@ -13,6 +13,7 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 
+#[cfg(feature = "runtime")]
 pub(crate) use failure::describe_by;
 pub use failure::{branch_check, describe, Failure, Names};
 pub use linalg::{dense_solve, Lu};

@@ -4,6 +4,7 @@
 //! failures that end a sweep.
 
 use alloc::vec::Vec;
+use core::borrow::Borrow;
 
 use super::drive::Drive;
 use super::engine::Engine;
@@ -97,11 +98,22 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         if t >= 2.0 {
             return None;
         }
-        let known = self.known();
-        let [.., (_, before), (_, last)] = known.as_slice() else {
-            return None;
+        // The last poses by reference (no copy: this runs at every sample
+        // held back).
+        let (last, before) = (self.back(0)?, self.back(1)?);
+        let (three, two);
+        let known: &[(f64, &M::Pose)] = match self.back(2) {
+            Some(c) => {
+                three = [(c.at, &c.q), (before.at, &before.q), (last.at, &last.q)];
+                &three
+            }
+            None => {
+                two = [(before.at, &before.q), (last.at, &last.q)];
+                &two
+            }
         };
-        let predicted = extrapolated(self.m, &known, s.at());
+        let (last, before) = (&last.q, &before.q);
+        let predicted = extrapolated(self.m, known, s.at());
         let mut q = self.m.zero_pose();
         s.record(self.state.as_ref()?, &mut q, None);
         let (mut change, mut off) = (0.0f64, 0.0f64);
@@ -323,11 +335,11 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
 
 /// The pose at `target` extrapolated from the `known` poses (up to three:
 /// quadratic in the sweep variable), unknowns only.
-fn extrapolated<E: Engine>(m: &E, known: &[(f64, E::Pose)], target: f64) -> E::Pose {
+fn extrapolated<E: Engine, Q: Borrow<E::Pose>>(m: &E, known: &[(f64, Q)], target: f64) -> E::Pose {
     let Some(last) = known.last() else {
         return m.zero_pose();
     };
-    let mut guess = last.1.clone();
+    let mut guess = last.1.borrow().clone();
     for j in m.drivers()..m.coordinates().len() {
         // Lagrange's polynomial through the known poses.
         let mut value = 0.0;
@@ -338,7 +350,7 @@ fn extrapolated<E: Engine>(m: &E, known: &[(f64, E::Pose)], target: f64) -> E::P
                     w *= (target - al) / (ai - al);
                 }
             }
-            value += w * E::get(qi, j);
+            value += w * E::get(qi.borrow(), j);
         }
         if value.is_finite() {
             E::set(&mut guess, j, value);

@@ -306,42 +306,12 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         self.falling = false;
     }
 
-    /// Sets `guess` to the guess at `at`, where Newton–Raphson starts
-    /// from it: the newest pose advanced along its rates,
-    /// u + (du/dt)·Δt, or without rates along the secant from the pose
-    /// before it; the newest pose where the guess only names the branch.
+    /// Sets `guess` to the guess at `at` ([`predict`]).
     #[inline(always)]
     fn predict(&mut self, at: f64) {
         let h = &self.history[self.newest & 3];
-        if h.at.is_nan() {
-            for j in 0..self.m.coordinates().len() {
-                M::set(&mut self.guess, j, 0.0);
-            }
-            return;
-        }
-        self.guess.clone_from(&h.q);
-        if !self.m.newton_guess() {
-            return;
-        }
-        let (rate, from) = if S::RATES {
-            (&h.qd, None)
-        } else {
-            let p = &self.history[self.newest.wrapping_sub(1) & 3];
-            if p.at.is_nan() || p.at == h.at {
-                return;
-            }
-            (&h.q, Some((p, 1.0 / (h.at - p.at))))
-        };
-        let dt = (at - h.at) * if S::RATES { self.per_rate } else { 1.0 };
-        for j in self.m.drivers()..self.m.coordinates().len() {
-            let (u, r) = (M::get(&self.guess, j), M::get(rate, j));
-            // The secant's slope (u − u_prev) / (at_h − at_prev).
-            let slope = match from {
-                Some((p, inv)) => (r - M::get(&p.q, j)) * inv,
-                None => r,
-            };
-            M::set(&mut self.guess, j, u + slope * dt);
-        }
+        let before = &self.history[self.newest.wrapping_sub(1) & 3];
+        predict::<M, S>(self.m, (h, before), (at, self.per_rate), &mut self.guess);
     }
 
     /// A sample as handed out: its angles wrapped as asked.
@@ -476,5 +446,50 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         };
         self.reopen();
         item
+    }
+}
+
+/// Writes into `guess` the guess at `at`, where Newton–Raphson starts
+/// from it: the newest pose `h` advanced along its rates,
+/// u + (du/dt)·Δt (Δt the change of the sweep variable times
+/// `per_rate`), or without rates along the secant from the pose `before`
+/// it; the newest pose where the guess only names the branch; zeros
+/// before the first sample. (Its arguments apart, so that the guess is
+/// known not to alias the history.)
+#[inline(always)]
+fn predict<M: Engine, S: Solved<M>>(
+    m: &M,
+    (h, before): (&Head<M::Pose>, &Head<M::Pose>),
+    (at, per_rate): (f64, f64),
+    guess: &mut M::Pose,
+) {
+    let n = m.coordinates().len();
+    if h.at.is_nan() {
+        for j in 0..n {
+            M::set(guess, j, 0.0);
+        }
+        return;
+    }
+    guess.clone_from(&h.q);
+    if !m.newton_guess() {
+        return;
+    }
+    let (rate, from) = if S::RATES {
+        (&h.qd, None)
+    } else {
+        if before.at.is_nan() || before.at == h.at {
+            return;
+        }
+        (&h.q, Some((before, 1.0 / (h.at - before.at))))
+    };
+    let dt = (at - h.at) * if S::RATES { per_rate } else { 1.0 };
+    for j in m.drivers()..n {
+        let (u, r) = (M::get(guess, j), M::get(rate, j));
+        // The secant's slope (u − u_prev) / (at_h − at_prev).
+        let slope = match from {
+            Some((p, inv)) => (r - M::get(&p.q, j)) * inv,
+            None => r,
+        };
+        M::set(guess, j, u + slope * dt);
     }
 }
