@@ -35,7 +35,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use kinematics_compiler::ClosedForm;
 use kinematics_core::runtime::{CompileError, Model};
 
 mod sweep;
@@ -226,162 +225,10 @@ fn located(file: &Path, errors: &kinematics_compiler::Diagnostics) -> Failure {
     ))
 }
 
-fn list(items: &[String]) -> String {
-    if items.is_empty() {
-        "–".to_string()
-    } else {
-        items.join(", ")
-    }
-}
-
+/// `kinematics check`: the definition compiled once, as a run-time model,
+/// which describes itself.
 fn check(file: &Path) -> Result<String, Failure> {
-    let text = read(file)?;
-    let c = kinematics_compiler::compile_str(&text).map_err(|e| located(file, &e))?;
-    let coords = c.coordinates();
-    let nd = c.drivers();
-    let named = |(n, k): &(String, kinematics_compiler::Kind)| {
-        let kind = match k {
-            kinematics_compiler::Kind::Angle => "angle",
-            kinematics_compiler::Kind::Length => "length",
-        };
-        format!("{n} ({kind})")
-    };
-    let mut out = String::new();
-    let equations = c.residuals();
-    let _ = writeln!(
-        out,
-        "{}: {} driver{}, {} unknown{}, {} scalar equation{}",
-        c.name(),
-        nd,
-        if nd == 1 { "" } else { "s" },
-        c.unknowns(),
-        if c.unknowns() == 1 { "" } else { "s" },
-        equations.len(),
-        if equations.len() == 1 { "" } else { "s" },
-    );
-    let drivers: Vec<String> = coords[..nd].iter().map(named).collect();
-    let unknowns: Vec<String> = coords[nd..].iter().map(named).collect();
-    let points: Vec<String> = c.points().into_iter().map(|p| p.name).collect();
-    let frames: Vec<String> = c.frames().into_iter().map(|f| f.name).collect();
-    let _ = writeln!(out, "  parameters: {}", list(&c.parameters()));
-    let _ = writeln!(out, "  drivers:    {}", list(&drivers));
-    let _ = writeln!(out, "  unknowns:   {}", list(&unknowns));
-    let _ = writeln!(out, "  points:     {}", list(&points));
-    let _ = writeln!(out, "  frames:     {}", list(&frames));
-    let _ = writeln!(out, "equations:");
-    for (i, (_, text)) in equations.iter().enumerate() {
-        let _ = writeln!(out, "  {}. {text}", i + 1);
-    }
-    let blocks = c.blocks();
-    let mut two_modes = 0u32;
-    if !blocks.is_empty() {
-        let _ = writeln!(out, "blocks, in solve order:");
-    }
-    for b in &blocks {
-        let names: Vec<&str> = b
-            .unknowns
-            .iter()
-            .map(|&k| coords[nd + k].0.as_str())
-            .collect();
-        let rows: Vec<String> = b.equations.iter().map(|r| (r + 1).to_string()).collect();
-        let how = match &b.form {
-            Some(form) => {
-                let modes = form.has_modes();
-                if modes {
-                    two_modes += 1;
-                }
-                let kind = match form {
-                    ClosedForm::Angle { .. } => "a cos θ + b sin θ + c = 0".to_string(),
-                    ClosedForm::Linear { .. } => "linear".to_string(),
-                    ClosedForm::CircleCircle { .. }
-                    | ClosedForm::CircleLine { .. }
-                    | ClosedForm::Slide { .. }
-                    | ClosedForm::LineLine { .. } => format!("{} dyad", form.name()),
-                };
-                format!(
-                    "closed form, {kind}{}",
-                    if modes { ", two modes" } else { "" }
-                )
-            }
-            None => "Newton–Raphson".to_string(),
-        };
-        let _ = writeln!(
-            out,
-            "  {} from equation{} {}: {how}",
-            names.join(", "),
-            if rows.len() == 1 { "" } else { "s" },
-            rows.join(", ")
-        );
-    }
-    match c.mobility() {
-        Some(m) => {
-            let passive = if m.passive > 0 {
-                format!(" − {}", m.passive)
-            } else {
-                String::new()
-            };
-            let _ = writeln!(
-                out,
-                "mobility: F = {}({} − {} − 1) + {}{passive} = {} (Kutzbach–Gruebler)",
-                m.lambda, m.links, m.joints, m.freedoms, m.mobility
-            );
-        }
-        None => {
-            let _ = writeln!(
-                out,
-                "mobility: not counted (no `joints {{ R: …, … }}` section of counts)"
-            );
-        }
-    }
-    if let Some(d) = c.dynamics() {
-        use kinematics_compiler::dynamics::LoadTarget;
-        let bodies: Vec<String> = d.bodies.iter().map(|b| b.name.clone()).collect();
-        let mut loads: Vec<String> = Vec::new();
-        if !d.gravity.is_empty() {
-            loads.push("gravity".to_string());
-        }
-        for l in &d.loads {
-            loads.push(match &l.target {
-                LoadTarget::Point { point, .. } => format!("a force at {point}"),
-                LoadTarget::Coordinate { coordinate } => format!("a force on {coordinate}"),
-                LoadTarget::Torque { body } => format!("a torque on {body}"),
-            });
-        }
-        for s in &d.springs {
-            loads.push(format!("a spring {}–{}", s.from, s.to));
-        }
-        let joints: Vec<String> = d
-            .joints
-            .iter()
-            .map(|j| {
-                let driver = j
-                    .driver
-                    .as_ref()
-                    .map_or_else(String::new, |d| format!(", driven by {d}"));
-                format!(
-                    "{} ({} at {}, {}–{}{driver})",
-                    j.name,
-                    j.kind.word(),
-                    j.point,
-                    j.between[0],
-                    j.between[1]
-                )
-            })
-            .collect();
-        let _ = writeln!(out, "bodies: {}", list(&bodies));
-        let _ = writeln!(out, "loads:  {}", list(&loads));
-        let _ = writeln!(out, "joints: {}", list(&joints));
-    }
-    let _ = writeln!(
-        out,
-        "assemblies: {}",
-        if two_modes < 64 {
-            (1u64 << two_modes).to_string()
-        } else {
-            format!("2^{two_modes}")
-        }
-    );
-    Ok(out)
+    Ok(compile(file)?.describe())
 }
 
 /// `name=value` pairs.

@@ -340,6 +340,11 @@ pub(crate) struct SectionCode {
 }
 
 impl SectionCode {
+    /// The sections as the compiler describes them.
+    pub(crate) fn sections(&self) -> &kinematics_compiler::dynamics::Dynamics {
+        &self.sections
+    }
+
     /// The sections of `c`, compiled, or `None` where it has none.
     pub(crate) fn new(
         c: &kinematics_compiler::Compiled,

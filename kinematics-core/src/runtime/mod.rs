@@ -66,6 +66,7 @@ use crate::names::{intern, intern_list, Name};
 use crate::options::Options;
 
 mod closed;
+mod describe;
 mod drive;
 mod dynamics;
 mod fused;
@@ -219,6 +220,8 @@ pub struct Model {
     /// The `bodies` and `loads` sections in machine code, where the
     /// definition has them.
     sections: Option<Arc<dynamics::SectionCode>>,
+    /// The Kutzbach–Gruebler count of a `joints` section of counts.
+    mobility: Option<kinematics_compiler::Mobility>,
 }
 
 impl fmt::Debug for Model {
@@ -338,6 +341,7 @@ impl Model {
             program: Arc::new(program),
             fused,
             sections,
+            mobility: c.mobility(),
         })
     }
 
