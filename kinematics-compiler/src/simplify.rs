@@ -156,12 +156,14 @@ fn mul(g: &mut Graph, a: Id, b: Id) -> Id {
 fn div(g: &mut Graph, a: Id, b: Id) -> Id {
     match (g.as_const(a), g.as_const(b)) {
         (Some(x), Some(y)) if (x / y).is_finite() => return g.constant(x / y),
-        (Some(0.0), _) => return g.constant(0.0),
+        // 0 / b = 0, but for the number 0 itself (0 / 0 is undefined).
+        (Some(0.0), y) if y != Some(0.0) => return g.constant(0.0),
         (None, Some(1.0)) => return a,
         (None, Some(-1.0)) => return neg(g, a),
         _ => {}
     }
-    if a == b {
+    // x / x = 1, but for the number 0 (0 / 0 is undefined).
+    if a == b && g.as_const(a) != Some(0.0) {
         return g.constant(1.0);
     }
     match (g.node(a), g.node(b)) {

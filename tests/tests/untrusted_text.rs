@@ -267,3 +267,35 @@ fn oversized_text_is_an_error() {
     assert!(e.0[0].message.contains("bytes long"), "{e}");
     assert_eq!((e.0[0].line, e.0[0].column), (1, 1));
 }
+
+/// Numbers whose operation overflows or is undefined are located errors
+/// at compile time, in the macro's pipeline and for a run-time model
+/// alike, not a NaN when the model runs: 1e300 · 1e300 = ∞ (beyond
+/// f64::MAX ≈ 1.8e308), 0/0 is undefined, 1/0 = ∞. Finite operations on
+/// numbers compile (and fold).
+#[test]
+fn numbers_that_overflow_are_an_error() {
+    for (rhs, what) in [
+        ("vec2(d + 1e300 * 1e300, 0.0) + polar(c, th4)", "inf"),
+        ("vec2(d + 0.0 / 0.0, 0.0) + polar(c, th4)", "NaN"),
+        ("vec2(d, 1.0 / 0.0) + polar(c, th4)", "inf"),
+    ] {
+        let text = four_bar(rhs);
+        let e = errors(&text);
+        assert_eq!(e.0.len(), 1, "{rhs}: {e}");
+        let message = e.0[0].to_string();
+        assert!(
+            message.contains(&format!("these numbers give {what}")),
+            "{message}"
+        );
+        let Err(run_time) = Model::compile(&text) else {
+            panic!("{rhs}: compiles at run time");
+        };
+        assert!(
+            run_time.to_string().contains("these numbers give"),
+            "{run_time}"
+        );
+    }
+    let fine = four_bar("vec2(d + 1e150 * 1e150 - 1e300, 2.0 * 0.5 - 1.0) + polar(c, th4)");
+    assert!(compile_str(&fine).is_ok());
+}

@@ -14,7 +14,39 @@ impl Lowerer<'_> {
     pub(super) fn expr(&mut self, e: &Expr) -> Option<Value> {
         let v = self.expr_inner(e)?;
         self.spatial |= v.is_spatial();
+        let scalars: &[Id] = match &v {
+            Value::Scalar(a) => core::slice::from_ref(a),
+            Value::Vec2(a) => a,
+            Value::Vec3(a) => a,
+            Value::Rot(_) | Value::Tf(..) => &[],
+        };
+        for &id in scalars {
+            self.finite_numbers(id, e)?;
+        }
         Some(v)
+    }
+
+    /// An operation on numbers alone is folded into its value when that
+    /// is finite; one left unfolded overflowed or is undefined (`1e300 *
+    /// 1e300`, `0.0 / 0.0`, `ln(0.0)`): reported here, at the expression
+    /// that first gives it, rather than as a NaN when the model runs.
+    fn finite_numbers(&mut self, id: Id, e: &Expr) -> Option<()> {
+        let node = self.g.node(id);
+        if !node.is_operation() || !node.children().all(|c| self.g.as_const(c).is_some()) {
+            return Some(());
+        }
+        let value = self.g.eval(&[id], &|_| f64::NAN).first().copied()?;
+        if value.is_finite() {
+            return Some(());
+        }
+        self.fail(
+            e.span(),
+            format!(
+                "these numbers give {value}, not a finite number; check the exponents and \
+                 divisors written here"
+            ),
+        )?;
+        Some(())
     }
 
     pub(super) fn expr_inner(&mut self, e: &Expr) -> Option<Value> {
