@@ -63,7 +63,10 @@ impl Model {
     /// )?;
     /// let text = m.describe();
     /// assert!(text.starts_with("SliderCrank: 1 driver, 2 unknowns, 2 scalar equations"));
-    /// assert!(text.contains("th, x from equations 1, 2: closed form, RRT dyad, two modes"));
+    /// // The y equation, a sin φ + b sin θ = 0, fixes θ alone (two
+    /// // solutions, θ and π − θ); then the x equation is linear in x.
+    /// assert!(text.contains("th from equation 2: closed form, a cos θ + b sin θ + c = 0, two modes"));
+    /// assert!(text.contains("x from equation 1: closed form, linear"));
     /// assert!(text.ends_with("assemblies: 2\n"));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
