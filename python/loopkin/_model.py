@@ -216,6 +216,16 @@ class Mechanism(metaclass=MechanismType):
         return [{"unknowns": list(u), "method": m, "modes": k} for u, m, k in cls._native.blocks]
 
     @classmethod
+    def describe(cls) -> str:
+        """The mechanism described as ``kinematics check`` prints it: its
+        coordinates (each an angle or a length), its scalar equations,
+        numbered, its blocks in solve order with the equations each is
+        solved from and how (a closed form, which dyad, two assembly
+        modes or one, or Newton–Raphson), its mobility, its bodies, loads
+        and joints, and its number of assemblies."""
+        return cls._native.description
+
+    @classmethod
     def sensitivity_parameters(cls) -> Tuple[str, ...]:
         """The parameters of the definition's ``sensitivities`` section."""
         return tuple(cls._native.sensitivity_parameters)

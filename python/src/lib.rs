@@ -236,6 +236,11 @@ impl Model {
     fn equations(&self) -> Vec<&'static str> {
         self.model.equation_names().to_vec()
     }
+    /// The model described as `kinematics check` prints it.
+    #[getter]
+    fn description(&self) -> String {
+        self.model.describe()
+    }
     /// (unknowns, method, has two modes) per block, in solve order.
     #[getter]
     fn blocks(&self) -> Vec<(Vec<&'static str>, &'static str, bool)> {

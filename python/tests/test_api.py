@@ -25,6 +25,17 @@ def test_compiling_the_same_text_gives_the_same_class(FourBar):
     assert block["unknowns"] == ["th3", "th4"] and block["modes"] and block["method"].startswith("closed form")
 
 
+def test_a_mechanism_describes_itself(FourBar):
+    # The four-bar's loop, two scalar equations in θ3 and θ4, is one RRR
+    # dyad (the coupler and the rocker meeting at C) with two assemblies,
+    # the open and the crossed.
+    text = FourBar.describe()
+    lines = text.splitlines()
+    assert lines[0] == "FourBar: 1 driver, 2 unknowns, 2 scalar equations"
+    assert "  th3, th4 from equations 1, 2: closed form, RRR dyad, two modes" in lines
+    assert lines[-1] == "assemblies: 2"
+
+
 def test_parameters_are_keywords_and_a_design_is_immutable(FourBar, four_bar):
     assert four_bar.params == dict(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5)
     with pytest.raises(TypeError, match="missing parameter"):

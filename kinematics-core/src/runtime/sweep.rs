@@ -107,20 +107,26 @@ impl Model {
     /// A sweep of the driver named `driver` from the pose `start` (its
     /// drivers, and the first guess of its unknowns, drivers first).
     ///
-    /// Each sample is assembled as [`Model::assemble`] does (the
-    /// closed-form blocks in the assembly modes of the start, carried
-    /// from sample to sample; the other blocks by Newton–Raphson from the
-    /// parabola through the last three samples, a line or the last pose
-    /// at the first samples), then analysed. The sweep never changes
-    /// assembly branch silently: it stops at a change in the sign of
-    /// det Φ_u between two samples ([`StopReason::ChangePoint`], its `at`
-    /// the midpoint), where Φ_u is singular, at a limit position of a
-    /// closed-form block ([`StopReason::LimitPosition`], its `at` the
-    /// last value that assembles, by bisection to the resolution of
-    /// `f64`, as a generated sweep finds it) and where the mechanism does
-    /// not assemble ([`StopReason::NotAssembled`] at the first value that
-    /// fails: past a limit position of a Newton block, Newton–Raphson has
-    /// no root to converge to).
+    /// Each sample is assembled as a [`Stepper`](super::Stepper) steps
+    /// (the closed-form blocks in the assembly modes of the start,
+    /// carried from sample to sample; the other blocks by Newton–Raphson
+    /// from the last pose advanced along its rates), then analysed, by the
+    /// one sweep driver that sweeps generated mechanisms
+    /// ([`SweepIter`](crate::sweep::SweepIter)): the same prediction,
+    /// limit bisection, change-point tests and branch choice. The sweep
+    /// never changes assembly branch silently: it stops at a change point
+    /// ([`StopReason::ChangePoint`](crate::sweep::StopReason::ChangePoint):
+    /// det Φ_u changes sign between two samples, the conditioning dips
+    /// to zero around a sample, or falls towards zero while the pose
+    /// leaves the branch's extrapolation; unless
+    /// [`SweepBuilder::change_points`] says which branch to continue
+    /// on), where Φ_u is singular, at a limit position of a closed-form
+    /// block ([`StopReason::LimitPosition`](crate::sweep::StopReason::LimitPosition),
+    /// its `at` the last value that assembles, by bisection to the
+    /// resolution of `f64`) and where the mechanism does not assemble
+    /// ([`StopReason::NotAssembled`](crate::sweep::StopReason::NotAssembled)
+    /// at the first value that fails: past a limit position of a Newton
+    /// block, Newton–Raphson has no root to converge to).
     ///
     /// ```
     /// use kinematics_core::runtime::Model;
