@@ -241,6 +241,9 @@ fn a_run_time_sweep_stops_at_a_change_point() {
         match stop.reason {
             StopReason::ChangePoint { from, to } => {
                 assert!(from < 1e-12 && to > -1e-12 && from < to, "{from} {to}");
+                // The fold (φ = 0) estimated between the two samples.
+                assert!(from <= stop.at && stop.at <= to, "{from} {} {to}", stop.at);
+                assert!(stop.at.abs() < 0.06, "{}", stop.at);
             }
             ref other => panic!("{other:?}"),
         }

@@ -279,6 +279,11 @@ fn numbers_that_overflow_are_an_error() {
         ("vec2(d + 1e300 * 1e300, 0.0) + polar(c, th4)", "inf"),
         ("vec2(d + 0.0 / 0.0, 0.0) + polar(c, th4)", "NaN"),
         ("vec2(d, 1.0 / 0.0) + polar(c, th4)", "inf"),
+        // Inside a built-in: |(1e200, 1e200)|² overflows.
+        (
+            "vec2(d + norm(vec2(1e200, 1e200)), 0.0) + polar(c, th4)",
+            "inf",
+        ),
     ] {
         let text = four_bar(rhs);
         let e = errors(&text);

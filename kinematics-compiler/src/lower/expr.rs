@@ -30,22 +30,31 @@ impl Lowerer<'_> {
     /// is finite; one left unfolded overflowed or is undefined (`1e300 *
     /// 1e300`, `0.0 / 0.0`, `ln(0.0)`): reported here, at the expression
     /// that first gives it, rather than as a NaN when the model runs.
+    /// Every operation under `id` is checked, the built-ins' own among
+    /// them (`norm(vec2(1e200, 1e200))` squares 1e200).
     fn finite_numbers(&mut self, id: Id, e: &Expr) -> Option<()> {
-        let node = self.g.node(id);
-        if !node.is_operation() || !node.children().all(|c| self.g.as_const(c).is_some()) {
-            return Some(());
+        let mut stack = vec![id];
+        let mut seen = std::collections::HashSet::new();
+        while let Some(n) = stack.pop() {
+            let node = self.g.node(n);
+            if !node.is_operation() || !seen.insert(n) {
+                continue;
+            }
+            if !node.children().all(|c| self.g.as_const(c).is_some()) {
+                stack.extend(node.children());
+                continue;
+            }
+            let value = self.g.eval(&[n], &|_| f64::NAN).first().copied()?;
+            if !value.is_finite() {
+                self.fail(
+                    e.span(),
+                    format!(
+                        "these numbers give {value}, not a finite number; check the exponents \
+                         and divisors written here"
+                    ),
+                )?;
+            }
         }
-        let value = self.g.eval(&[id], &|_| f64::NAN).first().copied()?;
-        if value.is_finite() {
-            return Some(());
-        }
-        self.fail(
-            e.span(),
-            format!(
-                "these numbers give {value}, not a finite number; check the exponents and \
-                 divisors written here"
-            ),
-        )?;
         Some(())
     }
 

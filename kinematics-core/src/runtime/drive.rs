@@ -184,7 +184,9 @@ impl<'m> Solved<Stepped<'m>> for Held {
 
 /// A pose of a run-time sweep of positions: the last pose of the sweep's
 /// stepper. Its conditioning is not judged (a sweep of poses looks for
-/// no change point): reported as 1, the sign of det Φ_u as +1.
+/// no change point): reported as NaN, which no test of a change point
+/// passes (a singular Newton step is then a `Singular` stop), the sign of
+/// det Φ_u as +1.
 #[derive(Debug)]
 pub(super) struct PoseOnly {
     at: f64,
@@ -226,7 +228,7 @@ impl<'m> Solved<Stepped<'m>> for PoseOnly {
     }
 
     fn conditioning(&self) -> f64 {
-        1.0
+        f64::NAN
     }
 
     fn det_sign(&self) -> f64 {

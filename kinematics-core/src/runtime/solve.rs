@@ -117,7 +117,7 @@ impl System for Subsystem<'_> {
                 conditioning: if pivot.is_finite() { pivot } else { 0.0 },
             },
         )?;
-        lu_apply(&w.lu, &w.perm, &w.rhs, step, m);
+        lu_apply(&w.lu[..m * m], &w.perm[..m], &w.rhs, step, m);
         for (x, &c) in step.iter_mut().zip(self.cols) {
             *x *= unit(c);
         }

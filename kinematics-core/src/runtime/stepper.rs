@@ -449,13 +449,15 @@ impl Stepper<'_> {
     /// [`Stepper::step`] does, without the analysis: the pose (drivers
     /// first), the stepper's until the next step. Cheaper than a step: no
     /// factorisation of Φ_u, so no judgement of its conditioning (a pose
-    /// at a singular position is returned as any other; a sweep of poses
-    /// stops only where the mechanism does not assemble).
+    /// at a singular position is returned as any other, unless a
+    /// Newton–Raphson step towards it meets a pivot of the scaled Φ_u at
+    /// or below the singularity threshold; a sweep of poses stops only
+    /// where the mechanism does not assemble).
     ///
     /// # Errors
     /// As [`Model::assemble`], but for the options and the parameters,
-    /// which [`Model::stepper`] checked, and [`Error::Singular`], which is
-    /// not judged.
+    /// which [`Model::stepper`] checked; [`Error::Singular`] only from such
+    /// a Newton–Raphson step.
     pub fn pose(&mut self, start: &[f64]) -> Result<&[f64], Error> {
         let m = self.m;
         self.forget();

@@ -116,12 +116,17 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         let predicted = extrapolated(self.m, known, s.at());
         let mut q = self.m.zero_pose();
         s.record(self.state.as_ref()?, &mut q, None);
-        let (mut change, mut off) = (0.0f64, 0.0f64);
+        let (mut change, mut off, mut size) = (0.0f64, 0.0f64, 0.0f64);
         for j in self.m.drivers()..self.m.coordinates().len() {
             change = change.max((M::get(last, j) - M::get(before, j)).abs());
             off = off.max((M::get(&q, j) - M::get(&predicted, j)).abs());
+            size = size.max(M::get(&q, j).abs());
         }
-        (off > 0.5 * change).then_some(h_at + t * (h_at - a))
+        // Above round-off too, where the unknowns barely move.
+        let jumped = off > 0.5 * change && off > 1e-9 * (1.0 + size);
+        // Where the line meets zero, between the held sample and `s`.
+        let (lo, hi) = (h_at.min(s.at()), h_at.max(s.at()));
+        jumped.then(|| (h_at + t * (h_at - a)).clamp(lo, hi))
     }
 
     /// Sample `k` failed with `e`.
