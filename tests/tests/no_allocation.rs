@@ -329,3 +329,83 @@ fn a_run_time_stepper_allocates_nothing() {
         });
     }
 }
+
+/// A run-time model's sweeps go through the one sweep driver, their
+/// samples read from the stepper: the number of allocations does not grow
+/// with the number of samples, streamed as motions, as flat arrays or as
+/// poses, for a model in closed form (its fused step) and for one solved
+/// by Newton–Raphson (a slider in the curved guide x = h + k y², the
+/// general path and its block solve).
+#[test]
+fn a_run_time_sweeps_samples_allocate_nothing_each() {
+    use kinematics_core::runtime::Model;
+    let curved = "struct CurvedSlider {
+        params   { a, b, h, k }
+        drivers  { phi }
+        unknowns { th, y }
+        loops    { polar(a, phi) + polar(b, th) == vec2(h + k * y * y, y); }
+    }";
+    let four_bar = kinematics_examples::definition("FourBar").expect("an example");
+    let cases: [(&str, Vec<f64>, Vec<f64>); 2] = [
+        (
+            four_bar,
+            FourBar::CRANK_ROCKER.parameter_values().to_vec(),
+            vec![0.0, 1.0, 1.6],
+        ),
+        (curved, vec![0.05, 0.2, 0.05, 2.0], vec![0.0, 1.2, 0.19]),
+    ];
+    for (text, values, start) in cases {
+        let mut m = Model::compile(text).expect("compiles");
+        m.set_values(&values).expect("one value per parameter");
+        let sweep = |steps: usize| {
+            m.sweep("phi", &start)
+                .expect("a driver")
+                .to(1.0)
+                .steps(steps)
+                .rate(10.0)
+        };
+        let count = |run: &dyn Fn(usize) -> usize, steps: usize| {
+            let before = allocations();
+            let n = run(steps);
+            assert_eq!(n, steps + 1);
+            allocations() - before
+        };
+        let motions = |steps: usize| {
+            let mut n = 0usize;
+            let end = sweep(steps).for_each(|_, s| {
+                std::hint::black_box(s);
+                n += 1;
+            });
+            assert!(end.stop.is_none(), "{:?}", end.stop);
+            n
+        };
+        let flats = |steps: usize| {
+            let mut n = 0usize;
+            let end = sweep(steps).for_each_flat(|_, s| {
+                std::hint::black_box(s);
+                n += 1;
+            });
+            assert!(end.stop.is_none(), "{:?}", end.stop);
+            n
+        };
+        let poses = |steps: usize| {
+            let mut n = 0usize;
+            let end = sweep(steps).for_each_pose(|_, q, p| {
+                std::hint::black_box((q, p));
+                n += 1;
+            });
+            assert!(end.stop.is_none(), "{:?}", end.stop);
+            n
+        };
+        for (what, run) in [
+            ("motions", &motions as &dyn Fn(usize) -> usize),
+            ("flat", &flats),
+            ("poses", &poses),
+        ] {
+            // Once first: the model's machine code is made on first use.
+            run(10);
+            let (few, many) = (count(run, 10), count(run, 1000));
+            assert_eq!(few, many, "{what}: {few} for 11, {many} for 1001");
+        }
+    }
+}
