@@ -1,7 +1,8 @@
 //! The ops of a fused function, each against values computed here by
 //! hand: stores, calls and their statuses, the scaled maximum, the
 //! finiteness checks, the block solve, the carried cosines and sines,
-//! preset nodes, and the guards on the buffer and the helper.
+//! guarded computations, preset nodes, and the guards on the buffer and
+//! the helper.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
@@ -530,193 +531,117 @@ fn small_blocks_factored_and_judged() {
 }
 
 #[test]
-fn rrr_dyad_in_machine_code() {
-    use kinematics_jit::AngleAt;
-    // A four-bar a = 1, b = 2, c = 2.5, d = 3 at φ = 90°: with
-    // k = (a cos φ − d, a sin φ), the loop k + b e₃ − c e₄ = 0; the
-    // coefficients as parameters 0–1 and constants.
+fn guarded_computation_fast_path_and_fall_back() {
+    use kinematics_jit::{Compare, Inst, Val};
+    // y = √p₀ where p₀ ≥ 0 (written at 13 and as cos q₀, at 8), else the
+    // helper (argument 21), handed p₀ at 14, writes cos q₀ = −1. A later
+    // store of cos q₀ reads the kept value, from either path.
     let mut g = Graph::new();
-    let k0 = g.leaf(Leaf::Param(0));
-    let k1 = g.leaf(Leaf::Param(1));
-    let (b, zero, minus_c) = (g.constant(2.0), g.constant(0.0), g.constant(-2.5));
-    let coefficients = vec![k0, k1, b, zero, zero, b, minus_c, zero, zero, minus_c];
-    let angles = [
-        AngleAt {
-            value: 2,
-            trig: 8,
-            carried: 20,
-        },
-        AngleAt {
-            value: 3,
-            trig: 10,
-            carried: 23,
-        },
-    ];
-    // After the dyad, its angles and their cosines and sines as later
-    // expressions use them (from registers, not the buffer): copied to
-    // 30–33.
+    let p0 = g.leaf(Leaf::Param(0));
+    let p1 = g.leaf(Leaf::Param(1));
     let q0 = g.leaf(Leaf::Q(0));
-    let q1 = g.leaf(Leaf::Q(1));
     let c0 = g.intern(Node::Call(Func::Cos, q0));
-    let s1 = g.intern(Node::Call(Func::Sin, q1));
+    let code = vec![
+        Inst::Root(p0),
+        Inst::Const(0.0),
+        Inst::Compare(Compare::GreaterOrEqual, Val(0), Val(1)),
+        Inst::Sqrt(Val(0)),
+        // p₀ · 0 + p₁ · 1 with the constant-0 term left out: p₁ even
+        // where p₀ is not finite.
+        Inst::Root(p1),
+        Inst::Const(1.0),
+        Inst::Dot(vec![(Val(0), Val(1)), (Val(4), Val(5))]),
+        Inst::Select(Val(2), Val(3), Val(4)),
+    ];
     let ops = [
-        Op::CircleCircle {
-            coefficients,
-            store: 34,
-            mode: 12,
-            angles,
-            general: 99,
+        Op::Guarded {
+            code,
+            ok: Val(2),
+            fast: vec![(8, Val(3)), (13, Val(3)), (15, Val(6)), (16, Val(7))],
+            slow: vec![(14, Val(0))],
+            helper: 21,
+            keep: vec![8],
         },
         Op::Store {
-            roots: vec![q0, c0, q1, s1],
-            at: vec![30, 31, 32, 33],
+            roots: vec![c0],
+            at: vec![30],
             finite: None,
         },
     ];
-    let code = one(&g, &ops);
-    let used_after =
-        |f: &[f64]| assert_eq!([f[30], f[31], f[32], f[33]], [f[2], f[8], f[3], f[11]]);
-    /// The general solution's stand-in: records the call and the guesses
-    /// and carried values it is handed (which the machine code must not
-    /// have touched), and sets the mode to +1.
-    struct General(usize, Vec<[f64; 8]>);
-    impl Helper for General {
+    let fused = one(&g, &ops);
+    struct Fallback(usize);
+    impl Helper for Fallback {
         fn call(&mut self, f: &mut [f64], argument: u64) -> i64 {
-            assert_eq!(argument, 99);
-            // The coefficients are in the buffer for it.
-            assert_eq!(
-                f[34..44],
-                [f[0], f[1], 2.0, 0.0, 0.0, 2.0, -2.5, 0.0, 0.0, -2.5]
-            );
+            assert_eq!(argument, 21);
             self.0 += 1;
-            self.1
-                .push([f[2], f[3], f[20], f[21], f[22], f[23], f[24], f[25]]);
-            f[12] = 1.0;
+            f[8] = -1.0;
             0
         }
     }
-    let (a, d) = (1.0f64, 3.0f64);
-    let loop_of = |f: &[f64], phi: f64| {
-        let (c3, s3, c4, s4) = (f[8], f[9], f[10], f[11]);
-        let k = [a * phi.cos() - d, a * phi.sin()];
-        (k[0] + 2.0 * c3 - 2.5 * c4, k[1] + 2.0 * s3 - 2.5 * s4)
-    };
+    let mut h = Fallback(0);
     let mut f = vec![0.0; 48];
-    for (at, v) in [
-        (20, f64::NAN),
-        (21, f64::NAN),
-        (22, f64::NAN),
-        (23, f64::NAN),
-        (24, f64::NAN),
-        (25, f64::NAN),
-    ] {
-        f[at] = v;
+    (f[0], f[1], f[8], f[14]) = (6.25, 3.0, 7.0, 5.0);
+    assert_eq!(fused.call(0, &mut f, &mut h), 0);
+    assert_eq!(
+        (f[8], f[13], f[15], f[16], f[30]),
+        (2.5, 2.5, 3.0, 2.5, 2.5)
+    );
+    assert_eq!((h.0, f[14]), (0, 5.0), "the other path's writes not made");
+    // p₀ < 0 (and NaN): the helper, the fast path's writes not made.
+    for p in [-1.0, f64::NAN] {
+        (f[0], f[13], f[15]) = (p, 0.0, 0.0);
+        assert_eq!(fused.call(0, &mut f, &mut h), 0);
+        assert_eq!((f[8], f[13], f[15], f[30]), (-1.0, 0.0, 0.0, -1.0));
+        assert!(f[14].to_bits() == p.to_bits());
     }
-    f[12] = f64::NAN;
-    let mut h = General(0, Vec::new());
-    // Mode not set: the general solution, handed the guesses untouched.
-    (f[0], f[1]) = (a * 1.5f64.cos() - d, a * 1.5f64.sin());
-    (f[2], f[3]) = (1.0, 2.0);
-    assert_eq!(code.call(0, &mut f, &mut h), 0);
-    assert_eq!(h.0, 1);
-    assert_eq!(h.1[0][..2], [1.0, 2.0]);
-    assert!(h.1[0][2..].iter().all(|v| v.is_nan()));
-    used_after(&f);
-    // Then the carried angles of a solution near φ = 1.5 (computed here
-    // by atan2) let the machine code take the next steps itself.
-    let solve_exact = |phi: f64, sigma: f64| {
-        // a cos θ₃ + b sin θ₃ + c = 0 from |k + b e₃| = c.
-        let k = [a * phi.cos() - d, a * phi.sin()];
-        let (aa, bb) = (2.0 * 2.0 * k[0], 2.0 * 2.0 * k[1]);
-        let cc = k[0] * k[0] + k[1] * k[1] + 4.0 - 6.25;
-        let r2 = aa * aa + bb * bb;
-        let root = sigma * (r2 - cc * cc).sqrt();
-        let (c3, s3) = ((-aa * cc - bb * root) / r2, (-bb * cc + aa * root) / r2);
-        let (c4, s4) = ((k[0] + 2.0 * c3) / 2.5, (k[1] + 2.0 * s3) / 2.5);
-        (s3.atan2(c3), s4.atan2(c4))
-    };
-    let (t3, t4) = solve_exact(1.5, 1.0);
-    (f[20], f[21], f[22]) = (t3.cos(), t3.sin(), t3);
-    (f[23], f[24], f[25]) = (t4.cos(), t4.sin(), t4);
-    for step in 1..=20 {
-        let phi = 1.5 + 0.01 * f64::from(step);
-        (f[0], f[1]) = (a * phi.cos() - d, a * phi.sin());
-        (f[2], f[3]) = (f[22], f[25]);
-        assert_eq!(code.call(0, &mut f, &mut h), 0);
-        let (r0, r1) = loop_of(&f, phi);
-        assert!(
-            r0.abs() < 1e-14 && r1.abs() < 1e-14,
-            "{step}: {r0:e}, {r1:e}"
-        );
-        let (e3, e4) = solve_exact(phi, 1.0);
-        assert!((f[2] - e3).abs() < 1e-13 && (f[3] - e4).abs() < 1e-13);
-        assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
-        used_after(&f);
-    }
-    assert_eq!(h.0, 1, "every step after the first in the machine code");
-    // Past the limit (no real solution): the general solution decides,
-    // from the guesses and carried values as they were.
-    let before = [f[22], f[25], f[20], f[21], f[22], f[23], f[24], f[25]];
-    (f[0], f[1]) = (-10.0, 0.0);
-    (f[2], f[3]) = (f[22], f[25]);
-    assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.0, 2);
-    assert_eq!(h.1[1], before);
-    used_after(&f);
 }
 
 #[test]
-fn angle_equation_in_machine_code() {
-    use kinematics_jit::AngleAt;
-    // a cos θ + b sin θ + c = 0 with (a, b) = (3 cos t, 3 sin t), c = −2,
-    // the coefficients as parameters 0–1 and a constant.
-    let mut g = Graph::new();
-    let a = g.leaf(Leaf::Param(0));
-    let b = g.leaf(Leaf::Param(1));
-    let c = g.constant(-2.0);
-    let ops = [Op::ClosedAngle {
-        coefficients: vec![a, b, c],
-        store: 34,
-        mode: 12,
-        angle: AngleAt {
-            value: 2,
-            trig: 8,
-            carried: 20,
-        },
-        general: 7,
-    }];
-    let code = one(&g, &ops);
-    let mut h = Recorder {
-        calls: Vec::new(),
-        status: 42,
+fn guarded_computations_that_do_not_type_are_refused() {
+    use kinematics_jit::{Compare, Inst, Val};
+    let g = Graph::new();
+    let compiles = |code: Vec<Inst>, ok: u32, keep: Vec<usize>| {
+        let ops = [Op::Guarded {
+            code,
+            ok: Val(ok),
+            fast: vec![(13, Val(0))],
+            slow: vec![],
+            helper: 1,
+            keep,
+        }];
+        Fused::new(
+            &g,
+            2,
+            2,
+            LAYOUT,
+            &[Function {
+                ops: &ops,
+                preset: &[],
+            }],
+        )
+        .is_ok()
     };
-    // θ = t + acos(2/3) (mode +1 takes the root with the + sign).
-    let exact = |t: f64| t + (2.0f64 / 3.0).acos();
-    let mut f = vec![0.0; 48];
-    let t0 = 0.2f64;
-    let th = exact(t0);
-    (f[20], f[21], f[22], f[12]) = (th.cos(), th.sin(), th, 1.0);
-    for step in 1..=10 {
-        let t = t0 + 0.01 * f64::from(step);
-        (f[0], f[1], f[2]) = (3.0 * t.cos(), 3.0 * t.sin(), f[22]);
-        assert_eq!(code.call(0, &mut f, &mut h), 0);
-        let r = f[0] * f[8] + f[1] * f[9] - 2.0;
-        assert!(r.abs() < 1e-15, "{step}: {r:e}");
-        assert!((f[2] - exact(t)).abs() < 1e-14, "{step}");
-    }
-    assert!(h.calls.is_empty());
-    assert_eq!(
-        f[34..37],
-        [0.0; 3],
-        "the coefficients are written for the helper only"
-    );
-    // No real solution (|c| > R): the helper, with the guess untouched
-    // and the coefficients in the buffer.
-    (f[0], f[1], f[2]) = (1.0, 0.0, 5.0);
-    assert_eq!(code.call(0, &mut f, &mut h), 42);
-    assert_eq!(h.calls, [7]);
-    assert_eq!(f[2], 5.0);
-    assert_eq!(f[34..37], [1.0, 0.0, -2.0]);
+    let flag = || Inst::Compare(Compare::Less, Val(0), Val(0));
+    assert!(compiles(vec![Inst::Const(1.0), flag()], 1, vec![13]));
+    // The flag is a number; a number read as a flag; a value used before
+    // it is defined; an offset kept that the fast path does not write.
+    assert!(!compiles(vec![Inst::Const(1.0), flag()], 0, vec![]));
+    assert!(!compiles(
+        vec![
+            Inst::Const(1.0),
+            flag(),
+            Inst::Select(Val(0), Val(0), Val(0))
+        ],
+        1,
+        vec![]
+    ));
+    assert!(!compiles(
+        vec![Inst::Const(1.0), Inst::Add(Val(0), Val(5)), flag()],
+        2,
+        vec![]
+    ));
+    assert!(!compiles(vec![Inst::Const(1.0), flag()], 1, vec![14]));
 }
 
 #[test]

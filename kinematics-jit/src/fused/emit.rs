@@ -1,5 +1,5 @@
-//! The pieces of machine code the ops are built from: the closed forms'
-//! solutions and their fall-back to the helper, the sums and series, the
+//! The pieces of machine code the ops are built from: a guarded
+//! computation and its fall-back to the helper, the sums and series, the
 //! finiteness checks, the ports' slots.
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
@@ -7,8 +7,8 @@ use cranelift_codegen::ir::{types, BlockArg, InstBuilder, MemFlags};
 use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
 
-use super::{AngleAt, Layout, Port, PORTS};
-use crate::lower::{Lower, SignBits};
+use super::{Compare, Inst, Layout, Port, Val, PORTS};
+use crate::lower::{Imports, Lower, SignBits, Sources};
 use crate::JitError;
 
 /// The buffer as the code reads and writes it, with the values it is
@@ -111,59 +111,6 @@ pub(super) fn offset(i: usize) -> Result<i32, JitError> {
     i32::try_from(i * 8).map_err(|_| JitError::Codegen("an array too long".into()))
 }
 
-/// (cos θ, sin θ) solving a cos θ + b sin θ + c = 0 in the mode σ (as
-/// `kinematics_core::closed::angle` computes them: R² = a² + b²,
-/// Δ = R² − c², 0 within 8 ε of R² + c², cos θ = (−a c − σ b √Δ)/R²,
-/// sin θ = (−b c + σ a √Δ)/R²), and whether Δ ≥ 0 and 0 < R² < ∞ (false
-/// for a NaN σ, whose values are NaN).
-pub(super) fn angle_solution(
-    b: &mut FunctionBuilder<'_>,
-    a: cranelift_codegen::ir::Value,
-    bb: cranelift_codegen::ir::Value,
-    c: cranelift_codegen::ir::Value,
-    sigma: cranelift_codegen::ir::Value,
-) -> (
-    cranelift_codegen::ir::Value,
-    cranelift_codegen::ir::Value,
-    cranelift_codegen::ir::Value,
-) {
-    let x0 = b.ins().fmul(a, a);
-    let x1 = b.ins().fmul(bb, bb);
-    let r2 = b.ins().fadd(x0, x1);
-    let cc = b.ins().fmul(c, c);
-    let d = b.ins().fsub(r2, cc);
-    let size = b.ins().fadd(r2, cc);
-    let eps8 = b.ins().f64const(8.0 * f64::EPSILON);
-    let tol = b.ins().fmul(eps8, size);
-    let ad = b.abs(d);
-    let tiny = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, tol);
-    let zero = b.ins().f64const(0.0);
-    let disc = b.ins().select(tiny, zero, d);
-    let inf = b.ins().f64const(f64::INFINITY);
-    let ok_disc = b.ins().fcmp(FloatCC::GreaterThanOrEqual, disc, zero);
-    let ok_r2 = b.ins().fcmp(FloatCC::GreaterThan, r2, zero);
-    let ok_fin = b.ins().fcmp(FloatCC::LessThan, r2, inf);
-    let same = b.ins().fcmp(FloatCC::Equal, sigma, sigma);
-    let ok = b.ins().band(ok_disc, ok_r2);
-    let ok = b.ins().band(ok, ok_fin);
-    let ok = b.ins().band(ok, same);
-    let one = b.ins().f64const(1.0);
-    let inv = b.ins().fdiv(one, r2);
-    let sq = b.ins().sqrt(disc);
-    let root = b.ins().fmul(sigma, sq);
-    let na = b.neg(a);
-    let x0 = b.ins().fmul(na, c);
-    let x1 = b.ins().fmul(bb, root);
-    let x = b.ins().fsub(x0, x1);
-    let cos = b.ins().fmul(x, inv);
-    let nb = b.neg(bb);
-    let x0 = b.ins().fmul(nb, c);
-    let x1 = b.ins().fmul(a, root);
-    let x = b.ins().fadd(x0, x1);
-    let sin = b.ins().fmul(x, inv);
-    (cos, sin, ok)
-}
-
 /// What a call to the helper needs: the buffer, the context, the
 /// helper's reference and the block that returns a status.
 pub(super) type HelperCall = (
@@ -173,160 +120,202 @@ pub(super) type HelperCall = (
     cranelift_codegen::ir::Block,
 );
 
-/// Each solved angle from its carried value, θ = θₚ + asin x with
-/// x = cₚ s − sₚ c by its series (as `kinematics_core::closed::
-/// near_carried` takes it), where the rotation is small (cos of it
-/// positive, |x| ≤ 1/32) and θ within π of the guess; where `ok` and these
-/// hold for every angle, each angle, its cosine and sine are written and
-/// carried, else the helper is called with `general` (the guesses and
-/// carried values untouched), returning its status unless 0.
-pub(super) fn store_or_general(
+/// What an [`Op::Guarded`](super::Op::Guarded) computes and writes.
+pub(super) struct Guard<'o> {
+    pub(super) code: &'o [Inst],
+    pub(super) ok: Val,
+    pub(super) fast: &'o [(usize, Val)],
+    pub(super) slow: &'o [(usize, Val)],
+    pub(super) helper: u64,
+    pub(super) keep: &'o [usize],
+}
+
+/// A value an instruction defines: a number or a flag.
+#[derive(Clone, Copy)]
+enum Defined {
+    Number(cranelift_codegen::ir::Value),
+    Flag(cranelift_codegen::ir::Value),
+}
+
+/// Emits a guarded computation: its instructions in order (the graph's
+/// roots lowered first, together), the branch on its flag, the fast
+/// path's writes, the other path's writes and the helper's call, and the
+/// join, past which the kept offsets hold the join's parameters (and the
+/// layout's leaves among them are seeded into `lower`).
+pub(super) fn guarded(
     b: &mut FunctionBuilder<'_>,
-    (fp, cp, helper, exit): HelperCall,
+    (lower, sources, imports): (&mut Lower<'_>, &Sources, &Imports),
+    (graph, layout): (&Graph, &Layout),
+    call: HelperCall,
     memory: &mut Memory<'_>,
-    mut ok: cranelift_codegen::ir::Value,
-    solved: &[(
-        AngleAt,
-        cranelift_codegen::ir::Value,
-        cranelift_codegen::ir::Value,
-    )],
-    (general, coefficients, store): (u64, &[cranelift_codegen::ir::Value], usize),
-) -> Result<Vec<Angle>, JitError> {
-    let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
-    let mut results = Vec::with_capacity(solved.len());
-    for &(at, cv, sv) in solved {
-        let cpv = memory.load(b, at.carried)?;
-        let spv = memory.load(b, at.carried + 1)?;
-        let tp = memory.load(b, at.carried + 2)?;
-        let guess = memory.load(b, at.value)?;
-        let x0 = b.ins().fmul(cpv, sv);
-        let x1 = b.ins().fmul(spv, cv);
-        let x = b.ins().fsub(x0, x1);
-        let y0 = b.ins().fmul(cpv, cv);
-        let y1 = b.ins().fmul(spv, sv);
-        let y = b.ins().fadd(y0, y1);
-        let x2 = b.ins().fmul(x, x);
-        // asin x = x + x³/6 + 3x⁵/40 + 5x⁷/112 + 35x⁹/1152 + 63x¹¹/2816.
-        let mut t = b.ins().f64const(63.0 / 2816.0);
-        for coefficient in [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0] {
-            let m = b.ins().fmul(x2, t);
-            let k = b.ins().f64const(coefficient);
-            t = b.ins().fadd(m, k);
+    guard: &Guard<'_>,
+) -> Result<(), JitError> {
+    let bad = |what: &str| JitError::Codegen(format!("a guarded computation {what}"));
+    let roots: Vec<_> = guard
+        .code
+        .iter()
+        .filter_map(|i| match i {
+            Inst::Root(id) => Some(*id),
+            _ => None,
+        })
+        .collect();
+    lower.emit(b, sources, imports, &roots)?;
+    let mut values: Vec<Defined> = Vec::with_capacity(guard.code.len());
+    let get = |values: &[Defined], v: Val| -> Result<cranelift_codegen::ir::Value, JitError> {
+        match values.get(v.0 as usize) {
+            Some(Defined::Number(x)) => Ok(*x),
+            Some(Defined::Flag(_)) => Err(bad("reads a flag as a number")),
+            None => Err(bad("reads a value not defined before")),
         }
-        let series = b.ins().fmul(x2, t);
-        let xs = b.ins().fmul(x, series);
-        let asin = b.ins().fadd(x, xs);
-        let theta = b.ins().fadd(tp, asin);
-        let zero = b.ins().f64const(0.0);
-        let ok_y = b.ins().fcmp(FloatCC::GreaterThan, y, zero);
-        let ax = b.abs(x);
-        let limit = b.ins().f64const(0.031_25);
-        let ok_x = b.ins().fcmp(FloatCC::LessThanOrEqual, ax, limit);
-        let off = b.ins().fsub(theta, guess);
-        let aoff = b.abs(off);
-        let pi = b.ins().f64const(std::f64::consts::PI);
-        let ok_ref = b.ins().fcmp(FloatCC::LessThanOrEqual, aoff, pi);
-        ok = b.ins().band(ok, ok_y);
-        ok = b.ins().band(ok, ok_x);
-        ok = b.ins().band(ok, ok_ref);
-        results.push((at, cv, sv, theta));
+    };
+    let flag = |values: &[Defined], v: Val| -> Result<cranelift_codegen::ir::Value, JitError> {
+        match values.get(v.0 as usize) {
+            Some(Defined::Flag(x)) => Ok(*x),
+            Some(Defined::Number(_)) => Err(bad("reads a number as a flag")),
+            None => Err(bad("reads a flag not defined before")),
+        }
+    };
+    for inst in guard.code {
+        let number = |x| Ok::<_, JitError>(Defined::Number(x));
+        let defined = match inst {
+            Inst::Root(id) => number(lower.value(b, sources, imports, *id)?),
+            Inst::Load(at) => number(memory.load(b, *at)?),
+            Inst::Const(x) => number(b.ins().f64const(*x)),
+            Inst::Add(x, y) => {
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                number(b.ins().fadd(x, y))
+            }
+            Inst::Sub(x, y) => {
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                number(b.ins().fsub(x, y))
+            }
+            Inst::Mul(x, y) => {
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                number(b.ins().fmul(x, y))
+            }
+            Inst::Div(x, y) => {
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                number(b.ins().fdiv(x, y))
+            }
+            Inst::Neg(x) => {
+                let x = get(&values, *x)?;
+                number(b.neg(x))
+            }
+            Inst::Abs(x) => {
+                let x = get(&values, *x)?;
+                number(b.abs(x))
+            }
+            Inst::Sqrt(x) => {
+                let x = get(&values, *x)?;
+                number(b.ins().sqrt(x))
+            }
+            Inst::Dot(pairs) => {
+                let pairs = pairs
+                    .iter()
+                    .map(|&(x, y)| Ok((get(&values, x)?, get(&values, y)?)))
+                    .collect::<Result<Vec<_>, JitError>>()?;
+                number(sum_of_products(b, &pairs))
+            }
+            Inst::Compare(how, x, y) => {
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                let cc = match how {
+                    Compare::Less => FloatCC::LessThan,
+                    Compare::LessOrEqual => FloatCC::LessThanOrEqual,
+                    Compare::Greater => FloatCC::GreaterThan,
+                    Compare::GreaterOrEqual => FloatCC::GreaterThanOrEqual,
+                    Compare::Equal => FloatCC::Equal,
+                    Compare::NotEqual => FloatCC::NotEqual,
+                };
+                Ok(Defined::Flag(b.ins().fcmp(cc, x, y)))
+            }
+            Inst::And(x, y) => {
+                let (x, y) = (flag(&values, *x)?, flag(&values, *y)?);
+                Ok(Defined::Flag(b.ins().band(x, y)))
+            }
+            Inst::Select(c, x, y) => {
+                let c = flag(&values, *c)?;
+                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                number(b.ins().select(c, x, y))
+            }
+        }?;
+        values.push(defined);
     }
+    let ok = flag(&values, guard.ok)?;
+    // What goes on past the join from the fast path: the value it wrote
+    // last at each kept offset.
+    let mut kept = Vec::with_capacity(guard.keep.len());
+    for &at in guard.keep {
+        let &(_, v) = guard
+            .fast
+            .iter()
+            .rev()
+            .find(|&&(to, _)| to == at)
+            .ok_or_else(|| bad("keeps an offset its fast path does not write"))?;
+        kept.push(BlockArg::Value(get(&values, v)?));
+    }
+    let (fast, slow, join) = (b.create_block(), b.create_block(), b.create_block());
     b.ins().brif(ok, fast, &[], slow, &[]);
     b.switch_to_block(fast);
-    for &(at, cv, sv, theta) in &results {
-        for (value, to) in [
-            (theta, at.value),
-            (cv, at.trig),
-            (sv, at.trig + 1),
-            (cv, at.carried),
-            (sv, at.carried + 1),
-            (theta, at.carried + 2),
-        ] {
-            memory.write(b, to, value)?;
-        }
+    for &(to, v) in guard.fast {
+        let v = get(&values, v)?;
+        memory.write(b, to, v)?;
     }
-    // The angles, their cosines and sines go on in registers: from the
-    // fast path as computed, from the helper as it wrote them.
-    let mut args = Vec::with_capacity(3 * solved.len());
-    let mut after = Vec::with_capacity(solved.len());
-    for &(at, cv, sv, theta) in &results {
-        args.extend([theta, cv, sv].map(BlockArg::Value));
-        let mut param = || b.append_block_param(join, types::F64);
-        after.push(Angle {
-            at,
-            value: param(),
-            cos: param(),
-            sin: param(),
-        });
-    }
-    b.ins().jump(join, &args);
+    let after: Vec<_> = guard
+        .keep
+        .iter()
+        .map(|_| b.append_block_param(join, types::F64))
+        .collect();
+    b.ins().jump(join, &kept);
     b.switch_to_block(slow);
-    for (i, &v) in coefficients.iter().enumerate() {
-        memory.write(b, store + i, v)?;
+    for &(to, v) in guard.slow {
+        let v = get(&values, v)?;
+        memory.write(b, to, v)?;
     }
     let helped = b.create_block();
-    call_helper(b, (fp, cp, helper, exit), general, helped);
+    call_helper(b, call, guard.helper, helped);
     memory.forget();
-    let mut args = Vec::with_capacity(3 * solved.len());
-    for (at, _, _, _) in results {
-        for from in [at.value, at.trig, at.trig + 1] {
-            args.push(BlockArg::Value(memory.load(b, from)?));
-        }
+    let mut args = Vec::with_capacity(guard.keep.len());
+    for &at in guard.keep {
+        args.push(BlockArg::Value(memory.load(b, at)?));
     }
     b.ins().jump(join, &args);
     b.switch_to_block(join);
-    // Past the join, the buffer holds what either path left: the angles,
-    // their cosines and sines are the join's parameters; the rest, which
-    // the helper may have rewritten, is read afresh.
+    // Past the join, the buffer holds what either path left: the kept
+    // values are the join's parameters; the rest, which the helper may
+    // have rewritten, is read afresh.
     memory.forget();
-    for a in &after {
-        memory.holds(a.at.value, a.value);
-        memory.holds(a.at.trig, a.cos);
-        memory.holds(a.at.trig + 1, a.sin);
+    for (&at, &v) in guard.keep.iter().zip(&after) {
+        memory.holds(at, v);
+        seed_at(lower, graph, layout, sources.coords, at, v);
     }
-    Ok(after)
+    Ok(())
 }
 
-/// An angle solved by a closed form, as the code goes on with it: where
-/// it lies in the buffer, and its value, cosine and sine.
-#[derive(Clone, Copy)]
-pub(super) struct Angle {
-    pub(super) at: AngleAt,
-    pub(super) value: cranelift_codegen::ir::Value,
-    pub(super) cos: cranelift_codegen::ir::Value,
-    pub(super) sin: cranelift_codegen::ir::Value,
-}
-
-/// Tells `lower` the values of coordinate q_j (of the angle at `at`, if
-/// it is one of the layout's coordinates) and of its cosine and sine,
-/// where the graph has those nodes: later ops use them from registers
-/// instead of reading the buffer.
-pub(super) fn seed(
+/// Where offset `at` of the buffer holds a leaf of the layout (coordinate
+/// q_j, or the cosine or sine of q_j) that the graph has, tells `lower`
+/// its value: later ops use it from a register instead of reading the
+/// buffer.
+pub(super) fn seed_at(
     lower: &mut Lower<'_>,
     graph: &Graph,
     layout: &Layout,
-    at: AngleAt,
+    coords: usize,
+    at: usize,
     value: cranelift_codegen::ir::Value,
-    cos: cranelift_codegen::ir::Value,
-    sin: cranelift_codegen::ir::Value,
 ) {
-    let Some(j) = at.value.checked_sub(layout.q) else {
-        return;
-    };
-    if at.trig != layout.trig + 2 * j || at.value >= layout.qd {
-        return;
-    }
-    let Ok(j) = u32::try_from(j) else {
-        return;
-    };
-    let Some(q) = graph.find(&Node::Leaf(Leaf::Q(j))) else {
-        return;
-    };
-    lower.seed(q, value);
-    for (f, v) in [(Func::Cos, cos), (Func::Sin, sin)] {
-        if let Some(id) = graph.find(&Node::Call(f, q)) {
-            lower.seed(id, v);
+    let leaf = |j: usize| u32::try_from(j).ok().map(|j| Node::Leaf(Leaf::Q(j)));
+    let node = match (at.checked_sub(layout.q), at.checked_sub(layout.trig)) {
+        (Some(j), _) if j < coords => leaf(j),
+        (_, Some(k)) if k < 2 * coords => {
+            let f = if k % 2 == 0 { Func::Cos } else { Func::Sin };
+            leaf(k / 2)
+                .and_then(|q| graph.find(&q))
+                .map(|q| Node::Call(f, q))
         }
+        _ => None,
+    };
+    if let Some(id) = node.and_then(|n| graph.find(&n)) {
+        lower.seed(id, value);
     }
 }
 

@@ -6,7 +6,9 @@
 //! leaves there (at the offsets of a [`Layout`]), writes the roots of each
 //! [`Op::Store`] there, and hands the buffer to a helper written in Rust
 //! for what is not an expression of the graph (a closed form's branches,
-//! a factorisation): [`Op::Call`]. Each node of the graph is evaluated
+//! a factorisation): [`Op::Call`]. It knows expressions, not mechanisms:
+//! a closed form of the engine reaches it as plain instructions with a
+//! guard and a fall-back to the helper ([`Op::Guarded`]). Each node of the graph is evaluated
 //! once, at its first use, and kept for every later one, so an op after a
 //! call must not read a value the call changes through a node evaluated
 //! before it (the ops of a step read each unknown only after the call
@@ -34,11 +36,11 @@ mod ops;
 pub use callable::Callable;
 use callable::{entry, trampoline, Entry};
 use emit::{
-    alternating, angle_solution, call_helper, not_finite, offset, port_slot, seed,
-    store_or_general, sum_of_products, Memory,
+    alternating, call_helper, guarded, not_finite, offset, port_slot, seed_at, Guard, Memory,
 };
 pub use ops::{
-    AngleAt, Helper, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow, HELPER_PANICKED, PORTS,
+    Compare, Helper, Inst, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow, Val,
+    HELPER_PANICKED, PORTS,
 };
 
 /// One function of a [`Fused`] set: its ops, and the nodes it reads
@@ -372,119 +374,34 @@ impl Fused {
                             memory.forget();
                             memory.holds(*to, cos);
                             memory.holds(to + 1, sin);
-                            let at = AngleAt {
-                                value: *value,
-                                trig: *to,
-                                carried: *carried,
-                            };
-                            seed(&mut lower, graph, &layout, at, x, cos, sin);
-                        }
-                        Op::CircleCircle {
-                            coefficients,
-                            store,
-                            mode,
-                            angles,
-                            general,
-                        } => {
-                            let [k0, k1, p00, p01, p10, p11, q00, q01, q10, q11] =
-                                coefficients.as_slice().try_into().map_err(|_| {
-                                    JitError::Codegen("an RRR dyad has ten coefficients".into())
-                                })?;
-                            lower.emit(&mut b, &sources, &imports, coefficients)?;
-                            let mut v = |id| lower.value(&mut b, &sources, &imports, id);
-                            let (k0, k1) = (v(k0)?, v(k1)?);
-                            let (p00, p01, p10, p11) = (v(p00)?, v(p01)?, v(p10)?, v(p11)?);
-                            let (q00, q01, q10, q11) = (v(q00)?, v(q01)?, v(q10)?, v(q11)?);
-                            let sigma = memory.load(&mut b, *mode)?;
-                            let mul = |b: &mut FunctionBuilder<'_>, x, y| b.ins().fmul(x, y);
-                            // x₀y₀ + x₁y₁, without the terms whose factor is
-                            // the constant 0 (the dyad's P and Q are often
-                            // diagonal): as the generated code, simplified
-                            // by the compiler, computes it.
-                            let dot = |b: &mut FunctionBuilder<'_>, x0, y0, x1, y1| {
-                                sum_of_products(b, &[(x0, y0), (x1, y1)])
-                            };
-                            // a cos θ₀ + b sin θ₀ + c = 0, from |k + P e₀| = q.
-                            let p2 = dot(&mut b, p00, p00, p10, p10);
-                            let q2 = dot(&mut b, q00, q00, q10, q10);
-                            let two = b.ins().f64const(2.0);
-                            let x = dot(&mut b, p00, k0, p10, k1);
-                            let a = mul(&mut b, two, x);
-                            let x = dot(&mut b, p01, k0, p11, k1);
-                            let bb = mul(&mut b, two, x);
-                            let x = dot(&mut b, k0, k0, k1, k1);
-                            let x = b.ins().fadd(x, p2);
-                            let c = b.ins().fsub(x, q2);
-                            let (c0, s0, mut ok) = angle_solution(&mut b, a, bb, c, sigma);
-                            let zero = b.ins().f64const(0.0);
-                            let ok_q2 = b.ins().fcmp(FloatCC::GreaterThan, q2, zero);
-                            ok = b.ins().band(ok, ok_q2);
-                            // e₁ = −Qᵀ(k + P e₀), normalised by one Newton
-                            // step from 1/q².
-                            let x = dot(&mut b, p00, c0, p01, s0);
-                            let w0 = b.ins().fadd(k0, x);
-                            let x = dot(&mut b, p10, c0, p11, s0);
-                            let w1 = b.ins().fadd(k1, x);
-                            let x = dot(&mut b, q00, w0, q10, w1);
-                            let ex = b.neg(x);
-                            let x = dot(&mut b, q01, w0, q11, w1);
-                            let ey = b.neg(x);
-                            let m = dot(&mut b, ex, ex, ey, ey);
-                            let one = b.ins().f64const(1.0);
-                            let r0 = b.ins().fdiv(one, q2);
-                            let x = mul(&mut b, m, r0);
-                            let x = mul(&mut b, x, r0);
-                            let delta = b.ins().fsub(x, one);
-                            let adelta = b.abs(delta);
-                            let small = b.ins().f64const(1e-8);
-                            let ok_unit = b.ins().fcmp(FloatCC::LessThanOrEqual, adelta, small);
-                            ok = b.ins().band(ok, ok_unit);
-                            let half = b.ins().f64const(0.5);
-                            let x = mul(&mut b, half, r0);
-                            let x = mul(&mut b, x, delta);
-                            let r = b.ins().fsub(r0, x);
-                            let c1 = mul(&mut b, ex, r);
-                            let s1 = mul(&mut b, ey, r);
-                            let solved = [(angles[0], c0, s0), (angles[1], c1, s1)];
-                            let given = [k0, k1, p00, p01, p10, p11, q00, q01, q10, q11];
-                            let after = store_or_general(
-                                &mut b,
-                                (fp, cp, helper_ref, exit),
-                                &mut memory,
-                                ok,
-                                &solved,
-                                (*general, &given, *store),
-                            )?;
-                            for a in after {
-                                seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
+                            for (at, v) in [(*value, x), (*to, cos), (to + 1, sin)] {
+                                seed_at(&mut lower, graph, &layout, coords, at, v);
                             }
                         }
-                        Op::ClosedAngle {
-                            coefficients,
-                            store,
-                            mode,
-                            angle,
-                            general,
+                        Op::Guarded {
+                            code,
+                            ok,
+                            fast,
+                            slow,
+                            helper,
+                            keep,
                         } => {
-                            let [a, bb, c] = coefficients.as_slice().try_into().map_err(|_| {
-                                JitError::Codegen("an angle equation has three coefficients".into())
-                            })?;
-                            lower.emit(&mut b, &sources, &imports, coefficients)?;
-                            let mut v = |id| lower.value(&mut b, &sources, &imports, id);
-                            let (a, bb, c) = (v(a)?, v(bb)?, v(c)?);
-                            let sigma = memory.load(&mut b, *mode)?;
-                            let (c0, s0, ok) = angle_solution(&mut b, a, bb, c, sigma);
-                            let after = store_or_general(
+                            let guard = Guard {
+                                code,
+                                ok: *ok,
+                                fast,
+                                slow,
+                                helper: *helper,
+                                keep,
+                            };
+                            guarded(
                                 &mut b,
+                                (&mut lower, &sources, &imports),
+                                (graph, &layout),
                                 (fp, cp, helper_ref, exit),
                                 &mut memory,
-                                ok,
-                                &[(*angle, c0, s0)],
-                                (*general, &[a, bb, c], *store),
+                                &guard,
                             )?;
-                            for a in after {
-                                seed(&mut lower, graph, &layout, a.at, a.value, a.cos, a.sin);
-                            }
                         }
                         Op::AtMost { at, bound, status } => {
                             let x = memory.load(&mut b, *at)?;

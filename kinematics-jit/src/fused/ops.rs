@@ -1,6 +1,7 @@
 //! The ops of a fused function and the types they are built from: where
 //! the leaves lie in the buffer, the ports, the blocks of the solves and
-//! factorisations, the helper the code calls back.
+//! factorisations, the plain instructions of a guarded computation, the
+//! helper the code calls back.
 
 use kinematics_compiler::ir::Id;
 
@@ -112,46 +113,29 @@ pub enum Op {
         /// The status of the other branch than asked.
         wrong_branch: i64,
     },
-    /// The RRR dyad k + P e₀ + Q e₁ = 0 (coefficients k, P, Q as
-    /// `kinematics_core::closed::circle_circle` takes them) in the mode
-    /// `f[mode]`, as that form solves it: with R² = a² + b², a = 2 (Pᵀk)₀,
-    /// b = 2 (Pᵀk)₁, c = |k|² + p² − q², Δ = R² − c² (0 within 8 ε of
-    /// R² + c²), cos θ₀ = (−a c − σ b √Δ)/R², sin θ₀ = (−b c + σ a √Δ)/R²,
-    /// and e₁ = −Qᵀ(k + P e₀) normalised by one Newton step from 1/q²;
-    /// each angle is the carried one plus asin of the rotation from it (by
-    /// its series), written with its cosine and sine and carried. Where
-    /// the mode is not set, Δ < 0, R² or q² is not positive and finite,
-    /// the normalisation is off by more than 1e-8, or an angle is not
-    /// within 1/32 of its carried value and π of its guess, the helper is
-    /// called with `general` instead, which solves the block itself from
-    /// the coefficients, written at `f[store..]` first (only then).
-    CircleCircle {
-        /// k₀, k₁, P row by row, Q row by row.
-        coefficients: Vec<Id>,
-        /// Where the coefficients are written for the helper.
-        store: usize,
-        /// Where the mode (±1, NaN: not set) lies.
-        mode: usize,
-        /// The two angles.
-        angles: [AngleAt; 2],
-        /// The helper's argument for the general solution.
-        general: u64,
-    },
-    /// a cos θ + b sin θ + c = 0 in the mode `f[mode]`, as
-    /// `kinematics_core::closed::angle` solves it, the angle taken from
-    /// its carried value as in [`Op::CircleCircle`], with the same
-    /// fallback to the helper.
-    ClosedAngle {
-        /// a, b, c.
-        coefficients: Vec<Id>,
-        /// Where the coefficients are written for the helper.
-        store: usize,
-        /// Where the mode lies.
-        mode: usize,
-        /// The angle.
-        angle: AngleAt,
-        /// The helper's argument for the general solution.
-        general: u64,
+    /// A computation in plain operations with a fast path and a fall-back:
+    /// the instructions of `code` are evaluated in order (instruction i
+    /// defines [`Val`]`(i)`); where the flag `ok` holds, the values of
+    /// `fast` are written at their offsets, else those of `slow` are
+    /// written and the helper is called with `helper`, returning its
+    /// status unless 0. Past the join, the values at the offsets `keep`
+    /// (each written on the fast path, and by the helper on the other)
+    /// go on in registers, and where such an offset is a leaf of the
+    /// layout (a coordinate, its cosine or sine), later expressions read
+    /// that leaf from there.
+    Guarded {
+        /// The instructions, each reading only values defined before it.
+        code: Vec<Inst>,
+        /// The flag under which the fast path is taken.
+        ok: Val,
+        /// What the fast path writes: where, and which value.
+        fast: Vec<(usize, Val)>,
+        /// What the other path writes before it calls the helper.
+        slow: Vec<(usize, Val)>,
+        /// The helper's argument.
+        helper: u64,
+        /// The offsets whose values go on in registers past the join.
+        keep: Vec<usize>,
     },
     /// Unless `f[at] <= f[bound]` (false for a NaN), the function returns
     /// `status`.
@@ -252,16 +236,63 @@ pub struct SolveBlock {
     pub cols: Vec<(usize, Option<usize>)>,
 }
 
-/// Where an angle of an [`Op::CircleCircle`] lies: its value (the guess
-/// on entry), its cosine and sine, and its carried (cos, sin, angle).
-#[derive(Clone, Copy, Debug)]
-pub struct AngleAt {
-    /// The angle.
-    pub value: usize,
-    /// Its cosine, then its sine.
-    pub trig: usize,
-    /// The carried cosine, sine and angle.
-    pub carried: usize,
+/// A value of an [`Op::Guarded`] computation: the index of the
+/// instruction that defines it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Val(pub u32);
+
+/// How two values are compared by [`Inst::Compare`] (IEEE: every
+/// comparison with a NaN is false but [`Compare::NotEqual`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compare {
+    /// x < y.
+    Less,
+    /// x ≤ y.
+    LessOrEqual,
+    /// x > y.
+    Greater,
+    /// x ≥ y.
+    GreaterOrEqual,
+    /// x = y (false when either is NaN: x = x tells a number from NaN).
+    Equal,
+    /// x ≠ y (true when either is NaN).
+    NotEqual,
+}
+
+/// One instruction of an [`Op::Guarded`] computation: an f64 value, or a
+/// flag (a comparison's result, or both of two flags).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Inst {
+    /// The value of a node of the graph.
+    Root(Id),
+    /// `f[at]`, as the buffer holds it when the op starts.
+    Load(usize),
+    /// A constant.
+    Const(f64),
+    /// x + y.
+    Add(Val, Val),
+    /// x − y.
+    Sub(Val, Val),
+    /// x · y.
+    Mul(Val, Val),
+    /// x / y.
+    Div(Val, Val),
+    /// −x.
+    Neg(Val),
+    /// |x|.
+    Abs(Val),
+    /// √x.
+    Sqrt(Val),
+    /// Σ xᵢ yᵢ over the pairs, a term with a factor that is the constant
+    /// ±0 left out (0 when every term is, as the compiler's simplifier
+    /// takes 0 · x to 0), a factor that is the constant 1 not multiplied.
+    Dot(Vec<(Val, Val)>),
+    /// The flag x ⋈ y.
+    Compare(Compare, Val, Val),
+    /// The flag: both flags hold.
+    And(Val, Val),
+    /// `if flag { x } else { y }`, without a branch.
+    Select(Val, Val, Val),
 }
 
 /// One diagonal block of an [`Op::FactorSmall`], of one or two unknowns.

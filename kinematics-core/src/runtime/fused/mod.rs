@@ -34,7 +34,7 @@ use std::sync::OnceLock;
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
 use kinematics_jit::{
-    AngleAt, Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
+    Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
 };
 
 /// The step function of a plan's code: its inputs read from the start,
@@ -46,10 +46,12 @@ pub(super) type StepFn<'a> = Callable<'a, 3, 2>;
 /// the modes and the pose written back.
 pub(super) type PoseFn<'a> = Callable<'a, 1, 2>;
 
+mod closed;
 mod helper;
 
 use super::closed::Form;
 use super::invariant::hoist;
+use closed::AngleAt;
 use helper::Context;
 
 /// The helper's arguments: the closing check and factorisation, the
@@ -316,36 +318,26 @@ impl Plan {
             // helper where the mode is not set yet or off the common
             // path, the coefficients written into the buffer for it then);
             // the other forms through the helper.
-            match (part.form, part.mode) {
-                (Form::CircleCircle { .. }, Some(slot)) if roots.len() == 10 && inline => {
-                    let angle = |j: usize| AngleAt {
-                        value: q + j,
-                        trig: trig + 2 * j,
-                        carried: carry + 3 * j,
-                    };
-                    assembly.push(Op::CircleCircle {
-                        coefficients: roots,
-                        store: coef,
+            let angle = |j: usize| AngleAt {
+                value: q + j,
+                trig: trig + 2 * j,
+                carried: carry + 3 * j,
+            };
+            let inline_op = match (&b.form, part.mode) {
+                (Some(form), Some(slot)) if inline => closed::op(
+                    &form.map(|id| h.map(id)),
+                    [angle(part.coords[0]), angle(part.coords[1])],
+                    closed::Slots {
                         mode: modes + slot,
-                        angles: [angle(part.coords[0]), angle(part.coords[1])],
-                        general: BLOCK + i as u64,
-                    });
-                }
-                (Form::Angle { .. }, Some(slot)) if roots.len() == 3 && inline => {
-                    let j = part.coords[0];
-                    assembly.push(Op::ClosedAngle {
-                        coefficients: roots,
                         store: coef,
-                        mode: modes + slot,
-                        angle: AngleAt {
-                            value: q + j,
-                            trig: trig + 2 * j,
-                            carried: carry + 3 * j,
-                        },
                         general: BLOCK + i as u64,
-                    });
-                }
-                _ => {
+                    },
+                ),
+                _ => None,
+            };
+            match inline_op {
+                Some(op) => assembly.push(op),
+                None => {
                     assembly.push(Op::Store {
                         at: (coef..coef + roots.len()).collect(),
                         roots,
