@@ -37,7 +37,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use kinematics_core::runtime::{CompileError, Model};
 
+mod input;
 mod sweep;
+
+use input::{assemblies, driver_values, params_file, pose, set_parameters, ParamsFile};
+use kinematics_core::units::{AngleUnit, Order};
 
 /// Check and analyse mechanism definitions given as text files.
 #[derive(Parser)]
@@ -50,10 +54,22 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Compile a definition; print its coordinates, equations, blocks,
-    /// mobility and number of assemblies, or its errors.
+    /// mobility and number of assemblies, or its errors; with --at, every
+    /// assembly at the drivers given.
     Check {
         /// The definition (`pub struct Name { params { … } … }`).
         file: PathBuf,
+        /// Parameter values (for --at): a TOML file of `name = value`
+        /// lines.
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// A parameter value (repeatable; after those of --params).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        param: Vec<String>,
+        /// A driver's value at which every assembly is listed (repeatable;
+        /// `phi=30deg`; drivers not given are 0).
+        #[arg(long = "at", value_name = "NAME=VALUE")]
+        at: Vec<String>,
     },
     /// Assemble a definition at a pose and print the motion there.
     Analyze {
@@ -65,16 +81,25 @@ enum Command {
         /// A parameter value (repeatable; after those of --params).
         #[arg(long = "param", value_name = "NAME=VALUE")]
         param: Vec<String>,
-        /// A driver's value, or a guess of an unknown (every coordinate;
-        /// angles in radians).
+        /// A driver's value (default 0), or a guess of an unknown (needed
+        /// only for those solved by Newton–Raphson); a number in radians
+        /// or with a unit (`phi=30deg`).
         #[arg(long = "at", value_name = "NAME=VALUE")]
         at: Vec<String>,
-        /// A driver's rate (default 0).
+        /// The assembly, where the unknowns are not all guessed: its
+        /// number as `kinematics check --at` lists them, or its modes
+        /// (`+-`); the first by default.
+        #[arg(long)]
+        assembly: Option<String>,
+        /// A driver's rate (default 0; `phi=120rpm`, `phi=30deg/s`).
         #[arg(long = "rate", value_name = "NAME=VALUE")]
         rate: Vec<String>,
-        /// A driver's acceleration (default 0).
+        /// A driver's acceleration (default 0; `phi=10deg/s2`).
         #[arg(long = "acceleration", value_name = "NAME=VALUE")]
         acceleration: Vec<String>,
+        /// Print angles, their rates and accelerations in degrees.
+        #[arg(long)]
+        degrees: bool,
     },
     /// Sweep a driver over a range; write the CSV, the figures and the
     /// animation.
@@ -95,19 +120,26 @@ struct SweepArgs {
     #[arg(long = "param", value_name = "NAME=VALUE")]
     param: Vec<String>,
     /// A coordinate of the start pose (repeatable; after the `[start]`
-    /// table of --params; angles in radians).
+    /// table of --params): a driver's value (default 0) or a guess of an
+    /// unknown (needed only for those solved by Newton–Raphson); a number
+    /// in radians or with a unit (`phi=30deg`).
     #[arg(long = "at", value_name = "NAME=VALUE")]
     at: Vec<String>,
+    /// The assembly to start in, where the unknowns are not all guessed:
+    /// its number as `kinematics check --at` lists them, or its modes
+    /// (`+-`); the first by default.
+    #[arg(long)]
+    assembly: Option<String>,
     /// The driver swept (default: the only driver).
     #[arg(long)]
     driver: Option<String>,
     /// The first value of the driver (default: its value in the start
-    /// pose).
-    #[arg(long, allow_negative_numbers = true)]
-    from: Option<f64>,
+    /// pose): radians or a length, or with a unit (`30deg`).
+    #[arg(long, allow_hyphen_values = true)]
+    from: Option<String>,
     /// The last value of the driver, included.
-    #[arg(long, allow_negative_numbers = true, conflicts_with = "turn")]
-    to: Option<f64>,
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "turn")]
+    to: Option<String>,
     /// One full turn from the first value (the end, the start again, left
     /// out); the default for an angle driver.
     #[arg(long)]
@@ -118,12 +150,13 @@ struct SweepArgs {
     /// The driver's rate in revolutions per minute (an angle driver).
     #[arg(long, allow_negative_numbers = true, conflicts_with = "rate")]
     rpm: Option<f64>,
-    /// The driver's rate (rad/s or length unit per second; default 1).
-    #[arg(long, allow_negative_numbers = true)]
-    rate: Option<f64>,
-    /// The driver's acceleration (default 0).
-    #[arg(long, allow_negative_numbers = true)]
-    acceleration: Option<f64>,
+    /// The driver's rate (rad/s or length unit per second, or with a
+    /// unit: `30deg/s`, `120rpm`; default 1).
+    #[arg(long, allow_hyphen_values = true)]
+    rate: Option<String>,
+    /// The driver's acceleration (default 0; `10deg/s2`).
+    #[arg(long, allow_hyphen_values = true)]
+    acceleration: Option<String>,
     /// A link drawn in the animation, as two point names: `A-B`
     /// (repeatable; after the `links` of the `[draw]` table).
     #[arg(long = "link", value_name = "P-Q")]
@@ -138,6 +171,10 @@ struct SweepArgs {
     /// continue on the smooth branch, or switch to the other.
     #[arg(long = "change-points", value_enum, default_value = "stop")]
     change_points: ChangePointsArg,
+    /// Write angles, their rates and accelerations in degrees (the CSV's
+    /// columns `phi_deg`, `phi_deg_s`, …, and the summary).
+    #[arg(long)]
+    degrees: bool,
     /// The folder the files are written to (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
@@ -181,15 +218,32 @@ impl Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Check { file } => check(&file),
+        Command::Check {
+            file,
+            params,
+            param,
+            at,
+        } => check(&file, params.as_deref(), &param, &at),
         Command::Analyze {
             file,
             params,
             param,
             at,
+            assembly,
             rate,
             acceleration,
-        } => analyze(&file, params.as_deref(), &param, &at, &rate, &acceleration),
+            degrees,
+        } => analyze(
+            &file,
+            (params.as_deref(), &param),
+            (&at, assembly.as_deref()),
+            (&rate, &acceleration),
+            if degrees {
+                AngleUnit::Degrees
+            } else {
+                AngleUnit::Radians
+            },
+        ),
         Command::Sweep(args) => sweep::run(&args),
     };
     match result {
@@ -226,93 +280,33 @@ fn located(file: &Path, errors: &kinematics_compiler::Diagnostics) -> Failure {
 }
 
 /// `kinematics check`: the definition compiled once, as a run-time model,
-/// which describes itself.
-fn check(file: &Path) -> Result<String, Failure> {
-    Ok(compile(file)?.describe())
-}
-
-/// `name=value` pairs.
-fn pairs(args: &[String], what: &str) -> Result<Vec<(String, f64)>, Failure> {
-    args.iter()
-        .map(|a| {
-            let (name, value) = a.split_once('=').ok_or_else(|| {
-                Failure::usage(format!("error: {what} `{a}` is not `name=value`"))
-            })?;
-            let value: f64 = value.trim().parse().map_err(|_| {
-                Failure::usage(format!("error: {what} `{a}`: `{value}` is not a number"))
-            })?;
-            Ok((name.trim().to_string(), value))
-        })
-        .collect()
-}
-
-/// What a parameters file holds: the parameters' values, the start pose
-/// (its `[start]` table) and the links to draw (`links` of its `[draw]`
-/// table).
-#[derive(Default)]
-struct ParamsFile {
-    values: Vec<(String, f64)>,
-    start: Vec<(String, f64)>,
-    links: Vec<String>,
-}
-
-/// A TOML number as f64, or a usage error naming `key` in `file`.
-fn number(file: &Path, key: &str, v: &toml::Value) -> Result<f64, Failure> {
-    match v {
-        toml::Value::Float(x) => Ok(*x),
-        #[allow(clippy::cast_precision_loss)]
-        toml::Value::Integer(i) => Ok(*i as f64),
-        other => Err(Failure::usage(format!(
-            "error: {}: `{key}` is {}, not a number",
-            file.display(),
-            other.type_str()
-        ))),
-    }
-}
-
-/// Reads a parameters file: `name = number` lines, an optional `[start]`
-/// table of the same, an optional `[draw]` table with `links`.
-fn params_file(file: &Path) -> Result<ParamsFile, Failure> {
-    let text = read(file)?;
-    let table: toml::Table = text
-        .parse()
-        .map_err(|e| Failure::usage(format!("error: {}: {e}", file.display())))?;
-    let mut out = ParamsFile::default();
-    for (k, v) in table {
-        match (k.as_str(), v) {
-            ("start", toml::Value::Table(t)) => {
-                for (name, v) in t {
-                    let value = number(file, &format!("start.{name}"), &v)?;
-                    out.start.push((name, value));
-                }
+/// which describes itself; with `--at`, every assembly there.
+fn check(
+    file: &Path,
+    params: Option<&Path>,
+    param: &[String],
+    at: &[String],
+) -> Result<String, Failure> {
+    let mut m = compile(file)?;
+    let mut out = m.describe();
+    if !at.is_empty() {
+        let file_values = match params {
+            Some(p) => params_file(p)?,
+            None => ParamsFile::default(),
+        };
+        set_parameters(&mut m, &file_values, param)?;
+        let mut q = vec![0.0; m.coordinates().len()];
+        for (name, text) in input::pairs(at, "coordinate")? {
+            let j = input::coordinate(&m, &name, "coordinate")?;
+            if j >= m.drivers() {
+                return Err(Failure::usage(format!(
+                    "error: `{name}` is an unknown: `check --at` takes the drivers, and lists \
+                     every assembly there"
+                )));
             }
-            ("draw", toml::Value::Table(t)) => {
-                for (name, v) in t {
-                    let links = match (name.as_str(), v) {
-                        ("links", toml::Value::Array(a)) => a
-                            .into_iter()
-                            .map(|l| match l {
-                                toml::Value::String(s) => Ok(s),
-                                other => Err(other.type_str()),
-                            })
-                            .collect::<Result<Vec<String>, _>>()
-                            .ok(),
-                        _ => None,
-                    };
-                    out.links.extend(links.ok_or_else(|| {
-                        Failure::usage(format!(
-                            "error: {}: `draw.{name}`: the [draw] table holds only \
-                             `links = [\"A-B\", …]`",
-                            file.display()
-                        ))
-                    })?);
-                }
-            }
-            (_, v) => {
-                let value = number(file, &k, &v)?;
-                out.values.push((k, value));
-            }
+            q[j] = input::coordinate_value(&m, j, &text, Order::Value, "--at")?;
         }
+        out += &assemblies(&m, &q);
     }
     Ok(out)
 }
@@ -327,71 +321,12 @@ fn compile(file: &Path) -> Result<Model, Failure> {
     }
 }
 
-/// Sets the parameters from `file`'s values then the `--param` pairs;
-/// every parameter must have a value.
-fn set_parameters(m: &mut Model, file: &ParamsFile, param: &[String]) -> Result<(), Failure> {
-    let mut values = file.values.clone();
-    values.extend(pairs(param, "parameter")?);
-    for (name, value) in &values {
-        m.set(name, *value)
-            .map_err(|e| Failure::usage(format!("error: {e}")))?;
-    }
-    if let Some(missing) = m
-        .parameters()
-        .iter()
-        .zip(m.values())
-        .find(|(_, v)| v.is_nan())
-    {
-        return Err(Failure::usage(format!(
-            "error: parameter `{}` has no value: give it with --param {}=<value> or in --params",
-            missing.0, missing.0
-        )));
-    }
-    Ok(())
-}
-
-/// The index of coordinate `name`, or a usage error listing them.
-fn coordinate(m: &Model, name: &str, what: &str) -> Result<usize, Failure> {
-    m.index(name).ok_or_else(|| {
-        let names: Vec<&str> = m.coordinates().iter().map(|c| c.name).collect();
-        Failure::usage(format!(
-            "error: {what} `{name}` is not a coordinate of {}; its coordinates are {}",
-            m.name(),
-            names.join(", ")
-        ))
-    })
-}
-
-/// The pose given by `start` then `--at` pairs: every coordinate must
-/// have a value.
-fn pose(m: &Model, start: &[(String, f64)], at: &[String]) -> Result<Vec<f64>, Failure> {
-    let mut q = vec![f64::NAN; m.coordinates().len()];
-    for (name, value) in start.iter().cloned().chain(pairs(at, "coordinate")?) {
-        q[coordinate(m, &name, "coordinate")?] = value;
-    }
-    if let Some(j) = q.iter().position(|v| v.is_nan()) {
-        let c = &m.coordinates()[j];
-        let what = if j < m.drivers() {
-            "its value"
-        } else {
-            "a guess"
-        };
-        return Err(Failure::usage(format!(
-            "error: give {what} for `{0}` with --at {0}=<value> (or in the [start] table \
-             of --params)",
-            c.name
-        )));
-    }
-    Ok(q)
-}
-
 fn analyze(
     file: &Path,
-    params: Option<&Path>,
-    param: &[String],
-    at: &[String],
-    rate: &[String],
-    acceleration: &[String],
+    (params, param): (Option<&Path>, &[String]),
+    (at, assembly): (&[String], Option<&str>),
+    (rate, acceleration): (&[String], &[String]),
+    angle: AngleUnit,
 ) -> Result<String, Failure> {
     let mut m = compile(file)?;
     let file_values = match params {
@@ -399,24 +334,9 @@ fn analyze(
         None => ParamsFile::default(),
     };
     set_parameters(&mut m, &file_values, param)?;
-    let nd = m.drivers();
-    let q = pose(&m, &file_values.start, at)?;
-    let mut rates = vec![0.0; nd];
-    let mut accels = vec![0.0; nd];
-    for (list, args, what) in [
-        (&mut rates, rate, "rate"),
-        (&mut accels, acceleration, "acceleration"),
-    ] {
-        for (name, value) in pairs(args, what)? {
-            let j = coordinate(&m, &name, what)?;
-            if j >= nd {
-                return Err(Failure::usage(format!(
-                    "error: `{name}` is an unknown: only drivers are given a {what}"
-                )));
-            }
-            list[j] = value;
-        }
-    }
+    let q = pose(&m, &file_values.start, at, assembly)?;
+    let rates = driver_values(&m, rate, Order::Rate, "rate")?;
+    let accels = driver_values(&m, acceleration, Order::Acceleration, "acceleration")?;
     let s = m
         .step(&q, &rates, &accels)
         .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
@@ -424,14 +344,24 @@ fn analyze(
     let _ = writeln!(out, "{} at the assembled pose:", m.name());
     let _ = writeln!(
         out,
-        "{:<12} {:>24} {:>24} {:>24}",
+        "{:<12} {:>24} {:>24} {:>24} units",
         "coordinate", "q", "q'", "q''"
     );
     for (j, c) in m.coordinates().iter().enumerate() {
+        let (k, unit) = match c.kind {
+            kinematics_core::Kind::Angle => {
+                let a = angle.name();
+                (angle.factor(), format!("{a}, {a}/s, {a}/s²"))
+            }
+            kinematics_core::Kind::Length => (1.0, String::new()),
+        };
         let _ = writeln!(
             out,
-            "{:<12} {:>24.15e} {:>24.15e} {:>24.15e}",
-            c.name, s.q[j], s.qd[j], s.qdd[j]
+            "{:<12} {:>24.15e} {:>24.15e} {:>24.15e} {unit}",
+            c.name,
+            s.q[j] * k,
+            s.qd[j] * k,
+            s.qdd[j] * k
         );
     }
     if !s.points.is_empty() {

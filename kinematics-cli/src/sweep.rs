@@ -16,6 +16,9 @@ use kinematics_core::sweep::{ChangePoints, Table};
 use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Kind, Role};
 
+use kinematics_core::units::{AngleUnit, Order};
+
+use super::input::coordinate_value;
 use super::{
     compile, params_file, pose, set_parameters, ChangePointsArg, Failure, ParamsFile, SweepArgs,
 };
@@ -28,7 +31,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         None => ParamsFile::default(),
     };
     set_parameters(&mut m, &file, &args.param)?;
-    let start = pose(&m, &file.start, &args.at)?;
+    let start = pose(&m, &file.start, &args.at, args.assembly.as_deref())?;
     let drivers: Vec<&str> = m
         .coordinates()
         .iter()
@@ -89,13 +92,17 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
             drivers.join(", ")
         ))
     })?;
-    let angle = m
-        .index(&driver)
-        .is_some_and(|j| m.coordinates()[j].kind == Kind::Angle);
-    if let Some(from) = args.from {
+    let j = m.index(&driver).unwrap_or(0);
+    let angle = m.coordinates()[j].kind == Kind::Angle;
+    let read = |text: &Option<String>, order, option| {
+        text.as_deref()
+            .map(|t| coordinate_value(&m, j, t, order, option))
+            .transpose()
+    };
+    if let Some(from) = read(&args.from, Order::Value, "--from")? {
         builder = builder.from(from);
     }
-    builder = match (args.to, args.turn) {
+    builder = match (read(&args.to, Order::Value, "--to")?, args.turn) {
         (Some(to), _) => builder.to(to),
         (None, true) if angle => builder.turn(),
         (None, true) => {
@@ -106,7 +113,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         (None, false) => builder,
     };
     builder = builder.steps(args.steps);
-    builder = match (args.rpm, args.rate) {
+    builder = match (args.rpm, read(&args.rate, Order::Rate, "--rate")?) {
         (Some(rpm), _) if angle => builder.rpm(rpm),
         (Some(_), _) => {
             return Err(Failure::usage(format!(
@@ -116,9 +123,20 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         (None, Some(rate)) => builder.rate(rate),
         (None, None) => builder,
     };
-    if let Some(a) = args.acceleration {
+    if let Some(a) = read(&args.acceleration, Order::Acceleration, "--acceleration")? {
         builder = builder.acceleration(a);
     }
+    let angles = if args.degrees {
+        AngleUnit::Degrees
+    } else {
+        AngleUnit::Radians
+    };
+    // The driver's values as the summary prints them.
+    let value = |x: f64| match (angle, angles) {
+        (true, AngleUnit::Degrees) => format!("{}°", round(x.to_degrees())),
+        (true, AngleUnit::Radians) => format!("{} rad", round(x)),
+        (false, _) => format!("{}", round(x)),
+    };
     builder = builder.change_points(match args.change_points {
         ChangePointsArg::Stop => ChangePoints::Stop,
         ChangePointsArg::Smooth => ChangePoints::Smooth,
@@ -140,7 +158,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         &sweep,
         &roles,
         &links,
-        (projection, units),
+        (projection, units, angles),
         m.name(),
     )?;
     let mut mean = None;
@@ -174,11 +192,11 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         "{}: {} samples of {driver} from {} to {}",
         m.name(),
         sweep.rows(),
-        sweep.samples[0].at,
-        sweep.samples[sweep.samples.len() - 1].at
+        value(sweep.samples[0].at),
+        value(sweep.samples[sweep.samples.len() - 1].at)
     );
-    for at in &sweep.change_points {
-        let _ = writeln!(out, "  passed a change point near {driver} = {at}");
+    for &at in &sweep.change_points {
+        let _ = writeln!(out, "  passed a change point near {driver} = {}", value(at));
     }
     if let Some(((name, kind), q)) = mean {
         let unit = if kind == Kind::Angle { "N·m" } else { "N" };
@@ -234,7 +252,7 @@ fn write(
     sweep: &impl Table,
     roles: &[PointRole],
     links: &[(String, String)],
-    (projection, units): (Projection, Units),
+    (projection, units, angles): (Projection, Units, AngleUnit),
     name: &str,
 ) -> Result<Vec<PathBuf>, Failure> {
     std::fs::create_dir_all(dir)
@@ -243,7 +261,7 @@ fn write(
     let mut written = Vec::new();
     let path = |file: String| -> PathBuf { dir.join(file) };
     let csv = path("sweep.csv".into());
-    std::fs::write(&csv, sweep.csv_in(units.length))
+    std::fs::write(&csv, sweep.csv_with(units.length, angles))
         .map_err(|e| Failure::mechanism(format!("error: cannot write {}: {e}", csv.display())))?;
     written.push(csv);
     let motion = path("motion.svg".into());
@@ -289,4 +307,10 @@ fn unit(name: &str) -> Result<&'static str, Failure> {
             UNITS.join(", ")
         ))
     })
+}
+
+/// `x` to 10 significant digits, as the summary prints a value (the CSV
+/// holds every digit).
+fn round(x: f64) -> f64 {
+    format!("{x:.9e}").parse().unwrap_or(x)
 }

@@ -229,15 +229,9 @@ fn wrong_arguments_say_what_to_give() {
     let path = four_bar.to_str().expect("a UTF-8 path");
     let params = mechanisms().join("four_bar.toml");
     let params = params.to_str().expect("a UTF-8 path");
-    let cases: [(&[&str], &str); 9] = [
-        (
-            &[
-                "analyze", path, "--param", "a=0.04", "--param", "b=0.12", "--param", "c=0.1",
-                "--param", "d=0.11", "--param", "p=0.06", "--param", "beta=0.5", "--at", "phi=0.5",
-                "--at", "th3=1",
-            ],
-            "give a guess for `th4` with --at th4=<value>",
-        ),
+    // (A missing guess is an error only for an unknown solved by
+    // Newton–Raphson: `units_and_assemblies.rs`.)
+    let cases: [(&[&str], &str); 8] = [
         (
             &["analyze", path, "--at", "phi=0.5"],
             "parameter `a` has no value",
@@ -248,7 +242,7 @@ fn wrong_arguments_say_what_to_give() {
         ),
         (
             &["analyze", path, "--params", params, "--at", "phi=half"],
-            "`half` is not a number",
+            "`half` is not a finite number",
         ),
         (
             &["sweep", path, "--params", params, "--driver", "th3"],

@@ -98,6 +98,7 @@ pub mod sweep;
 pub mod synthesis;
 pub mod tolerance;
 pub mod transform;
+pub mod units;
 pub mod view;
 
 #[cfg(feature = "parallel")]

@@ -11,6 +11,7 @@ use core::fmt::Write as _;
 use super::sample::Stop;
 use crate::mechanism::{Coordinate, FrameState, Kind};
 use crate::names::Name;
+use crate::units::AngleUnit;
 
 /// What the columns of a [`Table`] are: the swept variable, and the
 /// model's coordinates, points, frames and points' dimension.
@@ -134,13 +135,20 @@ pub trait Table {
     /// (`B_x_m`, `B_vx_m_s`, `B_ax_m_s2`, …); every frame's angular
     /// velocity and acceleration (`F_wx_rad_s`, `F_alphax_rad_s2`, …).
     fn headers_in(&self, unit: &str) -> Vec<String> {
+        self.headers_with(unit, AngleUnit::Radians)
+    }
+
+    /// [`Table::headers_in`] with angles in `angle` (`phi_deg`,
+    /// `phi_deg_s`, `F_wx_deg_s`, … for degrees).
+    fn headers_with(&self, unit: &str, angle: AngleUnit) -> Vec<String> {
         let mut h = Vec::new();
         if self.variable() == "t" {
             h.push("t_s".to_owned());
         }
+        let a = angle.name();
         for c in self.coordinates() {
             let u = match c.kind {
-                Kind::Angle => "rad",
+                Kind::Angle => a,
                 Kind::Length => unit,
             };
             h.push(format!("{}_{u}", c.name));
@@ -156,9 +164,9 @@ pub trait Table {
             }
         }
         for f in self.frame_names() {
-            for (short, suffix) in [("w", "rad_s"), ("alpha", "rad_s2")] {
+            for (short, suffix) in [("w", "s"), ("alpha", "s2")] {
                 for axis in axes {
-                    h.push(format!("{f}_{short}{axis}_{suffix}"));
+                    h.push(format!("{f}_{short}{axis}_{a}_{suffix}"));
                 }
             }
         }
@@ -170,17 +178,29 @@ pub trait Table {
     /// # Panics
     /// If `i` is not below [`Table::rows`].
     fn row(&self, i: usize) -> Vec<f64> {
+        self.row_with(i, AngleUnit::Radians)
+    }
+
+    /// [`Table::row`] with the angles, their rates and accelerations and
+    /// the frames' angular velocities and accelerations in `angle` (each
+    /// times [`AngleUnit::factor`]).
+    ///
+    /// # Panics
+    /// If `i` is not below [`Table::rows`].
+    fn row_with(&self, i: usize, angle: AngleUnit) -> Vec<f64> {
+        let k = angle.factor();
         let mut r = Vec::new();
         if self.variable() == "t" {
             r.push(self.at(i));
         }
-        for j in 0..self.coordinates().len() {
+        for (j, c) in self.coordinates().iter().enumerate() {
+            let f = if c.kind == Kind::Angle { k } else { 1.0 };
             for order in 0..3 {
-                r.push(self.coordinate(i, j, order));
+                r.push(self.coordinate(i, j, order) * f);
             }
         }
-        for k in 0..self.point_names().len() {
-            for v in self.point(i, k) {
+        for p in 0..self.point_names().len() {
+            for v in self.point(i, p) {
                 r.extend_from_slice(v);
             }
         }
@@ -190,7 +210,8 @@ pub trait Table {
                 frame
                     .angular_velocity
                     .iter()
-                    .chain(frame.angular_acceleration.iter()),
+                    .chain(frame.angular_acceleration.iter())
+                    .map(|w| w * k),
             );
         }
         r
@@ -200,10 +221,19 @@ pub trait Table {
     /// [`Table::headers_in`]), then one line per sample, each value with
     /// 13 significant digits.
     fn csv_in(&self, unit: &str) -> String {
-        let mut out = self.headers_in(unit).join(",");
+        self.csv_with(unit, AngleUnit::Radians)
+    }
+
+    /// [`Table::csv_in`] with angles in `angle` (the headers say which).
+    fn csv_with(&self, unit: &str, angle: AngleUnit) -> String {
+        let mut out = self.headers_with(unit, angle).join(",");
         out.push('\n');
         for i in 0..self.rows() {
-            let row: Vec<String> = self.row(i).iter().map(|v| format!("{v:.12e}")).collect();
+            let row: Vec<String> = self
+                .row_with(i, angle)
+                .iter()
+                .map(|v| format!("{v:.12e}"))
+                .collect();
             out += &row.join(",");
             out.push('\n');
         }
