@@ -38,6 +38,7 @@ use clap::{Parser, Subcommand};
 use kinematics_core::runtime::{CompileError, Model};
 
 mod input;
+mod merit;
 mod sweep;
 
 use input::{assemblies, driver_values, params_file, pose, set_parameters, ParamsFile};

@@ -198,6 +198,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     for &at in &sweep.change_points {
         let _ = writeln!(out, "  passed a change point near {driver} = {}", value(at));
     }
+    out += &super::merit::figures(&m, &sweep, &|x| format!("{driver} = {}", value(x)), angles);
     if let Some(((name, kind), q)) = mean {
         let unit = if kind == Kind::Angle { "N·m" } else { "N" };
         let _ = writeln!(out, "  mean effort of {name}: {q} {unit}");

@@ -81,6 +81,7 @@ pub mod dynamics;
 mod error;
 pub mod math;
 mod mechanism;
+pub mod merit;
 pub mod mobility;
 mod names;
 mod options;

@@ -1,0 +1,110 @@
+//! The figures of merit `kinematics sweep` prints, read from its output
+//! against closed forms written here: the offset slider-crank's stroke
+//! √((a + b)² − e²) − √((b − a)² − e²) and time ratio (π + α)/(π − α),
+//! α = asin(e/(b − a)) − asin(e/(a + b)); the four-bar's transmission
+//! angle at φ = 0 and π from the law of cosines in the triangle B C D.
+
+// Test code: a failed check should stop the test.
+#![allow(clippy::expect_used, clippy::panic)]
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn mechanisms() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
+}
+
+/// `kinematics sweep` of `file` with `args`: its standard output.
+fn sweep(file: &str, args: &[&str], out: &Path) -> String {
+    let mech = mechanisms().join(file);
+    let mut all = vec!["sweep", mech.to_str().expect("UTF-8")];
+    all.extend_from_slice(args);
+    all.extend(["--out", out.to_str().expect("UTF-8")]);
+    let o = Command::new(env!("CARGO_BIN_EXE_kinematics"))
+        .args(&all)
+        .output()
+        .expect("the command runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The number after `label` on the line starting (after spaces) with
+/// `line`, up to a space, `°` or `;`.
+fn after(stdout: &str, line: &str, label: &str) -> f64 {
+    let l = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with(line))
+        .unwrap_or_else(|| panic!("no line {line} in:\n{stdout}"));
+    let rest = &l[l.find(label).unwrap_or_else(|| panic!("no {label} in {l}")) + label.len()..];
+    let end = rest
+        .find([' ', '°', ';'])
+        .unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .unwrap_or_else(|_| panic!("not a number after {label} in {l}"))
+}
+
+#[test]
+fn the_slider_cranks_stroke_and_time_ratio_as_printed() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-fig-{}", std::process::id()));
+    let (a, b, e) = (1.0f64, 3.0f64, 1.0f64);
+    let stdout = sweep(
+        "slider_crank.mech",
+        &[
+            "--param",
+            "a=1",
+            "--param",
+            "b=3",
+            "--param",
+            "e=1",
+            "--at",
+            "phi=30deg",
+            "--turn",
+        ],
+        &dir,
+    );
+    let stroke = ((a + b).powi(2) - e * e).sqrt() - ((b - a).powi(2) - e * e).sqrt();
+    let alpha = (e / (b - a)).asin() - (e / (a + b)).asin();
+    let ratio = (PI + alpha) / (PI - alpha);
+    // Printed to six decimals.
+    assert!(
+        (after(&stdout, "x:", "stroke ") - stroke).abs() < 1e-6,
+        "{stdout}"
+    );
+    assert!(
+        (after(&stdout, "x:", "time ratio ") - ratio).abs() < 1e-6,
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_four_bars_transmission_angle_as_printed() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-fig4-{}", std::process::id()));
+    let stdout = sweep(
+        "four_bar.mech",
+        &[
+            "--params",
+            mechanisms().join("four_bar.toml").to_str().expect("UTF-8"),
+            "--turn",
+            "--degrees",
+        ],
+        &dir,
+    );
+    let (a, b, c, d) = (0.04f64, 0.12f64, 0.10f64, 0.11f64);
+    let mu = |phi: f64| {
+        let f2 = a * a + d * d - 2.0 * a * d * phi.cos();
+        ((b * b + c * c - f2) / (2.0 * b * c)).acos().to_degrees()
+    };
+    let line = "th3, th4: transmission angle";
+    assert!(
+        (after(&stdout, line, "from ") - mu(0.0)).abs() < 1e-4,
+        "{stdout}"
+    );
+    assert!(
+        (after(&stdout, line, "° at phi = 0° to ") - mu(PI)).abs() < 1e-4,
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
