@@ -37,9 +37,7 @@ fn after(stdout: &str, line: &str, label: &str) -> f64 {
         .find(|l| l.trim_start().starts_with(line))
         .unwrap_or_else(|| panic!("no line {line} in:\n{stdout}"));
     let rest = &l[l.find(label).unwrap_or_else(|| panic!("no {label} in {l}")) + label.len()..];
-    let end = rest
-        .find([' ', '°', ';'])
-        .unwrap_or(rest.len());
+    let end = rest.find([' ', '°', ';']).unwrap_or(rest.len());
     rest[..end]
         .parse()
         .unwrap_or_else(|_| panic!("not a number after {label} in {l}"))

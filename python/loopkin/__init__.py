@@ -24,7 +24,7 @@ this process. See :func:`compile`, :class:`Mechanism`, :class:`Sweep` and
 :mod:`loopkin.errors`.
 """
 
-from . import errors
+from . import errors, merit
 from ._model import (
     Forces,
     FrameMotion,
@@ -42,6 +42,7 @@ from ._model import (
 )
 from ._sweep import Batch, Deviations, ForceSweep, PointColumns, Poses, ReactionColumns, Stop, Sweep
 from .errors import *  # noqa: F401,F403
+from .merit import grashof
 
 __all__ = [
     "compile",
@@ -66,6 +67,8 @@ __all__ = [
     "Deviations",
     "Batch",
     "errors",
+    "merit",
+    "grashof",
 ] + errors.__all__
 
 try:

@@ -137,7 +137,8 @@ class Mechanism(metaclass=MechanismType):
     with one value per parameter.
 
     ``FourBar(a=0.04, b=0.12, …)`` checks every value (finite; lengths
-    positive) and raises :class:`~loopkin.errors.InvalidParameterError` or
+    positive; a string with an angle's unit, ``beta="30deg"``, is read in
+    radians) and raises :class:`~loopkin.errors.InvalidParameterError` or
     :class:`~loopkin.errors.NonFiniteError` otherwise; a missing or unknown
     keyword is a ``TypeError``. A design is immutable: :meth:`replace` makes
     another. A design pickles as its definition and parameters, so that a
@@ -147,7 +148,7 @@ class Mechanism(metaclass=MechanismType):
     _native: "_native.Model"
     __slots__ = ("_m",)
 
-    def __init__(self, **params: float) -> None:
+    def __init__(self, **params: Union[float, str]) -> None:
         cls = type(self)
         if cls is Mechanism:
             raise TypeError("Mechanism is abstract: make a class with loopkin.compile(text)")
@@ -158,7 +159,10 @@ class Mechanism(metaclass=MechanismType):
         missing = [n for n in names if n not in params]
         if missing:
             raise TypeError(f"{cls.__name__}() missing parameter(s): {', '.join(missing)}")
-        values = [float(params[n]) for n in names]
+        values = [
+            _native.read_quantity(params[n], 3, True) if isinstance(params[n], str) else float(params[n])
+            for n in names
+        ]
         m = cls._native.with_values(values)
         m.validate()
         object.__setattr__(self, "_m", m)
@@ -258,9 +262,11 @@ class Mechanism(metaclass=MechanismType):
 
     # -- poses ------------------------------------------------------------
 
-    def pose(self, pose: Optional[Mapping[str, float]] = None, **values: float) -> Pose:
+    def pose(self, pose: Optional[Mapping[str, float]] = None, **values: Union[float, str]) -> Pose:
         """A pose from values by name: drivers and guesses of the unknowns
-        (a coordinate not given is 0, or its value in ``pose``).
+        (a coordinate not given is 0, or its value in ``pose``); a value
+        may be a string with a unit, ``phi="30deg"`` (angles in radians
+        otherwise).
 
         Raises:
             KeyError: for a name that is not a coordinate.
@@ -269,10 +275,20 @@ class Mechanism(metaclass=MechanismType):
         q = np.zeros(len(names))
         if pose is not None:
             for k, v in pose.items():
-                q[self._index(k)] = v
+                q[self._index(k)] = self._quantity(k, v, 0)
         for k, v in values.items():
-            q[self._index(k)] = v
+            q[self._index(k)] = self._quantity(k, v, 0)
         return Pose(names, q, getattr(pose, "modes", None))
+
+    def _quantity(self, name: str, value: Union[float, str], order: int) -> float:
+        """``value`` as a number: a string with a unit (``"30deg"``,
+        ``"120rpm"``, ``"10deg/s2"``) read for coordinate ``name``'s kind
+        at ``order`` (0 value, 1 rate, 2 acceleration), in radians for an
+        angle."""
+        if isinstance(value, str):
+            angle = self.kinds().get(name) == "angle"
+            return _native.read_quantity(value, order, angle)
+        return value  # type: ignore[return-value]
 
     def _index(self, name: str) -> int:
         names = self.coordinate_names()
@@ -357,17 +373,18 @@ class Mechanism(metaclass=MechanismType):
         drivers = self.driver_names()
         if one is not None and many is not None:
             raise TypeError(f"give {what} or {what}s, not both")
+        order = 1 if what == "rate" else 2
         if one is not None:
             if len(drivers) != 1:
                 raise TypeError(
                     f"{type(self).__name__} has {len(drivers)} drivers: give {what}s={{name: value}} for {list(drivers)}"
                 )
-            return [float(one)]
+            return [float(self._quantity(drivers[0], one, order))]
         out = [default] * len(drivers)
         for k, v in (many or {}).items():
             if k not in drivers:
                 raise KeyError(f"{k!r} is not a driver of {type(self).__name__}: they are {list(drivers)}")
-            out[drivers.index(k)] = float(v)
+            out[drivers.index(k)] = float(self._quantity(k, v, order))
         return out
 
     def analyze(
@@ -524,14 +541,14 @@ class Mechanism(metaclass=MechanismType):
         driver: str,
         *,
         start: Mapping[str, float],
-        from_: Optional[float] = None,
-        to: Optional[float] = None,
+        from_: Optional[Union[float, str]] = None,
+        to: Optional[Union[float, str]] = None,
         turn: bool = False,
         turns: Optional[float] = None,
         steps: int = 360,
-        rate: float = 1.0,
+        rate: Union[float, str] = 1.0,
         rpm: Optional[float] = None,
-        acceleration: float = 0.0,
+        acceleration: Union[float, str] = 0.0,
         change_points: str = "stop",
         options: Optional[Options] = None,
     ) -> "Sweep":
@@ -544,7 +561,9 @@ class Mechanism(metaclass=MechanismType):
         (included, ``steps + 1`` samples), or ``turn=True`` / ``turns=n``
         (whole turns, the end left out, ``steps`` samples); an angle driver
         makes one turn by default. ``rate`` (or ``rpm`` for an angle) and
-        ``acceleration`` are the driver's rate and acceleration.
+        ``acceleration`` are the driver's rate and acceleration. A value may
+        be a string with a unit: ``from_="30deg"``, ``rate="120rpm"``,
+        ``acceleration="10deg/s2"``.
 
         The sweep stops early, with :attr:`Sweep.stop` saying why, at a
         limit position, a singular pose or a change point (two branches
@@ -558,6 +577,12 @@ class Mechanism(metaclass=MechanismType):
         turns = self._range(driver, to, turn, turns)
         if rpm is not None:
             rate = rpm * 2.0 * math.pi / 60.0
+        rate = self._quantity(driver, rate, 1)
+        acceleration = self._quantity(driver, acceleration, 2)
+        if from_ is not None:
+            from_ = self._quantity(driver, from_, 0)
+        if to is not None:
+            to = self._quantity(driver, to, 0)
         q = self.pose(start)
         native = self._m.sweep(
             driver,

@@ -15,6 +15,7 @@ if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
     from ._model import Mechanism, MechanismType
+    from .merit import DeadCentre, Stroke, TimeRatio, Transmission
 
 __all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
 
@@ -171,10 +172,14 @@ class Sweep:
 
         return Pose(self.q._names, np.asarray(self.q._table[i]))
 
-    def to_csv(self, path: Optional[Union[str, "os.PathLike[str]"]] = None, unit: str = "m") -> str:
-        """The samples as CSV (a header with units, lengths in ``unit``; 13
-        significant digits), written to ``path`` when given."""
-        text = self._native.to_csv(unit)
+    def to_csv(
+        self, path: Optional[Union[str, "os.PathLike[str]"]] = None, unit: str = "m", degrees: bool = False
+    ) -> str:
+        """The samples as CSV (a header with units, lengths in ``unit``,
+        angles in degrees with ``degrees=True``: ``phi_deg``,
+        ``phi_deg_s``, …; 13 significant digits), written to ``path`` when
+        given."""
+        text = self._native.to_csv(unit, bool(degrees))
         if path is not None:
             with open(path, "w", encoding="utf-8") as f:
                 f.write(text)
@@ -184,14 +189,15 @@ class Sweep:
         """An aligned text table of every ``every``-th sample."""
         return self._native.to_text(int(every))
 
-    def to_pandas(self, unit: str = "m") -> "pandas.DataFrame":
+    def to_pandas(self, unit: str = "m", degrees: bool = False) -> "pandas.DataFrame":
         """The samples as a pandas DataFrame, the CSV's columns (units in
-        their names). Needs pandas (``pip install loopkin[pandas]``)."""
+        their names; angles in degrees with ``degrees=True``). Needs pandas
+        (``pip install loopkin[pandas]``)."""
         try:
             import pandas as pd
         except ImportError as e:  # pragma: no cover
             raise ImportError("to_pandas needs pandas: pip install pandas") from e
-        headers, rows = self._native.table(unit)
+        headers, rows = self._native.table(unit, bool(degrees))
         return pd.DataFrame(np.asarray(rows), columns=headers)
 
     def write_animation(
@@ -251,6 +257,57 @@ class Sweep:
         parameter tolerances ``{name: ±t}`` (parameters of the
         ``sensitivities`` section; one not given is exact)."""
         return Deviations(self._native.deviations(point, [(k, float(v)) for k, v in tolerances.items()]))
+
+    # -- figures of merit --------------------------------------------------
+
+    def dead_centres(self, name: str) -> List["DeadCentre"]:
+        """The dead centres of coordinate ``name``: where its rate changes
+        sign (a limit of its motion), located between samples on the cubic
+        Hermite interpolant of dq/dφ; for a sweep of one turn, the interval
+        from the last sample back to the first too.
+
+        Raises:
+            InvalidGeometryError: ``name`` is not a coordinate, or the
+                sweep has fewer than two samples.
+        """
+        from .merit import DeadCentre
+
+        return [DeadCentre(at, v, m) for at, v, m in self._native.figure("dead_centres", [name])]
+
+    def stroke(self, name: str) -> "Stroke":
+        """The least and largest values of coordinate ``name`` over the
+        sweep (a slider's travel, a rocker's swing), dead centres between
+        samples included."""
+        from .merit import Stroke
+
+        lo, hi = self._native.figure("stroke", [name])
+        return Stroke(lo, hi)
+
+    def time_ratio(self, name: str) -> "TimeRatio":
+        """The time ratio of output ``name`` (a quick-return's forward over
+        return stroke at constant input speed), from a sweep of one turn.
+
+        Raises:
+            InvalidGeometryError: the sweep is not one turn of an angle
+                driver, or the output has not exactly two dead centres.
+        """
+        from .merit import TimeRatio
+
+        rising, falling = self._native.figure("time_ratio", [name])
+        return TimeRatio(rising, falling)
+
+    def transmission(self, first: str, second: str) -> "Transmission":
+        """The transmission angle μ = arccos(cos(θ₂ − θ₁)) between the links
+        whose directions are the angles ``first`` and ``second`` (a
+        four-bar's coupler and output link) at every sample, with its
+        extremes.
+
+        Raises:
+            InvalidGeometryError: a name that is not an angle coordinate.
+        """
+        from .merit import _transmission
+
+        return _transmission(self._native.figure("transmission", [first, second]))
 
     def __repr__(self) -> str:
         end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"

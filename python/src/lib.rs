@@ -25,6 +25,7 @@ mod columns;
 mod convert;
 mod errors;
 mod forces;
+mod merit;
 mod sweep;
 
 use columns::Columns;
@@ -761,5 +762,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<forces::ForceSweep>()?;
     m.add_function(wrap_pyfunction!(compile, m)?)?;
     m.add_function(wrap_pyfunction!(default_options, m)?)?;
+    m.add_function(wrap_pyfunction!(merit::read_quantity, m)?)?;
+    m.add_function(wrap_pyfunction!(merit::grashof, m)?)?;
     Ok(())
 }

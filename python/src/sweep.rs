@@ -35,6 +35,15 @@ pub(crate) fn stop_dict<'py>(
     Ok(Some(d))
 }
 
+/// Degrees where asked, else radians.
+fn angle_unit(degrees: bool) -> kinematics_core::units::AngleUnit {
+    if degrees {
+        kinematics_core::units::AngleUnit::Degrees
+    } else {
+        kinematics_core::units::AngleUnit::Radians
+    }
+}
+
 pub(crate) fn change_points(s: &str) -> PyResult<ChangePoints> {
     match s {
         "stop" => Ok(ChangePoints::Stop),
@@ -157,24 +166,41 @@ impl Sweep {
         self.columns.change_points.clone()
     }
 
-    /// The column headers, with units (lengths in `unit`), and the rows as
-    /// a 2-D array, as the CSV has them.
+    /// The column headers, with units (lengths in `unit`, angles in
+    /// degrees where `degrees`), and the rows as a 2-D array, as the CSV
+    /// has them.
+    #[pyo3(signature = (unit, degrees = false))]
     fn table<'py>(
         &self,
         py: Python<'py>,
         unit: &str,
+        degrees: bool,
     ) -> PyResult<(Vec<String>, Bound<'py, PyAny>)> {
         let c = self.full(py)?;
-        let headers = c.headers_in(unit);
+        let angle = angle_unit(degrees);
+        let headers = c.headers_with(unit, angle);
         let width = headers.len();
-        let rows: Vec<f64> = (0..c.rows()).flat_map(|i| c.row(i)).collect();
+        let rows: Vec<f64> = (0..c.rows()).flat_map(|i| c.row_with(i, angle)).collect();
         let n = c.rows();
         Ok((headers, shaped(py, rows, vec![n, width])?))
     }
 
-    /// The CSV text (lengths in `unit`).
-    fn to_csv(&self, py: Python<'_>, unit: &str) -> PyResult<String> {
-        Ok(self.full(py)?.csv_in(unit))
+    /// The CSV text (lengths in `unit`, angles in degrees where
+    /// `degrees`).
+    #[pyo3(signature = (unit, degrees = false))]
+    fn to_csv(&self, py: Python<'_>, unit: &str, degrees: bool) -> PyResult<String> {
+        Ok(self.full(py)?.csv_with(unit, angle_unit(degrees)))
+    }
+
+    /// A figure of merit of the sweep (see `merit::figure`).
+    fn figure<'py>(
+        &self,
+        py: Python<'py>,
+        which: &str,
+        names: Vec<String>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.full(py)?;
+        super::merit::figure(py, &c, which, &names)
     }
 
     /// The aligned text table, every `every`-th sample.

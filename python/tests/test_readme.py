@@ -46,7 +46,7 @@ def test_the_front_page_quick_start_runs(tmp_path, capsys):
 
 
 def test_the_package_readme_runs(tmp_path):
-    assert len(blocks(ROOT / "python" / "README.md")) == 2
+    assert len(blocks(ROOT / "python" / "README.md")) == 3
     scope = run(ROOT / "python" / "README.md", tmp_path)
     fs = scope["fs"]
     assert len(fs) == 360 and (tmp_path / "engine-forces.svg").exists()
@@ -55,3 +55,9 @@ def test_the_package_readme_runs(tmp_path):
     res, sw = scope["res"], scope["sw"]
     assert res["P.acceleration"].shape == (50, 360, 2) and res.ok.all()
     assert len(sw) == 360 and sw.stop is None
+    # The offset slider-crank's time ratio (π + α)/(π − α), α = asin(e/(b − a))
+    # − asin(e/(a + b)), and stroke √((a + b)² − e²) − √((b − a)² − e²).
+    turn = scope["turn"]
+    alpha = math.asin(0.5) - math.asin(0.25)
+    assert abs(turn.time_ratio("x").ratio - (math.pi + alpha) / (math.pi - alpha)) < 1e-8
+    assert abs(turn.stroke("x").length - (math.sqrt(15) - math.sqrt(3))) < 2e-9
