@@ -60,13 +60,8 @@ enum Command {
     Check {
         /// The definition (`pub struct Name { params { … } … }`).
         file: PathBuf,
-        /// Parameter values (for --at): a TOML file of `name = value`
-        /// lines.
-        #[arg(long)]
-        params: Option<PathBuf>,
-        /// A parameter value (repeatable; after those of --params).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        param: Vec<String>,
+        #[command(flatten)]
+        parameters: Parameters,
         /// A driver's value at which every assembly is listed (repeatable;
         /// `phi=30deg`; drivers not given are 0).
         #[arg(long = "at", value_name = "NAME=VALUE")]
@@ -76,12 +71,8 @@ enum Command {
     Analyze {
         /// The definition.
         file: PathBuf,
-        /// Parameter values: a TOML file of `name = value` lines.
-        #[arg(long)]
-        params: Option<PathBuf>,
-        /// A parameter value (repeatable; after those of --params).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        param: Vec<String>,
+        #[command(flatten)]
+        parameters: Parameters,
         /// A driver's value (default 0), or a guess of an unknown (needed
         /// only for those solved by Newton–Raphson); a number in radians
         /// or with a unit (`phi=30deg`).
@@ -113,13 +104,8 @@ enum Command {
 struct SweepArgs {
     /// The definition.
     file: PathBuf,
-    /// Parameter values, and optionally `[start]` and `[draw]` tables: a
-    /// TOML file.
-    #[arg(long)]
-    params: Option<PathBuf>,
-    /// A parameter value (repeatable; after those of --params).
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    param: Vec<String>,
+    #[command(flatten)]
+    parameters: Parameters,
     /// A coordinate of the start pose (repeatable; after the `[start]`
     /// table of --params): a driver's value (default 0) or a guess of an
     /// unknown (needed only for those solved by Newton–Raphson); a number
@@ -181,6 +167,32 @@ struct SweepArgs {
     out: PathBuf,
 }
 
+/// The parameters' values: a file and `--param` pairs.
+#[derive(clap::Args)]
+struct Parameters {
+    /// Parameter values, and optionally `[start]` and `[draw]` tables: a
+    /// TOML file of `name = value` lines (a number, or a string with an
+    /// angle's unit: `beta = "30deg"`).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// A parameter value (repeatable; after those of --params; `beta=30deg`).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    param: Vec<String>,
+}
+
+impl Parameters {
+    /// Reads the file (if any) and sets every parameter of `m` from it
+    /// and the `--param` pairs: what the file holds besides.
+    fn set(&self, m: &mut Model) -> Result<ParamsFile, Failure> {
+        let file = match &self.params {
+            Some(p) => params_file(p)?,
+            None => ParamsFile::default(),
+        };
+        set_parameters(m, &file, &self.param)?;
+        Ok(file)
+    }
+}
+
 /// `--change-points`: what a sweep does where two branches meet.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum ChangePointsArg {
@@ -221,14 +233,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Check {
             file,
-            params,
-            param,
+            parameters,
             at,
-        } => check(&file, params.as_deref(), &param, &at),
+        } => check(&file, &parameters, &at),
         Command::Analyze {
             file,
-            params,
-            param,
+            parameters,
             at,
             assembly,
             rate,
@@ -236,7 +246,7 @@ fn main() -> ExitCode {
             degrees,
         } => analyze(
             &file,
-            (params.as_deref(), &param),
+            &parameters,
             (&at, assembly.as_deref()),
             (&rate, &acceleration),
             if degrees {
@@ -282,20 +292,11 @@ fn located(file: &Path, errors: &kinematics_compiler::Diagnostics) -> Failure {
 
 /// `kinematics check`: the definition compiled once, as a run-time model,
 /// which describes itself; with `--at`, every assembly there.
-fn check(
-    file: &Path,
-    params: Option<&Path>,
-    param: &[String],
-    at: &[String],
-) -> Result<String, Failure> {
+fn check(file: &Path, parameters: &Parameters, at: &[String]) -> Result<String, Failure> {
     let mut m = compile(file)?;
     let mut out = m.describe();
     if !at.is_empty() {
-        let file_values = match params {
-            Some(p) => params_file(p)?,
-            None => ParamsFile::default(),
-        };
-        set_parameters(&mut m, &file_values, param)?;
+        parameters.set(&mut m)?;
         let mut q = vec![0.0; m.coordinates().len()];
         for (name, text) in input::pairs(at, "coordinate")? {
             let j = input::coordinate(&m, &name, "coordinate")?;
@@ -324,17 +325,13 @@ fn compile(file: &Path) -> Result<Model, Failure> {
 
 fn analyze(
     file: &Path,
-    (params, param): (Option<&Path>, &[String]),
+    parameters: &Parameters,
     (at, assembly): (&[String], Option<&str>),
     (rate, acceleration): (&[String], &[String]),
     angle: AngleUnit,
 ) -> Result<String, Failure> {
     let mut m = compile(file)?;
-    let file_values = match params {
-        Some(p) => params_file(p)?,
-        None => ParamsFile::default(),
-    };
-    set_parameters(&mut m, &file_values, param)?;
+    let file_values = parameters.set(&mut m)?;
     let q = pose(&m, &file_values.start, at, assembly)?;
     let rates = driver_values(&m, rate, Order::Rate, "rate")?;
     let accels = driver_values(&m, acceleration, Order::Acceleration, "acceleration")?;

@@ -19,18 +19,12 @@ use kinematics_core::{Kind, Role};
 use kinematics_core::units::{AngleUnit, Order};
 
 use super::input::coordinate_value;
-use super::{
-    compile, params_file, pose, set_parameters, ChangePointsArg, Failure, ParamsFile, SweepArgs,
-};
+use super::{compile, pose, ChangePointsArg, Failure, SweepArgs};
 
 /// Runs `kinematics sweep`: the summary printed on success.
 pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let mut m = compile(&args.file)?;
-    let file = match &args.params {
-        Some(p) => params_file(p)?,
-        None => ParamsFile::default(),
-    };
-    set_parameters(&mut m, &file, &args.param)?;
+    let file = args.parameters.set(&mut m)?;
     let start = pose(&m, &file.start, &args.at, args.assembly.as_deref())?;
     let drivers: Vec<&str> = m
         .coordinates()

@@ -5,26 +5,15 @@
 // Test code: a failed check should stop the test.
 #![allow(clippy::expect_used, clippy::panic)]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::{mechanisms, run, text};
+
 use kinematics_core::sweep::Table;
 use kinematics_examples::{FourBar, GasEngine, Rssr};
-
-fn mechanisms() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinematics"))
-        .args(args)
-        .output()
-        .expect("the command runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// A definition's text as its file holds it: without the indentation it
 /// has inside `mechanism! { … }`.

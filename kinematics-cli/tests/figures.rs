@@ -8,12 +8,12 @@
 #![allow(clippy::expect_used, clippy::panic)]
 
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
-fn mechanisms() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
-}
+use common::mechanisms;
 
 /// `kinematics sweep` of `file` with `args`: its standard output.
 fn sweep(file: &str, args: &[&str], out: &Path) -> String {

@@ -9,27 +9,11 @@
 // Test code: a failed check should stop the test.
 #![allow(clippy::expect_used, clippy::panic)]
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn mechanisms() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/mechanisms")
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinematics"))
-        .args(args)
-        .output()
-        .expect("the command runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn path(p: &Path) -> &str {
-    p.to_str().expect("a UTF-8 path")
-}
+use common::{mechanisms, path, run, text};
 
 /// The crank-rocker of the examples: a, b, c, d, p, β.
 const FOUR_BAR: [f64; 6] = [0.04, 0.12, 0.10, 0.11, 0.06, 0.523_598_775_598_298_8];
