@@ -9,8 +9,7 @@ use proc_macro2::Span;
 use syn::Ident;
 
 use crate::names::{
-    accessor_name, driver_handle_name, frame_accessor_name, is_builtin, Binding, Errors, Names,
-    TAKEN_HANDLES,
+    accessor_name, driver_handle_name, frame_accessor_name, Binding, Errors, Names, TAKEN_HANDLES,
 };
 use crate::parse::Definition;
 
@@ -230,12 +229,15 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
         );
     for (name, binding, section) in declared {
         let key = syn::ext::IdentExt::unraw(name).to_string();
-        if is_builtin(&key) {
+        // A declared name may be a built-in function's (`t3`, `T4`, `norm`):
+        // it names the declared item, and the function cannot be called in
+        // this definition (a call is a located error). `pi` stays the
+        // constant.
+        if key == "pi" {
             errors.at(
                 name.span(),
                 format!(
-                    "`{key}` is a built-in {}; choose another name for this {}",
-                    if key == "pi" { "constant" } else { "function" },
+                    "`pi` is the built-in constant π; choose another name for this {}",
                     singular(section)
                 ),
             );
@@ -384,10 +386,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn reports_duplicates_and_builtin_shadowing_together() {
+    fn reports_duplicates_and_the_constant_pi_together() {
         let def: Definition = syn::parse_quote! {
             struct M {
-                params { a, sin }
+                params { a, pi }
                 drivers { a }
                 unknowns { x }
                 constraints { x == 1.0 }
@@ -402,7 +404,7 @@ mod tests {
                 .join("\n")
         });
         let msg = msg.unwrap_or_default();
-        assert!(msg.contains("`sin` is a built-in function"), "{msg}");
+        assert!(msg.contains("`pi` is the built-in constant π"), "{msg}");
         assert!(msg.contains("in both `params` and `drivers`"), "{msg}");
     }
 }

@@ -63,12 +63,6 @@ pub enum Binding {
     Frame(u32),
 }
 
-/// Whether `name` is a built-in function or constant of the expression
-/// language (user names may not shadow them).
-pub fn is_builtin(name: &str) -> bool {
-    name == "pi" || function_names().any(|f| f == name)
-}
-
 /// Name table of a definition.
 pub struct Names {
     pub map: HashMap<String, (Binding, Span)>,

@@ -196,6 +196,9 @@ pub(super) fn types(
         quote! {
             #[doc = #coords_doc]
             #[derive(Debug, Clone, Copy, PartialEq, Default)]
+            // The coordinates' names as the definition gives them (a
+            // textbook's `T4`).
+            #[allow(non_snake_case)]
             #vis struct #coords {
                 #( #coord_docs pub #coord: f64, )*
             }
@@ -207,6 +210,7 @@ pub(super) fn types(
         #(#docs)*
         #[derive(Debug, Clone, Copy, PartialEq)]
         #(#attrs)*
+        #[allow(non_snake_case)]
         #vis struct #name {
             #( #(#param_docs)* pub #params: f64, )*
         }

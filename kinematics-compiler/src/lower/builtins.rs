@@ -6,7 +6,7 @@ use syn::{Expr, Lit, UnOp};
 
 use super::{Lowerer, Value};
 use crate::ir::{Func, Graph, Id};
-use crate::names::{function_names, FUNCTIONS};
+use crate::names::{function_names, Binding, FUNCTIONS};
 
 impl Lowerer<'_> {
     pub(super) fn call(&mut self, c: &syn::ExprCall) -> Option<Value> {
@@ -18,6 +18,21 @@ impl Lowerer<'_> {
         };
         let name = fname.to_string();
         let span = fname.span();
+        if let Some((binding, _)) = self.names.map.get(&name) {
+            let what = match binding {
+                Binding::Param(_) => "parameter",
+                Binding::Coord(_) => "coordinate",
+                Binding::Point(_) => "point",
+                Binding::Frame(_) => "frame",
+            };
+            return self.fail(
+                span,
+                format!(
+                    "`{name}` is a {what} of this definition, so it is not the built-in function \
+                     `{name}(…)` here: rename the {what} to call the function"
+                ),
+            );
+        }
         if name == "rate" {
             return self.rate(c);
         }
