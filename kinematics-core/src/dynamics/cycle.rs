@@ -77,9 +77,12 @@ impl ForceSweep {
     /// The mean effort of driver `k` over the swept range,
     /// (1/(s_n − s_0)) ∫ Q_k ds by the trapezoidal rule over the samples
     /// (s the swept value): for a crank turned at constant speed, the mean
-    /// torque. For a whole cycle, sweep to the end of the turn included
-    /// (`.to(start + 2π)`): a sweep of `.turn()` leaves out its last
-    /// interval. `None` with fewer than two samples, no such driver, or
+    /// torque. Over one turn of an angle driver whose closing sample is
+    /// left out (a sweep of `.turn()`), the interval from the last sample
+    /// back to the first closes the cycle (the periodic trapezoidal rule,
+    /// the samples' plain mean for equal steps, exact for the harmonics
+    /// below half the number of samples): a conservative cycle's mean is 0
+    /// to round-off. `None` with fewer than two samples, no such driver, or
     /// efforts whose integral overflows.
     #[must_use]
     pub fn mean_effort(&self, k: usize) -> Option<f64> {
@@ -88,8 +91,34 @@ impl ForceSweep {
         if self.samples.len() < 2 || span == 0.0 || k >= self.drivers.len() {
             return None;
         }
-        let mean = self.work(k).last().copied().unwrap_or(0.0) / span;
+        let work = self.work(k).last().copied().unwrap_or(0.0);
+        let mean = match self.closing() {
+            Some(period) => {
+                let effort = |s: &ForceSample| s.effort.get(k).copied().unwrap_or(f64::NAN);
+                let closing = 0.5 * (effort(last) + effort(first)) * (first.at + period - last.at);
+                (work + closing) / period
+            }
+            None => work / span,
+        };
         mean.is_finite().then_some(mean)
+    }
+
+    /// For a sweep of one turn of an angle driver with the closing sample
+    /// left out (the last sample one step short of the first plus 2π, to
+    /// 1e-9 of a turn), the period ±2π; else `None`.
+    fn closing(&self) -> Option<f64> {
+        let n = self.samples.len();
+        if self.kind != Kind::Angle || n < 3 {
+            return None;
+        }
+        let (first, last) = (self.samples[0].at, self.samples[n - 1].at);
+        let span = last - first + (self.samples[1].at - first);
+        let period = if span > 0.0 {
+            core::f64::consts::TAU
+        } else {
+            -core::f64::consts::TAU
+        };
+        ((span - period).abs() <= 1e-9 * core::f64::consts::TAU).then_some(period)
     }
 
     /// The work of driver `k`'s effort from the first sample to each,
