@@ -141,7 +141,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         let why = sweep
             .stop
             .as_ref()
-            .map_or_else(|| "no samples".to_string(), ToString::to_string);
+            .map_or_else(|| "no samples".to_string(), stop_message);
         return Err(Failure::mechanism(format!("error: {why}")));
     }
     let roles = m
@@ -203,7 +203,8 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     match &sweep.stop {
         None => Ok(out),
         Some(stop) => Err(Failure::mechanism(format!(
-            "{out}error: the sweep stopped early: {stop}\n(the files hold the samples before the stop)"
+            "{out}error: the sweep stopped early: {}\n(the files hold the samples before the stop)",
+            stop_message(stop)
         ))),
     }
 }
@@ -308,4 +309,9 @@ fn unit(name: &str) -> Result<&'static str, Failure> {
 /// holds every digit).
 fn round(x: f64) -> f64 {
     format!("{x:.9e}").parse().unwrap_or(x)
+}
+
+/// A stop's message in the command's terms.
+fn stop_message(stop: &kinematics_core::sweep::Stop) -> String {
+    stop.message_with("`--change-points smooth` (or `switch`)")
 }

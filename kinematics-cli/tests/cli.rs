@@ -481,8 +481,11 @@ fn sweep_passes_a_change_point_as_asked() {
     let run_with = |a: &[String]| run(&a.iter().map(String::as_str).collect::<Vec<_>>());
     let stopped = run_with(&args(&[]));
     assert_eq!(stopped.status.code(), Some(1));
+    // The message says how to continue in the command's terms.
     assert!(
-        text(&stopped.stderr).contains("change point near phi"),
+        text(&stopped.stderr).contains("change point near phi")
+            && text(&stopped.stderr)
+                .contains("continue with `--change-points smooth` (or `switch`)"),
         "{}",
         text(&stopped.stderr)
     );

@@ -16,7 +16,10 @@ pub(crate) fn stop_dict<'py>(
     };
     let d = PyDict::new(py);
     d.set_item("at", stop.at)?;
-    d.set_item("message", stop.to_string())?;
+    d.set_item(
+        "message",
+        stop.message_with("change_points=\"smooth\" (or \"switch\")"),
+    )?;
     let kind = match &stop.reason {
         StopReason::LimitPosition { unknowns } => {
             d.set_item("unknowns", *unknowns)?;

@@ -85,3 +85,14 @@ def test_values_with_units_and_degrees_out(FourBar, four_bar):
         four_bar.pose(phi="30degs")
     with pytest.raises(ValueError, match="not the unit of a rate"):
         four_bar.analyze(pose, rate="30deg")
+
+
+def test_a_change_point_stop_says_how_to_continue_in_python(FourBar):
+    # The parallelogram (a = c, b = d) through its fold at φ = 0: the two
+    # branches meet there.
+    m = FourBar(a=0.05, b=0.12, c=0.05, d=0.12, p=0.0, beta=0.0)
+    start = m.assemble(phi=-0.5, th3=0.0, th4=-0.5)
+    sw = m.sweep("phi", start=start, to=0.5, steps=19)
+    assert sw.stop is not None and sw.stop.kind == "change_point"
+    assert 'continue with change_points="smooth" (or "switch")' in sw.stop.message
+    assert "ChangePoints::" not in sw.stop.message

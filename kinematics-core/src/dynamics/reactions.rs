@@ -321,14 +321,21 @@ impl Dynamics {
                 Vector3::new(v.x, v.y, 0.0)
             }
         };
-        for (p, body, f) in &self.forces {
+        for (k, (p, body, f)) in self.forces.iter().enumerate() {
             let Some(b) = *body else {
+                let name = self
+                    .load_names
+                    .forces
+                    .get(k)
+                    .map_or_else(|| format!("number {}", p + 1), |n| format!("`{n}`"));
                 return Err(invalid(
                     "a force",
                     format!(
-                        "the force at point {} does not name the body it acts on: give it with \
-                         `.force_on(\"body\", \"point\", …)` for the joint reactions",
-                        p + 1
+                        "the force at point {name} does not say which body it acts on, which the \
+                         joint reactions need: write `force({n}, …, on = body)` in the \
+                         definition's `loads`, or `.force_on(\"body\", \"{n}\", …)` with the \
+                         builder",
+                        n = name.trim_matches('`')
                     ),
                 ));
             };

@@ -360,8 +360,28 @@ pub struct Stop {
     pub reason: StopReason,
 }
 
-impl fmt::Display for Stop {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+/// How to continue past a change point, in Rust: the hint of [`Stop`]'s
+/// `Display`.
+const RUST_CHANGE_POINTS: &str = "`.change_points(ChangePoints::Smooth)` or `Switch`";
+
+impl Stop {
+    /// The message of `Display`, with `change_points` (how the caller's
+    /// language says to continue past a change point: the command's
+    /// `--change-points smooth` or `switch`, Python's
+    /// `change_points="smooth"` or `"switch"`) in place of the Rust
+    /// builder call.
+    #[must_use]
+    pub fn message_with(&self, change_points: &str) -> alloc::string::String {
+        struct With<'a>(&'a Stop, &'a str);
+        impl fmt::Display for With<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                self.0.write(f, self.1)
+            }
+        }
+        alloc::format!("{}", With(self, change_points))
+    }
+
+    fn write(&self, f: &mut fmt::Formatter<'_>, change_points: &str) -> fmt::Result {
         let (v, at) = (self.variable, self.at);
         match &self.reason {
             StopReason::LimitPosition { unknowns } => write!(
@@ -373,13 +393,18 @@ impl fmt::Display for Stop {
             StopReason::ChangePoint { from, to } => write!(
                 f,
                 "change point near {v} = {at} (between {from} and {to}): two assembly branches \
-                 meet there; continue with `.change_points(ChangePoints::Smooth)` or `Switch` \
-                 to say which branch to follow"
+                 meet there; continue with {change_points} to say which branch to follow"
             ),
             StopReason::Singular(e) | StopReason::NotAssembled(e) | StopReason::Invalid(e) => {
                 write!(f, "at {v} = {at}: {e}")
             }
         }
+    }
+}
+
+impl fmt::Display for Stop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.write(f, RUST_CHANGE_POINTS)
     }
 }
 

@@ -287,7 +287,14 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
     let e = unplaced
         .reactions(&engine, &motion)
         .expect_err("the force has no body");
-    assert!(e.to_string().contains("force_on"), "{e}");
+    // Named by its point, in both syntaxes.
+    assert!(
+        e.to_string()
+            .contains("the force at point `B` does not say which body it acts on")
+            && e.to_string().contains("`force(B, …, on = body)`")
+            && e.to_string().contains("`.force_on(\"body\", \"B\", …)`"),
+        "{e}"
+    );
     // A load that is not finite at the instant.
     let engine = Engine { a: A, b: B, r3: R3 };
     let dynamics = Dynamics::builder()
