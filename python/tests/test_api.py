@@ -347,3 +347,16 @@ def test_a_batch_sweep_takes_its_rate_and_acceleration_from_the_sweep(four_bar):
         four_bar.batch({"a": [0.04]}, start=start, acceleration=1.0, sweep=dict(driver="phi", acceleration=2.0))
     with pytest.raises(TypeError, match="unknown sweep key"):
         four_bar.batch({"a": [0.04]}, start=start, sweep=dict(driver="phi", stepz=3))
+
+
+def test_assemble_all_at_every_scale_assemble_handles(FourBar):
+    # The same four-bar drawn 10^±100 times larger: every assembly's
+    # angles are those of the unscaled design (the loop equations are
+    # homogeneous in the lengths), as assemble gives them.
+    base = [p.array for p in FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5).assemble_all(phi=0.5)]
+    for s in (1e-100, 1e100):
+        m = FourBar(a=0.04 * s, b=0.12 * s, c=0.10 * s, d=0.11 * s, p=0.06 * s, beta=0.5)
+        got = [p.array for p in m.assemble_all(phi=0.5)]
+        assert len(got) == len(base) == 2
+        for g, b in zip(got, base):
+            assert close(g, b, 1e-14)

@@ -622,3 +622,36 @@ fn a_fused_stepper_reports_bad_inputs_and_steps_on() {
         q.copy_from_slice(&s.q);
     }
 }
+
+/// Every assembly of a run-time model with no guess, for the four-bar
+/// drawn 10^±100 times larger or smaller: the loop equations are
+/// homogeneous in the lengths, so the angles are the unscaled design's
+/// (the closed forms' squares would overflow or underflow as given).
+#[test]
+fn every_assembly_at_extreme_scales() {
+    let text = kinematics_examples::definition("FourBar").expect("the four-bar");
+    let at = |scale: f64| {
+        let mut m = Model::compile(text).expect("compiles");
+        m.set_values(&[
+            0.04 * scale,
+            0.12 * scale,
+            0.10 * scale,
+            0.11 * scale,
+            0.06 * scale,
+            0.5,
+        ])
+        .expect("values");
+        m.assemble_all(&[0.5, 0.0, 0.0])
+            .map(|(_, pose)| pose.expect("assembles"))
+            .collect::<Vec<_>>()
+    };
+    let base = at(1.0);
+    assert_eq!(base.len(), 2);
+    for scale in [1e-100, 1e100] {
+        for (got, want) in at(scale).iter().zip(&base) {
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() < 1e-14, "{scale}: {got:?} against {want:?}");
+            }
+        }
+    }
+}

@@ -34,6 +34,13 @@ pub(super) type Form = ClosedForm<usize>;
 /// # Errors
 /// As the form in [`crate::closed`]: a negative discriminant past a
 /// limit position, NaN where the form is degenerate.
+///
+/// Every form is homogeneous in its coefficients (Σ coefficient ·
+/// monomial = 0), so its solutions do not change when all of them are
+/// multiplied by one number: where the form is degenerate as given (its
+/// squares overflow or underflow, a mechanism drawn in units 10^±100 of
+/// its size), it is solved again with the coefficients brought near 1 by
+/// a power of two, which is exact.
 pub(super) fn solve(
     form: &Form,
     k: &[f64],
@@ -41,7 +48,43 @@ pub(super) fn solve(
     trig_of: impl Fn(usize) -> [f64; 2],
     length: f64,
 ) -> Result<[f64; 4], f64> {
-    match form.map(|at| k.get(at).copied().unwrap_or(f64::NAN)) {
+    let values = form.map(|at| k.get(at).copied().unwrap_or(f64::NAN));
+    match solve_values(values, mode, &trig_of, length) {
+        Err(e) if e.is_nan() => {
+            let largest = values
+                .coefficients()
+                .iter()
+                .fold(0.0f64, |m, c| m.max(c.abs()));
+            match unit_scale(largest) {
+                Some(scale) => solve_values(values.map(|c| c * scale), mode, &trig_of, length),
+                None => Err(e),
+            }
+        }
+        other => other,
+    }
+}
+
+/// The power of two that brings `largest` (a positive, finite, normal
+/// number) into [1, 2); `None` for another.
+fn unit_scale(largest: f64) -> Option<f64> {
+    if !(largest.is_finite() && largest >= f64::MIN_POSITIVE) {
+        return None;
+    }
+    let exponent = i64::try_from((largest.to_bits() >> 52) & 0x7ff).ok()? - 1023;
+    let biased = u64::try_from(1023 - exponent).ok()?;
+    (1..2047)
+        .contains(&biased)
+        .then(|| f64::from_bits(biased << 52))
+}
+
+/// [`solve`] of the form with its coefficients' values.
+fn solve_values(
+    values: ClosedForm<f64>,
+    mode: &mut f64,
+    trig_of: &impl Fn(usize) -> [f64; 2],
+    length: f64,
+) -> Result<[f64; 4], f64> {
+    match values {
         ClosedForm::Angle { a, b, c } => {
             closed::angle(a, b, c, mode, || trig_of(0)).map(|[cs, sn]| [cs, sn, 0.0, 0.0])
         }
