@@ -392,7 +392,9 @@ pub fn time_ratio<T: Table + ?Sized>(table: &T, name: &str) -> Result<TimeRatio,
     match d.as_slice() {
         [a, b] if a.maximum != b.maximum => {
             let (max, min) = if a.maximum { (a, b) } else { (b, a) };
-            let rising = (max.at - min.at).rem_euclid(TAU);
+            // Both within one turn: the difference within (−2π, 2π).
+            let d = max.at - min.at;
+            let rising = if d < 0.0 { d + TAU } else { d };
             Ok(TimeRatio {
                 rising,
                 falling: TAU - rising,

@@ -570,9 +570,14 @@ class Mechanism(metaclass=MechanismType):
         meeting); ``change_points="smooth"`` or ``"switch"`` passes a change
         point on the branch where the motion is smooth, or on the other.
 
+        A sweep backwards (``turns`` < 0, or ``to`` below ``from_``) needs
+        a negative rate: its samples follow the motion, and a positive rate
+        would be the opposite motion's.
+
         Raises:
             KeyError: ``driver`` is not a driver.
-            ValueError: bad range or options.
+            ValueError: bad range or options; a sweep backwards with a
+                positive rate.
         """
         turns = self._range(driver, to, turn, turns)
         if rpm is not None:
@@ -584,6 +589,18 @@ class Mechanism(metaclass=MechanismType):
         if to is not None:
             to = self._quantity(driver, to, 0)
         q = self.pose(start)
+        # The samples follow the motion: a sweep backwards (turns < 0, or
+        # to below from_) with a positive rate would give the velocities
+        # of the opposite motion.
+        first = q[driver] if from_ is None else from_
+        backwards = (turns is not None and turns < 0) or (to is not None and to < first)
+        if backwards and float(rate) > 0:
+            raise ValueError(
+                f"the sweep runs {driver} backwards, from {first:g} "
+                f"{'by ' + format(turns, 'g') + ' turns' if turns is not None else 'to ' + format(to, 'g')}, "
+                f"but its rate {float(rate):g} is positive: give a negative rate (rate={-float(rate):g}) "
+                f"for the motion the samples follow"
+            )
         native = self._m.sweep(
             driver,
             list(q.array),

@@ -360,3 +360,17 @@ def test_assemble_all_at_every_scale_assemble_handles(FourBar):
         assert len(got) == len(base) == 2
         for g, b in zip(got, base):
             assert close(g, b, 1e-14)
+
+
+def test_a_sweep_backwards_needs_a_negative_rate(four_bar):
+    start = four_bar.assemble(phi=0.5, th3=0.9, th4=1.7)
+    with pytest.raises(ValueError, match="runs phi backwards.*give a negative rate"):
+        four_bar.sweep("phi", start=start, turns=-1, rate=10.0)
+    with pytest.raises(ValueError, match="runs phi backwards"):
+        four_bar.sweep("phi", start=start, to=0.0, steps=10, rate=10.0)
+    # With the rate of the motion, the samples' rates are that motion's:
+    # φ' = −10 and each unknown's rate the slope of its values times it.
+    sw = four_bar.sweep("phi", start=start, turns=-1, steps=3600, rate=-10.0)
+    assert sw.stop is None and close(sw.qd["phi"], -10.0, 1e-15)
+    slope = np.gradient(sw["th3"], sw.at)
+    assert close(sw.qd["th3"][1:-1], -10.0 * slope[1:-1], 1e-4, scale=10.0)
