@@ -278,6 +278,7 @@ impl AngleUnit {
 #[cfg(test)]
 mod tests {
     use super::{read, read_parameter, Order, UnitError};
+    use alloc::string::ToString;
     use core::f64::consts::PI;
 
     #[test]
