@@ -147,6 +147,17 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let roles = m
         .point_roles(&sweep.samples[0].motion.q)
         .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
+    // The links found from the motion, drawn where none are listed.
+    let found = kinematics_core::links::links(&sweep);
+    let names = m.point_names();
+    let links = if links.is_empty() {
+        kinematics_core::links::drawn_pairs(&found)
+            .into_iter()
+            .map(|(a, b)| (names[a].to_string(), names[b].to_string()))
+            .collect()
+    } else {
+        links
+    };
     let mut written = write(
         &args.out,
         &sweep,
@@ -191,6 +202,42 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     );
     for &at in &sweep.change_points {
         let _ = writeln!(out, "  passed a change point near {driver} = {}", value(at));
+    }
+    if !found.is_empty() {
+        let shown: Vec<String> = found
+            .iter()
+            .map(|l| {
+                let points: Vec<&str> = l.points.iter().map(|&k| names[k]).collect();
+                if l.frame {
+                    format!("frame {{{}}}", points.join(", "))
+                } else {
+                    format!("{{{}}}", points.join(", "))
+                }
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "  links (points moving together): {}",
+            shown.join(", ")
+        );
+    }
+    if let Some(f) = kinematics_core::links::four_bar(&sweep, &found) {
+        let [g, i, c, o] = f.lengths(&sweep, 0);
+        if let Ok(class) = kinematics_core::merit::grashof(g, i, c, o) {
+            let seg = |[a, b]: [usize; 2]| format!("{}{}", names[a], names[b]);
+            let _ = writeln!(
+                out,
+                "  four-bar: ground {} = {g:.6}, input {} = {i:.6}, coupler {} = {c:.6}, \
+                 output {} = {o:.6}: {} (S + L = {:.6} against P + Q = {:.6})",
+                seg(f.ground),
+                seg(f.input),
+                seg(f.coupler),
+                seg(f.output),
+                class.class.describe(),
+                class.s_plus_l,
+                class.p_plus_q
+            );
+        }
     }
     out += &super::merit::figures(&m, &sweep, &|x| format!("{driver} = {}", value(x)), angles);
     if let Some(((name, kind), q)) = mean {

@@ -106,3 +106,65 @@ fn the_four_bars_transmission_angle_as_printed() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The Grashof class `kinematics sweep` prints for four four-bars, one per
+/// class, classified here by hand from S + L against P + Q and which link
+/// is the shortest; the links it finds from the motion (no `[draw]`
+/// table given) are the four-bar's, and the animation draws them.
+#[test]
+fn the_grashof_class_of_four_four_bars_as_printed() {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-gr-{}", std::process::id()));
+    // (a crank AB, b coupler BC, c rocker DC, d ground AD), a crank angle
+    // where each assembles, and the class.
+    let cases = [
+        ((0.04, 0.12, 0.10, 0.11), "30deg", "Grashof crank-rocker"), // 0.16 < 0.21, input shortest
+        ((4.0, 5.0, 4.5, 2.0), "30deg", "Grashof double-crank"),     // 7 < 8.5, ground shortest
+        ((4.5, 2.0, 5.0, 4.0), "60deg", "Grashof double-rocker"),    // 7 < 8.5, coupler shortest
+        ((3.0, 4.0, 4.5, 6.0), "60deg", "non-Grashof triple-rocker"), // 9 > 8.5
+    ];
+    for ((a, b, c, d), at, class) in cases {
+        let mut owned: Vec<String> = Vec::new();
+        for (n, v) in [
+            ("a", a),
+            ("b", b),
+            ("c", c),
+            ("d", d),
+            ("p", 0.5 * b),
+            ("beta", 0.3),
+        ] {
+            owned.extend(["--param".to_string(), format!("{n}={v}")]);
+        }
+        owned.extend([
+            "--at".to_string(),
+            format!("phi={at}"),
+            format!("--from={at}"),
+            "--to=75deg".to_string(),
+            "--steps=5".to_string(),
+        ]);
+        let args: Vec<&str> = owned.iter().map(String::as_str).collect();
+        let stdout = sweep("four_bar.mech", &args, &dir);
+        let line = stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with("four-bar:"))
+            .unwrap_or_else(|| panic!("no four-bar line in:\n{stdout}"));
+        assert!(line.contains(class), "{line}");
+        assert!(
+            line.contains("ground AD") && line.contains("input AB") && line.contains("coupler BC"),
+            "{line}"
+        );
+        assert!(
+            stdout.contains(
+                "links (points moving together): frame {A, D}, {A, B}, {B, C, P}, {D, C}"
+            ),
+            "{stdout}"
+        );
+    }
+    // The animation draws the links found: AB, the coupler's triangle
+    // B C P and DC, five lines.
+    let html = std::fs::read_to_string(dir.join("animation.html")).expect("the animation");
+    assert!(
+        html.contains("id=\"link4\"") && !html.contains("id=\"link5\""),
+        "five links drawn"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

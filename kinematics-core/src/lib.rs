@@ -79,6 +79,7 @@ pub mod closed;
 mod derive;
 pub mod dynamics;
 mod error;
+pub mod links;
 pub mod math;
 mod mechanism;
 pub mod merit;

@@ -243,3 +243,56 @@ fn figures_that_do_not_apply_say_why() {
         .contains("its coordinates are phi, th, x"));
     assert!(transmission(&part, "th", "x").is_err());
 }
+
+#[test]
+fn the_four_bars_links_are_found_from_its_motion() {
+    use kinematics_core::links::{drawn_pairs, four_bar, links};
+    let m = FourBar::CRANK_ROCKER;
+    let s = m
+        .sweep(FourBar::PHI, &FourBar::CRANK_ROCKER_GUESS)
+        .to(1.0)
+        .steps(10)
+        .run();
+    // Points A, B, D, C, P (declaration order): the frame A D, the crank
+    // A B, the coupler B C P, the rocker D C.
+    let found = links(&s);
+    let sets: Vec<(Vec<usize>, bool)> = found.iter().map(|l| (l.points.clone(), l.frame)).collect();
+    assert_eq!(
+        sets,
+        [
+            (vec![0, 2], true),
+            (vec![0, 1], false),
+            (vec![1, 3, 4], false),
+            (vec![2, 3], false)
+        ]
+    );
+    assert_eq!(drawn_pairs(&found).len(), 5);
+    let f = four_bar(&s, &found).expect("a four-bar");
+    assert_eq!(
+        (f.ground, f.input, f.coupler, f.output),
+        ([0, 2], [0, 1], [1, 3], [2, 3])
+    );
+    let lengths = f.lengths(&s, 5);
+    for (got, want) in lengths.iter().zip([m.d, m.a, m.b, m.c]) {
+        assert!((got - want).abs() < 1e-15, "{lengths:?}");
+    }
+    assert_eq!(
+        grashof(lengths[0], lengths[1], lengths[2], lengths[3])
+            .expect("a four-bar")
+            .class,
+        GrashofClass::CrankRocker
+    );
+    // A slider-crank is no four-bar: its slider has no second pivot.
+    let sc = SliderCrank {
+        a: 1.0,
+        b: 3.0,
+        e: 0.0,
+    };
+    let start = SliderCrankCoords {
+        phi: 0.5,
+        th: -0.1,
+        x: 3.5,
+    };
+    let s = sc.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run();
+    assert!(four_bar(&s, &links(&s)).is_none());
+}
