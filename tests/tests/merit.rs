@@ -222,18 +222,8 @@ fn zero_offset_stroke_is_twice_the_crank_and_its_strokes_take_equal_time() {
 
 #[test]
 fn figures_that_do_not_apply_say_why() {
-    let m = SliderCrank {
-        a: 1.0,
-        b: 3.0,
-        e: 0.0,
-    };
-    let start = SliderCrankCoords {
-        phi: 0.5,
-        th: -0.1,
-        x: 3.5,
-    };
     // Not a turn: no time ratio.
-    let part = m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run();
+    let part = slider_crank_part();
     let e = time_ratio(&part, "x").expect_err("not a turn").to_string();
     assert!(e.contains("not one full turn"), "{e}");
     // No such coordinate; a length where an angle is needed.
@@ -283,7 +273,13 @@ fn the_four_bars_links_are_found_from_its_motion() {
         GrashofClass::CrankRocker
     );
     // A slider-crank is no four-bar: its slider has no second pivot.
-    let sc = SliderCrank {
+    let s = slider_crank_part();
+    assert!(four_bar(&s, &links(&s)).is_none());
+}
+
+/// A zero-offset slider-crank (a = 1, b = 3) swept from φ = 0.5 to 1 rad.
+fn slider_crank_part() -> kinematics_core::sweep::Sweep<SliderCrank> {
+    let m = SliderCrank {
         a: 1.0,
         b: 3.0,
         e: 0.0,
@@ -293,6 +289,5 @@ fn the_four_bars_links_are_found_from_its_motion() {
         th: -0.1,
         x: 3.5,
     };
-    let s = sc.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run();
-    assert!(four_bar(&s, &links(&s)).is_none());
+    m.sweep(SliderCrank::PHI, &start).to(1.0).steps(10).run()
 }

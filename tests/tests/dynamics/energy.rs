@@ -399,9 +399,7 @@ fn each_joint_torque_of_an_arm_satisfies_lagranges_equations() -> Result<(), Err
 #[test]
 fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
     let m = FOUR_BAR;
-    let dynamics = four_bar_bodies()
-        .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
-        .build::<MassFourBar>()?;
+    let dynamics = sprung_four_bar()?;
     let start = four_bar_start(&m)?;
     let sweep = m
         .sweep(MassFourBar::PHI, &start)
@@ -444,6 +442,14 @@ fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
     Ok(())
 }
 
+/// The four-bar's bodies with a spring between the centres of its crank
+/// and rocker: a conservative cycle.
+fn sprung_four_bar() -> Result<Dynamics, Error> {
+    four_bar_bodies()
+        .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
+        .build::<MassFourBar>()
+}
+
 /// The same cycle swept with `.turn()`, which leaves out the closing
 /// sample: the mean torque closes the cycle (the periodic trapezoidal
 /// rule) and is zero to round-off, where the trapezoid over the samples
@@ -451,9 +457,7 @@ fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
 #[test]
 fn the_mean_torque_of_a_turn_without_its_closing_sample_is_zero() -> Result<(), Error> {
     let m = FOUR_BAR;
-    let dynamics = four_bar_bodies()
-        .spring(Spring::new("G2", "G4").stiffness(800.0).free_length(0.09))
-        .build::<MassFourBar>()?;
+    let dynamics = sprung_four_bar()?;
     let start = four_bar_start(&m)?;
     for steps in [360, 361, 1440] {
         let sweep = m
