@@ -128,6 +128,7 @@ from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them t
     Pose,
     Sensitivity,
     Values,
+    _hint,
     _opts,
     _readonly,
 )
@@ -155,7 +156,8 @@ class Mechanism(metaclass=MechanismType):
         names = cls._native.parameters
         unknown = [k for k in params if k not in names]
         if unknown:
-            raise TypeError(f"{cls.__name__} has no parameter {unknown[0]!r}; its parameters are {list(names)}")
+            hint = _hint(unknown[0], names)
+            raise TypeError(f"{cls.__name__} has no parameter {unknown[0]!r}{hint}; its parameters are {list(names)}")
         missing = [n for n in names if n not in params]
         if missing:
             raise TypeError(f"{cls.__name__}() missing parameter(s): {', '.join(missing)}")
@@ -295,7 +297,8 @@ class Mechanism(metaclass=MechanismType):
         try:
             return names.index(name)
         except ValueError:
-            raise KeyError(f"{name!r} is not a coordinate of {type(self).__name__}: they are {list(names)}") from None
+            hint = _hint(name, names)
+            raise KeyError(f"{name!r} is not a coordinate of {type(self).__name__}{hint}: they are {list(names)}") from None
 
     def residual(self, pose: Mapping[str, float]) -> np.ndarray:
         """Φ(q), one value per loop equation (0 where the loops close)."""

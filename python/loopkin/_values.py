@@ -294,3 +294,30 @@ class Sensitivity:
 
     def __repr__(self) -> str:
         return f"Sensitivity({self.parameter}: q={self.q!r})"
+
+
+def _hint(name: str, names: "Sequence[str]") -> str:
+    """" (did you mean 'x'?)" for the name of ``names`` nearest ``name``, as the
+    compiler suggests one: within a third of the longer name's length in
+    edit distance, a transposition of neighbours counting one edit; "" for
+    none, or a name over 64 characters."""
+    if len(name) > 64:
+        return ""
+    best, best_d = None, None
+    for cand in names:
+        a, b = name, cand
+        d = [[0] * (len(b) + 1) for _ in range(len(a) + 1)]
+        for i in range(len(a) + 1):
+            d[i][0] = i
+        for j in range(len(b) + 1):
+            d[0][j] = j
+        for i in range(1, len(a) + 1):
+            for j in range(1, len(b) + 1):
+                cost = 0 if a[i - 1] == b[j - 1] else 1
+                d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost)
+                if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                    d[i][j] = min(d[i][j], d[i - 2][j - 2] + 1)
+        dist = d[len(a)][len(b)]
+        if dist * 3 <= max(len(a), len(b)) and (best_d is None or dist < best_d):
+            best, best_d = cand, dist
+    return f" (did you mean {best!r}?)" if best is not None and best != name else ""

@@ -125,3 +125,14 @@ def test_tolerances_must_name_sensitivity_parameters(four_bar):
     sw = four_bar.sweep("phi", start=four_bar.assemble_all(phi=0.5)[0], steps=4)
     with pytest.raises(kin.KinematicsError):
         sw.deviations("P", {"zz": 1e-3})
+
+
+def test_a_transposed_name_gets_a_suggestion(FourBar, four_bar):
+    with pytest.raises(TypeError, match=r"no parameter 'btea' \(did you mean 'beta'\?\)"):
+        FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, btea=0.5)
+    with pytest.raises(KeyError, match=r"'hpi' is not a coordinate of FourBar \(did you mean 'phi'\?\)"):
+        four_bar.pose(hpi=0.5)
+    # Nothing near: no suggestion.
+    with pytest.raises(TypeError) as e:
+        FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, omega=0.5)
+    assert "did you mean" not in str(e.value)
