@@ -9,11 +9,9 @@
 // Test code: a failed check should stop the test.
 #![allow(clippy::expect_used, clippy::panic)]
 
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::{mechanisms, path, run, text};
+use crate::common::{mechanisms, path, run, text};
 
 /// The crank-rocker of the examples: a, b, c, d, p, β.
 const FOUR_BAR: [f64; 6] = [0.04, 0.12, 0.10, 0.11, 0.06, 0.523_598_775_598_298_8];

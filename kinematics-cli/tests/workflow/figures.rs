@@ -8,12 +8,10 @@
 #![allow(clippy::expect_used, clippy::panic)]
 
 use std::f64::consts::PI;
-mod common;
-
 use std::path::Path;
 use std::process::Command;
 
-use common::mechanisms;
+use crate::common::mechanisms;
 
 /// `kinematics sweep` of `file` with `args`: its standard output.
 fn sweep(file: &str, args: &[&str], out: &Path) -> String {
