@@ -25,7 +25,6 @@ use super::{compile, pose, ChangePointsArg, Failure, SweepArgs};
 pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let mut m = compile(&args.file)?;
     let file = args.parameters.set(&mut m)?;
-    let start = pose(&m, &file.start, &args.at, args.assembly.as_deref())?;
     let drivers: Vec<&str> = m
         .coordinates()
         .iter()
@@ -44,6 +43,19 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
             )))
         }
     };
+    // The start pose at `--from` where the swept driver's value is given
+    // nowhere else (a mechanism may not assemble at the default 0).
+    let given = |(n, _): &(String, String)| *n == driver;
+    let named = file.start.iter().any(given)
+        || args
+            .at
+            .iter()
+            .any(|a| a.split_once('=').is_some_and(|(n, _)| n.trim() == driver));
+    let mut at = args.at.clone();
+    if let (Some(from), false) = (&args.from, named) {
+        at.push(format!("{driver}={from}"));
+    }
+    let start = pose(&m, &file.start, &at, args.assembly.as_deref())?;
     let projection = match args.projection.as_str() {
         "xy" => Projection::XY,
         "xz" => Projection::XZ,

@@ -132,9 +132,8 @@ fn the_grashof_class_of_four_four_bars_as_printed() {
         ] {
             owned.extend(["--param".to_string(), format!("{n}={v}")]);
         }
+        // The start pose at --from (no --at: the crank is at its value).
         owned.extend([
-            "--at".to_string(),
-            format!("phi={at}"),
             format!("--from={at}"),
             "--to=75deg".to_string(),
             "--steps=5".to_string(),
