@@ -297,7 +297,7 @@ pub fn dead_centres<T: Table + ?Sized>(table: &T, name: &str) -> Result<Vec<Dead
         let t = 0.5 * (lo + hi);
         let mut at = p.x + t * h;
         // The closing interval's dead centre, within the turn.
-        if let (Some(period), true) = (wrap, k + 1 == pairs.len() && wrap.is_some()) {
+        if let Some(period) = wrap.filter(|_| k + 1 == pairs.len()) {
             if (at - samples[0].x).abs() >= period.abs() {
                 at -= period;
             }
@@ -473,15 +473,10 @@ fn slopes<T: Table + ?Sized>(table: &T, j: usize) -> Result<Vec<Slope>, Error> {
 /// the first sample to close the last interval (`None` where the table
 /// is no such turn, or already holds the closing sample).
 fn closing<T: Table + ?Sized>(table: &T) -> Option<f64> {
-    let n = table.rows();
-    if table.kind() != Kind::Angle || table.variable() == "t" || n < 3 {
+    if table.kind() != Kind::Angle || table.variable() == "t" {
         return None;
     }
-    let (first, last) = (table.at(0), table.at(n - 1));
-    let step = table.at(1) - first;
-    let span = last - first + step;
-    let period = if span > 0.0 { TAU } else { -TAU };
-    ((span - period).abs() <= 1e-9 * TAU).then_some(period)
+    crate::sweep::closing_period(table.rows(), |i| table.at(i))
 }
 
 fn index<T: Table + ?Sized>(table: &T, name: &str, what: &'static str) -> Result<usize, Error> {

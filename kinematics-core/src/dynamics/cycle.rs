@@ -107,18 +107,10 @@ impl ForceSweep {
     /// left out (the last sample one step short of the first plus 2π, to
     /// 1e-9 of a turn), the period ±2π; else `None`.
     fn closing(&self) -> Option<f64> {
-        let n = self.samples.len();
-        if self.kind != Kind::Angle || n < 3 {
+        if self.kind != Kind::Angle {
             return None;
         }
-        let (first, last) = (self.samples[0].at, self.samples[n - 1].at);
-        let span = last - first + (self.samples[1].at - first);
-        let period = if span > 0.0 {
-            core::f64::consts::TAU
-        } else {
-            -core::f64::consts::TAU
-        };
-        ((span - period).abs() <= 1e-9 * core::f64::consts::TAU).then_some(period)
+        crate::sweep::closing_period(self.samples.len(), |i| self.samples[i].at)
     }
 
     /// The work of driver `k`'s effort from the first sample to each,

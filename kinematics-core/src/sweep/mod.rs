@@ -77,3 +77,20 @@ pub use handles::{Angle, ChangePoints, Driver, Length, Wrap};
 pub use iter::SweepIter;
 pub use sample::{PoseSample, Sample, Solved, Stop, StopReason};
 pub use table::{Layout, Table};
+
+/// For the swept values of a sweep of one turn of an angle driver whose
+/// closing sample is left out (as `turn()` sweeps: the last sample one
+/// step short of the first plus 2π, to 1e-9 of a turn), the period ±2π
+/// that closes its last interval; `None` for another range or fewer than
+/// three samples. `at(i)` is sample i's value of `n`. The figures of merit
+/// and the mean effort close a cycle by it.
+pub(crate) fn closing_period(n: usize, at: impl Fn(usize) -> f64) -> Option<f64> {
+    use core::f64::consts::TAU;
+    if n < 3 {
+        return None;
+    }
+    let first = at(0);
+    let span = at(n - 1) - first + (at(1) - first);
+    let period = if span > 0.0 { TAU } else { -TAU };
+    ((span - period).abs() <= 1e-9 * TAU).then_some(period)
+}
