@@ -265,7 +265,7 @@ fn newton_unknowns(m: &Model) -> Vec<usize> {
 /// The start pose: each driver's value from `start` then `--at` (0 where
 /// none is given), each unknown's guess where given. Where an unknown
 /// has none, or `--assembly` is given, the pose is assembled in that
-/// assembly (the first by default) with no guess: every unknown of a
+/// assembly (by default the first that assembles there) with no guess: every unknown of a
 /// closed-form block is solved exactly, and only those solved by
 /// Newton–Raphson need a guess. With every guess given and no
 /// `--assembly`, the guesses are returned: they name the branch.
@@ -310,7 +310,15 @@ pub(super) fn pose(
     }
     let modes = match assembly {
         Some(a) => modes(m, a)?,
-        None => vec![Mode::Plus; m.mode_count()],
+        // The first assembly there is: `assemble_all` lists them in the
+        // order `check --at` numbers them.
+        None => match m
+            .assemble_all(&q)
+            .find_map(|(modes, p)| p.ok().map(|p| (modes, p)))
+        {
+            Some((_, p)) => return Ok(p),
+            None => vec![Mode::Plus; m.mode_count()],
+        },
     };
     m.assemble_in(&q, &modes).map_err(|e| {
         let at: Vec<String> = (0..m.drivers())

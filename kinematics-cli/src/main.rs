@@ -8,17 +8,20 @@
 //!     --at th3=0.9 --at th4=1.7 --rate phi=10
 //! kinematics sweep fourbar.mech --params fourbar.toml --turn --steps 360 \
 //!     --rpm 600 --out out/
+//! kinematics report fourbar.mech --params fourbar.toml --degrees --out out/
 //! ```
 //!
 //! `check` prints the definition's coordinates, equations, the blocks of
 //! its loop equations in solve order (with the closed form of each), its
-//! mobility (with a `joints` section) and its number of assemblies, or every error, located in the file as rustc
-//! locates them. `analyze` assembles the mechanism at the drivers given,
+//! mobility (with a `joints` section) and its number of assemblies, or
+//! every error, located in the file as rustc locates them. `analyze` assembles the mechanism at the drivers given,
 //! from the guesses given for the unknowns (Newton–Raphson), and prints q,
 //! q', q'', every point's position, velocity and acceleration, and the
 //! conditioning. `sweep` sweeps a driver over a range from a start pose
 //! and writes the samples as CSV, the plots of the coordinates and of the
-//! points, the path of every moving point, and an HTML animation.
+//! points, the path of every moving point, the skeleton at four poses
+//! and an HTML animation, and prints the figures of merit. `report` does
+//! what `sweep` does and gathers it in one self-contained HTML page.
 //!
 //! A parameters file holds `name = value` lines, and may hold a `[start]`
 //! table (the start pose: every driver's value and a guess of every
@@ -39,6 +42,7 @@ use kinematics_core::runtime::{CompileError, Model};
 
 mod input;
 mod merit;
+mod report;
 mod sweep;
 
 use input::{assemblies, driver_values, params_file, pose, set_parameters, ParamsFile};
@@ -80,7 +84,7 @@ enum Command {
         at: Vec<String>,
         /// The assembly, where the unknowns are not all guessed: its
         /// number as `kinematics check --at` lists them, or its modes
-        /// (`+-`); the first by default.
+        /// (`+-`); by default the first that assembles.
         #[arg(long)]
         assembly: Option<String>,
         /// A driver's rate (default 0; `phi=120rpm`, `phi=30deg/s`).
@@ -96,6 +100,11 @@ enum Command {
     /// Sweep a driver over a range; write the CSV, the figures and the
     /// animation.
     Sweep(SweepArgs),
+    /// Sweep as `sweep` does, and write besides its files one HTML page,
+    /// `report.html`: the figures of merit, the assemblies at the start,
+    /// the skeleton, the plots, the animation, the definition and what the
+    /// compiler found in it (self-contained, for any browser, offline).
+    Report(SweepArgs),
 }
 
 /// The arguments of `kinematics sweep`.
@@ -114,7 +123,7 @@ struct SweepArgs {
     at: Vec<String>,
     /// The assembly to start in, where the unknowns are not all guessed:
     /// its number as `kinematics check --at` lists them, or its modes
-    /// (`+-`); the first by default.
+    /// (`+-`); by default the first that assembles.
     #[arg(long)]
     assembly: Option<String>,
     /// The driver swept (default: the only driver).
@@ -256,6 +265,7 @@ fn main() -> ExitCode {
             },
         ),
         Command::Sweep(args) => sweep::run(&args),
+        Command::Report(args) => report::run(&args),
     };
     match result {
         Ok(out) => {

@@ -1,7 +1,7 @@
 //! `kinematics sweep`: a driver swept over a range from a start pose, and
 //! the files written from the samples: the CSV, the plots of the
 //! coordinates and of the points, the path of every moving point, the
-//! HTML animation, and, for a definition with `bodies` or `loads`, the
+//! skeleton at four poses, the HTML animation, and, for a definition with `bodies` or `loads`, the
 //! forces: the drivers' efforts, energies, power and shaking (`forces.csv`)
 //! and the plot of the driving effort beside its mean (`forces.svg`); with
 //! a `sensitivities` section as well, the efforts' sensitivities to its
@@ -11,7 +11,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use kinematics_core::animate::write_table_html;
-use kinematics_core::plot::{plot_forces, plot_motion_in, plot_path, plot_points_in, Units};
+use kinematics_core::plot::{
+    plot_forces, plot_motion_in, plot_path, plot_points_in, plot_table_skeleton, Units,
+};
 use kinematics_core::sweep::{ChangePoints, Table};
 use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Kind, Role};
@@ -23,6 +25,32 @@ use super::{compile, pose, ChangePointsArg, Failure, SweepArgs};
 
 /// Runs `kinematics sweep`: the summary printed on success.
 pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
+    let done = swept(args)?;
+    match done.stop {
+        None => Ok(done.summary),
+        Some(stop) => Err(Failure::mechanism(format!(
+            "{}error: the sweep stopped early: {stop}\n(the files hold the samples before the stop)",
+            done.summary
+        ))),
+    }
+}
+
+/// What a sweep leaves besides its files.
+pub(super) struct Swept {
+    /// The model, its parameters set.
+    pub model: kinematics_core::runtime::Model,
+    /// The start pose.
+    pub start: Vec<f64>,
+    /// The summary as printed.
+    pub summary: String,
+    /// The files written, in order.
+    pub written: Vec<PathBuf>,
+    /// Why the sweep stopped before its end, if it did.
+    pub stop: Option<String>,
+}
+
+/// Sweeps as `kinematics sweep` does and writes its files.
+pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
     let mut m = compile(&args.file)?;
     let file = args.parameters.set(&mut m)?;
     let drivers: Vec<&str> = m
@@ -233,7 +261,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
             shown.join(", ")
         );
     }
-    if let Some(f) = kinematics_core::links::four_bar(&sweep, &found) {
+    for f in kinematics_core::links::four_bars(&sweep, &found) {
         let [g, i, c, o] = f.lengths(&sweep, 0);
         if let Ok(class) = kinematics_core::merit::grashof(g, i, c, o) {
             let seg = |[a, b]: [usize; 2]| format!("{}{}", names[a], names[b]);
@@ -259,13 +287,14 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     for f in &written {
         let _ = writeln!(out, "  wrote {}", f.display());
     }
-    match &sweep.stop {
-        None => Ok(out),
-        Some(stop) => Err(Failure::mechanism(format!(
-            "{out}error: the sweep stopped early: {}\n(the files hold the samples before the stop)",
-            stop_message(stop)
-        ))),
-    }
+    let stop = sweep.stop.as_ref().map(stop_message);
+    Ok(Swept {
+        model: m,
+        start,
+        summary: out,
+        written,
+        stop,
+    })
 }
 
 /// The sensitivities of the drivers' efforts to the parameters of the
@@ -344,6 +373,13 @@ fn write(
         .iter()
         .map(|(a, b)| (a.as_str(), b.as_str()))
         .collect();
+    // The skeleton at four poses a quarter of the sweep apart.
+    let n = sweep.rows();
+    let mut rows: Vec<usize> = (0..4).map(|i| i * n / 4).collect();
+    rows.dedup();
+    let skeleton = path("skeleton.svg".into());
+    plot_table_skeleton(sweep, &rows, roles, &pairs, projection, &skeleton).map_err(failed)?;
+    written.push(skeleton);
     let html = path("animation.html".into());
     write_table_html(sweep, name, roles, &pairs, projection, &html).map_err(failed)?;
     written.push(html);

@@ -663,7 +663,8 @@ fn deeply_nested_text_is_a_located_error_not_an_abort() {
 /// The commands of the README's and the CLI guide's shell blocks run as
 /// printed (`kinematics …` and `cargo run --release -p kinematics-cli --
 /// …` alike, with this build of the command), from a folder where
-/// `examples/` is the project's, and succeed; `sweep` writes its table.
+/// `examples/` is the project's, and succeed; `sweep` writes its table,
+/// `report` its page.
 #[cfg(unix)]
 #[test]
 fn the_readme_and_guide_commands_run_as_printed() {
@@ -701,6 +702,7 @@ fn the_readme_and_guide_commands_run_as_printed() {
     }
     assert!(ran >= 6, "{ran} commands");
     assert!(dir.join("out/sweep.csv").exists());
+    assert!(dir.join("out/report.html").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

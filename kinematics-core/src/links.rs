@@ -207,17 +207,31 @@ impl FourBarLinks {
 /// may ride on the links), its links by role: the input is the link
 /// whose angular velocity at the first sample equals the swept driver's
 /// rate (a crank driven directly); `None` otherwise, and for a spatial
-/// mechanism.
+/// mechanism. For the four-bar loops inside a larger linkage, see
+/// [`four_bars`].
 #[must_use]
 pub fn four_bar<T: Table + ?Sized>(table: &T, links: &[Link]) -> Option<FourBarLinks> {
+    if links.iter().filter(|l| !l.frame).count() != 3 {
+        return None;
+    }
+    four_bars(table, links).into_iter().next()
+}
+
+/// Every four-bar loop of `links` driven by its input crank: two links
+/// from distinct frame pivots (one of them turning at the swept driver's
+/// rate at the first sample, the input), joined through their pins by a
+/// coupler link that touches the frame nowhere. A Stephenson III six-bar
+/// has one (the loop its dyad hangs from); a four-bar is one. Planar
+/// mechanisms only (empty for a spatial one).
+#[must_use]
+pub fn four_bars<T: Table + ?Sized>(table: &T, links: &[Link]) -> Vec<FourBarLinks> {
+    let mut found = Vec::new();
     if table.point_dim() != 2 || table.rows() == 0 {
-        return None;
+        return found;
     }
-    let frame = links.iter().find(|l| l.frame)?;
-    let moving: Vec<&Link> = links.iter().filter(|l| !l.frame).collect();
-    if moving.len() != 3 {
-        return None;
-    }
+    let Some(frame) = links.iter().find(|l| l.frame) else {
+        return found;
+    };
     let shared = |a: &Link, b: &Link| -> Vec<usize> {
         a.points
             .iter()
@@ -225,48 +239,57 @@ pub fn four_bar<T: Table + ?Sized>(table: &T, links: &[Link]) -> Option<FourBarL
             .filter(|p| b.points.contains(p))
             .collect()
     };
-    // The two side links each share one pivot with the frame, the coupler
-    // none; each side link shares one pin with the coupler.
+    // Side links share one pivot with the frame; couplers none.
     let mut sides = Vec::new();
-    let mut coupler = None;
-    for &l in &moving {
+    let mut couplers = Vec::new();
+    for l in links.iter().filter(|l| !l.frame) {
         match shared(l, frame).as_slice() {
             [pivot] => sides.push((l, *pivot)),
-            [] => coupler = Some(l),
-            _ => return None,
+            [] => couplers.push(l),
+            _ => {}
         }
     }
-    let coupler = coupler?;
-    let [(a, pa), (b, pb)] = sides[..] else {
-        return None;
-    };
-    let (ja, jb) = match (shared(a, coupler).as_slice(), shared(b, coupler).as_slice()) {
-        ([ja], [jb]) if ja != jb => (*ja, *jb),
-        _ => return None,
-    };
     let omega = |[pivot, pin]: [usize; 2]| {
         let ([r0, v0, _], [r1, v1, _]) = (table.point(0, pivot), table.point(0, pin));
         let (dx, dy) = (r1[0] - r0[0], r1[1] - r0[1]);
         let (vx, vy) = (v1[0] - v0[0], v1[1] - v0[1]);
         (dx * vy - dy * vx) / (dx * dx + dy * dy)
     };
-    let driver = table
+    let Some(driver) = table
         .coordinates()
         .iter()
-        .position(|c| c.name == table.variable())?;
-    let rate = table.coordinate(0, driver, 1);
-    let close = |w: f64| (w - rate).abs() <= 1e-9 * rate.abs().max(1e-300);
-    let (first, second) = if close(omega([pa, ja])) {
-        (([pa, ja]), ([pb, jb]))
-    } else if close(omega([pb, jb])) {
-        (([pb, jb]), ([pa, ja]))
-    } else {
-        return None;
+        .position(|c| c.name == table.variable())
+    else {
+        return found;
     };
-    Some(FourBarLinks {
-        ground: [first[0], second[0]],
-        input: first,
-        coupler: [first[1], second[1]],
-        output: second,
-    })
+    let rate = table.coordinate(0, driver, 1);
+    let driven = |side: [usize; 2]| (omega(side) - rate).abs() <= 1e-9 * rate.abs().max(1e-300);
+    for (i, &(a, pa)) in sides.iter().enumerate() {
+        for &(b, pb) in &sides[i + 1..] {
+            if pa == pb {
+                continue;
+            }
+            for &coupler in &couplers {
+                let (ja, jb) = match (shared(a, coupler).as_slice(), shared(b, coupler).as_slice())
+                {
+                    ([ja], [jb]) if ja != jb => (*ja, *jb),
+                    _ => continue,
+                };
+                let (first, second) = if driven([pa, ja]) {
+                    ([pa, ja], [pb, jb])
+                } else if driven([pb, jb]) {
+                    ([pb, jb], [pa, ja])
+                } else {
+                    continue;
+                };
+                found.push(FourBarLinks {
+                    ground: [first[0], second[0]],
+                    input: first,
+                    coupler: [first[1], second[1]],
+                    output: second,
+                });
+            }
+        }
+    }
+    found
 }

@@ -13,6 +13,7 @@
 //! | [`plot_path`] | the path of a point (a coupler curve), equal scales |
 //! | [`plot_forces`] | each driver's effort against the driver beside its mean, the shaking force's polar diagram and the joint reactions' ([`crate::dynamics`]) |
 //! | [`plot_skeleton`] | the linkage at chosen poses, with a legend of their driver values, ground pivots and sliders marked |
+//! | [`plot_table_skeleton`] | the same from the samples of any sweep (a run-time model's) |
 
 pub use crate::view::Projection;
 
@@ -26,4 +27,4 @@ pub use chart::Units;
 pub use forces::plot_forces;
 pub use motion::{plot_motion, plot_motion_in, plot_points, plot_points_in};
 pub use path::{plot_band, plot_path};
-pub use skeleton::{plot_skeleton, plot_skeleton_with, Overlay};
+pub use skeleton::{plot_skeleton, plot_skeleton_with, plot_table_skeleton, Overlay};

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::error::Error;
-use crate::mechanism::{Coordinates, Kind, Mechanism, Role};
+use crate::mechanism::{Coordinate, Coordinates, Kind, Mechanism, Role};
 use crate::sweep::Table;
 use crate::view::Projection;
 
@@ -130,6 +130,135 @@ pub fn plot_skeleton_with<M: Mechanism>(
         })
         .collect();
     let roles = poses.first().map_or_else(Vec::new, |p| point_roles(m, p));
+    let labels: Vec<String> = poses
+        .iter()
+        .map(|pose| {
+            let q: Vec<f64> = (0..M::COORDINATES.len())
+                .map(|j| pose.get(j).unwrap_or(f64::NAN))
+                .collect();
+            driver_label(M::COORDINATES, &q)
+        })
+        .collect();
+    let drawing = Drawing {
+        positions: &positions,
+        labels: &labels,
+        names: M::POINT_NAMES,
+        roles: &roles,
+        ends: &ends,
+    };
+    draw(&drawing, overlay, projection, path)
+}
+
+/// [`plot_skeleton`] for any sweep read as a [`Table`] (of a model
+/// compiled at run time, say): the mechanism at each of the samples
+/// `rows`, with `roles` the role of every point (from
+/// [`point_roles_by`](crate::view::point_roles_by)), which marks the
+/// ground pivots and the sliders.
+///
+/// # Errors
+/// [`Error::InvalidGeometry`] for an unknown point, a row past the end of
+/// the sweep or `roles` without a role per point; [`Error::Output`] when
+/// the file cannot be written.
+pub fn plot_table_skeleton<T: Table + ?Sized>(
+    sweep: &T,
+    rows: &[usize],
+    roles: &[PointRole],
+    links: &[(&str, &str)],
+    projection: Projection,
+    path: &Path,
+) -> Result<(), Error> {
+    let ends: Vec<(usize, usize)> = links
+        .iter()
+        .map(|(p, q)| Ok((sweep.point_index(p, "plot")?, sweep.point_index(q, "plot")?)))
+        .collect::<Result<_, Error>>()?;
+    let points = sweep.point_names().len();
+    if roles.len() != points {
+        return Err(Error::InvalidGeometry {
+            what: "plot",
+            detail: format!("{} point roles for {points} points", roles.len()),
+        });
+    }
+    if let Some(&i) = rows.iter().find(|&&i| i >= sweep.rows()) {
+        return Err(Error::InvalidGeometry {
+            what: "plot",
+            detail: format!("sample {i} asked of a sweep of {} samples", sweep.rows()),
+        });
+    }
+    let (a, b) = projection.axes();
+    let positions: Vec<Vec<(f64, f64)>> = rows
+        .iter()
+        .map(|&i| {
+            (0..points)
+                .map(|k| {
+                    let r = sweep.point(i, k)[0];
+                    (
+                        r.get(a).copied().unwrap_or(0.0),
+                        r.get(b).copied().unwrap_or(0.0),
+                    )
+                })
+                .collect()
+        })
+        .collect();
+    let coordinates = sweep.coordinates();
+    let labels: Vec<String> = rows
+        .iter()
+        .map(|&i| {
+            let q: Vec<f64> = (0..coordinates.len())
+                .map(|j| sweep.coordinate(i, j, 0))
+                .collect();
+            driver_label(coordinates, &q)
+        })
+        .collect();
+    let names: Vec<&str> = sweep.point_names().iter().map(|n| n.as_ref()).collect();
+    let drawing = Drawing {
+        positions: &positions,
+        labels: &labels,
+        names: &names,
+        roles,
+        ends: &ends,
+    };
+    draw(&drawing, &Overlay::default(), projection, path)
+}
+
+/// A pose's legend: its drivers' values, angles in degrees.
+fn driver_label(coordinates: &[Coordinate], q: &[f64]) -> String {
+    coordinates
+        .iter()
+        .zip(q)
+        .filter(|(c, _)| c.role == Role::Driver)
+        .map(|(c, &v)| match c.kind {
+            Kind::Angle => format!("{} = {}°", c.name, tick(v.to_degrees(), 100.0)),
+            Kind::Length => format!("{} = {} m", c.name, tick(v, 0.01)),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// What a skeleton drawing shows, in the plane of its projection: the
+/// points' positions at each pose, each pose's legend, the points' names
+/// and roles, and the links as pairs of point indices.
+struct Drawing<'a> {
+    positions: &'a [Vec<(f64, f64)>],
+    labels: &'a [String],
+    names: &'a [&'a str],
+    roles: &'a [PointRole],
+    ends: &'a [(usize, usize)],
+}
+
+/// Draws `d` with `overlay` into the SVG file `path`.
+fn draw(
+    d: &Drawing<'_>,
+    overlay: &Overlay,
+    projection: Projection,
+    path: &Path,
+) -> Result<(), Error> {
+    let Drawing {
+        positions,
+        labels,
+        names,
+        roles,
+        ends,
+    } = *d;
     let extra = || {
         overlay
             .curves
@@ -192,22 +321,7 @@ pub fn plot_skeleton_with<M: Mechanism>(
                 PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
             });
     }
-    let driver_label = |pose: &M::Coords| -> String {
-        M::COORDINATES
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.role == Role::Driver)
-            .map(|(j, c)| {
-                let v = pose.get(j).unwrap_or(f64::NAN);
-                match c.kind {
-                    Kind::Angle => format!("{} = {}°", c.name, tick(v.to_degrees(), 100.0)),
-                    Kind::Length => format!("{} = {} m", c.name, tick(v, 0.01)),
-                }
-            })
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    for (i, (ps, pose)) in positions.iter().zip(poses).enumerate() {
+    for (i, (ps, label)) in positions.iter().zip(labels).enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         chart
             .draw_series(
@@ -215,7 +329,7 @@ pub fn plot_skeleton_with<M: Mechanism>(
                     .map(|&(p, q)| PathElement::new(vec![ps[p], ps[q]], color.stroke_width(2))),
             )
             .map_err(|e| output(path, e))?
-            .label(driver_label(pose))
+            .label(label.clone())
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
             });
@@ -244,7 +358,7 @@ pub fn plot_skeleton_with<M: Mechanism>(
             .map_err(|e| output(path, e))?;
     }
     for (i, (label, pts)) in overlay.marks.iter().enumerate() {
-        let color = PALETTE[(poses.len() + i) % PALETTE.len()];
+        let color = PALETTE[(positions.len() + i) % PALETTE.len()];
         chart
             .draw_series(
                 pts.iter()
@@ -292,7 +406,7 @@ pub fn plot_skeleton_with<M: Mechanism>(
         .map_err(|e| output(path, e))?;
     // Names, offset up and to the right of the first pose's points.
     chart
-        .draw_series(M::POINT_NAMES.iter().zip(&first).map(|(name, p)| {
+        .draw_series(names.iter().zip(&first).map(|(name, p)| {
             EmptyElement::at(*p) + Text::new((*name).to_owned(), (7, -17), (FONT, 14).into_font())
         }))
         .map_err(|e| output(path, e))?;
