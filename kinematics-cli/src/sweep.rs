@@ -1,7 +1,9 @@
 //! `kinematics sweep`: a driver swept over a range from a start pose, and
 //! the files written from the samples: the CSV, the plots of the
 //! coordinates and of the points, the path of every moving point, the
-//! skeleton at four poses, the HTML animation, and, for a definition with `bodies` or `loads`, the
+//! skeleton at four poses, a DXF drawing of the skeleton at the first
+//! sample with every moving point's path (`mechanism.dxf`), the HTML
+//! animation, and, for a definition with `bodies` or `loads`, the
 //! forces: the drivers' efforts, energies, power and shaking (`forces.csv`)
 //! and the plot of the driving effort beside its mean (`forces.svg`); with
 //! a `sensitivities` section as well, the efforts' sensitivities to its
@@ -380,6 +382,10 @@ fn write(
     let skeleton = path("skeleton.svg".into());
     plot_table_skeleton(sweep, &rows, roles, &pairs, projection, &skeleton).map_err(failed)?;
     written.push(skeleton);
+    let drawing = path("mechanism.dxf".into());
+    kinematics_core::dxf::write_dxf(sweep, 0, roles, &pairs, projection, &drawing)
+        .map_err(failed)?;
+    written.push(drawing);
     let html = path("animation.html".into());
     write_table_html(sweep, name, roles, &pairs, projection, &html).map_err(failed)?;
     written.push(html);

@@ -77,6 +77,9 @@ mod batch;
 mod checks;
 pub mod closed;
 mod derive;
+#[cfg(feature = "std")]
+#[cfg_attr(docsrs_nightly, doc(cfg(feature = "std")))]
+pub mod dxf;
 pub mod dynamics;
 mod error;
 pub mod links;

@@ -40,7 +40,7 @@ from ._model import (
     compile,
     load,
 )
-from ._sweep import Batch, Deviations, ForceSweep, PointColumns, Poses, ReactionColumns, Stop, Sweep
+from ._sweep import Batch, Deviations, ForceSweep, Link, PointColumns, Poses, ReactionColumns, Stop, Sweep
 from .errors import *  # noqa: F401,F403
 from .merit import grashof
 
@@ -66,6 +66,7 @@ __all__ = [
     "PointColumns",
     "Deviations",
     "Batch",
+    "Link",
     "errors",
     "merit",
     "grashof",

@@ -17,7 +17,41 @@ if TYPE_CHECKING:  # pragma: no cover
     from ._model import Mechanism, MechanismType
     from .merit import DeadCentre, Stroke, TimeRatio, Transmission
 
-__all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch"]
+__all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch", "Link"]
+
+
+class Link(Tuple[Tuple[str, ...], bool]):
+    """A link found from the motion: ``points``, the names of the points
+    that move rigidly together, and ``frame``, whether it is the frame
+    (the points that do not move)."""
+
+    __slots__ = ()
+
+    def __new__(cls, points: Tuple[str, ...], frame: bool) -> "Link":
+        return tuple.__new__(cls, (points, frame))
+
+    @property
+    def points(self) -> Tuple[str, ...]:
+        return self[0]
+
+    @property
+    def frame(self) -> bool:
+        return self[1]
+
+    def __repr__(self) -> str:
+        kind = "frame " if self.frame else ""
+        return f"Link({kind}{{{', '.join(self.points)}}})"
+
+
+def _pairs(links: Optional[Iterable[Tuple[str, str]]]) -> Optional[List[Tuple[str, str]]]:
+    """Point pairs as the native module takes them; ``None`` kept."""
+    if links is None:
+        return None
+    pairs = []
+    for x in links:
+        a, b = x
+        pairs.append((str(a), str(b)))
+    return pairs
 
 
 class Stop:
@@ -200,16 +234,41 @@ class Sweep:
         headers, rows = self._native.table(unit, bool(degrees))
         return pd.DataFrame(np.asarray(rows), columns=headers)
 
+    def links(self) -> List["Link"]:
+        """The links found from the motion: the largest sets of points
+        whose distances do not change over the sweep (the frame, which
+        holds the points that do not move, first marked ``frame``)."""
+        return [Link(tuple(points), frame) for points, frame in self._native.links()]
+
     def write_animation(
         self,
         path: Union[str, "os.PathLike[str]"],
-        links: Iterable[Tuple[str, str]] = (),
+        links: Optional[Iterable[Tuple[str, str]]] = None,
         projection: str = "xy",
     ) -> None:
         """Writes a self-contained HTML animation of the sweep (no network
         needed): the points, ground pivots and sliders, and the links
-        ``links`` (pairs of point names) drawn between them."""
-        self._native.write_animation(os.fspath(path), [tuple(x) for x in links], projection)
+        ``links`` (pairs of point names; by default those found from the
+        motion, :meth:`links`) drawn between them."""
+        self._native.write_animation(os.fspath(path), _pairs(links), projection)
+
+    def write_dxf(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        links: Optional[Iterable[Tuple[str, str]]] = None,
+        sample: int = 0,
+        projection: str = "xy",
+    ) -> None:
+        """Writes a DXF drawing (release 12, ASCII) for a CAD program: the
+        skeleton at sample ``sample`` (a ``LINE`` per link of ``links``,
+        by default those found from the motion; a ``CIRCLE`` per point,
+        ground pivots on layer ``PIVOTS``, the others on ``JOINTS``; the
+        names on ``NAMES``) and every moving point's path over the sweep
+        as a ``POLYLINE`` on layer ``PATHS`` (closed over a full turn), in
+        the definition's length unit."""
+        if not 0 <= sample < len(self):
+            raise IndexError(f"sample {sample} of a sweep of {len(self)} samples")
+        self._native.write_dxf(os.fspath(path), _pairs(links), sample, projection)
 
     def forces(self) -> "ForceSweep":
         """The forces at every sample (as :meth:`Mechanism.forces` gives

@@ -12,7 +12,7 @@
 use kinematics_core::closed::Mode;
 use kinematics_core::runtime::{CompileError, Model as Runtime, Motion, Sample};
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
-use kinematics_core::view::Projection;
+use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Branch, Convergence, Error, Options};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;

@@ -117,6 +117,16 @@ impl Sweep {
     /// The columns with their data, read back from the arrays (a copy):
     /// what the tables, the CSV, the text, the animation and the
     /// deviations read.
+    /// The role of every point (ground pivot, slider, moving), from the
+    /// first sample.
+    fn roles(&self, py: Python<'_>, c: &Columns) -> PyResult<Vec<PointRole>> {
+        let nc = self.model.coordinates().len();
+        let first = c.q[0]
+            .get(..nc)
+            .ok_or_else(|| PyValueError::new_err("the sweep has no sample to draw"))?;
+        self.model.point_roles(first).map_err(|e| error(py, &e))
+    }
+
     fn full(&self, py: Python<'_>) -> PyResult<Columns> {
         let d = self.arrays.bind(py);
         let mut held = Vec::with_capacity(DATA.len());
@@ -212,31 +222,20 @@ impl Sweep {
     }
 
     /// Writes the HTML animation of the sweep to `path`, drawing the links
-    /// `links` (pairs of point names) in the projection `projection`
-    /// ("xy", "xz" or "yz").
+    /// `links` (pairs of point names; the links found from the motion
+    /// where `None`) in the projection `projection` ("xy", "xz" or "yz").
+    #[pyo3(signature = (path, links, projection))]
     fn write_animation(
         &self,
         py: Python<'_>,
         path: std::path::PathBuf,
-        links: Vec<(String, String)>,
+        links: Option<Vec<(String, String)>>,
         projection: &str,
     ) -> PyResult<()> {
-        let projection = match projection {
-            "xy" => Projection::XY,
-            "xz" => Projection::XZ,
-            "yz" => Projection::YZ,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "projection must be \"xy\", \"xz\" or \"yz\", not {other:?}"
-                )))
-            }
-        };
+        let projection = plane(projection)?;
         let c = self.full(py)?;
-        let nc = self.model.coordinates().len();
-        let first = c.q[0]
-            .get(..nc)
-            .ok_or_else(|| PyValueError::new_err("the sweep has no sample to animate"))?;
-        let roles = self.model.point_roles(first).map_err(|e| error(py, &e))?;
+        let roles = self.roles(py, &c)?;
+        let links = links.unwrap_or_else(|| found_pairs(&c));
         let links: Vec<(&str, &str)> = links
             .iter()
             .map(|(a, b)| (a.as_str(), b.as_str()))
@@ -250,6 +249,46 @@ impl Sweep {
             &path,
         )
         .map_err(|e| error(py, &e))
+    }
+
+    /// Writes the DXF drawing of the sweep to `path`: the skeleton at
+    /// sample `sample` (the links `links`, or those found where `None`)
+    /// and every moving point's path, in the projection `projection`.
+    #[pyo3(signature = (path, links, sample, projection))]
+    fn write_dxf(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        links: Option<Vec<(String, String)>>,
+        sample: usize,
+        projection: &str,
+    ) -> PyResult<()> {
+        let projection = plane(projection)?;
+        let c = self.full(py)?;
+        let roles = self.roles(py, &c)?;
+        let links = links.unwrap_or_else(|| found_pairs(&c));
+        let links: Vec<(&str, &str)> = links
+            .iter()
+            .map(|(a, b)| (a.as_str(), b.as_str()))
+            .collect();
+        kinematics_core::dxf::write_dxf(&c, sample, &roles, &links, projection, &path)
+            .map_err(|e| error(py, &e))
+    }
+
+    /// The links found from the motion: each the names of the points that
+    /// move rigidly together, with whether it is the frame.
+    fn links(&self, py: Python<'_>) -> PyResult<Vec<(Vec<String>, bool)>> {
+        let c = self.full(py)?;
+        let names = c.point_names();
+        Ok(kinematics_core::links::links(&c)
+            .into_iter()
+            .map(|l| {
+                (
+                    l.points.iter().map(|&k| names[k].to_string()).collect(),
+                    l.frame,
+                )
+            })
+            .collect())
     }
 
     /// The forces at every sample, from the definition's `bodies` and
@@ -358,4 +397,25 @@ impl Sweep {
         }
         Ok(d)
     }
+}
+
+/// A projection by name.
+fn plane(projection: &str) -> PyResult<Projection> {
+    match projection {
+        "xy" => Ok(Projection::XY),
+        "xz" => Ok(Projection::XZ),
+        "yz" => Ok(Projection::YZ),
+        other => Err(PyValueError::new_err(format!(
+            "projection must be \"xy\", \"xz\" or \"yz\", not {other:?}"
+        ))),
+    }
+}
+
+/// The point pairs drawn for the links found from the motion of `c`.
+fn found_pairs(c: &Columns) -> Vec<(String, String)> {
+    let names = c.point_names();
+    kinematics_core::links::drawn_pairs(&kinematics_core::links::links(c))
+        .into_iter()
+        .map(|(a, b)| (names[a].to_string(), names[b].to_string()))
+        .collect()
 }
