@@ -398,7 +398,10 @@ class ForceSweep:
     ``at`` is the swept driver's values; ``effort["phi"]`` a driver's
     effort at every sample (N·m for an angle driver, N for a length);
     ``kinetic_energy``, ``potential_energy`` and ``power`` one value per
-    sample; ``shaking_force`` and ``shaking_moment`` samples × 3;
+    sample; ``shaking_force`` and ``shaking_moment`` (the inertial part,
+    −Σ m a_G and its moment) and ``frame_force`` and ``frame_moment`` (the
+    total on the frame, weights and loads included: Norton's shaking
+    force) samples × 3;
     ``reactions["bearing"]`` a joint's :class:`ReactionColumns`, for the
     joints of the definition's ``joints`` section (empty without).
     """
@@ -414,6 +417,8 @@ class ForceSweep:
         self.power: np.ndarray = _readonly(c["power"])
         self.shaking_force: np.ndarray = _readonly(c["shaking_force"])
         self.shaking_moment: np.ndarray = _readonly(c["shaking_moment"])
+        self.frame_force: np.ndarray = _readonly(c["frame_force"])
+        self.frame_moment: np.ndarray = _readonly(c["frame_moment"])
         self.reactions: Dict[str, ReactionColumns] = {
             name: ReactionColumns(d) for name, d in c["reactions"].items()
         }

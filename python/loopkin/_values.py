@@ -213,9 +213,23 @@ class Forces:
         shaking_force: −Σ m a_G, the force the links' inertia exerts on the
             frame (N; 3 components).
         shaking_moment: its moment about the origin (N·m; 3 components).
+        frame_force: the total force of the mechanism on the frame, what
+            Norton calls the shaking force: −Σ m a_G + Σ m g + Σ F_P, the
+            weights and point loads included (N; 3 components).
+        frame_moment: its moment about the origin, the drivers' reactions
+            and the torques on bodies included (N·m; 3 components).
     """
 
-    __slots__ = ("effort", "kinetic_energy", "potential_energy", "power", "shaking_force", "shaking_moment")
+    __slots__ = (
+        "effort",
+        "kinetic_energy",
+        "potential_energy",
+        "power",
+        "shaking_force",
+        "shaking_moment",
+        "frame_force",
+        "frame_moment",
+    )
 
     def __init__(self, drivers: Sequence[str], d: Dict[str, Any]) -> None:
         self.effort = Values(drivers, _readonly(np.asarray(d["effort"])))
@@ -224,6 +238,8 @@ class Forces:
         self.power = float(d["power"])
         self.shaking_force: np.ndarray = _readonly(np.asarray(d["shaking_force"]))
         self.shaking_moment: np.ndarray = _readonly(np.asarray(d["shaking_moment"]))
+        self.frame_force: np.ndarray = _readonly(np.asarray(d["frame_force"]))
+        self.frame_moment: np.ndarray = _readonly(np.asarray(d["frame_moment"]))
 
     def __repr__(self) -> str:
         return f"Forces(effort={self.effort!r}, power={self.power:.6g})"

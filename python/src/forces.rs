@@ -12,7 +12,8 @@ use crate::error;
 
 /// The forces at one motion as a dict: "effort" (the first `drivers`
 /// entries: one per driver), "kinetic_energy", "potential_energy",
-/// "power", "shaking_force" and "shaking_moment" (3 each).
+/// "power", "shaking_force", "shaking_moment", "frame_force" and
+/// "frame_moment" (3 each).
 pub(crate) fn instant<'py>(
     py: Python<'py>,
     f: &Forces<Vec<f64>>,
@@ -31,6 +32,14 @@ pub(crate) fn instant<'py>(
     d.set_item(
         "shaking_moment",
         array(py, f.shaking_moment.iter().copied().collect()),
+    )?;
+    d.set_item(
+        "frame_force",
+        array(py, f.frame_force.iter().copied().collect()),
+    )?;
+    d.set_item(
+        "frame_moment",
+        array(py, f.frame_moment.iter().copied().collect()),
     )?;
     Ok(d)
 }
@@ -106,7 +115,8 @@ impl ForceSweep {
 
     /// Every column: "at" (n), "effort" (n × drivers),
     /// "kinetic_energy", "potential_energy", "power" (n each),
-    /// "shaking_force", "shaking_moment" (n × 3), and "reactions": for
+    /// "shaking_force", "shaking_moment", "frame_force", "frame_moment"
+    /// (n × 3), and "reactions": for
     /// each joint by name, its "force" and "moment" (n × 3) and "effort"
     /// (n, or None where no driver acts in it).
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -137,6 +147,16 @@ impl ForceSweep {
             .flat_map(|x| x.shaking_moment.iter().copied())
             .collect();
         d.set_item("shaking_moment", shaped(py, moment, vec![n, 3])?)?;
+        let force: Vec<f64> = s
+            .iter()
+            .flat_map(|x| x.frame_force.iter().copied())
+            .collect();
+        d.set_item("frame_force", shaped(py, force, vec![n, 3])?)?;
+        let moment: Vec<f64> = s
+            .iter()
+            .flat_map(|x| x.frame_moment.iter().copied())
+            .collect();
+        d.set_item("frame_moment", shaped(py, moment, vec![n, 3])?)?;
         // Each joint's force, moment (n × 3) and effort (n, or None), by
         // name, where the description declares joints.
         let joints = PyDict::new(py);

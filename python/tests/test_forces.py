@@ -171,6 +171,11 @@ def test_reactions_of_the_gas_engines_joints():
     ground = bearing.force + cylinder.force
     assert close(ground[:, 0], acc[:, 0] + gas, 1e-10, scale)
     assert close(ground[:, 1], acc[:, 1] + 9.81 * sum(m), 1e-10, scale)
+    # The force of the engine on its frame, weights and gas force
+    # included (Norton's shaking force), is what the frame's bearing and
+    # cylinder carry, negated; its inertial part is −Σ m a_G.
+    assert close(fs.frame_force[:, :2], -ground[:, :2], 1e-10, scale)
+    assert close(fs.shaking_force[:, :2], -acc[:, :2], 1e-10, scale)
     # The crank is balanced (its centre of mass on the shaft, which does
     # not move): the bearing holds the crank pin's force and the crank's
     # weight, F_O = F_B + m2 g (0, 1).

@@ -529,6 +529,7 @@ impl DynamicsBuilder {
                     .iter()
                     .map(|(j, _)| coordinate_names[*j].clone())
                     .collect(),
+                points: names.points.to_vec(),
             },
             frames: names.frames.len(),
             dim: names.dim,

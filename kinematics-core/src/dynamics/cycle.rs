@@ -32,6 +32,11 @@ pub struct ForceSample {
     pub shaking_force: Vector3<f64>,
     /// Shaking moment on the frame about the origin (N·m).
     pub shaking_moment: Vector3<f64>,
+    /// The total force of the mechanism on the frame, weights and loads
+    /// included ([`Forces::frame_force`], Norton's shaking force; N).
+    pub frame_force: Vector3<f64>,
+    /// Its moment about the origin ([`Forces::frame_moment`]; N·m).
+    pub frame_moment: Vector3<f64>,
     /// The joint reactions, where the description declares joints
     /// ([`Dynamics::reactions`]).
     pub reactions: Option<Reactions>,
@@ -68,6 +73,8 @@ impl ForceSample {
             power: f.power,
             shaking_force: f.shaking_force,
             shaking_moment: f.shaking_moment,
+            frame_force: f.frame_force,
+            frame_moment: f.frame_moment,
             reactions,
         }
     }
@@ -171,7 +178,9 @@ impl ForceSweep {
     /// The table as CSV, a column per quantity with its unit in the header:
     /// the swept value (deg for an angle), each driver's effort (N·m for an
     /// angle, N for a length), T, V and the power, the shaking force and
-    /// moment's components, and for each joint of the reactions the x and y
+    /// moment's components (`Fs`, `Ms`: the inertial part), the total force
+    /// and moment on the frame (`Ff`, `Mf`: weights and loads included,
+    /// Norton's shaking force), and for each joint of the reactions the x and y
     /// of its force and its moment's z (every component of both in a
     /// spatial mechanism).
     #[must_use]
@@ -189,7 +198,8 @@ impl ForceSweep {
             let _ = write!(out, ",Q_{name} ({unit})");
         }
         out.push_str(
-            ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)",
+            ",T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m),\
+             Ff_x (N),Ff_y (N),Ff_z (N),Mf_x (N·m),Mf_y (N·m),Mf_z (N·m)",
         );
         let joints = self.samples.first().and_then(|s| s.reactions.as_ref());
         let spatial = joints.is_some_and(|r| r.spatial);
@@ -218,6 +228,8 @@ impl ForceSweep {
                 ",{},{},{},{},{},{},{},{},{}",
                 s.kinetic_energy, s.potential_energy, s.power, f.x, f.y, f.z, m.x, m.y, m.z
             );
+            let (f, m) = (s.frame_force, s.frame_moment);
+            let _ = write!(out, ",{},{},{},{},{},{}", f.x, f.y, f.z, m.x, m.y, m.z);
             for j in s.reactions.as_ref().map_or(&[][..], |r| &r.joints[..]) {
                 let (f, m) = (j.force, j.moment);
                 if spatial {

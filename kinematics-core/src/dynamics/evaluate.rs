@@ -95,6 +95,20 @@ pub struct Forces<C> {
     /// Its moment about the fixed origin, −Σ (r_G × m a_G + J α + ω × J ω)
     /// (N·m; a planar mechanism's is along z).
     pub shaking_moment: Vector3<f64>,
+    /// The total force of the mechanism on the frame, what Norton calls
+    /// the shaking force: the inertial part above plus the weights and
+    /// the point loads, F_f = −Σ m a_G + Σ m g + Σ F_P (N), the sum of the
+    /// forces in the frame's bearings and guides (and of the springs
+    /// anchored to it). Every declared point load counts as coming from
+    /// outside the machine; a load whose reaction also bears on the frame
+    /// (a gas force, which pushes on the cylinder head as well as on the
+    /// piston) cancels there in the machine, so subtract it.
+    pub frame_force: Vector3<f64>,
+    /// The total moment of the mechanism on the frame about the fixed
+    /// origin, the drivers' reactions included: the inertial part above
+    /// plus Σ r_G × m g + Σ r_P × F_P + Σ T_b over the weights, point
+    /// loads and torques on bodies (N·m; along z when planar).
+    pub frame_moment: Vector3<f64>,
 }
 
 impl<C> Forces<C> {
@@ -107,6 +121,8 @@ impl<C> Forces<C> {
             power,
             shaking_force: totals.shaking_force,
             shaking_moment: totals.shaking_moment,
+            frame_force: totals.frame_force,
+            frame_moment: totals.frame_moment,
         }
     }
 }
@@ -215,6 +231,8 @@ pub(crate) struct Totals {
     pub(crate) potential_energy: f64,
     pub(crate) shaking_force: Vector3<f64>,
     pub(crate) shaking_moment: Vector3<f64>,
+    pub(crate) frame_force: Vector3<f64>,
+    pub(crate) frame_moment: Vector3<f64>,
 }
 
 /// A driver's unit analysis handed to the sums: `unit(k, with)` analyses
@@ -451,17 +469,22 @@ impl Dynamics {
             let stretch = length - sp.free_length;
             potential += 0.5 * sp.stiffness * stretch * stretch;
         }
+        let (frame_force, frame_moment) = self.on_frame(s, shaking_force, shaking_moment)?;
         let totals = Totals {
             kinetic_energy: kinetic,
             potential_energy: potential,
             shaking_force,
             shaking_moment,
+            frame_force,
+            frame_moment,
         };
         for (name, value) in [
             ("the kinetic energy", totals.kinetic_energy),
             ("the potential energy", totals.potential_energy),
             ("the shaking force", totals.shaking_force.sum()),
             ("the shaking moment", totals.shaking_moment.sum()),
+            ("the force on the frame", totals.frame_force.sum()),
+            ("the moment on the frame", totals.frame_moment.sum()),
         ] {
             if !value.is_finite() {
                 return Err(Error::NonFinite {
@@ -476,6 +499,59 @@ impl Dynamics {
 
     /// One driver's effort Q_k at the motion `s`, from its unit analysis
     /// `u`, with `coords` the q, q', q'' the loads read.
+    /// The total force and moment of the mechanism on the frame at `s`
+    /// ([`Forces::frame_force`]): the inertial parts `force` and `moment`
+    /// plus the weights, the point loads and the torques on bodies.
+    fn on_frame(
+        &self,
+        s: &dyn View,
+        mut force: Vector3<f64>,
+        mut moment: Vector3<f64>,
+    ) -> Result<(Vector3<f64>, Vector3<f64>), Error> {
+        let planar = self.dim == 2;
+        let [q, qd, qdd] = self.coordinates_of(s);
+        let instant = |at: Option<[Vector3<f64>; 3]>| {
+            let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
+            Instant {
+                q: &q,
+                qd: &qd,
+                qdd: &qdd,
+                position,
+                velocity,
+            }
+        };
+        for b in &self.bodies {
+            let [r, _, _] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let w = self.gravity * b.mass;
+            force += w;
+            moment += r.cross(&w);
+        }
+        for (i, (p, _, f)) in self.forces.iter().enumerate() {
+            let at = s.point(*p);
+            let f = Vector3::from(f(&instant(at)));
+            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
+            let f = if planar {
+                Vector3::new(f.x, f.y, 0.0)
+            } else {
+                f
+            };
+            let r = at.map_or(Vector3::zeros(), |[r, _, _]| r);
+            force += f;
+            moment += r.cross(&f);
+        }
+        for (i, (b, t)) in self.torques.iter().enumerate() {
+            let body = self.bodies.get(*b);
+            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
+            moment += if planar {
+                Vector3::new(0.0, 0.0, t.z)
+            } else {
+                t
+            };
+        }
+        Ok((force, moment))
+    }
+
     fn effort(&self, s: &dyn View, u: &dyn View, coords: [&[f64]; 3]) -> Result<f64, Error> {
         let g = self.gravity;
         let planar = self.dim == 2;
@@ -499,7 +575,7 @@ impl Dynamics {
         }
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let f = Vector3::from(f(&instant(s.point(*p))));
-            finite_load(f.iter().copied(), "a force", i)?;
+            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
             let f = if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
@@ -510,7 +586,7 @@ impl Dynamics {
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
             let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            finite_load(t.iter().copied(), "a torque", i)?;
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
             let t = if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
@@ -520,7 +596,7 @@ impl Dynamics {
         }
         for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
             let f = f(&instant(None));
-            finite_load([f], "a force on a coordinate", i)?;
+            self.finite_load([f], LoadAt::Coordinate(i))?;
             q -= f * u.coordinate(*j)[1];
         }
         for sp in &self.springs {
@@ -535,7 +611,7 @@ impl Dynamics {
 /// k, the motion at unit rate of k (the other drivers at rest, every
 /// acceleration zero), whose velocities are the partial velocities
 /// ∂v/∂ḋ_k and ∂ω/∂ḋ_k, handed to the closure.
-fn unit_analyses<'a, M: Mechanism>(
+pub(super) fn unit_analyses<'a, M: Mechanism>(
     m: &'a M,
     pose: &'a M::Coords,
     drivers: usize,
@@ -621,20 +697,46 @@ impl ResolvedSpring {
     }
 }
 
-/// An error for the load `what` number `i` when a component is not
-/// finite.
-pub(super) fn finite_load(
-    values: impl IntoIterator<Item = f64>,
-    what: &str,
-    i: usize,
-) -> Result<(), Error> {
-    for v in values {
-        if !v.is_finite() {
-            return Err(Error::InvalidDynamics {
-                item: format!("{what} (number {} of its kind, in the order given)", i + 1),
-                detail: format!("its value is {v}; a load must be finite"),
-            });
-        }
+/// A load by its kind and its number among those of its kind.
+#[derive(Clone, Copy)]
+pub(super) enum LoadAt {
+    Force(usize),
+    Torque(usize),
+    Coordinate(usize),
+}
+
+impl Dynamics {
+    /// Checks that the values of the load `at` are finite; the error
+    /// names it by its point, body or coordinate.
+    pub(super) fn finite_load(
+        &self,
+        values: impl IntoIterator<Item = f64>,
+        at: LoadAt,
+    ) -> Result<(), Error> {
+        let Some(v) = values.into_iter().find(|v| !v.is_finite()) else {
+            return Ok(());
+        };
+        let name =
+            |names: &[String], i: usize| names.get(i).map_or("?", String::as_str).to_string();
+        let item = match at {
+            LoadAt::Force(i) => {
+                format!("the force at point `{}`", name(&self.load_names.forces, i))
+            }
+            LoadAt::Torque(i) => format!(
+                "the torque on body `{}`",
+                self.torques
+                    .get(i)
+                    .and_then(|(b, _)| self.bodies.get(*b))
+                    .map_or("?", |b| b.name.as_str())
+            ),
+            LoadAt::Coordinate(i) => format!(
+                "the force on coordinate `{}`",
+                name(&self.load_names.coordinate_forces, i)
+            ),
+        };
+        Err(Error::InvalidDynamics {
+            item,
+            detail: format!("its value is {v} at this pose; a load must be finite"),
+        })
     }
-    Ok(())
 }

@@ -36,7 +36,12 @@
 //! moving links exert on the frame through its bearings and the drivers'
 //! reactions, from their inertia alone: F_s = −Σ_b m_b a_G; the shaking
 //! moment about the fixed origin is M_s = −Σ_b (r_G × m_b a_G + J_b α_b +
-//! ω_b × J_b ω_b).
+//! ω_b × J_b ω_b). The total force of the mechanism on the frame (what
+//! Norton calls the shaking force, the sum of the forces in the frame's
+//! bearings and guides) adds the weights and the point loads,
+//! F_f = F_s + Σ_b m_b g + Σ_P F_P, and its moment
+//! M_f = M_s + Σ_b r_G × m_b g + Σ_P r_P × F_P + Σ T_b, which holds the
+//! drivers' reactions ([`Forces::frame_force`]).
 //!
 //! # Joint reactions (planar)
 //!
@@ -396,6 +401,8 @@ pub struct Dynamics {
 struct LoadNames {
     forces: Vec<String>,
     coordinate_forces: Vec<String>,
+    /// Every point's name, in the mechanism's order.
+    points: Vec<String>,
 }
 
 /// The design parameters of a description and its constants' partial

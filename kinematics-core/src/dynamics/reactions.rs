@@ -10,11 +10,11 @@ use alloc::vec::Vec;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
-use super::evaluate::{Generated, Instant, View};
+use super::evaluate::{Generated, Instant, View, WithUnit};
 use super::joints::*;
 use super::{Dynamics, ResolvedBody, Turns};
 use crate::error::Error;
-use crate::mechanism::Mechanism;
+use crate::mechanism::{Mechanism, MotionState};
 
 /// The reaction at one joint.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,27 +182,128 @@ impl Dynamics {
     /// at `motion`, a motion of `m`, by the Newton–Euler equations of
     /// every body (see the [module](super)): the force and moment each
     /// joint's first body exerts on its second, and the driver's effort in
-    /// its joint, which equals [`Dynamics::inverse`]'s. The motion is all
-    /// it reads: `m` names the mechanism's type, and no analysis is
-    /// repeated.
+    /// its joint, which equals [`Dynamics::inverse`]'s. A force that names
+    /// no body ([`super::DynamicsBuilder::force`], `force(P, …)` without
+    /// `on`) acts on the one body its point moves rigidly with (v_P = v_G +
+    /// ω × (r_P − r_G) for every driver's partial velocities, from one
+    /// analysis of `m` per driver, run only then), or on the frame where
+    /// the point does not move.
     ///
     /// # Errors
     /// [`Error::InvalidDynamics`] when the joints do not determine the
     /// reactions (in a planar mechanism, the count of unknowns is not
     /// three per body; in a spatial one, more unknowns than six per body,
     /// or equations no reactions satisfy; or the system is singular at
-    /// this pose), when a force does not name the body it acts on
-    /// ([`super::DynamicsBuilder::force_on`]), a spring the bodies of its
+    /// this pose), when a force that names no body has a point on two
+    /// bodies (a pin between them) or on none
+    /// ([`super::DynamicsBuilder::force_on`] names it), a spring the bodies of its
     /// ends ([`super::Spring::between`]), or a force on a coordinate the
     /// joint it acts in ([`Joint::coordinate`]).
     pub fn reactions<M: Mechanism>(&self, m: &M, motion: &M::Motion) -> Result<Reactions, Error> {
-        let _ = m;
         self.fits_mechanism::<M>()?;
-        self.reactions_in(&Generated(motion))
+        self.reactions_in(
+            &Generated(motion),
+            &mut super::evaluate::unit_analyses(m, motion.q(), self.drivers),
+        )
     }
 
-    /// [`Dynamics::reactions`] over a view of the motion.
-    pub(crate) fn reactions_in(&self, s: &dyn View) -> Result<Reactions, Error> {
+    /// The body each force acts on: the one named, or where none is, the
+    /// one body the force's point moves rigidly with, `v_P = v_G + ω ×
+    /// (r_P − r_G)` for the partial velocities of every driver (the
+    /// frame, `None`, for a point that does not move); an error naming
+    /// the point where no body or more than one (a pin between two) fits.
+    /// `unit` provides the unit analyses ([`WithUnit`]), run only where a
+    /// force names no body.
+    fn force_bodies(
+        &self,
+        s: &dyn View,
+        unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
+    ) -> Result<Vec<Option<usize>>, Error> {
+        if self.forces.iter().all(|(_, b, _)| b.is_some()) {
+            return Ok(self.forces.iter().map(|(_, b, _)| *b).collect());
+        }
+        let nan = [Vector3::repeat(f64::NAN); 3];
+        let position = |p: usize| s.point(p).unwrap_or(nan)[0];
+        // fits[f][b]: whether force f's point moves with body b; still[f]:
+        // whether it does not move at all.
+        let mut fits = vec![vec![true; self.bodies.len()]; self.forces.len()];
+        let mut still = vec![true; self.forces.len()];
+        for k in 0..self.drivers {
+            unit(k, &mut |u| {
+                let velocity = |p: usize| u.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
+                let scale = self
+                    .bodies
+                    .iter()
+                    .map(|b| velocity(b.center).norm())
+                    .fold(0.0, f64::max);
+                for (f, (p, named, _)) in self.forces.iter().enumerate() {
+                    if named.is_some() {
+                        continue;
+                    }
+                    let vp = velocity(*p);
+                    still[f] &= vp.norm() <= 1e-12 * scale.max(f64::MIN_POSITIVE);
+                    for (b, body) in self.bodies.iter().enumerate() {
+                        let d = position(*p) - position(body.center);
+                        let omega = super::evaluate::turning(body, u).0;
+                        let rigid = velocity(body.center) + omega.cross(&d);
+                        let size = vp.norm() + rigid.norm() + omega.norm() * d.norm();
+                        fits[f][b] &= (vp - rigid).norm() <= 1e-9 * size.max(f64::MIN_POSITIVE);
+                    }
+                }
+            })?;
+        }
+        let mut out = Vec::with_capacity(self.forces.len());
+        for (f, (_, named, _)) in self.forces.iter().enumerate() {
+            if named.is_some() {
+                out.push(*named);
+                continue;
+            }
+            let point = self.load_names.forces.get(f).map_or("?", String::as_str);
+            let on: Vec<usize> = (0..self.bodies.len()).filter(|&b| fits[f][b]).collect();
+            let bodies = |list: &[usize]| -> String {
+                list.iter()
+                    .map(|&b| format!("`{}`", self.bodies[b].name))
+                    .collect::<Vec<_>>()
+                    .join(" and ")
+            };
+            match on.as_slice() {
+                [b] => out.push(Some(*b)),
+                [] if still[f] => out.push(None),
+                [] => {
+                    return Err(Error::InvalidDynamics {
+                        item: "a force".to_string(),
+                        detail: format!(
+                            "the force at point `{point}` names no body, and none of the \
+                             bodies moves rigidly with `{point}`: say which body it acts on \
+                             (`force({point}, …, on = body)` in the definition's `loads`, or \
+                             `.force_on(\"body\", \"{point}\", …)` with the builder)"
+                        ),
+                    });
+                }
+                several => {
+                    return Err(Error::InvalidDynamics {
+                        item: "a force".to_string(),
+                        detail: format!(
+                            "the force at point `{point}` names no body, and `{point}` moves \
+                             with {} (a joint between them): say which one it acts on \
+                             (`force({point}, …, on = body)` in the definition's `loads`, or \
+                             `.force_on(\"body\", \"{point}\", …)` with the builder)",
+                            bodies(several)
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// [`Dynamics::reactions`] over a view of the motion, `unit`
+    /// providing the unit analyses where a force's body is inferred.
+    pub(crate) fn reactions_in(
+        &self,
+        s: &dyn View,
+        unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
+    ) -> Result<Reactions, Error> {
         let invalid = |item: &str, detail: String| Error::InvalidDynamics {
             item: item.to_string(),
             detail,
@@ -253,6 +354,7 @@ impl Dynamics {
                     .to_string(),
             ));
         }
+        let on = self.force_bodies(s, unit)?;
         let spatial = self.dim == 3;
         // Rows per body: the force's x and y and the moment's z in a
         // planar mechanism; every component in a spatial one.
@@ -321,31 +423,36 @@ impl Dynamics {
                 Vector3::new(v.x, v.y, 0.0)
             }
         };
-        for (k, (p, body, f)) in self.forces.iter().enumerate() {
+        for ((p, _, f), body) in self.forces.iter().zip(&on) {
+            // A force on the frame enters no body's equations.
             let Some(b) = *body else {
-                let name = self
-                    .load_names
-                    .forces
-                    .get(k)
-                    .map_or_else(|| format!("number {}", p + 1), |n| format!("`{n}`"));
-                return Err(invalid(
-                    "a force",
-                    format!(
-                        "the force at point {name} does not say which body it acts on, which the \
-                         joint reactions need: write `force({n}, …, on = body)` in the \
-                         definition's `loads`, or `.force_on(\"body\", \"{n}\", …)` with the \
-                         builder",
-                        n = name.trim_matches('`')
-                    ),
-                ));
+                continue;
             };
             let at = point(*p);
             let f = planar(Vector3::from(f(&instant(at))));
+            if let Some(v) = f.iter().find(|v| !v.is_finite()) {
+                return Err(invalid(
+                    "a force",
+                    format!(
+                        "the force at point `{}` is {v} at this pose; a load must be finite",
+                        self.point_name(*p)
+                    ),
+                ));
+            }
             load(b, -f, -(at[0] - centre(b)).cross(&f));
         }
         for (b, t) in &self.torques {
             let at = point(self.bodies[*b].center);
             let t = Vector3::from(t(&instant(at)));
+            if let Some(v) = t.iter().find(|v| !v.is_finite()) {
+                return Err(invalid(
+                    "a torque",
+                    format!(
+                        "the torque on body `{}` is {v} at this pose; a load must be finite",
+                        self.bodies[*b].name
+                    ),
+                ));
+            }
             let t = if spatial {
                 t
             } else {
@@ -403,10 +510,7 @@ impl Dynamics {
             }
         }
         if !(a.iter().all(|v| v.is_finite()) && rhs.iter().all(|v| v.is_finite())) {
-            return Err(invalid(
-                "joints",
-                "a position, acceleration or load at this pose is not finite".to_string(),
-            ));
+            return Err(invalid("joints", self.not_finite(s)));
         }
         let x = solve(&a, &rhs).map_err(|why| invalid("joints", why))?;
         let mut out = Vec::with_capacity(self.joints.len());
@@ -505,4 +609,56 @@ fn solve(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, String> {
         ));
     }
     Ok(x)
+}
+
+impl Dynamics {
+    /// Point `p`'s name, for messages.
+    fn point_name(&self, p: usize) -> &str {
+        self.load_names.points.get(p).map_or("?", String::as_str)
+    }
+
+    /// What is not finite in the motion `s` where the reactions' system
+    /// is: the first body's centre of mass, joint or spring end whose
+    /// position, velocity or acceleration is not, named.
+    fn not_finite(&self, s: &dyn View) -> String {
+        let bad = |p: usize| {
+            s.point(p)
+                .is_none_or(|[r, v, a]| !r.iter().chain(&v).chain(&a).all(|x| x.is_finite()))
+        };
+        let tail = "at this pose: check the parameters and the motion given (a parameter or a \
+                    rate that is NaN or infinite)";
+        if let Some(b) = self.bodies.iter().find(|b| bad(b.center)) {
+            return format!(
+                "the centre of mass `{}` of body `{}` has a position, velocity or acceleration \
+                 that is not finite {tail}",
+                self.point_name(b.center),
+                b.name
+            );
+        }
+        if let Some(j) = self.joints.iter().find(|j| bad(j.at)) {
+            return format!(
+                "the point `{}` of joint `{}` has a position, velocity or acceleration that is \
+                 not finite {tail}",
+                self.point_name(j.at),
+                j.name
+            );
+        }
+        if let Some(sp) = self.springs.iter().find(|sp| bad(sp.from) || bad(sp.to)) {
+            return format!(
+                "the spring from `{}` to `{}` has an end that is not finite {tail}",
+                self.point_name(sp.from),
+                self.point_name(sp.to)
+            );
+        }
+        if let Some(b) = self.bodies.iter().find(|b| {
+            let (omega, alpha, _) = super::evaluate::turning(b, s);
+            !omega.iter().chain(&alpha).all(|x| x.is_finite())
+        }) {
+            return format!(
+                "the angular velocity or acceleration of body `{}` is not finite {tail}",
+                b.name
+            );
+        }
+        format!("a value of the equations of motion is not finite {tail}")
+    }
 }

@@ -28,7 +28,7 @@ use alloc::vec::Vec;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::evaluate::{finite_load, padded, Generated, Instant, View};
+use super::evaluate::{padded, Generated, Instant, LoadAt, View};
 use super::{ConstantPartials, Dynamics, LoadPartials, Turns};
 use crate::error::{Error, Input};
 use crate::mechanism::{FrameState, MotionState};
@@ -289,7 +289,7 @@ impl Dynamics {
         {
             let at = instant(s.point(*p));
             let value = Vector3::from(f(&at));
-            finite_load(value.iter().copied(), "a force", i)?;
+            self.finite_load(value.iter().copied(), LoadAt::Force(i))?;
             forces.push(differentiate(value, partials.as_ref(), &at, force_mask));
         }
         let mut torques = Vec::with_capacity(self.torques.len());
@@ -301,7 +301,7 @@ impl Dynamics {
         {
             let at = instant(self.bodies.get(*b).and_then(|b| s.point(b.center)));
             let value = Vector3::from(t(&at));
-            finite_load(value.iter().copied(), "a torque", i)?;
+            self.finite_load(value.iter().copied(), LoadAt::Torque(i))?;
             torques.push(differentiate(value, partials.as_ref(), &at, torque_mask));
         }
         let mut coordinate_forces = Vec::with_capacity(self.coordinate_forces.len());
@@ -313,7 +313,7 @@ impl Dynamics {
         {
             let at = instant(None);
             let value = Vector3::new(f(&at), 0.0, 0.0);
-            finite_load(value.iter().copied(), "a force on a coordinate", i)?;
+            self.finite_load(value.iter().copied(), LoadAt::Coordinate(i))?;
             coordinate_forces.push(differentiate(value, partials.as_ref(), &at, scalar_mask));
         }
         // The frames' R, ω, α and their partials at the motion, per body.

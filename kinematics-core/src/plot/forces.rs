@@ -14,7 +14,8 @@ use crate::mechanism::Kind;
 /// effort against the swept variable (degrees for an angle) with its mean
 /// over the range as a thin line of the same colour, then the shaking
 /// force on the frame as a polar diagram (F_y against F_x, the tip of the
-/// force vector over the cycle), and where the sweep has the joint
+/// force vector over the cycle), its inertial part −Σ m a_G beside the
+/// total with the weights and loads (Norton's), and where the sweep has the joint
 /// reactions, each joint's force as a polar diagram likewise.
 ///
 /// ```
@@ -106,16 +107,28 @@ pub fn plot_forces(forces: &ForceSweep, path: &Path) -> Result<(), Error> {
     if let Some(area) = areas.first() {
         panel(area, "driver efforts", &x_title, y_title, &curves, path)?;
     }
-    let polar = [Curve {
-        label: "F_s".to_owned(),
-        points: forces
-            .samples
-            .iter()
-            .map(|s| (s.shaking_force.x, s.shaking_force.y))
-            .collect(),
-        color: PALETTE[1],
-        width: 2,
-    }];
+    let polar = [
+        Curve {
+            label: "inertial, −Σ m a_G".to_owned(),
+            points: forces
+                .samples
+                .iter()
+                .map(|s| (s.shaking_force.x, s.shaking_force.y))
+                .collect(),
+            color: PALETTE[1],
+            width: 2,
+        },
+        Curve {
+            label: "total, with weights and loads".to_owned(),
+            points: forces
+                .samples
+                .iter()
+                .map(|s| (s.frame_force.x, s.frame_force.y))
+                .collect(),
+            color: PALETTE[2],
+            width: 2,
+        },
+    ];
     if let Some(area) = areas.get(1) {
         panel(
             area,

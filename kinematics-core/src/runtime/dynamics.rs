@@ -309,7 +309,10 @@ impl Dynamics {
     /// As [`Dynamics::reactions`].
     pub fn reactions_of(&self, model: &Model, motion: &Motion) -> Result<Reactions, Error> {
         self.fits_model(model)?;
-        self.reactions_in(&RunTime(motion))
+        self.reactions_in(
+            &RunTime(motion),
+            &mut unit_analyses(model, &motion.q, self.drivers),
+        )
     }
 }
 

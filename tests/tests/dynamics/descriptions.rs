@@ -278,19 +278,52 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
             .contains("5 unknown reaction components for the 6 equations"),
         "{e}"
     );
-    let unplaced = Dynamics::builder()
-        .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+    // A force that names no body acts on the one its point moves with: B
+    // on the crank, as if named.
+    let crank = || {
+        Dynamics::builder()
+            .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+            .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+    };
+    let unplaced = crank()
         .force("B", |_| [1.0, 0.0, 0.0])
-        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
         .build::<Engine>()
         .expect("builds");
-    let e = unplaced
+    let placed = crank()
+        .force_on("crank", "B", |_| [1.0, 0.0, 0.0])
+        .build::<Engine>()
+        .expect("builds");
+    assert_eq!(
+        unplaced
+            .reactions(&engine, &motion)
+            .expect("B is on the crank"),
+        placed.reactions(&engine, &motion).expect("named")
+    );
+    // At the crank pin, B is on the crank and on the rod: named by its
+    // point and the two bodies, in both syntaxes.
+    let pinned = Dynamics::builder()
+        .body(Body::new("crank", 1.0).center("G2").angle("phi"))
+        .body(Body::new("rod", 1.0).center("G3").angle("th"))
+        .body(Body::new("piston", 1.0).center("C"))
+        .force("B", |_| [1.0, 0.0, 0.0])
+        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
+        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
+        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
+        .joint(Joint::prismatic(
+            "cylinder",
+            "C",
+            GROUND,
+            "piston",
+            [1.0, 0.0],
+        ))
+        .build::<Engine>()
+        .expect("builds");
+    let e = pinned
         .reactions(&engine, &motion)
-        .expect_err("the force has no body");
-    // Named by its point, in both syntaxes.
+        .expect_err("B is on two bodies");
     assert!(
         e.to_string()
-            .contains("the force at point `B` does not say which body it acts on")
+            .contains("the force at point `B` names no body, and `B` moves with `crank` and `rod`")
             && e.to_string().contains("`force(B, …, on = body)`")
             && e.to_string().contains("`.force_on(\"body\", \"B\", …)`"),
         "{e}"
@@ -306,7 +339,22 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
         .inverse(&engine, &motion)
         .expect_err("the force is infinite");
     assert!(
-        e.to_string().contains("a force") && e.to_string().contains("must be finite"),
+        e.to_string().contains("the force at point `C`")
+            && e.to_string().contains("must be finite"),
+        "{e}"
+    );
+    // A motion that is not finite where the reactions read it: named by
+    // the body whose centre of mass it is (G3, the third point, the rod's).
+    let mut motion = engine_motion(&engine, 0.5, 10.0, 0.0);
+    motion.points[2].acceleration.x = f64::NAN;
+    let e = engine_with_joints()
+        .build::<Engine>()
+        .expect("builds")
+        .reactions(&engine, &motion)
+        .expect_err("not finite");
+    assert!(
+        e.to_string()
+            .contains("the centre of mass `G3` of body `rod` has a position, velocity or acceleration that is not finite"),
         "{e}"
     );
     // Built for one mechanism, used with another.

@@ -436,7 +436,8 @@ fn the_mean_torque_and_energy_fluctuation_of_a_turn() -> Result<(), Error> {
     let header = csv.lines().next().expect("a header");
     assert_eq!(
         header,
-        "phi (deg),Q_phi (N·m),T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m)"
+        "phi (deg),Q_phi (N·m),T (J),V (J),P (W),Fs_x (N),Fs_y (N),Fs_z (N),Ms_x (N·m),Ms_y (N·m),Ms_z (N·m),\
+         Ff_x (N),Ff_y (N),Ff_z (N),Mf_x (N·m),Mf_y (N·m),Mf_z (N·m)"
     );
     assert_eq!(csv.lines().count(), 1442);
     Ok(())
@@ -564,7 +565,9 @@ fn a_sweep_of_forces_carries_the_joint_reactions() -> Result<(), Box<dyn std::er
         header.ends_with(",R_bearing_x (N),R_bearing_y (N),M_bearing (N·m),R_crank pin_x (N),R_crank pin_y (N),M_crank pin (N·m),R_piston pin_x (N),R_piston pin_y (N),M_piston pin (N·m),R_cylinder_x (N),R_cylinder_y (N),M_cylinder (N·m)"),
         "{header}"
     );
-    assert_eq!(csv.lines().nth(1).map(|l| l.split(',').count()), Some(23));
+    // The sweep, 1 effort, 3 energies and power, 4 vectors of 3, 4 joints
+    // of 3.
+    assert_eq!(csv.lines().nth(1).map(|l| l.split(',').count()), Some(29));
     // The same sweep of the engine compiled at run time.
     let model = kinematics_core::runtime::Model::compile(ENGINE_TEXT)?.with_values(&[A, B, R3])?;
     let at_run_time = engine_with_joints().build_for(&model)?;

@@ -97,6 +97,64 @@ fn an_engines_joint_reactions_are_the_newton_euler_ones() -> Result<(), Error> {
     Ok(())
 }
 
+/// The total force and moment of the engine on its frame (Norton's shaking
+/// force: weights and the gas force included) from the virtual-power sums,
+/// against the ground's reactions of the Newton–Euler solve negated: the
+/// crank's bearing at O, the cylinder's normal force and moment at C and
+/// the driver's torque; and the inertial part alone, −Σ m a_G, differs
+/// from it by the weights and the gas force.
+#[test]
+fn the_engines_force_on_its_frame_is_its_ground_reactions() -> Result<(), Error> {
+    let m = Engine { a: A, b: B, r3: R3 };
+    let dynamics = engine_with_joints().build::<Engine>()?;
+    for k in 0..24 {
+        let phi = TAU * f64::from(k) / 24.0 + 0.03;
+        let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
+        let motion = engine_motion(&m, phi, w, al);
+        let (f, r) = (
+            dynamics.inverse(&m, &motion)?,
+            dynamics.reactions(&m, &motion)?,
+        );
+        let get = |name: &str| r.get(name).expect("a joint of the engine");
+        let (bearing, cylinder) = (get("bearing"), get("cylinder"));
+        let x = motion.q.x;
+        let scale = bearing.force.norm() + cylinder.force.norm();
+        let near = |p: f64, q: f64, what: &str| {
+            assert!(
+                (p - q).abs() <= 1e-11 * scale,
+                "{what} at {phi}: {p} against {q}"
+            );
+        };
+        near(
+            f.frame_force.x,
+            -(bearing.force.x + cylinder.force.x),
+            "force x",
+        );
+        near(
+            f.frame_force.y,
+            -(bearing.force.y + cylinder.force.y),
+            "force y",
+        );
+        // About O: the bearing's force passes through it; the cylinder's
+        // acts at C = (x, 0); the driver's torque reacts on the frame.
+        let torque = bearing.effort.expect("driven");
+        let at_c = x * cylinder.force.y;
+        near(
+            f.frame_moment.z,
+            -(torque + at_c + cylinder.moment.z),
+            "moment",
+        );
+        let weights = -G * (M2 + M3 + M4);
+        near(
+            f.frame_force.x - f.shaking_force.x,
+            -gas(x),
+            "the gas force",
+        );
+        near(f.frame_force.y - f.shaking_force.y, weights, "the weights");
+    }
+    Ok(())
+}
+
 /// The gas force given as a force on the piston's coordinate x, acting in
 /// the cylinder joint that x measures: the same reactions and torque as
 /// the force applied to the piston at C; without the joint named, a clear
