@@ -352,9 +352,10 @@ pub(super) fn shown(m: &Model, j: usize, value: f64, angle: AngleUnit) -> String
 
 /// Every assembly at the drivers of `q`, as `check --at` prints it: its
 /// number, its modes, its unknowns (angles in degrees) and, for a block
-/// of two angles, their difference (the angle at their joint, which
-/// tells one assembly from its mirror image), or why it does not
-/// assemble there.
+/// of two angles (a dyad), the side of the line through its two ends its
+/// joint lies on ("C left of B→D") and the difference of the angles (the
+/// angle at the joint), which tell one assembly from its mirror image; or
+/// why it does not assemble there.
 pub(super) fn assemblies(m: &Model, q: &[f64]) -> String {
     let mut out = String::new();
     let at: Vec<String> = (0..m.drivers())
@@ -380,7 +381,14 @@ pub(super) fn assemblies(m: &Model, q: &[f64]) -> String {
                         let d = (p[c] - p[a]).to_degrees().rem_euclid(360.0);
                         let d = if d > 180.0 { d - 360.0 } else { d };
                         let (na, nc) = (m.coordinates()[a].name, m.coordinates()[c].name);
-                        let _ = write!(out, " ({nc} − {na} = {d:.4}°)");
+                        match super::sides::side(m, &p, &modes, [a, c]) {
+                            Some(side) => {
+                                let _ = write!(out, " ({side}; {nc} − {na} = {d:.4}°)");
+                            }
+                            None => {
+                                let _ = write!(out, " ({nc} − {na} = {d:.4}°)");
+                            }
+                        }
                     }
                 }
                 out.push('\n');

@@ -43,6 +43,7 @@ use kinematics_core::runtime::{CompileError, Model};
 mod input;
 mod merit;
 mod report;
+mod sides;
 mod sweep;
 
 use input::{assemblies, driver_values, params_file, pose, set_parameters, ParamsFile};

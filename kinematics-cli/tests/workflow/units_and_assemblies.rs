@@ -104,6 +104,9 @@ fn check_at_lists_every_assembly_against_the_closed_form() {
         // The angle at C between the two links, as printed.
         let d = degrees_of(line, "th4 − th3");
         assert!(same_angle(d, exact[k].1 - exact[k].0), "{line}");
+        // The side of C named as the closed form builds it.
+        let side = ["C left of B→D", "C right of B→D"][k];
+        assert!(line.contains(side), "{line} does not say {side}");
     }
     assert_eq!(found, [true, true]);
     std::fs::remove_dir_all(&dir).ok();

@@ -463,6 +463,18 @@ impl Model {
         self.point_dim
     }
 
+    /// The positions of the points at the coordinates `q` (drivers
+    /// first), whether or not q closes the loops: r_k(q) as the definition
+    /// writes each point, [`Self::point_dimension`] components per point
+    /// in declaration order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidGeometry`] for a `q` of the wrong length.
+    pub fn point_positions(&self, q: &[f64]) -> Result<Vec<f64>, Error> {
+        self.length("coordinates", self.coordinates.len(), q.len())?;
+        Ok(self.positions(q))
+    }
+
     /// The frames' names, in declaration order.
     #[must_use]
     pub fn frame_names(&self) -> &[Name] {
