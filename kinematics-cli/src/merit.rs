@@ -1,14 +1,18 @@
 //! The figures of merit `kinematics sweep` prints after its summary
 //! ([`kinematics_core::merit`]): for every unknown, its dead centres over
-//! the sweep, the stroke of every length, the time ratio where the sweep
+//! the sweep, the stroke of every length, its least mechanical advantage
+//! (the driver's rate over its own), the time ratio where the sweep
 //! is a turn and the output has one forward and one return stroke; for
 //! every block of two unknown angles (a dyad whose links they are), the
 //! transmission angle's extremes.
 
 use std::fmt::Write as _;
 
-use kinematics_core::merit::{dead_centres, stroke, time_ratio, transmission};
+use kinematics_core::merit::{
+    dead_centres, mechanical_advantage, stroke, time_ratio, transmission,
+};
 use kinematics_core::runtime::{Model, Sweep};
+use kinematics_core::sweep::Table;
 use kinematics_core::units::AngleUnit;
 use kinematics_core::Kind;
 
@@ -62,6 +66,15 @@ pub(super) fn figures(
                 })
                 .collect();
             let _ = write!(line, " dead centres: {}", listed.join(", "));
+        }
+        if let Ok(ma) = mechanical_advantage(sweep, name) {
+            let _ = write!(
+                line,
+                "; mechanical advantage |{}'/{name}'| at least {:.6} at {}",
+                sweep.variable(),
+                ma.least.1,
+                at(ma.least.0)
+            );
         }
         if let Ok(r) = time_ratio(sweep, name) {
             let _ = write!(

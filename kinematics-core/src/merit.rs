@@ -1,8 +1,9 @@
 //! Figures of merit a linkage designer checks first: the Grashof class of
 //! a four-bar, the transmission angle of a dyad over the cycle, the dead
 //! centres of an output (where its rate changes sign: the limit
-//! positions of a rocker or a slider), the stroke of a slider, and the
-//! time ratio of a quick-return. Each works on a [`Table`], so that a
+//! positions of a rocker or a slider), the stroke of a slider, the time
+//! ratio of a quick-return, and the mechanical advantage of an output.
+//! Each works on a [`Table`], so that a
 //! sweep of a generated mechanism and one of a run-time model give the
 //! same figures through the same code.
 //!
@@ -467,6 +468,81 @@ fn slopes<T: Table + ?Sized>(table: &T, j: usize) -> Result<Vec<Slope>, Error> {
             })
         })
         .collect()
+}
+
+/// The mechanical advantage of an output over a sweep: the ratio of the
+/// output's effort to the input's with no losses and no inertia, from the
+/// conservation of power Q_in φ' = Q_out q': MA = Q_out / Q_in = φ' / q',
+/// the swept driver's rate over the output's (N·m per N·m for an angle
+/// output, N per N·m, 1/m, for a length). It is infinite at the
+/// output's dead centres (the toggle positions, where q' = 0), and
+/// smallest where the linkage transmits force worst.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MechanicalAdvantage {
+    /// MA at every sample, signed (negative where the output moves against
+    /// the input's sense); ±∞ where the output's rate is 0.
+    pub values: Vec<f64>,
+    /// The least |MA| and the swept value where it occurs.
+    pub least: (f64, f64),
+}
+
+/// The mechanical advantage of coordinate `output` at every sample of
+/// `table` ([`MechanicalAdvantage`]).
+///
+/// ```
+/// use kinematics_core::{mechanism, merit::mechanical_advantage};
+/// mechanism! {
+///     /// A lever pair: the output turns at half the input's rate.
+///     pub struct Half {
+///         params { r } drivers { phi } unknowns { th }
+///         points { A = polar(r, th); }
+///         loops  { vec2(cos(th), sin(th)) == vec2(cos(phi / 2.0), sin(phi / 2.0)); }
+///     }
+/// }
+/// let m = Half { r: 1.0 };
+/// let s = m.sweep(Half::PHI, &HalfCoords { phi: 0.0, th: 0.0 }).to(1.0).steps(4).run();
+/// let ma = mechanical_advantage(&s, "th")?;
+/// assert!(ma.values.iter().all(|v| (v - 2.0).abs() < 1e-12));
+/// # Ok::<(), kinematics_core::Error>(())
+/// ```
+///
+/// # Errors
+/// [`Error::InvalidGeometry`] for a name that is not a coordinate of the
+/// table (or is the swept driver), or a table with no samples.
+pub fn mechanical_advantage<T: Table + ?Sized>(
+    table: &T,
+    output: &str,
+) -> Result<MechanicalAdvantage, Error> {
+    let j = index(table, output, "mechanical_advantage")?;
+    nonempty(table, "mechanical_advantage")?;
+    let driver = table
+        .coordinates()
+        .iter()
+        .position(|c| c.name == table.variable());
+    if driver == Some(j) {
+        return Err(Error::InvalidGeometry {
+            what: "mechanical_advantage",
+            detail: format!("`{output}` is the swept driver: name an output coordinate"),
+        });
+    }
+    let values: Vec<f64> = (0..table.rows())
+        .map(|i| {
+            let rate = driver.map_or(1.0, |d| table.coordinate(i, d, 1));
+            let out = table.coordinate(i, j, 1);
+            if out == 0.0 {
+                f64::INFINITY.copysign(rate)
+            } else {
+                rate / out
+            }
+        })
+        .collect();
+    let mut least = (table.at(0), values[0].abs());
+    for (i, v) in values.iter().enumerate() {
+        if v.abs() < least.1 {
+            least = (table.at(i), v.abs());
+        }
+    }
+    Ok(MechanicalAdvantage { values, least })
 }
 
 /// For a sweep of one full turn of an angle driver, the period to add to

@@ -15,7 +15,7 @@ if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
     from ._model import Mechanism, MechanismType
-    from .merit import DeadCentre, Stroke, TimeRatio, Transmission
+    from .merit import DeadCentre, MechanicalAdvantage, Stroke, TimeRatio, Transmission
 
 __all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch", "Link"]
 
@@ -367,6 +367,24 @@ class Sweep:
         from .merit import _transmission
 
         return _transmission(self._native.figure("transmission", [first, second]))
+
+    def mechanical_advantage(self, output: str) -> "MechanicalAdvantage":
+        """The mechanical advantage of the coordinate ``output`` at every
+        sample: MA = φ'/q', the swept driver's rate over the output's,
+        which is the ratio of the output's effort to the input's with no
+        losses and no inertia (N·m per N·m for an angle output, N per N·m
+        for a length; ±inf at the output's dead centres), with its least
+        magnitude and where it occurs.
+
+        Raises:
+            InvalidGeometryError: a name that is not a coordinate, or the
+                swept driver itself.
+        """
+        from .merit import MechanicalAdvantage
+
+        values, (at, least) = self._native.figure("mechanical_advantage", [output])
+        values.flags.writeable = False
+        return MechanicalAdvantage(values, least, at)
 
     def __repr__(self) -> str:
         end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"

@@ -1,10 +1,12 @@
 """Figures of merit a linkage designer checks first: the Grashof class of a
 four-bar, and over a sweep the transmission angle between two links, the
-dead centres of an output, its stroke and a quick-return's time ratio.
+dead centres of an output, its stroke, its mechanical advantage and a
+quick-return's time ratio.
 
 The sweep's figures are methods of :class:`loopkin.Sweep`
 (:meth:`~loopkin.Sweep.dead_centres`, :meth:`~loopkin.Sweep.stroke`,
-:meth:`~loopkin.Sweep.time_ratio`, :meth:`~loopkin.Sweep.transmission`);
+:meth:`~loopkin.Sweep.time_ratio`, :meth:`~loopkin.Sweep.transmission`,
+:meth:`~loopkin.Sweep.mechanical_advantage`);
 they are computed in native code by the library's ``merit`` module, the
 same code that serves the Rust crate and the ``kinematics`` command::
 
@@ -22,7 +24,7 @@ import numpy as np
 
 from . import _native
 
-__all__ = ["Grashof", "grashof", "DeadCentre", "Stroke", "TimeRatio", "Transmission"]
+__all__ = ["Grashof", "grashof", "DeadCentre", "Stroke", "TimeRatio", "Transmission", "MechanicalAdvantage"]
 
 
 @dataclass(frozen=True)
@@ -109,3 +111,16 @@ def _transmission(raw: Tuple[np.ndarray, Tuple[float, float], Tuple[float, float
     values, (at_min, lo), (at_max, hi) = raw
     values.flags.writeable = False
     return Transmission(values, lo, at_min, hi, at_max)
+
+
+@dataclass(frozen=True)
+class MechanicalAdvantage:
+    """An output's mechanical advantage at every sample (``values``): the
+    ratio of its effort to the input's with no losses and no inertia,
+    MA = φ'/q' by the conservation of power (the swept driver's rate over
+    the output's; signed, ±inf at the output's dead centres), and the
+    least ``|MA|`` with the swept value where it occurs."""
+
+    values: np.ndarray
+    least: float
+    at_least: float

@@ -61,8 +61,9 @@ pub(crate) fn grashof(
 
 /// One figure of the sweep `c` as Python values: "dead_centres" of
 /// `names[0]` (a list of (at, value, is_maximum)), its "stroke" (min,
-/// max), its "time_ratio" (rising, falling), or the "transmission" angle
-/// between `names[0]` and `names[1]` (values, (at, min), (at, max)).
+/// max), its "time_ratio" (rising, falling), its "mechanical_advantage"
+/// (values, (at, least |MA|)), or the "transmission" angle between
+/// `names[0]` and `names[1]` (values, (at, min), (at, max)).
 pub(crate) fn figure<'py>(
     py: Python<'py>,
     c: &Columns,
@@ -98,9 +99,16 @@ pub(crate) fn figure<'py>(
                 .into_pyobject(py)?
                 .into_any()
         }
+        "mechanical_advantage" => {
+            let ma = merit::mechanical_advantage(c, first).map_err(failed)?;
+            (array(py, ma.values), ma.least)
+                .into_pyobject(py)?
+                .into_any()
+        }
         other => {
             return Err(PyValueError::new_err(format!(
-                "no figure {other:?}: dead_centres, stroke, time_ratio or transmission"
+                "no figure {other:?}: dead_centres, stroke, time_ratio, transmission or \
+                 mechanical_advantage"
             )))
         }
     })

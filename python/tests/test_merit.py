@@ -53,6 +53,22 @@ def test_transmission_angle_from_the_law_of_cosines(FourBar):
     assert close(t.worst_departure, max(math.pi / 2 - mu[0], mu[180] - math.pi / 2), 1e-12)
 
 
+def test_mechanical_advantage_from_the_velocity_loop(FourBar):
+    """ω2/ω4 = c sin(θ4 − θ3) / (a sin(φ − θ3)): the velocity loop dotted
+    with the coupler's direction, which drops ω3."""
+    a, c = 0.04, 0.10
+    m = FourBar(a=a, b=0.12, c=c, d=0.11, p=0.06, beta=0.5)
+    sw = m.sweep("phi", start=m.assemble(phi=0.0, th3=1.0, th4=1.6), turn=True, steps=120, rate=5.0)
+    ma = sw.mechanical_advantage("th4")
+    exact = c * np.sin(sw["th4"] - sw["th3"]) / (a * np.sin(sw.at - sw["th3"]))
+    assert close(ma.values, exact, 1e-9, np.abs(exact))
+    k = int(np.argmin(np.abs(exact)))
+    assert close(ma.least, abs(exact[k]), 1e-9) and close(ma.at_least, sw.at[k], 1e-12)
+    assert ma.values.flags.writeable is False
+    with pytest.raises(InvalidGeometryError, match="swept driver"):
+        sw.mechanical_advantage("phi")
+
+
 def test_offset_slider_crank_stroke_and_time_ratio():
     a, b, e = 1.0, 3.0, 1.0
     m = mechanism("slider_crank")(a=a, b=b, e=e)

@@ -102,6 +102,41 @@ fn the_four_bars_transmission_angle_as_printed() {
         (after(&stdout, line, "° at phi = 0° to ") - mu(PI)).abs() < 1e-4,
         "{stdout}"
     );
+    // The least mechanical advantage of the rocker, ω2/ω4 = c sin(θ4 −
+    // θ3) / (a sin(φ − θ3)) from the velocity loop, at the sample the
+    // line names, its angles read from the CSV.
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("th4:"))
+        .expect("a th4 line");
+    let label = "mechanical advantage |phi'/th4'| at least ";
+    let rest = &line[line.find(label).expect("the advantage") + label.len()..];
+    // "1.524191 at phi = 344°; …"
+    let (least, rest) = rest.split_once(" at phi = ").expect("where");
+    let least: f64 = least.parse().expect("a number");
+    let phi_deg: f64 = rest[..rest.find('°').expect("°")]
+        .parse()
+        .expect("a number");
+    let csv = std::fs::read_to_string(dir.join("sweep.csv")).expect("the CSV");
+    let mut lines = csv.lines();
+    let headers: Vec<&str> = lines.next().expect("headers").split(',').collect();
+    let column = |name: &str| headers.iter().position(|h| *h == name).expect("a column");
+    let (k3, k4) = (column("th3_deg"), column("th4_deg"));
+    let row: Vec<f64> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().expect("a number"))
+                .collect::<Vec<f64>>()
+        })
+        .find(|r| (r[0] - phi_deg).abs() < 1e-9)
+        .expect("the sample");
+    let (phi, t3, t4) = (
+        row[0].to_radians(),
+        row[k3].to_radians(),
+        row[k4].to_radians(),
+    );
+    let exact = (c * (t4 - t3).sin() / (a * (phi - t3).sin())).abs();
+    assert!((least - exact).abs() < 1e-6, "{least} against {exact}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -7,13 +7,14 @@
 //! ratio (π + α)/(π − α), α = asin(e/(b − a)) − asin(e/(a + b)) (checked
 //! beforehand against a 30-digit search for the extremes of x(φ)); each
 //! through a generated mechanism's sweep and a run-time model's, which
-//! read through the same code.
+//! read through the same code; the four-bar's mechanical advantage
+//! ω2/ω4 = c sin(θ4 − θ3) / (a sin(φ − θ3)), from the velocity loop.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::f64::consts::PI;
 
 use kinematics_core::merit::{
-    dead_centres, grashof, stroke, time_ratio, transmission, GrashofClass,
+    dead_centres, grashof, mechanical_advantage, stroke, time_ratio, transmission, GrashofClass,
 };
 use kinematics_core::runtime::Model;
 use kinematics_core::sweep::Table;
@@ -126,6 +127,55 @@ fn four_bar_transmission_angle_from_the_law_of_cosines() {
         assert!((t.worst_departure() - (mu(PI) - PI / 2.0).max(PI / 2.0 - mu(0.0))).abs() < 1e-12);
     }
     assert!(transmission(&generated, "th3", "psi").is_err());
+}
+
+#[test]
+fn four_bar_mechanical_advantage_from_the_velocity_loop() {
+    let m = FourBar::CRANK_ROCKER;
+    let (a, c) = (m.a, m.c);
+    // The velocity loop a ω2 e(φ)⊥ + b ω3 e(θ3)⊥ = c ω4 e(θ4)⊥, dotted
+    // with e(θ3) to drop ω3: a ω2 sin(φ − θ3) = c ω4 sin(θ4 − θ3).
+    let exact = |phi: f64, t3: f64, t4: f64| c * (t4 - t3).sin() / (a * (phi - t3).sin());
+    let generated = m
+        .sweep(FourBar::PHI, &FourBar::CRANK_ROCKER_GUESS)
+        .turn()
+        .steps(360)
+        .rate(7.0)
+        .run();
+    let run_time = model("FourBar", &[a, m.b, c, m.d, m.p, m.beta]);
+    let start = [
+        0.0,
+        FourBar::CRANK_ROCKER_GUESS.th3,
+        FourBar::CRANK_ROCKER_GUESS.th4,
+    ];
+    let run_time = run_time
+        .sweep("phi", &start)
+        .expect("a driver")
+        .turn()
+        .steps(360)
+        .rate(7.0)
+        .run();
+    let tables: [&dyn Table; 2] = [&generated, &run_time];
+    for table in tables {
+        let ma = mechanical_advantage(table, "th4").expect("an output");
+        let mut least = f64::INFINITY;
+        for (i, &v) in ma.values.iter().enumerate() {
+            let (phi, t3, t4) = (
+                table.at(i),
+                table.coordinate(i, 1, 0),
+                table.coordinate(i, 2, 0),
+            );
+            let want = exact(phi, t3, t4);
+            assert!(
+                (v - want).abs() <= 1e-9 * want.abs(),
+                "φ = {phi}: {v} against {want}"
+            );
+            least = least.min(want.abs());
+        }
+        assert!((ma.least.1 - least).abs() <= 1e-9 * least);
+    }
+    assert!(mechanical_advantage(&generated, "phi").is_err());
+    assert!(mechanical_advantage(&generated, "psi").is_err());
 }
 
 #[test]
