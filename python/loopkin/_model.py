@@ -7,6 +7,7 @@ import copyreg
 import math
 import os
 import threading
+import warnings
 from typing import (
     Any,
     Dict,
@@ -24,7 +25,7 @@ from typing import (
 import numpy as np
 
 from . import _native
-from .errors import CannotAssembleError
+from .errors import CannotAssembleError, RadiansWarning
 
 __all__ = [
     "compile",
@@ -42,6 +43,10 @@ ArrayLike = Union[Sequence[float], np.ndarray]
 M = TypeVar("M", bound="Mechanism")
 
 _classes: Dict[str, Type["Mechanism"]] = {}
+
+# An angle written as a plain number above two turns (4π) was likely meant
+# in degrees: `90` is 14.3 turns.
+_TWO_TURNS = 4.0 * math.pi
 _lock = threading.Lock()
 
 
@@ -75,10 +80,24 @@ def compile(text: str) -> Type["Mechanism"]:  # noqa: A001 (the language's word)
         f"Construct a design with its parameters as keywords: "
         f"{native.name}({names}).\n"
     )
+    coordinates = native.coordinates
+    names = tuple(c[0] for c in coordinates)
     cls = MechanismType(
         native.name,
         (Mechanism,),
-        {"__doc__": doc, "_native": native, "__module__": __name__.rsplit(".", 1)[0]},
+        {
+            "__doc__": doc,
+            "_native": native,
+            "__module__": __name__.rsplit(".", 1)[0],
+            # What every call reads, read from the native object once.
+            "_coords": names,
+            "_where": {n: i for i, n in enumerate(names)},
+            "_kinds": {c[0]: c[2] for c in coordinates},
+            "_points": tuple(native.points),
+            "_point_where": {n: i for i, n in enumerate(native.points)},
+            "_frames": tuple(native.frames),
+            "_nd": int(native.drivers),
+        },
     )
     with _lock:
         return _classes.setdefault(text, cls)
@@ -104,6 +123,13 @@ class MechanismType(type):
     """The metaclass of compiled mechanisms: a class pickles as its text."""
 
     _native: "_native.Model"
+    _coords: Tuple[str, ...]
+    _where: Dict[str, int]
+    _kinds: Dict[str, str]
+    _points: Tuple[str, ...]
+    _point_where: Dict[str, int]
+    _frames: Tuple[str, ...]
+    _nd: int
 
     @property
     def text(cls) -> str:
@@ -117,6 +143,7 @@ class MechanismType(type):
 copyreg.pickle(MechanismType, lambda cls: (compile, (cls._native.text,)))
 
 
+from ._forces import _Forces
 from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them too)
     FrameMotion,
     Forces,
@@ -133,7 +160,7 @@ from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them t
     _readonly,
 )
 
-class Mechanism(metaclass=MechanismType):
+class Mechanism(_Forces, metaclass=MechanismType):
     """A design of a compiled mechanism: the class :func:`compile` returns,
     with one value per parameter.
 
@@ -187,32 +214,32 @@ class Mechanism(metaclass=MechanismType):
     @classmethod
     def coordinate_names(cls) -> Tuple[str, ...]:
         """Every coordinate, drivers first."""
-        return tuple(c[0] for c in cls._native.coordinates)
+        return cls._coords
 
     @classmethod
     def driver_names(cls) -> Tuple[str, ...]:
         """The drivers."""
-        return cls.coordinate_names()[: cls._native.drivers]
+        return cls._coords[: cls._nd]
 
     @classmethod
     def unknown_names(cls) -> Tuple[str, ...]:
         """The unknowns."""
-        return cls.coordinate_names()[cls._native.drivers :]
+        return cls._coords[cls._nd :]
 
     @classmethod
     def kinds(cls) -> Dict[str, str]:
         """Each coordinate's kind: "angle" (radians) or "length"."""
-        return {c[0]: c[2] for c in cls._native.coordinates}
+        return dict(cls._kinds)
 
     @classmethod
     def point_names(cls) -> Tuple[str, ...]:
         """The points of interest."""
-        return tuple(cls._native.points)
+        return cls._points
 
     @classmethod
     def frame_names(cls) -> Tuple[str, ...]:
         """The body frames."""
-        return tuple(cls._native.frames)
+        return cls._frames
 
     @classmethod
     def blocks(cls) -> List[Dict[str, Any]]:
@@ -273,7 +300,10 @@ class Mechanism(metaclass=MechanismType):
         Raises:
             KeyError: for a name that is not a coordinate.
         """
-        names = self.coordinate_names()
+        names = self._coords
+        # A pose of this class, as it is: its array is read-only.
+        if not values and type(pose) is Pose and pose._names is names:
+            return pose
         q = np.zeros(len(names))
         if pose is not None:
             for k, v in pose.items():
@@ -288,21 +318,28 @@ class Mechanism(metaclass=MechanismType):
         at ``order`` (0 value, 1 rate, 2 acceleration), in radians for an
         angle."""
         if isinstance(value, str):
-            angle = self.kinds().get(name) == "angle"
+            angle = self._kinds.get(name) == "angle"
             return _native.read_quantity(value, order, angle)
+        if order == 0 and abs(value) > _TWO_TURNS and self._kinds.get(name) == "angle":
+            warnings.warn(
+                f"{name}={value!r} is read as {value!r} rad ({value / (2 * math.pi):.1f} turns); "
+                f"write {name}=\"{value!r}deg\" for degrees",
+                RadiansWarning,
+                stacklevel=3,
+            )
         return value  # type: ignore[return-value]
 
     def _index(self, name: str) -> int:
-        names = self.coordinate_names()
         try:
-            return names.index(name)
-        except ValueError:
+            return self._where[name]
+        except KeyError:
+            names = self._coords
             hint = _hint(name, names)
             raise KeyError(f"{name!r} is not a coordinate of {type(self).__name__}{hint}: they are {list(names)}") from None
 
     def residual(self, pose: Mapping[str, float]) -> np.ndarray:
         """Φ(q), one value per loop equation (0 where the loops close)."""
-        return self._m.residual(list(self.pose(pose).array))
+        return self._m.residual(self.pose(pose).array.tolist())
 
     def assemble(
         self,
@@ -328,9 +365,9 @@ class Mechanism(metaclass=MechanismType):
         """
         q = self.pose(pose, **values)
         if modes is not None:
-            out = self._m.assemble_in(list(q.array), list(modes))
+            out = self._m.assemble_in(q.array.tolist(), list(modes))
             return Pose(q._names, out, modes)
-        out = self._m.assemble(list(q.array), _opts(options))
+        out = self._m.assemble(q.array.tolist(), _opts(options))
         return Pose(q._names, out)
 
     def assemble_all(self, pose: Optional[Mapping[str, float]] = None, **values: float) -> List[Pose]:
@@ -361,7 +398,7 @@ class Mechanism(metaclass=MechanismType):
         where bit j of i is set."""
         q = self.pose(pose, **values)
         out: List[Tuple[Tuple[str, ...], Union[Pose, BaseException]]] = []
-        for modes, result in self._m.assemble_all(list(q.array)):
+        for modes, result in self._m.assemble_all(q.array.tolist()):
             if isinstance(result, BaseException):
                 out.append((tuple(modes), result))
             else:
@@ -373,6 +410,10 @@ class Mechanism(metaclass=MechanismType):
     def _driver_values(
         self, what: str, one: Optional[float], many: Optional[Mapping[str, float]], default: float
     ) -> List[float]:
+        if many is None and (one is None or type(one) is float) and self._nd == 1:
+            return [default if one is None else one]
+        if one is None and many is None:
+            return [default] * self._nd
         drivers = self.driver_names()
         if one is not None and many is not None:
             raise TypeError(f"give {what} or {what}s, not both")
@@ -415,7 +456,7 @@ class Mechanism(metaclass=MechanismType):
         """
         q = self.pose(pose)
         d = self._m.analyze(
-            list(q.array),
+            q.array.tolist(),
             self._driver_values("rate", rate, rates, 0.0),
             self._driver_values("acceleration", acceleration, accelerations, 0.0),
             _opts(options),
@@ -436,97 +477,11 @@ class Mechanism(metaclass=MechanismType):
         in one call."""
         q = self.pose(pose)
         d = self._m.step(
-            list(q.array),
+            q.array.tolist(),
             self._driver_values("rate", rate, rates, 0.0),
             self._driver_values("acceleration", acceleration, accelerations, 0.0),
         )
         return Motion(type(self), d)
-
-    @classmethod
-    def has_dynamics(cls) -> bool:
-        """Whether the definition has a ``bodies`` or ``loads`` section
-        (then :meth:`forces` and :meth:`Sweep.forces` compute forces)."""
-        return bool(cls._native.has_dynamics())
-
-    def forces(self, motion: Motion) -> "Forces":
-        """The forces at a motion of this design (from :meth:`analyze`,
-        :meth:`step` or a sweep's sample), from the definition's
-        ``bodies`` and ``loads`` sections, by virtual power: each driver's
-        effort Q_k = Σ_bodies [m (a_G − g) · ∂v_G/∂ḋ_k + (J α + ω × J ω) ·
-        ∂ω/∂ḋ_k] − Σ_loads (F · ∂v_P/∂ḋ_k + T · ∂ω/∂ḋ_k) (a torque in N·m
-        for an angle driver, a force in N for a length), the kinetic and
-        potential energy, the drivers' power and the shaking force and
-        moment on the frame.
-
-        Raises:
-            InvalidDynamicsError: the definition has neither section.
-            SingularError: at a singular pose.
-        """
-        nd = self._native.drivers
-        d = self._m.forces(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
-        return Forces(self.driver_names(), d)
-
-    def reactions(self, motion: Motion) -> Dict[str, "JointReaction"]:
-        """The force and moment each joint of the definition's ``joints``
-        section carries at a motion of this design, by the Newton–Euler
-        equations of every body of ``bodies`` under the ``loads``: by joint
-        name, in the order declared.
-
-        Raises:
-            InvalidDynamicsError: no ``bodies``/``loads`` section, no
-                joints, or joints that do not determine the reactions.
-            SingularError: at a singular pose.
-        """
-        nd = self._native.drivers
-        out = self._m.reactions(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
-        return {d["name"]: JointReaction(d) for d in out}
-
-    def mass_sensitivities(self, motion: Motion) -> Dict[str, "MassSensitivity"]:
-        """How each driver's effort at a motion changes with each body's
-        mass and moment of inertia, by body name: the efforts are linear in
-        both, so ∂Q_k/∂m = (a_G − g) · ∂v_G/∂ḋ_k and, for a planar body
-        turning by an angle, ∂Q_k/∂J = α ∂ω/∂ḋ_k, exactly: what a
-        counterweight's or a link's mass changes in the driving torque.
-
-        Raises:
-            InvalidDynamicsError: the definition has no ``bodies`` or
-                ``loads`` section.
-        """
-        nd = self._native.drivers
-        out = self._m.mass_sensitivities(
-            list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd])
-        )
-        drivers = self.driver_names()
-        return {d["body"]: MassSensitivity(drivers, d) for d in out}
-
-    def effort_sensitivities(self, motion: Motion) -> Dict[str, Values]:
-        """How each driver's effort at a motion changes with each parameter
-        of the definition's ``sensitivities`` section, the drivers' motion
-        (angle, rate, acceleration) held: ∂Q_k/∂p by parameter, as
-        :class:`Values` by driver. Exact: the virtual-power sum of
-        :meth:`forces` differentiated by the product rule, with the
-        compiler's partial derivatives of the masses, inertias, gravity,
-        springs and loads. Empty without the section.
-
-        Raises:
-            InvalidDynamicsError: the definition has no ``bodies`` or
-                ``loads`` section.
-        """
-        nd = self._native.drivers
-        out = self._m.effort_sensitivities(
-            list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd])
-        )
-        drivers = self.driver_names()
-        return {p: Values(drivers, _readonly(np.asarray(v))) for p, v in out.items()}
-
-    def sensitivities(self, motion: Motion) -> Dict[str, Sensitivity]:
-        """Design sensitivities of a motion of this design: for each
-        parameter p of the definition's ``sensitivities`` section, ∂u/∂p
-        from Φ_u ∂u/∂p = −Φ_p, and likewise the rates', accelerations' and
-        points' derivatives, all exact. Empty without the section."""
-        nd = self._native.drivers
-        d = self._m.sensitivities(list(motion.q.array), list(motion.qd.array[:nd]), list(motion.qdd.array[:nd]))
-        return {p: Sensitivity(type(self), p, v) for p, v in d.items()}
 
     def _range(self, driver: str, to: Optional[float], turn: bool, turns: Optional[float]) -> Optional[float]:
         """The whole turns of a sweep's range (``None`` with an end
@@ -606,12 +561,10 @@ class Mechanism(metaclass=MechanismType):
             )
         native = self._m.sweep(
             driver,
-            list(q.array),
+            q.array.tolist(),
             (from_, to, turns, int(steps), float(rate), float(acceleration), change_points),
             _opts(options),
         )
-        from ._sweep import Sweep
-
         return Sweep(type(self), self, native)
 
     def simulate(
@@ -654,10 +607,8 @@ class Mechanism(metaclass=MechanismType):
                 a[:, drivers.index(name)] = column
             table[what] = list(a.reshape(-1))
         native = self._m.simulate(
-            list(q.array), float(duration), int(steps), table["values"], table["rates"], table["accelerations"], _opts(options)
+            q.array.tolist(), float(duration), int(steps), table["values"], table["rates"], table["accelerations"], _opts(options)
         )
-        from ._sweep import Sweep
-
         return Sweep(type(self), self, native)
 
     def poses(
@@ -665,8 +616,8 @@ class Mechanism(metaclass=MechanismType):
         driver: str,
         *,
         start: Mapping[str, float],
-        from_: Optional[float] = None,
-        to: Optional[float] = None,
+        from_: Optional[Union[float, str]] = None,
+        to: Optional[Union[float, str]] = None,
         turn: bool = False,
         turns: Optional[float] = None,
         steps: int = 360,
@@ -678,12 +629,16 @@ class Mechanism(metaclass=MechanismType):
         accelerations, no judgement of the conditioning, and no search for
         change points; it stops where the mechanism does not assemble (at a
         limit position, found by bisection as :meth:`sweep` finds it), and
-        :attr:`Poses.stop` says why. The fastest way to trace paths."""
+        :attr:`Poses.stop` says why. The fastest way to trace paths.
+        ``from_`` and ``to`` may be strings with a unit, as for
+        :meth:`sweep`."""
         turns = self._range(driver, to, turn, turns)
+        if from_ is not None:
+            from_ = self._quantity(driver, from_, 0)
+        if to is not None:
+            to = self._quantity(driver, to, 0)
         q = self.pose(start)
-        d = self._m.poses(driver, list(q.array), (from_, to, turns, int(steps)), _opts(options))
-        from ._sweep import Poses
-
+        d = self._m.poses(driver, q.array.tolist(), (from_, to, turns, int(steps)), _opts(options))
         return Poses(type(self), d)
 
     def batch(
@@ -720,8 +675,6 @@ class Mechanism(metaclass=MechanismType):
         column per sample of a sweep); a design that stops early has NaN
         past its last sample, and says why in :attr:`Batch.stops`.
         """
-        from ._sweep import Batch, _outputs
-
         names = self.parameter_names()
         arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in params.items()}
         for k in arrays:
@@ -772,7 +725,7 @@ class Mechanism(metaclass=MechanismType):
         q = self.pose(start)
         d = self._m.batch(
             np.ascontiguousarray(table),
-            list(q.array),
+            q.array.tolist(),
             rate_values,
             self._driver_values("acceleration", acceleration, accelerations, 0.0),
             spec,
@@ -780,3 +733,8 @@ class Mechanism(metaclass=MechanismType):
             _opts(options),
         )
         return Batch(table, names, [name for name, _ in kept], d)
+
+
+# The result classes, imported once the classes they name are defined
+# (`_sweep` reads `_model`'s values), not at every call.
+from ._sweep import Batch, Poses, Sweep, _outputs  # noqa: E402

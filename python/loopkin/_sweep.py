@@ -86,25 +86,50 @@ class Stop:
 
 
 class PointColumns:
-    """A point over a sweep: position, velocity and acceleration as arrays
-    of shape (samples, dim)."""
+    """A point over a sweep or a run of poses: its position, velocity and
+    acceleration as arrays of shape (samples, dim); the velocity and
+    acceleration are ``None`` for positions only (:class:`Poses`). As an
+    array (``np.asarray(point)``) it is its positions."""
 
     __slots__ = ("position", "velocity", "acceleration")
 
-    def __init__(self, values: np.ndarray) -> None:
-        self.position = _readonly(values[:, 0, :].copy())
-        self.velocity = _readonly(values[:, 1, :].copy())
-        self.acceleration = _readonly(values[:, 2, :].copy())
+    def __init__(
+        self, position: np.ndarray, velocity: Optional[np.ndarray] = None, acceleration: Optional[np.ndarray] = None
+    ) -> None:
+        self.position = _readonly(position)
+        self.velocity = None if velocity is None else _readonly(velocity)
+        self.acceleration = None if acceleration is None else _readonly(acceleration)
+
+    @classmethod
+    def _of(cls, values: np.ndarray) -> "PointColumns":
+        """From a sweep's (samples, 3, dim) block of r, v, a."""
+        return cls(values[:, 0, :].copy(), values[:, 1, :].copy(), values[:, 2, :].copy())
+
+    def _motion(self, what: str) -> np.ndarray:
+        got = getattr(self, what)
+        if got is None:
+            raise ValueError(f"positions only: a sweep (Mechanism.sweep) gives the {what} too")
+        return got
 
     @property
     def speed(self) -> np.ndarray:
         """|v| per sample."""
-        return np.linalg.norm(self.velocity, axis=1)
+        return np.linalg.norm(self._motion("velocity"), axis=1)
 
     @property
     def acceleration_magnitude(self) -> np.ndarray:
         """|a| per sample."""
-        return np.linalg.norm(self.acceleration, axis=1)
+        return np.linalg.norm(self._motion("acceleration"), axis=1)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return np.asarray(self.position, dtype=dtype)
+
+    def __len__(self) -> int:
+        return len(self.position)
+
+    def __repr__(self) -> str:
+        kind = "positions" if self.velocity is None else "positions, velocities and accelerations"
+        return f"<PointColumns: {len(self)} samples of {kind}>"
 
 
 class Deviations:
@@ -131,6 +156,8 @@ class Deviations:
 
 class _Columns(Mapping[str, np.ndarray]):
     """Columns by coordinate name (values, rates or accelerations)."""
+
+    __slots__ = ("_names", "_table")
 
     def __init__(self, names: Sequence[str], table: np.ndarray) -> None:
         self._names = tuple(names)
@@ -163,21 +190,23 @@ class Sweep:
         self._cls = cls
         self.design = design
         self._native = native
+        # The native arrays are read-only already: they hold the data the
+        # figures and tables read back.
         c = native.columns()
-        names = [x[0] for x in cls._native.coordinates]
+        names = cls._coords
         self.variable: str = native.variable
-        self.at: np.ndarray = _readonly(c["at"])
-        self.q = _Columns(names, _readonly(c["q"]))
-        self.qd = _Columns(names, _readonly(c["qd"]))
-        self.qdd = _Columns(names, _readonly(c["qdd"]))
-        self._points = _readonly(c["points"])
-        self._frames = _readonly(c["frames"])
-        self.conditioning: np.ndarray = _readonly(c["conditioning"])
-        self.det_sign: np.ndarray = _readonly(c["det_sign"])
-        self.residual: np.ndarray = _readonly(c["residual"])
+        self.at: np.ndarray = c["at"]
+        self.q = _Columns(names, c["q"])
+        self.qd = _Columns(names, c["qd"])
+        self.qdd = _Columns(names, c["qdd"])
+        self._points = c["points"]
+        self._frames = c["frames"]
+        self.conditioning: np.ndarray = c["conditioning"]
+        self.det_sign: np.ndarray = c["det_sign"]
+        self.residual: np.ndarray = c["residual"]
         s = native.stop()
         self.stop: Optional[Stop] = None if s is None else Stop(s)
-        self.change_points: List[float] = list(native.change_points)
+        self.change_points: List[float] = native.change_points
 
     def __len__(self) -> int:
         return len(self.at)
@@ -187,15 +216,15 @@ class Sweep:
 
     def point(self, name: str) -> PointColumns:
         """The point ``name`` over the sweep."""
-        names = self._cls._native.points
+        names = self._cls._points
         if name not in names:
             raise KeyError(f"{name!r} is not a point: they are {list(names)}")
-        return PointColumns(self._points[:, names.index(name)])
+        return PointColumns._of(self._points[:, names.index(name)])
 
     def frame(self, name: str) -> FrameMotion:
         """The frame ``name`` over the sweep (each attribute with a leading
         axis of samples)."""
-        names = self._cls._native.frames
+        names = self._cls._frames
         if name not in names:
             raise KeyError(f"{name!r} is not a frame: they are {list(names)}")
         return FrameMotion(self._frames[:, names.index(name)])
@@ -516,15 +545,16 @@ class ForceSweep:
 class Poses:
     """Positions along a sweep (from :meth:`Mechanism.poses`): ``at`` the
     driver's values, ``poses["th3"]`` a coordinate's values,
-    ``poses.point("P")`` a point's positions (samples × dim), ``stop`` the
+    ``poses.point("P")`` a point's :class:`PointColumns` (its positions,
+    samples × dim, with no velocity or acceleration), ``stop`` the
     :class:`Stop` that ended it before the end of its range, or ``None``."""
 
     def __init__(self, cls: "MechanismType", d: Mapping[str, Any]) -> None:
         self._cls = cls
-        names = [x[0] for x in cls._native.coordinates]
-        self.at: np.ndarray = _readonly(d["at"])
-        self.q = _Columns(names, _readonly(d["q"]))
-        self.points: np.ndarray = _readonly(d["points"])
+        # Read-only arrays from the native module.
+        self.at: np.ndarray = d["at"]
+        self.q = _Columns(cls._coords, d["q"])
+        self.points: np.ndarray = d["points"]
         self.stop: Optional[Stop] = None if d["stop"] is None else Stop(d["stop"])
 
     def __len__(self) -> int:
@@ -533,12 +563,14 @@ class Poses:
     def __getitem__(self, name: str) -> np.ndarray:
         return self.q[name]
 
-    def point(self, name: str) -> np.ndarray:
-        """The positions of point ``name`` (samples × dim)."""
-        names = self._cls._native.points
+    def point(self, name: str) -> PointColumns:
+        """Point ``name`` over the poses, as :meth:`Sweep.point` gives it:
+        its ``position`` (samples × dim), with no velocity or
+        acceleration."""
+        names = self._cls._points
         if name not in names:
             raise KeyError(f"{name!r} is not a point: they are {list(names)}")
-        return self.points[:, names.index(name)]
+        return PointColumns(self.points[:, names.index(name)])
 
     def __repr__(self) -> str:
         end = "" if self.stop is None else f", stopped: {self.stop.kind} at {self.stop.at:.6g}"
@@ -547,8 +579,8 @@ class Poses:
 
 def _outputs(cls: "MechanismType", outputs: Optional[Iterable[str]]) -> List[Tuple[str, Tuple[str, int]]]:
     """The batch outputs asked for, as (name, (kind, index))."""
-    coords = [c[0] for c in cls._native.coordinates]
-    points = list(cls._native.points)
+    coords = list(cls._coords)
+    points = list(cls._points)
     if outputs is None:
         outputs = coords + points
     kept = []

@@ -66,8 +66,10 @@ class Options:
         )
 
 
-def _opts(options: Optional[Options]) -> Tuple[float, int, float, str, bool]:
-    return (options or Options())._tuple()
+def _opts(options: Optional[Options]) -> Optional[Tuple[float, int, float, str, bool]]:
+    """The options as the native calls take them: ``None`` for the
+    defaults, which it then reads as they are."""
+    return None if options is None else options._tuple()
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -83,7 +85,20 @@ class Values(Mapping[str, float]):
 
     def __init__(self, names: Sequence[str], array: np.ndarray) -> None:
         self._names = tuple(names)
-        self.array = _readonly(np.asarray(array, dtype=float))
+        if type(array) is not np.ndarray or array.dtype != np.float64:
+            array = np.asarray(array, dtype=float)
+        array.flags.writeable = False
+        self.array = array
+
+    @classmethod
+    def _view(cls, names: Tuple[str, ...], array: np.ndarray) -> Any:
+        """Values over ``array``, a read-only float array, as it is."""
+        v = object.__new__(cls)
+        v._names = names
+        v.array = array
+        if cls is Pose:
+            v.modes = None
+        return v
 
     def __getitem__(self, name: str) -> float:
         try:
@@ -131,9 +146,12 @@ class PointMotion:
     __slots__ = ("position", "velocity", "acceleration")
 
     def __init__(self, values: np.ndarray) -> None:
-        self.position = _readonly(values[0].copy())
-        self.velocity = _readonly(values[1].copy())
-        self.acceleration = _readonly(values[2].copy())
+        # Views of a read-only array: read-only themselves.
+        if values.flags.writeable:
+            values = _readonly(values.copy())
+        self.position = values[0]
+        self.velocity = values[1]
+        self.acceleration = values[2]
 
     @property
     def speed(self) -> float:
@@ -164,32 +182,120 @@ class FrameMotion:
         return f"FrameMotion(origin={self.origin}, angular_velocity={self.angular_velocity})"
 
 
+class _ByName(Mapping[str, Any]):
+    """Points or frames by name, each made on first access from its row of
+    one read-only array (``make(row)``): what a motion holds, built only
+    for the names read."""
+
+    __slots__ = ("_names", "_where", "_rows", "_make", "_made")
+
+    def __init__(
+        self, names: Tuple[str, ...], where: Optional[Dict[str, int]], rows: np.ndarray, make: Any
+    ) -> None:
+        self._names = names
+        self._where = where
+        self._rows = rows
+        self._make = make
+        self._made: Dict[str, Any] = {}
+
+    def __getitem__(self, name: str) -> Any:
+        got = self._made.get(name)
+        if got is None:
+            try:
+                k = self._where[name] if self._where is not None else self._names.index(name)
+            except (KeyError, ValueError):
+                raise KeyError(f"{name!r} is not one of {list(self._names)}") from None
+            got = self._made[name] = self._make(self._rows[k])
+        return got
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __repr__(self) -> str:
+        return "{" + ", ".join(f"{n!r}: {self[n]!r}" for n in self._names) + "}"
+
+
 class Motion:
     """The motion at one pose: ``q``, ``qd`` (q') and ``qdd`` (q'') by
     name, every point and frame by name, and the diagnostics.
 
     Attributes:
         q, qd, qdd: :class:`Values` of every coordinate, drivers first.
-        points: ``{name: PointMotion}``.
-        frames: ``{name: FrameMotion}``.
+        points: :class:`PointMotion` by name (a read-only mapping).
+        frames: :class:`FrameMotion` by name (a read-only mapping).
         conditioning: 1/‖Φ̃_u⁻¹‖∞ of the scaled Jacobian, 0 at a singular
             pose.
         det_sign: the sign of det Φ_u (the assembly branch).
         residual: max |Φ_i| / S_i at q.
     """
 
-    __slots__ = ("q", "qd", "qdd", "points", "frames", "conditioning", "det_sign", "residual")
+    __slots__ = ("_cls", "_raw", "_q", "_qd", "_qdd", "_points", "_frames", "conditioning", "det_sign", "residual")
 
-    def __init__(self, cls: "MechanismType", d: Dict[str, Any]) -> None:
-        names = [c[0] for c in cls._native.coordinates]
-        self.q = Pose(names, d["q"])
-        self.qd = Values(names, d["qd"])
-        self.qdd = Values(names, d["qdd"])
-        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
-        self.frames = {n: FrameMotion(v) for n, v in zip(cls._native.frames, d["frames"])}
-        self.conditioning = float(d["conditioning"])
-        self.det_sign = float(d["det_sign"])
-        self.residual = float(d["residual"])
+    def __init__(self, cls: "MechanismType", native: Tuple[Any, ...]) -> None:
+        # The native arrays, shaped into values by name where first read.
+        self._cls = cls
+        self._raw = native[:3]
+        self.conditioning: float = native[3]
+        self.det_sign: float = native[4]
+        self.residual: float = native[5]
+        self._q: Optional[Pose] = None
+        self._qd: Optional[Values] = None
+        self._qdd: Optional[Values] = None
+        self._points: Optional[_ByName] = None
+        self._frames: Optional[_ByName] = None
+
+    def _coordinates(self) -> None:
+        qs = self._raw[0]
+        qs.flags.writeable = False
+        names = self._cls._coords
+        n = len(names)
+        self._q = Pose._view(names, qs[:n])
+        self._qd = Values._view(names, qs[n : 2 * n])
+        self._qdd = Values._view(names, qs[2 * n :])
+
+    @property
+    def q(self) -> Pose:
+        """Every coordinate, drivers first (a :class:`Pose`)."""
+        if self._q is None:
+            self._coordinates()
+        return self._q  # type: ignore[return-value]
+
+    @property
+    def qd(self) -> Values:
+        """Every coordinate's rate q'."""
+        if self._qd is None:
+            self._coordinates()
+        return self._qd  # type: ignore[return-value]
+
+    @property
+    def qdd(self) -> Values:
+        """Every coordinate's acceleration q''."""
+        if self._qdd is None:
+            self._coordinates()
+        return self._qdd  # type: ignore[return-value]
+
+    @property
+    def points(self) -> Mapping[str, PointMotion]:
+        """:class:`PointMotion` by point name."""
+        if self._points is None:
+            cls = self._cls
+            rows = self._raw[1].reshape(len(cls._points), 3, -1) if cls._points else self._raw[1].reshape(0, 3, 2)
+            rows.flags.writeable = False
+            self._points = _ByName(cls._points, cls._point_where, rows, PointMotion)
+        return self._points
+
+    @property
+    def frames(self) -> Mapping[str, FrameMotion]:
+        """:class:`FrameMotion` by frame name."""
+        if self._frames is None:
+            cls = self._cls
+            rows = self._raw[2].reshape(len(cls._frames), 24)
+            rows.flags.writeable = False
+            self._frames = _ByName(cls._frames, None, rows, FrameMotion)
+        return self._frames
 
     @property
     def pose(self) -> Pose:
@@ -301,12 +407,12 @@ class Sensitivity:
     __slots__ = ("parameter", "q", "qd", "qdd", "points")
 
     def __init__(self, cls: "MechanismType", parameter: str, d: Dict[str, Any]) -> None:
-        names = [c[0] for c in cls._native.coordinates]
+        names = cls._coords
         self.parameter = parameter
         self.q = Values(names, d["q"])
         self.qd = Values(names, d["qd"])
         self.qdd = Values(names, d["qdd"])
-        self.points = {n: PointMotion(v) for n, v in zip(cls._native.points, d["points"])}
+        self.points = _ByName(cls._points, cls._point_where, _readonly(d["points"]), PointMotion)
 
     def __repr__(self) -> str:
         return f"Sensitivity({self.parameter}: q={self.q!r})"

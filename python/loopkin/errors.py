@@ -26,6 +26,7 @@ __all__ = [
     "InvalidOptionError",
     "WrongLengthError",
     "InvalidDynamicsError",
+    "RadiansWarning",
 ]
 
 
@@ -109,3 +110,9 @@ class InvalidDynamicsError(KinematicsError, ValueError):
     """The masses and loads cannot be used: the definition has no
     ``bodies`` or ``loads`` section, or a body, load or spring is invalid
     (a mass not positive, a value not finite)."""
+
+
+class RadiansWarning(UserWarning):
+    """An angle given as a plain number of more than two turns (4π), which
+    is read in radians but was likely meant in degrees: ``phi=90`` is 14.3
+    turns; write ``phi="90deg"``."""

@@ -2,9 +2,9 @@
 
 use kinematics_core::runtime::{Motion, PointState};
 use kinematics_core::FrameState;
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::PyTuple;
 
 /// A one-dimensional array that owns `v`.
 pub(crate) fn array(py: Python<'_>, v: Vec<f64>) -> Bound<'_, PyArray1<f64>> {
@@ -14,6 +14,22 @@ pub(crate) fn array(py: Python<'_>, v: Vec<f64>) -> Bound<'_, PyArray1<f64>> {
 /// The values `v` (in C order) as an array of shape `shape`.
 pub(crate) fn shaped(py: Python<'_>, v: Vec<f64>, shape: Vec<usize>) -> PyResult<Bound<'_, PyAny>> {
     Ok(PyArray1::from_vec(py, v).reshape(shape)?.into_any())
+}
+
+/// `a`, a new array nothing else refers to, made read-only: the arrays a
+/// result hands out hold its data, which later calls read back. (One
+/// flag cleared in the array's header, where `a.flags.writeable = False`
+/// from Python would cost a method call per array.)
+pub(crate) fn frozen<'py, T: PyUntypedArrayMethods<'py>>(a: T) -> T {
+    // SAFETY: `as_array_ptr` points at the live array object `a` holds;
+    // clearing WRITEABLE only narrows what may be done with its data, and
+    // the interpreter is held (a `Bound`), so no other thread reads the
+    // flags meanwhile.
+    #[allow(unsafe_code)]
+    unsafe {
+        (*a.as_array_ptr()).fields.flags &= !numpy::npyffi::flags::NPY_ARRAY_WRITEABLE;
+    }
+    a
 }
 
 /// A frame's 24 values: the rotation matrix by rows (9), the origin, its
@@ -43,27 +59,25 @@ pub(crate) fn point_values(points: &[PointState]) -> Vec<f64> {
         .collect()
 }
 
-/// A motion as a dict: "q", "qd", "qdd" (one value per coordinate),
-/// "points" (points × 3 × dim: position, velocity, acceleration), "frames"
-/// (frames × 24, see [`frame_values`]), "conditioning", "det_sign",
-/// "residual".
-pub(crate) fn motion_dict<'py>(
-    py: Python<'py>,
-    m: &Motion,
-    dim: usize,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("q", array(py, m.q.clone()))?;
-    d.set_item("qd", array(py, m.qd.clone()))?;
-    d.set_item("qdd", array(py, m.qdd.clone()))?;
-    d.set_item(
-        "points",
-        shaped(py, point_values(&m.points), vec![m.points.len(), 3, dim])?,
-    )?;
+/// A motion as a tuple: q, q' and q'' one after the other (3 ×
+/// coordinates values), the points (points × 3 × dim: position, velocity,
+/// acceleration), the frames (frames × 24, see [`frame_values`]), each a
+/// flat array the Python side shapes where it is read, then the
+/// conditioning, the sign of det Φ_u and the residual.
+pub(crate) fn motion_tuple<'py>(py: Python<'py>, m: &Motion) -> PyResult<Bound<'py, PyTuple>> {
+    let n = m.q.len();
+    let mut qs = Vec::with_capacity(3 * n);
+    qs.extend_from_slice(&m.q);
+    qs.extend_from_slice(&m.qd);
+    qs.extend_from_slice(&m.qdd);
     let frames: Vec<f64> = m.frames.iter().flat_map(frame_values).collect();
-    d.set_item("frames", shaped(py, frames, vec![m.frames.len(), 24])?)?;
-    d.set_item("conditioning", m.conditioning)?;
-    d.set_item("det_sign", m.det_sign)?;
-    d.set_item("residual", m.residual)?;
-    Ok(d)
+    (
+        frozen(array(py, qs)),
+        frozen(array(py, point_values(&m.points))),
+        frozen(array(py, frames)),
+        m.conditioning,
+        m.det_sign,
+        m.residual,
+    )
+        .into_pyobject(py)
 }

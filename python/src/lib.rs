@@ -17,7 +17,7 @@ use kinematics_core::{Branch, Convergence, Error, Options};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use rayon::prelude::*;
 
 mod batch;
@@ -31,7 +31,7 @@ mod sweep;
 use columns::Columns;
 use sweep::{change_points, stop_dict, Sweep};
 
-use convert::{array, motion_dict, shaped};
+use convert::{array, motion_tuple, shaped};
 pub(crate) use errors::{error, raise};
 
 /// The options of a call, from the tuple the Python layer passes:
@@ -39,7 +39,11 @@ pub(crate) use errors::{error, raise};
 /// branch one of "any", "positive", "negative".
 type OptionsTuple = (f64, usize, f64, String, bool);
 
-fn options(py: Python<'_>, o: &OptionsTuple) -> PyResult<Options> {
+fn options(py: Python<'_>, o: Option<&OptionsTuple>) -> PyResult<Options> {
+    // `None`: the defaults, with nothing to read.
+    let Some(o) = o else {
+        return Ok(Options::DEFAULT);
+    };
     let branch = match o.3.as_str() {
         "any" => Branch::Any,
         "positive" => Branch::Positive,
@@ -288,9 +292,9 @@ impl Model {
         &self,
         py: Python<'py>,
         q: Vec<f64>,
-        opts: OptionsTuple,
+        opts: Option<OptionsTuple>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let o = options(py, &opts)?;
+        let o = options(py, opts.as_ref())?;
         let q = self
             .model
             .assemble_with(&q, &o)
@@ -346,14 +350,14 @@ impl Model {
         q: Vec<f64>,
         rates: Vec<f64>,
         accelerations: Vec<f64>,
-        opts: OptionsTuple,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(py, &opts)?;
+        opts: Option<OptionsTuple>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let o = options(py, opts.as_ref())?;
         let m = self
             .model
             .analyze_with(&q, &rates, &accelerations, &o)
             .map_err(|e| error(py, &e))?;
-        motion_dict(py, &m, self.dim())
+        motion_tuple(py, &m)
     }
 
     /// Assembles at the drivers of `start` and analyses the motion there.
@@ -363,12 +367,12 @@ impl Model {
         start: Vec<f64>,
         rates: Vec<f64>,
         accelerations: Vec<f64>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let m = self
             .model
             .step(&start, &rates, &accelerations)
             .map_err(|e| error(py, &e))?;
-        motion_dict(py, &m, self.dim())
+        motion_tuple(py, &m)
     }
 
     /// Whether the definition has a `bodies` or `loads` section.
@@ -504,9 +508,9 @@ impl Model {
             f64,
             String,
         ),
-        opts: OptionsTuple,
+        opts: Option<OptionsTuple>,
     ) -> PyResult<Sweep> {
-        let o = options(py, &opts)?;
+        let o = options(py, opts.as_ref())?;
         let change = change_points(&spec.6)?;
         let builder = self
             .model
@@ -554,9 +558,9 @@ impl Model {
         driver: &str,
         start: Vec<f64>,
         spec: (Option<f64>, Option<f64>, Option<f64>, usize),
-        opts: OptionsTuple,
+        opts: Option<OptionsTuple>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(py, &opts)?;
+        let o = options(py, opts.as_ref())?;
         let m = &self.model;
         let builder = m
             .sweep(driver, &start)
@@ -586,9 +590,13 @@ impl Model {
         });
         let n = at.len();
         let d = PyDict::new(py);
-        d.set_item("at", array(py, at))?;
-        d.set_item("q", shaped(py, qs, vec![n, nc])?)?;
-        d.set_item("points", shaped(py, points, vec![n, np, dim])?)?;
+        // Read-only: the result's own data.
+        d.set_item("at", convert::frozen(array(py, at)))?;
+        d.set_item("q", sweep::frozen_any(shaped(py, qs, vec![n, nc])?)?)?;
+        d.set_item(
+            "points",
+            sweep::frozen_any(shaped(py, points, vec![n, np, dim])?)?,
+        )?;
         d.set_item("stop", stop_dict(py, end.stop.as_ref())?)?;
         Ok(d)
     }
@@ -608,9 +616,9 @@ impl Model {
         values: Vec<f64>,
         rates: Vec<f64>,
         accelerations: Vec<f64>,
-        opts: OptionsTuple,
+        opts: Option<OptionsTuple>,
     ) -> PyResult<Sweep> {
-        let o = options(py, &opts)?;
+        let o = options(py, opts.as_ref())?;
         let (nd, steps) = (self.model.drivers(), steps.max(1));
         let rows = (steps + 1) * nd;
         for (what, v) in [
@@ -669,9 +677,9 @@ impl Model {
         accelerations: Vec<f64>,
         sweep: Option<(String, Option<f64>, Option<f64>, Option<f64>, usize, String)>,
         outputs: Vec<(String, usize)>,
-        opts: OptionsTuple,
+        opts: Option<OptionsTuple>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(py, &opts)?;
+        let o = options(py, opts.as_ref())?;
         let shape = values.shape();
         let (designs, width) = (shape[0], shape[1]);
         if width != self.model.parameters().len() {

@@ -103,9 +103,10 @@ impl Sweep {
                 "points" => shaped(py, v, vec![n, np, 3, dim])?,
                 _ => array(py, v).into_any(),
             };
-            d.set_item(key, a)?;
+            // Read-only: they hold the sweep's data, which `full` reads.
+            d.set_item(key, frozen_any(a)?)?;
         }
-        d.set_item("frames", shaped(py, frames, vec![n, nf, 24])?)?;
+        d.set_item("frames", frozen_any(shaped(py, frames, vec![n, nf, 24])?)?)?;
         Ok(Self {
             columns,
             arrays: d.unbind(),
@@ -418,4 +419,9 @@ fn found_pairs(c: &Columns) -> Vec<(String, String)> {
         .into_iter()
         .map(|(a, b)| (names[a].to_string(), names[b].to_string()))
         .collect()
+}
+
+/// An array handed out as `PyAny`, made read-only ([`convert::frozen`]).
+pub(crate) fn frozen_any(a: Bound<'_, PyAny>) -> PyResult<Bound<'_, PyAny>> {
+    Ok(convert::frozen(a.cast_into::<numpy::PyUntypedArray>()?).into_any())
 }

@@ -306,6 +306,12 @@ def test_poses_are_the_sweeps_positions(FourBar, four_bar):
     assert np.array_equal(ps.at, sw.at)
     assert close(ps["th3"], sw["th3"], 1e-14)
     assert close(ps.point("P"), sw.point("P").position, 1e-15)
+    # One point type for sweeps and poses: the poses' has no motion.
+    assert type(ps.point("P")) is type(sw.point("P"))
+    assert close(ps.point("P").position, sw.point("P").position, 1e-15)
+    assert ps.point("P").velocity is None
+    with pytest.raises(ValueError, match="positions only"):
+        ps.point("P").speed
     # A crank that cannot turn: the poses end before the limit position.
     m = FourBar(a=0.08, b=0.10, c=0.07, d=0.15, p=0.05, beta=0.0)
     short = m.poses("phi", start=m.assemble_all(phi=0.5)[0], from_=0.5, to=3.0, steps=250)
@@ -374,3 +380,27 @@ def test_a_sweep_backwards_needs_a_negative_rate(four_bar):
     assert sw.stop is None and close(sw.qd["phi"], -10.0, 1e-15)
     slope = np.gradient(sw["th3"], sw.at)
     assert close(sw.qd["th3"][1:-1], -10.0 * slope[1:-1], 1e-4, scale=10.0)
+
+
+def test_results_are_read_only(four_bar):
+    """The arrays a result hands out hold its data (which its tables and
+    figures read back): none can be written."""
+    start = four_bar.assemble(phi=0.3, th3=1.0, th4=1.6)
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=12)
+    s = four_bar.analyze(start, rate=2.0)
+    for a in (
+        sw.at,
+        sw["th3"],
+        sw.qd["th3"],
+        sw.point("P").position,
+        sw.conditioning,
+        s.q.array,
+        s.qd.array,
+        s.points["P"].velocity,
+        s.frames if not s.frames else next(iter(s.frames.values())).origin,
+    ):
+        if isinstance(a, np.ndarray):
+            assert a.flags.writeable is False
+            with pytest.raises(ValueError):
+                a[...] = 0.0
+    assert sw.to_csv().startswith("phi")

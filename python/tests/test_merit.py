@@ -112,3 +112,24 @@ def test_a_change_point_stop_says_how_to_continue_in_python(FourBar):
     assert sw.stop is not None and sw.stop.kind == "change_point"
     assert 'continue with change_points="smooth" (or "switch")' in sw.stop.message
     assert "ChangePoints::" not in sw.stop.message
+
+
+def test_an_angle_of_many_turns_in_radians_warns(FourBar):
+    """``phi=90`` is 14.3 turns: read in radians, with a warning that says
+    how to write degrees; a small angle or one with its unit does not
+    warn."""
+    import warnings
+
+    m = FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5)
+    with pytest.warns(kin.errors.RadiansWarning, match=r'phi=90 is read as 90 rad \(14.3 turns\); write phi="90deg"'):
+        q = m.pose(phi=90)
+    assert q["phi"] == 90.0
+    start = m.assemble(phi=0.0, th3=1.0, th4=1.6)
+    with pytest.warns(kin.errors.RadiansWarning) as record:
+        m.poses("phi", start=start, from_=30, to=31, steps=2)
+    assert [str(w.message).split(" is ")[0] for w in record] == ["phi=30", "phi=31"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m.pose(phi=6.0)
+        m.pose(phi="90deg")
+        m.sweep("phi", start=start, from_="30deg", to="40deg", steps=2)

@@ -7,7 +7,8 @@
 //! ratio (π + α)/(π − α), α = asin(e/(b − a)) − asin(e/(a + b)) (checked
 //! beforehand against a 30-digit search for the extremes of x(φ)); each
 //! through a generated mechanism's sweep and a run-time model's, which
-//! read through the same code; the four-bar's mechanical advantage
+//! read through the same code; the crank-shaper quick-return's time
+//! ratio (π + 2α)/(π − 2α), α = asin(AB/AC); the four-bar's mechanical advantage
 //! ω2/ω4 = c sin(θ4 − θ3) / (a sin(φ − θ3)), from the velocity loop.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -18,7 +19,7 @@ use kinematics_core::merit::{
 };
 use kinematics_core::runtime::Model;
 use kinematics_core::sweep::Table;
-use kinematics_examples::{FourBar, FourBarCoords, SliderCrank, SliderCrankCoords};
+use kinematics_examples::{FourBar, FourBarCoords, RRtrRrt, SliderCrank, SliderCrankCoords};
 
 fn model(name: &str, values: &[f64]) -> Model {
     let text = kinematics_examples::definition(name).expect("an example definition");
@@ -176,6 +177,48 @@ fn four_bar_mechanical_advantage_from_the_velocity_loop() {
     }
     assert!(mechanical_advantage(&generated, "phi").is_err());
     assert!(mechanical_advantage(&generated, "psi").is_err());
+}
+
+/// The chapter's R-RTR-RRT mechanism is a crank-shaper quick-return: the
+/// slotted lever (φ3, about C) is at a limit where the crank AB is
+/// square to it, sin(φ − φ3) = ±1 with C B ⟂ A B, so that the crank turns
+/// by π + 2α one way between the limits and π − 2α the other, α =
+/// asin(AB/AC); the ram E follows the lever monotonically (CD < DE: dx_E/dφ3
+/// = CD sin φ3 (1 − CD cos φ3 / √(DE² − CD² sin² φ3)) keeps its sign), so
+/// it has the same time ratio (π + 2α)/(π − 2α).
+#[test]
+fn a_crank_shapers_time_ratio_from_its_crank_square_to_the_lever() {
+    let m = RRtrRrt::EXAMPLE_4_2;
+    let alpha = (m.ab / m.ac).asin();
+    let ratio = (PI + 2.0 * alpha) / (PI - 2.0 * alpha);
+    let start = m
+        .assemble(&RRtrRrt::example_4_2_guess())
+        .expect("assembles");
+    let generated = m.sweep(RRtrRrt::PHI, &start).turn().steps(360).run();
+    let run_time = model("RRtrRrt", &[m.ab, m.ac, m.cd, m.de])
+        .sweep(
+            "phi",
+            &[start.phi, start.s, start.phi3, start.x_e, start.phi4],
+        )
+        .expect("a driver")
+        .turn()
+        .steps(360)
+        .run();
+    let tables: [&dyn Table; 2] = [&generated, &run_time];
+    for table in tables {
+        for output in ["phi3", "x_e"] {
+            let r = time_ratio(table, output).expect("a quick-return");
+            // Each dead centre is located to about 1e-8 rad on the Hermite
+            // interpolant at 1° a step; the ratio moves by about 2.2 per
+            // radian of either.
+            assert!(
+                (r.ratio() - ratio).abs() < 1e-7,
+                "{output}: {} against {ratio}",
+                r.ratio()
+            );
+            assert!((r.rising + r.falling - 2.0 * PI).abs() < 1e-9);
+        }
+    }
 }
 
 #[test]
