@@ -119,17 +119,10 @@ fn html<T: Table + ?Sized>(
             detail: format!("{} point roles for {points} points", roles.len()),
         });
     }
-    let (a, b) = projection.axes();
     let frames: Vec<Vec<(f64, f64)>> = (0..sweep.rows())
         .map(|i| {
             (0..points)
-                .map(|k| {
-                    let r = sweep.point(i, k)[0];
-                    (
-                        r.get(a).copied().unwrap_or(0.0),
-                        r.get(b).copied().unwrap_or(0.0),
-                    )
-                })
+                .map(|k| projection.of(sweep.point(i, k)[0]))
                 .collect()
         })
         .collect();

@@ -118,14 +118,7 @@ pub fn dxf<T: Table + ?Sized>(
             sweep.rows()
         )));
     }
-    let (a, b) = projection.axes();
-    let at = |i: usize, k: usize| -> (f64, f64) {
-        let r = sweep.point(i, k)[0];
-        (
-            r.get(a).copied().unwrap_or(0.0),
-            r.get(b).copied().unwrap_or(0.0),
-        )
-    };
+    let at = |i: usize, k: usize| -> (f64, f64) { projection.of(sweep.point(i, k)[0]) };
     let moving: Vec<usize> = (0..names.len())
         .filter(|&k| roles[k] != PointRole::Fixed)
         .collect();

@@ -53,6 +53,18 @@ impl Projection {
         }
     }
 
+    /// The point `r` (2 or 3 components) in the plane drawn: its two
+    /// coordinates of [`Self::axes`], 0 for one it does not have (z of a
+    /// planar point).
+    #[must_use]
+    pub fn of(self, r: &[f64]) -> (f64, f64) {
+        let (a, b) = self.axes();
+        (
+            r.get(a).copied().unwrap_or(0.0),
+            r.get(b).copied().unwrap_or(0.0),
+        )
+    }
+
     /// The names of the two coordinates drawn.
     #[must_use]
     pub fn names(self) -> (&'static str, &'static str) {

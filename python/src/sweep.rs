@@ -118,6 +118,27 @@ impl Sweep {
     /// The columns with their data, read back from the arrays (a copy):
     /// what the tables, the CSV, the text, the animation and the
     /// deviations read.
+    /// Calls `write` with the columns, every point's role, the links
+    /// (`links`, or those found from the motion) and the projection named
+    /// `projection`: what a drawing of the sweep is made from.
+    fn draw(
+        &self,
+        py: Python<'_>,
+        links: Option<Vec<(String, String)>>,
+        projection: &str,
+        write: impl FnOnce(&Columns, &[PointRole], &[(&str, &str)], Projection) -> Result<(), Error>,
+    ) -> PyResult<()> {
+        let projection = plane(projection)?;
+        let c = self.full(py)?;
+        let roles = self.roles(py, &c)?;
+        let links = links.unwrap_or_else(|| found_pairs(&c));
+        let links: Vec<(&str, &str)> = links
+            .iter()
+            .map(|(a, b)| (a.as_str(), b.as_str()))
+            .collect();
+        write(&c, &roles, &links, projection).map_err(|e| error(py, &e))
+    }
+
     /// The role of every point (ground pivot, slider, moving), from the
     /// first sample.
     fn roles(&self, py: Python<'_>, c: &Columns) -> PyResult<Vec<PointRole>> {
@@ -233,23 +254,16 @@ impl Sweep {
         links: Option<Vec<(String, String)>>,
         projection: &str,
     ) -> PyResult<()> {
-        let projection = plane(projection)?;
-        let c = self.full(py)?;
-        let roles = self.roles(py, &c)?;
-        let links = links.unwrap_or_else(|| found_pairs(&c));
-        let links: Vec<(&str, &str)> = links
-            .iter()
-            .map(|(a, b)| (a.as_str(), b.as_str()))
-            .collect();
-        kinematics_core::animate::write_table_html(
-            &c,
-            self.model.name(),
-            &roles,
-            &links,
-            projection,
-            &path,
-        )
-        .map_err(|e| error(py, &e))
+        self.draw(py, links, projection, |c, roles, links, projection| {
+            kinematics_core::animate::write_table_html(
+                c,
+                self.model.name(),
+                roles,
+                links,
+                projection,
+                &path,
+            )
+        })
     }
 
     /// Writes the DXF drawing of the sweep to `path`: the skeleton at
@@ -264,16 +278,9 @@ impl Sweep {
         sample: usize,
         projection: &str,
     ) -> PyResult<()> {
-        let projection = plane(projection)?;
-        let c = self.full(py)?;
-        let roles = self.roles(py, &c)?;
-        let links = links.unwrap_or_else(|| found_pairs(&c));
-        let links: Vec<(&str, &str)> = links
-            .iter()
-            .map(|(a, b)| (a.as_str(), b.as_str()))
-            .collect();
-        kinematics_core::dxf::write_dxf(&c, sample, &roles, &links, projection, &path)
-            .map_err(|e| error(py, &e))
+        self.draw(py, links, projection, |c, roles, links, projection| {
+            kinematics_core::dxf::write_dxf(c, sample, roles, links, projection, &path)
+        })
     }
 
     /// The links found from the motion: each the names of the points that

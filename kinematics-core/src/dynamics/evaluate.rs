@@ -52,6 +52,22 @@ pub struct Instant<'a> {
     pub velocity: Vector3<f64>,
 }
 
+impl<'a> Instant<'a> {
+    /// The instant of the coordinates `[q, q', q'']` at a point whose
+    /// position, velocity and acceleration are `at` (the origin at rest
+    /// where the load acts at no point).
+    pub(super) fn of(coords: [&'a [f64]; 3], at: Option<[Vector3<f64>; 3]>) -> Self {
+        let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
+        Instant {
+            q: coords[0],
+            qd: coords[1],
+            qdd: coords[2],
+            position,
+            velocity,
+        }
+    }
+}
+
 impl Instant<'_> {
     /// Coordinate j (NaN past the last: the load's value is then
     /// reported as not finite).
@@ -510,16 +526,7 @@ impl Dynamics {
     ) -> Result<(Vector3<f64>, Vector3<f64>), Error> {
         let planar = self.dim == 2;
         let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at: Option<[Vector3<f64>; 3]>| {
-            let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
-            Instant {
-                q: &q,
-                qd: &qd,
-                qdd: &qdd,
-                position,
-                velocity,
-            }
-        };
+        let instant = |at| Instant::of([&q, &qd, &qdd], at);
         for b in &self.bodies {
             let [r, _, _] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
             let w = self.gravity * b.mass;
@@ -556,16 +563,7 @@ impl Dynamics {
         let g = self.gravity;
         let planar = self.dim == 2;
         let velocity = |v: &dyn View, p: usize| v.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
-        let instant = |at: Option<[Vector3<f64>; 3]>| {
-            let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
-            Instant {
-                q: coords[0],
-                qd: coords[1],
-                qdd: coords[2],
-                position,
-                velocity,
-            }
-        };
+        let instant = |at| Instant::of(coords, at);
         let mut q = 0.0;
         for b in &self.bodies {
             let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);

@@ -409,13 +409,7 @@ impl Dynamics {
         }
         // The applied loads, moved to the right-hand side.
         let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at: [Vector3<f64>; 3]| Instant {
-            q: &q,
-            qd: &qd,
-            qdd: &qdd,
-            position: at[0],
-            velocity: at[1],
-        };
+        let instant = |at| Instant::of([&q, &qd, &qdd], Some(at));
         let planar = |v: Vector3<f64>| {
             if spatial {
                 v

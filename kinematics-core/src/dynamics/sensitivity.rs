@@ -237,16 +237,7 @@ impl Dynamics {
         self.differentiable()?;
         let planar = self.dim == 2;
         let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at: Option<[Vector3<f64>; 3]>| {
-            let [position, velocity, _] = at.unwrap_or([Vector3::zeros(); 3]);
-            Instant {
-                q: &q,
-                qd: &qd,
-                qdd: &qdd,
-                position,
-                velocity,
-            }
-        };
+        let instant = |at| Instant::of([&q, &qd, &qdd], at);
         let n = self.coordinates;
         let mut scratch = vec![[0.0; 3]; k + 3 * n];
         // A load's value and its tangents along each parameter.

@@ -94,15 +94,8 @@ pub(super) fn path_xy<T: Table + ?Sized>(
     projection: Projection,
 ) -> Result<Vec<(f64, f64)>, Error> {
     let k = sweep.point_index(point, "plot")?;
-    let (a, b) = projection.axes();
     Ok((0..sweep.rows())
-        .map(|i| {
-            let r = sweep.point(i, k)[0];
-            (
-                r.get(a).copied().unwrap_or(0.0),
-                r.get(b).copied().unwrap_or(0.0),
-            )
-        })
+        .map(|i| projection.of(sweep.point(i, k)[0]))
         .collect())
 }
 

@@ -112,21 +112,13 @@ pub fn plot_skeleton_with<M: Mechanism>(
         .iter()
         .map(|(p, q)| Ok((point_index::<M>(p, "plot")?, point_index::<M>(q, "plot")?)))
         .collect::<Result<_, Error>>()?;
-    let (a, b) = projection.axes();
     let dim = M::POINT_DIM;
     let positions: Vec<Vec<(f64, f64)>> = poses
         .iter()
         .map(|pose| {
             let mut flat = vec![0.0; M::POINTS * dim];
             m.point_positions_into(pose, &mut flat);
-            flat.chunks(dim)
-                .map(|c| {
-                    (
-                        c.get(a).copied().unwrap_or(0.0),
-                        c.get(b).copied().unwrap_or(0.0),
-                    )
-                })
-                .collect()
+            flat.chunks(dim).map(|c| projection.of(c)).collect()
         })
         .collect();
     let roles = poses.first().map_or_else(Vec::new, |p| point_roles(m, p));
@@ -184,18 +176,11 @@ pub fn plot_table_skeleton<T: Table + ?Sized>(
             detail: format!("sample {i} asked of a sweep of {} samples", sweep.rows()),
         });
     }
-    let (a, b) = projection.axes();
     let positions: Vec<Vec<(f64, f64)>> = rows
         .iter()
         .map(|&i| {
             (0..points)
-                .map(|k| {
-                    let r = sweep.point(i, k)[0];
-                    (
-                        r.get(a).copied().unwrap_or(0.0),
-                        r.get(b).copied().unwrap_or(0.0),
-                    )
-                })
+                .map(|k| projection.of(sweep.point(i, k)[0]))
                 .collect()
         })
         .collect();

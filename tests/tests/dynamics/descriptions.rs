@@ -301,21 +301,8 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
     );
     // At the crank pin, B is on the crank and on the rod: named by its
     // point and the two bodies, in both syntaxes.
-    let pinned = Dynamics::builder()
-        .body(Body::new("crank", 1.0).center("G2").angle("phi"))
-        .body(Body::new("rod", 1.0).center("G3").angle("th"))
-        .body(Body::new("piston", 1.0).center("C"))
+    let pinned = engine_with_joints()
         .force("B", |_| [1.0, 0.0, 0.0])
-        .joint(Joint::revolute("bearing", "O", GROUND, "crank").driven_by("phi"))
-        .joint(Joint::revolute("crank pin", "B", "crank", "rod"))
-        .joint(Joint::revolute("piston pin", "C", "rod", "piston"))
-        .joint(Joint::prismatic(
-            "cylinder",
-            "C",
-            GROUND,
-            "piston",
-            [1.0, 0.0],
-        ))
         .build::<Engine>()
         .expect("builds");
     let e = pinned

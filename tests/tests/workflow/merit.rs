@@ -21,6 +21,32 @@ use kinematics_core::runtime::Model;
 use kinematics_core::sweep::Table;
 use kinematics_examples::{FourBar, FourBarCoords, RRtrRrt, SliderCrank, SliderCrankCoords};
 
+/// The examples' crank-rocker swept over a turn in 360 steps at `rate`,
+/// as generated code and as a run-time model.
+fn crank_rocker_turns(
+    rate: f64,
+) -> (
+    kinematics_core::sweep::Sweep<FourBar>,
+    kinematics_core::runtime::Sweep,
+) {
+    let m = FourBar::CRANK_ROCKER;
+    let guess = FourBar::CRANK_ROCKER_GUESS;
+    let generated = m
+        .sweep(FourBar::PHI, &guess)
+        .turn()
+        .steps(360)
+        .rate(rate)
+        .run();
+    let run_time = model("FourBar", &[m.a, m.b, m.c, m.d, m.p, m.beta])
+        .sweep("phi", &[0.0, guess.th3, guess.th4])
+        .expect("a driver")
+        .turn()
+        .steps(360)
+        .rate(rate)
+        .run();
+    (generated, run_time)
+}
+
 fn model(name: &str, values: &[f64]) -> Model {
     let text = kinematics_examples::definition(name).expect("an example definition");
     let mut m = Model::compile(text).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -93,23 +119,7 @@ fn four_bar_transmission_angle_from_the_law_of_cosines() {
         let f2 = a * a + d * d - 2.0 * a * d * phi.cos();
         ((b * b + c * c - f2) / (2.0 * b * c)).acos()
     };
-    let generated = m
-        .sweep(FourBar::PHI, &FourBar::CRANK_ROCKER_GUESS)
-        .turn()
-        .steps(360)
-        .run();
-    let run_time = model("FourBar", &[a, b, c, d, m.p, m.beta]);
-    let start = [
-        0.0,
-        FourBar::CRANK_ROCKER_GUESS.th3,
-        FourBar::CRANK_ROCKER_GUESS.th4,
-    ];
-    let run_time = run_time
-        .sweep("phi", &start)
-        .expect("a driver")
-        .turn()
-        .steps(360)
-        .run();
+    let (generated, run_time) = crank_rocker_turns(1.0);
     let tables: [&dyn Table; 2] = [&generated, &run_time];
     for table in tables {
         let t = transmission(table, "th3", "th4").expect("two angles");
@@ -137,25 +147,7 @@ fn four_bar_mechanical_advantage_from_the_velocity_loop() {
     // The velocity loop a ω2 e(φ)⊥ + b ω3 e(θ3)⊥ = c ω4 e(θ4)⊥, dotted
     // with e(θ3) to drop ω3: a ω2 sin(φ − θ3) = c ω4 sin(θ4 − θ3).
     let exact = |phi: f64, t3: f64, t4: f64| c * (t4 - t3).sin() / (a * (phi - t3).sin());
-    let generated = m
-        .sweep(FourBar::PHI, &FourBar::CRANK_ROCKER_GUESS)
-        .turn()
-        .steps(360)
-        .rate(7.0)
-        .run();
-    let run_time = model("FourBar", &[a, m.b, c, m.d, m.p, m.beta]);
-    let start = [
-        0.0,
-        FourBar::CRANK_ROCKER_GUESS.th3,
-        FourBar::CRANK_ROCKER_GUESS.th4,
-    ];
-    let run_time = run_time
-        .sweep("phi", &start)
-        .expect("a driver")
-        .turn()
-        .steps(360)
-        .rate(7.0)
-        .run();
+    let (generated, run_time) = crank_rocker_turns(7.0);
     let tables: [&dyn Table; 2] = [&generated, &run_time];
     for table in tables {
         let ma = mechanical_advantage(table, "th4").expect("an output");
