@@ -87,17 +87,8 @@ pub(super) fn figures(
         }
         lines.push(line);
     }
-    for b in m.blocks() {
-        let names: Vec<&str> = b
-            .unknowns
-            .iter()
-            .copied()
-            .filter(|u| {
-                m.index(u)
-                    .is_some_and(|j| m.coordinates()[j].kind == Kind::Angle)
-            })
-            .collect();
-        if let [first, second] = names[..] {
+    for (first, second) in dyads(m) {
+        {
             if let Ok(t) = transmission(sweep, first, second) {
                 lines.push(format!(
                     "{first}, {second}: transmission angle (between the two links) from {} at {} \
@@ -117,4 +108,27 @@ pub(super) fn figures(
         }
     }
     out
+}
+
+/// The blocks of two unknown angles (dyads whose links they are), as the
+/// pairs of their names.
+pub(super) fn dyads(m: &Model) -> Vec<(&str, &str)> {
+    m.blocks()
+        .iter()
+        .filter_map(|b| {
+            let names: Vec<&str> = b
+                .unknowns
+                .iter()
+                .copied()
+                .filter(|u| {
+                    m.index(u)
+                        .is_some_and(|j| m.coordinates()[j].kind == Kind::Angle)
+                })
+                .collect();
+            match names[..] {
+                [first, second] => Some((first, second)),
+                _ => None,
+            }
+        })
+        .collect()
 }

@@ -42,17 +42,34 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
             escape(stop)
         );
     }
+    let transmission = done
+        .written
+        .iter()
+        .find(|f| file_name(f) == "transmission.svg")
+        .map(|f| figure(f))
+        .transpose()?
+        .unwrap_or_default();
     section(
         &mut page,
         "merit",
         "Figures of merit",
-        &pre(&summary(&done.summary)),
+        &(pre(&summary(&done.summary)) + &transmission),
     );
+    let mut listed = assemblies(m, &done.start);
+    if let Some(k) = m.assemble_all(&done.start).position(|(_, p)| {
+        p.is_ok_and(|p| {
+            p.iter()
+                .zip(&done.start)
+                .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        })
+    }) {
+        let _ = writeln!(listed, "the sweep starts in assembly {}", k + 1);
+    }
     section(
         &mut page,
         "assemblies",
         "Assemblies at the start",
-        &pre(&assemblies(m, &done.start)),
+        &pre(&listed),
     );
     if let Some(anim) = done
         .written

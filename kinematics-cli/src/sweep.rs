@@ -1,7 +1,8 @@
 //! `kinematics sweep`: a driver swept over a range from a start pose, and
 //! the files written from the samples: the CSV, the plots of the
 //! coordinates and of the points, the path of every moving point, the
-//! skeleton at four poses, a DXF drawing of the skeleton at the first
+//! transmission angle of every dyad (`transmission.svg`), the skeleton at
+//! four poses, a DXF drawing of the skeleton at the first
 //! sample with every moving point's path (`mechanism.dxf`), the HTML
 //! animation, and, for a definition with `bodies` or `loads`, the
 //! forces: the drivers' efforts, energies, power and shaking (`forces.csv`)
@@ -98,6 +99,11 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
     };
     let units = Units {
         length: unit(&args.unit)?,
+        angle: if args.degrees {
+            AngleUnit::Degrees
+        } else {
+            AngleUnit::Radians
+        },
     };
     let links = file
         .links
@@ -208,6 +214,13 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
         (projection, units, angles),
         m.name(),
     )?;
+    let dyads = super::merit::dyads(&m);
+    if !dyads.is_empty() {
+        let svg = args.out.join("transmission.svg");
+        kinematics_core::plot::plot_transmission(&sweep, &dyads, &svg)
+            .map_err(|e| Failure::mechanism(format!("error: {e}")))?;
+        written.push(svg);
+    }
     let mut mean = None;
     if m.has_dynamics() {
         let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));

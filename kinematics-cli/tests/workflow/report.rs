@@ -184,6 +184,8 @@ fn a_stephenson_six_bar_is_reported_in_degrees_without_guesses_and_opens_in_chro
         "id=\"animation\"",
         "E + polar(f, th5) == F;",
         "RRR dyad, two modes",
+        "C left of B→D",
+        "the sweep starts in assembly 2",
     ] {
         assert!(html.contains(part), "the report has no {part}");
     }
@@ -206,7 +208,13 @@ fn a_stephenson_six_bar_is_reported_in_degrees_without_guesses_and_opens_in_chro
     // The figures are in the rendered document, and the animation's
     // script ran inside its frame (its slider and play button exist
     // only in the frame's document, which the outer DOM holds as text).
-    for part in ["<svg", "skeleton.svg", "path-E.svg", "<iframe"] {
+    for part in [
+        "<svg",
+        "skeleton.svg",
+        "transmission.svg",
+        "path-E.svg",
+        "<iframe",
+    ] {
         assert!(dom.contains(part), "the rendered page has no {part}");
     }
     let shot = dir.join("report.png");

@@ -10,19 +10,28 @@ use plotters::prelude::*;
 use crate::error::Error;
 use crate::mechanism::Kind;
 use crate::sweep::Table;
+use crate::units::AngleUnit;
 use crate::view::Projection;
 
-/// The length unit written on the axes (the values are plotted as
-/// computed, in the unit of the mechanism's parameters).
+/// The units written on the axes: the length unit's name (lengths are
+/// plotted as computed, in the unit of the mechanism's parameters), and
+/// the unit of angular rates and accelerations (angles themselves are
+/// plotted in degrees).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Units {
     /// The name of the length unit, `"m"` by default.
     pub length: &'static str,
+    /// Angular velocities in rad/s or deg/s, accelerations in rad/s² or
+    /// deg/s² (radians by default).
+    pub angle: AngleUnit,
 }
 
 impl Units {
-    /// Metres.
-    pub const METRES: Self = Self { length: "m" };
+    /// Metres, and angular rates in radians.
+    pub const METRES: Self = Self {
+        length: "m",
+        angle: AngleUnit::Radians,
+    };
 }
 
 impl Default for Units {

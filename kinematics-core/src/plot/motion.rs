@@ -14,7 +14,8 @@ use super::chart::{output, panel, x_axis, Curve, Units, PALETTE};
 
 /// Plots q, q' and q'' of every unknown against the swept variable into an
 /// SVG file at `path`: a row per quantity, a column per kind (angles in
-/// degrees with their rates in rad/s and rad/s²; lengths in m, m/s,
+/// degrees with their rates in rad/s and rad/s² (deg/s and deg/s² with
+/// [`Units::angle`] in degrees); lengths in m, m/s,
 /// m/s²), one curve per unknown. The driver is in degrees when it is an
 /// angle.
 ///
@@ -81,13 +82,13 @@ pub fn plot_motion_in<T: Table + ?Sized>(
                 ),
                 (
                     "angular velocities",
-                    "angular velocity (rad/s)".to_owned(),
-                    1.0,
+                    format!("angular velocity ({}/s)", units.angle.name()),
+                    units.angle.factor(),
                 ),
                 (
                     "angular accelerations",
-                    "angular acceleration (rad/s²)".to_owned(),
-                    1.0,
+                    format!("angular acceleration ({}/s²)", units.angle.name()),
+                    units.angle.factor(),
                 ),
             ],
             Kind::Length => [
