@@ -1,7 +1,9 @@
 """The fixed cost of a call from Python, for `python/README.md`: each call
 of the Python API against the native method it wraps (the same work in
 the native module, with the arrays it hands over), interleaved in one
-process, in thread CPU time; the median and range of seven rounds. Run
+process, in thread CPU time; the median and range of nine rounds. A
+sweep of one step shows the fixed cost alone, which the noise of a
+360-sample sweep (a few µs) hides. Run
 with loopkin installed in release (`pip install ./python`):
 
     python3 bench/python/per_call.py
@@ -23,7 +25,7 @@ def rounds(pairs, n):
     """Median and range (µs a call) of each of `pairs`' two functions,
     alternated round by round."""
     times = [([], []) for _ in pairs]
-    for _ in range(7):
+    for _ in range(9):
         for (f, g), (tf, tg) in zip(pairs, times):
             for fn, out in ((f, tf), (g, tg)):
                 fn()
@@ -31,7 +33,7 @@ def rounds(pairs, n):
                 for _ in range(n):
                     fn()
                 out.append((time.thread_time_ns() - t0) / n / 1000)
-    return [tuple(sorted(t)[3] for t in pair) + tuple((min(t), max(t)) for t in pair) for pair in times]
+    return [tuple(sorted(t)[4] for t in pair) + tuple((min(t), max(t)) for t in pair) for pair in times]
 
 
 def main():
@@ -45,7 +47,7 @@ def main():
             "th",
         ),
     ]
-    print("µs a call: Python API, native method, Python's share (median of 7 rounds; range)")
+    print("µs a call: Python API, native method, Python's share (median of 9 rounds; range)")
     for name, m, drv in designs:
         start = m.assemble_all(**{drv: 0.3})[0]
         q = start.array.tolist()
@@ -57,6 +59,18 @@ def main():
                 lambda: m.analyze(start, rate=10.0),
                 lambda: m._m.analyze(start.array.tolist(), [10.0], [0.0], None),
                 20000,
+            ),
+            (
+                "sweep 1",
+                lambda: m.sweep(drv, start=start, to=0.31, steps=1),
+                lambda: m._m.sweep(drv, q, (None, 0.31, None, 1, 1.0, 0.0, "stop"), None),
+                2000,
+            ),
+            (
+                "poses 1",
+                lambda: m.poses(drv, start=start, to=0.31, steps=1),
+                lambda: m._m.poses(drv, q, (None, 0.31, None, 1), None),
+                2000,
             ),
             (
                 "sweep 360",

@@ -102,12 +102,10 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         "The motion",
         &figures(&|n| n == "motion.svg" || n == "points.svg")?,
     );
-    section(
-        &mut page,
-        "paths",
-        "Paths of the moving points",
-        &figures(&|n| n.starts_with("path-"))?,
-    );
+    let paths = figures(&|n| n.starts_with("path-"))?;
+    if !paths.is_empty() {
+        section(&mut page, "paths", "Paths of the moving points", &paths);
+    }
     let forces = figures(&|n| n == "forces.svg")?;
     if !forces.is_empty() {
         section(&mut page, "forces", "Forces", &forces);

@@ -13,7 +13,9 @@
 //! - the joint is the point of link b whose distance from E_a (or, where
 //!   no point rides on link a, from some point that moves with neither
 //!   angle) does not change when the drivers move, the pose reassembled
-//!   in the same modes;
+//!   in the same modes, and whose directions from E_a and from E_b turn
+//!   by exactly what θa and θb do (so that a point merely linked to the
+//!   dyad by another link is not taken for its end);
 //! - the side is the sign of (E_b − E_a) × (J − E_a): left of E_a→E_b
 //!   where positive.
 //!
@@ -71,12 +73,21 @@ pub(super) fn side(m: &Model, p: &[f64], modes: &[Mode], [a, b]: [usize; 2]) -> 
         for v in q.iter_mut().take(m.drivers()) {
             *v += 1e-3;
         }
-        at(&m.assemble_in(&q, modes).ok()?)?
+        let q = m.assemble_in(&q, modes).ok()?;
+        (at(&q)?, q)
     };
-    let rigid = |x: usize, y: usize| {
-        let d0 = (r[x][0] - r[y][0]).hypot(r[x][1] - r[y][1]);
-        let d1 = (moved[x][0] - moved[y][0]).hypot(moved[x][1] - moved[y][1]);
-        (d0 - d1).abs() <= 1e-9 * size && d0 > 1e-9 * size
+    let (moved, mq) = moved;
+    // x and y a rigid pair whose direction turns as coordinate j does:
+    // the two ends of the link that angle j measures.
+    let on_link = |x: usize, y: usize, j: usize| {
+        let (d0x, d0y) = (r[x][0] - r[y][0], r[x][1] - r[y][1]);
+        let (d1x, d1y) = (moved[x][0] - moved[y][0], moved[x][1] - moved[y][1]);
+        let (d0, d1) = (d0x.hypot(d0y), d1x.hypot(d1y));
+        let turn = (d0x * d1y - d0y * d1x).atan2(d0x * d1x + d0y * d1y);
+        let wanted = mq[j] - p[j];
+        (d0 - d1).abs() <= 1e-9 * size
+            && d0 > 1e-9 * size
+            && (turn - wanted).abs() <= 1e-7 * (1.0 + wanted.abs())
     };
     let candidates: Vec<usize> = match on_a.first() {
         Some(&k) => vec![named(centre(k, &ra))?],
@@ -84,9 +95,11 @@ pub(super) fn side(m: &Model, p: &[f64], modes: &[Mode], [a, b]: [usize; 2]) -> 
             .filter(|&k| k != eb && !moves(&ra[k], &r[k]) && !moves(&rb[k], &r[k]))
             .collect(),
     };
-    let (ea, j) = candidates
-        .iter()
-        .find_map(|&u| on_b.iter().find(|&&x| rigid(x, u)).map(|&x| (u, x)))?;
+    let (ea, j) = candidates.iter().find_map(|&u| {
+        on_b.iter()
+            .find(|&&x| on_link(x, u, a) && on_link(x, eb, b))
+            .map(|&x| (u, x))
+    })?;
     let (e, f, g) = (r[ea], r[eb], r[j]);
     let cross = (f[0] - e[0]) * (g[1] - e[1]) - (f[1] - e[1]) * (g[0] - e[0]);
     let length = (f[0] - e[0]).hypot(f[1] - e[1]) * (g[0] - e[0]).hypot(g[1] - e[1]);

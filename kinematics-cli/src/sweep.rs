@@ -42,7 +42,7 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
 pub(super) struct Swept {
     /// The model, its parameters set.
     pub model: kinematics_core::runtime::Model,
-    /// The start pose.
+    /// The start pose, as the sweep's first sample assembled it.
     pub start: Vec<f64>,
     /// The summary as printed.
     pub summary: String,
@@ -303,6 +303,9 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
         let _ = writeln!(out, "  wrote {}", f.display());
     }
     let stop = sweep.stop.as_ref().map(stop_message);
+    // The pose the sweep starts from, as assembled (the guesses given may
+    // only name its branch).
+    let start = sweep.samples.first().map_or(start, |s| s.motion.q.clone());
     Ok(Swept {
         model: m,
         start,

@@ -146,6 +146,10 @@ pub fn dxf<T: Table + ?Sized>(
             extent.3.max(y),
         );
     }
+    if !extent.0.is_finite() {
+        // No point at all: an empty drawing about the origin.
+        extent = (0.0, 0.0, 0.0, 0.0);
+    }
     let size = (extent.1 - extent.0).max(extent.3 - extent.2);
     let size = if size > 0.0 { size } else { 1.0 };
     let mut out = String::new();
@@ -215,7 +219,17 @@ fn header(out: &mut String, (x0, x1, y0, y1): (f64, f64, f64, f64)) {
     out.push_str("0\nENDTAB\n0\nENDSEC\n");
 }
 
-/// A point's name as a DXF string: one line, no control characters.
+/// A point's name as a DXF string: one line, no control characters, and
+/// every character past ASCII as the `\U+XXXX` escape CAD programs read
+/// (a release-12 file is read in its code page otherwise).
 fn text(name: &str) -> String {
-    name.chars().filter(|c| !c.is_control()).collect()
+    let mut out = String::with_capacity(name.len());
+    for c in name.chars().filter(|c| !c.is_control()) {
+        if c.is_ascii() {
+            out.push(c);
+        } else {
+            let _ = write!(out, "\\U+{:04X}", u32::from(c));
+        }
+    }
+    out
 }

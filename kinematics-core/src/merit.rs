@@ -475,19 +475,20 @@ fn slopes<T: Table + ?Sized>(table: &T, j: usize) -> Result<Vec<Slope>, Error> {
 /// conservation of power Q_in φ' = Q_out q': MA = Q_out / Q_in = φ' / q',
 /// the swept driver's rate over the output's (N·m per N·m for an angle
 /// output, N per N·m, 1/m, for a length). It is infinite at the
-/// output's dead centres (the toggle positions, where q' = 0), and
-/// smallest where the linkage transmits force worst.
+/// output's dead centres (the toggle positions, where q' = 0); where it
+/// is least, the input must push hardest for a given output load.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MechanicalAdvantage {
     /// MA at every sample, signed (negative where the output moves against
     /// the input's sense); ±∞ where the output's rate is 0.
     pub values: Vec<f64>,
-    /// The least |MA| and the swept value where it occurs.
+    /// The swept value where |MA| is least, and that least |MA|.
     pub least: (f64, f64),
 }
 
 /// The mechanical advantage of coordinate `output` at every sample of
-/// `table` ([`MechanicalAdvantage`]).
+/// `table` ([`MechanicalAdvantage`]): the input is the swept driver, or
+/// for a motion over time the mechanism's one driver.
 ///
 /// ```
 /// use kinematics_core::{mechanism, merit::mechanical_advantage};
@@ -508,18 +509,39 @@ pub struct MechanicalAdvantage {
 ///
 /// # Errors
 /// [`Error::InvalidGeometry`] for a name that is not a coordinate of the
-/// table (or is the swept driver), or a table with no samples.
+/// table (or is the swept driver), a table with no samples, or one over
+/// time of a mechanism with several drivers.
 pub fn mechanical_advantage<T: Table + ?Sized>(
     table: &T,
     output: &str,
 ) -> Result<MechanicalAdvantage, Error> {
     let j = index(table, output, "mechanical_advantage")?;
     nonempty(table, "mechanical_advantage")?;
-    let driver = table
-        .coordinates()
-        .iter()
-        .position(|c| c.name == table.variable());
-    if driver == Some(j) {
+    // The input: the swept driver, or over time the one driver.
+    let coordinates = table.coordinates();
+    let driver = match coordinates.iter().position(|c| c.name == table.variable()) {
+        Some(d) => d,
+        None => {
+            let drivers: Vec<usize> = (0..coordinates.len())
+                .filter(|&k| coordinates[k].role == crate::mechanism::Role::Driver)
+                .collect();
+            match drivers[..] {
+                [d] => d,
+                _ => {
+                    return Err(Error::InvalidGeometry {
+                        what: "mechanical_advantage",
+                        detail: format!(
+                            "the sweep runs over `{}`, and the mechanism has {} drivers: \
+                             the input is the one driver swept, so sweep a driver",
+                            table.variable(),
+                            drivers.len()
+                        ),
+                    })
+                }
+            }
+        }
+    };
+    if driver == j {
         return Err(Error::InvalidGeometry {
             what: "mechanical_advantage",
             detail: format!("`{output}` is the swept driver: name an output coordinate"),
@@ -527,7 +549,7 @@ pub fn mechanical_advantage<T: Table + ?Sized>(
     }
     let values: Vec<f64> = (0..table.rows())
         .map(|i| {
-            let rate = driver.map_or(1.0, |d| table.coordinate(i, d, 1));
+            let rate = table.coordinate(i, driver, 1);
             let out = table.coordinate(i, j, 1);
             if out == 0.0 {
                 f64::INFINITY.copysign(rate)

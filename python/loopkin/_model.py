@@ -6,6 +6,7 @@ from __future__ import annotations
 import copyreg
 import math
 import os
+import sys
 import threading
 import warnings
 from typing import (
@@ -47,6 +48,18 @@ _classes: Dict[str, Type["Mechanism"]] = {}
 # An angle written as a plain number above two turns (4π) was likely meant
 # in degrees: `90` is 14.3 turns.
 _TWO_TURNS = 4.0 * math.pi
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of a warning that names the first frame outside
+    this package: the user's line that gave the value."""
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == _PACKAGE:
+        frame = frame.f_back  # type: ignore[assignment]
+        level += 1
+    return level
 _lock = threading.Lock()
 
 
@@ -320,12 +333,20 @@ class Mechanism(_Forces, metaclass=MechanismType):
         if isinstance(value, str):
             angle = self._kinds.get(name) == "angle"
             return _native.read_quantity(value, order, angle)
-        if order == 0 and abs(value) > _TWO_TURNS and self._kinds.get(name) == "angle":
+        if (
+            order == 0
+            and abs(value) > _TWO_TURNS
+            and round(value, 1) == value
+            and self._kinds.get(name) == "angle"
+        ):
+            # A number as a person writes degrees (90, 22.5), not one
+            # computed in radians (6π, a sample of a sweep of turns).
+            v = float(value)
             warnings.warn(
-                f"{name}={value!r} is read as {value!r} rad ({value / (2 * math.pi):.1f} turns); "
-                f"write {name}=\"{value!r}deg\" for degrees",
+                f"{name}={v:g} is read as {v:g} rad ({v / (2 * math.pi):.1f} turns); "
+                f'write {name}="{v:g}deg" for degrees',
                 RadiansWarning,
-                stacklevel=3,
+                stacklevel=_caller_level(),
             )
         return value  # type: ignore[return-value]
 
@@ -486,7 +507,7 @@ class Mechanism(_Forces, metaclass=MechanismType):
     def _range(self, driver: str, to: Optional[float], turn: bool, turns: Optional[float]) -> Optional[float]:
         """The whole turns of a sweep's range (``None`` with an end
         ``to``), once ``driver`` is checked to be a driver."""
-        if driver not in self.driver_names():
+        if self._where.get(driver, self._nd) >= self._nd:
             raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}: they are {list(self.driver_names())}")
         if turn and turns is None:
             turns = 1.0
@@ -550,9 +571,14 @@ class Mechanism(_Forces, metaclass=MechanismType):
         # The samples follow the motion: a sweep backwards (turns < 0, or
         # to below from_) with a positive rate would give the velocities
         # of the opposite motion.
-        first = q[driver] if from_ is None else from_
+        rate = float(rate)
+        first = from_
+        if to is not None and first is None:
+            first = float(q.array[self._where[driver]])
         backwards = (turns is not None and turns < 0) or (to is not None and to < first)
-        if backwards and float(rate) > 0:
+        if backwards and rate > 0:
+            if first is None:
+                first = float(q.array[self._where[driver]])
             raise ValueError(
                 f"the sweep runs {driver} backwards, from {first:g} "
                 f"{'by ' + format(turns, 'g') + ' turns' if turns is not None else 'to ' + format(to, 'g')}, "
@@ -694,7 +720,7 @@ class Mechanism(_Forces, metaclass=MechanismType):
         if sweep is not None:
             s = dict(sweep)
             driver = s.pop("driver")
-            if driver not in self.driver_names():
+            if self._where.get(driver, self._nd) >= self._nd:
                 raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}")
             j = self.driver_names().index(driver)
             swept_rate, rpm = s.pop("rate", None), s.pop("rpm", None)

@@ -43,14 +43,17 @@ class Link(Tuple[Tuple[str, ...], bool]):
         return f"Link({kind}{{{', '.join(self.points)}}})"
 
 
-def _pairs(links: Optional[Iterable[Tuple[str, str]]]) -> Optional[List[Tuple[str, str]]]:
-    """Point pairs as the native module takes them; ``None`` kept."""
+def _pairs(links: Optional[Iterable[Union[Tuple[str, str], str]]]) -> Optional[List[Tuple[str, str]]]:
+    """Point pairs as the native module takes them: each a pair of names or
+    the text ``"A-B"``, as the command writes a link; ``None`` kept."""
     if links is None:
         return None
     pairs = []
     for x in links:
-        a, b = x
-        pairs.append((str(a), str(b)))
+        ends = x.split("-") if isinstance(x, str) else list(x)
+        if len(ends) != 2 or not all(isinstance(e, str) for e in ends):
+            raise ValueError(f"a link is two point names, (\"A\", \"B\") or \"A-B\", not {x!r}")
+        pairs.append((ends[0].strip(), ends[1].strip()))
     return pairs
 
 
@@ -122,10 +125,26 @@ class PointColumns:
         return np.linalg.norm(self._motion("acceleration"), axis=1)
 
     def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        if copy:
+            return np.array(self.position, dtype=dtype, copy=True)
         return np.asarray(self.position, dtype=dtype)
 
     def __len__(self) -> int:
         return len(self.position)
+
+    def __getitem__(self, index: Any) -> Any:
+        """The positions indexed as an array: ``point[:, 0]`` the x."""
+        return self.position[index]
+
+    @property
+    def shape(self) -> Tuple[int, ...]:
+        """The positions' shape, (samples, dim)."""
+        return self.position.shape
+
+    @property
+    def T(self) -> np.ndarray:  # noqa: N802 (numpy's name)
+        """The positions transposed, (dim, samples): ``plt.plot(*point.T)``."""
+        return self.position.T
 
     def __repr__(self) -> str:
         kind = "positions" if self.velocity is None else "positions, velocities and accelerations"
@@ -159,8 +178,8 @@ class _Columns(Mapping[str, np.ndarray]):
 
     __slots__ = ("_names", "_table")
 
-    def __init__(self, names: Sequence[str], table: np.ndarray) -> None:
-        self._names = tuple(names)
+    def __init__(self, names: Tuple[str, ...], table: np.ndarray) -> None:
+        self._names = names
         self._table = table
 
     def __getitem__(self, name: str) -> np.ndarray:
@@ -192,21 +211,20 @@ class Sweep:
         self._native = native
         # The native arrays are read-only already: they hold the data the
         # figures and tables read back.
-        c = native.columns()
+        (at, q, qd, qdd, points, frames, conditioning, det_sign, residual), s, changes = native.parts()
         names = cls._coords
         self.variable: str = native.variable
-        self.at: np.ndarray = c["at"]
-        self.q = _Columns(names, c["q"])
-        self.qd = _Columns(names, c["qd"])
-        self.qdd = _Columns(names, c["qdd"])
-        self._points = c["points"]
-        self._frames = c["frames"]
-        self.conditioning: np.ndarray = c["conditioning"]
-        self.det_sign: np.ndarray = c["det_sign"]
-        self.residual: np.ndarray = c["residual"]
-        s = native.stop()
+        self.at: np.ndarray = at
+        self.q = _Columns(names, q)
+        self.qd = _Columns(names, qd)
+        self.qdd = _Columns(names, qdd)
+        self._points = points
+        self._frames = frames
+        self.conditioning: np.ndarray = conditioning
+        self.det_sign: np.ndarray = det_sign
+        self.residual: np.ndarray = residual
         self.stop: Optional[Stop] = None if s is None else Stop(s)
-        self.change_points: List[float] = native.change_points
+        self.change_points: List[float] = changes
 
     def __len__(self) -> int:
         return len(self.at)
@@ -272,7 +290,7 @@ class Sweep:
     def write_animation(
         self,
         path: Union[str, "os.PathLike[str]"],
-        links: Optional[Iterable[Tuple[str, str]]] = None,
+        links: Optional[Iterable[Union[Tuple[str, str], str]]] = None,
         projection: str = "xy",
     ) -> None:
         """Writes a self-contained HTML animation of the sweep (no network
@@ -284,7 +302,7 @@ class Sweep:
     def write_dxf(
         self,
         path: Union[str, "os.PathLike[str]"],
-        links: Optional[Iterable[Tuple[str, str]]] = None,
+        links: Optional[Iterable[Union[Tuple[str, str], str]]] = None,
         sample: int = 0,
         projection: str = "xy",
     ) -> None:
@@ -447,8 +465,9 @@ class ForceSweep:
     ``kinetic_energy``, ``potential_energy`` and ``power`` one value per
     sample; ``shaking_force`` and ``shaking_moment`` (the inertial part,
     −Σ m a_G and its moment) and ``frame_force`` and ``frame_moment`` (the
-    total on the frame, weights and loads included: Norton's shaking
-    force) samples × 3;
+    total on the frame, weights and point loads included: Norton's
+    shaking force where every point load comes from outside the machine)
+    samples × 3;
     ``reactions["bearing"]`` a joint's :class:`ReactionColumns`, for the
     joints of the definition's ``joints`` section (empty without).
     """

@@ -321,7 +321,10 @@ class Forces:
         shaking_moment: its moment about the origin (N·m; 3 components).
         frame_force: the total force of the mechanism on the frame, what
             Norton calls the shaking force: −Σ m a_G + Σ m g + Σ F_P, the
-            weights and point loads included (N; 3 components).
+            weights and point loads included (N; 3 components). Each
+            point load counts as coming from outside the machine; one that
+            also bears on the frame (a gas force, on the cylinder head too)
+            cancels there: declare it on its joint's coordinate instead.
         frame_moment: its moment about the origin, the drivers' reactions
             and the torques on bodies included (N·m; 3 components).
     """

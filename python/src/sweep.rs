@@ -115,9 +115,6 @@ impl Sweep {
         })
     }
 
-    /// The columns with their data, read back from the arrays (a copy):
-    /// what the tables, the CSV, the text, the animation and the
-    /// deviations read.
     /// Calls `write` with the columns, every point's role, the links
     /// (`links`, or those found from the motion) and the projection named
     /// `projection`: what a drawing of the sweep is made from.
@@ -149,6 +146,9 @@ impl Sweep {
         self.model.point_roles(first).map_err(|e| error(py, &e))
     }
 
+    /// The columns with their data, read back from the arrays (a copy):
+    /// what the tables, the CSV, the text, the animation and the
+    /// deviations read.
     fn full(&self, py: Python<'_>) -> PyResult<Columns> {
         let d = self.arrays.bind(py);
         let mut held = Vec::with_capacity(DATA.len());
@@ -185,6 +185,40 @@ impl Sweep {
     /// read-only by the Python class that wraps them).
     fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
         self.arrays.bind(py).clone()
+    }
+
+    /// What the Python `Sweep` is made of, in one call: the arrays of
+    /// [`Sweep::columns`] in the order "at", "q", "qd", "qdd", "points",
+    /// "frames", "conditioning", "det_sign", "residual", then the stop
+    /// ([`Sweep::stop`]) and the change points.
+    #[allow(clippy::type_complexity)]
+    fn parts<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Vec<Bound<'py, PyAny>>, Option<Bound<'py, PyDict>>, Vec<f64>)> {
+        let d = self.arrays.bind(py);
+        let arrays = [
+            "at",
+            "q",
+            "qd",
+            "qdd",
+            "points",
+            "frames",
+            "conditioning",
+            "det_sign",
+            "residual",
+        ]
+        .iter()
+        .map(|k| {
+            d.get_item(k)?
+                .ok_or_else(|| PyValueError::new_err(format!("the column {k:?} is missing")))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+        Ok((
+            arrays,
+            stop_dict(py, self.columns.stop.as_ref())?,
+            self.columns.change_points.clone(),
+        ))
     }
 
     /// `None` when the sweep ran to its end; else a dict with "kind"

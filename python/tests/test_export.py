@@ -4,6 +4,7 @@ sweep's own columns give for the points they join, its paths through
 every sample; the links found from the motion."""
 
 import ezdxf
+import ezdxf.recover
 import numpy as np
 import pytest
 
@@ -64,7 +65,34 @@ def test_links_given_by_hand_and_a_wrong_sample_or_point(sweep, tmp_path):
     path = tmp_path / "crank.dxf"
     sweep.write_dxf(path, links=[("A", "B")])
     assert len(ezdxf.readfile(str(path)).modelspace().query("LINE")) == 1
+    # As the command writes a link, "A-B"; a string that is no pair fails.
+    sweep.write_dxf(path, links=["A-B", ("B", "C")])
+    assert len(ezdxf.readfile(str(path)).modelspace().query("LINE")) == 2
+    with pytest.raises(ValueError, match="a link is two point names"):
+        sweep.write_dxf(path, links=["AB"])
+    # Every point is a PointColumns of positions, usable as an array.
+    poses = sweep.design.poses("phi", start=sweep.pose(0), turn=True, steps=12)
+    xy = poses.point("P")
+    assert xy.shape == (12, 2) and close(xy[:, 0], xy.T[0], 0) and not np.shares_memory(np.array(xy, copy=True), xy.position)
     with pytest.raises(IndexError, match="sample 90 of a sweep of 90"):
         sweep.write_dxf(path, sample=90)
     with pytest.raises(Exception, match="Q"):
         sweep.write_dxf(path, links=[("A", "Q")])
+
+
+def test_names_past_ascii_read_back(tmp_path):
+    import loopkin as kin
+
+    Crank = kin.compile("struct Crank { params { a } drivers { phi } unknowns { } points { Ω = vec2(0.0, 0.0); Pé = polar(a, phi); } }")
+    sw = Crank(a=1.0).sweep("phi", start={"phi": 0.0}, turn=True, steps=8)
+    path = tmp_path / "crank.dxf"
+    sw.write_dxf(path, links=[("Ω", "Pé")])
+    # Written as AutoCAD writes characters past its code page in files
+    # before release 2007, \U+XXXX (the file itself is ASCII); ezdxf's
+    # recovering reader decodes them, its plain reader keeps them.
+    assert path.read_bytes().isascii()
+    doc, auditor = ezdxf.recover.readfile(str(path))
+    names = sorted(t.dxf.text for t in doc.modelspace().query("TEXT"))
+    assert names == ["Pé", "Ω"]
+    plain = sorted(t.dxf.text for t in ezdxf.readfile(str(path)).modelspace().query("TEXT"))
+    assert plain == ["P\\U+00E9", "\\U+03A9"]

@@ -67,6 +67,13 @@ def test_mechanical_advantage_from_the_velocity_loop(FourBar):
     assert ma.values.flags.writeable is False
     with pytest.raises(InvalidGeometryError, match="swept driver"):
         sw.mechanical_advantage("phi")
+    # Over time, the input is the one driver: φ = 3 t, φ' = 3.
+    t = np.linspace(0.0, 1.0, 41)
+    sim = m.simulate(start=m.assemble(phi=0.0, th3=1.0, th4=1.6), duration=1.0, steps=40,
+                     values={"phi": 3.0 * t}, rates={"phi": np.full(41, 3.0)}, accelerations={"phi": np.zeros(41)})
+    over_time = sim.mechanical_advantage("th4")
+    exact = c * np.sin(sim["th4"] - sim["th3"]) / (a * np.sin(sim["phi"] - sim["th3"]))
+    assert close(over_time.values, exact, 1e-9, np.abs(exact))
 
 
 def test_offset_slider_crank_stroke_and_time_ratio():
@@ -121,9 +128,11 @@ def test_an_angle_of_many_turns_in_radians_warns(FourBar):
     import warnings
 
     m = FourBar(a=0.04, b=0.12, c=0.10, d=0.11, p=0.06, beta=0.5)
-    with pytest.warns(kin.errors.RadiansWarning, match=r'phi=90 is read as 90 rad \(14.3 turns\); write phi="90deg"'):
-        q = m.pose(phi=90)
+    with pytest.warns(kin.errors.RadiansWarning, match=r'phi=90 is read as 90 rad \(14.3 turns\); write phi="90deg"') as w:
+        q = m.pose(phi=np.float64(90))
     assert q["phi"] == 90.0
+    # The warning names the caller's line, not the package's.
+    assert w[0].filename == __file__
     start = m.assemble(phi=0.0, th3=1.0, th4=1.6)
     with pytest.warns(kin.errors.RadiansWarning) as record:
         m.poses("phi", start=start, from_=30, to=31, steps=2)
@@ -133,3 +142,5 @@ def test_an_angle_of_many_turns_in_radians_warns(FourBar):
         m.pose(phi=6.0)
         m.pose(phi="90deg")
         m.sweep("phi", start=start, from_="30deg", to="40deg", steps=2)
+        # Radians computed, not typed: three turns, as a sweep of turns ends.
+        m.poses("phi", start=start, from_=0.0, to=6 * math.pi, steps=4)

@@ -33,7 +33,8 @@ pub struct ForceSample {
     /// Shaking moment on the frame about the origin (N·m).
     pub shaking_moment: Vector3<f64>,
     /// The total force of the mechanism on the frame, weights and loads
-    /// included ([`Forces::frame_force`], Norton's shaking force; N).
+    /// included ([`Forces::frame_force`]: Norton's shaking force where
+    /// every point load comes from outside the machine; N).
     pub frame_force: Vector3<f64>,
     /// Its moment about the origin ([`Forces::frame_moment`]; N·m).
     pub frame_moment: Vector3<f64>,

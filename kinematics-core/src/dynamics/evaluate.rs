@@ -118,7 +118,10 @@ pub struct Forces<C> {
     /// anchored to it). Every declared point load counts as coming from
     /// outside the machine; a load whose reaction also bears on the frame
     /// (a gas force, which pushes on the cylinder head as well as on the
-    /// piston) cancels there in the machine, so subtract it.
+    /// piston) cancels there in the machine: declare such a load as a
+    /// force on its joint's coordinate (`force(x, …)` with `coordinate =
+    /// x` on the cylinder), which acts between the frame and the body and
+    /// is left out here, or subtract it.
     pub frame_force: Vector3<f64>,
     /// The total moment of the mechanism on the frame about the fixed
     /// origin, the drivers' reactions included: the inertial part above
@@ -513,8 +516,6 @@ impl Dynamics {
         Ok(totals)
     }
 
-    /// One driver's effort Q_k at the motion `s`, from its unit analysis
-    /// `u`, with `coords` the q, q', q'' the loads read.
     /// The total force and moment of the mechanism on the frame at `s`
     /// ([`Forces::frame_force`]): the inertial parts `force` and `moment`
     /// plus the weights, the point loads and the torques on bodies.
@@ -559,6 +560,8 @@ impl Dynamics {
         Ok((force, moment))
     }
 
+    /// One driver's effort Q_k at the motion `s`, from its unit analysis
+    /// `u`, with `coords` the q, q', q'' the loads read.
     fn effort(&self, s: &dyn View, u: &dyn View, coords: [&[f64]; 3]) -> Result<f64, Error> {
         let g = self.gravity;
         let planar = self.dim == 2;

@@ -209,8 +209,9 @@ impl Dynamics {
 
     /// The body each force acts on: the one named, or where none is, the
     /// one body the force's point moves rigidly with, `v_P = v_G + ω ×
-    /// (r_P − r_G)` for the partial velocities of every driver (the
-    /// frame, `None`, for a point that does not move); an error naming
+    /// (r_P − r_G)` and `a_P = a_G + α × d + ω × (ω × d)` in the unit
+    /// analysis of every driver (the frame, `None`, for a point that does
+    /// not move and is on no body); an error naming
     /// the point where no body or more than one (a pin between two) fits.
     /// `unit` provides the unit analyses ([`WithUnit`]), run only where a
     /// force names no body.
@@ -230,24 +231,44 @@ impl Dynamics {
         let mut still = vec![true; self.forces.len()];
         for k in 0..self.drivers {
             unit(k, &mut |u| {
-                let velocity = |p: usize| u.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
+                let motion = |p: usize| {
+                    u.point(p)
+                        .map_or([Vector3::zeros(); 3], |[_, v, a]| [v, v, a])
+                };
                 let scale = self
                     .bodies
                     .iter()
-                    .map(|b| velocity(b.center).norm())
-                    .fold(0.0, f64::max);
+                    .map(|b| {
+                        let [_, v, a] = motion(b.center);
+                        v.norm() + a.norm()
+                    })
+                    .fold(0.0, f64::max)
+                    .max(f64::MIN_POSITIVE);
                 for (f, (p, named, _)) in self.forces.iter().enumerate() {
                     if named.is_some() {
                         continue;
                     }
-                    let vp = velocity(*p);
-                    still[f] &= vp.norm() <= 1e-12 * scale.max(f64::MIN_POSITIVE);
+                    let [_, vp, ap] = motion(*p);
+                    still[f] &= vp.norm() + ap.norm() <= 1e-12 * scale;
                     for (b, body) in self.bodies.iter().enumerate() {
+                        // Rigid with the body in velocity and in
+                        // acceleration (at unit rate, the convective
+                        // terms): v_P = v_G + ω × d, a_P = a_G + α × d
+                        // + ω × (ω × d). A body momentarily translating
+                        // or at rest meets the first by chance, seldom
+                        // both.
                         let d = position(*p) - position(body.center);
-                        let omega = super::evaluate::turning(body, u).0;
-                        let rigid = velocity(body.center) + omega.cross(&d);
-                        let size = vp.norm() + rigid.norm() + omega.norm() * d.norm();
-                        fits[f][b] &= (vp - rigid).norm() <= 1e-9 * size.max(f64::MIN_POSITIVE);
+                        let (omega, alpha, _) = super::evaluate::turning(body, u);
+                        let [_, vg, ag] = motion(body.center);
+                        let v = vg + omega.cross(&d);
+                        let a = ag + alpha.cross(&d) + omega.cross(&omega.cross(&d));
+                        let size = vp.norm()
+                            + v.norm()
+                            + ap.norm()
+                            + a.norm()
+                            + (omega.norm() + alpha.norm()) * d.norm();
+                        fits[f][b] &=
+                            (vp - v).norm() + (ap - a).norm() <= 1e-9 * size.max(f64::MIN_POSITIVE);
                     }
                 }
             })?;
@@ -267,8 +288,21 @@ impl Dynamics {
                     .join(" and ")
             };
             match on.as_slice() {
-                [b] => out.push(Some(*b)),
                 [] if still[f] => out.push(None),
+                [b] if still[f] => {
+                    return Err(Error::InvalidDynamics {
+                        item: "a force".to_string(),
+                        detail: format!(
+                            "the force at point `{point}` names no body, and `{point}` is a \
+                             pivot of `{}` on the frame: say which it acts on \
+                             (`force({point}, …, on = body)` in the definition's `loads`, or \
+                             `.force_on(\"body\", \"{point}\", …)` with the builder; a force \
+                             on the frame enters no reaction)",
+                            self.bodies[*b].name
+                        ),
+                    });
+                }
+                [b] => out.push(Some(*b)),
                 [] => {
                     return Err(Error::InvalidDynamics {
                         item: "a force".to_string(),
@@ -285,7 +319,7 @@ impl Dynamics {
                         item: "a force".to_string(),
                         detail: format!(
                             "the force at point `{point}` names no body, and `{point}` moves \
-                             with {} (a joint between them): say which one it acts on \
+                             with {} (a pin between them): say which one it acts on \
                              (`force({point}, …, on = body)` in the definition's `loads`, or \
                              `.force_on(\"body\", \"{point}\", …)` with the builder)",
                             bodies(several)
@@ -319,19 +353,22 @@ impl Dynamics {
         }
         // The joint each force on a coordinate acts in.
         let mut in_joints = Vec::with_capacity(self.coordinate_forces.len());
-        for (c, f) in &self.coordinate_forces {
+        for (i, (c, f)) in self.coordinate_forces.iter().enumerate() {
             // The joint a driver acts in is measured by that driver.
             let measured = |j: &&ResolvedJoint| j.coordinate == Some(*c) || j.driver == Some(*c);
             let Some(j) = self.joints.iter().find(measured) else {
-                return Err(invalid(
-                    "a force on a coordinate",
+                return Err(invalid("a force on a coordinate", {
+                    let name = self
+                        .load_names
+                        .coordinate_forces
+                        .get(i)
+                        .map_or("?", String::as_str);
                     format!(
-                        "no joint is measured by coordinate {}: name it on its joint \
-                         (`coordinate = x` in the definition's `joints` section, or \
-                         `.coordinate(\"x\")`) for the joint reactions",
-                        c + 1
-                    ),
-                ));
+                        "no joint is measured by coordinate `{name}`: name it on its \
+                             joint (`coordinate = {name}` in the definition's `joints` \
+                             section, or `.coordinate(\"{name}\")`) for the joint reactions"
+                    )
+                }));
             };
             if !matches!(j.kind, JointKind::Revolute | JointKind::Prismatic) {
                 return Err(invalid(

@@ -299,6 +299,40 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
             .expect("B is on the crank"),
         placed.reactions(&engine, &motion).expect("named")
     );
+    // At crank 90° the rod translates (θ' = 0): a force at its G3 is still
+    // placed on it, by the accelerations.
+    let motion = engine_motion(&engine, std::f64::consts::FRAC_PI_2, 10.0, 0.0);
+    fn load(_: &kinematics_core::dynamics::Instant<'_>) -> [f64; 3] {
+        [3.0, -2.0, 0.0]
+    }
+    let unplaced = engine_with_joints().force("G3", load).build::<Engine>();
+    let placed = engine_with_joints()
+        .force_on("rod", "G3", load)
+        .build::<Engine>();
+    assert_eq!(
+        unplaced
+            .expect("builds")
+            .reactions(&engine, &motion)
+            .expect("placed"),
+        placed
+            .expect("builds")
+            .reactions(&engine, &motion)
+            .expect("named")
+    );
+    // At 0° the piston is at rest; the fixed O is the crank's pivot, on the
+    // crank and on the frame: the force must say which.
+    let motion = engine_motion(&engine, 0.0, 10.0, 0.0);
+    let e = engine_with_joints()
+        .force("O", load)
+        .build::<Engine>()
+        .expect("builds")
+        .reactions(&engine, &motion)
+        .expect_err("a pivot");
+    assert!(
+        e.to_string()
+            .contains("`O` is a pivot of `crank` on the frame"),
+        "{e}"
+    );
     // At the crank pin, B is on the crank and on the rod: named by its
     // point and the two bodies, in both syntaxes.
     let pinned = engine_with_joints()
@@ -309,9 +343,9 @@ fn bad_descriptions_are_errors_that_say_what_is_wrong() {
         .reactions(&engine, &motion)
         .expect_err("B is on two bodies");
     assert!(
-        e.to_string()
-            .contains("the force at point `B` names no body, and `B` moves with `crank` and `rod`")
-            && e.to_string().contains("`force(B, …, on = body)`")
+        e.to_string().contains(
+            "the force at point `B` names no body, and `B` moves with `crank` and `rod` (a pin"
+        ) && e.to_string().contains("`force(B, …, on = body)`")
             && e.to_string().contains("`.force_on(\"body\", \"B\", …)`"),
         "{e}"
     );
