@@ -34,6 +34,13 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         "<p class=\"source\">From <code>{}</code>.</p>",
         escape(&args.file.display().to_string())
     );
+    if let Some(e) = &done.forces_error {
+        let _ = writeln!(
+            page,
+            "<p class=\"stop\">The forces could not be computed: {}.</p>",
+            escape(e.trim_start_matches("error: "))
+        );
+    }
     if let Some(stop) = &done.stop {
         let _ = writeln!(
             page,
@@ -130,6 +137,11 @@ pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
         .map_err(|e| Failure::mechanism(format!("error: cannot write {}: {e}", out.display())))?;
     let mut summary = done.summary;
     let _ = writeln!(summary, "  wrote {}", out.display());
+    if let Some(e) = done.forces_error {
+        return Err(Failure::mechanism(format!(
+            "{summary}{e}\n(the report holds the kinematics; the forces could not be computed)"
+        )));
+    }
     match done.stop {
         None => Ok(summary),
         Some(stop) => Err(Failure::mechanism(format!(

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use kinematics_core::animate::write_table_html;
 use kinematics_core::plot::{
-    plot_forces, plot_motion_in, plot_path, plot_points_in, plot_table_skeleton, Units,
+    plot_forces, plot_motion_in, plot_path_in, plot_points_in, plot_table_skeleton, Units,
 };
 use kinematics_core::sweep::{ChangePoints, Table};
 use kinematics_core::view::{PointRole, Projection};
@@ -29,6 +29,12 @@ use super::{compile, pose, ChangePointsArg, Failure, SweepArgs};
 /// Runs `kinematics sweep`: the summary printed on success.
 pub(super) fn run(args: &SweepArgs) -> Result<String, Failure> {
     let done = swept(args)?;
+    if let Some(e) = done.forces_error {
+        return Err(Failure::mechanism(format!(
+            "{}{e}\n(the kinematics' files are written; the forces' are not)",
+            done.summary
+        )));
+    }
     match done.stop {
         None => Ok(done.summary),
         Some(stop) => Err(Failure::mechanism(format!(
@@ -50,6 +56,9 @@ pub(super) struct Swept {
     pub written: Vec<PathBuf>,
     /// Why the sweep stopped before its end, if it did.
     pub stop: Option<String>,
+    /// Why the forces could not be computed, where the definition has
+    /// them and they failed (the kinematics' files are written).
+    pub forces_error: Option<String>,
 }
 
 /// Sweeps as `kinematics sweep` does and writes its files.
@@ -222,29 +231,17 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
         written.push(svg);
     }
     let mut mean = None;
+    // The forces, where the definition has them: their failure is the
+    // sweep's, but leaves the kinematics written (and reported).
+    let mut forces_error = None;
     if m.has_dynamics() {
-        let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
-        let dynamics = m.dynamics().map_err(failed)?;
-        let forces = dynamics.along_of(&m, &sweep).map_err(failed)?;
-        if !m.sensitivity_parameters().is_empty() {
-            let text = effort_sensitivities_csv(&m, &dynamics, &sweep, &forces).map_err(failed)?;
-            let csv = args.out.join("effort_sensitivities.csv");
-            std::fs::write(&csv, text).map_err(|e| {
-                Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
-            })?;
-            written.push(csv);
+        match forces(&m, &sweep, &args.out) {
+            Ok((files, m)) => {
+                written.extend(files);
+                mean = m;
+            }
+            Err(f) => forces_error = Some(f.message),
         }
-        let csv = args.out.join("forces.csv");
-        std::fs::write(&csv, forces.to_csv()).map_err(|e| {
-            Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
-        })?;
-        written.push(csv);
-        let svg = args.out.join("forces.svg");
-        plot_forces(&forces, &svg).map_err(failed)?;
-        written.push(svg);
-        mean = forces
-            .mean_effort(0)
-            .map(|q| (forces.drivers[0].clone(), q));
     }
     let mut out = String::new();
     let _ = writeln!(
@@ -303,16 +300,52 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
         let _ = writeln!(out, "  wrote {}", f.display());
     }
     let stop = sweep.stop.as_ref().map(stop_message);
+    let summary = out;
     // The pose the sweep starts from, as assembled (the guesses given may
     // only name its branch).
     let start = sweep.samples.first().map_or(start, |s| s.motion.q.clone());
     Ok(Swept {
         model: m,
         start,
-        summary: out,
+        summary,
         written,
         stop,
+        forces_error,
     })
+}
+
+/// The forces along `sweep` of `m` written into `dir` (the forces' CSV and
+/// plot, and the efforts' sensitivities where the definition lists
+/// parameters): the files, and the first driver's mean effort.
+#[allow(clippy::type_complexity)]
+fn forces(
+    m: &kinematics_core::runtime::Model,
+    sweep: &kinematics_core::runtime::Sweep,
+    dir: &Path,
+) -> Result<(Vec<PathBuf>, Option<((String, Kind), f64)>), Failure> {
+    let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
+    let mut written = Vec::new();
+    let dynamics = m.dynamics().map_err(failed)?;
+    let forces = dynamics.along_of(m, sweep).map_err(failed)?;
+    if !m.sensitivity_parameters().is_empty() {
+        let text = effort_sensitivities_csv(m, &dynamics, sweep, &forces).map_err(failed)?;
+        let csv = dir.join("effort_sensitivities.csv");
+        std::fs::write(&csv, text).map_err(|e| {
+            Failure::mechanism(format!("error: cannot write {}: {e}", csv.display()))
+        })?;
+        written.push(csv);
+    }
+    let csv = dir.join("forces.csv");
+    std::fs::write(&csv, forces.to_csv())
+        .map_err(|e| Failure::mechanism(format!("error: cannot write {}: {e}", csv.display())))?;
+    written.push(csv);
+    let svg = dir.join("forces.svg");
+    plot_forces(&forces, &svg).map_err(failed)?;
+    written.push(svg);
+    let mean = forces
+        .mean_effort(0)
+        .map(|q| (forces.drivers[0].clone(), q));
+    Ok((written, mean))
 }
 
 /// The sensitivities of the drivers' efforts to the parameters of the
@@ -384,7 +417,7 @@ fn write(
     }
     for p in &moving {
         let file = path(format!("path-{p}.svg"));
-        plot_path(sweep, p, projection, &file).map_err(failed)?;
+        plot_path_in(sweep, p, projection, units, &file).map_err(failed)?;
         written.push(file);
     }
     let pairs: Vec<(&str, &str)> = links
@@ -396,7 +429,8 @@ fn write(
     let mut rows: Vec<usize> = (0..4).map(|i| i * n / 4).collect();
     rows.dedup();
     let skeleton = path("skeleton.svg".into());
-    plot_table_skeleton(sweep, &rows, roles, &pairs, projection, &skeleton).map_err(failed)?;
+    plot_table_skeleton(sweep, &rows, roles, &pairs, (projection, units), &skeleton)
+        .map_err(failed)?;
     written.push(skeleton);
     let drawing = path("mechanism.dxf".into());
     kinematics_core::dxf::write_dxf(sweep, 0, roles, &pairs, projection, &drawing)

@@ -493,17 +493,27 @@ pub struct MechanicalAdvantage {
 /// ```
 /// use kinematics_core::{mechanism, merit::mechanical_advantage};
 /// mechanism! {
-///     /// A lever pair: the output turns at half the input's rate.
-///     pub struct Half {
-///         params { r } drivers { phi } unknowns { th }
-///         points { A = polar(r, th); }
-///         loops  { vec2(cos(th), sin(th)) == vec2(cos(phi / 2.0), sin(phi / 2.0)); }
+///     /// A four-bar: crank a, coupler b, rocker c, ground d.
+///     pub struct FourBar {
+///         params { a, b, c, d }
+///         drivers { phi }
+///         unknowns { th3, th4 }
+///         points { B = polar(a, phi); D = vec2(d, 0.0); C = D + polar(c, th4); }
+///         loops { B + polar(b, th3) == C; }
 ///     }
 /// }
-/// let m = Half { r: 1.0 };
-/// let s = m.sweep(Half::PHI, &HalfCoords { phi: 0.0, th: 0.0 }).to(1.0).steps(4).run();
-/// let ma = mechanical_advantage(&s, "th")?;
-/// assert!(ma.values.iter().all(|v| (v - 2.0).abs() < 1e-12));
+/// let (a, c) = (0.04, 0.1);
+/// let m = FourBar { a, b: 0.12, c, d: 0.11 };
+/// let start = m.assemble(&FourBarCoords { phi: 0.0, th3: 1.0, th4: 1.6 })?;
+/// let s = m.sweep(FourBar::PHI, &start).to(1.0).steps(10).run();
+/// let ma = mechanical_advantage(&s, "th4")?;
+/// // The velocity loop dotted with the coupler's direction:
+/// // a φ' sin(φ − θ3) = c θ4' sin(θ4 − θ3).
+/// for (sample, v) in s.samples.iter().zip(&ma.values) {
+///     let FourBarCoords { phi, th3, th4 } = sample.motion.q;
+///     let exact = c * (th4 - th3).sin() / (a * (phi - th3).sin());
+///     assert!((v - exact).abs() < 1e-9 * exact.abs());
+/// }
 /// # Ok::<(), kinematics_core::Error>(())
 /// ```
 ///

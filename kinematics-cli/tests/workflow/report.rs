@@ -48,9 +48,9 @@ gx = 0.02
 gy = 0.17
 ";
 
-/// The folder of this test's files, emptied.
-fn folder() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kinematics-cli-report-{}", std::process::id()));
+/// The folder of test `name`'s files, emptied.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kinematics-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a temporary folder");
     dir
@@ -101,7 +101,7 @@ fn headless(chromium: &Path, profile: &Path, page: &Path, args: &[&str]) -> (Str
 
 #[test]
 fn a_stephenson_six_bar_is_reported_in_degrees_without_guesses_and_opens_in_chromium() {
-    let dir = folder();
+    let dir = folder("report");
     let (mech, params, out) = (
         dir.join("six_bar.mech"),
         dir.join("six_bar.toml"),
@@ -232,5 +232,46 @@ fn a_stephenson_six_bar_is_reported_in_degrees_without_guesses_and_opens_in_chro
     // A blank page of that size compresses to a few kilobytes; one with
     // the plots to far more.
     assert!(png.len() > 100_000, "the screenshot is {} bytes", png.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Forces that cannot be computed (a load not finite anywhere) fail the
+/// command, but the page still holds the kinematics and says why.
+#[test]
+fn a_report_whose_forces_fail_still_shows_the_kinematics() {
+    let dir = folder("report-forces");
+    let mech = dir.join("crank.mech");
+    std::fs::write(
+        &mech,
+        "pub struct Crank {
+             params { a } drivers { phi } unknowns { }
+             points { O = vec2(0.0, 0.0); B = polar(a, phi); }
+             bodies { crank(mass = 1.0, center = B, angle = phi, inertia = 0.1); }
+             loads { force(B, vec2(ln(a - 2.0), 0.0)); }
+         }",
+    )
+    .expect("written");
+    let out = dir.join("out");
+    let o = run(&[
+        "report",
+        path(&mech),
+        "--param",
+        "a=1",
+        "--turn",
+        "--steps",
+        "12",
+        "--out",
+        path(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("the force at point `B`")
+            && stderr.contains("the report holds the kinematics"),
+        "{stderr}"
+    );
+    let html = std::fs::read_to_string(out.join("report.html")).expect("the page");
+    assert!(html.contains("The forces could not be computed") && html.contains("id=\"skeleton\""));
+    assert!(!out.join("forces.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

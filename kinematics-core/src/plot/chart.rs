@@ -179,12 +179,13 @@ fn titled_chart<'a, 'b>(
     Ok(chart)
 }
 
-/// A chart of the plane `projection` over equal ranges, axes in metres.
+/// A chart of the plane `projection` over equal ranges, axes in the
+/// length unit named `length`.
 pub(super) fn plane_chart<'a, 'b>(
     area: &'a DrawingArea<SVGBackend<'b>, Shift>,
     caption: &str,
     ranges: ((f64, f64), (f64, f64)),
-    projection: Projection,
+    (projection, length): (Projection, &str),
     path: &Path,
 ) -> Result<Chart<'a, 'b>, Error> {
     let (xn, yn) = projection.names();
@@ -193,8 +194,8 @@ pub(super) fn plane_chart<'a, 'b>(
         caption,
         ranges.0,
         ranges.1,
-        &format!("{xn} (m)"),
-        &format!("{yn} (m)"),
+        &format!("{xn} ({length})"),
+        &format!("{yn} ({length})"),
         path,
     )
 }

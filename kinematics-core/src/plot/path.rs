@@ -10,7 +10,7 @@ use crate::mechanism::Kind;
 use crate::sweep::Table;
 use crate::view::Projection;
 
-use super::chart::{legend, output, plane_chart, range, tick, PALETTE};
+use super::chart::{legend, output, plane_chart, range, tick, Units, PALETTE};
 
 /// Plots the path of point `point` over the sweep (projected for spatial
 /// mechanisms) into an SVG file at `path`, with equal scales on both axes
@@ -48,6 +48,20 @@ pub fn plot_path<T: Table + ?Sized>(
     projection: Projection,
     path: &Path,
 ) -> Result<(), Error> {
+    plot_path_in(sweep, point, projection, Units::METRES, path)
+}
+
+/// [`plot_path`] with the axes in the length unit of `units`.
+///
+/// # Errors
+/// As [`plot_path`].
+pub fn plot_path_in<T: Table + ?Sized>(
+    sweep: &T,
+    point: &str,
+    projection: Projection,
+    units: Units,
+    path: &Path,
+) -> Result<(), Error> {
     let xy = path_xy(sweep, point, projection)?;
     let ((x0, x1), (y0, y1)) = square(range(xy.iter().map(|p| p.0)), range(xy.iter().map(|p| p.1)));
     let root = SVGBackend::new(path, (720, 720)).into_drawing_area();
@@ -56,7 +70,7 @@ pub fn plot_path<T: Table + ?Sized>(
         &root,
         &format!("path of {point}"),
         ((x0, x1), (y0, y1)),
-        projection,
+        (projection, units.length),
         path,
     )?;
     chart
@@ -190,7 +204,7 @@ pub fn plot_band<T: Table + ?Sized>(
         &root,
         &format!("path of {point} and its tolerance band"),
         ((x0, x1), (y0, y1)),
-        projection,
+        (projection, "m"),
         path,
     )?;
     // A closed path (a whole turn, its end left out) closes its band too.

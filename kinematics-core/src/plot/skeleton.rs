@@ -12,7 +12,7 @@ use crate::view::Projection;
 
 use crate::view::{point_index, point_roles, PointRole};
 
-use super::chart::{legend, output, plane_chart, range, tick, FONT, PALETTE};
+use super::chart::{legend, output, plane_chart, range, tick, Units, FONT, PALETTE};
 use super::path::{path_xy, square};
 
 /// Draws the mechanism's skeleton at each pose of `poses` (one colour per
@@ -128,7 +128,7 @@ pub fn plot_skeleton_with<M: Mechanism>(
             let q: Vec<f64> = (0..M::COORDINATES.len())
                 .map(|j| pose.get(j).unwrap_or(f64::NAN))
                 .collect();
-            driver_label(M::COORDINATES, &q)
+            driver_label(M::COORDINATES, &q, "m")
         })
         .collect();
     let drawing = Drawing {
@@ -137,13 +137,15 @@ pub fn plot_skeleton_with<M: Mechanism>(
         names: M::POINT_NAMES,
         roles: &roles,
         ends: &ends,
+        length: "m",
     };
     draw(&drawing, overlay, projection, path)
 }
 
 /// [`plot_skeleton`] for any sweep read as a [`Table`] (of a model
 /// compiled at run time, say): the mechanism at each of the samples
-/// `rows`, with `roles` the role of every point (from
+/// `rows` in the plane of the projection, lengths on the axes and in the
+/// legend in the unit of `units`, with `roles` the role of every point (from
 /// [`point_roles_by`](crate::view::point_roles_by)), which marks the
 /// ground pivots and the sliders.
 ///
@@ -156,7 +158,7 @@ pub fn plot_table_skeleton<T: Table + ?Sized>(
     rows: &[usize],
     roles: &[PointRole],
     links: &[(&str, &str)],
-    projection: Projection,
+    (projection, units): (Projection, Units),
     path: &Path,
 ) -> Result<(), Error> {
     let ends: Vec<(usize, usize)> = links
@@ -191,7 +193,7 @@ pub fn plot_table_skeleton<T: Table + ?Sized>(
             let q: Vec<f64> = (0..coordinates.len())
                 .map(|j| sweep.coordinate(i, j, 0))
                 .collect();
-            driver_label(coordinates, &q)
+            driver_label(coordinates, &q, units.length)
         })
         .collect();
     let names: Vec<&str> = sweep.point_names().iter().map(|n| n.as_ref()).collect();
@@ -201,19 +203,21 @@ pub fn plot_table_skeleton<T: Table + ?Sized>(
         names: &names,
         roles,
         ends: &ends,
+        length: units.length,
     };
     draw(&drawing, &Overlay::default(), projection, path)
 }
 
-/// A pose's legend: its drivers' values, angles in degrees.
-fn driver_label(coordinates: &[Coordinate], q: &[f64]) -> String {
+/// A pose's legend: its drivers' values, angles in degrees, lengths in
+/// the unit named `length`.
+fn driver_label(coordinates: &[Coordinate], q: &[f64], length: &str) -> String {
     coordinates
         .iter()
         .zip(q)
         .filter(|(c, _)| c.role == Role::Driver)
         .map(|(c, &v)| match c.kind {
             Kind::Angle => format!("{} = {}°", c.name, tick(v.to_degrees(), 100.0)),
-            Kind::Length => format!("{} = {} m", c.name, tick(v, 0.01)),
+            Kind::Length => format!("{} = {} {length}", c.name, tick(v, 0.01)),
         })
         .collect::<Vec<_>>()
         .join(", ")
@@ -228,6 +232,8 @@ struct Drawing<'a> {
     names: &'a [&'a str],
     roles: &'a [PointRole],
     ends: &'a [(usize, usize)],
+    /// The length unit's name on the axes.
+    length: &'a str,
 }
 
 /// Draws `d` with `overlay` into the SVG file `path`.
@@ -243,6 +249,7 @@ fn draw(
         names,
         roles,
         ends,
+        length,
     } = *d;
     let extra = || {
         overlay
@@ -262,7 +269,7 @@ fn draw(
         &root,
         "the mechanism at each pose",
         ((x0, x1), (y0, y1)),
-        projection,
+        (projection, length),
         path,
     )?;
     let span = x1 - x0;
