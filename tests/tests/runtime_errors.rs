@@ -1,6 +1,6 @@
 //! Definitions with errors, compiled at run time from text: the same
 //! messages at the same places as `mechanism!` reports them at compile
-//! time (each compile-fail case of `tests/ui`, whose expected rustc output
+//! time (each compile-fail case of `tests/compile-fail/ui`, whose expected rustc output
 //! is checked in beside it), and no panic on mutated text.
 
 // Test code: a failed check should stop the test.
@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use kinematics_core::runtime::{CompileError, Model};
 use kinematics_examples::mechanism_bodies;
 
-/// The `.rs` files of `tests/ui` with an expected `.stderr` beside them.
+/// The `.rs` files of `tests/compile-fail/ui` with an expected `.stderr` beside them.
 fn ui_cases() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("ui");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("compile-fail/ui");
     let mut out = Vec::new();
     let Ok(dirs) = std::fs::read_dir(&root) else {
         return out;
