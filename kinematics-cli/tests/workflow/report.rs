@@ -176,6 +176,22 @@ fn a_stephenson_six_bar_is_reported_in_degrees_without_guesses_and_opens_in_chro
 
     let page = out.join("report.html");
     let html = std::fs::read_to_string(&page).expect("the report");
+    // The assembly the page says the sweep starts in is the one whose
+    // angles are the CSV's first row (to the listing's four decimals).
+    let listed = html
+        .lines()
+        .find(|l| l.starts_with("  2. "))
+        .expect("a second assembly");
+    let degrees = |name: &str| -> f64 {
+        let rest = &listed[listed.find(&format!("{name} = ")).expect(name) + name.len() + 3..];
+        rest[..rest.find('°').expect("°")]
+            .parse()
+            .expect("a number")
+    };
+    for name in ["th3", "th4", "th5", "th6"] {
+        let first = col(&format!("{name}_deg"));
+        assert!((degrees(name) - first).abs() < 1e-4, "{name}: {listed}");
+    }
     for part in [
         "StephensonIII: kinematic report",
         "id=\"merit\"",

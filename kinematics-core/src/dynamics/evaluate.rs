@@ -438,8 +438,8 @@ impl Dynamics {
         unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
         effort: &mut dyn FnMut(usize, f64),
     ) -> Result<(Totals, f64), Error> {
-        let totals = self.totals(s)?;
         let [q, qd, qdd] = self.coordinates_of(s);
+        let totals = self.totals(s, [&q, &qd, &qdd])?;
         let mut power = 0.0;
         for k in 0..self.drivers {
             let mut result = Ok(f64::NAN);
@@ -465,8 +465,9 @@ impl Dynamics {
         Ok((totals, power))
     }
 
-    /// The energies and the shaking force and moment of the motion `s`.
-    fn totals(&self, s: &dyn View) -> Result<Totals, Error> {
+    /// The energies, the shaking force and moment and the totals on the
+    /// frame of the motion `s`, its loads read at `coords` (q, q', q'').
+    fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
         let g = self.gravity;
         let (mut kinetic, mut potential) = (0.0, 0.0);
         let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());
@@ -488,7 +489,8 @@ impl Dynamics {
             let stretch = length - sp.free_length;
             potential += 0.5 * sp.stiffness * stretch * stretch;
         }
-        let (frame_force, frame_moment) = self.on_frame(s, shaking_force, shaking_moment)?;
+        let (frame_force, frame_moment) =
+            self.on_frame(s, coords, shaking_force, shaking_moment)?;
         let totals = Totals {
             kinetic_energy: kinetic,
             potential_energy: potential,
@@ -518,16 +520,17 @@ impl Dynamics {
 
     /// The total force and moment of the mechanism on the frame at `s`
     /// ([`Forces::frame_force`]): the inertial parts `force` and `moment`
-    /// plus the weights, the point loads and the torques on bodies.
+    /// plus the weights, the point loads and the torques on bodies, the
+    /// loads read at `coords` (q, q', q'').
     fn on_frame(
         &self,
         s: &dyn View,
+        coords: [&[f64]; 3],
         mut force: Vector3<f64>,
         mut moment: Vector3<f64>,
     ) -> Result<(Vector3<f64>, Vector3<f64>), Error> {
         let planar = self.dim == 2;
-        let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at| Instant::of([&q, &qd, &qdd], at);
+        let instant = |at| Instant::of(coords, at);
         for b in &self.bodies {
             let [r, _, _] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
             let w = self.gravity * b.mass;
