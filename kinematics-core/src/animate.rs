@@ -31,7 +31,7 @@ use std::path::Path;
 use crate::error::Error;
 use crate::mechanism::{Kind, Mechanism, MotionState};
 use crate::sweep::{Sweep, Table};
-use crate::view::{point_roles, PointRole, Projection};
+use crate::view::{PointRole, Projection, point_roles};
 
 /// Writes an HTML page at `path` that plays the sweep `sweep` of `m`: each
 /// link of `links` (pairs of point names) as a line, the path of every

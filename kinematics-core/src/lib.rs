@@ -175,15 +175,15 @@ pub struct ReadmeDoctests;
 /// anything here may change in any release.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::MotionState;
     pub use crate::checks::{driver_arrays, finite, finite_outputs, positive, positive_distance};
     pub use crate::closed;
     pub use crate::math;
     pub use crate::solve::{
-        branch_check, characteristic_length, dense_solve, describe, newton, sin_cos_after, Failure,
-        FastNewton, Lu, Names, Next, Scaling,
+        Failure, FastNewton, Lu, Names, Next, Scaling, branch_check, characteristic_length,
+        dense_solve, describe, newton, sin_cos_after,
     };
     pub use crate::sweep;
-    pub use crate::MotionState;
     pub use crate::{Coordinate, Coordinates, DriverValues, Error, Input, Kind, Mechanism};
     pub use crate::{FrameState, Options, PointMotion, PointState, Pose, Role};
     pub use core::result::Result;

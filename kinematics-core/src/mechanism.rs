@@ -660,7 +660,7 @@ pub trait Mechanism {
     /// Non-finite inputs, invalid options, a singular Jacobian or no
     /// convergence, each naming the item involved.
     fn assemble_with(&self, start: &Self::Coords, options: &Options)
-        -> Result<Self::Coords, Error>;
+    -> Result<Self::Coords, Error>;
 
     /// Velocities and accelerations at an assembled `pose`: solves
     /// Φ_u u' = −Φ_d d' and Φ_u u'' = −Φ_d d'' − γ, then every point's

@@ -27,9 +27,9 @@ use alloc::format;
 use alloc::vec::Vec;
 use core::f64::consts::{PI, TAU};
 
+use crate::Error;
 use crate::mechanism::Kind;
 use crate::sweep::Table;
-use crate::Error;
 
 /// The Grashof class of a four-bar, by which link is the shortest and
 /// how S + L (shortest and longest) compares with P + Q (the other two).
@@ -298,10 +298,10 @@ pub fn dead_centres<T: Table + ?Sized>(table: &T, name: &str) -> Result<Vec<Dead
         let t = 0.5 * (lo + hi);
         let mut at = p.x + t * h;
         // The closing interval's dead centre, within the turn.
-        if let Some(period) = wrap.filter(|_| k + 1 == pairs.len()) {
-            if (at - samples[0].x).abs() >= period.abs() {
-                at -= period;
-            }
+        if let Some(period) = wrap.filter(|_| k + 1 == pairs.len())
+            && (at - samples[0].x).abs() >= period.abs()
+        {
+            at -= period;
         }
         out.push(DeadCentre {
             at,
@@ -546,7 +546,7 @@ pub fn mechanical_advantage<T: Table + ?Sized>(
                             table.variable(),
                             drivers.len()
                         ),
-                    })
+                    });
                 }
             }
         }

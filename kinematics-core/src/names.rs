@@ -62,7 +62,7 @@ mod de {
 
     use serde::{Deserialize, Deserializer};
 
-    use super::{intern, Configuration, Name};
+    use super::{Configuration, Name, intern};
 
     /// Deserializes a [`Name`].
     pub(crate) fn name<'de, D: Deserializer<'de>>(d: D) -> Result<Name, D::Error> {

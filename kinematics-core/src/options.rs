@@ -153,11 +153,7 @@ impl Options {
             & (self.max_iterations > 0)
             & (self.singularity_threshold >= 0.0)
             & (self.singularity_threshold < 1.0);
-        if valid {
-            Ok(())
-        } else {
-            self.invalid()
-        }
+        if valid { Ok(()) } else { self.invalid() }
     }
 
     /// The error naming the first setting out of range.

@@ -277,7 +277,7 @@ impl AngleUnit {
 
 #[cfg(test)]
 mod tests {
-    use super::{read, read_parameter, Order, UnitError};
+    use super::{Order, UnitError, read, read_parameter};
     use alloc::string::ToString;
     use core::f64::consts::PI;
 

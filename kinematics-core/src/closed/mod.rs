@@ -129,22 +129,14 @@ impl Mode {
     /// The mode of a sign: `Minus` for a negative number, else `Plus`.
     #[must_use]
     pub fn from_sign(sign: f64) -> Self {
-        if sign < 0.0 {
-            Mode::Minus
-        } else {
-            Mode::Plus
-        }
+        if sign < 0.0 { Mode::Minus } else { Mode::Plus }
     }
 }
 
 /// The sign of `x` as ±1 (+1 for zero and NaN).
 #[inline(always)]
 fn sign(x: f64) -> f64 {
-    if x < 0.0 {
-        -1.0
-    } else {
-        1.0
-    }
+    if x < 0.0 { -1.0 } else { 1.0 }
 }
 
 /// A discriminant `d` computed from terms of size `size`: a value within

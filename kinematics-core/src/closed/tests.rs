@@ -113,9 +113,10 @@ fn other_modes_are_every_other_combination_or_single_flips() {
     let others: Vec<[f64; 100]> = super::other_modes(many).collect();
     assert_eq!(others.len(), 100);
     for (j, m) in others.iter().enumerate() {
-        assert!(m
-            .iter()
-            .enumerate()
-            .all(|(k, &x)| x == if k == j { -1.0 } else { 1.0 }));
+        assert!(
+            m.iter()
+                .enumerate()
+                .all(|(k, &x)| x == if k == j { -1.0 } else { 1.0 })
+        );
     }
 }

@@ -389,7 +389,7 @@ impl DynamicsBuilder {
                         "turns with coordinates, but the mechanism is spatial: give its frame \
                          with `.frame(\"name\")`"
                             .to_string(),
-                    ))
+                    ));
                 }
                 Turning::Frame(_) if planar => {
                     return Err(invalid(
@@ -397,7 +397,7 @@ impl DynamicsBuilder {
                         "turns with a frame, but the mechanism is planar: give its angle with \
                          `.angle(\"coordinate\")`"
                             .to_string(),
-                    ))
+                    ));
                 }
                 Turning::Angle(terms) => {
                     let mut resolved = Vec::with_capacity(terms.len());

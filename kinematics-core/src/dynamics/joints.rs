@@ -269,15 +269,15 @@ pub(super) fn resolve(
             return Err(invalid(item, format!("joins `{}` to itself", j.bodies[0])));
         }
         let axis = joint_axis(j, planar).map_err(|detail| invalid(item.clone(), detail))?;
-        if planar && j.kind == JointKind::Prismatic {
-            if let Some(b) = pair[0].and_then(|b| bodies.get(b)) {
-                if matches!(b.turning, Turns::Frame(_)) {
-                    return Err(invalid(
-                        item,
-                        "its first body turns with a frame".to_string(),
-                    ));
-                }
-            }
+        if planar
+            && j.kind == JointKind::Prismatic
+            && let Some(b) = pair[0].and_then(|b| bodies.get(b))
+            && matches!(b.turning, Turns::Frame(_))
+        {
+            return Err(invalid(
+                item,
+                "its first body turns with a frame".to_string(),
+            ));
         }
         let driver = match &j.driver {
             None => None,
@@ -298,7 +298,7 @@ pub(super) fn resolve(
                                  revolute joint (an angle) or a prismatic one (a length)",
                                 j.kind.word()
                             ),
-                        ))
+                        ));
                     }
                 };
                 if names.coordinates[k].2 != want {
@@ -355,7 +355,7 @@ fn joint_axis(j: &Joint, planar: bool) -> Result<Vector3<f64>, String> {
         (JointKind::Spherical | JointKind::Cylindrical, _, true) => {
             return Err(format!(
                 "a planar mechanism's joints are revolute or prismatic, not {kind}"
-            ))
+            ));
         }
         (JointKind::Revolute, None, true) => return Ok(Vector3::z()),
         (JointKind::Revolute, Some(a), true) => {
@@ -371,18 +371,18 @@ fn joint_axis(j: &Joint, planar: bool) -> Result<Vector3<f64>, String> {
         (JointKind::Spherical, Some(a), false) => {
             return Err(format!(
                 "a spherical joint turns about every axis: leave out its axis {a:?}"
-            ))
+            ));
         }
         (_, None, _) => {
             return Err(format!(
                 "a {kind} joint of a spatial mechanism needs its axis: give it with \
                  `.about([x, y, z])` (in the first body's axes)"
-            ))
+            ));
         }
         (JointKind::Prismatic, Some(a), true) if a[2] != 0.0 => {
             return Err(format!(
                 "its axis {a:?} leaves the plane: give `[x, y]` in a planar mechanism"
-            ))
+            ));
         }
         (_, Some(a), _) => Vector3::from(a),
     };

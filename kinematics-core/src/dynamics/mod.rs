@@ -105,7 +105,7 @@ use nalgebra::{Matrix3, Vector3};
 pub use builder::DynamicsBuilder;
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
-pub use joints::{Axis, Joint, GROUND};
+pub use joints::{Axis, GROUND, Joint};
 pub use reactions::{JointReaction, Reactions};
 pub use sensitivity::EffortSensitivity;
 

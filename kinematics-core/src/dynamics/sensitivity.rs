@@ -28,7 +28,7 @@ use alloc::vec::Vec;
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::evaluate::{padded, Generated, Instant, LoadAt, View};
+use super::evaluate::{Generated, Instant, LoadAt, View, padded};
 use super::{ConstantPartials, Dynamics, LoadPartials, Turns};
 use crate::error::{Error, Input};
 use crate::mechanism::{FrameState, MotionState};
@@ -559,14 +559,14 @@ impl Dynamics {
                 dq -= tq.tangents[i].dot(&fu.omega) + tq.value.dot(&dwk);
                 continue;
             }
-            if let Some(body) = self.bodies.get(*b) {
-                if let Turns::Angle(terms) = &body.turning {
-                    let dc = c
-                        .and_then(|c| c.bodies.get(*b))
-                        .map_or(&[][..], |(_, a, _)| a.as_slice());
-                    let (omega, domega) = turning(terms, dc, u, ut, 1);
-                    dq -= tq.tangents[i].z * omega + tq.value.z * domega;
-                }
+            if let Some(body) = self.bodies.get(*b)
+                && let Turns::Angle(terms) = &body.turning
+            {
+                let dc = c
+                    .and_then(|c| c.bodies.get(*b))
+                    .map_or(&[][..], |(_, a, _)| a.as_slice());
+                let (omega, domega) = turning(terms, dc, u, ut, 1);
+                dq -= tq.tangents[i].z * omega + tq.value.z * domega;
             }
         }
         for ((j, _), f) in self.coordinate_forces.iter().zip(loads.coordinate_forces) {

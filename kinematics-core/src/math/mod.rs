@@ -95,11 +95,7 @@ pub fn rem_euclid(x: f64, m: f64) -> f64 {
     #[cfg(not(feature = "std"))]
     {
         let r = libm::fmod(x, m);
-        if r < 0.0 {
-            r + m.abs()
-        } else {
-            r
-        }
+        if r < 0.0 { r + m.abs() } else { r }
     }
 }
 

@@ -204,7 +204,7 @@ pub(crate) const TABLE: [[f64; 2]; 128] = [
 
 #[cfg(test)]
 mod tests {
-    use super::{sin_cos, TABLE};
+    use super::{TABLE, sin_cos};
     use core::f64::consts::PI;
 
     /// Units in the last place between `a` and `b`, relative to the larger

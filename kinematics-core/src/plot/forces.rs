@@ -5,7 +5,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::chart::{output, panel, Curve, PALETTE};
+use super::chart::{Curve, PALETTE, output, panel};
 use crate::dynamics::ForceSweep;
 use crate::error::Error;
 use crate::mechanism::Kind;

@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::merit::transmission;
 use crate::sweep::Table;
 
-use super::chart::{output, panel, x_axis, Curve, Units, PALETTE};
+use super::chart::{Curve, PALETTE, Units, output, panel, x_axis};
 
 /// The transmission angle μ below which (and above 180° − μ) designers
 /// judge a dyad to transmit force poorly: 40°, drawn as the band's edges.

@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::mechanism::{Kind, Role};
 use crate::sweep::Table;
 
-use super::chart::{output, panel, x_axis, Curve, Units, PALETTE};
+use super::chart::{Curve, PALETTE, Units, output, panel, x_axis};
 
 /// Plots q, q' and q'' of every unknown against the swept variable into an
 /// SVG file at `path`: a row per quantity, a column per kind (angles in

@@ -10,7 +10,7 @@ use crate::mechanism::Kind;
 use crate::sweep::Table;
 use crate::view::Projection;
 
-use super::chart::{legend, output, plane_chart, range, tick, Units, PALETTE};
+use super::chart::{PALETTE, Units, legend, output, plane_chart, range, tick};
 
 /// Plots the path of point `point` over the sweep (projected for spatial
 /// mechanisms) into an SVG file at `path`, with equal scales on both axes
@@ -217,11 +217,10 @@ pub fn plot_band<T: Table + ?Sized>(
     let mut edges = edges;
     let mut nominal = nominal;
     if let (Some(&first), Some(&last), true) = (nominal.first(), nominal.last(), nominal.len() > 2)
+        && distance(first, last) <= 1.5 * longest
     {
-        if distance(first, last) <= 1.5 * longest {
-            edges.push(edges[0]);
-            nominal.push(first);
-        }
+        edges.push(edges[0]);
+        nominal.push(first);
     }
     let band = RGBColor(214, 39, 40);
     chart

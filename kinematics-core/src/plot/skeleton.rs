@@ -10,9 +10,9 @@ use crate::mechanism::{Coordinate, Coordinates, Kind, Mechanism, Role};
 use crate::sweep::Table;
 use crate::view::Projection;
 
-use crate::view::{point_index, point_roles, PointRole};
+use crate::view::{PointRole, point_index, point_roles};
 
-use super::chart::{legend, output, plane_chart, range, tick, Units, FONT, PALETTE};
+use super::chart::{FONT, PALETTE, Units, legend, output, plane_chart, range, tick};
 use super::path::{path_xy, square};
 
 /// Draws the mechanism's skeleton at each pose of `poses` (one colour per
@@ -413,19 +413,11 @@ fn extreme_along(pts: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
     };
     let far = pts.iter().copied().fold(first, |best, p| {
         let d = |q: (f64, f64)| (q.0 - first.0).powi(2) + (q.1 - first.1).powi(2);
-        if d(p) > d(best) {
-            p
-        } else {
-            best
-        }
+        if d(p) > d(best) { p } else { best }
     });
     let other = pts.iter().copied().fold(far, |best, p| {
         let d = |q: (f64, f64)| (q.0 - far.0).powi(2) + (q.1 - far.1).powi(2);
-        if d(p) > d(best) {
-            p
-        } else {
-            best
-        }
+        if d(p) > d(best) { p } else { best }
     });
     (other, far)
 }

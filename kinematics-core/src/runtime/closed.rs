@@ -11,8 +11,8 @@ use alloc::vec::Vec;
 use kinematics_compiler::ClosedForm;
 use kinematics_jit::Program;
 
-use super::solve::{det_sign, Work};
 use super::Model;
+use super::solve::{Work, det_sign};
 use crate::closed::{self, Mode};
 use crate::error::Error;
 use crate::names::Name;
@@ -206,7 +206,7 @@ impl Model {
                         unknowns: part.names,
                         discriminant: disc,
                         drivers: self.configuration(&q[..nd]),
-                    })
+                    });
                 }
                 Err(_) => return Ok(Assembled::Degenerate),
             };
@@ -231,11 +231,7 @@ impl Model {
         self.newton_stage(q, w);
         let r = w.phi.iter().zip(&w.weights).fold(0.0f64, |m, (p, s)| {
             let r = (p * s).abs();
-            if r > m || r.is_nan() {
-                r
-            } else {
-                m
-            }
+            if r > m || r.is_nan() { r } else { m }
         });
         let limit = options.tolerance.min(1e-12);
         let bound = (POLISH * options.tolerance).max(CLOSED);
@@ -380,7 +376,7 @@ impl Model {
     pub fn assemble_all<'m>(
         &'m self,
         start: &[f64],
-    ) -> impl Iterator<Item = (Vec<Mode>, Result<Vec<f64>, Error>)> + 'm {
+    ) -> impl Iterator<Item = (Vec<Mode>, Result<Vec<f64>, Error>)> + 'm + use<'m> {
         let start = start.to_vec();
         let k = self.mode_count();
         let mut next = Some(vec![Mode::Plus; k]);

@@ -25,11 +25,7 @@ fn list(items: &[String]) -> String {
 
 /// "s" unless `n` is 1.
 fn plural(n: usize) -> &'static str {
-    if n == 1 {
-        ""
-    } else {
-        "s"
-    }
+    if n == 1 { "" } else { "s" }
 }
 
 impl Model {

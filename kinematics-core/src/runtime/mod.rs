@@ -56,13 +56,13 @@ use alloc::vec::Vec;
 use core::fmt;
 use std::sync::Arc;
 
-use kinematics_compiler::{compile_str, Diagnostics};
+use kinematics_compiler::{Diagnostics, compile_str};
 use kinematics_jit::{JitError, Program};
 
 use crate::closed::Block;
 use crate::error::{Error, Input};
 use crate::mechanism::{Coordinate, FrameState, Kind, Role};
-use crate::names::{intern, intern_list, Name};
+use crate::names::{Name, intern, intern_list};
 use crate::options::Options;
 
 mod closed;

@@ -13,7 +13,7 @@ use super::{Model, Motion, PointState, Sweep, Vector};
 use crate::error::{Error, Input};
 use crate::names::Name;
 use crate::options::Options;
-use crate::tolerance::{deviations_by, Deviation};
+use crate::tolerance::{Deviation, deviations_by};
 
 /// The derivatives of a motion with respect to one parameter p: of the
 /// coordinates, their rates and accelerations (zero for the drivers), and

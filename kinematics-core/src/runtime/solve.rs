@@ -14,7 +14,7 @@ use super::{Model, Motion, PointState, Vector};
 use crate::error::{Error, Input};
 use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
-use crate::solve::{describe_by, fast_then_damped, iterate, Failure, Judge, Space, System};
+use crate::solve::{Failure, Judge, Space, System, describe_by, fast_then_damped, iterate};
 
 /// The arrays of a solve and an analysis, sized for one model.
 pub(super) struct Work {

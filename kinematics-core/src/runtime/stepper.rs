@@ -4,7 +4,7 @@
 
 use alloc::vec::Vec;
 
-use super::fused::{copy_small, PoseFn, StepFn};
+use super::fused::{PoseFn, StepFn, copy_small};
 use super::solve::Work;
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;
@@ -488,12 +488,12 @@ impl Stepper<'_> {
         let m = self.m;
         let d = m.point_dim;
         m.length("point positions", m.points.len() * d, out.len())?;
-        if let (Some(run), Some(plan)) = (self.fused.as_ref(), m.fused.as_deref()) {
-            if run.positions {
-                let (at, len) = plan.positions_at();
-                copy_small(out, &run.f[at..at + len]);
-                return Ok(());
-            }
+        if let (Some(run), Some(plan)) = (self.fused.as_ref(), m.fused.as_deref())
+            && run.positions
+        {
+            let (at, len) = plan.positions_at();
+            copy_small(out, &run.f[at..at + len]);
+            return Ok(());
         }
         m.positions_into(&self.q, &mut self.work, !self.assembled, out)
     }

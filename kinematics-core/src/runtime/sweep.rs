@@ -4,14 +4,14 @@
 
 use core::f64::consts::TAU;
 
-use super::drive::{drive_each, drive_poses, Flats, Motions, Profiled, Setup, Sink};
+use super::drive::{Flats, Motions, Profiled, Setup, Sink, drive_each, drive_poses};
 use super::{Flat, Model, Motion};
 use crate::error::Error;
 use crate::mechanism::{Coordinate, FrameState, Kind};
-use crate::names::{intern, Name};
+use crate::names::{Name, intern};
 use crate::options::Options;
-use crate::sweep::{grid, ChangePoints, End, Grid, Layout, Stop, SweepDrive, Table};
-use crate::view::{point_roles_by, PointRole};
+use crate::sweep::{ChangePoints, End, Grid, Layout, Stop, SweepDrive, Table, grid};
+use crate::view::{PointRole, point_roles_by};
 
 /// One sample of a run-time sweep: the driver's value and the motion
 /// there.

@@ -15,10 +15,10 @@ mod tests;
 
 #[cfg(feature = "runtime")]
 pub(crate) use failure::describe_by;
-pub use failure::{branch_check, describe, Failure, Names};
-pub use linalg::{dense_solve, Lu};
+pub use failure::{Failure, Names, branch_check, describe};
+pub use linalg::{Lu, dense_solve};
 pub use newton::{
-    fast_then_damped, iterate, newton, sin_cos_after, FastNewton, Judge, Next, Space, System,
-    CLOSED, POLISH, ROUND_OFF,
+    CLOSED, FastNewton, Judge, Next, POLISH, ROUND_OFF, Space, System, fast_then_damped, iterate,
+    newton, sin_cos_after,
 };
-pub use scaling::{characteristic_length, Scaling};
+pub use scaling::{Scaling, characteristic_length};

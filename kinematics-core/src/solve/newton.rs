@@ -7,7 +7,7 @@
 
 use crate::options::Options;
 
-use super::failure::{non_finite, not_converged, Failure};
+use super::failure::{Failure, non_finite, not_converged};
 use super::scaling::Scaling;
 
 /// ½‖w∘v‖² and max|w_i v_i| (infinite when some entry is not finite) in one

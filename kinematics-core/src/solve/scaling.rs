@@ -152,11 +152,7 @@ pub fn characteristic_length<const N: usize>(fixed: &[f64; N]) -> f64 {
             m = v;
         }
     }
-    if m > 0.0 {
-        m
-    } else {
-        1.0
-    }
+    if m > 0.0 { m } else { 1.0 }
 }
 
 /// The failure for a term scale that overflowed.

@@ -3,8 +3,8 @@
 use crate::options::Options;
 
 use super::failure::Failure;
-use super::linalg::{dense_solve, Lu};
-use super::newton::{newton, sin_cos_after, FastNewton, Next};
+use super::linalg::{Lu, dense_solve};
+use super::newton::{FastNewton, Next, newton, sin_cos_after};
 use super::scaling::Scaling;
 
 #[test]

@@ -4,7 +4,7 @@
 
 use core::f64::consts::TAU;
 
-use super::collected::{collect, Sweep};
+use super::collected::{Sweep, collect};
 use super::drive::{Grid, SweepDrive};
 use super::handles::{Angle, ChangePoints, Driver, Wrap};
 use super::iter::SweepIter;
@@ -170,7 +170,7 @@ pub(crate) fn grid(from: f64, end: End, steps: usize, kind: Kind) -> Result<Grid
                 name: "to",
                 value: f64::NAN,
                 requirement: "must be given for a length driver: `.to(value)`",
-            })
+            });
         }
     };
     if !(from.is_finite() && to.is_finite()) {

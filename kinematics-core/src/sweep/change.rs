@@ -194,11 +194,7 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         (0..self.grid.count)
             .find(|&k| {
                 let v = self.grid.at(k);
-                if forward {
-                    v > at
-                } else {
-                    v < at
-                }
+                if forward { v > at } else { v < at }
             })
             .unwrap_or(self.grid.count)
     }

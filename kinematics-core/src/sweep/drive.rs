@@ -4,7 +4,7 @@
 
 use alloc::vec::Vec;
 
-use super::collected::{collect, Sweep};
+use super::collected::{Sweep, collect};
 use super::engine::Engine;
 use super::handles::{ChangePoints, Driver, Wrap};
 use super::iter::SweepIter;

@@ -121,11 +121,7 @@ impl Wrap {
             Self::Positive => {
                 let w = crate::math::rem_euclid(theta, TAU);
                 // A tiny negative angle rounds to 2π itself.
-                if w >= TAU {
-                    0.0
-                } else {
-                    w
-                }
+                if w >= TAU { 0.0 } else { w }
             }
         }
     }

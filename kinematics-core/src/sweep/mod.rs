@@ -63,13 +63,13 @@ mod table;
 
 pub use builder::SweepBuilder;
 #[cfg(feature = "runtime")]
-pub(crate) use builder::{grid, End};
+pub(crate) use builder::{End, grid};
 pub use collected::Sweep;
 #[cfg(feature = "runtime")]
 pub(crate) use drive::Grid;
 pub use drive::{
-    constant_acceleration, constant_speed, AtRest, Drive, Profile, Simulation, SweepDrive,
-    TimeDrive,
+    AtRest, Drive, Profile, Simulation, SweepDrive, TimeDrive, constant_acceleration,
+    constant_speed,
 };
 #[doc(hidden)]
 pub use engine::Engine;

@@ -15,7 +15,7 @@ use crate::error::Error;
 use crate::mechanism::{Kind, Role};
 use crate::options::Options;
 
-use super::problem::{norm, to_free, Problem};
+use super::problem::{Problem, norm, to_free};
 use super::subject::{DriverOf, Shape, Solved, Subject};
 
 /// How the driver values of the targets are found.

@@ -8,7 +8,7 @@ use std::vec;
 use std::vec::Vec;
 
 use levenberg_marquardt::LeastSquaresProblem;
-use nalgebra_lm::{storage::Owned, DMatrix, DVector, Dyn};
+use nalgebra_lm::{DMatrix, DVector, Dyn, storage::Owned};
 
 use crate::error::Error;
 use crate::mechanism::Kind;

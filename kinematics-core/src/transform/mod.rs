@@ -15,14 +15,14 @@ mod rotation;
 
 pub use axis::Axis;
 pub use homogeneous::{
-    homogeneous, screw, screw_about, screw_parameters, transform_point, translation, Plane, Screw,
+    Plane, Screw, homogeneous, screw, screw_about, screw_parameters, transform_point, translation,
 };
 pub use joints::{
     cylindrical, prismatic, revolute, screw_joint, spherical, t1, t2, t3, t4, t5, t6, t7,
 };
 pub use planar::{
-    apply2, displacement2, rotation2, rotation2_about, rotation_between, rotation_operator,
+    apply2, displacement2, rotation_between, rotation_operator, rotation2, rotation2_about,
     translation2,
 };
 pub(crate) use rotation::finite;
-pub use rotation::{axis_angle, rot, rot_about, rot_x, rot_y, rot_z, AxisAngle, CompositeRotation};
+pub use rotation::{AxisAngle, CompositeRotation, axis_angle, rot, rot_about, rot_x, rot_y, rot_z};

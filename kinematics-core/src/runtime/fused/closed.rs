@@ -17,8 +17,8 @@
 
 use alloc::vec::Vec;
 
-use kinematics_compiler::ir::Id;
 use kinematics_compiler::ClosedForm;
+use kinematics_compiler::ir::Id;
 use kinematics_jit::{Compare, Inst, Op, Val};
 
 /// Where an angle lies in the buffer: its value (the guess on entry), its
@@ -312,11 +312,11 @@ mod tests {
     use alloc::vec;
     use alloc::vec::Vec;
 
-    use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
     use kinematics_compiler::ClosedForm;
+    use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
     use kinematics_jit::{Function, Fused, Helper, Layout, Op};
 
-    use super::{op, AngleAt, Slots};
+    use super::{AngleAt, Slots, op};
 
     /// Two parameters at 0–1, two coordinates at 2–3, rates 4–5,
     /// accelerations 6–7, cosines and sines 8–11, and scratch from 12.

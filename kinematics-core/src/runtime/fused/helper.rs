@@ -6,7 +6,7 @@
 use kinematics_jit::Helper;
 
 use super::{
-    PartPlan, Plan, BLOCK, CLOSING, DRIVER_TRIG, FACTOR, INCONSISTENT, NOT_CLOSED, NO_SOLUTION,
+    BLOCK, CLOSING, DRIVER_TRIG, FACTOR, INCONSISTENT, NO_SOLUTION, NOT_CLOSED, PartPlan, Plan,
     SINGULAR, WRONG_BRANCH,
 };
 use crate::closed;
@@ -97,11 +97,7 @@ impl Plan {
     /// [`NOT_CLOSED`] (also for NaN).
     fn closing(&self, f: &[f64]) -> i64 {
         let within = f[self.closing] <= f[self.bound];
-        if within {
-            0
-        } else {
-            NOT_CLOSED
-        }
+        if within { 0 } else { NOT_CLOSED }
     }
 
     /// The closing check, then each diagonal block of the scaled Φ_u
@@ -123,11 +119,7 @@ impl Plan {
             // for a length's column.
             let entry = |f: &[f64], e: &(usize, usize, bool)| {
                 let x = f[e.0] * f[e.1];
-                if e.2 {
-                    x * length
-                } else {
-                    x
-                }
+                if e.2 { x * length } else { x }
             };
             macro_rules! factored {
                 ($n:literal) => {{

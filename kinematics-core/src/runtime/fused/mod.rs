@@ -31,8 +31,8 @@ use alloc::vec::Vec;
 
 use std::sync::OnceLock;
 
-use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_compiler::Compiled;
+use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_jit::{
     Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
 };
