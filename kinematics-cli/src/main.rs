@@ -45,6 +45,7 @@ mod merit;
 mod report;
 mod sides;
 mod sweep;
+mod synthesize;
 
 use input::{assemblies, driver_values, params_file, pose, set_parameters, ParamsFile};
 use kinematics_core::units::{AngleUnit, Order};
@@ -106,6 +107,12 @@ enum Command {
     /// the skeleton, the plots, the animation, the definition and what the
     /// compiler found in it (self-contained, for any browser, offline).
     Report(SweepArgs),
+    /// Solve a synthesis problem read from a TOML file (the definition,
+    /// the task, the targets, the parameters varied and their bounds, the
+    /// constraints, the budget) by the library's global search; print the
+    /// designs found, write the best as `best.toml` (a parameters file
+    /// for --params) and draw it at its targets (`synthesis.svg`).
+    Synthesize(synthesize::SynthesizeArgs),
 }
 
 /// The arguments of `kinematics sweep`.
@@ -267,6 +274,7 @@ fn main() -> ExitCode {
         ),
         Command::Sweep(args) => sweep::run(&args),
         Command::Report(args) => report::run(&args),
+        Command::Synthesize(args) => synthesize::run(&args),
     };
     match result {
         Ok(out) => {

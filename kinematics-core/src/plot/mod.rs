@@ -30,4 +30,4 @@ pub use forces::plot_forces;
 pub use merit::plot_transmission;
 pub use motion::{plot_motion, plot_motion_in, plot_points, plot_points_in};
 pub use path::{plot_band, plot_path, plot_path_in};
-pub use skeleton::{Overlay, plot_skeleton, plot_skeleton_with, plot_table_skeleton};
+pub use skeleton::{Overlay, plot_posed, plot_skeleton, plot_skeleton_with, plot_table_skeleton};

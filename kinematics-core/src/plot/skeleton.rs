@@ -208,6 +208,64 @@ pub fn plot_table_skeleton<T: Table + ?Sized>(
     draw(&drawing, &Overlay::default(), projection, path)
 }
 
+/// The skeleton at poses given as every point's position (each point's
+/// components one after the other, as `runtime::Model::point_positions`
+/// returns them), each pose with its legend, with the curves and marks
+/// of `overlay`: a synthesised design at its targets over its path, say.
+/// `names` and `roles` are the points' (of a sweep, a model).
+///
+/// # Errors
+/// [`Error::InvalidGeometry`] for a link's unknown point or positions of
+/// the wrong length; [`Error::Output`] when the file cannot be written.
+pub fn plot_posed(
+    (names, roles): (&[&str], &[PointRole]),
+    links: &[(&str, &str)],
+    poses: &[(String, Vec<f64>)],
+    overlay: &Overlay,
+    (projection, units): (Projection, Units),
+    path: &Path,
+) -> Result<(), Error> {
+    let index = |p: &str| {
+        names
+            .iter()
+            .position(|n| *n == p)
+            .ok_or_else(|| Error::InvalidGeometry {
+                what: "plot",
+                detail: format!("no point `{p}`; the points are {}", names.join(", ")),
+            })
+    };
+    let ends: Vec<(usize, usize)> = links
+        .iter()
+        .map(|(p, q)| Ok((index(p)?, index(q)?)))
+        .collect::<Result<_, Error>>()?;
+    let n = names.len();
+    let mut positions = Vec::with_capacity(poses.len());
+    for (_, r) in poses {
+        if n == 0 || r.len() % n != 0 || roles.len() != n {
+            return Err(Error::InvalidGeometry {
+                what: "plot",
+                detail: format!(
+                    "{} positions and {} roles for {n} points",
+                    r.len(),
+                    roles.len()
+                ),
+            });
+        }
+        let dim = r.len() / n;
+        positions.push(r.chunks(dim).map(|c| projection.of(c)).collect());
+    }
+    let labels: Vec<String> = poses.iter().map(|p| p.0.clone()).collect();
+    let drawing = Drawing {
+        positions: &positions,
+        labels: &labels,
+        names,
+        roles,
+        ends: &ends,
+        length: units.length,
+    };
+    draw(&drawing, overlay, projection, path)
+}
+
 /// A pose's legend: its drivers' values, angles in degrees, lengths in
 /// the unit named `length`.
 fn driver_label(coordinates: &[Coordinate], q: &[f64], length: &str) -> String {

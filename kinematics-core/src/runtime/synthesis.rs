@@ -174,7 +174,6 @@ impl Subject for Model {
         to: f64,
         steps: usize,
         options: &Options,
-        point: usize,
     ) -> (Vec<(f64, Vec<f64>)>, bool) {
         let Some(name) = self.coordinates.get(driver).map(|c| c.name) else {
             return (Vec::new(), true);
@@ -186,11 +185,13 @@ impl Subject for Model {
         let samples = sweep
             .samples
             .iter()
-            .filter_map(|x| {
-                x.motion
+            .map(|x| {
+                let r = x
+                    .motion
                     .points
-                    .get(point)
-                    .map(|p| (x.at, p.position.to_vec()))
+                    .iter()
+                    .flat_map(|p| p.position.iter().copied());
+                (x.at, r.collect())
             })
             .collect();
         (samples, sweep.stop.is_some())

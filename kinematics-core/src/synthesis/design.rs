@@ -40,6 +40,9 @@ pub(super) enum Output {
     Point(usize),
     /// A coordinate (index), an angle or a length.
     Coordinate(usize, Kind),
+    /// A body's pose: a point (index), all its components, and an angle
+    /// coordinate (index) whose difference is weighed by a length.
+    Motion(usize, usize, f64),
 }
 
 /// A dimensional synthesis problem, set up with [`Synthesis::path`] or
@@ -48,7 +51,7 @@ pub(super) enum Output {
 pub struct Synthesis<M: Subject> {
     pub(super) design: M,
     pub(super) shape: Shape,
-    start: M::Pose,
+    pub(super) start: M::Pose,
     pub(super) driver: usize,
     driver_kind: Kind,
     pub(super) output: Output,
@@ -57,14 +60,16 @@ pub struct Synthesis<M: Subject> {
     pub(super) varied: Vec<usize>,
     pub(super) bounds: Vec<(f64, f64)>,
     pub(super) timing: Timing,
-    guesses: Option<Vec<f64>>,
+    pub(super) guesses: Option<Vec<f64>>,
+    /// w_j per target (none: all 1).
+    pub(super) weights: Option<Vec<f64>>,
     pub(super) linear: Vec<(Vec<(usize, f64)>, f64)>,
     /// Whether free driver values must increase through the targets.
     pub(super) ordered: bool,
-    modes: Option<Vec<f64>>,
+    pub(super) modes: Option<Vec<f64>>,
     pub(super) options: Options,
-    patience: usize,
-    problem: Option<Error>,
+    pub(super) patience: usize,
+    pub(super) problem: Option<Error>,
 }
 
 /// The result of a synthesis.
@@ -75,9 +80,13 @@ pub struct Synthesized<M> {
     pub design: M,
     /// The driver value at each target.
     pub driver_values: Vec<f64>,
-    /// E = Σ_j |output_j − target_j|² (angle differences in (−π, π]).
+    /// E = Σ_j w_j |output_j − target_j|² (angle differences in (−π, π],
+    /// weighed by the length given in motion generation; w_j the
+    /// weights, 1 unless given).
     pub sum_squares: f64,
-    /// The largest |output_j − target_j|.
+    /// |output_j − target_j| at each target (not weighted).
+    pub target_errors: Vec<f64>,
+    /// The largest of [`Self::target_errors`].
     pub max_error: f64,
     /// How many times the residuals were evaluated (each is one analysis
     /// per target).
@@ -178,6 +187,66 @@ impl<M: Subject> Synthesis<M> {
         s
     }
 
+    /// Motion generation: a body through poses, each the position of its
+    /// point `point` and the value of its angle coordinate `angle` (an
+    /// unknown or a driver of `design`: the coupler's θ3, say), with free
+    /// timing as [`Synthesis::path`]. Each pose is `[x, y, θ]` (`[x, y, z,
+    /// θ]` in space) and its error |r_j − t_j|² + (ℓ·Δθ_j)², Δθ_j in
+    /// (−π, π], with ℓ = `length` the length that weighs an angle against a
+    /// distance (the body's size, say).
+    pub fn motion<T: AsRef<[f64]>>(
+        design: &M,
+        driver: impl DriverOf<M>,
+        (point, angle): (&str, &str),
+        poses: &[T],
+        length: f64,
+        start: &M::Pose,
+    ) -> Self {
+        let mut s = Self::path(design, driver, point, &[] as &[&[f64]], start);
+        let Output::Point(p) = s.output else {
+            return s;
+        };
+        match s
+            .shape
+            .coordinates
+            .iter()
+            .position(|c| c.name == angle && c.kind == Kind::Angle)
+        {
+            Some(i) => s.output = Output::Motion(p, i, length),
+            None => {
+                let names = s
+                    .shape
+                    .coordinates
+                    .iter()
+                    .filter(|c| c.kind == Kind::Angle)
+                    .map(|c| c.name)
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                s.fail(format!(
+                    "the mechanism has no angle coordinate `{angle}`; its angles are {names}"
+                ));
+            }
+        }
+        if !(length.is_finite() && length > 0.0) {
+            s.fail(format!(
+                "the length that weighs the angles must be positive and finite, not {length}"
+            ));
+        }
+        let dim = s.shape.point_dim + 1;
+        s.dim = dim;
+        for (j, t) in poses.iter().enumerate() {
+            let t = t.as_ref();
+            if t.len() != dim {
+                s.fail(format!(
+                    "pose {j} has {} components; a pose of `{point}` and `{angle}` has {dim}",
+                    t.len(),
+                ));
+            }
+            s.targets.extend(t.iter().copied());
+        }
+        s
+    }
+
     fn new(design: &M, driver: Result<usize, String>, start: &M::Pose) -> Self {
         let shape = design.shape();
         let n = shape.parameters.len();
@@ -199,6 +268,7 @@ impl<M: Subject> Synthesis<M> {
             bounds: vec![(f64::NEG_INFINITY, f64::INFINITY); n],
             timing: Timing::Free,
             guesses: None,
+            weights: None,
             linear: Vec::new(),
             ordered: false,
             modes: None,
@@ -217,7 +287,7 @@ impl<M: Subject> Synthesis<M> {
         self.driver_kind == Kind::Angle
     }
 
-    fn fail(&mut self, detail: String) {
+    pub(super) fn fail(&mut self, detail: String) {
         if self.problem.is_none() {
             self.problem = Some(Error::InvalidGeometry {
                 what: "synthesis",
@@ -281,6 +351,19 @@ impl<M: Subject> Synthesis<M> {
     #[must_use]
     pub fn driver_guesses(mut self, values: &[f64]) -> Self {
         self.guesses = Some(values.to_vec());
+        self
+    }
+
+    /// The weight w_j ≥ 0 of each target: E = Σ_j w_j |output_j −
+    /// target_j|² (default: every weight 1).
+    #[must_use]
+    pub fn weights(mut self, weights: &[f64]) -> Self {
+        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+            self.fail(format!(
+                "the weights must be finite and not negative, not {weights:?}"
+            ));
+        }
+        self.weights = Some(weights.to_vec());
         self
     }
 
@@ -361,17 +444,11 @@ impl<M: Subject> Synthesis<M> {
         self
     }
 
-    /// Runs the synthesis from the design given.
-    ///
-    /// # Errors
-    /// [`Error::InvalidGeometry`] for a name that is not a point,
-    /// unknown or parameter, targets of the wrong size, or timing values
-    /// of the wrong count; [`Error::InvalidOption`] for non-finite
-    /// targets; the error of the analysis when the starting design cannot
-    /// be assembled at a target.
-    pub fn run(self) -> Result<Synthesized<M>, Error> {
-        if let Some(e) = self.problem {
-            return Err(e);
+    /// The problem checked as posed, before any analysis: its number of
+    /// targets and a state in its assembly modes.
+    pub(super) fn checked(&self) -> Result<(usize, M::State), Error> {
+        if let Some(e) = &self.problem {
+            return Err(e.clone());
         }
         let n = self.targets.len().checked_div(self.dim).unwrap_or(0);
         if n == 0 {
@@ -390,11 +467,11 @@ impl<M: Subject> Synthesis<M> {
         let count_ok = match &self.timing {
             Timing::Free => self.guesses.as_ref().is_none_or(|g| g.len() == n),
             Timing::Prescribed(v) | Timing::Relative(v) => v.len() == n,
-        };
+        } && self.weights.as_ref().is_none_or(|w| w.len() == n);
         if !count_ok {
             return Err(Error::InvalidGeometry {
                 what: "synthesis",
-                detail: format!("the timing needs one driver value per target ({n})"),
+                detail: format!("the timing and the weights need one value per target ({n})"),
             });
         }
         let mut state = self.design.state(&self.options)?;
@@ -412,6 +489,19 @@ impl<M: Subject> Synthesis<M> {
             }
             slots.copy_from_slice(modes);
         }
+        Ok((n, state))
+    }
+
+    /// Runs the synthesis from the design given.
+    ///
+    /// # Errors
+    /// [`Error::InvalidGeometry`] for a name that is not a point,
+    /// unknown or parameter, targets of the wrong size, or timing values
+    /// of the wrong count; [`Error::InvalidOption`] for non-finite
+    /// targets; the error of the analysis when the starting design cannot
+    /// be assembled at a target.
+    pub fn run(self) -> Result<Synthesized<M>, Error> {
+        let (n, mut state) = self.checked()?;
         // The modes of the start pose (when not given).
         let mut first = self.start.clone();
         let mut solved = Solved::for_shape(&self.shape);
@@ -498,7 +588,8 @@ impl<M: Subject> Synthesis<M> {
             design,
             driver_values: values,
             sum_squares: e.0,
-            max_error: e.1,
+            max_error: e.2.iter().copied().fold(0.0, f64::max),
+            target_errors: e.2,
             evaluations: problem.evaluations.get(),
             jacobians: problem.jacobians.get(),
             rejected: problem.rejected.get(),
@@ -515,7 +606,7 @@ impl<M: Subject> Synthesis<M> {
     /// path (one turn each way from the start, 360 steps, in the start's
     /// modes) nearest the target. `None` when the path has no sample.
     fn nearest_on_path(&self, n: usize) -> Option<Vec<f64>> {
-        let Output::Point(k) = self.output else {
+        let (Output::Point(k) | Output::Motion(k, _, _)) = self.output else {
             return None;
         };
         if self.driver_kind != Kind::Angle {
@@ -526,8 +617,12 @@ impl<M: Subject> Synthesis<M> {
         for to in [phi0 + TAU, phi0 - TAU] {
             let (path, stopped) =
                 self.design
-                    .path(self.driver, &self.start, to, 360, &self.options, k);
-            samples.extend(path);
+                    .path(self.driver, &self.start, to, 360, &self.options);
+            let at = k * self.shape.point_dim..(k + 1) * self.shape.point_dim;
+            samples.extend(
+                path.into_iter()
+                    .map(|(phi, r)| (phi, r[at.clone()].to_vec())),
+            );
             if !stopped {
                 break;
             }
@@ -535,11 +630,11 @@ impl<M: Subject> Synthesis<M> {
         if samples.is_empty() {
             return None;
         }
-        let d = self.dim;
+        let (d, point_dim) = (self.dim, self.shape.point_dim);
         Some(
             (0..n)
                 .map(|j| {
-                    let t = &self.targets[j * d..(j + 1) * d];
+                    let t = &self.targets[j * d..j * d + point_dim];
                     let dist = |r: &[f64]| -> f64 {
                         r.iter().zip(t).map(|(a, b)| (a - b) * (a - b)).sum()
                     };

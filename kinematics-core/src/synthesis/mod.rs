@@ -80,10 +80,19 @@
 //! # }
 //! ```
 
+mod cycle;
 mod design;
+pub mod exact;
 mod problem;
+mod search;
+mod spec;
 mod subject;
 
 pub use design::{Synthesis, Synthesized, Timing};
+pub use search::{Budget, Found, Optimum, Progress, Search};
+pub use spec::{
+    Amount, Grashof, Inequality, Region, SearchSpec, Spec, Task, TimingSpec, TransmissionSpec,
+};
+#[cfg(feature = "runtime")]
 pub(crate) use subject::sealed::Sealed;
 pub use subject::{DriverOf, Shape, Solved, Subject};

@@ -145,14 +145,34 @@ impl<M: Subject> Problem<'_, M> {
             .collect()
     }
 
-    /// E and the largest error from the residuals (the inequality
-    /// residuals left out).
-    pub(super) fn errors(&self, res: &[f64]) -> (f64, f64) {
+    /// √w_j of target j.
+    fn root_weight(&self, j: usize) -> f64 {
+        self.s
+            .weights
+            .as_ref()
+            .map_or(1.0, |w| w.get(j).copied().unwrap_or(1.0).sqrt())
+    }
+
+    /// E, the largest error and each target's error (not weighted) from
+    /// the residuals (the inequality residuals left out).
+    pub(super) fn errors(&self, res: &[f64]) -> (f64, f64, Vec<f64>) {
         let d = self.s.dim;
         let fit = &res[..self.n * d];
         let e = fit.iter().map(|r| r * r).sum();
-        let worst = fit.chunks(d).map(norm).fold(0.0f64, f64::max);
-        (e, worst)
+        let each: Vec<f64> = fit
+            .chunks(d)
+            .enumerate()
+            .map(|(j, r)| {
+                let w = self.root_weight(j);
+                if w > 0.0 { norm(r) / w } else { f64::NAN }
+            })
+            .collect();
+        let worst = each
+            .iter()
+            .copied()
+            .filter(|e| !e.is_nan())
+            .fold(0.0f64, f64::max);
+        (e, worst, each)
     }
 
     /// The residuals at x and, if `jacobian`, the Jacobian (row-major,
@@ -192,22 +212,34 @@ impl<M: Subject> Problem<'_, M> {
             M::set_coordinate(pose, s.driver, values[j]);
             let mut state = fresh.clone();
             design.solve(pose, s.driver, &mut state, jacobian, &mut solved)?;
-            // ∂(output)/∂φ_j and ∂(output)/∂p_k per component.
+            // ∂(output)/∂φ_j and ∂(output)/∂p_k per component, each
+            // row times √w_j.
+            let w = self.root_weight(j);
             for c in 0..d {
                 let row = j * d + c;
-                let (value, rate) = match s.output {
-                    Output::Point(i) => (
+                // What the row compares: a point's component, or a
+                // coordinate (times ℓ for a body's angle).
+                let (point, coordinate) = match s.output {
+                    Output::Point(i) => (Some(i), None),
+                    Output::Coordinate(i, _) => (None, Some((i, 1.0))),
+                    Output::Motion(i, _, _) if c < dim => (Some(i), None),
+                    Output::Motion(_, a, l) => (None, Some((a, l))),
+                };
+                let (value, rate) = match (point, coordinate) {
+                    (Some(i), _) => (
                         solved.positions[i * dim + c],
                         solved.velocities[i * dim + c],
                     ),
-                    Output::Coordinate(i, _) => (
-                        solved.q.get(i).copied().unwrap_or(f64::NAN),
-                        solved.qd.get(i).copied().unwrap_or(f64::NAN),
+                    (None, Some((i, l))) => (
+                        l * solved.q.get(i).copied().unwrap_or(f64::NAN),
+                        l * solved.qd.get(i).copied().unwrap_or(f64::NAN),
                     ),
+                    (None, None) => (f64::NAN, f64::NAN),
                 };
                 let target = s.targets[row];
-                res[row] = match s.output {
+                res[row] = w * match s.output {
                     Output::Coordinate(_, Kind::Angle) => wrapped(value - target),
+                    Output::Motion(_, _, l) if c == dim => l * wrapped((value / l) - target),
                     _ => value - target,
                 };
                 if !jacobian {
@@ -215,15 +247,16 @@ impl<M: Subject> Problem<'_, M> {
                 }
                 let jr = &mut jac[row * nx..(row + 1) * nx];
                 for (i, &k) in s.varied.iter().enumerate() {
-                    let dp = match s.output {
-                        Output::Point(pi) => solved.dr[(k * npoints + pi) * dim + c],
-                        Output::Coordinate(ci, _) => solved.dq[k * ncoord + ci],
+                    let dp = match (point, coordinate) {
+                        (Some(pi), _) => solved.dr[(k * npoints + pi) * dim + c],
+                        (None, Some((ci, l))) => l * solved.dq[k * ncoord + ci],
+                        (None, None) => f64::NAN,
                     };
-                    jr[i] = dp * dpdx[i];
+                    jr[i] = w * dp * dpdx[i];
                 }
                 match &s.timing {
-                    Timing::Free => jr[nv + j] = rate,
-                    Timing::Relative(_) => jr[nv] = rate,
+                    Timing::Free => jr[nv + j] = w * rate,
+                    Timing::Relative(_) => jr[nv] = w * rate,
                     Timing::Prescribed(_) => {}
                 }
             }

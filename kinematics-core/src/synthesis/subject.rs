@@ -75,9 +75,10 @@ pub trait Subject: Clone + sealed::Sealed {
         sensitivities: bool,
         out: &mut Solved,
     ) -> Result<(), Error>;
-    /// The positions of point `point` over a sweep of `driver` from
-    /// `start` to `to` in `steps` steps, with the driver's value at each,
-    /// and whether the sweep stopped before `to`.
+    /// The positions of every point (one after the other, each with its
+    /// components) over a sweep of `driver` from `start` to `to` in
+    /// `steps` steps, with the driver's value at each, and whether the
+    /// sweep stopped before `to`.
     #[doc(hidden)]
     fn path(
         &self,
@@ -86,7 +87,6 @@ pub trait Subject: Clone + sealed::Sealed {
         to: f64,
         steps: usize,
         options: &Options,
-        point: usize,
     ) -> (Vec<(f64, Vec<f64>)>, bool);
     /// Whether a whole turn of the angle driver `driver` from `start`
     /// sweeps without stopping.
@@ -244,7 +244,6 @@ impl<M: Sensitive + Clone> Subject for M {
         to: f64,
         steps: usize,
         options: &Options,
-        point: usize,
     ) -> (Vec<(f64, Vec<f64>)>, bool) {
         let name = M::COORDINATES.get(driver).map_or("", |c| c.name);
         let handle = Driver::<M, crate::sweep::Angle>::__new(driver, name);
@@ -256,11 +255,13 @@ impl<M: Sensitive + Clone> Subject for M {
         let samples = sweep
             .samples
             .iter()
-            .filter_map(|x| {
-                x.motion
+            .map(|x| {
+                let r = x
+                    .motion
                     .points()
-                    .get(point)
-                    .map(|p| (x.at, p.position().to_vec()))
+                    .iter()
+                    .flat_map(|p| p.position().iter().copied());
+                (x.at, r.collect())
             })
             .collect();
         (samples, sweep.stop.is_some())

@@ -1,0 +1,729 @@
+//! The global search: seeded feasible starting designs, each refined by
+//! Levenberg–Marquardt with the exact Jacobian, the best refined to
+//! convergence and checked over the whole cycle; the distinct optima
+//! found, ranked.
+
+use core::f64::consts::TAU;
+use std::boxed::Box;
+use std::format;
+use std::time::{Duration, Instant};
+use std::vec::Vec;
+
+use crate::error::Error;
+
+use super::cycle::{Cycle, Motion};
+use super::design::{Output, Synthesis, Synthesized, Timing};
+use super::subject::{Solved, Subject};
+
+/// SplitMix64 (Steele, Lea and Flood, OOPSLA 2014): a small generator
+/// whose stream is fixed by its seed, so that a search is reproducible.
+#[derive(Debug, Clone)]
+pub(super) struct Draws(u64);
+
+impl Draws {
+    /// The stream of start `k` of the search seeded `seed` (each start's
+    /// own, so that the starts do not depend on the order they run in).
+    pub(super) fn new(seed: u64, k: u64) -> Self {
+        let mut d = Draws(seed ^ k.wrapping_mul(0xD1B5_4A32_D192_ED03));
+        d.next();
+        d
+    }
+
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [lo, hi).
+    #[allow(clippy::cast_precision_loss)]
+    pub(super) fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
+        lo + (hi - lo) * u
+    }
+}
+
+/// Where a search is, as reported to [`Search::progress`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// Starts screened so far (a short refinement each).
+    pub screened: usize,
+    /// Of how many.
+    pub starts: usize,
+    /// Designs refined to convergence so far.
+    pub refined: usize,
+    /// Of at most how many.
+    pub keep: usize,
+    /// The lowest E so far (∞ before the first).
+    pub best: f64,
+    /// Residual and Jacobian evaluations so far.
+    pub evaluations: usize,
+}
+
+/// What stopped a search before it had refined the designs it keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Budget {
+    /// The evaluations given to [`Search::evaluations`] were spent.
+    Evaluations,
+    /// The time given to [`Search::time`] ran out.
+    Time,
+}
+
+/// One local optimum a search found.
+#[derive(Debug, Clone)]
+pub struct Optimum<M: Subject> {
+    /// The refinement that ended there (the design, its driver values at
+    /// the targets, E, each target's error, whether it turns fully).
+    pub found: Synthesized<M>,
+    /// Whether every constraint holds: the linear inequalities and the
+    /// order (at the design), and over the motion one branch from target
+    /// to target, the transmission angles, the regions and, where asked,
+    /// a full turn.
+    pub feasible: bool,
+    /// Over the motion (a turn if the design turns fully, else from the
+    /// smallest driver value of the targets to the largest), the smallest
+    /// transmission angle of the dyads named to [`Search::transmission`],
+    /// folded into [0, π/2] (min(μ, π − μ), rad); `None` with no dyad
+    /// named.
+    pub min_transmission: Option<f64>,
+    /// Whether the motion passes from target to target without stopping
+    /// (no dead centre, no change of assembly between them: the targets
+    /// are on one branch and one circuit).
+    pub one_branch: bool,
+    /// How many of the refined starts ended at this optimum.
+    pub reached_by: usize,
+    /// The design's pose at each target, in its assembly modes (empty if
+    /// one does not assemble).
+    pub poses: Vec<M::Pose>,
+}
+
+/// What a search found.
+#[derive(Debug, Clone)]
+pub struct Found<M: Subject> {
+    /// The distinct optima, the feasible first, each group by E
+    /// ascending.
+    pub optima: Vec<Optimum<M>>,
+    /// Residual and Jacobian evaluations, every start.
+    pub evaluations: usize,
+    /// The starting designs drawn (each feasible at its starting driver
+    /// values).
+    pub starts: usize,
+    /// The starts for which no feasible design was drawn in the tries
+    /// allowed.
+    pub undrawn: usize,
+    /// What stopped the search early, if anything did.
+    pub stopped_by: Option<Budget>,
+}
+
+impl<M: Subject> Found<M> {
+    /// The best feasible optimum.
+    #[must_use]
+    pub fn best(&self) -> Option<&Optimum<M>> {
+        self.optima.first().filter(|o| o.feasible)
+    }
+}
+
+type Report = Box<dyn FnMut(&Progress) + Send + Sync>;
+
+/// A global search for the problem of a [`Synthesis`] (its mechanism,
+/// task, varied parameters and their bounds, timing, linear inequalities,
+/// order and assembly modes): multi-start Levenberg–Marquardt with the
+/// exact Jacobian, from designs drawn inside the bounds.
+///
+/// 1. **Starts.** Each of [`Self::starts`] designs is drawn uniformly
+///    inside the bounds (or the narrower [`Self::sampling`] ranges) until
+///    one meets the linear inequalities and assembles at every starting
+///    driver value in one set of assembly modes (those given to
+///    [`Synthesis::modes`], else the first that does, from a random
+///    one), with its transmission angles within bounds there. Starting
+///    driver values with free timing: evenly spaced over a turn from a
+///    random angle for even starts, spaced as the targets are along
+///    their closed polygon for odd ones.
+/// 2. **Screening.** Each start is refined briefly (20 residual
+///    evaluations per unknown), on all cores with the `parallel` feature.
+/// 3. **Refinement.** The [`Self::keep`] best are refined to convergence
+///    in order of their E, two at a time, until one passes through the
+///    targets (E ≤ 10⁻²⁴ of the targets' scale squared) or two end
+///    within 1 % of each other.
+/// 4. **Cycle.** Each is swept over its motion and checked (see
+///    [`Optimum`]); optima whose E agree to 10⁻⁶ and whose parameters
+///    agree to 10⁻⁶ of the design's scale are one.
+///
+/// Every start draws from its own stream, fixed by the seed and its
+/// number, so a search is reproducible whatever the number of threads
+/// (unless stopped by [`Self::time`]).
+pub struct Search<M: Subject> {
+    problem: Synthesis<M>,
+    starts: usize,
+    keep: usize,
+    seed: u64,
+    tries: usize,
+    sampling: Vec<(usize, f64, f64)>,
+    evaluations: Option<usize>,
+    time: Option<Duration>,
+    cycle: Cycle,
+    progress: Option<Report>,
+}
+
+impl<M: Subject> core::fmt::Debug for Search<M> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Search")
+            .field("starts", &self.starts)
+            .field("keep", &self.keep)
+            .field("seed", &self.seed)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<M: Subject> Synthesis<M> {
+    /// The global search for this problem ([`Search`]), from the seed 0.
+    #[must_use]
+    pub fn search(self) -> Search<M> {
+        Search {
+            problem: self,
+            starts: 16,
+            keep: 8,
+            seed: 0,
+            tries: 10_000,
+            sampling: Vec::new(),
+            evaluations: None,
+            time: None,
+            cycle: Cycle::default(),
+            progress: None,
+        }
+    }
+}
+
+/// A start after its screening: the refinement, its pose at the first
+/// target and its assembly modes.
+type Screened<M> = (Synthesized<M>, <M as Subject>::Pose, Vec<f64>);
+
+impl<M> Search<M>
+where
+    M: Subject + Send + Sync,
+    M::Pose: Send + Sync,
+{
+    /// The number of starting designs (default 16).
+    #[must_use]
+    pub fn starts(mut self, n: usize) -> Self {
+        self.starts = n.max(1);
+        self
+    }
+
+    /// How many of the screened starts are refined to convergence
+    /// (default 8).
+    #[must_use]
+    pub fn keep(mut self, n: usize) -> Self {
+        self.keep = n.max(1);
+        self
+    }
+
+    /// The seed of the starting designs (default 0).
+    #[must_use]
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// The most designs drawn for one start before it is given up
+    /// (default 10 000).
+    #[must_use]
+    pub fn tries(mut self, n: usize) -> Self {
+        self.tries = n.max(1);
+        self
+    }
+
+    /// Draws parameter `name`'s starting values in [lo, hi] (inside its
+    /// bounds) instead of over its bounds: links kept away from zero
+    /// length, say.
+    #[must_use]
+    pub fn sampling(mut self, name: &str, lo: f64, hi: f64) -> Self {
+        let s = &mut self.problem;
+        match s.shape.parameters.iter().position(|p| *p == name) {
+            Some(k) if lo.is_finite() && hi.is_finite() && lo < hi => {
+                self.sampling.push((k, lo, hi));
+            }
+            Some(_) => s.fail(format!(
+                "the sampling range of `{name}` must be finite with lo < hi, not [{lo}, {hi}]"
+            )),
+            None => s.fail(format!("`{name}` is not a parameter of the problem")),
+        }
+        self
+    }
+
+    /// Stops drawing and refining once `n` residual and Jacobian
+    /// evaluations are spent (checked between groups of starts).
+    #[must_use]
+    pub fn evaluations(mut self, n: usize) -> Self {
+        self.evaluations = Some(n);
+        self
+    }
+
+    /// Stops drawing and refining after `limit` of wall time (checked
+    /// between groups of starts; the result then depends on the
+    /// machine).
+    #[must_use]
+    pub fn time(mut self, limit: Duration) -> Self {
+        self.time = Some(limit);
+        self
+    }
+
+    /// Keeps the transmission angle μ of a dyad within [μ_min, π − μ_min]
+    /// over the motion: μ the angle at the joint `joint` between the
+    /// links to `input` and to `output` (the coupler and the rocker of a
+    /// four-bar: `["B", "C", "D"]` for coupler BC and rocker CD), by
+    /// point name; checked at the starts' driver values and over the
+    /// whole motion of the results.
+    #[must_use]
+    pub fn transmission(mut self, [input, joint, output]: [&str; 3], mu_min: f64) -> Self {
+        let index = |p: &mut Synthesis<M>, n: &str| -> usize {
+            let k = p.shape.points.iter().position(|q| *q == n);
+            if k.is_none() {
+                let names = p.shape.points.join(", ");
+                p.fail(format!(
+                    "the mechanism has no point `{n}`; its points are {names}"
+                ));
+            }
+            k.unwrap_or(0)
+        };
+        let ids = [
+            index(&mut self.problem, input),
+            index(&mut self.problem, joint),
+            index(&mut self.problem, output),
+        ];
+        if !(0.0..core::f64::consts::FRAC_PI_2).contains(&mu_min) {
+            self.problem.fail(format!(
+                "the smallest transmission angle must be in [0, π/2) rad, not {mu_min}"
+            ));
+        }
+        self.cycle.transmission.push((ids, mu_min));
+        self
+    }
+
+    /// Keeps point `point` inside the box [lo, hi] (per component) over
+    /// the motion: a ground pivot inside a region of the frame, or a
+    /// moving point inside the space it may sweep.
+    #[must_use]
+    pub fn inside(mut self, point: &str, lo: &[f64], hi: &[f64]) -> Self {
+        let p = &mut self.problem;
+        let dim = p.shape.point_dim;
+        match p.shape.points.iter().position(|q| *q == point) {
+            Some(k) if lo.len() == dim && hi.len() == dim => {
+                self.cycle.regions.push((k, lo.to_vec(), hi.to_vec()));
+            }
+            Some(_) => p.fail(format!(
+                "the region of `{point}` needs {dim} lower and {dim} upper bounds"
+            )),
+            None => {
+                let names = p.shape.points.join(", ");
+                p.fail(format!(
+                    "the mechanism has no point `{point}`; its points are {names}"
+                ));
+            }
+        }
+        self
+    }
+
+    /// Requires of every feasible result that its angle driver turn
+    /// fully (a crank, in its assembly modes).
+    #[must_use]
+    pub fn full_turn(mut self) -> Self {
+        self.cycle.full_turn = true;
+        self
+    }
+
+    /// Calls `report` after each group of starts screened and each
+    /// design refined.
+    #[must_use]
+    pub fn progress(mut self, report: impl FnMut(&Progress) + Send + Sync + 'static) -> Self {
+        self.progress = Some(Box::new(report));
+        self
+    }
+
+    /// Runs the search.
+    ///
+    /// # Errors
+    /// As [`Synthesis::run`] for the problem as posed;
+    /// [`Error::InvalidGeometry`] for a varied parameter without finite
+    /// bounds (the starts are drawn inside them).
+    pub fn run(mut self) -> Result<Found<M>, Error> {
+        if let Some(e) = self.problem.problem.take() {
+            return Err(e);
+        }
+        let p = &self.problem;
+        let unbounded: Vec<&str> = p
+            .varied
+            .iter()
+            .filter(|&&k| {
+                let (lo, hi) = p.bounds[k];
+                !(lo.is_finite() && hi.is_finite()) && !self.sampling.iter().any(|s| s.0 == k)
+            })
+            .map(|&k| p.shape.parameters[k])
+            .collect();
+        if !unbounded.is_empty() {
+            return Err(Error::InvalidGeometry {
+                what: "synthesis",
+                detail: format!(
+                    "the search draws its starting designs inside the bounds; give {} finite bounds (or a sampling range)",
+                    unbounded.join(", ")
+                ),
+            });
+        }
+        // The problem as posed, checked once from the design given.
+        self.problem.checked()?;
+        let began = Instant::now();
+        let mut report = self.progress.take();
+        let mut progress = Progress {
+            screened: 0,
+            starts: self.starts,
+            refined: 0,
+            keep: self.keep.min(self.starts),
+            best: f64::INFINITY,
+            evaluations: 0,
+        };
+        let mut stopped_by = None;
+        let mut screened: Vec<Screened<M>> = Vec::new();
+        let mut undrawn = 0;
+        // Groups of a fixed size, whatever the number of threads.
+        const GROUP: usize = 8;
+        let mut k = 0;
+        while k < self.starts {
+            if let Some(why) = self.over_budget(began, progress.evaluations) {
+                stopped_by = Some(why);
+                break;
+            }
+            let group: Vec<usize> = (k..(k + GROUP).min(self.starts)).collect();
+            k += group.len();
+            let this = &self;
+            let results = map(&group, |&k| this.screen(k));
+            for r in results {
+                progress.screened += 1;
+                match r {
+                    Some((found, pose, modes)) => {
+                        progress.evaluations += found.evaluations + found.jacobians;
+                        progress.best = progress.best.min(found.sum_squares);
+                        screened.push((found, pose, modes));
+                    }
+                    None => undrawn += 1,
+                }
+            }
+            tell(&mut report, &progress);
+        }
+        screened.sort_by(|a, b| a.0.sum_squares.total_cmp(&b.0.sum_squares));
+        screened.truncate(self.keep);
+        let exact = 1e-24 * self.target_scale().powi(2).max(1.0);
+        let mut refined: Vec<(Synthesized<M>, M::Pose, Vec<f64>)> = Vec::new();
+        'refine: for group in screened.chunks(2) {
+            if let Some(why) = self.over_budget(began, progress.evaluations) {
+                stopped_by = Some(why);
+                break;
+            }
+            let this = &self;
+            let results = map(group, |(s, pose, modes)| this.refine(s, pose, modes));
+            for r in results.into_iter().flatten() {
+                progress.evaluations += r.0.evaluations + r.0.jacobians;
+                progress.refined += 1;
+                progress.best = progress.best.min(r.0.sum_squares);
+                let agrees = refined.iter().any(|o| {
+                    o.0.constraints_met
+                        && (o.0.sum_squares - r.0.sum_squares).abs() <= 0.01 * o.0.sum_squares
+                });
+                let done = r.0.constraints_met && (r.0.sum_squares <= exact || agrees);
+                refined.push(r);
+                if done {
+                    tell(&mut report, &progress);
+                    break 'refine;
+                }
+            }
+            tell(&mut report, &progress);
+        }
+        let this = &self;
+        let checked = map(&refined, |(s, pose, modes)| this.optimum(s, pose, modes));
+        let scale = self.parameter_scale();
+        let mut optima: Vec<Optimum<M>> = Vec::new();
+        for o in checked {
+            match optima
+                .iter_mut()
+                .find(|q| same(q, &o, scale, &self.problem))
+            {
+                Some(q) => {
+                    q.reached_by += 1;
+                    if (o.feasible, -o.found.sum_squares) > (q.feasible, -q.found.sum_squares) {
+                        let reached_by = q.reached_by;
+                        *q = o;
+                        q.reached_by = reached_by;
+                    }
+                }
+                None => optima.push(o),
+            }
+        }
+        optima.sort_by(|a, b| {
+            b.feasible
+                .cmp(&a.feasible)
+                .then(a.found.sum_squares.total_cmp(&b.found.sum_squares))
+        });
+        Ok(Found {
+            optima,
+            evaluations: progress.evaluations,
+            starts: progress.screened - undrawn,
+            undrawn,
+            stopped_by,
+        })
+    }
+
+    fn over_budget(&self, began: Instant, evaluations: usize) -> Option<Budget> {
+        if self.evaluations.is_some_and(|n| evaluations >= n) {
+            Some(Budget::Evaluations)
+        } else if self.time.is_some_and(|t| began.elapsed() >= t) {
+            Some(Budget::Time)
+        } else {
+            None
+        }
+    }
+
+    /// The largest |component| of the targets (1 for none).
+    fn target_scale(&self) -> f64 {
+        self.problem
+            .targets
+            .iter()
+            .fold(0.0f64, |m, t| m.max(t.abs()))
+            .max(f64::MIN_POSITIVE)
+    }
+
+    /// The largest |bound| of the varied parameters' finite bounds.
+    fn parameter_scale(&self) -> f64 {
+        let p = &self.problem;
+        p.varied
+            .iter()
+            .flat_map(|&k| [p.bounds[k].0, p.bounds[k].1])
+            .filter(|b| b.is_finite())
+            .fold(1e-300f64, |m, b| m.max(b.abs()))
+    }
+
+    /// Start `k`: a feasible design drawn and briefly refined; `None`
+    /// when none was drawn in the tries allowed or its refinement failed.
+    fn screen(&self, k: usize) -> Option<Screened<M>> {
+        let mut draws = Draws::new(self.seed, k as u64);
+        let (design, pose, modes, values) = self.draw(k, &mut draws)?;
+        let s = self
+            .posed(design, pose.clone(), &modes, &values)
+            .patience(20);
+        let found = s.run().ok()?;
+        Some((found, pose, modes))
+    }
+
+    /// Refines a screened start to convergence.
+    fn refine(&self, s: &Synthesized<M>, pose: &M::Pose, modes: &[f64]) -> Option<Screened<M>> {
+        let p = &self.problem;
+        let mut pose = pose.clone();
+        let mut state = s.design.state(&p.options).ok()?;
+        M::modes(&mut state).copy_from_slice(modes);
+        M::set_coordinate(&mut pose, p.driver, *s.driver_values.first()?);
+        let mut solved = Solved::for_shape(&p.shape);
+        s.design
+            .solve(&mut pose, p.driver, &mut state, false, &mut solved)
+            .ok()?;
+        let posed = self.posed(s.design.clone(), pose.clone(), modes, &s.driver_values);
+        let found = posed.patience(p.patience).run().ok()?;
+        Some((found, pose, modes.to_vec()))
+    }
+
+    /// The problem from `design` at `pose` in `modes`, with the timing's
+    /// unknowns starting at `values`.
+    fn posed(&self, design: M, pose: M::Pose, modes: &[f64], values: &[f64]) -> Synthesis<M> {
+        let mut s = self.problem.clone();
+        s.design = design;
+        s.start = pose;
+        s.modes = Some(modes.to_vec());
+        match &s.timing {
+            Timing::Free => s.guesses = Some(values.to_vec()),
+            Timing::Relative(d) => {
+                if let (Some(v), Some(d)) = (values.first(), d.first()) {
+                    M::set_coordinate(&mut s.start, s.driver, v - d);
+                }
+            }
+            Timing::Prescribed(_) => {}
+        }
+        s
+    }
+
+    /// The starting driver values of start `k` from `phi0`.
+    fn starting_values(&self, k: usize, phi0: f64) -> Vec<f64> {
+        let p = &self.problem;
+        let n = p.targets.len() / p.dim.max(1);
+        match &p.timing {
+            Timing::Prescribed(v) => v.clone(),
+            Timing::Relative(d) => d.iter().map(|d| phi0 + d).collect(),
+            Timing::Free => {
+                if let Some(g) = &p.guesses {
+                    return g.clone();
+                }
+                let span = if p.driver_is_angle() { TAU } else { 1.0 };
+                // Even starts: evenly spaced; odd: spaced as the targets
+                // are along their closed polygon (a point moving at a
+                // uniform speed).
+                let point_dim = match p.output {
+                    Output::Point(_) | Output::Motion(..) => p.shape.point_dim,
+                    Output::Coordinate(..) => 1,
+                };
+                let t = |j: usize| &p.targets[(j % n) * p.dim..(j % n) * p.dim + point_dim];
+                let step = |j: usize| -> f64 {
+                    if k % 2 == 1 {
+                        t(j).iter()
+                            .zip(t(j + 1))
+                            .map(|(a, b)| (b - a) * (b - a))
+                            .sum::<f64>()
+                            .sqrt()
+                    } else {
+                        1.0
+                    }
+                };
+                let total: f64 = (0..n).map(step).sum();
+                let total = if total > 0.0 { total } else { 1.0 };
+                let mut at = phi0;
+                (0..n)
+                    .map(|j| {
+                        let here = at;
+                        at += span * step(j) / total;
+                        here
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// A feasible starting design of start `k`: the design, its pose at
+    /// the first target, its assembly modes and its starting driver
+    /// values.
+    fn draw(&self, k: usize, draws: &mut Draws) -> Option<(M, M::Pose, Vec<f64>, Vec<f64>)> {
+        let p = &self.problem;
+        let slots = {
+            let mut state = p.design.state(&p.options).ok()?;
+            M::modes(&mut state).len()
+        };
+        let combinations = if slots < 16 { 1usize << slots } else { 1 << 16 };
+        let mut solved = Solved::for_shape(&p.shape);
+        for _ in 0..self.tries {
+            let mut design = p.design.clone();
+            for &k in &p.varied {
+                let (lo, hi) = self
+                    .sampling
+                    .iter()
+                    .find(|s| s.0 == k)
+                    .map_or(p.bounds[k], |s| (s.1, s.2));
+                design.set_parameter_at(k, draws.uniform(lo, hi));
+            }
+            let meets = p.linear.iter().all(|(terms, h)| {
+                terms
+                    .iter()
+                    .map(|&(k, c)| c * design.parameter_at(k))
+                    .sum::<f64>()
+                    <= *h
+            });
+            if !meets {
+                continue;
+            }
+            let phi0 = if p.driver_is_angle() {
+                draws.uniform(0.0, TAU)
+            } else {
+                M::coordinate(&p.start, p.driver)
+            };
+            let values = self.starting_values(k, phi0);
+            let Ok(fresh) = design.state(&p.options) else {
+                continue;
+            };
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let first = draws.uniform(0.0, combinations as f64) as usize;
+            let tried: Vec<Vec<f64>> = match &p.modes {
+                Some(m) => std::vec![m.clone()],
+                None => (0..combinations.min(64))
+                    .map(|c| {
+                        let c = (first + c) % combinations;
+                        (0..slots)
+                            .map(|b| if (c >> b) & 1 == 0 { 1.0 } else { -1.0 })
+                            .collect()
+                    })
+                    .collect(),
+            };
+            for modes in tried {
+                let mut state = fresh.clone();
+                M::modes(&mut state).copy_from_slice(&modes);
+                let mut pose = p.start.clone();
+                let mut first_pose = None;
+                let assembled = values.iter().all(|&v| {
+                    M::set_coordinate(&mut pose, p.driver, v);
+                    let ok = design
+                        .solve(&mut pose, p.driver, &mut state, false, &mut solved)
+                        .is_ok()
+                        && self
+                            .cycle
+                            .transmission_holds(&solved.positions, p.shape.point_dim);
+                    if ok && first_pose.is_none() {
+                        first_pose = Some(pose.clone());
+                    }
+                    ok
+                });
+                if let (true, Some(pose)) = (assembled, first_pose) {
+                    return Some((design, pose, modes, values));
+                }
+            }
+        }
+        None
+    }
+
+    /// A refined design checked over its motion.
+    fn optimum(&self, s: &Synthesized<M>, pose: &M::Pose, modes: &[f64]) -> Optimum<M> {
+        let p = &self.problem;
+        let motion = Motion {
+            driver: p.driver,
+            angle: p.driver_is_angle(),
+            point_dim: p.shape.point_dim,
+            options: &p.options,
+            shape: &p.shape,
+        };
+        let verdict = motion.check(s, pose, modes, &self.cycle);
+        let turns_ok = !self.cycle.full_turn || s.full_turn == Some(true);
+        Optimum {
+            feasible: s.constraints_met && verdict.one_branch && verdict.within && turns_ok,
+            min_transmission: verdict.min_transmission,
+            one_branch: verdict.one_branch,
+            found: s.clone(),
+            reached_by: 1,
+            poses: verdict.poses,
+        }
+    }
+}
+
+/// Hands `p` to the progress report, if there is one.
+fn tell(report: &mut Option<Report>, p: &Progress) {
+    if let Some(report) = report.as_mut() {
+        report(p);
+    }
+}
+
+/// Whether two optima are one: E within 10⁻⁶ of each other (relative)
+/// and every varied parameter within 10⁻⁶ of the parameters' scale.
+fn same<M: Subject>(a: &Optimum<M>, b: &Optimum<M>, scale: f64, p: &Synthesis<M>) -> bool {
+    let (ea, eb) = (a.found.sum_squares, b.found.sum_squares);
+    let e_close = (ea - eb).abs() <= 1e-6 * ea.max(eb) + 1e-30 * scale * scale;
+    e_close
+        && p.varied.iter().all(|&k| {
+            (a.found.design.parameter_at(k) - b.found.design.parameter_at(k)).abs() <= 1e-6 * scale
+        })
+}
+
+/// `f` over `items`, on all cores with the `parallel` feature, the
+/// results in the order of the items.
+#[cfg(feature = "parallel")]
+fn map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    use rayon::prelude::*;
+    items.par_iter().map(f).collect()
+}
+
+/// `f` over `items`, in order.
+#[cfg(not(feature = "parallel"))]
+fn map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    items.iter().map(f).collect()
+}
