@@ -1,15 +1,13 @@
 //! The published four-bar path-generation benchmarks, posed as their
 //! sources pose them (the formulation of the HCDJ code of Nguyen-Van et
 //! al., Symmetry 2022, which the ECA code and Peñuñuri's agree with), and
-//! the global strategy that solves them: seeded random starts inside the
-//! bounds, each refined by Levenberg–Marquardt with the exact Jacobian,
-//! the best of a first short pass refined further.
+//! their solution by the library's global search
+//! (`kinematics_core::synthesis::Search`).
 
 use crate::synthesis_runs::Uniform;
 use kinematics_core::closed::{AllModes, Mode, ModeSet};
 use kinematics_core::mechanism;
-use kinematics_core::synthesis::{Synthesis, Synthesized, Timing};
-use kinematics_core::Error;
+use kinematics_core::synthesis::{Synthesis, Timing};
 use std::f64::consts::{PI, TAU};
 
 mechanism! {
@@ -527,97 +525,66 @@ pub struct Outcome {
     pub evaluations: usize,
 }
 
-/// One synthesis of problem `p` from the design `m` and its pose `start`
-/// in the mode `mode`, with at most `patience` residual evaluations per
-/// unknown.
-fn refine(
-    p: &Problem,
-    m: &BenchmarkFourBar,
-    start: &BenchmarkFourBarCoords,
-    mode: Mode,
-    crank: &[f64],
-    patience: usize,
-) -> Result<Synthesized<BenchmarkFourBar>, Error> {
+/// The synthesis problem `p` as posed to the library: the benchmark
+/// four-bar's point C through the targets, the problem's parameters
+/// varied within its bounds, the timing as posed (free timing in order),
+/// the sources' branch (assembly mode −, see [`on_branch`]) and Grashof
+/// with the crank the shortest link.
+#[must_use]
+pub fn posed(p: &Problem) -> Synthesis<BenchmarkFourBar> {
+    let m = from_vector([0.0; 9]);
+    let start = BenchmarkFourBarCoords {
+        th2: 0.0,
+        th3: 0.0,
+        th4: 0.0,
+    };
     let names: Vec<&str> = p.bounds.iter().map(|b| b.0).collect();
-    let mut s = Synthesis::path(m, BenchmarkFourBar::TH2, "C", p.targets, start)
+    let mut s = Synthesis::path(&m, BenchmarkFourBar::TH2, "C", p.targets, &start)
         .vary(&names)
-        .modes(&[mode])
-        .grashof_crank("r2", "r3", "r4", "r1", 0.0)
-        .patience(patience);
+        .modes(&[Mode::Minus])
+        .grashof_crank("r2", "r3", "r4", "r1", 0.0);
     for &(name, lo, hi) in p.bounds {
         s = s.bounds(name, lo, hi);
     }
-    s = match p.timing {
+    match p.timing {
         Posed::Prescribed(v) => s.timing(Timing::Prescribed(v.to_vec())),
         Posed::Relative(d) => s.timing(Timing::Relative(d.to_vec())),
-        Posed::Free => s.driver_guesses(crank).in_order(),
-    };
-    s.run()
+        // The sources' sequence is strict modulo a turn: the last crank
+        // angle short of the first's a turn later (by 10⁻⁶ rad).
+        Posed::Free => s.in_order_within(TAU - 1e-6),
+    }
 }
 
-/// One run of the global strategy on problem `p`, reproducible from
-/// `seed`: `starts` random designs (see [`drawn`]) each refined by a short
-/// Levenberg–Marquardt (20 evaluations per unknown), the best `keep` of
-/// them refined to convergence (200 per unknown), in order, until one
-/// passes through the targets (E < 1e-24) or two end within 1 % of each
-/// other; the best design that
-/// meets the constraints (Grashof with the crank the shortest link, and
-/// for free timing [`cyclic_increasing`] crank angles).
+/// One run of the library's global search
+/// ([`Search`](kinematics_core::synthesis::Search)) on problem `p`,
+/// reproducible from `seed`: `starts` random designs (the links' lengths
+/// drawn from a tenth of their range up), the best `keep` refined to
+/// convergence; the best design that meets the constraints (Grashof with
+/// the crank the shortest link, and for free timing crank angles in
+/// order, [`cyclic_increasing`]), checked over its motion.
 #[must_use]
 pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outcome> {
-    let mut evaluations = 0;
-    let mut screened = Vec::new();
-    for (k, (m, start, mode)) in drawn(p, seed, starts).into_iter().enumerate() {
-        let crank = starting_angles(p, &start, k);
-        if let Ok(r) = refine(p, &m, &start, mode, &crank, 20) {
-            evaluations += r.evaluations + r.jacobians;
-            screened.push((r, start, mode));
+    let mut search = posed(p).search().seed(seed).starts(starts).keep(keep);
+    for &(name, lo, hi) in p.bounds {
+        if ["r1", "r2", "r3", "r4"].contains(&name) {
+            search = search.sampling(name, lo + 0.1 * (hi - lo), hi);
         }
     }
-    screened.sort_by(|a, b| a.0.sum_squares.total_cmp(&b.0.sum_squares));
-    let mut best: Option<Outcome> = None;
-    for (r, start, mode) in screened.into_iter().take(keep) {
-        let mut pose = start;
-        pose.th2 = r.driver_values[0];
-        let mut modes = BenchmarkFourBarModes::all_plus();
-        modes.set_mode(0, mode);
-        let Ok(pose) = r.design.assemble_in(pose.th2, &modes) else {
-            continue;
-        };
-        let Ok(f) = refine(p, &r.design, &pose, mode, &r.driver_values, 200) else {
-            continue;
-        };
-        evaluations += f.evaluations + f.jacobians;
-        let sequence = match p.timing {
-            Posed::Free => cyclic_increasing(&f.driver_values),
-            Posed::Prescribed(_) | Posed::Relative(_) => true,
-        };
-        let ok = f.constraints_met && grashof_crank(&f.design, -1e-9) && sequence;
-        let better = best.as_ref().is_none_or(|b| f.sum_squares < b.sum_squares);
-        let exact = ok && f.sum_squares < 1e-24;
-        // A second refinement ending within 1 % of the best: the search
-        // funnels there.
-        let again = ok
-            && best
-                .as_ref()
-                .is_some_and(|b| (f.sum_squares - b.sum_squares).abs() <= 0.01 * b.sum_squares);
-        if ok && better {
-            best = Some(Outcome {
-                design: f.design,
-                crank_angles: f.driver_values,
-                sum_squares: f.sum_squares,
-                evaluations: 0,
-            });
-        }
-        if exact || again {
-            // Nothing to improve on: the targets are passed through, or
-            // two refinements agree.
-            break;
-        }
-    }
-    best.map(|mut b| {
-        b.evaluations = evaluations;
-        b
+    let found = search.run().ok()?;
+    // The sources' sequence is strict: a last crank angle a whole turn
+    // from the first (Problem E's closed path) is not in it.
+    let best = found.optima.iter().find(|o| {
+        o.feasible
+            && match p.timing {
+                Posed::Free => cyclic_increasing(&o.found.driver_values),
+                Posed::Prescribed(_) | Posed::Relative(_) => true,
+            }
+    })?;
+    Some(Outcome {
+        design: best.found.design,
+        crank_angles: best.found.driver_values.clone(),
+        sum_squares: best.found.sum_squares,
+        evaluations: found.evaluations,
     })
 }
 

@@ -10,4 +10,5 @@
 mod common;
 mod figures;
 mod report;
+mod synthesize;
 mod units_and_assemblies;

@@ -66,6 +66,8 @@ pub struct Synthesis<M: Subject> {
     pub(super) linear: Vec<(Vec<(usize, f64)>, f64)>,
     /// Whether free driver values must increase through the targets.
     pub(super) ordered: bool,
+    /// With `ordered` and an angle driver, the most φ_N − φ₁ (2π).
+    pub(super) order_span: f64,
     pub(super) modes: Option<Vec<f64>>,
     pub(super) options: Options,
     pub(super) patience: usize,
@@ -271,6 +273,7 @@ impl<M: Subject> Synthesis<M> {
             weights: None,
             linear: Vec::new(),
             ordered: false,
+            order_span: TAU,
             modes: None,
             options: Options::DEFAULT,
             patience: 200,
@@ -379,6 +382,22 @@ impl<M: Subject> Synthesis<M> {
         self
     }
 
+    /// [`Synthesis::in_order`] with φ_N ≤ φ₁ + `span` for an angle driver
+    /// instead of a whole turn: less than 2π keeps the last target's crank
+    /// angle short of the first's a turn later (a strict order modulo a
+    /// turn, as some published benchmarks score it).
+    #[must_use]
+    pub fn in_order_within(mut self, span: f64) -> Self {
+        if !(span.is_finite() && span > 0.0) {
+            self.fail(format!(
+                "the span of the order must be positive, not {span}"
+            ));
+        }
+        self.ordered = true;
+        self.order_span = span;
+        self
+    }
+
     /// The linear inequality Σ c_k p_k ≤ `bound` over named parameters.
     #[must_use]
     pub fn at_most(mut self, terms: &[(&str, f64)], bound: f64) -> Self {
@@ -467,11 +486,17 @@ impl<M: Subject> Synthesis<M> {
         let count_ok = match &self.timing {
             Timing::Free => self.guesses.as_ref().is_none_or(|g| g.len() == n),
             Timing::Prescribed(v) | Timing::Relative(v) => v.len() == n,
-        } && self.weights.as_ref().is_none_or(|w| w.len() == n);
+        };
         if !count_ok {
             return Err(Error::InvalidGeometry {
                 what: "synthesis",
-                detail: format!("the timing and the weights need one value per target ({n})"),
+                detail: format!("the timing needs one driver value per target ({n})"),
+            });
+        }
+        if let Some(w) = self.weights.as_ref().filter(|w| w.len() != n) {
+            return Err(Error::InvalidGeometry {
+                what: "synthesis",
+                detail: format!("{} weights given: one per target ({n})", w.len()),
             });
         }
         let mut state = self.design.state(&self.options)?;

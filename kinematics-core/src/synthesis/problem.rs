@@ -137,7 +137,7 @@ impl<M: Subject> Problem<'_, M> {
                 if j + 1 < n {
                     Some((values[j] - values[j + 1], j, j + 1))
                 } else if s.driver_is_angle() && n > 1 {
-                    Some((values[j] - values[0] - TAU, j, 0))
+                    Some((values[j] - values[0] - s.order_span, j, 0))
                 } else {
                     None
                 }

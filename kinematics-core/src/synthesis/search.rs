@@ -414,24 +414,29 @@ where
         screened.sort_by(|a, b| a.0.sum_squares.total_cmp(&b.0.sum_squares));
         screened.truncate(self.keep);
         let exact = 1e-24 * self.target_scale().powi(2).max(1.0);
-        let mut refined: Vec<(Synthesized<M>, M::Pose, Vec<f64>)> = Vec::new();
+        // Each refined design checked over its motion at once, so that
+        // the search stops only at a feasible one.
+        let mut checked: Vec<Optimum<M>> = Vec::new();
         'refine: for group in screened.chunks(2) {
             if let Some(why) = self.over_budget(began, progress.evaluations) {
                 stopped_by = Some(why);
                 break;
             }
             let this = &self;
-            let results = map(group, |(s, pose, modes)| this.refine(s, pose, modes));
-            for r in results.into_iter().flatten() {
-                progress.evaluations += r.0.evaluations + r.0.jacobians;
+            let results = map(group, |(s, pose, modes)| {
+                let (r, pose, modes) = this.refine(s, pose, modes)?;
+                Some(this.optimum(&r, &pose, &modes))
+            });
+            for o in results.into_iter().flatten() {
+                let e = o.found.sum_squares;
+                progress.evaluations += o.found.evaluations + o.found.jacobians;
                 progress.refined += 1;
-                progress.best = progress.best.min(r.0.sum_squares);
-                let agrees = refined.iter().any(|o| {
-                    o.0.constraints_met
-                        && (o.0.sum_squares - r.0.sum_squares).abs() <= 0.01 * o.0.sum_squares
+                progress.best = progress.best.min(e);
+                let agrees = checked.iter().any(|q| {
+                    q.feasible && (q.found.sum_squares - e).abs() <= 0.01 * q.found.sum_squares
                 });
-                let done = r.0.constraints_met && (r.0.sum_squares <= exact || agrees);
-                refined.push(r);
+                let done = o.feasible && (e <= exact || agrees);
+                checked.push(o);
                 if done {
                     tell(&mut report, &progress);
                     break 'refine;
@@ -439,8 +444,6 @@ where
             }
             tell(&mut report, &progress);
         }
-        let this = &self;
-        let checked = map(&refined, |(s, pose, modes)| this.optimum(s, pose, modes));
         let scale = self.parameter_scale();
         let mut optima: Vec<Optimum<M>> = Vec::new();
         for o in checked {

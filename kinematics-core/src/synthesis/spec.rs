@@ -244,6 +244,10 @@ pub struct Spec {
     /// less than a turn.
     #[cfg_attr(feature = "serde", serde(default))]
     pub in_order: bool,
+    /// With `in_order`, the most φ_N − φ₁ (default a turn; see
+    /// [`Synthesis::in_order_within`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub order_span: Option<Amount>,
     /// The assembly modes, `"+"` or `"-"` per closed-form block (default:
     /// each start's own).
     #[cfg_attr(feature = "serde", serde(default))]
@@ -400,8 +404,15 @@ impl Spec {
                 s = s.timing(Timing::Relative(values(v, "timing increment")?));
             }
         }
-        if self.in_order {
-            s = s.in_order();
+        match (&self.in_order, &self.order_span) {
+            (true, Some(span)) => s = s.in_order_within(span.value("order_span")?),
+            (true, None) => s = s.in_order(),
+            (false, Some(_)) => {
+                return Err(problem(
+                    "order_span is given without in_order = true".into(),
+                ));
+            }
+            (false, None) => {}
         }
         if let Some(w) = &self.weights {
             s = s.weights(w);

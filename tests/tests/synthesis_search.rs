@@ -1,0 +1,266 @@
+//! The synthesis as a product: exact three-position motion generation and
+//! three-point function generation against four-bars solved here in
+//! closed form, motion generation by Levenberg–Marquardt, and the global
+//! search's constraints checked by sweeping its designs.
+
+#![allow(missing_docs, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::f64::consts::PI;
+
+use kinematics_core::runtime::Model;
+use kinematics_core::synthesis::exact::{
+    centre_point, chebyshev, circle_point, freudenstein, three_positions,
+};
+use kinematics_core::synthesis::{Spec, Synthesis};
+
+/// The four-bar of the tests: crank a from A = (0, 0), coupler b, rocker
+/// c from D = (d, 0); at crank angle φ, the crank pin B = a∠φ and the
+/// rocker pin C on the open branch (C to the left of B→D), by the
+/// intersection of the circles |C − B| = b and |C − D| = c written here:
+/// (C, the coupler's angle θ3, the rocker's angle ψ).
+fn closed_form(a: f64, b: f64, c: f64, d: f64, phi: f64) -> ([f64; 2], f64, f64) {
+    let bp = [a * phi.cos(), a * phi.sin()];
+    let (dx, dy) = (d - bp[0], -bp[1]);
+    let l = dx.hypot(dy);
+    // Along B→D by x, across by h (to the left).
+    let x = (b * b - c * c + l * l) / (2.0 * l);
+    let h = (b * b - x * x).sqrt();
+    let (ux, uy) = (dx / l, dy / l);
+    let cp = [bp[0] + x * ux - h * uy, bp[1] + x * uy + h * ux];
+    let th3 = (cp[1] - bp[1]).atan2(cp[0] - bp[0]);
+    let psi = cp[1].atan2(cp[0] - d);
+    (cp, th3, psi)
+}
+
+const FOUR_BAR: (f64, f64, f64, f64) = (1.0, 3.0, 2.5, 3.2);
+
+/// Freudenstein's equation at three pairs of the test's four-bar gives
+/// back its crank, coupler and rocker, the ground given.
+#[test]
+fn three_point_function_generation_is_exact() {
+    let (a, b, c, d) = FOUR_BAR;
+    let pairs = [0.7, 1.4, 2.2].map(|phi| (phi, closed_form(a, b, c, d, phi).2));
+    let f = freudenstein(pairs, d).unwrap();
+    assert!((f.a - a).abs() < 1e-12, "{f:?}");
+    assert!((f.b - b).abs() < 1e-12, "{f:?}");
+    assert!((f.c - c).abs() < 1e-12, "{f:?}");
+    assert!((f.k[0] - d / a).abs() < 1e-12 && (f.k[1] - d / c).abs() < 1e-12);
+    // Chebyshev spacing over [0.5, 2.5]: the middle point is the centre,
+    // the ends symmetric about it, all inside.
+    let x = chebyshev(0.5, 2.5, 3);
+    assert!((x[1] - 1.5).abs() < 1e-15 && (x[0] + x[2] - 3.0).abs() < 1e-15);
+    assert!((x[0] - (1.5 - (PI / 6.0).cos())).abs() < 1e-15);
+    // Two pairs the same: no unique answer, said so.
+    let e = freudenstein([pairs[0], pairs[0], pairs[2]], d).unwrap_err();
+    assert!(e.to_string().contains("distinct precision points"), "{e}");
+    let e = freudenstein(pairs, -1.0).unwrap_err();
+    assert!(e.to_string().contains("positive"), "{e}");
+}
+
+/// Three poses of the test's four-bar's coupler (the crank pin B and the
+/// coupler's angle θ3): the circle points B = (0, 0) and C = (b, 0) in the
+/// coupler's frame have the ground pivots A and D as centre points, and
+/// the inversion gives the circle points back from the pivots.
+#[test]
+fn three_position_motion_generation_is_exact() {
+    let (a, b, c, d) = FOUR_BAR;
+    let poses = [0.3, 0.9, 1.6].map(|phi| {
+        let (_, th3, _) = closed_form(a, b, c, d, phi);
+        [a * phi.cos(), a * phi.sin(), th3]
+    });
+    let close = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) < 1e-11;
+    assert!(close(centre_point(poses, [0.0, 0.0]).unwrap(), [0.0, 0.0]));
+    assert!(close(centre_point(poses, [b, 0.0]).unwrap(), [d, 0.0]));
+    assert!(close(circle_point(poses, [d, 0.0]).unwrap(), [b, 0.0]));
+    let m = three_positions(poses, [[0.0, 0.0], [b, 0.0]]).unwrap();
+    for (got, want) in m.lengths.iter().zip([a, b, c, d]) {
+        assert!((got - want).abs() < 1e-11, "{:?}", m.lengths);
+    }
+    for (k, phi) in [0.3f64, 0.9, 1.6].iter().enumerate() {
+        let psi = closed_form(a, b, c, d, *phi).2;
+        assert!((m.input_angles[k] - phi).abs() < 1e-11);
+        assert!((m.output_angles[k] - psi).abs() < 1e-11);
+    }
+    // Collinear positions: no circle, said so.
+    let line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+    let e = centre_point(line, [0.0, 0.0]).unwrap_err();
+    assert!(e.to_string().contains("collinear"), "{e}");
+}
+
+const FOUR_BAR_TEXT: &str = "struct FourBar {
+    params { a, b, c, d }
+    drivers { phi }
+    unknowns { th3, th4 }
+    points {
+        A = vec2(0.0, 0.0);
+        B = polar(a, phi);
+        D = vec2(d, 0.0);
+        C = D + polar(c, th4);
+    }
+    loops { B + polar(b, th3) == C; }
+    sensitivities { a, b, c, d }
+}";
+
+/// Motion generation by Levenberg–Marquardt: the coupler (point B and
+/// angle θ3) through five poses of the test's four-bar, from a design 10 %
+/// off, with free timing, reaches the design to round-off.
+#[test]
+fn motion_generation_recovers_the_design() {
+    let (a, b, c, d) = FOUR_BAR;
+    let phis = [0.2, 0.8, 1.5, 2.3, 3.1];
+    let poses: Vec<[f64; 3]> = phis
+        .iter()
+        .map(|&phi| {
+            let (_, th3, _) = closed_form(a, b, c, d, phi);
+            [a * phi.cos(), a * phi.sin(), th3]
+        })
+        .collect();
+    let mut m = Model::compile(FOUR_BAR_TEXT).unwrap();
+    m.set_values(&[1.1, 2.8, 2.7, 3.2]).unwrap();
+    let start = m.assemble(&[0.2, 0.3, 1.2]).unwrap();
+    let found = Synthesis::motion(&m, "phi", ("B", "th3"), &poses, 1.0, &start)
+        .vary(&["a", "b", "c"])
+        .driver_guesses(&phis.map(|p| p + 0.05))
+        .run()
+        .unwrap();
+    assert!(found.sum_squares < 1e-20, "{found:?}");
+    for (got, want) in found.design.values().iter().zip([a, b, c, d]) {
+        assert!((got - want).abs() < 1e-9, "{:?}", found.design.values());
+    }
+    assert_eq!(found.target_errors.len(), 5);
+    // A pose of the wrong size, and an angle that is no coordinate.
+    let e = Synthesis::motion(&m, "phi", ("B", "th3"), &[[0.0, 0.0]], 1.0, &start)
+        .run()
+        .unwrap_err();
+    assert!(e.to_string().contains("has 3"), "{e}");
+    let e = Synthesis::motion(&m, "phi", ("B", "psi"), &poses, 1.0, &start)
+        .run()
+        .unwrap_err();
+    assert!(e.to_string().contains("no angle coordinate `psi`"), "{e}");
+}
+
+/// A path problem posed as data (the TOML of `kinematics synthesize`),
+/// with a transmission angle of at least 40° and a crank that turns: the
+/// search's best design, swept a whole turn here, keeps the transmission
+/// angle at C (between C→B and C→D) within [40°, 140°] at every sample,
+/// is a Grashof crank, and passes through its targets where the search
+/// says.
+#[test]
+fn the_search_keeps_its_constraints_over_the_cycle() {
+    // Targets: four points of the coupler curve of a crank-rocker (the
+    // rocker pin C of the test's four-bar), at unknown crank angles.
+    let (a, b, c, d) = FOUR_BAR;
+    let targets: Vec<[f64; 2]> = [0.4, 1.5, 2.9, 4.4]
+        .iter()
+        .map(|&phi| closed_form(a, b, c, d, phi).0)
+        .collect();
+    let text = format!(
+        r#"
+        driver = "phi"
+        task = {{ kind = "path", point = "C" }}
+        targets = {targets:?}
+        in_order = true
+        full_turn = true
+        grashof_crank = {{ crank = "a", coupler = "b", rocker = "c", ground = "d", margin = 0.05 }}
+        values = {{ d = 3.2 }}
+        [vary]
+        a = [0.3, 2.0]
+        b = [0.5, 5.0]
+        c = [0.5, 5.0]
+        [[transmission]]
+        points = ["B", "C", "D"]
+        min = "40deg"
+        [search]
+        starts = 32
+        keep = 8
+        seed = 3
+        "#
+    );
+    let spec: Spec = toml::from_str(&text).unwrap();
+    let mut m = Model::compile(FOUR_BAR_TEXT).unwrap();
+    m.set_values(&[1.0, 2.0, 2.0, 3.2]).unwrap();
+    let found = spec.search(&m, &vec![0.0; 3]).unwrap().run().unwrap();
+    let best = found.best().expect("a feasible design");
+    let design = &best.found.design;
+    let [a, b, c, d] = design.values() else {
+        panic!()
+    };
+    let (a, b, c, d) = (*a, *b, *c, *d);
+    // Grashof, the crank shortest, with the margin.
+    assert!(a + b.max(c).max(d) + 0.05 <= b + c + d - b.max(c).max(d) + 1e-9);
+    assert_eq!(best.found.full_turn, Some(true));
+    // Swept a turn: μ at every sample.
+    let sweep = design.sweep("phi", &best.poses[0]).unwrap().turn().run();
+    assert!(sweep.stop.is_none(), "{:?}", sweep.stop);
+    let mut smallest = f64::INFINITY;
+    for s in &sweep.samples {
+        let r = |k: usize| s.motion.points[k].position;
+        let (bp, cp, dp) = (r(1), r(3), r(2));
+        let u = [bp[0] - cp[0], bp[1] - cp[1]];
+        let v = [dp[0] - cp[0], dp[1] - cp[1]];
+        let mu = ((u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1]))).acos();
+        smallest = smallest.min(mu.min(PI - mu));
+    }
+    assert!(
+        smallest >= 40f64.to_radians() - 1e-9,
+        "{}",
+        smallest.to_degrees()
+    );
+    let reported = best.min_transmission.unwrap();
+    assert!(
+        (reported - smallest).abs() < 1e-9 + 1e-3,
+        "{reported} {smallest}"
+    );
+    // E re-scored at the search's crank angles by the closed form here
+    // (the design's own branch: C left of B→D, as the targets').
+    let e: f64 = best
+        .found
+        .driver_values
+        .iter()
+        .zip(&targets)
+        .map(|(&phi, t)| {
+            let p = closed_form(a, b, c, d, phi).0;
+            (p[0] - t[0]).powi(2) + (p[1] - t[1]).powi(2)
+        })
+        .sum();
+    assert!(
+        (e - best.found.sum_squares).abs() <= 1e-9 * e + 1e-24,
+        "{e} {}",
+        best.found.sum_squares
+    );
+    assert!(e < 1e-16, "{e}");
+}
+
+/// A problem's mistakes are errors naming them: a parameter that is not
+/// varied-able, an unknown point, a bad mode, an unknown key.
+#[test]
+fn problem_mistakes_are_errors() {
+    let m = Model::compile(FOUR_BAR_TEXT).unwrap();
+    let base = r#"
+        driver = "phi"
+        task = { kind = "path", point = "C" }
+        targets = [[1.0, 2.0], [1.5, 2.0]]
+        [vary]
+        a = [0.3, 2.0]
+    "#;
+    let run = |text: &str| -> String {
+        let spec: Spec = toml::from_str(text).unwrap();
+        match spec.search(&m, &vec![0.0; 3]) {
+            Ok(s) => s
+                .run()
+                .map(|_| String::new())
+                .unwrap_or_else(|e| e.to_string()),
+            Err(e) => e.to_string(),
+        }
+    };
+    let e = run(&base.replace("a = [0.3", "q = [0.3"));
+    assert!(e.contains("`q` is not a parameter"), "{e}");
+    let e = run(&base.replace("point = \"C\"", "point = \"Z\""));
+    assert!(e.contains("no point `Z`"), "{e}");
+    let e = run(&base.replace("driver = \"phi\"", "driver = \"th3\""));
+    assert!(e.contains("not a driver"), "{e}");
+    let e = run(&format!("modes = [\"x\"]\n{base}"));
+    assert!(e.contains("not an assembly mode"), "{e}");
+    let e = toml::from_str::<Spec>(&format!("colour = 1\n{base}")).unwrap_err();
+    assert!(e.to_string().contains("colour"), "{e}");
+}
