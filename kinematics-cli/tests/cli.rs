@@ -703,6 +703,7 @@ fn the_readme_and_guide_commands_run_as_printed() {
     assert!(ran >= 6, "{ran} commands");
     assert!(dir.join("out/sweep.csv").exists());
     assert!(dir.join("out/report.html").exists());
+    assert!(dir.join("out/best.toml").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

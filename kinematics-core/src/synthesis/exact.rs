@@ -31,7 +31,7 @@ pub fn circumcentre(p: [[f64; 2]; 3]) -> Result<[f64; 2], Error> {
     let (ra, rb) = (sq(p[1]) - sq(p[0]), sq(p[2]) - sq(p[0]));
     let det = 2.0 * (a[0] * b[1] - a[1] * b[0]);
     let size = (sq(a) * sq(b)).sqrt();
-    if !(det.abs() > 1e-12 * size) {
+    if det.is_nan() || det.abs() <= 1e-12 * size {
         return Err(exact(format!(
             "the points {p:?} are collinear: no circle passes through them"
         )));
@@ -198,7 +198,7 @@ pub fn freudenstein(pairs: [(f64, f64); 3], d: f64) -> Result<FunctionFourBar, E
         m
     };
     let det = det3(matrix(None));
-    if !(det.abs() > 1e-12) {
+    if det.is_nan() || det.abs() <= 1e-12 {
         return Err(exact(format!(
             "the pairs {pairs:?} give dependent equations (two are the same, or the angles repeat): choose three distinct precision points"
         )));
@@ -212,7 +212,7 @@ pub fn freudenstein(pairs: [(f64, f64); 3], d: f64) -> Result<FunctionFourBar, E
         )));
     }
     let b2 = a * a + c * c + d * d - 2.0 * a * c * k[2];
-    if !(b2 > 0.0) {
+    if b2.is_nan() || b2 <= 0.0 {
         return Err(exact(format!(
             "the coupler's length squared comes out {b2}: no four-bar passes the three pairs"
         )));

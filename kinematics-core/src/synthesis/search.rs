@@ -196,6 +196,10 @@ impl<M: Subject> Synthesis<M> {
     }
 }
 
+/// A starting design: the design, its pose at the first target, its
+/// assembly modes and its starting driver values.
+type Drawn<M> = (M, <M as Subject>::Pose, Vec<f64>, Vec<f64>);
+
 /// A start after its screening: the refinement, its pose at the first
 /// target and its assembly modes.
 type Screened<M> = (Synthesized<M>, <M as Subject>::Pose, Vec<f64>);
@@ -358,7 +362,9 @@ where
             .iter()
             .filter(|&&k| {
                 let (lo, hi) = p.bounds[k];
-                !(lo.is_finite() && hi.is_finite()) && !self.sampling.iter().any(|s| s.0 == k)
+                let drawable =
+                    (lo.is_finite() && hi.is_finite()) || self.sampling.iter().any(|s| s.0 == k);
+                !drawable
             })
             .map(|&k| p.shape.parameters[k])
             .collect();
@@ -600,7 +606,7 @@ where
     /// A feasible starting design of start `k`: the design, its pose at
     /// the first target, its assembly modes and its starting driver
     /// values.
-    fn draw(&self, k: usize, draws: &mut Draws) -> Option<(M, M::Pose, Vec<f64>, Vec<f64>)> {
+    fn draw(&self, k: usize, draws: &mut Draws) -> Option<Drawn<M>> {
         let p = &self.problem;
         let slots = {
             let mut state = p.design.state(&p.options).ok()?;
