@@ -4,10 +4,9 @@
 //! their solution by the library's global search
 //! (`kinematics_core::synthesis::Search`).
 
-use crate::synthesis_runs::Uniform;
-use kinematics_core::closed::{AllModes, Mode, ModeSet};
+use kinematics_core::closed::{AllModes, Mode};
 use kinematics_core::mechanism;
-use kinematics_core::synthesis::{Synthesis, Timing};
+use kinematics_core::synthesis::{Search, Synthesis, Timing};
 use std::f64::consts::{PI, TAU};
 
 mechanism! {
@@ -342,72 +341,6 @@ fn grashof_crank(m: &BenchmarkFourBar, margin: f64) -> bool {
     a + b + margin <= c + d && a + c + margin <= b + d && a + d + margin <= b + c
 }
 
-/// The crank angles a problem starts from: the prescribed ones, or
-/// `n` evenly spaced over a turn from `from`.
-fn angles(p: &Problem, from: f64, by_length: bool) -> Vec<f64> {
-    match p.timing {
-        Posed::Prescribed(v) => v.to_vec(),
-        Posed::Relative(d) => d.iter().map(|d| from + d).collect(),
-        Posed::Free => {
-            // Evenly spaced, or spaced as the targets are along their
-            // closed polygon (a crank turning at a uniform rate, a point
-            // moving at a uniform speed).
-            let t = p.targets;
-            let n = t.len();
-            let step = |j: usize| {
-                let (a, b) = (t[j], t[(j + 1) % n]);
-                if by_length {
-                    (b[0] - a[0]).hypot(b[1] - a[1])
-                } else {
-                    1.0
-                }
-            };
-            let total: f64 = (0..n).map(step).sum();
-            let mut at = from;
-            (0..n)
-                .map(|j| {
-                    let here = at;
-                    at += TAU * step(j) / total;
-                    here
-                })
-                .collect()
-        }
-    }
-}
-
-/// A random design inside the problem's bounds that is a Grashof crank
-/// and assembles on the benchmarks' branch at every starting crank angle:
-/// the design, its pose at the first angle, and its assembly mode.
-fn draw(p: &Problem, u: &mut Uniform) -> (BenchmarkFourBar, BenchmarkFourBarCoords, Mode) {
-    loop {
-        let mut m = from_vector([0.0; 9]);
-        for &(name, lo, hi) in p.bounds {
-            // The links' lengths r1…r4 from a tenth of their range up (a
-            // link of length near zero is a degenerate start).
-            let lo = if ["r1", "r2", "r3", "r4"].contains(&name) {
-                lo + 0.1 * (hi - lo)
-            } else {
-                lo
-            };
-            set(&mut m, name, u.in_range(lo, hi));
-        }
-        if !grashof_crank(&m, 0.0) {
-            continue;
-        }
-        let from = u.in_range(0.0, TAU);
-        let thetas = angles(p, from, false);
-        for modes in AllModes::<BenchmarkFourBarModes>::new() {
-            let poses: Result<Vec<_>, _> =
-                thetas.iter().map(|&t| m.assemble_in(t, &modes)).collect();
-            if let Ok(poses) = poses {
-                if poses.iter().all(|q| on_branch(&m, q)) {
-                    return (m, poses[0], modes.mode(0));
-                }
-            }
-        }
-    }
-}
-
 /// Whether the crank angles, taken modulo 2π and read cyclically from
 /// the smallest, increase strictly (the benchmarks' "sequence" constraint
 /// on free timing: the crank turns one way through the targets, less than
@@ -421,19 +354,17 @@ pub fn cyclic_increasing(angles: &[f64]) -> bool {
     (1..a.len()).all(|k| a[(first + k - 1) % a.len()] < a[(first + k) % a.len()])
 }
 
-/// The `n` random starting designs of the run `seed`: inside the
-/// problem's bounds (lengths from a tenth of their range up), Grashof
+/// The `n` random starting designs of the run `seed`, as the library's
+/// search draws them ([`Search::starting_design`]: inside the problem's
+/// bounds, the links' lengths from a tenth of their range up, Grashof
 /// cranks, assembling on the benchmarks' branch at every starting crank
-/// angle; each with its pose at its first crank angle and its assembly
-/// mode.
+/// angle), each with its starting crank angles.
+///
+/// [`Search::starting_design`]: kinematics_core::synthesis::Search::starting_design
 #[must_use]
-pub fn drawn(
-    p: &Problem,
-    seed: u64,
-    n: usize,
-) -> Vec<(BenchmarkFourBar, BenchmarkFourBarCoords, Mode)> {
-    let mut u = Uniform::new(seed);
-    (0..n).map(|_| draw(p, &mut u)).collect()
+pub fn drawn(p: &Problem, seed: u64, n: usize) -> Vec<(BenchmarkFourBar, Vec<f64>)> {
+    let search = searched(p, seed);
+    (0..n).filter_map(|k| search.starting_design(k)).collect()
 }
 
 /// The unknowns of problem `p` for a derivative-free method: the varied
@@ -453,14 +384,6 @@ pub fn unknowns(p: &Problem, m: &BenchmarkFourBar, crank: &[f64]) -> Vec<f64> {
         Posed::Prescribed(_) => {}
     }
     x
-}
-
-/// The starting crank angles of the `k`-th design drawn, with its pose
-/// `start`: for free timing, even starts space them evenly over a turn,
-/// odd ones as the targets are spaced along their closed polygon.
-#[must_use]
-pub fn starting_angles(p: &Problem, start: &BenchmarkFourBarCoords, k: usize) -> Vec<f64> {
-    angles(p, start.th2, k % 2 == 1)
 }
 
 /// E of problem `p` at the unknowns `x` ([`unknowns`]) on the
@@ -555,6 +478,19 @@ pub fn posed(p: &Problem) -> Synthesis<BenchmarkFourBar> {
     }
 }
 
+/// The library's search of problem `p` from `seed`, the links' lengths
+/// drawn from a tenth of their range up (a link of length near zero is a
+/// degenerate start).
+fn searched(p: &Problem, seed: u64) -> Search<BenchmarkFourBar> {
+    let mut search = posed(p).search().seed(seed);
+    for &(name, lo, hi) in p.bounds {
+        if ["r1", "r2", "r3", "r4"].contains(&name) {
+            search = search.sampling(name, lo + 0.1 * (hi - lo), hi);
+        }
+    }
+    search
+}
+
 /// One run of the library's global search
 /// ([`Search`](kinematics_core::synthesis::Search)) on problem `p`,
 /// reproducible from `seed`: `starts` random designs (the links' lengths
@@ -564,13 +500,7 @@ pub fn posed(p: &Problem) -> Synthesis<BenchmarkFourBar> {
 /// order, [`cyclic_increasing`]), checked over its motion.
 #[must_use]
 pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outcome> {
-    let mut search = posed(p).search().seed(seed).starts(starts).keep(keep);
-    for &(name, lo, hi) in p.bounds {
-        if ["r1", "r2", "r3", "r4"].contains(&name) {
-            search = search.sampling(name, lo + 0.1 * (hi - lo), hi);
-        }
-    }
-    let found = search.run().ok()?;
+    let found = searched(p, seed).starts(starts).keep(keep).run().ok()?;
     // The sources' sequence is strict: a last crank angle a whole turn
     // from the first (Problem E's closed path) is not in it.
     let best = found.optima.iter().find(|o| {

@@ -20,8 +20,8 @@ use std::time::Instant;
 
 use kinematics_bench::{differential_evolution, nelder_mead};
 use kinematics_examples::benchmarks::{
-    drawn, penalised, solve, starting_angles, unknown_bounds, unknowns, Problem, PROBLEM_A,
-    PROBLEM_B, PROBLEM_C, PROBLEM_E, PROBLEM_F, PROBLEM_G,
+    drawn, penalised, solve, unknown_bounds, unknowns, Problem, PROBLEM_A, PROBLEM_B, PROBLEM_C,
+    PROBLEM_E, PROBLEM_F, PROBLEM_G,
 };
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -127,8 +127,8 @@ fn rows(p: &Problem, runs: u64, starts: usize) {
         let t = Instant::now();
         let each = (o.evaluations / starts).max(1) as u64;
         let (mut best, mut used) = (f64::INFINITY, 0);
-        for (k, (m, start, _)) in drawn(p, *seed, starts).into_iter().enumerate() {
-            let x0 = unknowns(p, &m, &starting_angles(p, &start, k));
+        for (m, angles) in drawn(p, *seed, starts) {
+            let x0 = unknowns(p, &m, &angles);
             let (e, n) = nelder_mead(|x| penalised(p, x), &x0, each);
             best = best.min(e);
             used += n;

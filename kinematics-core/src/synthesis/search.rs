@@ -346,6 +346,18 @@ where
         self
     }
 
+    /// The feasible starting design of start `k` as [`Search::run`] draws
+    /// it (see the type's documentation), with its starting driver values
+    /// at the targets: a sampler of feasible designs, for another method
+    /// started from the same designs. `None` when none was found in the
+    /// tries allowed.
+    #[must_use]
+    pub fn starting_design(&self, k: usize) -> Option<(M, Vec<f64>)> {
+        let mut draws = Draws::new(self.seed, k as u64);
+        self.draw(k, &mut draws)
+            .map(|(m, _, _, values)| (m, values))
+    }
+
     /// Runs the search.
     ///
     /// # Errors
