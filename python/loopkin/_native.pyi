@@ -1,6 +1,6 @@
 """Type stubs of the native module (the layer under the Python API)."""
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -128,3 +128,5 @@ class ForceSweep:
 
 def read_quantity(text: str, order: int, angle: bool) -> float: ...
 def grashof(ground: float, input: float, coupler: float, output: float) -> Tuple[str, float, float]: ...
+def synthesize(model: Model, spec: str, start: List[float], progress: Optional[Callable[[int, int, int, int, float, int], None]] = ...) -> Dict[str, Any]: ...
+def refine(model: Model, spec: str, start: List[float]) -> Dict[str, Any]: ...

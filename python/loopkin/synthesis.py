@@ -1,7 +1,12 @@
-"""Dimensional synthesis with exact derivatives (needs SciPy:
-``pip install loopkin[synthesis]``).
+"""Dimensional synthesis with exact derivatives.
 
-:func:`path` finds the parameters for which a point passes through target
+:func:`synthesize` runs the library's global search (the one behind
+``kinematics synthesize``): seeded feasible starting designs inside the
+bounds, each refined by Levenberg–Marquardt with the exact Jacobian on
+every core, the constraints checked over the whole motion, the distinct
+optima ranked. Its keywords are the fields of the command's problem file.
+
+:func:`path` (needs SciPy: ``pip install loopkin[synthesis]``) finds the parameters for which a point passes through target
 positions at prescribed values of the driver, minimising
 
     E = Σ_i |r(d_i; p) − t_i|²
@@ -15,14 +20,17 @@ modes, so that the design found runs on one branch through all targets.
 
 from __future__ import annotations
 
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+import json
+import math
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from . import _native
 from ._model import ArrayLike, Mechanism, Pose
 from .errors import KinematicsError
 
-__all__ = ["path", "Synthesized"]
+__all__ = ["synthesize", "Found", "Optimum", "path", "Synthesized"]
 
 
 class Synthesized:
@@ -47,6 +55,248 @@ class Synthesized:
 
     def __repr__(self) -> str:
         return f"Synthesized({self.design!r}, error={self.error:.3e})"
+
+
+Amount = Union[float, str]
+
+
+class Optimum:
+    """One local optimum the search found.
+
+    Attributes:
+        design: the design (a :class:`~loopkin.Mechanism` of the class
+            searched).
+        error: E = Σ_j w_j |output_j − target_j|².
+        target_errors: |output_j − target_j| at each target (an array).
+        max_error: the largest of them.
+        driver_values: the driver's value at each target (an array).
+        poses: the design's pose at each target, in its assembly modes.
+        full_turn: whether an angle driver turns fully (None for a length).
+        min_transmission: the smallest transmission angle over the motion,
+            folded into [0, π/2] (rad), of the dyads constrained; None with
+            none.
+        feasible: whether every constraint holds over the motion.
+        one_branch: whether the motion passes from target to target
+            without a stop (no branch or circuit defect).
+        reached_by: how many refined starts ended here.
+    """
+
+    def __init__(self, design: Mechanism, d: Mapping[str, Any]) -> None:
+        cls = type(design)
+        self.design = cls(**dict(zip(cls.parameter_names(), d["values"])))
+        self.error: float = d["error"]
+        self.target_errors = np.asarray(d["target_errors"], dtype=float)
+        self.max_error: float = d["max_error"]
+        self.driver_values = np.asarray(d["driver_values"], dtype=float)
+        names = cls.coordinate_names()
+        self.poses = [self.design.pose(dict(zip(names, q))) for q in d["poses"]]
+        self.full_turn: Optional[bool] = d["full_turn"]
+        self.min_transmission: Optional[float] = d["min_transmission"]
+        self.feasible: bool = d["feasible"]
+        self.one_branch: bool = d["one_branch"]
+        self.reached_by: int = d["reached_by"]
+
+    def __repr__(self) -> str:
+        return f"Optimum(error={self.error:.4e}, feasible={self.feasible}, reached_by={self.reached_by})"
+
+
+class Found:
+    """What a search found: :attr:`optima`, feasible first, each group by
+    E ascending; :attr:`best`, the first feasible one (None without one);
+    the evaluations, the starts drawn, those for which no feasible design
+    was drawn, and what stopped the search early (``"evaluations"``,
+    ``"time"`` or None)."""
+
+    def __init__(self, design: Mechanism, problem: Dict[str, Any], d: Mapping[str, Any]) -> None:
+        self.optima: List[Optimum] = [Optimum(design, o) for o in d["optima"]]
+        self.evaluations: int = d["evaluations"]
+        self.starts: int = d["starts"]
+        self.undrawn: int = d["undrawn"]
+        self.stopped_by: Optional[str] = d["stopped_by"]
+        self.problem = problem
+
+    @property
+    def best(self) -> Optional[Optimum]:
+        """The best feasible optimum, or None."""
+        return self.optima[0] if self.optima and self.optima[0].feasible else None
+
+    def figure(self, ax: Any = None, steps: int = 360) -> Any:
+        """The best design at its targets over the path of its point
+        (path and motion generation), the targets marked; on ``ax`` or a
+        new figure's axes (matplotlib), which are returned."""
+        from .plot import _pyplot
+
+        best = self.best or (self.optima[0] if self.optima else None)
+        if best is None:
+            raise ValueError("the search found no design to draw")
+        plt = _pyplot()
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 7))
+        task = self.problem["task"]
+        m = best.design
+        driver = self.problem["driver"]
+        if task["kind"] in ("path", "motion"):
+            point = task["point"]
+            first = best.poses[0]
+            if best.full_turn:
+                sweeps = [m.sweep(driver, start=first, turn=True, steps=steps)]
+            else:
+                lo, hi = float(best.driver_values.min()), float(best.driver_values.max())
+                sweeps = [m.sweep(driver, start=first, to=to, steps=steps, rate=(1.0 if to > first[driver] else -1.0)) for to in (lo, hi) if to != first[driver]]
+            for k, sw in enumerate(sweeps):
+                r = sw.point(point).position
+                ax.plot(r[:, 0], r[:, 1], color="0.4", lw=1.2, label=f"path of {point}" if k == 0 else None)
+            t = np.array([[float(_native.read_quantity(v, 3, True)) if isinstance(v, str) else float(v) for v in row[:2]] for row in self.problem["targets"]])
+            ax.plot(t[:, 0], t[:, 1], "o", mfc="none", mec="tab:red", ms=9, label="targets")
+        links = [(a, b) for a, b in _links(m, best.poses[0], driver)]
+        for j, pose in enumerate(best.poses):
+            motion = m.analyze(pose)
+            colour = plt.cm.viridis(j / max(len(best.poses) - 1, 1))
+            for a, b in links:
+                pa, pb = motion.points[a].position, motion.points[b].position
+                ax.plot([pa[0], pb[0]], [pa[1], pb[1]], color=colour, lw=1.5, label=f"target {j + 1}" if (a, b) == links[0] else None)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.set_title(f"{type(m).__name__}: E = {best.error:.3e}")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize="small")
+        ax.figure.tight_layout()
+        return ax
+
+    def __repr__(self) -> str:
+        return f"Found({len(self.optima)} optima, best={self.best!r}, evaluations={self.evaluations})"
+
+
+def _links(m: Mechanism, pose: Pose, driver: str) -> List[Tuple[str, str]]:
+    """The links found from a short sweep of the design (the pairs drawn)."""
+    sw = m.sweep(driver, start=pose, to=pose[driver] + 0.3, steps=8)
+    pairs: List[Tuple[str, str]] = []
+    for link in sw.links():
+        pts = list(link.points)
+        if len(pts) == 2:
+            pairs.append((pts[0], pts[1]))
+        elif not link.frame:
+            pairs.extend((pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts)))
+    return pairs
+
+
+def _amount(v: Amount) -> Union[float, str]:
+    """A value for the problem's JSON: a string as written, a number as a
+    float (one that is not finite as its text, which the problem refuses
+    by name)."""
+    if isinstance(v, str):
+        return v
+    x = float(v)
+    return x if math.isfinite(x) else repr(x)
+
+
+def synthesize(
+    design: Mechanism,
+    *,
+    targets: ArrayLike,
+    vary: Mapping[str, Tuple[Amount, Amount]],
+    point: Optional[str] = None,
+    motion: Optional[Tuple[str, str, float]] = None,
+    output: Optional[str] = None,
+    driver: Optional[str] = None,
+    prescribed: Optional[Sequence[Amount]] = None,
+    relative: Optional[Sequence[Amount]] = None,
+    in_order: bool = False,
+    order_span: Optional[Amount] = None,
+    modes: Optional[Sequence[str]] = None,
+    values: Optional[Mapping[str, Amount]] = None,
+    sampling: Optional[Mapping[str, Tuple[Amount, Amount]]] = None,
+    start: Optional[Mapping[str, Amount]] = None,
+    weights: Optional[Sequence[float]] = None,
+    at_most: Optional[Sequence[Tuple[Mapping[str, float], float]]] = None,
+    grashof_crank: Optional[Tuple[str, str, str, str, float]] = None,
+    transmission: Optional[Sequence[Tuple[Tuple[str, str, str], Amount]]] = None,
+    inside: Optional[Sequence[Tuple[str, Sequence[float], Sequence[float]]]] = None,
+    full_turn: bool = False,
+    starts: int = 16,
+    keep: int = 8,
+    seed: int = 0,
+    evaluations: Optional[int] = None,
+    seconds: Optional[float] = None,
+    tries: Optional[int] = None,
+    patience: Optional[int] = None,
+    progress: Optional[Callable[[int, int, int, int, float, int], None]] = None,
+) -> Found:
+    """The library's global search for a synthesis problem of ``design``'s
+    class, from its parameters not varied; the keywords are the fields of
+    ``kinematics synthesize``'s problem file (``kinematics_core::synthesis::Spec``).
+
+    The task: ``point="C"`` (path generation: ``targets`` its positions),
+    ``motion=("C", "th3", length)`` (motion generation: each target
+    ``[x, y, θ]``, an angle's error weighed by ``length``) or
+    ``output="th4"`` (function generation: each target ``[input,
+    output]``). ``vary`` maps each varied parameter to its bounds; the
+    timing is free unless ``prescribed`` (a driver value per target) or
+    ``relative`` (increments from a free first value) is given;
+    ``in_order`` keeps free driver values increasing, less than a turn (or
+    ``order_span``). Constraints: ``grashof_crank=(crank, coupler, rocker,
+    ground, margin)``, ``at_most=[({name: c}, bound)]``,
+    ``transmission=[(("B", "C", "D"), "40deg")]``, ``inside=[(point, lo,
+    hi)]``, ``full_turn``. The search: ``starts``, ``keep``, ``seed``, a
+    budget of ``evaluations`` or ``seconds``; ``progress`` is called with
+    (screened, starts, refined, keep, best E, evaluations). Values may be
+    strings with an angle's unit (``"30deg"``).
+
+    Raises:
+        KinematicsError: a name that is not the mechanism's, bounds that
+            are not finite, targets of the wrong size (the message says
+            which).
+        ValueError: no task or more than one.
+    """
+    cls = type(design)
+    tasks = [t for t in (point, motion, output) if t is not None]
+    if len(tasks) != 1:
+        raise ValueError("give exactly one task: point= (path), motion= (motion) or output= (function generation)")
+    if point is not None:
+        task: Dict[str, Any] = {"kind": "path", "point": point}
+    elif motion is not None:
+        task = {"kind": "motion", "point": motion[0], "angle": motion[1], "length": float(motion[2])}
+    else:
+        task = {"kind": "function", "output": output}
+    if driver is None:
+        if len(cls.driver_names()) != 1:
+            raise ValueError(f"name the driver: {cls.__name__} has drivers {list(cls.driver_names())}")
+        driver = cls.driver_names()[0]
+    rows = [[_amount(v) for v in row] for row in (targets.tolist() if isinstance(targets, np.ndarray) else targets)]
+    problem: Dict[str, Any] = {"driver": driver, "task": task, "targets": rows}
+    if prescribed is not None and relative is not None:
+        raise ValueError("give prescribed= or relative=, not both")
+    if prescribed is not None:
+        problem["timing"] = {"prescribed": [_amount(v) for v in prescribed]}
+    elif relative is not None:
+        problem["timing"] = {"relative": [_amount(v) for v in relative]}
+    problem["in_order"] = bool(in_order)
+    if order_span is not None:
+        problem["order_span"] = _amount(order_span)
+    if modes is not None:
+        problem["modes"] = list(modes)
+    problem["vary"] = {k: [_amount(lo), _amount(hi)] for k, (lo, hi) in vary.items()}
+    problem["sampling"] = {k: [_amount(lo), _amount(hi)] for k, (lo, hi) in (sampling or {}).items()}
+    problem["values"] = {k: _amount(v) for k, v in (values or {}).items()}
+    problem["start"] = {k: _amount(v) for k, v in (start or {}).items()}
+    if weights is not None:
+        problem["weights"] = [float(w) for w in weights]
+    problem["at_most"] = [{"terms": {k: float(c) for k, c in terms.items()}, "bound": float(b)} for terms, b in (at_most or [])]
+    if grashof_crank is not None:
+        crank, coupler, rocker, ground, *margin = grashof_crank
+        problem["grashof_crank"] = {"crank": crank, "coupler": coupler, "rocker": rocker, "ground": ground, "margin": float(margin[0]) if margin else 0.0}
+    problem["transmission"] = [{"points": list(pts), "min": _amount(mu)} for pts, mu in (transmission or [])]
+    problem["inside"] = [{"point": p, "lo": [float(x) for x in lo], "hi": [float(x) for x in hi]} for p, lo, hi in (inside or [])]
+    problem["full_turn"] = bool(full_turn)
+    problem["search"] = {"starts": int(starts), "keep": int(keep), "seed": int(seed), "evaluations": evaluations, "seconds": seconds, "tries": tries, "patience": patience}
+    fixed = {k: v for k, v in problem["values"].items() if k not in cls.sensitivity_parameters()}
+    if fixed:
+        design = design.replace(**{k: (_native.read_quantity(v, 3, True) if isinstance(v, str) else v) for k, v in fixed.items()})
+        problem["values"] = {k: v for k, v in problem["values"].items() if k not in fixed}
+    q = np.zeros(len(cls.coordinate_names()))
+    raw = _native.synthesize(design._m, json.dumps(problem), list(q), progress)
+    return Found(design, problem, raw)
 
 
 def path(

@@ -27,6 +27,7 @@ mod errors;
 mod forces;
 mod merit;
 mod sweep;
+mod synthesis;
 
 use columns::Columns;
 use sweep::{change_points, stop_dict, Sweep};
@@ -772,5 +773,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(default_options, m)?)?;
     m.add_function(wrap_pyfunction!(merit::read_quantity, m)?)?;
     m.add_function(wrap_pyfunction!(merit::grashof, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synthesize, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::refine, m)?)?;
     Ok(())
 }

@@ -264,3 +264,123 @@ fn problem_mistakes_are_errors() {
     let e = toml::from_str::<Spec>(&format!("colour = 1\n{base}")).unwrap_err();
     assert!(e.to_string().contains("colour"), "{e}");
 }
+
+/// `examples/synthesis/NAME`: the problem read as `kinematics synthesize`
+/// reads it, and its definition compiled with the problem's values.
+fn data_file(name: &str) -> (Spec, Model) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/synthesis");
+    let mut spec: Spec = toml::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap();
+    let text = std::fs::read_to_string(dir.join(spec.mechanism.as_ref().unwrap())).unwrap();
+    let mut m = Model::compile(&text).unwrap();
+    for (k, v) in std::mem::take(&mut spec.values) {
+        m.set(&k, v.value(&k).unwrap()).unwrap();
+    }
+    for (k, [lo, hi]) in &spec.vary {
+        m.set(k, 0.5 * (lo.value(k).unwrap() + hi.value(k).unwrap()))
+            .unwrap();
+    }
+    (spec, m)
+}
+
+/// Slider-crank function generation from its data file: the slider's
+/// position at six crank angles of a known design; the search's design
+/// re-scored by x = a cos φ + √(b² − (a sin φ − e)²), written here,
+/// passes through the pairs and turns fully.
+#[test]
+fn slider_crank_function_generation_from_its_data_file() {
+    let (spec, m) = data_file("slider_crank_function.toml");
+    let found = spec.search(&m, &vec![0.0; 3]).unwrap().run().unwrap();
+    let best = found.best().expect("a feasible design");
+    let [a, b, e] = best.found.design.values() else {
+        panic!()
+    };
+    let pairs = [20.0f64, 70.0, 130.0, 190.0, 250.0, 310.0].map(|deg| {
+        let p: f64 = deg.to_radians();
+        (
+            p,
+            0.05 * p.cos() + (0.04f64 - (0.05 * p.sin() - 0.01).powi(2)).sqrt(),
+        )
+    });
+    let err: f64 = pairs
+        .iter()
+        .zip(&best.found.driver_values)
+        .map(|(&(phi, x), &at)| {
+            assert!((phi - at).abs() < 1e-15, "the timing is the pairs' inputs");
+            let got = a * phi.cos() + (b * b - (a * phi.sin() - e).powi(2)).sqrt();
+            (got - x).powi(2)
+        })
+        .sum();
+    assert!(err < 1e-24, "{err:e}");
+    assert!((err - best.found.sum_squares).abs() < 1e-24);
+    assert_eq!(best.found.full_turn, Some(true));
+}
+
+/// The Watt II six-bar's point P by circle intersections written here, on
+/// the assembly `(s1, s2)` of its two dyads (the intersection to the left
+/// of B→D, or the right; to the left of E→G, or the right); `None` where
+/// a dyad does not close.
+fn watt_point(p: &[f64], phi: f64, (s1, s2): (f64, f64)) -> Option<[f64; 2]> {
+    let &[a, b, c, d, e, gamma, f, g, gx, gy, pf, pb] = p else {
+        return None;
+    };
+    let circle = |p: [f64; 2], r1: f64, q: [f64; 2], r2: f64, s: f64| -> Option<[f64; 2]> {
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        let l = dx.hypot(dy);
+        let x = (r1 * r1 - r2 * r2 + l * l) / (2.0 * l);
+        let h2 = r1 * r1 - x * x;
+        (h2 >= 0.0).then(|| {
+            let h = h2.sqrt();
+            let (ux, uy) = (dx / l, dy / l);
+            [p[0] + x * ux - s * h * uy, p[1] + x * uy + s * h * ux]
+        })
+    };
+    let bp = [a * phi.cos(), a * phi.sin()];
+    let cp = circle(bp, b, [d, 0.0], c, s1)?;
+    let th4 = cp[1].atan2(cp[0] - d);
+    let ep = [d + e * (th4 + gamma).cos(), e * (th4 + gamma).sin()];
+    let fp = circle(ep, f, [gx, gy], g, s2)?;
+    let th5 = (fp[1] - ep[1]).atan2(fp[0] - ep[0]);
+    Some([ep[0] + pf * (th5 + pb).cos(), ep[1] + pf * (th5 + pb).sin()])
+}
+
+/// Six-bar path generation from its data file (twelve targets at
+/// prescribed crank angles, eight dimensions of the second loop free):
+/// the search's design, re-scored by the circle
+/// intersections above on one assembly of its two dyads at every target,
+/// has the E the search reports, below 1e-12 of the targets' scale, and
+/// turns fully, its targets reached without a stop.
+#[test]
+fn six_bar_path_generation_from_its_data_file() {
+    let (spec, m) = data_file("watt_path.toml");
+    let found = spec.search(&m, &vec![0.0; 5]).unwrap().run().unwrap();
+    let best = found.best().expect("a feasible design");
+    let p = best.found.design.values();
+    let targets: Vec<[f64; 2]> = spec
+        .targets
+        .iter()
+        .map(|t| [t[0].value("x").unwrap(), t[1].value("y").unwrap()])
+        .collect();
+    assert!(targets.len() >= 10);
+    let e = [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+        .into_iter()
+        .filter_map(|sides| {
+            best.found
+                .driver_values
+                .iter()
+                .zip(&targets)
+                .map(|(&phi, t)| {
+                    let r = watt_point(p, phi, sides)?;
+                    Some((r[0] - t[0]).powi(2) + (r[1] - t[1]).powi(2))
+                })
+                .sum::<Option<f64>>()
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (e - best.found.sum_squares).abs() <= 1e-9 * e + 1e-24,
+        "{e} {}",
+        best.found.sum_squares
+    );
+    assert!(e < 1e-12, "E = {e:e}");
+    assert_eq!(best.found.full_turn, Some(true));
+    assert!(best.one_branch);
+}

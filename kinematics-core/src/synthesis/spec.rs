@@ -314,6 +314,53 @@ impl Spec {
         M: Subject + Send + Sync,
         M::Pose: Send + Sync,
     {
+        let s = self.synthesis(design, start)?;
+        let mut search = s
+            .search()
+            .starts(self.search.starts)
+            .keep(self.search.keep)
+            .seed(self.search.seed);
+        if let Some(n) = self.search.evaluations {
+            search = search.evaluations(n);
+        }
+        if let Some(t) = self.search.seconds {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(problem(format!("search.seconds must be positive, not {t}")));
+            }
+            search = search.time(Duration::from_secs_f64(t));
+        }
+        if let Some(n) = self.search.tries {
+            search = search.tries(n);
+        }
+        for (name, [lo, hi]) in &self.sampling {
+            let what = format!("sampling.{name}");
+            search = search.sampling(name, lo.value(&what)?, hi.value(&what)?);
+        }
+        for t in &self.transmission {
+            let [a, j, b] = &t.points;
+            search = search.transmission([a, j, b], t.min.value("transmission.min")?);
+        }
+        for r in &self.inside {
+            search = search.inside(&r.point, &r.lo, &r.hi);
+        }
+        if self.full_turn {
+            search = search.full_turn();
+        }
+        Ok(search)
+    }
+
+    /// The local problem this poses for `design` from `start`, as
+    /// [`Spec::search`] reads it, without the search: a refinement of the
+    /// design given ([`Synthesis::run`]); the search's settings, sampling,
+    /// transmission angles, regions and full turn are not read.
+    ///
+    /// # Errors
+    /// As [`Spec::search`].
+    pub fn synthesis<M: Subject>(
+        &self,
+        design: &M,
+        start: &M::Pose,
+    ) -> Result<Synthesis<M>, Error> {
         let shape = design.shape();
         let coordinate = |name: &str, role: Option<Role>| {
             shape
@@ -446,38 +493,7 @@ impl Spec {
         if let Some(p) = self.search.patience {
             s = s.patience(p);
         }
-        let mut search = s
-            .search()
-            .starts(self.search.starts)
-            .keep(self.search.keep)
-            .seed(self.search.seed);
-        if let Some(n) = self.search.evaluations {
-            search = search.evaluations(n);
-        }
-        if let Some(t) = self.search.seconds {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(problem(format!("search.seconds must be positive, not {t}")));
-            }
-            search = search.time(Duration::from_secs_f64(t));
-        }
-        if let Some(n) = self.search.tries {
-            search = search.tries(n);
-        }
-        for (name, [lo, hi]) in &self.sampling {
-            let what = format!("sampling.{name}");
-            search = search.sampling(name, lo.value(&what)?, hi.value(&what)?);
-        }
-        for t in &self.transmission {
-            let [a, j, b] = &t.points;
-            search = search.transmission([a, j, b], t.min.value("transmission.min")?);
-        }
-        for r in &self.inside {
-            search = search.inside(&r.point, &r.lo, &r.hi);
-        }
-        if self.full_turn {
-            search = search.full_turn();
-        }
-        Ok(search)
+        Ok(s)
     }
 
     /// The index of parameter `name` among `parameters`, or an error
