@@ -354,19 +354,6 @@ pub fn cyclic_increasing(angles: &[f64]) -> bool {
     (1..a.len()).all(|k| a[(first + k - 1) % a.len()] < a[(first + k) % a.len()])
 }
 
-/// The `n` random starting designs of the run `seed`, as the library's
-/// search draws them ([`Search::starting_design`]: inside the problem's
-/// bounds, the links' lengths from a tenth of their range up, Grashof
-/// cranks, assembling on the benchmarks' branch at every starting crank
-/// angle), each with its starting crank angles.
-///
-/// [`Search::starting_design`]: kinematics_core::synthesis::Search::starting_design
-#[must_use]
-pub fn drawn(p: &Problem, seed: u64, n: usize) -> Vec<(BenchmarkFourBar, Vec<f64>)> {
-    let search = searched(p, seed);
-    (0..n).filter_map(|k| search.starting_design(k)).collect()
-}
-
 /// The unknowns of problem `p` for a derivative-free method: the varied
 /// parameters (in the order of its bounds), then for free timing the
 /// crank angles; from the design `m` and the crank angles `crank`.

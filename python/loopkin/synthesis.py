@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import json
 import math
+import os
+from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -30,7 +32,7 @@ from . import _native
 from ._model import ArrayLike, Mechanism, Pose
 from .errors import KinematicsError
 
-__all__ = ["synthesize", "Found", "Optimum", "path", "Synthesized"]
+__all__ = ["synthesize", "synthesize_file", "Found", "Optimum", "path", "Synthesized"]
 
 
 class Synthesized:
@@ -294,6 +296,54 @@ def synthesize(
     if fixed:
         design = design.replace(**{k: (_native.read_quantity(v, 3, True) if isinstance(v, str) else v) for k, v in fixed.items()})
         problem["values"] = {k: v for k, v in problem["values"].items() if k not in fixed}
+    q = np.zeros(len(cls.coordinate_names()))
+    raw = _native.synthesize(design._m, json.dumps(problem), list(q), progress)
+    return Found(design, problem, raw)
+
+
+def synthesize_file(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    seed: Optional[int] = None,
+    starts: Optional[int] = None,
+    progress: Optional[Callable[[int, int, int, int, float, int], None]] = None,
+) -> Found:
+    """Solves the problem file of ``kinematics synthesize`` (TOML: the
+    definition's file ``mechanism``, beside it, and the fields of
+    :func:`synthesize`), as the command does: the definition loaded, its
+    parameters set from ``values`` and the varied ones to mid-range, then
+    the library's search (``seed`` and ``starts`` replace the file's).
+    Reading TOML needs Python 3.11 (``tomllib``) or the ``tomli`` package.
+
+    Raises:
+        KinematicsError: as :func:`synthesize`; ValueError: the file names
+            no definition.
+    """
+    try:
+        import tomllib  # type: ignore[import-not-found]
+    except ImportError:  # pragma: no cover
+        import tomli as tomllib  # type: ignore[no-redef]
+    from ._model import load
+
+    file = Path(path)
+    problem: Dict[str, Any] = tomllib.loads(file.read_text(encoding="utf-8"))
+    if "mechanism" not in problem:
+        raise ValueError(f"{file}: the problem names no definition; add mechanism = \"file.mech\"")
+    cls = load(file.parent / problem["mechanism"])
+    params: Dict[str, Any] = {}
+    for k, v in problem.get("values", {}).items():
+        params[k] = v
+    for k, (lo, hi) in problem.get("vary", {}).items():
+        lo, hi = (_native.read_quantity(x, 3, True) if isinstance(x, str) else float(x) for x in (lo, hi))
+        params.setdefault(k, 0.5 * (lo + hi))
+    design = cls(**params)
+    search = dict(problem.get("search", {}))
+    if seed is not None:
+        search["seed"] = int(seed)
+    if starts is not None:
+        search["starts"] = int(starts)
+    problem["search"] = search
+    problem["values"] = {k: v for k, v in problem.get("values", {}).items() if k in cls.sensitivity_parameters()}
     q = np.zeros(len(cls.coordinate_names()))
     raw = _native.synthesize(design._m, json.dumps(problem), list(q), progress)
     return Found(design, problem, raw)

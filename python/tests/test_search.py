@@ -91,3 +91,28 @@ def test_search_mistakes_are_errors():
         synthesize(start, point="C", targets=TARGETS, vary={"r1": (0, float("inf"))})
     with pytest.raises(ValueError, match="exactly one task"):
         synthesize(start, targets=TARGETS, vary={"r1": (0, 1)})
+
+
+def test_the_command_s_problem_files_are_solved_as_the_command_solves_them():
+    """The data files of ``kinematics synthesize`` from Python: Problem B
+    (the same design as the keywords give), and the slider-crank's
+    function generation, re-scored by x = a cos φ + √(b² − (a sin φ − e)²)."""
+    from loopkin.synthesis import synthesize_file
+
+    try:
+        import tomllib  # noqa: F401
+    except ImportError:
+        pytest.importorskip("tomli")
+    folder = DEFINITION.parent
+    b = synthesize_file(folder / "problem_b.toml").best
+    again = problem_b(kin.load(DEFINITION)).best
+    assert b.error == again.error and b.design.params == again.design.params
+    found = synthesize_file(folder / "slider_crank_function.toml", seed=1)
+    best = found.best
+    p = best.design.params
+    for phi, deg in zip(best.driver_values, (20, 70, 130, 190, 250, 310)):
+        assert abs(phi - math.radians(deg)) < 1e-15
+    want = [0.05 * math.cos(f) + math.sqrt(0.04 - (0.05 * math.sin(f) - 0.01) ** 2) for f in best.driver_values]
+    got = [p["a"] * math.cos(f) + math.sqrt(p["b"] ** 2 - (p["a"] * math.sin(f) - p["e"]) ** 2) for f in best.driver_values]
+    assert max(abs(g - w) for g, w in zip(got, want)) < 1e-11
+    assert best.full_turn is True

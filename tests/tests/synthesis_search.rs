@@ -384,3 +384,88 @@ fn six_bar_path_generation_from_its_data_file() {
     assert_eq!(best.found.full_turn, Some(true));
     assert!(best.one_branch);
 }
+
+/// The search started from the exact answer: y = log₁₀ x on [1, 2] as
+/// φ = 40° + 60°(x − 1), ψ = 100° + 60° log₂ x; Freudenstein's four-bar
+/// through three Chebyshev points, then the search over six points from
+/// it (and four drawn starts). E of both designs over the six points by
+/// the closed form here (the rocker pin to the right of B→D): the
+/// search's is the E it reports, and below the exact three-point answer's.
+#[test]
+fn the_search_starts_from_the_exact_three_point_answer() {
+    let f = |x: f64| {
+        (
+            (40.0 + 60.0 * (x - 1.0)).to_radians(),
+            (100.0 + 60.0 * x.log2()).to_radians(),
+        )
+    };
+    let xs = chebyshev(1.0, 2.0, 3);
+    let exact = freudenstein([f(xs[0]), f(xs[1]), f(xs[2])], 1.0).unwrap();
+    let pairs: Vec<(f64, f64)> = (0..6).map(|k| f(1.0 + 0.2 * f64::from(k))).collect();
+    // ψ on the branch to the right of B→D (the branch of the pairs).
+    let psi = |(a, b, c, d): (f64, f64, f64, f64), phi: f64| -> f64 {
+        let (cp, _, _) = closed_form_right(a, b, c, d, phi);
+        cp[1].atan2(cp[0] - d)
+    };
+    let wrapped = |x: f64| PI - (PI - x).rem_euclid(2.0 * PI);
+    let e = |m: (f64, f64, f64, f64)| -> f64 {
+        pairs
+            .iter()
+            .map(|&(phi, y)| wrapped(psi(m, phi) - y).powi(2))
+            .sum()
+    };
+    let e_exact = e((exact.a, exact.b, exact.c, 1.0));
+    let mut m = Model::compile(FOUR_BAR_TEXT).unwrap();
+    m.set_values(&[exact.a, exact.b, exact.c, 1.0]).unwrap();
+    let (_, th3, _) = closed_form_right(exact.a, exact.b, exact.c, 1.0, pairs[0].0);
+    let start = m.assemble(&[pairs[0].0, th3, pairs[0].1]).unwrap();
+    assert!(
+        (start[2] - pairs[0].1).abs() < 0.01,
+        "the start on the pairs' branch"
+    );
+    let found = Synthesis::function(&m, "phi", "th4", &pairs, &start)
+        .vary(&["a", "b", "c"])
+        .bounds("a", 0.1, 10.0)
+        .bounds("b", 0.1, 10.0)
+        .bounds("c", 0.1, 10.0)
+        .search()
+        .also_from(&m, None)
+        .starts(4)
+        .run()
+        .unwrap();
+    // The design given and the four drawn.
+    assert_eq!(found.starts, 5);
+    let best = found.best().expect("a feasible design");
+    let [a, b, c, d] = best.found.design.values() else {
+        panic!()
+    };
+    // On the pairs' branch, or on the other if the search ended there.
+    let left: f64 = pairs
+        .iter()
+        .map(|&(phi, y)| {
+            let (cp, _, _) = closed_form(*a, *b, *c, *d, phi);
+            wrapped(cp[1].atan2(cp[0] - d) - y).powi(2)
+        })
+        .sum();
+    let reported = best.found.sum_squares;
+    let e_best = [e((*a, *b, *c, *d)), left]
+        .into_iter()
+        .find(|e| (e - reported).abs() <= 1e-9 * e)
+        .unwrap_or_else(|| panic!("neither branch gives E = {reported:e}"));
+    assert!(e_best < 0.5 * e_exact, "{e_best:e} against {e_exact:e}");
+}
+
+/// [`closed_form`] on the other branch: the rocker pin to the right of
+/// B→D.
+fn closed_form_right(a: f64, b: f64, c: f64, d: f64, phi: f64) -> ([f64; 2], f64, f64) {
+    let bp = [a * phi.cos(), a * phi.sin()];
+    let (dx, dy) = (d - bp[0], -bp[1]);
+    let l = dx.hypot(dy);
+    let x = (b * b - c * c + l * l) / (2.0 * l);
+    let h = (b * b - x * x).sqrt();
+    let (ux, uy) = (dx / l, dy / l);
+    let cp = [bp[0] + x * ux + h * uy, bp[1] + x * uy - h * ux];
+    let th3 = (cp[1] - bp[1]).atan2(cp[0] - bp[0]);
+    let psi = cp[1].atan2(cp[0] - d);
+    (cp, th3, psi)
+}

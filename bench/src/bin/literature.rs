@@ -1,8 +1,10 @@
-//! The published four-bar path-generation benchmarks
-//! (`kinematics_examples::benchmarks`, posed as their sources pose them)
-//! solved by the global strategy (seeded random starts in the bounds, each
-//! refined by Levenberg–Marquardt with the exact Jacobian, the best ones
-//! refined to convergence), in `runs` seeded runs per problem, with
+//! The published four-bar path-generation benchmarks, each solved from
+//! its data file (`examples/synthesis/problem_*.toml`) as `kinematics
+//! synthesize` solves it (the library's `synthesis::Search` on the
+//! run-time model of `benchmark_four_bar.mech`; seeded random starts in
+//! the bounds, each refined by Levenberg–Marquardt with the exact
+//! Jacobian, the best ones refined to convergence), in `runs` seeded runs
+//! per problem (the starts as the file sets them unless given), with
 //! Nelder–Mead (argmin) from the same starting designs and the same
 //! evaluations, and differential evolution (metaheuristics-nature) with
 //! ten times the evaluations, on the sources' penalised objective. Prints
@@ -19,10 +21,76 @@
 use std::time::Instant;
 
 use kinematics_bench::{differential_evolution, nelder_mead};
+use kinematics_core::runtime::Model;
+use kinematics_core::synthesis::Spec;
 use kinematics_examples::benchmarks::{
-    drawn, penalised, solve, unknown_bounds, unknowns, Problem, PROBLEM_A, PROBLEM_B, PROBLEM_C,
-    PROBLEM_E, PROBLEM_F, PROBLEM_G,
+    from_vector, penalised, unknown_bounds, unknowns, Outcome, Problem, PROBLEM_A, PROBLEM_B,
+    PROBLEM_C, PROBLEM_E, PROBLEM_F, PROBLEM_G,
 };
+
+/// The problem's data file read as the command reads it, and the
+/// definition it names, compiled with the file's values.
+fn data_file(p: &Problem) -> (Spec, Model) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/synthesis");
+    let file = dir.join(format!("problem_{}.toml", p.name.to_lowercase()));
+    let text = std::fs::read_to_string(&file).expect("the problem's file");
+    let mut spec: Spec = toml::from_str(&text).expect("a problem");
+    let mechanism = spec.mechanism.clone().expect("a definition");
+    let definition = std::fs::read_to_string(dir.join(mechanism)).expect("the definition");
+    let mut m = Model::compile(&definition).expect("it compiles");
+    for (k, v) in std::mem::take(&mut spec.values) {
+        m.set(&k, v.value(&k).expect("a value"))
+            .expect("a parameter");
+    }
+    for (k, [lo, hi]) in &spec.vary {
+        let mid = 0.5 * (lo.value(k).expect("a bound") + hi.value(k).expect("a bound"));
+        m.set(k, mid).expect("a parameter");
+    }
+    (spec, m)
+}
+
+/// The `n` starting designs of the run `seed` of the data file of `p`,
+/// as its search draws them, each with its starting crank angles.
+fn drawn(
+    p: &Problem,
+    seed: u64,
+    n: usize,
+) -> Vec<(kinematics_examples::benchmarks::BenchmarkFourBar, Vec<f64>)> {
+    let (mut spec, m) = data_file(p);
+    spec.search.seed = seed;
+    let start = vec![0.0; m.coordinates().len()];
+    let search = spec.search(&m, &start).expect("the problem");
+    (0..n)
+        .filter_map(|k| search.starting_design(k))
+        .map(|(d, angles)| {
+            let mut x = [0.0; 9];
+            x.copy_from_slice(&d.values()[..9]);
+            (from_vector(x), angles)
+        })
+        .collect()
+}
+
+/// One run of the data file of `p` with the seed `seed` (and `starts`
+/// starts, if given): its best feasible design.
+fn solve(p: &Problem, seed: u64, starts: Option<usize>) -> Option<Outcome> {
+    let (mut spec, m) = data_file(p);
+    spec.search.seed = seed;
+    if let Some(n) = starts {
+        spec.search.starts = n;
+    }
+    let start = vec![0.0; m.coordinates().len()];
+    let found = spec.search(&m, &start).ok()?.run().ok()?;
+    let best = found.best()?;
+    let v = best.found.design.values();
+    let mut x = [0.0; 9];
+    x.copy_from_slice(&v[..9]);
+    Some(Outcome {
+        design: from_vector(x),
+        crank_angles: best.found.driver_values.clone(),
+        sum_squares: best.found.sum_squares,
+        evaluations: found.evaluations,
+    })
+}
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -34,10 +102,11 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(100);
-    let starts: usize = std::env::args()
+    // The starts of each run: the file's, unless given (0: the file's).
+    let starts: Option<usize> = std::env::args()
         .nth(2)
         .and_then(|s| s.parse().ok())
-        .unwrap_or(16);
+        .filter(|&n| n > 0);
     // Which problems: all but F by default (a run of F, 25 targets and
     // 34 unknowns, takes seconds); name them to choose.
     let chosen: Vec<String> = std::env::args().skip(3).collect();
@@ -105,12 +174,12 @@ impl Runs {
 /// same seed or until it reaches that run's E (within 1 %). The ratio of
 /// its evaluations to the strategy's is then known where it reached the
 /// E, and above 10 where it did not.
-fn rows(p: &Problem, runs: u64, starts: usize) {
+fn rows(p: &Problem, runs: u64, starts: Option<usize>) {
     let mut ours = Runs::default();
     let mut outcomes = Vec::new();
     for seed in 0..runs {
         let t = Instant::now();
-        let Some(o) = solve(p, seed, starts, 8) else {
+        let Some(o) = solve(p, seed, starts) else {
             continue;
         };
         ours.add(o.sum_squares, o.evaluations, t.elapsed().as_secs_f64());
@@ -125,9 +194,10 @@ fn rows(p: &Problem, runs: u64, starts: usize) {
     let bounds = unknown_bounds(p);
     for (seed, o) in &outcomes {
         let t = Instant::now();
-        let each = (o.evaluations / starts).max(1) as u64;
+        let n = starts.unwrap_or(data_file(p).0.search.starts);
+        let each = (o.evaluations / n).max(1) as u64;
         let (mut best, mut used) = (f64::INFINITY, 0);
-        for (m, angles) in drawn(p, *seed, starts) {
+        for (m, angles) in drawn(p, *seed, n) {
             let x0 = unknowns(p, &m, &angles);
             let (e, n) = nelder_mead(|x| penalised(p, x), &x0, each);
             best = best.min(e);

@@ -132,38 +132,32 @@ impl Subject for Model {
         out: &mut Solved,
     ) -> Result<(), Error> {
         let mut stepper = self.stepper(&state.options)?;
-        stepper.signs_mut().copy_from_slice(&state.modes);
-        let mut rates = vec![0.0; self.drivers];
-        if let Some(r) = rates.get_mut(driver) {
-            *r = 1.0;
-        }
-        let zeros = vec![0.0; self.drivers];
-        let motion = stepper.step(pose, &rates, &zeros)?;
-        pose.copy_from_slice(&motion.q);
-        out.q.copy_from_slice(&motion.q);
-        out.qd.copy_from_slice(&motion.qd);
-        let d = self.point_dim;
-        for ((p, r), v) in motion
-            .points
-            .iter()
-            .zip(out.positions.chunks_exact_mut(d))
-            .zip(out.velocities.chunks_exact_mut(d))
-        {
-            r.copy_from_slice(&p.position);
-            v.copy_from_slice(&p.velocity);
-        }
-        if sensitivities {
-            let n = self.coordinates.len();
-            let np = self.points.len();
-            for (k, s) in self.sensitivities(motion)?.iter().enumerate() {
-                out.dq[k * n..(k + 1) * n].copy_from_slice(&s.q);
-                for (i, p) in s.points.iter().enumerate() {
-                    let at = (k * np + i) * d;
-                    out.dr[at..at + d].copy_from_slice(&p.position);
-                }
-            }
-        }
+        let modes = state.modes.clone();
+        self.solve_with(&mut stepper, (pose, driver), &modes, sensitivities, out)?;
         state.modes.copy_from_slice(stepper.signs_mut());
+        Ok(())
+    }
+
+    fn solve_each(
+        &self,
+        poses: &mut [Vec<f64>],
+        driver: usize,
+        state: &SynthesisState,
+        sensitivities: bool,
+        out: &mut [Solved],
+    ) -> Result<(), Error> {
+        // One stepper for the design (its parameters' constants prepared
+        // once), the modes set afresh at each pose.
+        let mut stepper = self.stepper(&state.options)?;
+        for (pose, out) in poses.iter_mut().zip(out) {
+            self.solve_with(
+                &mut stepper,
+                (pose, driver),
+                &state.modes,
+                sensitivities,
+                out,
+            )?;
+        }
         Ok(())
     }
 
@@ -219,5 +213,51 @@ impl DriverOf<Model> for &str {
                     drivers.join(", ")
                 )
             })
+    }
+}
+
+impl Model {
+    /// One analysis of a synthesis with `stepper`, in `modes`, at `pose`
+    /// (solved into it) with a unit rate of `driver`, into `out`.
+    fn solve_with(
+        &self,
+        stepper: &mut super::Stepper<'_>,
+        (pose, driver): (&mut Vec<f64>, usize),
+        modes: &[f64],
+        sensitivities: bool,
+        out: &mut Solved,
+    ) -> Result<(), Error> {
+        stepper.signs_mut().copy_from_slice(modes);
+        let mut rates = vec![0.0; self.drivers];
+        if let Some(r) = rates.get_mut(driver) {
+            *r = 1.0;
+        }
+        let zeros = vec![0.0; self.drivers];
+        let motion = stepper.step(pose, &rates, &zeros)?;
+        pose.copy_from_slice(&motion.q);
+        out.q.copy_from_slice(&motion.q);
+        out.qd.copy_from_slice(&motion.qd);
+        let d = self.point_dim;
+        for ((p, r), v) in motion
+            .points
+            .iter()
+            .zip(out.positions.chunks_exact_mut(d))
+            .zip(out.velocities.chunks_exact_mut(d))
+        {
+            r.copy_from_slice(&p.position);
+            v.copy_from_slice(&p.velocity);
+        }
+        if sensitivities {
+            let n = self.coordinates.len();
+            let np = self.points.len();
+            for (k, s) in self.sensitivities(motion)?.iter().enumerate() {
+                out.dq[k * n..(k + 1) * n].copy_from_slice(&s.q);
+                for (i, p) in s.points.iter().enumerate() {
+                    let at = (k * np + i) * d;
+                    out.dr[at..at + d].copy_from_slice(&p.position);
+                }
+            }
+        }
+        Ok(())
     }
 }

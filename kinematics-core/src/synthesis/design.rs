@@ -570,6 +570,7 @@ impl<M: Subject> Synthesis<M> {
             weight: 1.0 / scale.max(1.0),
             reject: f64::INFINITY,
             poses: RefCell::new(vec![self.start.clone(); n]),
+            solved: RefCell::new(vec![Solved::for_shape(&self.shape); n]),
             modes: M::modes(&mut state).to_vec(),
             evaluations: Cell::new(0),
             jacobians: Cell::new(0),

@@ -76,6 +76,8 @@ pub(super) struct Problem<'s, M: Subject> {
     pub(super) reject: f64,
     /// The last pose of each target (the guess of the next analysis).
     pub(super) poses: RefCell<Vec<M::Pose>>,
+    /// The analysis at each target (kept from evaluation to evaluation).
+    pub(super) solved: RefCell<Vec<Solved>>,
     /// The assembly modes (as the step state holds them).
     pub(super) modes: Vec<f64>,
     pub(super) evaluations: Cell<usize>,
@@ -195,7 +197,6 @@ impl<M: Subject> Problem<'_, M> {
         };
         let ncoord = s.shape.coordinates.len();
         let (npoints, dim) = (s.shape.points.len(), s.shape.point_dim);
-        let mut solved = Solved::for_shape(&s.shape);
         let dpdx: Vec<f64> = s
             .varied
             .iter()
@@ -207,11 +208,12 @@ impl<M: Subject> Problem<'_, M> {
         let mut fresh = design.state(&s.options)?;
         M::modes(&mut fresh).copy_from_slice(&self.modes);
         let mut poses = self.poses.borrow_mut();
-        for j in 0..n {
-            let pose = &mut poses[j];
-            M::set_coordinate(pose, s.driver, values[j]);
-            let mut state = fresh.clone();
-            design.solve(pose, s.driver, &mut state, jacobian, &mut solved)?;
+        for (pose, &v) in poses.iter_mut().zip(&values) {
+            M::set_coordinate(pose, s.driver, v);
+        }
+        let mut all = self.solved.borrow_mut();
+        design.solve_each(&mut poses, s.driver, &fresh, jacobian, &mut all)?;
+        for (j, solved) in all.iter().enumerate() {
             // ∂(output)/∂φ_j and ∂(output)/∂p_k per component, each
             // row times √w_j.
             let w = self.root_weight(j);

@@ -154,6 +154,54 @@ type Report = Box<dyn FnMut(&Progress) + Send + Sync>;
 /// Every start draws from its own stream, fixed by the seed and its
 /// number, so a search is reproducible whatever the number of threads
 /// (unless stopped by [`Self::time`]).
+///
+/// ```
+/// use kinematics_core::{mechanism, synthesis::Synthesis};
+///
+/// mechanism! {
+///     struct FourBar {
+///         params { a, b, c, d }
+///         drivers { phi }
+///         unknowns { th3, th4 }
+///         points { B = polar(a, phi); D = vec2(d, 0.0); C = D + polar(c, th4); }
+///         loops { B + polar(b, th3) == C; }
+///         sensitivities { a, b, c, d }
+///     }
+/// }
+///
+/// # fn main() -> Result<(), kinematics_core::Error> {
+/// // Four positions of the rocker pin C of the design a = 1, b = 3,
+/// // c = 2.5, d = 3.2, at crank angles the search is not told.
+/// let truth = FourBar { a: 1.0, b: 3.0, c: 2.5, d: 3.2 };
+/// let first = truth.assemble(&FourBarCoords { phi: 0.4, th3: 1.0, th4: 2.0 })?;
+/// let targets: Vec<[f64; 2]> = [0.4, 1.5, 2.9, 4.4]
+///     .iter()
+///     .map(|&phi| {
+///         let q = truth.assemble(&FourBarCoords { phi, ..first }).unwrap();
+///         let c = truth.positions(&q).C;
+///         [c.x, c.y]
+///     })
+///     .collect();
+/// let guess = FourBar { a: 0.5, b: 2.0, c: 2.0, d: 3.2 };
+/// let found = Synthesis::path(&guess, FourBar::PHI, "C", &targets, &first)
+///     .vary(&["a", "b", "c"])
+///     .bounds("a", 0.3, 2.0)
+///     .bounds("b", 0.5, 5.0)
+///     .bounds("c", 0.5, 5.0)
+///     .grashof_crank("a", "b", "c", "d", 0.05)
+///     .in_order()
+///     .search()
+///     .transmission(["B", "C", "D"], 40f64.to_radians())
+///     .starts(32)
+///     .seed(3)
+///     .run()?;
+/// let best = found.best().expect("a feasible design");
+/// assert!(best.found.sum_squares < 1e-16);
+/// assert!(best.min_transmission.unwrap() >= 40f64.to_radians());
+/// assert_eq!(best.found.full_turn, Some(true));
+/// # Ok(())
+/// # }
+/// ```
 pub struct Search<M: Subject> {
     problem: Synthesis<M>,
     starts: usize,
@@ -165,6 +213,8 @@ pub struct Search<M: Subject> {
     time: Option<Duration>,
     cycle: Cycle,
     progress: Option<Report>,
+    /// Designs given to start from, with their driver values.
+    given: Vec<(M, Option<Vec<f64>>)>,
 }
 
 impl<M: Subject> core::fmt::Debug for Search<M> {
@@ -192,6 +242,7 @@ impl<M: Subject> Synthesis<M> {
             time: None,
             cycle: Cycle::default(),
             progress: None,
+            given: Vec::new(),
         }
     }
 }
@@ -338,6 +389,18 @@ where
         self
     }
 
+    /// Starts from `design` too (screened first, before the drawn
+    /// starts, which it does not change), with its driver values at the
+    /// targets `driver_values` (free or relative timing) or those a drawn
+    /// start would take: an exact solution of fewer targets
+    /// ([`exact`](super::exact)), or a design at hand.
+    #[must_use]
+    pub fn also_from(mut self, design: &M, driver_values: Option<&[f64]>) -> Self {
+        self.given
+            .push((design.clone(), driver_values.map(<[f64]>::to_vec)));
+        self
+    }
+
     /// Calls `report` after each group of starts screened and each
     /// design refined.
     #[must_use]
@@ -393,11 +456,12 @@ where
         self.problem.checked()?;
         let began = Instant::now();
         let mut report = self.progress.take();
+        let total = self.given.len() + self.starts;
         let mut progress = Progress {
             screened: 0,
-            starts: self.starts,
+            starts: total,
             refined: 0,
-            keep: self.keep.min(self.starts),
+            keep: self.keep.min(total),
             best: f64::INFINITY,
             evaluations: 0,
         };
@@ -407,12 +471,12 @@ where
         // Groups of a fixed size, whatever the number of threads.
         const GROUP: usize = 8;
         let mut k = 0;
-        while k < self.starts {
+        while k < total {
             if let Some(why) = self.over_budget(began, progress.evaluations) {
                 stopped_by = Some(why);
                 break;
             }
-            let group: Vec<usize> = (k..(k + GROUP).min(self.starts)).collect();
+            let group: Vec<usize> = (k..(k + GROUP).min(total)).collect();
             k += group.len();
             let this = &self;
             let results = map(&group, |&k| this.screen(k));
@@ -526,8 +590,29 @@ where
     /// Start `k`: a feasible design drawn and briefly refined; `None`
     /// when none was drawn in the tries allowed or its refinement failed.
     fn screen(&self, k: usize) -> Option<Screened<M>> {
-        let mut draws = Draws::new(self.seed, k as u64);
-        let (design, pose, modes, values) = self.draw(k, &mut draws)?;
+        let (design, pose, modes, values) = match self.given.get(k) {
+            Some((design, values)) => {
+                let p = &self.problem;
+                let values = values
+                    .clone()
+                    .unwrap_or_else(|| self.starting_values(k, M::coordinate(&p.start, p.driver)));
+                // The modes the problem's start pose is in, tried first.
+                let mut solved = Solved::for_shape(&p.shape);
+                let mut state = design.state(&p.options).ok()?;
+                let mut pose = p.start.clone();
+                M::set_coordinate(&mut pose, p.driver, *values.first()?);
+                let prefer = design
+                    .solve(&mut pose, p.driver, &mut state, false, &mut solved)
+                    .ok()
+                    .map(|()| M::modes(&mut state).to_vec());
+                self.assembled(design.clone(), values, (0, prefer), &mut solved)?
+            }
+            None => {
+                let k = k - self.given.len();
+                let mut draws = Draws::new(self.seed, k as u64);
+                self.draw(k, &mut draws)?
+            }
+        };
         let s = self
             .posed(design, pose.clone(), &modes, &values)
             .patience(20);
@@ -652,43 +737,66 @@ where
                 M::coordinate(&p.start, p.driver)
             };
             let values = self.starting_values(k, phi0);
-            let Ok(fresh) = design.state(&p.options) else {
-                continue;
-            };
             #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
             let first = draws.uniform(0.0, combinations as f64) as usize;
-            let tried: Vec<Vec<f64>> = match &p.modes {
-                Some(m) => std::vec![m.clone()],
-                None => (0..combinations.min(64))
-                    .map(|c| {
-                        let c = (first + c) % combinations;
-                        (0..slots)
-                            .map(|b| if (c >> b) & 1 == 0 { 1.0 } else { -1.0 })
-                            .collect()
-                    })
-                    .collect(),
-            };
-            for modes in tried {
-                let mut state = fresh.clone();
-                M::modes(&mut state).copy_from_slice(&modes);
-                let mut pose = p.start.clone();
-                let mut first_pose = None;
-                let assembled = values.iter().all(|&v| {
-                    M::set_coordinate(&mut pose, p.driver, v);
-                    let ok = design
-                        .solve(&mut pose, p.driver, &mut state, false, &mut solved)
-                        .is_ok()
-                        && self
-                            .cycle
-                            .transmission_holds(&solved.positions, p.shape.point_dim);
-                    if ok && first_pose.is_none() {
-                        first_pose = Some(pose.clone());
-                    }
-                    ok
-                });
-                if let (true, Some(pose)) = (assembled, first_pose) {
-                    return Some((design, pose, modes, values));
+            if let Some(drawn) = self.assembled(design, values, (first, None), &mut solved) {
+                return Some(drawn);
+            }
+        }
+        None
+    }
+
+    /// `design` at the driver values `values` in the first set of
+    /// assembly modes that assembles at every one with the transmission
+    /// angles within bounds (those given to [`Synthesis::modes`], else
+    /// `prefer` and then the combinations from `first` on): the design,
+    /// its pose at the first value, the modes and the values.
+    fn assembled(
+        &self,
+        design: M,
+        values: Vec<f64>,
+        (first, prefer): (usize, Option<Vec<f64>>),
+        solved: &mut Solved,
+    ) -> Option<Drawn<M>> {
+        let p = &self.problem;
+        let fresh = design.state(&p.options).ok()?;
+        let slots = {
+            let mut state = fresh.clone();
+            M::modes(&mut state).len()
+        };
+        let combinations = if slots < 16 { 1usize << slots } else { 1 << 16 };
+        let tried: Vec<Vec<f64>> = match &p.modes {
+            Some(m) => std::vec![m.clone()],
+            None => prefer
+                .into_iter()
+                .chain((0..combinations.min(64)).map(|c| {
+                    let c = (first + c) % combinations;
+                    (0..slots)
+                        .map(|b| if (c >> b) & 1 == 0 { 1.0 } else { -1.0 })
+                        .collect()
+                }))
+                .collect(),
+        };
+        for modes in tried {
+            let mut state = fresh.clone();
+            M::modes(&mut state).copy_from_slice(&modes);
+            let mut pose = p.start.clone();
+            let mut first_pose = None;
+            let assembled = values.iter().all(|&v| {
+                M::set_coordinate(&mut pose, p.driver, v);
+                let ok = design
+                    .solve(&mut pose, p.driver, &mut state, false, solved)
+                    .is_ok()
+                    && self
+                        .cycle
+                        .transmission_holds(&solved.positions, p.shape.point_dim);
+                if ok && first_pose.is_none() {
+                    first_pose = Some(pose.clone());
                 }
+                ok
+            });
+            if let (true, Some(pose)) = (assembled, first_pose) {
+                return Some((design, pose, modes, values));
             }
         }
         None

@@ -75,6 +75,27 @@ pub trait Subject: Clone + sealed::Sealed {
         sensitivities: bool,
         out: &mut Solved,
     ) -> Result<(), Error>;
+    /// [`Self::solve`] at each of `poses` into the matching `out`, each
+    /// from `state` as it is (its modes; not changed), as one
+    /// evaluation of a synthesis solves its targets.
+    #[doc(hidden)]
+    ///
+    /// # Errors
+    /// As [`Self::solve`], at the first pose that fails.
+    fn solve_each(
+        &self,
+        poses: &mut [Self::Pose],
+        driver: usize,
+        state: &Self::State,
+        sensitivities: bool,
+        out: &mut [Solved],
+    ) -> Result<(), Error> {
+        for (pose, out) in poses.iter_mut().zip(out) {
+            let mut state = state.clone();
+            self.solve(pose, driver, &mut state, sensitivities, out)?;
+        }
+        Ok(())
+    }
     /// The positions of every point (one after the other, each with its
     /// components) over a sweep of `driver` from `start` to `to` in
     /// `steps` steps, with the driver's value at each, and whether the
