@@ -488,15 +488,7 @@ fn searched(p: &Problem, seed: u64) -> Search<BenchmarkFourBar> {
 #[must_use]
 pub fn solve(p: &Problem, seed: u64, starts: usize, keep: usize) -> Option<Outcome> {
     let found = searched(p, seed).starts(starts).keep(keep).run().ok()?;
-    // The sources' sequence is strict: a last crank angle a whole turn
-    // from the first (Problem E's closed path) is not in it.
-    let best = found.optima.iter().find(|o| {
-        o.feasible
-            && match p.timing {
-                Posed::Free => cyclic_increasing(&o.found.driver_values),
-                Posed::Prescribed(_) | Posed::Relative(_) => true,
-            }
-    })?;
+    let best = found.best()?;
     Some(Outcome {
         design: best.found.design,
         crank_angles: best.found.driver_values.clone(),
