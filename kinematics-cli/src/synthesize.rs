@@ -93,8 +93,13 @@ pub(super) fn run(args: &SynthesizeArgs) -> Result<String, Failure> {
     }
     let mut out = summary(&spec, &m, &found, args.show);
     let Some(best) = found.best() else {
-        out += "no design found meets every constraint: give more starts (--starts), \
-                wider bounds or looser constraints\n";
+        out += if found.optima.is_empty() {
+            "no start assembled at its targets: check the assembly modes (`modes`), the \
+             bounds and the sampling ranges, or give more starts (--starts)\n"
+        } else {
+            "no design found meets every constraint: give more starts (--starts), wider \
+             bounds or looser constraints\n"
+        };
         return Err(Failure::mechanism(out));
     };
     std::fs::create_dir_all(&args.out)
@@ -134,9 +139,10 @@ fn summary(spec: &Spec, m: &Model, found: &Found<Model>, show: usize) -> String 
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{} by {}: {} starts ({} found no feasible design), {} evaluations{}",
+        "{} by {}: {} starts tried, {} screened ({} drew no feasible design or failed), {} evaluations{}",
         m.name(),
         task_words(&spec.task),
+        found.starts + found.undrawn,
         found.starts,
         found.undrawn,
         found.evaluations,

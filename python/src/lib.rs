@@ -774,6 +774,5 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(merit::read_quantity, m)?)?;
     m.add_function(wrap_pyfunction!(merit::grashof, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synthesize, m)?)?;
-    m.add_function(wrap_pyfunction!(synthesis::refine, m)?)?;
     Ok(())
 }

@@ -92,29 +92,3 @@ pub(crate) fn synthesize<'py>(
     let f = result.map_err(|e| error(py, &e))?;
     found(py, &f)
 }
-
-/// One Levenberg–Marquardt refinement of the design `model` from the pose
-/// `start` for the problem `spec` (its search settings not read): the
-/// result as an optimum's dictionary (not checked over the motion).
-#[pyfunction]
-pub(crate) fn refine<'py>(
-    py: Python<'py>,
-    model: &Model,
-    spec: &str,
-    start: Vec<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let spec = read_spec(spec)?;
-    let m = &model.model;
-    let s = spec.synthesis(m, &start).map_err(|e| error(py, &e))?;
-    let f = py.detach(|| s.run()).map_err(|e| error(py, &e))?;
-    let d = PyDict::new(py);
-    d.set_item("values", f.design.values().to_vec())?;
-    d.set_item("driver_values", f.driver_values.clone())?;
-    d.set_item("error", f.sum_squares)?;
-    d.set_item("target_errors", f.target_errors.clone())?;
-    d.set_item("max_error", f.max_error)?;
-    d.set_item("full_turn", f.full_turn)?;
-    d.set_item("constraints_met", f.constraints_met)?;
-    d.set_item("evaluations", f.evaluations + f.jacobians)?;
-    Ok(d)
-}

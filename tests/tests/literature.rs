@@ -6,8 +6,8 @@
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use kinematics_examples::benchmarks::{
-    coupler_point, cyclic_increasing, from_vector, solve, vector, Posed, Problem, PROBLEM_A,
-    PROBLEM_B, PROBLEM_C, PROBLEM_E, PROBLEM_F, PROBLEM_G,
+    coupler_point, cyclic_increasing, from_vector, solve, vector, BenchmarkFourBar, Posed, Problem,
+    PROBLEM_A, PROBLEM_B, PROBLEM_C, PROBLEM_E, PROBLEM_F, PROBLEM_G,
 };
 
 /// The coupler point of the design `x` = [r1 r2 r3 r4 rcx rcy x0 y0 θ0] at
@@ -156,6 +156,7 @@ fn solved_within(p: &Problem, seed: u64, goal: f64) {
     let o = solve(p, seed, 16, 8).expect("a design");
     let x = vector(&o.design);
     let e = design_within(p, x, &o.crank_angles, goal);
+    one_branch(p, &o.design, &o.crank_angles);
     // To 1e-9 relative, or to round-off where E itself is round-off.
     assert!(
         (e - o.sum_squares).abs() <= 1e-9 * e + 1e-24,
@@ -163,6 +164,29 @@ fn solved_within(p: &Problem, seed: u64, goal: f64) {
         p.name,
         o.sum_squares
     );
+}
+
+/// The design swept here from its first target's crank angle to the
+/// smallest and to the largest of its targets' (on the sources' branch,
+/// by the closed form above): the coupler point closes at every degree
+/// between, so no target is reached through a dead centre or a change of
+/// assembly (one branch, one circuit).
+fn one_branch(p: &Problem, m: &BenchmarkFourBar, angles: &[f64]) {
+    let x = vector(m);
+    let first = angles[0];
+    let lo = angles.iter().copied().fold(first, f64::min);
+    let hi = angles.iter().copied().fold(first, f64::max);
+    for to in [lo, hi] {
+        let n = ((to - first).abs().to_degrees().ceil() as usize).max(1);
+        for k in 0..=n {
+            let th2 = first + (to - first) * k as f64 / n as f64;
+            assert!(
+                coupler(x, th2).is_some(),
+                "Problem {}: the design does not close at θ2 = {th2} between its targets",
+                p.name
+            );
+        }
+    }
 }
 
 /// The design `x` of problem `p` at the crank angles `angles`, checked: E

@@ -88,6 +88,10 @@ pub(super) struct Motion<'a> {
     pub(super) point_dim: usize,
     pub(super) options: &'a Options,
     pub(super) shape: &'a Shape,
+    /// Whether the driver values are in order through the targets (else
+    /// an angle driver's values are taken within half a turn of the
+    /// first's, the way round the motion is nearest).
+    pub(super) ordered: bool,
 }
 
 /// The checks' verdict on a design.
@@ -122,9 +126,14 @@ impl Motion<'_> {
             within: false,
             min_transmission: None,
         };
-        let values = &s.driver_values;
-        let Some(&first) = values.first() else {
+        let Some(&first) = s.driver_values.first() else {
             return failed;
+        };
+        let near = |v: f64| first + (v - first + PI).rem_euclid(TAU) - PI;
+        let values: Vec<f64> = if self.angle && !self.ordered {
+            s.driver_values.iter().map(|&v| near(v)).collect()
+        } else {
+            s.driver_values.clone()
         };
         let design = &s.design;
         let Ok(mut state) = design.state(self.options) else {
@@ -144,7 +153,7 @@ impl Motion<'_> {
         let mut poses = Vec::with_capacity(values.len());
         let mut at = pose.clone();
         let mut each = solved.clone();
-        for &v in values {
+        for &v in &values {
             M::set_coordinate(&mut at, self.driver, v);
             if design
                 .solve(&mut at, self.driver, &mut state, false, &mut each)
@@ -162,7 +171,7 @@ impl Motion<'_> {
             let per = if self.angle {
                 180.0 / PI
             } else {
-                200.0 / span.max(1e-300)
+                200.0 / span.abs().max(1e-300)
             };
             #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
             let n = (span.abs() * per).ceil().min(1e6) as usize;

@@ -357,13 +357,14 @@ impl<M: Subject> Synthesis<M> {
         self
     }
 
-    /// The weight w_j ≥ 0 of each target: E = Σ_j w_j |output_j −
-    /// target_j|² (default: every weight 1).
+    /// The weight w_j > 0 of each target: E = Σ_j w_j |output_j −
+    /// target_j|² (default: every weight 1; leave a target out rather
+    /// than weigh it 0).
     #[must_use]
     pub fn weights(mut self, weights: &[f64]) -> Self {
-        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+        if weights.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
             self.fail(format!(
-                "the weights must be finite and not negative, not {weights:?}"
+                "the weights must be positive and finite, not {weights:?} (leave a target out rather than weigh it 0)"
             ));
         }
         self.weights = Some(weights.to_vec());

@@ -101,8 +101,9 @@ pub struct MotionFourBar {
 /// `circle_points` (the moving pivots, in the coupler's frame, the
 /// input dyad's first) chosen by the designer; each fixed pivot is its
 /// circle point's centre point ([`centre_point`]). The construction is
-/// exact: the coupler frame reaches every pose, as the test that sweeps
-/// the result checks. It does not check that the linkage moves from one
+/// exact: the coupler frame reaches every pose (the test compares the
+/// linkage's lengths and angles with a four-bar solved in closed form).
+/// It does not check that the linkage moves from one
 /// pose to the next without changing its assembly (a branch defect):
 /// the [`Search`](super::Search) checks that over the motion.
 ///
@@ -175,6 +176,9 @@ pub struct FunctionFourBar {
 /// linkage with that link turned by 180°: add 180° to its angles) or
 /// b² ≤ 0 (no linkage), naming which.
 pub fn freudenstein(pairs: [(f64, f64); 3], d: f64) -> Result<FunctionFourBar, Error> {
+    if pairs.iter().any(|(x, y)| !(x.is_finite() && y.is_finite())) {
+        return Err(exact(format!("the pairs must be finite, not {pairs:?}")));
+    }
     if !(d.is_finite() && d > 0.0) {
         return Err(exact(format!(
             "the ground length must be positive, not {d}"
@@ -205,11 +209,24 @@ pub fn freudenstein(pairs: [(f64, f64); 3], d: f64) -> Result<FunctionFourBar, E
     }
     let k = [0, 1, 2].map(|i| det3(matrix(Some(i))) / det);
     let (a, c) = (d / k[0], d / k[1]);
-    if a < 0.0 || c < 0.0 {
+    if !(a.is_finite() && c.is_finite() && k[2].is_finite()) {
         return Err(exact(format!(
-            "the {} comes out negative (K = {k:?}): the same linkage has that link turned by 180°; add 180° to its angles and solve again",
-            if a < 0.0 { "crank" } else { "rocker" }
+            "the pairs {pairs:?} give no finite linkage (K = {k:?}): choose other precision points or angle ranges"
         )));
+    }
+    if a < 0.0 || c < 0.0 {
+        let which = match (a < 0.0, c < 0.0) {
+            (true, true) => {
+                "crank and the rocker come out negative: the same linkage has both turned by 180°; add 180° to every φ_j and ψ_j"
+            }
+            (true, false) => {
+                "crank comes out negative: the same linkage has it turned by 180°; add 180° to every input angle φ_j"
+            }
+            _ => {
+                "rocker comes out negative: the same linkage has it turned by 180°; add 180° to every output angle ψ_j"
+            }
+        };
+        return Err(exact(format!("the {which} and solve again (K = {k:?})")));
     }
     let b2 = a * a + c * c + d * d - 2.0 * a * c * k[2];
     if b2.is_nan() || b2 <= 0.0 {

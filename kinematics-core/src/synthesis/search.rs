@@ -105,13 +105,14 @@ pub struct Found<M: Subject> {
     /// The distinct optima, the feasible first, each group by E
     /// ascending.
     pub optima: Vec<Optimum<M>>,
-    /// Residual and Jacobian evaluations, every start.
+    /// Residual and Jacobian evaluations of the refinements, every start
+    /// (the designs drawn and rejected, and the sweeps that check the
+    /// results over their motion, are not counted).
     pub evaluations: usize,
-    /// The starting designs drawn (each feasible at its starting driver
-    /// values).
+    /// The starts screened (each feasible at its starting driver values).
     pub starts: usize,
-    /// The starts for which no feasible design was drawn in the tries
-    /// allowed.
+    /// The starts that gave no screened design: none was drawn feasible
+    /// in the tries allowed, or its screening failed.
     pub undrawn: usize,
     /// What stopped the search early, if anything did.
     pub stopped_by: Option<Budget>,
@@ -144,9 +145,10 @@ type Report = Box<dyn FnMut(&Progress) + Send + Sync>;
 /// 2. **Screening.** Each start is refined briefly (20 residual
 ///    evaluations per unknown), on all cores with the `parallel` feature.
 /// 3. **Refinement.** The [`Self::keep`] best are refined to convergence
-///    in order of their E, two at a time, until one passes through the
-///    targets (E ≤ 10⁻²⁴ of the targets' scale squared) or two end
-///    within 1 % of each other.
+///    in order of their E, two at a time, until a feasible one passes
+///    through the targets (E ≤ 10⁻²⁴ · max(1, s²), s the largest
+///    |component| of the targets) or two feasible ones end within 1 % of
+///    each other.
 /// 4. **Cycle.** Each is swept over its motion and checked (see
 ///    [`Optimum`]); optima whose E agree to 10⁻⁶ and whose parameters
 ///    agree to 10⁻⁶ of the design's scale are one.
@@ -260,10 +262,11 @@ where
     M: Subject + Send + Sync,
     M::Pose: Send + Sync,
 {
-    /// The number of starting designs (default 16).
+    /// The number of starting designs drawn (default 16; 0 with a design
+    /// to start from, [`Self::also_from`], and no other).
     #[must_use]
     pub fn starts(mut self, n: usize) -> Self {
-        self.starts = n.max(1);
+        self.starts = n;
         self
     }
 
@@ -350,7 +353,7 @@ where
         ];
         if !(0.0..core::f64::consts::FRAC_PI_2).contains(&mu_min) {
             self.problem.fail(format!(
-                "the smallest transmission angle must be in [0, π/2) rad, not {mu_min}"
+                "the smallest transmission angle must be in [0, π/2) rad, not {mu_min} (a number without a unit is in radians: write \"40deg\" in a problem file)"
             ));
         }
         self.cycle.transmission.push((ids, mu_min));
@@ -365,6 +368,16 @@ where
         let p = &mut self.problem;
         let dim = p.shape.point_dim;
         match p.shape.points.iter().position(|q| *q == point) {
+            Some(_)
+                if lo
+                    .iter()
+                    .zip(hi)
+                    .any(|(l, h)| l.partial_cmp(h).is_none_or(core::cmp::Ordering::is_gt)) =>
+            {
+                p.fail(format!(
+                "the region of `{point}` needs lo ≤ hi in every component, not {lo:?} and {hi:?}"
+                ));
+            }
             Some(k) if lo.len() == dim && hi.len() == dim => {
                 self.cycle.regions.push((k, lo.to_vec(), hi.to_vec()));
             }
@@ -416,6 +429,14 @@ where
     /// tries allowed.
     #[must_use]
     pub fn starting_design(&self, k: usize) -> Option<(M, Vec<f64>)> {
+        let p = &self.problem;
+        let drawable = p.varied.iter().all(|&k| {
+            let (lo, hi) = p.bounds[k];
+            (lo.is_finite() && hi.is_finite()) || self.sampling.iter().any(|s| s.0 == k)
+        });
+        if p.problem.is_some() || !drawable {
+            return None;
+        }
         let mut draws = Draws::new(self.seed, k as u64);
         self.draw(k, &mut draws)
             .map(|(m, _, _, values)| (m, values))
@@ -453,7 +474,36 @@ where
             });
         }
         // The problem as posed, checked once from the design given.
-        self.problem.checked()?;
+        let (n, _) = self.problem.checked()?;
+        let shape = &self.problem.shape;
+        for (i, (m, values)) in self.given.iter().enumerate() {
+            let theirs = m.shape();
+            if theirs.coordinates.len() != shape.coordinates.len()
+                || theirs.points != shape.points
+                || theirs.parameters != shape.parameters
+            {
+                return Err(Error::InvalidGeometry {
+                    what: "synthesis",
+                    detail: format!(
+                        "the design given to start from ({i}) is not of the problem's mechanism"
+                    ),
+                });
+            }
+            if values.as_ref().is_some_and(|v| v.len() != n) {
+                return Err(Error::InvalidGeometry {
+                    what: "synthesis",
+                    detail: format!(
+                        "the design given to start from ({i}) needs one driver value per target ({n})"
+                    ),
+                });
+            }
+        }
+        if self.given.len() + self.starts == 0 {
+            return Err(Error::InvalidGeometry {
+                what: "synthesis",
+                detail: "a search needs a start: give starts ≥ 1 or a design to start from".into(),
+            });
+        }
         let began = Instant::now();
         let mut report = self.progress.take();
         let total = self.given.len() + self.starts;
@@ -811,6 +861,7 @@ where
             point_dim: p.shape.point_dim,
             options: &p.options,
             shape: &p.shape,
+            ordered: p.ordered && p.timing == Timing::Free,
         };
         let verdict = motion.check(s, pose, modes, &self.cycle);
         let turns_ok = !self.cycle.full_turn || s.full_turn == Some(true);

@@ -324,10 +324,13 @@ impl Spec {
             search = search.evaluations(n);
         }
         if let Some(t) = self.search.seconds {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(problem(format!("search.seconds must be positive, not {t}")));
-            }
-            search = search.time(Duration::from_secs_f64(t));
+            let limit = Duration::try_from_secs_f64(t).ok().filter(|_| t > 0.0);
+            let Some(limit) = limit else {
+                return Err(problem(format!(
+                    "search.seconds must be a positive number of seconds, not {t}"
+                )));
+            };
+            search = search.time(limit);
         }
         if let Some(n) = self.search.tries {
             search = search.tries(n);
@@ -450,6 +453,19 @@ impl Spec {
             TimingSpec::Relative(v) => {
                 s = s.timing(Timing::Relative(values(v, "timing increment")?));
             }
+        }
+        let function = matches!(self.task, Task::Function { .. });
+        if function && self.timing != TimingSpec::Free {
+            return Err(problem(
+                "function generation takes its timing from its targets' inputs: leave `timing` out"
+                    .into(),
+            ));
+        }
+        if self.in_order && (function || self.timing != TimingSpec::Free) {
+            return Err(problem(
+                "in_order orders free driver values: with prescribed or relative timing (or function generation) the order is given; leave it out"
+                    .into(),
+            ));
         }
         match (&self.in_order, &self.order_span) {
             (true, Some(span)) => s = s.in_order_within(span.value("order_span")?),
