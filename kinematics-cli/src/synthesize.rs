@@ -46,7 +46,7 @@ fn problem(file: &Path) -> Result<(Spec, PathBuf), Failure> {
     let text = read(file)?;
     let spec: Spec = toml::from_str(&text)
         .map_err(|e| Failure::usage(format!("error: {}: {e}", file.display())))?;
-    let Some(mechanism) = spec.mechanism.as_ref() else {
+    let Some(mechanism) = spec.mechanism.clone() else {
         return Err(Failure::usage(format!(
             "error: {}: the problem names no definition; add `mechanism = \"file.mech\"` \
              (a path from the problem's folder)",
@@ -54,7 +54,7 @@ fn problem(file: &Path) -> Result<(Spec, PathBuf), Failure> {
         )));
     };
     let folder = file.parent().unwrap_or(Path::new("."));
-    Ok((spec.clone(), folder.join(mechanism)))
+    Ok((spec, folder.join(mechanism)))
 }
 
 pub(super) fn run(args: &SynthesizeArgs) -> Result<String, Failure> {

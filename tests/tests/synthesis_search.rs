@@ -34,6 +34,16 @@ fn closed_form(a: f64, b: f64, c: f64, d: f64, phi: f64) -> ([f64; 2], f64, f64)
 
 const FOUR_BAR: (f64, f64, f64, f64) = (1.0, 3.0, 2.5, 3.2);
 
+/// Four positions of the rocker pin C of the test's four-bar, at crank
+/// angles 0.4, 1.5, 2.9 and 4.4 rad (not told to the searches).
+fn rocker_pin_targets() -> Vec<[f64; 2]> {
+    let (a, b, c, d) = FOUR_BAR;
+    [0.4, 1.5, 2.9, 4.4]
+        .iter()
+        .map(|&phi| closed_form(a, b, c, d, phi).0)
+        .collect()
+}
+
 /// Freudenstein's equation at three pairs of the test's four-bar gives
 /// back its crank, coupler and rocker, the ground given.
 #[test]
@@ -165,11 +175,7 @@ fn motion_generation_recovers_the_design() {
 fn the_search_keeps_its_constraints_over_the_cycle() {
     // Targets: four points of the coupler curve of a crank-rocker (the
     // rocker pin C of the test's four-bar), at unknown crank angles.
-    let (a, b, c, d) = FOUR_BAR;
-    let targets: Vec<[f64; 2]> = [0.4, 1.5, 2.9, 4.4]
-        .iter()
-        .map(|&phi| closed_form(a, b, c, d, phi).0)
-        .collect();
+    let targets = rocker_pin_targets();
     let text = format!(
         r#"
         driver = "phi"
@@ -502,11 +508,7 @@ fn closed_form_right(a: f64, b: f64, c: f64, d: f64, phi: f64) -> ([f64; 2], f64
 /// rocker's pivot kept inside a box it is not in.
 #[test]
 fn a_constraint_over_the_motion_is_enforced() {
-    let (a, b, c, d) = FOUR_BAR;
-    let targets: Vec<[f64; 2]> = [0.4, 1.5, 2.9, 4.4]
-        .iter()
-        .map(|&phi| closed_form(a, b, c, d, phi).0)
-        .collect();
+    let targets = rocker_pin_targets();
     let mut m = Model::compile(FOUR_BAR_TEXT).unwrap();
     m.set_values(&[1.0, 2.0, 2.0, 3.2]).unwrap();
     let search = |region: bool| {

@@ -83,9 +83,11 @@
 mod cycle;
 mod design;
 pub mod exact;
+mod found;
 mod problem;
 mod search;
 mod spec;
+mod starts;
 mod subject;
 
 pub use design::{Synthesis, Synthesized, Timing};
