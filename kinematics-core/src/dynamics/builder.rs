@@ -15,6 +15,9 @@ pub struct DynamicsBuilder {
     pub(super) joints: Vec<Joint>,
     pub(super) torques: Vec<(String, VectorLoad)>,
     pub(super) coordinate_forces: Vec<(String, ScalarLoad)>,
+    /// Motors on coordinates ([`DynamicsBuilder::motor`]), made coordinate
+    /// forces when the names are resolved.
+    pub(super) motors: Vec<(String, Motor)>,
     pub(super) springs: Vec<Spring>,
     /// The design parameters and the constants' partial derivatives
     /// ([`DynamicsBuilder::design_parameters`]).
@@ -61,6 +64,7 @@ impl DynamicsBuilder {
             joints: Vec::new(),
             torques: Vec::new(),
             coordinate_forces: Vec::new(),
+            motors: Vec::new(),
             springs: Vec::new(),
             design: None,
             load_partials: PartialsOfLoads::default(),
@@ -148,6 +152,36 @@ impl DynamicsBuilder {
         self.coordinate_forces
             .push((coordinate.to_string(), Box::new(force)));
         self.load_partials.add(LoadKind::Coordinate);
+        self
+    }
+
+    /// A motor on the coordinate `coordinate` (usually a driver left free
+    /// in a forward simulation, [`Dynamics::forward`]): its torque (or
+    /// force) at the coordinate's speed, T(q̇), in the direction the
+    /// coordinate grows. It is a coordinate force, reported in the work of
+    /// the loads as `force on <coordinate>`.
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics, Motor};
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A flywheel.
+    ///     pub struct Wheel { params { } drivers { phi } unknowns { } points { O = vec2(0.0, 0.0); } }
+    /// }
+    /// let m = Wheel {};
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("wheel", 10.0).center("O").angle("phi").inertia(0.5))
+    ///     .motor("phi", Motor::dc(2.0, 100.0))
+    ///     .build::<Wheel>()?;
+    /// // Held at 50 rad/s, the motor gives half its stall torque: the
+    /// // driver must take 1 N·m to keep the speed.
+    /// let motion = m.analyze(&WheelCoords { phi: 0.0 }, 50.0, 0.0)?;
+    /// assert!((dynamics.inverse(&m, &motion)?.effort.phi + 1.0).abs() < 1e-12);
+    /// # Ok::<(), kinematics_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn motor(mut self, coordinate: &str, motor: Motor) -> Self {
+        self.motors.push((coordinate.to_string(), motor));
         self
     }
 
@@ -322,7 +356,7 @@ impl DynamicsBuilder {
     }
 
     /// Resolves the names against `names`, checking the values.
-    pub(crate) fn resolve(self, names: &Names<'_>) -> Result<Dynamics, Error> {
+    pub(crate) fn resolve(mut self, names: &Names<'_>) -> Result<Dynamics, Error> {
         let invalid = |item: String, detail: String| Error::InvalidDynamics { item, detail };
         let find = |list: &[String], what: &str, name: &str, item: &str| {
             list.iter().position(|n| n == name).ok_or_else(|| {
@@ -465,6 +499,16 @@ impl DynamicsBuilder {
         for (name, f) in self.coordinate_forces {
             let item = format!("force on coordinate `{name}`");
             coordinate_forces.push((find(&coordinate_names, "coordinate", &name, &item)?, f));
+        }
+        for (name, motor) in core::mem::take(&mut self.motors) {
+            let item = format!("motor on coordinate `{name}`");
+            let j = find(&coordinate_names, "coordinate", &name, &item)?;
+            if let Some(detail) = motor.invalid() {
+                return Err(invalid(item, format!("{motor:?}: {detail}")));
+            }
+            let torque: ScalarLoad = Box::new(move |s: &Instant<'_>| motor.torque(s.qd(j)));
+            coordinate_forces.push((j, torque));
+            self.load_partials.coordinate_forces.push(None);
         }
         let mut springs = Vec::with_capacity(self.springs.len());
         for s in &self.springs {

@@ -50,6 +50,8 @@ pub struct Instant<'a> {
     pub position: Vector3<f64>,
     /// Velocity of that point.
     pub velocity: Vector3<f64>,
+    /// The time, in a forward simulation (NaN otherwise).
+    pub(super) time: f64,
 }
 
 impl<'a> Instant<'a> {
@@ -64,7 +66,14 @@ impl<'a> Instant<'a> {
             qdd: coords[2],
             position,
             velocity,
+            time: f64::NAN,
         }
+    }
+
+    /// The same instant at time `t`.
+    pub(super) fn at_time(mut self, t: f64) -> Self {
+        self.time = t;
+        self
     }
 }
 
@@ -86,6 +95,14 @@ impl Instant<'_> {
     #[must_use]
     pub fn qdd(&self, j: usize) -> f64 {
         self.qdd.get(j).copied().unwrap_or(f64::NAN)
+    }
+
+    /// The time (s) in a forward simulation ([`Dynamics::forward`]), from
+    /// its start; NaN elsewhere (an inverse analysis has no time), so
+    /// that a load of the time used there is reported as not finite.
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.time
     }
 }
 
@@ -176,6 +193,11 @@ pub(crate) trait View {
     fn frame(&self, i: usize) -> Option<&FrameState>;
     /// q, q', q'' of coordinate j (NaN when there is none).
     fn coordinate(&self, j: usize) -> [f64; 3];
+    /// The time of the motion, where it is one of a forward simulation
+    /// (NaN otherwise).
+    fn time(&self) -> f64 {
+        f64::NAN
+    }
 }
 
 /// Three components from two or three.
@@ -467,7 +489,7 @@ impl Dynamics {
 
     /// The energies, the shaking force and moment and the totals on the
     /// frame of the motion `s`, its loads read at `coords` (q, q', q'').
-    fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
+    pub(super) fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
         let g = self.gravity;
         let (mut kinetic, mut potential) = (0.0, 0.0);
         let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());
@@ -530,7 +552,7 @@ impl Dynamics {
         mut moment: Vector3<f64>,
     ) -> Result<(Vector3<f64>, Vector3<f64>), Error> {
         let planar = self.dim == 2;
-        let instant = |at| Instant::of(coords, at);
+        let instant = |at| Instant::of(coords, at).at_time(s.time());
         for b in &self.bodies {
             let [r, _, _] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
             let w = self.gravity * b.mass;
@@ -565,11 +587,16 @@ impl Dynamics {
 
     /// One driver's effort Q_k at the motion `s`, from its unit analysis
     /// `u`, with `coords` the q, q', q'' the loads read.
-    fn effort(&self, s: &dyn View, u: &dyn View, coords: [&[f64]; 3]) -> Result<f64, Error> {
+    pub(super) fn effort(
+        &self,
+        s: &dyn View,
+        u: &dyn View,
+        coords: [&[f64]; 3],
+    ) -> Result<f64, Error> {
         let g = self.gravity;
         let planar = self.dim == 2;
         let velocity = |v: &dyn View, p: usize| v.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
-        let instant = |at| Instant::of(coords, at);
+        let instant = |at| Instant::of(coords, at).at_time(s.time());
         let mut q = 0.0;
         for b in &self.bodies {
             let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);

@@ -90,6 +90,7 @@
 mod builder;
 mod cycle;
 pub(crate) mod evaluate;
+pub mod forward;
 mod joints;
 mod reactions;
 pub(crate) mod sensitivity;
@@ -105,6 +106,7 @@ use nalgebra::{Matrix3, Vector3};
 pub use builder::DynamicsBuilder;
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
+pub use forward::{Ended, Energy, Event, Forward, Motor, Statistics, Trajectory};
 pub use joints::{Axis, GROUND, Joint};
 pub use reactions::{JointReaction, Reactions};
 pub use sensitivity::EffortSensitivity;

@@ -446,7 +446,7 @@ impl Dynamics {
         }
         // The applied loads, moved to the right-hand side.
         let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at| Instant::of([&q, &qd, &qdd], Some(at));
+        let instant = |at| Instant::of([&q, &qd, &qdd], Some(at)).at_time(s.time());
         let planar = |v: Vector3<f64>| {
             if spatial {
                 v

@@ -237,7 +237,7 @@ impl Dynamics {
         self.differentiable()?;
         let planar = self.dim == 2;
         let [q, qd, qdd] = self.coordinates_of(s);
-        let instant = |at| Instant::of([&q, &qd, &qdd], at);
+        let instant = |at| Instant::of([&q, &qd, &qdd], at).at_time(s.time());
         let n = self.coordinates;
         let mut scratch = vec![[0.0; 3]; k + 3 * n];
         // A load's value and its tangents along each parameter.
@@ -315,6 +315,7 @@ impl Dynamics {
                 qdd: coords[2],
                 position: Vector3::zeros(),
                 velocity: Vector3::zeros(),
+                time: x.time(),
             };
             self.bodies
                 .iter()

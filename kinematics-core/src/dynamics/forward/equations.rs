@@ -1,0 +1,237 @@
+//! The equations of motion in the drivers, from the same unit analyses
+//! as the efforts: the mass matrix, the efforts at zero acceleration of
+//! the free drivers, and the power of each load.
+//!
+//! At a pose q with rates q̇, the effort each driver must supply is affine
+//! in the drivers' accelerations d̈ (the loads do not depend on them):
+//! Q(d̈) = M(q) d̈ + b(q, q̇, t), with
+//!
+//! M_kl = Σ_b m_b v_G^k · v_G^l + ω_b^k · J_b ω_b^l
+//!
+//! from the partial velocities v^k = ∂v/∂ḋ_k, ω^k = ∂ω/∂ḋ_k (J_b in the
+//! fixed axes), and b = Q at the accelerations with the free drivers'
+//! set to zero (the prescribed ones at their profile's). A free driver
+//! supplies no effort (a motor is a load on its coordinate), so its
+//! accelerations solve M_ff d̈_f = −b_f, and a prescribed driver supplies
+//! Q_p = b_p + M_pf d̈_f.
+
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+
+use nalgebra::Vector3;
+
+use crate::dynamics::Dynamics;
+use crate::dynamics::evaluate::{View, WithUnit, turning};
+use crate::error::{Error, Input};
+
+/// Where the equations are written: the mass matrix (drivers × drivers,
+/// row-major), the efforts at zero free acceleration, the power of each
+/// load, and room for the partial velocities of the bodies' centres and
+/// their angular velocities (drivers × bodies).
+pub(crate) struct Equations<'w> {
+    pub(crate) mass: &'w mut [f64],
+    pub(crate) bias: &'w mut [f64],
+    pub(crate) powers: &'w mut [f64],
+    pub(crate) partials: &'w mut [[Vector3<f64>; 2]],
+}
+
+impl Dynamics {
+    /// The number of loads whose work a forward simulation reports: every
+    /// force, torque and coordinate force, then every spring's damper.
+    pub(crate) fn working_loads(&self) -> usize {
+        self.forces.len() + self.torques.len() + self.coordinate_forces.len() + self.springs.len()
+    }
+
+    /// The names of the loads of [`Dynamics::working_loads`], in order.
+    pub(crate) fn working_load_names(&self) -> Vec<String> {
+        let mut names = Vec::with_capacity(self.working_loads());
+        for p in &self.load_names.forces {
+            names.push(format!("force at {p}"));
+        }
+        for (b, _) in &self.torques {
+            let body = self.bodies.get(*b).map_or("?", |b| b.name.as_str());
+            names.push(format!("torque on {body}"));
+        }
+        for c in &self.load_names.coordinate_forces {
+            names.push(format!("force on {c}"));
+        }
+        for sp in &self.springs {
+            let name = |i: usize| self.load_names.points.get(i).map_or("?", String::as_str);
+            names.push(format!("damper {}-{}", name(sp.from), name(sp.to)));
+        }
+        names
+    }
+
+    /// The number of bodies.
+    pub(crate) fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Writes the equations of motion at the motion `s` (its free drivers'
+    /// accelerations zero) into `out`, from the unit analyses `unit`
+    /// provides: M, b and the loads' powers at `s`.
+    ///
+    /// # Errors
+    /// A load or a result that is not finite, naming it; the unit
+    /// analyses' errors.
+    pub(crate) fn equations(
+        &self,
+        s: &dyn View,
+        unit: &mut dyn FnMut(usize, WithUnit<'_>) -> Result<(), Error>,
+        out: &mut Equations<'_>,
+    ) -> Result<(), Error> {
+        let nd = self.drivers;
+        let nb = self.bodies.len();
+        let [q, qd, qdd] = self.coordinates_of(s);
+        let coords = [&q[..], &qd[..], &qdd[..]];
+        for k in 0..nd {
+            let mut result = Ok(f64::NAN);
+            let partials = &mut out.partials[k * nb..(k + 1) * nb];
+            unit(k, &mut |u| {
+                result = self.effort(s, u, coords);
+                for (b, p) in self.bodies.iter().zip(partials.iter_mut()) {
+                    let v = u.point(b.center).map_or(Vector3::zeros(), |[_, v, _]| v);
+                    *p = [v, turning(b, u).0];
+                }
+            })?;
+            out.bias[k] = result?;
+        }
+        for k in 0..nd {
+            for l in 0..nd {
+                let mut m = 0.0;
+                for (i, b) in self.bodies.iter().enumerate() {
+                    let [vk, wk] = out.partials[k * nb + i];
+                    let [vl, wl] = out.partials[l * nb + i];
+                    let inertia = turning(b, s).2;
+                    m += b.mass * vk.dot(&vl) + wk.dot(&(inertia * wl));
+                }
+                out.mass[k * nd + l] = m;
+            }
+        }
+        self.load_powers(s, coords, out.powers)?;
+        for &value in out.mass.iter().chain(out.bias.iter()) {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name: "the equations of motion",
+                    value,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The power of each load of [`Dynamics::working_loads`] at the motion
+    /// `s`: F · v_P, T · ω, f q̇_j, and −c L̇² for each damper.
+    fn load_powers(
+        &self,
+        s: &dyn View,
+        coords: [&[f64]; 3],
+        powers: &mut [f64],
+    ) -> Result<(), Error> {
+        use crate::dynamics::evaluate::{Instant, LoadAt};
+        let planar = self.dim == 2;
+        let instant = |at| Instant::of(coords, at).at_time(s.time());
+        let mut slots = powers.iter_mut();
+        let mut put = |p: f64| {
+            if let Some(slot) = slots.next() {
+                *slot = p;
+            }
+        };
+        for (i, (p, _, f)) in self.forces.iter().enumerate() {
+            let at = s.point(*p);
+            let f = Vector3::from(f(&instant(at)));
+            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
+            let v = at.map_or(Vector3::zeros(), |[_, v, _]| v);
+            put(if planar { f.x * v.x + f.y * v.y } else { f.dot(&v) });
+        }
+        for (i, (b, t)) in self.torques.iter().enumerate() {
+            let body = self.bodies.get(*b);
+            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
+            let w = body.map_or(Vector3::zeros(), |b| turning(b, s).0);
+            put(if planar { t.z * w.z } else { t.dot(&w) });
+        }
+        for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
+            let f = f(&instant(None));
+            self.finite_load([f], LoadAt::Coordinate(i))?;
+            put(f * s.coordinate(*j)[1]);
+        }
+        for sp in &self.springs {
+            let nan = [Vector3::repeat(f64::NAN); 3];
+            let [ra, va, _] = s.point(sp.from).unwrap_or(nan);
+            let [rb, vb, _] = s.point(sp.to).unwrap_or(nan);
+            let d = rb - ra;
+            let length = d.norm();
+            let rate = if length > 0.0 {
+                d.dot(&(vb - va)) / length
+            } else {
+                0.0
+            };
+            put(-sp.damping * rate * rate);
+        }
+        Ok(())
+    }
+}
+
+/// Solves M x = r in place (x in `r`) for the symmetric positive definite
+/// n × n matrix `m` (row-major, overwritten by its Cholesky factor L,
+/// M = L Lᵀ). `Err(k)` when the k-th pivot is not positive: the free
+/// driver k moves no mass that the earlier ones do not.
+pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(), usize> {
+    // The scale below which a pivot counts as zero.
+    let largest = (0..n).map(|i| m[i * n + i].abs()).fold(0.0, f64::max);
+    for j in 0..n {
+        let mut d = m[j * n + j];
+        for k in 0..j {
+            d -= m[j * n + k] * m[j * n + k];
+        }
+        if !(d > 1e-14 * largest) {
+            return Err(j);
+        }
+        let d = crate::math::sqrt(d);
+        m[j * n + j] = d;
+        for i in j + 1..n {
+            let mut v = m[i * n + j];
+            for k in 0..j {
+                v -= m[i * n + k] * m[j * n + k];
+            }
+            m[i * n + j] = v / d;
+        }
+    }
+    // L y = r, then Lᵀ x = y.
+    for i in 0..n {
+        let mut v = r[i];
+        for k in 0..i {
+            v -= m[i * n + k] * r[k];
+        }
+        r[i] = v / m[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut v = r[i];
+        for k in i + 1..n {
+            v -= m[k * n + i] * r[k];
+        }
+        r[i] = v / m[i * n + i];
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cholesky_solve;
+
+    #[test]
+    fn cholesky_solves_a_positive_definite_system_and_names_a_zero_pivot() {
+        // M = [[4, 2], [2, 3]], x = (1, −2): r = (0, −4).
+        let mut m = [4.0, 2.0, 2.0, 3.0];
+        let mut r = [0.0, -4.0];
+        cholesky_solve(&mut m, &mut r, 2).unwrap();
+        assert!((r[0] - 1.0).abs() < 1e-15 && (r[1] + 2.0).abs() < 1e-15, "{r:?}");
+        // The second driver moves only what the first does.
+        let mut m = [1.0, 1.0, 1.0, 1.0];
+        let mut r = [1.0, 1.0];
+        assert_eq!(cholesky_solve(&mut m, &mut r, 2), Err(1));
+    }
+}

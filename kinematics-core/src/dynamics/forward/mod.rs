@@ -1,0 +1,208 @@
+//! Forward dynamics: the motion that the loads produce.
+//!
+//! Some drivers move freely (by default all of them); the others follow a
+//! prescribed profile of time, as in a kinematic simulation. The state is
+//! y = (d_f, ḋ_f), the free drivers and their rates; at every evaluation
+//! the mechanism is assembled at the drivers (closed form or
+//! Newton–Raphson from the last accepted pose) and analysed, so that the
+//! loops close to round-off at every instant with no drift and no
+//! constraint stabilisation. The accelerations of the free drivers solve
+//!
+//! M_ff(q) d̈_f = −b_f(q, q̇, t),
+//!
+//! M the mass matrix from the exact partial velocities and b the efforts
+//! at zero free acceleration, by virtual power ([`equations`]). The
+//! integrator is Dormand and Prince's explicit pair of orders 5(4) with
+//! error control on the positions and velocities and dense output
+//! ([`ode`]); the work of each load is integrated beside the motion, so
+//! that every run reports its energy balance, T + V − Σ W = T₀ + V₀.
+//!
+//! ```
+//! use kinematics_core::dynamics::{Body, Dynamics};
+//! use kinematics_core::mechanism;
+//!
+//! mechanism! {
+//!     /// A pendulum: a crank of length l with its mass at the end.
+//!     pub struct Pendulum { params { l } drivers { phi } unknowns { } points { G = polar(l, phi); } }
+//! }
+//! let m = Pendulum { l: 1.0 };
+//! let dynamics = Dynamics::builder()
+//!     .body(Body::new("bob", 1.0).center("G").angle("phi"))
+//!     .gravity([0.0, -9.81, 0.0])
+//!     .build::<Pendulum>()?;
+//! // Released at rest 1° from the bottom (φ = −90°): a small swing.
+//! let start = PendulumCoords { phi: (-89.0f64).to_radians() };
+//! let run = dynamics.forward(&m, &start).until(2.0).samples(200).tolerance(1e-10).run()?;
+//! assert!(run.ended.is_complete());
+//! // Half a period later (π √(l/g)) it is at the other end of its swing.
+//! let half = core::f64::consts::PI * (1.0 / 9.81f64).sqrt();
+//! let i = run.sweep.samples.iter().position(|s| s.at >= half).unwrap();
+//! assert!(run.sweep.samples[i].motion.q.phi < (-90.0f64).to_radians());
+//! // The energy is kept to the tolerance.
+//! assert!(run.energy_error() < 1e-8);
+//! # Ok::<(), kinematics_core::Error>(())
+//! ```
+
+pub(crate) mod equations;
+mod generated;
+mod motor;
+pub(crate) mod ode;
+mod run;
+
+use alloc::string::String;
+use alloc::vec::Vec;
+
+pub use generated::Forward;
+pub use motor::Motor;
+
+use crate::mechanism::Mechanism;
+use crate::sweep::Sweep;
+
+/// What ends a forward simulation before its end time: a coordinate, or
+/// its rate, reaching a value (a stop, a limit switch, the end of a
+/// deployment, a speed reached).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    pub(crate) coordinate: String,
+    pub(crate) rate: bool,
+    pub(crate) value: f64,
+}
+
+impl Event {
+    /// The coordinate `coordinate` (a driver or an unknown, by name)
+    /// reaching `value`, from either side (an angle in radians, not
+    /// wrapped: a crank's second turn ends at 4π).
+    #[must_use]
+    pub fn reaches(coordinate: &str, value: f64) -> Self {
+        Event {
+            coordinate: coordinate.into(),
+            rate: false,
+            value,
+        }
+    }
+
+    /// The rate of `coordinate` reaching `value`, from either side.
+    #[must_use]
+    pub fn rate_reaches(coordinate: &str, value: f64) -> Self {
+        Event {
+            coordinate: coordinate.into(),
+            rate: true,
+            value,
+        }
+    }
+}
+
+/// How a forward simulation ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ended {
+    /// At its end time.
+    Complete,
+    /// At the event of this index (in the order given), located at the
+    /// time `at` to the resolution of the time.
+    Event {
+        /// The event's index.
+        index: usize,
+        /// When.
+        at: f64,
+    },
+    /// The motion could not go on past `at` (the sweep's `stop` says why:
+    /// a limit position or a singular pose met, located by shortening the
+    /// step to the resolution of the time; a load not finite).
+    Failed {
+        /// The last time reached.
+        at: f64,
+    },
+    /// The step limit ([`Forward::max_steps`]) was reached at `at`.
+    StepLimit {
+        /// The last time reached.
+        at: f64,
+    },
+}
+
+impl Ended {
+    /// Whether the simulation reached its end time.
+    #[must_use]
+    pub fn is_complete(&self) -> bool {
+        *self == Ended::Complete
+    }
+}
+
+/// The energies and works at one sample of a forward simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Energy {
+    /// The time (s).
+    pub t: f64,
+    /// T = Σ ½ m |v_G|² + ½ ω · J ω (J).
+    pub kinetic: f64,
+    /// V = −Σ m g · r_G + Σ ½ k (L − L₀)² (J).
+    pub potential: f64,
+    /// The work done since the start by each load and prescribed driver
+    /// ([`Trajectory::work_names`]), J.
+    pub work: Vec<f64>,
+    /// Each driver's effort at the sample (zero for a free one; for a
+    /// prescribed one, what it must supply to follow its profile).
+    pub effort: Vec<f64>,
+}
+
+impl Energy {
+    /// T + V − Σ W: constant in an exact solution.
+    #[must_use]
+    pub fn balance(&self) -> f64 {
+        self.kinetic + self.potential - self.work.iter().sum::<f64>()
+    }
+}
+
+/// The counts of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Statistics {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps (the error too large, or a stage past a limit).
+    pub rejected: usize,
+    /// Evaluations of the equations of motion (each an assembly, an
+    /// analysis, one unit analysis per driver and a solve with M).
+    pub evaluations: usize,
+}
+
+/// The result of a forward simulation: its samples as a sweep in time
+/// (variable `t`; every output of a sweep applies: CSV, plots,
+/// animation), the energies and works at each sample, and how it ended.
+#[derive(Debug, Clone)]
+pub struct Trajectory<M: Mechanism> {
+    /// The samples at the output times (and at the event that ended it,
+    /// if one did), each with q, q̇, q̈ and every point's motion.
+    pub sweep: Sweep<M>,
+    /// The energies and works at each sample.
+    pub energy: Vec<Energy>,
+    /// The names of the works of [`Energy::work`]: `force at P`,
+    /// `torque on body`, `force on coordinate`, `damper A-B`, then
+    /// `driver d` for each prescribed driver.
+    pub work_names: Vec<String>,
+    /// How it ended.
+    pub ended: Ended,
+    /// Steps and evaluations.
+    pub statistics: Statistics,
+}
+
+impl<M: Mechanism> Trajectory<M> {
+    /// The largest change of T + V − Σ W over the run, relative to the
+    /// largest of |T|, |V| and the works met (0 for a run of one sample):
+    /// how well the energy balance holds.
+    #[must_use]
+    pub fn energy_error(&self) -> f64 {
+        let Some(first) = self.energy.first() else {
+            return 0.0;
+        };
+        let e0 = first.balance();
+        let mut scale: f64 = 0.0;
+        let mut worst: f64 = 0.0;
+        for e in &self.energy {
+            scale = scale.max(e.kinetic.abs()).max(e.potential.abs());
+            for w in &e.work {
+                scale = scale.max(w.abs());
+            }
+            worst = worst.max((e.balance() - e0).abs());
+        }
+        if scale > 0.0 { worst / scale } else { worst }
+    }
+}

@@ -1,0 +1,463 @@
+//! An explicit Runge–Kutta integrator with error control and dense
+//! output: the Dormand–Prince pair of orders 5 and 4 (seven stages, the
+//! last one reused as the first of the next step), its step size chosen
+//! from the local error estimate with a PI controller, and its
+//! continuous extension of order 4 between the ends of a step.
+//!
+//! It knows no mechanism: a [`System`] gives y' = f(t, y), and may refuse
+//! a state (an error), which the integrator answers by a shorter step.
+//! Its work vectors are allocated once, when it is made.
+//!
+//! # The method
+//!
+//! With the stages k_i = f(t + c_i h, y + h Σ_j a_ij k_j), the solution of
+//! order 5 is y₁ = y + h Σ b_i k_i and the error estimate
+//! e = h Σ (b_i − b̂_i) k_i, b̂ the weights of order 4. The error norm is
+//! ‖e‖ = √(1/n Σ (e_i / s_i)²) over the controlled components, with the
+//! scale s_i = atol_i + rtol · max(|y_i|, |y₁_i|); a step is accepted when
+//! ‖e‖ ≤ 1. The next step is h · 0.9 · ‖e‖^(−0.17) · ‖e‖_prev^(0.04)
+//! (between h/5 and 10 h). The dense output at θ ∈ [0, 1] of a step is
+//! y(θ) = y₀ + θ (Δ + (1 − θ) (B + θ (Δ − h k₇ − B + (1 − θ) D))), with
+//! Δ = y₁ − y₀, B = h k₁ − Δ and D = h Σ d_i k_i (Dormand and Prince's
+//! fourth-order extension, as in Hairer, Nørsett and Wanner, *Solving
+//! Ordinary Differential Equations I*, section II.6).
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::error::Error;
+use crate::math;
+
+/// A system of first-order equations y' = f(t, y).
+pub(crate) trait System {
+    /// The number of components of y.
+    fn len(&self) -> usize;
+    /// The number of leading components the error is controlled on (the
+    /// rest are quadratures that follow the same stages).
+    fn controlled(&self) -> usize {
+        self.len()
+    }
+    /// Writes f(t, y) into `dy`.
+    ///
+    /// # Errors
+    /// A state the system cannot evaluate (the integrator retries with a
+    /// shorter step).
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error>;
+}
+
+// The Dormand–Prince 5(4) tableau.
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+/// b − b̂: the weights of the error estimate.
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339_200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+/// The weights of the dense output's last term.
+const D: [f64; 7] = [
+    -12_715_105_075.0 / 11_282_082_432.0,
+    0.0,
+    87_487_479_700.0 / 32_700_410_799.0,
+    -10_690_763_975.0 / 1_880_347_072.0,
+    701_980_252_875.0 / 199_316_789_632.0,
+    -1_453_857_185.0 / 822_651_844.0,
+    69_997_945.0 / 29_380_423.0,
+];
+
+/// The tolerances of the error control: component i's scale is
+/// `absolute[i] + relative · max(|y_i|, |y₁_i|)`.
+#[derive(Clone, Debug)]
+pub(crate) struct Tolerances {
+    pub(crate) relative: f64,
+    /// One per controlled component.
+    pub(crate) absolute: Vec<f64>,
+}
+
+/// How a call to [`Dopri::step`] ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Stepped {
+    /// A step was accepted: the state is at the new time, the previous one
+    /// and the dense output span the step.
+    Accepted,
+    /// The step size fell below the resolution of the time: the system
+    /// refused every state ahead (its last error is returned with it) or
+    /// the error could not be controlled.
+    TooSmall,
+}
+
+/// The integrator's state: the time and solution, the last step and what
+/// its dense output needs.
+pub(crate) struct Dopri {
+    n: usize,
+    pub(crate) t: f64,
+    pub(crate) y: Vec<f64>,
+    /// The time and solution at the start of the last accepted step.
+    pub(crate) t_old: f64,
+    y_old: Vec<f64>,
+    /// The stages; `k[0]` is f at (t, y).
+    k: [Vec<f64>; 7],
+    stage: Vec<f64>,
+    y_new: Vec<f64>,
+    /// The dense output's terms Δ, B, the fourth and the fifth.
+    dense: [Vec<f64>; 4],
+    h: f64,
+    previous_error: f64,
+    tolerances: Tolerances,
+    /// The largest step allowed.
+    pub(crate) max_step: f64,
+    /// The counts of evaluations of f, of accepted and of rejected steps.
+    pub(crate) evaluations: usize,
+    pub(crate) accepted: usize,
+    pub(crate) rejected: usize,
+    /// The last error of the system, after a refused state.
+    pub(crate) refused: Option<Error>,
+}
+
+impl Dopri {
+    /// An integrator for `system` from (t0, y0), its first step chosen
+    /// from the derivatives there (Hairer's starting step).
+    ///
+    /// # Errors
+    /// The system's error at (t0, y0).
+    pub(crate) fn new<S: System>(
+        system: &mut S,
+        t0: f64,
+        y0: &[f64],
+        tolerances: Tolerances,
+        max_step: f64,
+    ) -> Result<Self, Error> {
+        let n = system.len();
+        let zeros = || vec![0.0; n];
+        let mut me = Dopri {
+            n,
+            t: t0,
+            y: y0.to_vec(),
+            t_old: t0,
+            y_old: y0.to_vec(),
+            k: core::array::from_fn(|_| zeros()),
+            stage: zeros(),
+            y_new: zeros(),
+            dense: core::array::from_fn(|_| zeros()),
+            h: 0.0,
+            previous_error: 1e-4,
+            tolerances,
+            max_step,
+            evaluations: 0,
+            accepted: 0,
+            rejected: 0,
+            refused: None,
+        };
+        system.rhs(t0, y0, &mut me.k[0])?;
+        me.evaluations += 1;
+        me.h = me.starting_step(system)?;
+        Ok(me)
+    }
+
+    /// The scale of component i between `a` and `b`.
+    fn scale(&self, i: usize, a: f64, b: f64) -> f64 {
+        self.tolerances.absolute.get(i).copied().unwrap_or(0.0)
+            + self.tolerances.relative * math::abs(a).max(math::abs(b))
+    }
+
+    /// The scaled root-mean-square norm of `v` over the controlled
+    /// components, scaled at `y` (and `y1`).
+    fn norm(&self, v: &[f64], y: &[f64], y1: &[f64], controlled: usize) -> f64 {
+        let mut sum = 0.0;
+        for i in 0..controlled {
+            let s = self.scale(i, y[i], y1[i]);
+            let x = v[i] / s;
+            sum += x * x;
+        }
+        #[allow(clippy::cast_precision_loss)]
+        let count = controlled.max(1) as f64;
+        math::sqrt(sum / count)
+    }
+
+    /// Hairer's estimate of a first step: h₀ = 0.01 ‖y‖/‖f‖, then the
+    /// step of order 5 from the change of f over h₀.
+    fn starting_step<S: System>(&mut self, system: &mut S) -> Result<f64, Error> {
+        let c = system.controlled();
+        let d0 = self.norm(&self.y, &self.y, &self.y, c);
+        let d1 = self.norm(&self.k[0], &self.y, &self.y, c);
+        let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
+        h0 = h0.min(self.max_step);
+        for i in 0..self.n {
+            self.stage[i] = self.y[i] + h0 * self.k[0][i];
+        }
+        let mut f1 = vec![0.0; self.n];
+        system.rhs(self.t + h0, &self.stage, &mut f1)?;
+        self.evaluations += 1;
+        for (f, k) in f1.iter_mut().zip(&self.k[0]) {
+            *f -= k;
+        }
+        let d2 = self.norm(&f1, &self.y, &self.y, c) / h0;
+        let h1 = if d1.max(d2) <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            math::exp(math::ln(0.01 / d1.max(d2)) / 5.0)
+        };
+        Ok((100.0 * h0).min(h1).min(self.max_step))
+    }
+
+    /// Takes one accepted step toward `t_end` (never past it), retrying
+    /// with shorter steps while the error is too large or the system
+    /// refuses a stage.
+    pub(crate) fn step<S: System>(&mut self, system: &mut S, t_end: f64) -> Stepped {
+        let controlled = system.controlled();
+        loop {
+            let room = t_end - self.t;
+            let mut h = self.h.min(self.max_step);
+            let last = h >= room * (1.0 - 1e-12);
+            if last {
+                h = room;
+            }
+            if !(h > 1e-14 * (1.0 + math::abs(self.t))) {
+                return Stepped::TooSmall;
+            }
+            match self.stages(system, h) {
+                Err(e) => {
+                    // A stage the system refused (past a limit, a
+                    // singular pose): a quarter of the step.
+                    self.refused = Some(e);
+                    self.rejected += 1;
+                    self.h = h * 0.25;
+                    continue;
+                }
+                Ok(()) => {}
+            }
+            // The error estimate, in `stage`.
+            for i in 0..self.n {
+                let mut e = 0.0;
+                for (s, w) in E.iter().enumerate() {
+                    e += w * self.k[s][i];
+                }
+                self.stage[i] = h * e;
+            }
+            let err = self.norm(&self.stage, &self.y, &self.y_new, controlled);
+            if !err.is_finite() {
+                self.rejected += 1;
+                self.h = h * 0.25;
+                continue;
+            }
+            // The PI controller: exponents 1/5 − 0.75 β and β, β = 0.04.
+            let fac11 = if err > 0.0 {
+                math::exp(0.17 * math::ln(err))
+            } else {
+                0.0
+            };
+            if err <= 1.0 {
+                let fac = fac11 / math::exp(0.04 * math::ln(self.previous_error));
+                let fac = (fac / 0.9).clamp(0.1, 5.0);
+                self.previous_error = err.max(1e-4);
+                self.accept(h, last.then_some(t_end));
+                self.h = h / fac;
+                self.refused = None;
+                return Stepped::Accepted;
+            }
+            self.rejected += 1;
+            self.h = h / (fac11 / 0.9).min(5.0);
+        }
+    }
+
+    /// The stages k₂ … k₇ of a step of size h from (t, y), and y₁ in
+    /// `y_new`.
+    fn stages<S: System>(&mut self, system: &mut S, h: f64) -> Result<(), Error> {
+        for s in 1..7 {
+            for i in 0..self.n {
+                let mut sum = 0.0;
+                for (j, a) in A[s].iter().enumerate().take(s) {
+                    sum += a * self.k[j][i];
+                }
+                self.stage[i] = self.y[i] + h * sum;
+            }
+            system.rhs(self.t + C[s] * h, &self.stage, &mut self.k[s])?;
+            self.evaluations += 1;
+        }
+        // Stage 7 is at y₁ (the weights of order 5 are A's last row).
+        self.y_new.copy_from_slice(&self.stage);
+        Ok(())
+    }
+
+    /// Makes the step of size h the last accepted one: the dense output's
+    /// terms, then (t, y) moved to its end (`end` exactly, for the last
+    /// step to the end).
+    fn accept(&mut self, h: f64, end: Option<f64>) {
+        for i in 0..self.n {
+            let delta = self.y_new[i] - self.y[i];
+            let b = h * self.k[0][i] - delta;
+            let mut d = 0.0;
+            for (s, w) in D.iter().enumerate() {
+                d += w * self.k[s][i];
+            }
+            self.dense[0][i] = delta;
+            self.dense[1][i] = b;
+            self.dense[2][i] = delta - h * self.k[6][i] - b;
+            self.dense[3][i] = h * d;
+        }
+        self.t_old = self.t;
+        self.y_old.copy_from_slice(&self.y);
+        self.t = end.unwrap_or(self.t + h);
+        self.y.copy_from_slice(&self.y_new);
+        // The last stage is f at the new point: the next step's first.
+        let (first, rest) = self.k.split_at_mut(6);
+        first[0].copy_from_slice(&rest[0]);
+        self.accepted += 1;
+    }
+
+    /// The dense output at time t within the last accepted step, written
+    /// into `out`.
+    pub(crate) fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let span = self.t - self.t_old;
+        let theta = if span > 0.0 {
+            ((t - self.t_old) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let rest = 1.0 - theta;
+        for (i, o) in out.iter_mut().enumerate().take(self.n) {
+            let [delta, b, c, d] = [
+                self.dense[0][i],
+                self.dense[1][i],
+                self.dense[2][i],
+                self.dense[3][i],
+            ];
+            *o = self.y_old[i] + theta * (delta + rest * (b + theta * (c + rest * d)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The harmonic oscillator x'' = −x, y = (x, x').
+    struct Oscillator;
+
+    impl System for Oscillator {
+        fn len(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            Ok(())
+        }
+    }
+
+    fn run(tol: f64) -> (Dopri, f64) {
+        let tolerances = Tolerances {
+            relative: tol,
+            absolute: vec![tol; 2],
+        };
+        let mut s = Oscillator;
+        let mut d = Dopri::new(&mut s, 0.0, &[1.0, 0.0], tolerances, f64::INFINITY).unwrap();
+        // The largest error of the dense output at 20 points of each step.
+        let mut worst: f64 = 0.0;
+        let mut out = [0.0; 2];
+        while d.t < 10.0 {
+            assert_eq!(d.step(&mut s, 10.0), Stepped::Accepted);
+            for j in 0..=20 {
+                let t = d.t_old + (d.t - d.t_old) * f64::from(j) / 20.0;
+                d.interpolate(t, &mut out);
+                worst = worst.max((out[0] - t.cos()).abs()).max((out[1] + t.sin()).abs());
+            }
+        }
+        (d, worst)
+    }
+
+    #[test]
+    fn the_oscillator_is_followed_to_its_tolerance_between_and_at_the_steps() {
+        for tol in [1e-6, 1e-9, 1e-12] {
+            let (d, worst) = run(tol);
+            assert_eq!(d.t, 10.0);
+            // The global error is of the order of the tolerance (a few
+            // times it over 1.6 periods), at the ends and in between.
+            assert!((d.y[0] - 10f64.cos()).abs() < 30.0 * tol, "{tol}: {:?}", d.y);
+            assert!(worst < 30.0 * tol, "{tol}: dense output off by {worst}");
+        }
+        // Tighter tolerance, more steps, by about the fifth root of 1000.
+        let (coarse, _) = run(1e-6);
+        let (fine, _) = run(1e-9);
+        #[allow(clippy::cast_precision_loss)]
+        let ratio = fine.accepted as f64 / coarse.accepted as f64;
+        assert!((3.0..5.5).contains(&ratio), "{ratio}");
+    }
+
+    /// y' = 1 refused past t = 1: the integrator closes in on it.
+    struct Wall;
+
+    impl System for Wall {
+        fn len(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, _: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+            if t > 1.0 {
+                return Err(Error::InvalidOption {
+                    name: "t",
+                    value: t,
+                    requirement: "at most 1",
+                });
+            }
+            dy[0] = 1.0;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_refused_state_shortens_the_step_until_the_time_resolution() {
+        let tolerances = Tolerances {
+            relative: 1e-8,
+            absolute: vec![1e-8],
+        };
+        let mut d = Dopri::new(&mut Wall, 0.0, &[0.0], tolerances, 0.3).unwrap();
+        let mut last = Stepped::Accepted;
+        for _ in 0..10_000 {
+            last = d.step(&mut Wall, 2.0);
+            if last == Stepped::TooSmall {
+                break;
+            }
+        }
+        assert_eq!(last, Stepped::TooSmall);
+        assert!(d.refused.is_some());
+        assert!(d.t <= 1.0 && d.t > 1.0 - 1e-12, "{}", d.t);
+        assert!((d.y[0] - d.t).abs() < 1e-12);
+    }
+}

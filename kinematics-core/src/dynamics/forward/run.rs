@@ -1,0 +1,415 @@
+//! The integration of a forward simulation, written once for every kind
+//! of model: the equations of motion as a [`System`], the output samples
+//! from the dense output, the events located on it, and how a run ends.
+//! A model takes part through [`Analysis`]: an assembly and analysis at
+//! given drivers, and the equations at its current motion.
+
+use alloc::format;
+use alloc::string::ToString;
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::equations::{Equations, cholesky_solve};
+use super::ode::{Dopri, Stepped, System, Tolerances};
+use super::{Ended, Energy, Statistics};
+use crate::dynamics::Dynamics;
+use crate::dynamics::evaluate::View;
+use crate::error::Error;
+use crate::mechanism::FrameState;
+
+/// What the integration needs of a model.
+pub(crate) trait Analysis {
+    /// The prescribed drivers' values, rates and accelerations at time `t`
+    /// (every driver's entry is written; the free ones are overwritten).
+    fn profile(&mut self, t: f64, d: &mut [f64], dd: &mut [f64], ddd: &mut [f64]);
+    /// Assembles at the drivers `d` from the last committed pose and
+    /// analyses the motion with the drivers' rates `dd` and accelerations
+    /// `ddd`: the current motion.
+    ///
+    /// # Errors
+    /// The assembly's and the analysis' errors.
+    fn analyze(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error>;
+    /// The equations of motion at the current motion, at time `t`.
+    ///
+    /// # Errors
+    /// As [`Dynamics::equations`].
+    fn equations(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut Equations<'_>,
+    ) -> Result<(), Error>;
+    /// T and V at the current motion.
+    ///
+    /// # Errors
+    /// As [`Dynamics::inverse`].
+    fn energies(&self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error>;
+    /// q, q̇ and q̈ of coordinate j at the current motion.
+    fn coordinate(&self, j: usize) -> [f64; 3];
+    /// Makes the current motion the start of the next assemblies.
+    fn commit(&mut self);
+    /// Keeps the current motion as the output sample at time `t`.
+    fn record(&mut self, t: f64);
+}
+
+/// A motion's view at a time, for the loads that read it.
+pub(crate) struct Timed<'a>(pub(crate) &'a dyn View, pub(crate) f64);
+
+impl View for Timed<'_> {
+    fn point(&self, i: usize) -> Option<[nalgebra::Vector3<f64>; 3]> {
+        self.0.point(i)
+    }
+    fn frame(&self, i: usize) -> Option<&FrameState> {
+        self.0.frame(i)
+    }
+    fn coordinate(&self, j: usize) -> [f64; 3] {
+        self.0.coordinate(j)
+    }
+    fn time(&self) -> f64 {
+        self.1
+    }
+}
+
+/// What a run was asked for.
+pub(crate) struct Settings {
+    pub(crate) until: f64,
+    /// The number of equal intervals between the output samples.
+    pub(crate) intervals: usize,
+    pub(crate) relative: f64,
+    /// The absolute tolerances of the positions and of the velocities.
+    pub(crate) absolute: [f64; 2],
+    pub(crate) max_step: f64,
+    pub(crate) max_steps: usize,
+    /// (coordinate, of its rate, value).
+    pub(crate) events: Vec<(usize, bool, f64)>,
+}
+
+/// How a run went, besides its samples.
+pub(crate) struct Outcome {
+    pub(crate) energy: Vec<Energy>,
+    pub(crate) ended: Ended,
+    /// The error that ended it, with its time.
+    pub(crate) failure: Option<(f64, Error)>,
+    pub(crate) statistics: Statistics,
+}
+
+/// The equations of motion as a first-order system: y = (d_f, ḋ_f, W),
+/// y' = (ḋ_f, d̈_f, P), W the works of the loads and prescribed drivers.
+struct Eom<'d, A> {
+    analysis: A,
+    dynamics: &'d Dynamics,
+    free: Vec<usize>,
+    /// The prescribed drivers.
+    prescribed: Vec<usize>,
+    nd: usize,
+    /// The drivers' values, rates and accelerations of the last
+    /// evaluation.
+    d: Vec<f64>,
+    dd: Vec<f64>,
+    ddd: Vec<f64>,
+    mass: Vec<f64>,
+    bias: Vec<f64>,
+    powers: Vec<f64>,
+    partials: Vec<[nalgebra::Vector3<f64>; 2]>,
+    /// M_ff, then its factor; −b_f, then d̈_f.
+    mff: Vec<f64>,
+    x: Vec<f64>,
+}
+
+impl<A: Analysis> Eom<'_, A> {
+    /// The drivers at (t, y), the free accelerations zero.
+    fn set_drivers(&mut self, t: f64, y: &[f64]) {
+        let nf = self.free.len();
+        self.analysis
+            .profile(t, &mut self.d, &mut self.dd, &mut self.ddd);
+        for (i, &k) in self.free.iter().enumerate() {
+            self.d[k] = y[i];
+            self.dd[k] = y[nf + i];
+            self.ddd[k] = 0.0;
+        }
+    }
+
+    /// Each driver's effort at the accelerations `x` of the free ones:
+    /// Q = b + M_·f d̈_f.
+    fn efforts(&self) -> Vec<f64> {
+        (0..self.nd)
+            .map(|k| {
+                if self.free.contains(&k) {
+                    return 0.0;
+                }
+                let mut q = self.bias[k];
+                for (i, &l) in self.free.iter().enumerate() {
+                    q += self.mass[k * self.nd + l] * self.x[i];
+                }
+                q
+            })
+            .collect()
+    }
+}
+
+impl<A: Analysis> System for Eom<'_, A> {
+    fn len(&self) -> usize {
+        2 * self.free.len() + self.powers.len() + self.prescribed.len()
+    }
+
+    fn controlled(&self) -> usize {
+        2 * self.free.len()
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        self.set_drivers(t, y);
+        self.analysis.analyze(&self.d, &self.dd, &self.ddd)?;
+        let mut out = Equations {
+            mass: &mut self.mass,
+            bias: &mut self.bias,
+            powers: &mut self.powers,
+            partials: &mut self.partials,
+        };
+        self.analysis.equations(self.dynamics, t, &mut out)?;
+        for (i, &k) in self.free.iter().enumerate() {
+            self.x[i] = -self.bias[k];
+            for (j, &l) in self.free.iter().enumerate() {
+                self.mff[i * nf + j] = self.mass[k * self.nd + l];
+            }
+        }
+        if let Err(i) = cholesky_solve(&mut self.mff, &mut self.x, nf) {
+            return Err(Error::InvalidDynamics {
+                item: format!("free driver {}", self.free[i] + 1),
+                detail: "moves no mass or inertia of its own at this pose (the mass matrix \
+                         of the free drivers is singular): give the bodies it moves their \
+                         masses and moments of inertia, or prescribe it"
+                    .to_string(),
+            });
+        }
+        dy[..nf].copy_from_slice(&y[nf..2 * nf]);
+        dy[nf..2 * nf].copy_from_slice(&self.x);
+        let rest = &mut dy[2 * nf..];
+        rest[..self.powers.len()].copy_from_slice(&self.powers);
+        let p0 = self.powers.len();
+        for (i, &p) in self.prescribed.iter().enumerate() {
+            let mut q = self.bias[p];
+            for (j, &l) in self.free.iter().enumerate() {
+                q += self.mass[p * self.nd + l] * self.x[j];
+            }
+            rest[p0 + i] = q * self.dd[p];
+        }
+        Ok(())
+    }
+}
+
+/// Integrates from the committed start pose of `analysis`, the free
+/// drivers `free` at `d0` with rates `rates0`, recording the samples.
+pub(crate) fn integrate<A: Analysis>(
+    analysis: A,
+    dynamics: &Dynamics,
+    free: Vec<usize>,
+    y0: (&[f64], &[f64]),
+    settings: &Settings,
+) -> Result<(A, Outcome), Error> {
+    let nd = dynamics.drivers;
+    let nf = free.len();
+    let prescribed: Vec<usize> = (0..nd).filter(|k| !free.contains(k)).collect();
+    let nw = dynamics.working_loads();
+    let mut eom = Eom {
+        analysis,
+        dynamics,
+        nd,
+        d: vec![0.0; nd],
+        dd: vec![0.0; nd],
+        ddd: vec![0.0; nd],
+        mass: vec![0.0; nd * nd],
+        bias: vec![0.0; nd],
+        powers: vec![0.0; nw],
+        partials: vec![[nalgebra::Vector3::zeros(); 2]; nd * dynamics.body_count()],
+        mff: vec![0.0; nf * nf],
+        x: vec![0.0; nf],
+        free,
+        prescribed,
+    };
+    let n = eom.len();
+    let mut y = vec![0.0; n];
+    y[..nf].copy_from_slice(y0.0);
+    y[nf..2 * nf].copy_from_slice(y0.1);
+    let mut energy = Vec::with_capacity(settings.intervals + 2);
+    // The start: assembled from the given pose, its sample the first.
+    energy.push(emit(&mut eom, 0.0, &y)?);
+    eom.analysis.commit();
+    let values = |eom: &Eom<'_, A>| -> Vec<f64> {
+        settings
+            .events
+            .iter()
+            .map(|&(j, rate, v)| eom.analysis.coordinate(j)[usize::from(rate)] - v)
+            .collect()
+    };
+    let mut previous = values(&eom);
+    let mut absolute = vec![settings.absolute[0]; nf];
+    absolute.extend(core::iter::repeat_n(settings.absolute[1], nf));
+    let tolerances = Tolerances {
+        relative: settings.relative,
+        absolute,
+    };
+    let mut ode = Dopri::new(&mut eom, 0.0, &y, tolerances, settings.max_step)?;
+    #[allow(clippy::cast_precision_loss)]
+    let output = |k: usize| settings.until * (k as f64) / (settings.intervals as f64);
+    let mut next = 1;
+    let mut failure = None;
+    let ended = loop {
+        if ode.t >= settings.until {
+            break Ended::Complete;
+        }
+        if ode.accepted >= settings.max_steps {
+            break Ended::StepLimit { at: ode.t };
+        }
+        if ode.step(&mut eom, settings.until) == Stepped::TooSmall {
+            let e = ode.refused.take().unwrap_or_else(|| Error::InvalidDynamics {
+                item: "forward simulation".to_string(),
+                detail: format!(
+                    "the step size fell below the resolution of the time at t = {}: the \
+                     motion is not smooth there (an impact, a load that jumps), or the \
+                     tolerance is too tight for f64",
+                    ode.t
+                ),
+            });
+            failure = Some((ode.t, e));
+            break Ended::Failed { at: ode.t };
+        }
+        // The last evaluation was at the end of the step.
+        eom.analysis.commit();
+        let now = values(&eom);
+        let crossing = previous
+            .iter()
+            .zip(&now)
+            .position(|(a, b)| *a != 0.0 && a * b <= 0.0);
+        let limit = match crossing {
+            Some(i) => locate(&mut eom, &ode, settings.events[i], previous[i], now[i])
+                .map(|t| (i, t)),
+            None => None,
+        };
+        let upto = limit.map_or(ode.t, |(_, t)| t);
+        let mut out = vec![0.0; n];
+        while next <= settings.intervals && output(next) <= upto {
+            let t = output(next);
+            let state = if t == ode.t {
+                &ode.y
+            } else {
+                ode.interpolate(t, &mut out);
+                &out
+            };
+            match emit(&mut eom, t, state) {
+                Ok(e) => energy.push(e),
+                Err(e) => {
+                    failure = Some((t, e));
+                    break;
+                }
+            }
+            next += 1;
+        }
+        if let Some((t, _)) = failure {
+            break Ended::Failed { at: t };
+        }
+        if let Some((index, at)) = limit {
+            if next > settings.intervals || output(next - 1) < at {
+                ode.interpolate(at, &mut out);
+                match emit(&mut eom, at, &out) {
+                    Ok(e) => energy.push(e),
+                    Err(e) => {
+                        failure = Some((at, e));
+                        break Ended::Failed { at };
+                    }
+                }
+            }
+            break Ended::Event { index, at };
+        }
+        previous = now;
+    };
+    let statistics = Statistics {
+        steps: ode.accepted,
+        rejected: ode.rejected,
+        evaluations: ode.evaluations,
+    };
+    Ok((
+        eom.analysis,
+        Outcome {
+            energy,
+            ended,
+            failure,
+            statistics,
+        },
+    ))
+}
+
+/// The output sample at (t, y): the accelerations from the equations of
+/// motion, the motion analysed with them and recorded, its energies.
+fn emit<A: Analysis>(eom: &mut Eom<'_, A>, t: f64, y: &[f64]) -> Result<Energy, Error> {
+    let nf = eom.free.len();
+    let mut dy = vec![0.0; eom.len()];
+    eom.rhs(t, y, &mut dy)?;
+    let effort = eom.efforts();
+    for (i, &k) in eom.free.iter().enumerate() {
+        eom.ddd[k] = dy[nf + i];
+    }
+    eom.analysis.analyze(&eom.d, &eom.dd, &eom.ddd)?;
+    let (kinetic, potential) = eom.analysis.energies(eom.dynamics, t)?;
+    eom.analysis.record(t);
+    Ok(Energy {
+        t,
+        kinetic,
+        potential,
+        work: y[2 * nf..].to_vec(),
+        effort,
+    })
+}
+
+/// The time in the last step at which the event `(j, rate, value)`
+/// crosses, its values `ga` at the step's start and `gb` at its end, by
+/// the Illinois method on the dense output (each trial an assembly).
+fn locate<A: Analysis>(
+    eom: &mut Eom<'_, A>,
+    ode: &Dopri,
+    (j, rate, value): (usize, bool, f64),
+    ga: f64,
+    gb: f64,
+) -> Option<f64> {
+    let (mut a, mut b) = (ode.t_old, ode.t);
+    let (mut fa, mut fb) = (ga, gb);
+    if fb == 0.0 {
+        return Some(b);
+    }
+    let mut y = vec![0.0; eom.len()];
+    let mut side = 0i8;
+    for _ in 0..100 {
+        if b - a <= 4.0 * f64::EPSILON * b.abs().max(1.0) {
+            break;
+        }
+        let mut t = (a * fb - b * fa) / (fb - fa);
+        if !(t > a && t < b) {
+            t = 0.5 * (a + b);
+        }
+        ode.interpolate(t, &mut y);
+        eom.set_drivers(t, &y);
+        if eom.analysis.analyze(&eom.d, &eom.dd, &eom.ddd).is_err() {
+            // Past a limit: the crossing is before it.
+            b = t;
+            continue;
+        }
+        let f = eom.analysis.coordinate(j)[usize::from(rate)] - value;
+        if f == 0.0 {
+            return Some(t);
+        }
+        if f * fa < 0.0 {
+            (b, fb) = (t, f);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, fa) = (t, f);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Some(b)
+}
