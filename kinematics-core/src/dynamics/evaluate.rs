@@ -404,7 +404,7 @@ impl Dynamics {
     }
 
     /// q, q' and q'' of every coordinate of `s`, as the loads read them.
-    pub(super) fn coordinates_of(&self, s: &dyn View) -> [Buffer; 3] {
+    pub(crate) fn coordinates_of(&self, s: &dyn View) -> [Buffer; 3] {
         let n = self.coordinates;
         let mut out = [Buffer::zeros(n), Buffer::zeros(n), Buffer::zeros(n)];
         for j in 0..n {
@@ -489,7 +489,7 @@ impl Dynamics {
 
     /// The energies, the shaking force and moment and the totals on the
     /// frame of the motion `s`, its loads read at `coords` (q, q', q'').
-    pub(super) fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
+    pub(crate) fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
         let g = self.gravity;
         let (mut kinetic, mut potential) = (0.0, 0.0);
         let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());

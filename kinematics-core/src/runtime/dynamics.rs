@@ -62,7 +62,7 @@ impl DynamicsBuilder {
 }
 
 /// The view of a run-time motion.
-struct RunTime<'a>(&'a Motion);
+pub(super) struct RunTime<'a>(pub(super) &'a Motion);
 
 impl View for RunTime<'_> {
     fn point(&self, i: usize) -> Option<[Vector3<f64>; 3]> {
@@ -208,7 +208,7 @@ fn tangents(s: &[Sensitivity]) -> Vec<Tangent> {
 
 /// The unit analyses of `model` at `pose`, as the generated mechanisms'
 /// (driver k at unit rate, the others at rest, no acceleration).
-fn unit_analyses<'a>(
+pub(super) fn unit_analyses<'a>(
     model: &'a Model,
     pose: &'a [f64],
     drivers: usize,
@@ -319,7 +319,7 @@ impl Dynamics {
 impl Dynamics {
     /// Checks that this description was resolved against a model of
     /// `model`'s sizes.
-    fn fits_model(&self, model: &Model) -> Result<(), Error> {
+    pub(super) fn fits_model(&self, model: &Model) -> Result<(), Error> {
         self.fits(
             model.coordinates().len(),
             model.point_names().len(),

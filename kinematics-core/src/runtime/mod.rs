@@ -69,6 +69,7 @@ mod closed;
 mod describe;
 mod drive;
 mod dynamics;
+mod forward;
 mod fused;
 mod invariant;
 mod linalg;
@@ -80,6 +81,7 @@ mod sweep;
 mod synthesis;
 mod vector;
 
+pub use forward::{ForwardOf, TrajectoryOf};
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;
 pub use sweep::{ProfileFn, Sample, Simulation, Sweep, SweepBuilder, SweepEnd};

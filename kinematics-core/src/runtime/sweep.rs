@@ -526,7 +526,7 @@ impl<'m, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Simulation<'m, P> {
 
 /// The samples that `each` hands to its callback, collected into a
 /// [`Sweep`] of the variable `variable` of `kind`.
-fn collect(
+pub(super) fn collect(
     m: &Model,
     (variable, kind): (Name, Kind),
     each: impl FnOnce(&mut dyn FnMut(f64, &Motion)) -> SweepEnd,

@@ -20,5 +20,6 @@ use kinematics_core::{mechanism, Error};
 mod descriptions;
 mod efforts;
 mod energy;
+mod forward;
 mod reactions;
 mod sections;

@@ -3,17 +3,15 @@
 //! integration.
 
 use alloc::format;
-use alloc::string::ToString;
 use alloc::vec::Vec;
 
 use super::equations::Equations;
-use super::run::{Analysis, Settings, Timed, integrate};
-use super::{Ended, Event, Trajectory};
+use super::run::{Analysis, Course, Timed, course_settings, integrate};
+use super::{Ended, Trajectory};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
 use crate::error::Error;
 use crate::mechanism::{Coordinates, Kind, Mechanism, MotionState};
-use crate::options::Options;
 use crate::sweep::{AtRest, Driver, Profile, Stop, StopReason, Sweep, Sample};
 
 /// A forward simulation of a generated mechanism, built by
@@ -27,16 +25,8 @@ pub struct Forward<'a, M: Mechanism, P> {
     m: &'a M,
     start: M::Coords,
     rates: M::Coords,
-    free: Option<Vec<usize>>,
     profile: P,
-    until: f64,
-    intervals: usize,
-    relative: f64,
-    absolute: Option<[f64; 2]>,
-    max_step: f64,
-    max_steps: usize,
-    events: Vec<Event>,
-    options: Options,
+    course: Course,
 }
 
 impl Dynamics {
@@ -55,16 +45,8 @@ impl Dynamics {
             m,
             start: *start,
             rates: M::Coords::default(),
-            free: None,
             profile: AtRest,
-            until: 1.0,
-            intervals: 100,
-            relative: 1e-8,
-            absolute: None,
-            max_step: f64::INFINITY,
-            max_steps: 10_000_000,
-            events: Vec::new(),
-            options: Options::DEFAULT,
+            course: Course::default(),
         }
     }
 }
@@ -73,10 +55,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
     /// Moves `driver` freely (the first call makes the others prescribed,
     /// unless they are freed too).
     pub fn free<U>(mut self, driver: Driver<M, U>) -> Self {
-        let list = self.free.get_or_insert_with(Vec::new);
-        if !list.contains(&driver.index()) {
-            list.push(driver.index());
-        }
+        self.course.free(driver.index());
         self
     }
 
@@ -95,72 +74,12 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             m: self.m,
             start: self.start,
             rates: self.rates,
-            free: self.free,
             profile,
-            until: self.until,
-            intervals: self.intervals,
-            relative: self.relative,
-            absolute: self.absolute,
-            max_step: self.max_step,
-            max_steps: self.max_steps,
-            events: self.events,
-            options: self.options,
+            course: self.course,
         }
     }
 
-    /// The end time (s).
-    pub fn until(mut self, seconds: f64) -> Self {
-        self.until = seconds;
-        self
-    }
-
-    /// The number of equal intervals between output samples (`n + 1`
-    /// samples from 0 to the end time, each a full analysis with the
-    /// accelerations of the equations of motion).
-    pub fn samples(mut self, n: usize) -> Self {
-        self.intervals = n;
-        self
-    }
-
-    /// The relative tolerance of the local error, also the absolute one
-    /// unless [`Forward::absolute`] sets those.
-    pub fn tolerance(mut self, relative: f64) -> Self {
-        self.relative = relative;
-        self
-    }
-
-    /// The absolute tolerances of the free drivers' positions (m or rad)
-    /// and velocities (m/s or rad/s).
-    pub fn absolute(mut self, position: f64, velocity: f64) -> Self {
-        self.absolute = Some([position, velocity]);
-        self
-    }
-
-    /// The largest step (s), for loads that change faster than the motion
-    /// shows.
-    pub fn max_step(mut self, seconds: f64) -> Self {
-        self.max_step = seconds;
-        self
-    }
-
-    /// The most steps taken before the run ends with
-    /// [`Ended::StepLimit`] (ten million by default).
-    pub fn max_steps(mut self, steps: usize) -> Self {
-        self.max_steps = steps;
-        self
-    }
-
-    /// Ends the run when `event` happens (the first of those given).
-    pub fn stop_when(mut self, event: Event) -> Self {
-        self.events.push(event);
-        self
-    }
-
-    /// The options of the assemblies.
-    pub fn options(mut self, options: &Options) -> Self {
-        self.options = *options;
-        self
-    }
+    course_settings!();
 
     /// Runs the simulation.
     ///
@@ -175,16 +94,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
     pub fn run(self) -> Result<Trajectory<M>, Error> {
         self.dynamics.fits_mechanism::<M>()?;
         let names: Vec<&str> = M::COORDINATES.iter().map(|c| c.name).collect();
-        let free = self.free.unwrap_or_else(|| (0..M::DRIVERS).collect());
-        let events = resolve_events(&self.events, &names)?;
-        let settings = settings(
-            [self.until, self.relative, self.max_step],
-            self.absolute,
-            self.intervals,
-            self.max_steps,
-            events,
-        )?;
-        check_free(&free, M::DRIVERS)?;
+        let (free, settings) = self.course.settings(&names, M::DRIVERS)?;
         let d0: Vec<f64> = free.iter().map(|&k| self.start.get(k).unwrap_or(0.0)).collect();
         let r0: Vec<f64> = free.iter().map(|&k| self.rates.get(k).unwrap_or(0.0)).collect();
         if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
@@ -194,7 +104,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
                 requirement: "the free drivers' values and rates must be finite",
             });
         }
-        let state = self.m.step_state(&self.options)?;
+        let state = self.m.step_state(&self.course.options)?;
         let analysis = Model {
             m: self.m,
             profile: self.profile,
@@ -203,7 +113,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             current_state: state.clone(),
             state,
             current: None,
-            samples: Vec::with_capacity(self.intervals + 2),
+            samples: Vec::with_capacity(settings.intervals + 2),
         };
         let mut work_names = self.dynamics.working_load_names();
         for k in 0..M::DRIVERS {
@@ -231,104 +141,6 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             statistics: outcome.statistics,
         })
     }
-}
-
-/// The events with their coordinates' indices.
-pub(super) fn resolve_events(
-    events: &[Event],
-    names: &[&str],
-) -> Result<Vec<(usize, bool, f64)>, Error> {
-    events
-        .iter()
-        .map(|e| {
-            let item = format!("event on `{}`", e.coordinate);
-            let j = names.iter().position(|n| *n == e.coordinate).ok_or_else(|| {
-                Error::InvalidDynamics {
-                    item: item.clone(),
-                    detail: format!(
-                        "the mechanism has no coordinate `{}` (its coordinates: {})",
-                        e.coordinate,
-                        names.join(", ")
-                    ),
-                }
-            })?;
-            if !e.value.is_finite() {
-                return Err(Error::InvalidDynamics {
-                    item,
-                    detail: format!("its value {} must be finite", e.value),
-                });
-            }
-            Ok((j, e.rate, e.value))
-        })
-        .collect()
-}
-
-/// The settings, checked.
-pub(super) fn settings(
-    [until, relative, max_step]: [f64; 3],
-    absolute: Option<[f64; 2]>,
-    intervals: usize,
-    max_steps: usize,
-    events: Vec<(usize, bool, f64)>,
-) -> Result<Settings, Error> {
-    let positive = |name, value: f64| {
-        if value > 0.0 && !value.is_nan() {
-            Ok(())
-        } else {
-            Err(Error::InvalidOption {
-                name,
-                value,
-                requirement: "must be positive",
-            })
-        }
-    };
-    if !(until.is_finite() && until > 0.0) {
-        return Err(Error::InvalidOption {
-            name: "until",
-            value: until,
-            requirement: "must be positive and finite (seconds)",
-        });
-    }
-    if !(relative.is_finite() && relative > 0.0 && relative < 1.0) {
-        return Err(Error::InvalidOption {
-            name: "tolerance",
-            value: relative,
-            requirement: "must be between 0 and 1",
-        });
-    }
-    let absolute = absolute.unwrap_or([relative; 2]);
-    positive("absolute tolerance of the positions", absolute[0])?;
-    positive("absolute tolerance of the velocities", absolute[1])?;
-    positive("max_step", max_step)?;
-    if intervals == 0 {
-        return Err(Error::InvalidOption {
-            name: "samples",
-            value: 0.0,
-            requirement: "must be at least 1",
-        });
-    }
-    Ok(Settings {
-        until,
-        intervals,
-        relative,
-        absolute,
-        max_step,
-        max_steps,
-        events,
-    })
-}
-
-/// Checks that some driver moves freely.
-pub(super) fn check_free(free: &[usize], drivers: usize) -> Result<(), Error> {
-    if free.is_empty() || free.iter().any(|&k| k >= drivers) {
-        return Err(Error::InvalidDynamics {
-            item: "forward simulation".to_string(),
-            detail: "no driver moves freely: free one (`free`), or use a kinematic simulation \
-                     for a motion that is all prescribed"
-                .to_string(),
-        });
-    }
-    Ok(())
 }
 
 /// A generated mechanism's part in the integration.

@@ -44,10 +44,10 @@
 //! ```
 
 pub(crate) mod equations;
+pub(crate) mod run;
 mod generated;
 mod motor;
 pub(crate) mod ode;
-mod run;
 
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -190,19 +190,25 @@ impl<M: Mechanism> Trajectory<M> {
     /// how well the energy balance holds.
     #[must_use]
     pub fn energy_error(&self) -> f64 {
-        let Some(first) = self.energy.first() else {
-            return 0.0;
-        };
-        let e0 = first.balance();
-        let mut scale: f64 = 0.0;
-        let mut worst: f64 = 0.0;
-        for e in &self.energy {
-            scale = scale.max(e.kinetic.abs()).max(e.potential.abs());
-            for w in &e.work {
-                scale = scale.max(w.abs());
-            }
-            worst = worst.max((e.balance() - e0).abs());
-        }
-        if scale > 0.0 { worst / scale } else { worst }
+        energy_error(&self.energy)
     }
+}
+
+/// The largest change of T + V − Σ W over `energy`, relative to the
+/// largest of |T|, |V| and the works met.
+pub(crate) fn energy_error(energy: &[Energy]) -> f64 {
+    let Some(first) = energy.first() else {
+        return 0.0;
+    };
+    let e0 = first.balance();
+    let mut scale: f64 = 0.0;
+    let mut worst: f64 = 0.0;
+    for e in energy {
+        scale = scale.max(e.kinetic.abs()).max(e.potential.abs());
+        for w in &e.work {
+            scale = scale.max(w.abs());
+        }
+        worst = worst.max((e.balance() - e0).abs());
+    }
+    if scale > 0.0 { worst / scale } else { worst }
 }

@@ -11,11 +11,12 @@ use alloc::vec::Vec;
 
 use super::equations::{Equations, cholesky_solve};
 use super::ode::{Dopri, Stepped, System, Tolerances};
-use super::{Ended, Energy, Statistics};
+use super::{Ended, Energy, Event, Statistics};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::View;
 use crate::error::Error;
 use crate::mechanism::FrameState;
+use crate::options::Options;
 
 /// What the integration needs of a model.
 pub(crate) trait Analysis {
@@ -67,6 +68,208 @@ impl View for Timed<'_> {
     }
     fn time(&self) -> f64 {
         self.1
+    }
+}
+
+/// What a forward simulation is asked for, before it is checked: the
+/// part of its builder that is the same for every kind of model.
+#[derive(Clone, Debug)]
+pub(crate) struct Course {
+    /// The free drivers (`None`: every driver).
+    pub(crate) free: Option<Vec<usize>>,
+    pub(crate) until: f64,
+    pub(crate) intervals: usize,
+    pub(crate) relative: f64,
+    pub(crate) absolute: Option<[f64; 2]>,
+    pub(crate) max_step: f64,
+    pub(crate) max_steps: usize,
+    pub(crate) events: Vec<Event>,
+    pub(crate) options: Options,
+}
+
+impl Default for Course {
+    fn default() -> Self {
+        Course {
+            free: None,
+            until: 1.0,
+            intervals: 100,
+            relative: 1e-8,
+            absolute: None,
+            max_step: f64::INFINITY,
+            max_steps: 10_000_000,
+            events: Vec::new(),
+            options: Options::DEFAULT,
+        }
+    }
+}
+
+/// The setters of a forward simulation's builder, written once for the
+/// builders of both kinds of model (each has a field `course`).
+macro_rules! course_settings {
+    () => {
+        /// The end time (s).
+        pub fn until(mut self, seconds: f64) -> Self {
+            self.course.until = seconds;
+            self
+        }
+
+        /// The number of equal intervals between output samples (`n + 1`
+        /// samples from 0 to the end time, each a full analysis with the
+        /// accelerations of the equations of motion).
+        pub fn samples(mut self, n: usize) -> Self {
+            self.course.intervals = n;
+            self
+        }
+
+        /// The relative tolerance of the local error, also the absolute
+        /// one unless `absolute` sets those.
+        pub fn tolerance(mut self, relative: f64) -> Self {
+            self.course.relative = relative;
+            self
+        }
+
+        /// The absolute tolerances of the free drivers' positions (m or
+        /// rad) and velocities (m/s or rad/s).
+        pub fn absolute(mut self, position: f64, velocity: f64) -> Self {
+            self.course.absolute = Some([position, velocity]);
+            self
+        }
+
+        /// The largest step (s), for loads that change faster than the
+        /// motion shows.
+        pub fn max_step(mut self, seconds: f64) -> Self {
+            self.course.max_step = seconds;
+            self
+        }
+
+        /// The most steps taken before the run ends with
+        /// [`Ended::StepLimit`](crate::dynamics::Ended::StepLimit) (ten
+        /// million by default).
+        pub fn max_steps(mut self, steps: usize) -> Self {
+            self.course.max_steps = steps;
+            self
+        }
+
+        /// Ends the run when `event` happens (the first of those given).
+        pub fn stop_when(mut self, event: crate::dynamics::Event) -> Self {
+            self.course.events.push(event);
+            self
+        }
+
+        /// The options of the assemblies.
+        pub fn options(mut self, options: &crate::Options) -> Self {
+            self.course.options = *options;
+            self
+        }
+    };
+}
+pub(crate) use course_settings;
+
+impl Course {
+    /// Frees driver `k` (the first call makes the others prescribed).
+    pub(crate) fn free(&mut self, k: usize) {
+        let list = self.free.get_or_insert_with(Vec::new);
+        if !list.contains(&k) {
+            list.push(k);
+        }
+    }
+
+    /// The free drivers and the settings, checked against the coordinates'
+    /// `names` and the number of drivers.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a value out of its range;
+    /// [`Error::InvalidDynamics`] for an event on no coordinate, or no
+    /// free driver.
+    pub(crate) fn settings(
+        &self,
+        names: &[&str],
+        drivers: usize,
+    ) -> Result<(Vec<usize>, Settings), Error> {
+        let free = self.free.clone().unwrap_or_else(|| (0..drivers).collect());
+        if free.is_empty() || free.iter().any(|&k| k >= drivers) {
+            return Err(Error::InvalidDynamics {
+                item: "forward simulation".to_string(),
+                detail: "no driver moves freely: free one, or use a kinematic simulation for \
+                         a motion that is all prescribed"
+                    .to_string(),
+            });
+        }
+        let events = self
+            .events
+            .iter()
+            .map(|e| {
+                let item = format!("event on `{}`", e.coordinate);
+                let j = names.iter().position(|n| *n == e.coordinate).ok_or_else(|| {
+                    Error::InvalidDynamics {
+                        item: item.clone(),
+                        detail: format!(
+                            "the mechanism has no coordinate `{}` (its coordinates: {})",
+                            e.coordinate,
+                            names.join(", ")
+                        ),
+                    }
+                })?;
+                if !e.value.is_finite() {
+                    return Err(Error::InvalidDynamics {
+                        item,
+                        detail: format!("its value {} must be finite", e.value),
+                    });
+                }
+                Ok((j, e.rate, e.value))
+            })
+            .collect::<Result<Vec<_>, Error>>()?;
+        let range = |name, value: f64, ok: bool, requirement| {
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::InvalidOption {
+                    name,
+                    value,
+                    requirement,
+                })
+            }
+        };
+        let (until, relative) = (self.until, self.relative);
+        range(
+            "until",
+            until,
+            until.is_finite() && until > 0.0,
+            "must be positive and finite (seconds)",
+        )?;
+        range(
+            "tolerance",
+            relative,
+            relative > 0.0 && relative < 1.0,
+            "must be between 0 and 1",
+        )?;
+        let absolute = self.absolute.unwrap_or([relative; 2]);
+        for (name, v) in [
+            ("absolute tolerance of the positions", absolute[0]),
+            ("absolute tolerance of the velocities", absolute[1]),
+            ("max_step", self.max_step),
+        ] {
+            range(name, v, v > 0.0, "must be positive")?;
+        }
+        #[allow(clippy::cast_precision_loss)]
+        range(
+            "samples",
+            self.intervals as f64,
+            self.intervals > 0,
+            "must be at least 1",
+        )?;
+        Ok((
+            free,
+            Settings {
+                until,
+                intervals: self.intervals,
+                relative,
+                absolute,
+                max_step: self.max_step,
+                max_steps: self.max_steps,
+                events,
+            },
+        ))
     }
 }
 

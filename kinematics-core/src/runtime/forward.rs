@@ -1,0 +1,318 @@
+//! Forward dynamics of a model defined at run time: the builder
+//! ([`Dynamics::forward_of`]) and the model's part in the one
+//! integration of [`crate::dynamics::forward`], through a stepper.
+
+use alloc::format;
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::sweep::collect;
+use super::{Model, Motion, Stepper, Sweep, SweepEnd};
+use crate::dynamics::Dynamics;
+use crate::dynamics::evaluate::View;
+use crate::dynamics::forward::equations::Equations;
+use crate::dynamics::forward::run::{Analysis, Course, Timed, course_settings, integrate};
+use crate::dynamics::forward::{Ended, Energy, Statistics};
+use crate::error::Error;
+use crate::mechanism::Kind;
+use crate::sweep::{Stop, StopReason};
+
+/// A forward simulation of a run-time model, built by
+/// [`Dynamics::forward_of`]; the settings of
+/// [`Forward`](crate::dynamics::Forward), the drivers by index or name.
+#[must_use = "a forward simulation does nothing until it is run"]
+pub struct ForwardOf<'a, P> {
+    dynamics: &'a Dynamics,
+    m: &'a Model,
+    start: Vec<f64>,
+    rates: Vec<f64>,
+    profile: P,
+    course: Course,
+    /// A driver named to be freed that the model does not have.
+    unknown: Option<String>,
+}
+
+impl core::fmt::Debug for ForwardOf<'_, super::ProfileFn> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("ForwardOf")
+            .field("start", &self.start)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The result of a run-time model's forward simulation, as
+/// [`Trajectory`](crate::dynamics::Trajectory) for a generated one.
+#[derive(Debug, Clone)]
+pub struct TrajectoryOf {
+    /// The samples, a sweep in time.
+    pub sweep: Sweep,
+    /// The energies and works at each sample.
+    pub energy: Vec<Energy>,
+    /// The names of the works.
+    pub work_names: Vec<String>,
+    /// How it ended.
+    pub ended: Ended,
+    /// Steps and evaluations.
+    pub statistics: Statistics,
+}
+
+impl TrajectoryOf {
+    /// The largest change of T + V − Σ W, relative
+    /// ([`Trajectory::energy_error`](crate::dynamics::Trajectory::energy_error)).
+    #[must_use]
+    pub fn energy_error(&self) -> f64 {
+        crate::dynamics::forward::energy_error(&self.energy)
+    }
+}
+
+fn at_rest(_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]) {}
+
+impl Dynamics {
+    /// [`Dynamics::forward`] for a model defined at run time, from the
+    /// pose `start` (drivers, then guesses of the unknowns).
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics};
+    /// use kinematics_core::runtime::Model;
+    /// let m = Model::compile(
+    ///     "struct Swing { params { r } drivers { phi } unknowns { } points { G = polar(r, phi); } }",
+    /// )?
+    /// .with_values(&[1.0])?;
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("bob", 1.0).center("G").angle("phi"))
+    ///     .gravity([0.0, -9.81, 0.0])
+    ///     .build_for(&m)?;
+    /// // From horizontal, at rest: at the bottom its speed is √(2 g l).
+    /// let run = dynamics.forward_of(&m, &[0.0]).until(0.4).tolerance(1e-10).run()?;
+    /// let e = run.energy.last().unwrap();
+    /// assert!(run.energy_error() < 1e-9 && e.kinetic > 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn forward_of<'a>(
+        &'a self,
+        m: &'a Model,
+        start: &[f64],
+    ) -> ForwardOf<'a, super::ProfileFn> {
+        ForwardOf {
+            dynamics: self,
+            m,
+            start: start.to_vec(),
+            rates: vec![0.0; m.drivers()],
+            profile: at_rest,
+            course: Course::default(),
+            unknown: None,
+        }
+    }
+}
+
+impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
+    /// Moves the driver named `driver` freely (the first call makes the
+    /// others prescribed, unless they are freed too).
+    pub fn free(mut self, driver: &str) -> Self {
+        match self.m.index(driver).filter(|&k| k < self.m.drivers()) {
+            Some(k) => self.course.free(k),
+            None => self.unknown = Some(driver.into()),
+        }
+        self
+    }
+
+    /// The drivers' rates at the start (the free ones' are read).
+    pub fn rates(mut self, rates: &[f64]) -> Self {
+        self.rates = rates.to_vec();
+        self
+    }
+
+    /// The prescribed drivers' motion: `profile(t, d, d', d'')` writes the
+    /// drivers' values (the start's until written), rates and
+    /// accelerations (zero until written) at time t.
+    pub fn profile<Q: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])>(
+        self,
+        profile: Q,
+    ) -> ForwardOf<'a, Q> {
+        ForwardOf {
+            dynamics: self.dynamics,
+            m: self.m,
+            start: self.start,
+            rates: self.rates,
+            profile,
+            course: self.course,
+            unknown: self.unknown,
+        }
+    }
+
+    course_settings!();
+
+    /// Runs the simulation.
+    ///
+    /// # Errors
+    /// As [`Forward::run`](crate::dynamics::Forward::run); a start or rates
+    /// of the wrong length, or a driver to free that the model does not
+    /// have.
+    pub fn run(self) -> Result<TrajectoryOf, Error> {
+        self.dynamics.fits_model(self.m)?;
+        let m = self.m;
+        let (n, nd) = (m.coordinates().len(), m.drivers());
+        let names: Vec<&str> = m.coordinates().iter().map(|c| c.name).collect();
+        if let Some(name) = self.unknown {
+            return Err(Error::InvalidDynamics {
+                item: format!("free driver `{name}`"),
+                detail: format!(
+                    "the model has no driver `{name}` (its drivers: {})",
+                    names[..nd].join(", ")
+                ),
+            });
+        }
+        for (what, len, want) in [("start", self.start.len(), n), ("rates", self.rates.len(), nd)]
+        {
+            if len != want {
+                return Err(Error::InvalidOption {
+                    name: what,
+                    #[allow(clippy::cast_precision_loss)]
+                    value: len as f64,
+                    requirement: if what == "start" {
+                        "must hold every coordinate, drivers first"
+                    } else {
+                        "must hold one rate per driver"
+                    },
+                });
+            }
+        }
+        let (free, settings) = self.course.settings(&names, nd)?;
+        let d0: Vec<f64> = free.iter().map(|&k| self.start[k]).collect();
+        let r0: Vec<f64> = free.iter().map(|&k| self.rates[k]).collect();
+        if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "start",
+                value: *v,
+                requirement: "the free drivers' values and rates must be finite",
+            });
+        }
+        let stepper = m.stepper(&self.course.options)?;
+        let analysis = RunTime {
+            m,
+            stepper,
+            profile: self.profile,
+            start: self.start.clone(),
+            guess: self.start,
+            modes: Vec::new(),
+            current: None,
+            samples: Vec::with_capacity(settings.intervals + 2),
+        };
+        let mut work_names = self.dynamics.working_load_names();
+        for k in 0..nd {
+            if !free.contains(&k) {
+                work_names.push(format!("driver {}", names[k]));
+            }
+        }
+        let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;
+        let stop = outcome.failure.map(|(at, e)| Stop {
+            variable: "t",
+            at,
+            reason: StopReason::from_error(e),
+        });
+        let samples = analysis.samples;
+        let sweep = collect(m, ("t", Kind::Length), |emit| {
+            for (t, motion) in &samples {
+                emit(*t, motion);
+            }
+            SweepEnd {
+                stop,
+                change_points: Vec::new(),
+            }
+        });
+        Ok(TrajectoryOf {
+            sweep,
+            energy: outcome.energy,
+            work_names,
+            ended: outcome.ended,
+            statistics: outcome.statistics,
+        })
+    }
+}
+
+/// A run-time model's part in the integration: a stepper, its assembly
+/// modes restored to the committed pose's before each evaluation.
+struct RunTime<'m, P> {
+    m: &'m Model,
+    stepper: Stepper<'m>,
+    profile: P,
+    start: Vec<f64>,
+    /// The pose the next assembly starts from, and its modes.
+    guess: Vec<f64>,
+    modes: Vec<f64>,
+    current: Option<Motion>,
+    samples: Vec<(f64, Motion)>,
+}
+
+impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_, P> {
+    fn profile(&mut self, t: f64, d: &mut [f64], dd: &mut [f64], ddd: &mut [f64]) {
+        let nd = d.len();
+        d.copy_from_slice(&self.start[..nd]);
+        dd.fill(0.0);
+        ddd.fill(0.0);
+        (self.profile)(t, d, dd, ddd);
+    }
+
+    fn analyze(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error> {
+        let nd = d.len();
+        let signs = self.stepper.signs_mut();
+        if signs.len() == self.modes.len() {
+            signs.copy_from_slice(&self.modes);
+        }
+        let mut q = core::mem::take(&mut self.guess);
+        q[..nd].copy_from_slice(d);
+        let result = self.stepper.step(&q, dd, ddd).cloned();
+        self.guess = q;
+        self.current = Some(result?);
+        Ok(())
+    }
+
+    fn equations(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut Equations<'_>,
+    ) -> Result<(), Error> {
+        let Some(motion) = &self.current else {
+            return Ok(());
+        };
+        let view = super::dynamics::RunTime(motion);
+        dynamics.equations(
+            &Timed(&view, t),
+            &mut super::dynamics::unit_analyses(self.m, &motion.q, self.m.drivers()),
+            out,
+        )
+    }
+
+    fn energies(&self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {
+        let Some(motion) = &self.current else {
+            return Ok((f64::NAN, f64::NAN));
+        };
+        let view = super::dynamics::RunTime(motion);
+        let view = Timed(&view, t);
+        let [q, qd, qdd] = dynamics.coordinates_of(&view);
+        let totals = dynamics.totals(&view, [&q, &qd, &qdd])?;
+        Ok((totals.kinetic_energy, totals.potential_energy))
+    }
+
+    fn coordinate(&self, j: usize) -> [f64; 3] {
+        self.current
+            .as_ref()
+            .map_or([f64::NAN; 3], |m| super::dynamics::RunTime(m).coordinate(j))
+    }
+
+    fn commit(&mut self) {
+        if let Some(m) = &self.current {
+            self.guess.clone_from(&m.q);
+            self.modes.clear();
+            self.modes.extend_from_slice(self.stepper.signs_mut());
+        }
+    }
+
+    fn record(&mut self, t: f64) {
+        if let Some(m) = &self.current {
+            self.samples.push((t, m.clone()));
+        }
+    }
+}
