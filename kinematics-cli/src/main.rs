@@ -9,6 +9,7 @@
 //! kinematics sweep fourbar.mech --params fourbar.toml --turn --steps 360 \
 //!     --rpm 600 --out out/
 //! kinematics report fourbar.mech --params fourbar.toml --degrees --out out/
+//! kinematics simulate press.mech --until 3s --out out/
 //! ```
 //!
 //! `check` prints the definition's coordinates, equations, the blocks of
@@ -44,6 +45,7 @@ mod input;
 mod merit;
 mod report;
 mod sides;
+mod simulate;
 mod sweep;
 mod synthesize;
 
@@ -113,6 +115,12 @@ enum Command {
     /// designs found, write the best as `best.toml` (a parameters file
     /// for --params) and draw it at its targets (`synthesis.svg`).
     Synthesize(synthesize::SynthesizeArgs),
+    /// Simulate the motion that the definition's `bodies` and `loads`
+    /// produce from a start pose (forward dynamics): write the samples in
+    /// time (`sweep.csv`), the energies and the work of each load
+    /// (`energy.csv`), the motion's plot and the animation; print the
+    /// energy balance.
+    Simulate(simulate::SimulateArgs),
 }
 
 /// The arguments of `kinematics sweep`.
@@ -275,6 +283,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run(&args),
         Command::Report(args) => report::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     };
     match result {
         Ok(out) => {

@@ -10,5 +10,6 @@
 mod common;
 mod figures;
 mod report;
+mod simulate;
 mod synthesize;
 mod units_and_assemblies;

@@ -163,8 +163,10 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
                 ),
             });
         }
-        for (what, len, want) in [("start", self.start.len(), n), ("rates", self.rates.len(), nd)]
-        {
+        for (what, len, want) in [
+            ("start", self.start.len(), n),
+            ("rates", self.rates.len(), nd),
+        ] {
             if len != want {
                 return Err(Error::InvalidOption {
                     name: what,

@@ -42,7 +42,12 @@ fn half_swing(amplitude: f64) -> Result<(f64, f64), Error> {
     let (mass, r, j) = (2.0, 0.1, 0.01);
     let m = Swing { r };
     let dynamics = Dynamics::builder()
-        .body(Body::new("pendulum", mass).center("G").angle("phi").inertia(j))
+        .body(
+            Body::new("pendulum", mass)
+                .center("G")
+                .angle("phi")
+                .inertia(j),
+        )
         .gravity([0.0, -G, 0.0])
         .build::<Swing>()?;
     let start = SwingCoords {
@@ -63,7 +68,11 @@ fn half_swing(amplitude: f64) -> Result<(f64, f64), Error> {
     close(last.motion.q.phi, -FRAC_PI_2 - amplitude, 1e-9, "far end");
     for s in &run.sweep.samples {
         let f = dynamics.inverse(&m, &s.motion)?;
-        assert!(f.effort.phi.abs() < 1e-10, "a free driver's effort {}", f.effort.phi);
+        assert!(
+            f.effort.phi.abs() < 1e-10,
+            "a free driver's effort {}",
+            f.effort.phi
+        );
     }
     assert!(run.energy_error() < 1e-10, "{}", run.energy_error());
     Ok((at, (mass * G * r / (j + mass * r * r)).sqrt()))
@@ -132,7 +141,12 @@ fn a_balanced_flywheel_under_a_constant_torque_accelerates_uniformly() -> Result
         assert!((s.motion.qdd.phi - alpha).abs() < 1e-12);
         // The motor's work is the kinetic energy: T φ = ½ J ω².
         close(e.work[0], torque * 0.5 * alpha * t * t, 1e-10, "work");
-        close(e.kinetic, 0.5 * j * (alpha * t).powi(2), 1e-10, "kinetic energy");
+        close(
+            e.kinetic,
+            0.5 * j * (alpha * t).powi(2),
+            1e-10,
+            "kinetic energy",
+        );
     }
     assert_eq!(run.work_names, ["force on phi"]);
     Ok(())
@@ -157,7 +171,10 @@ mechanism! {
 
 /// The four-bar of the tests, its bodies, gravity and a spring from P0 to
 /// G3 of stiffness k and damping c.
-fn spring_four_bar(k: f64, c: f64) -> Result<(SpringFourBar, Dynamics, SpringFourBarCoords), Error> {
+fn spring_four_bar(
+    k: f64,
+    c: f64,
+) -> Result<(SpringFourBar, Dynamics, SpringFourBarCoords), Error> {
     let m = SpringFourBar {
         a: 0.04,
         b: 0.12,
@@ -165,11 +182,31 @@ fn spring_four_bar(k: f64, c: f64) -> Result<(SpringFourBar, Dynamics, SpringFou
         d: 0.11,
     };
     let dynamics = Dynamics::builder()
-        .body(Body::new("crank", 0.3).center("G2").angle("phi").inertia(2.0e-3))
-        .body(Body::new("coupler", 0.5).center("G3").angle("th3").inertia(6.0e-4))
-        .body(Body::new("rocker", 0.4).center("G4").angle("th4").inertia(3.5e-4))
+        .body(
+            Body::new("crank", 0.3)
+                .center("G2")
+                .angle("phi")
+                .inertia(2.0e-3),
+        )
+        .body(
+            Body::new("coupler", 0.5)
+                .center("G3")
+                .angle("th3")
+                .inertia(6.0e-4),
+        )
+        .body(
+            Body::new("rocker", 0.4)
+                .center("G4")
+                .angle("th4")
+                .inertia(3.5e-4),
+        )
         .gravity([0.0, -G, 0.0])
-        .spring(Spring::new("P0", "G3").stiffness(k).free_length(0.10).damping(c))
+        .spring(
+            Spring::new("P0", "G3")
+                .stiffness(k)
+                .free_length(0.10)
+                .damping(c),
+        )
         .build::<SpringFourBar>()?;
     let start = m.assemble(&SpringFourBarCoords {
         phi: 0.0,
@@ -190,18 +227,30 @@ fn a_four_bar_under_gravity_and_a_spring_keeps_its_energy() -> Result<(), Error>
         .run()?;
     assert!(run.is_complete(), "{:?}", run.ended);
     // It moves: the crank swings through more than a radian.
-    let (lo, hi) = run.sweep.samples.iter().fold((f64::MAX, f64::MIN), |(l, h), s| {
-        (l.min(s.motion.q.phi), h.max(s.motion.q.phi))
-    });
+    let (lo, hi) = run
+        .sweep
+        .samples
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), s| {
+            (l.min(s.motion.q.phi), h.max(s.motion.q.phi))
+        });
     assert!(hi - lo > 1.0, "the crank moves {lo}..{hi}");
-    assert!(run.energy_error() < 1e-9, "energy drift {}", run.energy_error());
+    assert!(
+        run.energy_error() < 1e-9,
+        "energy drift {}",
+        run.energy_error()
+    );
     // The damper's work column is there, and zero.
     assert_eq!(run.work_names, ["damper P0-G3"]);
     assert!(run.energy.iter().all(|e| e.work[0] == 0.0));
     for s in run.sweep.samples.iter().step_by(50) {
         let f = dynamics.inverse(&m, &s.motion)?;
         assert!(f.effort.phi.abs() < 1e-10, "{}", f.effort.phi);
-        assert!(s.motion.residual < 1e-14, "the loop closes: {}", s.motion.residual);
+        assert!(
+            s.motion.residual < 1e-14,
+            "the loop closes: {}",
+            s.motion.residual
+        );
     }
     println!("{:?}", run.statistics);
     Ok(())
@@ -241,7 +290,11 @@ fn a_spatial_rssr_with_inertia_tensors_keeps_its_energy() -> Result<(), Error> {
         .tolerance(1e-11)
         .run()?;
     assert!(run.is_complete(), "{:?} {:?}", run.ended, run.sweep.stop);
-    assert!(run.energy_error() < 1e-9, "energy drift {}", run.energy_error());
+    assert!(
+        run.energy_error() < 1e-9,
+        "energy drift {}",
+        run.energy_error()
+    );
     let kinetic = run.energy.iter().map(|e| e.kinetic).fold(0.0, f64::max);
     assert!(kinetic > 1e-3, "it moves: T up to {kinetic} J");
     for s in run.sweep.samples.iter().step_by(25) {
@@ -271,12 +324,32 @@ fn a_run_time_model_moves_as_the_generated_mechanism() -> Result<(), Box<dyn std
     let (m, _, start) = spring_four_bar(50.0, 2.0)?;
     let motor = Motor::dc(0.5, 60.0);
     let description = |b: kinematics_core::dynamics::DynamicsBuilder| {
-        b.body(Body::new("crank", 0.3).center("G2").angle("phi").inertia(2.0e-3))
-            .body(Body::new("coupler", 0.5).center("G3").angle("th3").inertia(6.0e-4))
-            .body(Body::new("rocker", 0.4).center("G4").angle("th4").inertia(3.5e-4))
-            .gravity([0.0, -G, 0.0])
-            .spring(Spring::new("P0", "G3").stiffness(50.0).free_length(0.10).damping(2.0))
-            .motor("phi", motor)
+        b.body(
+            Body::new("crank", 0.3)
+                .center("G2")
+                .angle("phi")
+                .inertia(2.0e-3),
+        )
+        .body(
+            Body::new("coupler", 0.5)
+                .center("G3")
+                .angle("th3")
+                .inertia(6.0e-4),
+        )
+        .body(
+            Body::new("rocker", 0.4)
+                .center("G4")
+                .angle("th4")
+                .inertia(3.5e-4),
+        )
+        .gravity([0.0, -G, 0.0])
+        .spring(
+            Spring::new("P0", "G3")
+                .stiffness(50.0)
+                .free_length(0.10)
+                .damping(2.0),
+        )
+        .motor("phi", motor)
     };
     let generated = description(Dynamics::builder()).build::<SpringFourBar>()?;
     let model = Model::compile(SPRING_FOUR_BAR)?.with_values(&[0.04, 0.12, 0.10, 0.11])?;
@@ -299,7 +372,11 @@ fn a_run_time_model_moves_as_the_generated_mechanism() -> Result<(), Box<dyn std
     assert_eq!(a.work_names, ["force on phi", "damper P0-G3"]);
     // The motor drives it past a full turn, the damper takes energy out.
     let last = a.energy.last().expect("samples");
-    assert!(a.sweep.samples[40].motion.q.phi > 6.3, "{}", a.sweep.samples[40].motion.q.phi);
+    assert!(
+        a.sweep.samples[40].motion.q.phi > 6.3,
+        "{}",
+        a.sweep.samples[40].motion.q.phi
+    );
     assert!(last.work[0] > 0.0 && last.work[1] < 0.0, "{:?}", last.work);
     assert!(a.energy_error() < 1e-8 && b.energy_error() < 1e-8);
     for (x, y) in a.sweep.samples.iter().zip(&b.sweep.samples) {
@@ -310,7 +387,11 @@ fn a_run_time_model_moves_as_the_generated_mechanism() -> Result<(), Box<dyn std
             (x.motion.qd.phi, y.motion.qd[0]),
             (x.motion.qdd.phi, y.motion.qdd[0]),
         ] {
-            assert!((u - v).abs() < 1e-9 * (1.0 + u.abs()), "{u} against {v} at {}", x.at);
+            assert!(
+                (u - v).abs() < 1e-9 * (1.0 + u.abs()),
+                "{u} against {v} at {}",
+                x.at
+            );
         }
     }
     Ok(())

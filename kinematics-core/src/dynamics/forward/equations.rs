@@ -144,7 +144,11 @@ impl Dynamics {
             let f = Vector3::from(f(&instant(at)));
             self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
             let v = at.map_or(Vector3::zeros(), |[_, v, _]| v);
-            put(if planar { f.x * v.x + f.y * v.y } else { f.dot(&v) });
+            put(if planar {
+                f.x * v.x + f.y * v.y
+            } else {
+                f.dot(&v)
+            });
         }
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
@@ -228,7 +232,10 @@ mod tests {
         let mut m = [4.0, 2.0, 2.0, 3.0];
         let mut r = [0.0, -4.0];
         cholesky_solve(&mut m, &mut r, 2).unwrap();
-        assert!((r[0] - 1.0).abs() < 1e-15 && (r[1] + 2.0).abs() < 1e-15, "{r:?}");
+        assert!(
+            (r[0] - 1.0).abs() < 1e-15 && (r[1] + 2.0).abs() < 1e-15,
+            "{r:?}"
+        );
         // The second driver moves only what the first does.
         let mut m = [1.0, 1.0, 1.0, 1.0];
         let mut r = [1.0, 1.0];

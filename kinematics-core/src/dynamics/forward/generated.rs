@@ -12,7 +12,7 @@ use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
 use crate::error::Error;
 use crate::mechanism::{Coordinates, Kind, Mechanism, MotionState};
-use crate::sweep::{AtRest, Driver, Profile, Stop, StopReason, Sweep, Sample};
+use crate::sweep::{AtRest, Driver, Profile, Sample, Stop, StopReason, Sweep};
 
 /// A forward simulation of a generated mechanism, built by
 /// [`Dynamics::forward`]: which drivers move freely, their initial rates,
@@ -95,8 +95,14 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
         self.dynamics.fits_mechanism::<M>()?;
         let names: Vec<&str> = M::COORDINATES.iter().map(|c| c.name).collect();
         let (free, settings) = self.course.settings(&names, M::DRIVERS)?;
-        let d0: Vec<f64> = free.iter().map(|&k| self.start.get(k).unwrap_or(0.0)).collect();
-        let r0: Vec<f64> = free.iter().map(|&k| self.rates.get(k).unwrap_or(0.0)).collect();
+        let d0: Vec<f64> = free
+            .iter()
+            .map(|&k| self.start.get(k).unwrap_or(0.0))
+            .collect();
+        let r0: Vec<f64> = free
+            .iter()
+            .map(|&k| self.rates.get(k).unwrap_or(0.0))
+            .collect();
         if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
             return Err(Error::InvalidOption {
                 name: "start",

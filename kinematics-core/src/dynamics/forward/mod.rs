@@ -44,10 +44,10 @@
 //! ```
 
 pub(crate) mod equations;
-pub(crate) mod run;
 mod generated;
 mod motor;
 pub(crate) mod ode;
+pub(crate) mod run;
 
 use alloc::string::String;
 use alloc::vec::Vec;

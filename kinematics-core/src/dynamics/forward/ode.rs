@@ -397,7 +397,9 @@ mod tests {
             for j in 0..=20 {
                 let t = d.t_old + (d.t - d.t_old) * f64::from(j) / 20.0;
                 d.interpolate(t, &mut out);
-                worst = worst.max((out[0] - t.cos()).abs()).max((out[1] + t.sin()).abs());
+                worst = worst
+                    .max((out[0] - t.cos()).abs())
+                    .max((out[1] + t.sin()).abs());
             }
         }
         (d, worst)
@@ -410,7 +412,11 @@ mod tests {
             assert_eq!(d.t, 10.0);
             // The global error is of the order of the tolerance (a few
             // times it over 1.6 periods), at the ends and in between.
-            assert!((d.y[0] - 10f64.cos()).abs() < 30.0 * tol, "{tol}: {:?}", d.y);
+            assert!(
+                (d.y[0] - 10f64.cos()).abs() < 30.0 * tol,
+                "{tol}: {:?}",
+                d.y
+            );
             assert!(worst < 30.0 * tol, "{tol}: dense output off by {worst}");
         }
         // Tighter tolerance, more steps, by about the fifth root of 1000.

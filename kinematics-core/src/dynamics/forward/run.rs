@@ -200,16 +200,17 @@ impl Course {
             .iter()
             .map(|e| {
                 let item = format!("event on `{}`", e.coordinate);
-                let j = names.iter().position(|n| *n == e.coordinate).ok_or_else(|| {
-                    Error::InvalidDynamics {
+                let j = names
+                    .iter()
+                    .position(|n| *n == e.coordinate)
+                    .ok_or_else(|| Error::InvalidDynamics {
                         item: item.clone(),
                         detail: format!(
                             "the mechanism has no coordinate `{}` (its coordinates: {})",
                             e.coordinate,
                             names.join(", ")
                         ),
-                    }
-                })?;
+                    })?;
                 if !e.value.is_finite() {
                     return Err(Error::InvalidDynamics {
                         item,
@@ -465,15 +466,18 @@ pub(crate) fn integrate<A: Analysis>(
             break Ended::StepLimit { at: ode.t };
         }
         if ode.step(&mut eom, settings.until) == Stepped::TooSmall {
-            let e = ode.refused.take().unwrap_or_else(|| Error::InvalidDynamics {
-                item: "forward simulation".to_string(),
-                detail: format!(
-                    "the step size fell below the resolution of the time at t = {}: the \
+            let e = ode
+                .refused
+                .take()
+                .unwrap_or_else(|| Error::InvalidDynamics {
+                    item: "forward simulation".to_string(),
+                    detail: format!(
+                        "the step size fell below the resolution of the time at t = {}: the \
                      motion is not smooth there (an impact, a load that jumps), or the \
                      tolerance is too tight for f64",
-                    ode.t
-                ),
-            });
+                        ode.t
+                    ),
+                });
             failure = Some((ode.t, e));
             break Ended::Failed { at: ode.t };
         }
@@ -485,8 +489,9 @@ pub(crate) fn integrate<A: Analysis>(
             .zip(&now)
             .position(|(a, b)| *a != 0.0 && a * b <= 0.0);
         let limit = match crossing {
-            Some(i) => locate(&mut eom, &ode, settings.events[i], previous[i], now[i])
-                .map(|t| (i, t)),
+            Some(i) => {
+                locate(&mut eom, &ode, settings.events[i], previous[i], now[i]).map(|t| (i, t))
+            }
             None => None,
         };
         let upto = limit.map_or(ode.t, |(_, t)| t);

@@ -1,0 +1,249 @@
+//! `kinematics simulate`: the motion that a definition's `bodies` and
+//! `loads` produce from a start pose (forward dynamics), written as a
+//! sweep in time (`sweep.csv`, `motion.svg`, `animation.html`), the
+//! drivers' speeds and the energies against time (`simulation.svg`), with the
+//! energies and the work of each load (`energy.csv`), and the energy
+//! balance printed.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use kinematics_core::animate::write_table_html;
+use kinematics_core::dynamics::{Ended, Event};
+use kinematics_core::plot::{plot_motion_in, plot_simulation, Units};
+use kinematics_core::units::{AngleUnit, Order};
+use kinematics_core::view::Projection;
+
+use super::input::{coordinate, coordinate_value, driver_values, pairs};
+use super::{compile, pose, Failure, Parameters};
+
+/// The arguments of `kinematics simulate`.
+#[derive(clap::Args)]
+pub(super) struct SimulateArgs {
+    /// The definition, with `bodies` and `loads` sections.
+    file: PathBuf,
+    #[command(flatten)]
+    parameters: Parameters,
+    /// A coordinate of the start pose (repeatable; after the `[start]`
+    /// table of --params): a driver's value (default 0) or a guess of an
+    /// unknown; a number in radians or with a unit (`phi=30deg`).
+    #[arg(long = "at", value_name = "NAME=VALUE")]
+    at: Vec<String>,
+    /// The assembly to start in: its number as `kinematics check --at`
+    /// lists them, or its modes (`+-`).
+    #[arg(long)]
+    assembly: Option<String>,
+    /// A free driver's rate at the start (default 0; `phi=120rpm`).
+    #[arg(long = "rate", value_name = "NAME=VALUE")]
+    rate: Vec<String>,
+    /// A driver that moves freely (repeatable; default: every driver; the
+    /// others stay at their start values).
+    #[arg(long)]
+    free: Vec<String>,
+    /// The end time: seconds, or with a unit (`3s`, `250ms`).
+    #[arg(long, default_value = "1s")]
+    until: String,
+    /// The number of equal intervals between the output samples.
+    #[arg(long, default_value_t = 200)]
+    samples: usize,
+    /// The relative and absolute tolerance of the local error.
+    #[arg(long, default_value_t = 1e-9)]
+    tolerance: f64,
+    /// Stop when a coordinate reaches a value (`th4=60deg`), or a rate
+    /// (`rate(phi)=1500rpm`); repeatable, the first that happens.
+    #[arg(long = "stop-when", value_name = "NAME=VALUE")]
+    stop_when: Vec<String>,
+    /// Write angles, their rates and accelerations in degrees.
+    #[arg(long)]
+    degrees: bool,
+    /// The folder the files are written to (created if missing).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+}
+
+/// `text` as a time in seconds: a number, or one ending in `s` or `ms`.
+fn seconds(text: &str) -> Result<f64, Failure> {
+    let t = text.trim();
+    let (number, factor) = if let Some(n) = t.strip_suffix("ms") {
+        (n, 1e-3)
+    } else if let Some(n) = t.strip_suffix('s') {
+        (n, 1.0)
+    } else {
+        (t, 1.0)
+    };
+    number
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .map(|v| v * factor)
+        .ok_or_else(|| {
+            Failure::usage(format!(
+                "error: --until `{text}`: give a positive time in seconds (`3`, `3s`, `250ms`)"
+            ))
+        })
+}
+
+/// Runs `kinematics simulate`: the summary printed on success.
+pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
+    let mut m = compile(&args.file)?;
+    if !m.has_dynamics() {
+        return Err(Failure::usage(format!(
+            "error: {} has no `bodies` or `loads` section: a forward simulation needs the \
+             masses the loads move",
+            m.name()
+        )));
+    }
+    let file = args.parameters.set(&mut m)?;
+    let failed = |e: kinematics_core::Error| Failure::mechanism(format!("error: {e}"));
+    let dynamics = m.dynamics().map_err(failed)?;
+    let start = pose(&m, &file.start, &args.at, args.assembly.as_deref())?;
+    let rates = driver_values(&m, &args.rate, Order::Rate, "rate")?;
+    let until = seconds(&args.until)?;
+    let mut builder = dynamics
+        .forward_of(&m, &start)
+        .rates(&rates)
+        .until(until)
+        .samples(args.samples)
+        .tolerance(args.tolerance);
+    for name in &args.free {
+        let j = coordinate(&m, name, "--free")?;
+        if j >= m.drivers() {
+            return Err(Failure::usage(format!(
+                "error: --free `{name}` is an unknown: only drivers are freed"
+            )));
+        }
+        builder = builder.free(name);
+    }
+    for (name, text) in pairs(&args.stop_when, "stop-when")? {
+        let (name, rate) = match name.strip_prefix("rate(").and_then(|n| n.strip_suffix(')')) {
+            Some(inner) => (inner.trim().to_string(), true),
+            None => (name, false),
+        };
+        let j = coordinate(&m, &name, "--stop-when")?;
+        let order = if rate { Order::Rate } else { Order::Value };
+        let value = coordinate_value(&m, j, &text, order, "--stop-when")?;
+        builder = builder.stop_when(if rate {
+            Event::rate_reaches(&name, value)
+        } else {
+            Event::reaches(&name, value)
+        });
+    }
+    let run = builder.run().map_err(failed)?;
+    std::fs::create_dir_all(&args.out).map_err(|e| {
+        Failure::mechanism(format!("error: cannot create {}: {e}", args.out.display()))
+    })?;
+    let angles = if args.degrees {
+        AngleUnit::Degrees
+    } else {
+        AngleUnit::Radians
+    };
+    let units = Units {
+        length: "m",
+        angle: angles,
+    };
+    let write = |path: PathBuf, text: String| -> Result<PathBuf, Failure> {
+        std::fs::write(&path, text).map_err(|e| {
+            Failure::mechanism(format!("error: cannot write {}: {e}", path.display()))
+        })?;
+        Ok(path)
+    };
+    use kinematics_core::sweep::Table;
+    let mut written = vec![write(
+        args.out.join("sweep.csv"),
+        run.sweep.csv_with("m", angles),
+    )?];
+    written.push(write(args.out.join("energy.csv"), energy_csv(&run))?);
+    let motion = args.out.join("motion.svg");
+    plot_motion_in(&run.sweep, units, &motion).map_err(failed)?;
+    written.push(motion);
+    let speeds = args.out.join("simulation.svg");
+    plot_simulation(&run.sweep, &run.energy, &run.work_names, units, &speeds).map_err(failed)?;
+    written.push(speeds);
+    if !run.sweep.samples.is_empty() {
+        let roles = m
+            .point_roles(&run.sweep.samples[0].motion.q)
+            .map_err(failed)?;
+        let found = kinematics_core::links::links(&run.sweep);
+        let names = m.point_names();
+        let pairs: Vec<(&str, &str)> = kinematics_core::links::drawn_pairs(&found)
+            .into_iter()
+            .map(|(a, b)| (names[a], names[b]))
+            .collect();
+        let html = args.out.join("animation.html");
+        write_table_html(&run.sweep, m.name(), &roles, &pairs, Projection::XY, &html)
+            .map_err(failed)?;
+        written.push(html);
+    }
+    let mut out = String::new();
+    let s = run.statistics;
+    let _ = writeln!(
+        out,
+        "{}: {} samples from t = 0 to {} s; {} steps ({} rejected), {} evaluations",
+        m.name(),
+        run.sweep.samples.len(),
+        run.sweep.samples.last().map_or(0.0, |x| x.at),
+        s.steps,
+        s.rejected,
+        s.evaluations
+    );
+    if let (Some(first), Some(last)) = (run.energy.first(), run.energy.last()) {
+        let _ = writeln!(
+            out,
+            "  energy: T {:.6e} → {:.6e} J, V {:.6e} → {:.6e} J; balance T + V − ΣW kept to \
+             {:.1e} of the largest term",
+            first.kinetic,
+            last.kinetic,
+            first.potential,
+            last.potential,
+            run.energy_error()
+        );
+        for (name, w) in run.work_names.iter().zip(&last.work) {
+            let _ = writeln!(out, "  work of {name}: {w:.6e} J");
+        }
+    }
+    for f in &written {
+        let _ = writeln!(out, "  wrote {}", f.display());
+    }
+    match (&run.ended, &run.sweep.stop) {
+        (Ended::Complete, _) => Ok(out),
+        (Ended::Event { index, at }, _) => {
+            let _ = writeln!(
+                out,
+                "  stopped at t = {at} s: {} reached",
+                args.stop_when
+                    .get(*index)
+                    .map_or("the event", String::as_str)
+            );
+            Ok(out)
+        }
+        (Ended::Failed { at }, stop) => Err(Failure::mechanism(format!(
+            "{out}error: the motion could not go on past t = {at} s{}\n(the files hold the \
+             samples before)",
+            stop.as_ref()
+                .and_then(|s| s.reason.error())
+                .map_or(String::new(), |e| format!(": {e}"))
+        ))),
+        (Ended::StepLimit { at }, _) => Err(Failure::mechanism(format!(
+            "{out}error: the step limit was reached at t = {at} s"
+        ))),
+    }
+}
+
+/// The energies as CSV: t, T, V, the work of each load and prescribed
+/// driver, and the balance T + V − ΣW.
+fn energy_csv(run: &kinematics_core::runtime::TrajectoryOf) -> String {
+    let mut out = String::from("t (s),kinetic (J),potential (J)");
+    for name in &run.work_names {
+        let _ = write!(out, ",work of {name} (J)");
+    }
+    out.push_str(",balance (J)\n");
+    for e in &run.energy {
+        let _ = write!(out, "{},{},{}", e.t, e.kinetic, e.potential);
+        for w in &e.work {
+            let _ = write!(out, ",{w}");
+        }
+        let _ = writeln!(out, ",{}", e.balance());
+    }
+    out
+}

@@ -1,0 +1,154 @@
+//! `kinematics simulate`: a flywheel started by a DC motor against its
+//! closed form, ω(t) = ω₀ (1 − e^(−t T_s / (J ω₀))), read back from the
+//! CSV it writes; the crank press of the examples run to a speed (an
+//! event) with its energy balance from `energy.csv`; a definition with no
+//! masses refused.
+
+use std::path::Path;
+
+use crate::common::{path, run, text};
+
+/// A flywheel of inertia j driven by a DC motor of stall torque ts and
+/// no-load speed w0, in the definition language.
+const FLYWHEEL: &str = "pub struct Flywheel {
+    params   { j, ts, w0 }
+    drivers  { phi }
+    unknowns { }
+    points   { O = vec2(0.0, 0.0); P = polar(0.1, phi); }
+    bodies   { wheel(mass = 5.0, center = O, angle = phi, inertia = j); }
+    loads    { force(phi, ts * (1.0 - rate(phi) / w0)); }
+}";
+
+/// The columns of a CSV file: its header and its rows of numbers.
+fn columns(file: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let csv = std::fs::read_to_string(file).expect("written");
+    let mut lines = csv.lines();
+    let header = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn a_flywheel_started_by_a_dc_motor_follows_its_exponential() {
+    let dir = std::env::temp_dir().join(format!("kinematics-simulate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("flywheel.mech");
+    std::fs::write(&mech, FLYWHEEL).unwrap();
+    let out = dir.join("out");
+    let (j, ts, w0) = (0.5, 4.0, 100.0);
+    let o = run(&[
+        "simulate",
+        path(&mech),
+        "--param",
+        &format!("j={j}"),
+        "--param",
+        &format!("ts={ts}"),
+        "--param",
+        &format!("w0={w0}"),
+        "--until",
+        "40s",
+        "--samples",
+        "80",
+        "--tolerance",
+        "1e-11",
+        "--out",
+        path(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("81 samples from t = 0 to 40 s"), "{stdout}");
+    let (header, rows) = columns(&out.join("sweep.csv"));
+    assert_eq!(&header[..3], ["t_s", "phi_rad", "phi_rad_s"]);
+    let tau = j * w0 / ts;
+    for r in &rows {
+        let t = r[0];
+        let omega = w0 * (1.0 - (-t / tau).exp());
+        let phi = w0 * (t - tau * (1.0 - (-t / tau).exp()));
+        assert!(
+            (r[2] - omega).abs() < 1e-8 * w0,
+            "ω {} against {omega} at {t}",
+            r[2]
+        );
+        assert!(
+            (r[1] - phi).abs() < 1e-8 * w0 * 40.0,
+            "φ {} against {phi} at {t}",
+            r[1]
+        );
+    }
+    for f in [
+        "energy.csv",
+        "motion.svg",
+        "simulation.svg",
+        "animation.html",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_press_runs_up_to_a_speed_and_keeps_its_energy_balance() {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/dynamics");
+    let out = std::env::temp_dir().join(format!("kinematics-press-{}", std::process::id()));
+    let o = run(&[
+        "simulate",
+        path(&examples.join("press.mech")),
+        "--params",
+        path(&examples.join("press.toml")),
+        "--until",
+        "10s",
+        "--stop-when",
+        "rate(phi)=1400rpm",
+        "--out",
+        path(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("rate(phi)=1400rpm reached"), "{stdout}");
+    let (_, rows) = columns(&out.join("sweep.csv"));
+    let last = rows.last().expect("rows");
+    let target = 1400.0 * std::f64::consts::TAU / 60.0;
+    assert!(
+        (last[2] - target).abs() < 1e-6,
+        "{} against {target}",
+        last[2]
+    );
+    // T + V − ΣW, the last column, stays at its start value (0) to 1e-7
+    // of the kinetic energy reached.
+    let (header, energy) = columns(&out.join("energy.csv"));
+    assert_eq!(header.last().map(String::as_str), Some("balance (J)"));
+    let kinetic = energy.last().expect("rows")[1];
+    assert!(kinetic > 1000.0, "{kinetic}");
+    for e in &energy {
+        let balance = e.last().copied().expect("a balance");
+        assert!(
+            balance.abs() < 1e-7 * kinetic,
+            "balance {balance} at t = {}",
+            e[0]
+        );
+    }
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn a_definition_without_masses_is_not_simulated() {
+    let o = run(&[
+        "simulate",
+        path(&crate::common::mechanisms().join("four_bar.mech")),
+        "--out",
+        path(&std::env::temp_dir().join("kinematics-no-masses")),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("no `bodies` or `loads` section"),
+        "{}",
+        text(&o.stderr)
+    );
+}
