@@ -12,7 +12,9 @@ use super::{Model, Motion, Stepper, Sweep, SweepEnd};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::View;
 use crate::dynamics::forward::equations::Equations;
-use crate::dynamics::forward::run::{Analysis, Course, Timed, course_settings, integrate};
+use crate::dynamics::forward::run::{
+    Analysis, Course, Timed, course_settings, integrate, work_names,
+};
 use crate::dynamics::forward::{Ended, Energy, Statistics};
 use crate::error::Error;
 use crate::mechanism::Kind;
@@ -201,12 +203,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             current: None,
             samples: Vec::with_capacity(settings.intervals + 2),
         };
-        let mut work_names = self.dynamics.working_load_names();
-        for k in 0..nd {
-            if !free.contains(&k) {
-                work_names.push(format!("driver {}", names[k]));
-            }
-        }
+        let work_names = work_names(self.dynamics, &free, &names[..nd]);
         let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;
         let stop = outcome.failure.map(|(at, e)| Stop {
             variable: "t",

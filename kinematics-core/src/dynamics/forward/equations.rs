@@ -191,7 +191,7 @@ pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(
         for k in 0..j {
             d -= m[j * n + k] * m[j * n + k];
         }
-        if !(d > 1e-14 * largest) {
+        if d.is_nan() || d <= 1e-14 * largest {
             return Err(j);
         }
         let d = crate::math::sqrt(d);

@@ -2,11 +2,10 @@
 //! builder ([`Dynamics::forward`]) and the model's part in the
 //! integration.
 
-use alloc::format;
 use alloc::vec::Vec;
 
 use super::equations::Equations;
-use super::run::{Analysis, Course, Timed, course_settings, integrate};
+use super::run::{Analysis, Course, Timed, course_settings, integrate, work_names};
 use super::{Ended, Trajectory};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
@@ -121,12 +120,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             current: None,
             samples: Vec::with_capacity(settings.intervals + 2),
         };
-        let mut work_names = self.dynamics.working_load_names();
-        for k in 0..M::DRIVERS {
-            if !free.contains(&k) {
-                work_names.push(format!("driver {}", names[k]));
-            }
-        }
+        let work_names = work_names(self.dynamics, &free, &names[..M::DRIVERS]);
         let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;
         let stop = outcome.failure.map(|(at, e)| Stop {
             variable: "t",

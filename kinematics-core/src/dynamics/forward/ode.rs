@@ -249,19 +249,16 @@ impl Dopri {
             if last {
                 h = room;
             }
-            if !(h > 1e-14 * (1.0 + math::abs(self.t))) {
+            if h.is_nan() || h <= 1e-14 * (1.0 + math::abs(self.t)) {
                 return Stepped::TooSmall;
             }
-            match self.stages(system, h) {
-                Err(e) => {
-                    // A stage the system refused (past a limit, a
-                    // singular pose): a quarter of the step.
-                    self.refused = Some(e);
-                    self.rejected += 1;
-                    self.h = h * 0.25;
-                    continue;
-                }
-                Ok(()) => {}
+            if let Err(e) = self.stages(system, h) {
+                // A stage the system refused (past a limit, a singular
+                // pose): a quarter of the step.
+                self.refused = Some(e);
+                self.rejected += 1;
+                self.h = h * 0.25;
+                continue;
             }
             // The error estimate, in `stage`.
             for i in 0..self.n {

@@ -5,7 +5,7 @@
 //! given drivers, and the equations at its current motion.
 
 use alloc::format;
-use alloc::string::ToString;
+use alloc::string::{String, ToString};
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -272,6 +272,18 @@ impl Course {
             },
         ))
     }
+}
+
+/// The names of a run's works: the loads', then `driver d` for each
+/// prescribed driver (`drivers` their names, in order).
+pub(crate) fn work_names(dynamics: &Dynamics, free: &[usize], drivers: &[&str]) -> Vec<String> {
+    let mut names = dynamics.working_load_names();
+    for (k, name) in drivers.iter().enumerate() {
+        if !free.contains(&k) {
+            names.push(format!("driver {name}"));
+        }
+    }
+    names
 }
 
 /// What a run was asked for.
