@@ -40,6 +40,7 @@ from ._model import (
     compile,
     load,
 )
+from ._forward import Trajectory
 from ._sweep import Batch, Deviations, ForceSweep, Link, PointColumns, Poses, ReactionColumns, Stop, Sweep
 from .errors import *  # noqa: F401,F403
 from .merit import grashof
@@ -67,6 +68,7 @@ __all__ = [
     "Deviations",
     "Batch",
     "Link",
+    "Trajectory",
     "errors",
     "merit",
     "grashof",

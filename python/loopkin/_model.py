@@ -157,6 +157,7 @@ copyreg.pickle(MechanismType, lambda cls: (compile, (cls._native.text,)))
 
 
 from ._forces import _Forces
+from ._forward import Trajectory, _Forward  # noqa: F401 (Trajectory re-exported)
 from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them too)
     FrameMotion,
     Forces,
@@ -173,7 +174,7 @@ from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them t
     _readonly,
 )
 
-class Mechanism(_Forces, metaclass=MechanismType):
+class Mechanism(_Forces, _Forward, metaclass=MechanismType):
     """A design of a compiled mechanism: the class :func:`compile` returns,
     with one value per parameter.
 

@@ -25,6 +25,7 @@ mod columns;
 mod convert;
 mod errors;
 mod forces;
+mod forward;
 mod merit;
 mod sweep;
 mod synthesis;
@@ -774,5 +775,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(merit::read_quantity, m)?)?;
     m.add_function(wrap_pyfunction!(merit::grashof, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synthesize, m)?)?;
+    m.add_function(wrap_pyfunction!(forward::forward, m)?)?;
     Ok(())
 }

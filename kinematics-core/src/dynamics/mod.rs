@@ -106,7 +106,7 @@ use nalgebra::{Matrix3, Vector3};
 pub use builder::DynamicsBuilder;
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
-pub use forward::{Ended, Energy, Event, Forward, Motor, Statistics, Trajectory};
+pub use forward::{Ended, Energy, Event, Forward, Method, Motor, Statistics, Trajectory};
 pub use joints::{Axis, GROUND, Joint};
 pub use reactions::{JointReaction, Reactions};
 pub use sensitivity::EffortSensitivity;

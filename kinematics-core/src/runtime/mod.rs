@@ -72,7 +72,6 @@ mod dynamics;
 mod forward;
 mod fused;
 mod invariant;
-mod linalg;
 mod sensitivity;
 mod solve;
 mod stepper;

@@ -9,11 +9,11 @@ use alloc::vec::Vec;
 use kinematics_jit::{Inputs, Program};
 use nalgebra::{Matrix3, Vector3};
 
-use super::linalg::{conditioning, lu, lu_above, lu_apply};
 use super::{Model, Motion, PointState, Vector};
 use crate::error::{Error, Input};
 use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
+use crate::solve::dense::{conditioning, lu, lu_above, lu_apply};
 use crate::solve::{Failure, Judge, Space, System, describe_by, fast_then_damped, iterate};
 
 /// The arrays of a solve and an analysis, sized for one model.

@@ -6,6 +6,7 @@
 //! written once over slices and a [`System`], and serves run-time models
 //! too, with one convergence rule.
 
+pub(crate) mod dense;
 mod failure;
 mod linalg;
 mod newton;

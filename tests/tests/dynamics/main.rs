@@ -21,5 +21,6 @@ mod descriptions;
 mod efforts;
 mod energy;
 mod forward;
+mod press;
 mod reactions;
 mod sections;

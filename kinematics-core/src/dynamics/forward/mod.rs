@@ -48,6 +48,7 @@ mod generated;
 mod motor;
 pub(crate) mod ode;
 pub(crate) mod run;
+mod stiff;
 
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -90,6 +91,21 @@ impl Event {
             value,
         }
     }
+}
+
+/// The integrator of a forward simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Dormand and Prince's explicit pair of orders 5(4), with dense
+    /// output of order 4: the default, for motions that are not stiff.
+    #[default]
+    Explicit,
+    /// TR-BDF2, implicit and L-stable, of order 2 with an embedded
+    /// third-order error estimate, its Jacobian by finite differences:
+    /// for stiff motions (a stiff spring, large damping), where the
+    /// explicit pair's steps are held by its stability, not by the
+    /// accuracy asked for.
+    Implicit,
 }
 
 /// How a forward simulation ended.

@@ -361,6 +361,71 @@ impl Dopri {
     }
 }
 
+/// The integrator a run uses: the explicit pair or the implicit method
+/// of [`super::stiff`], behind one interface.
+pub(crate) enum Solver {
+    Explicit(Dopri),
+    Implicit(super::stiff::TrBdf2),
+}
+
+impl Solver {
+    /// The time reached.
+    pub(crate) fn t(&self) -> f64 {
+        match self {
+            Solver::Explicit(s) => s.t,
+            Solver::Implicit(s) => s.t,
+        }
+    }
+
+    /// The start of the last accepted step.
+    pub(crate) fn t_old(&self) -> f64 {
+        match self {
+            Solver::Explicit(s) => s.t_old,
+            Solver::Implicit(s) => s.t_old,
+        }
+    }
+
+    /// The solution at [`Solver::t`].
+    pub(crate) fn y(&self) -> &[f64] {
+        match self {
+            Solver::Explicit(s) => &s.y,
+            Solver::Implicit(s) => &s.y,
+        }
+    }
+
+    /// One accepted step toward `t_end`.
+    pub(crate) fn step<S: System>(&mut self, system: &mut S, t_end: f64) -> Stepped {
+        match self {
+            Solver::Explicit(s) => s.step(system, t_end),
+            Solver::Implicit(s) => s.step(system, t_end),
+        }
+    }
+
+    /// The interpolant at t within the last step.
+    pub(crate) fn interpolate(&self, t: f64, out: &mut [f64]) {
+        match self {
+            Solver::Explicit(s) => s.interpolate(t, out),
+            Solver::Implicit(s) => s.interpolate(t, out),
+        }
+    }
+
+    /// The accepted and rejected steps and the evaluations.
+    pub(crate) fn counts(&self) -> [usize; 3] {
+        match self {
+            Solver::Explicit(s) => [s.accepted, s.rejected, s.evaluations],
+            Solver::Implicit(s) => [s.accepted, s.rejected, s.evaluations],
+        }
+    }
+
+    /// The system's last refusal, taken.
+    pub(crate) fn refused(&mut self) -> Option<Error> {
+        match self {
+            Solver::Explicit(s) => s.refused.take(),
+            Solver::Implicit(s) => s.refused.take(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,8 +10,9 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::equations::{Equations, cholesky_solve};
-use super::ode::{Dopri, Stepped, System, Tolerances};
-use super::{Ended, Energy, Event, Statistics};
+use super::ode::{Dopri, Solver, Stepped, System, Tolerances};
+use super::stiff::TrBdf2;
+use super::{Ended, Energy, Event, Method, Statistics};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::View;
 use crate::error::Error;
@@ -85,6 +86,7 @@ pub(crate) struct Course {
     pub(crate) max_steps: usize,
     pub(crate) events: Vec<Event>,
     pub(crate) options: Options,
+    pub(crate) method: Method,
 }
 
 impl Default for Course {
@@ -99,6 +101,7 @@ impl Default for Course {
             max_steps: 10_000_000,
             events: Vec::new(),
             options: Options::DEFAULT,
+            method: Method::Explicit,
         }
     }
 }
@@ -159,6 +162,14 @@ macro_rules! course_settings {
         /// The options of the assemblies.
         pub fn options(mut self, options: &crate::Options) -> Self {
             self.course.options = *options;
+            self
+        }
+
+        /// The integrator: the explicit Dormand–Prince pair (the default)
+        /// or, for a stiff motion, the implicit TR-BDF2
+        /// ([`Method`](crate::dynamics::Method)).
+        pub fn method(mut self, method: crate::dynamics::Method) -> Self {
+            self.course.method = method;
             self
         }
     };
@@ -269,6 +280,7 @@ impl Course {
                 max_step: self.max_step,
                 max_steps: self.max_steps,
                 events,
+                method: self.method,
             },
         ))
     }
@@ -298,6 +310,7 @@ pub(crate) struct Settings {
     pub(crate) max_steps: usize,
     /// (coordinate, of its rate, value).
     pub(crate) events: Vec<(usize, bool, f64)>,
+    pub(crate) method: Method,
 }
 
 /// How a run went, besides its samples.
@@ -465,33 +478,45 @@ pub(crate) fn integrate<A: Analysis>(
         relative: settings.relative,
         absolute,
     };
-    let mut ode = Dopri::new(&mut eom, 0.0, &y, tolerances, settings.max_step)?;
+    let mut ode = match settings.method {
+        Method::Explicit => Solver::Explicit(Dopri::new(
+            &mut eom,
+            0.0,
+            &y,
+            tolerances,
+            settings.max_step,
+        )?),
+        Method::Implicit => Solver::Implicit(TrBdf2::new(
+            &mut eom,
+            0.0,
+            &y,
+            tolerances,
+            settings.max_step,
+        )?),
+    };
     #[allow(clippy::cast_precision_loss)]
     let output = |k: usize| settings.until * (k as f64) / (settings.intervals as f64);
     let mut next = 1;
     let mut failure = None;
     let ended = loop {
-        if ode.t >= settings.until {
+        if ode.t() >= settings.until {
             break Ended::Complete;
         }
-        if ode.accepted >= settings.max_steps {
-            break Ended::StepLimit { at: ode.t };
+        if ode.counts()[0] >= settings.max_steps {
+            break Ended::StepLimit { at: ode.t() };
         }
         if ode.step(&mut eom, settings.until) == Stepped::TooSmall {
-            let e = ode
-                .refused
-                .take()
-                .unwrap_or_else(|| Error::InvalidDynamics {
-                    item: "forward simulation".to_string(),
-                    detail: format!(
-                        "the step size fell below the resolution of the time at t = {}: the \
+            let at = ode.t();
+            let e = ode.refused().unwrap_or_else(|| Error::InvalidDynamics {
+                item: "forward simulation".to_string(),
+                detail: format!(
+                    "the step size fell below the resolution of the time at t = {at}: the \
                      motion is not smooth there (an impact, a load that jumps), or the \
-                     tolerance is too tight for f64",
-                        ode.t
-                    ),
-                });
-            failure = Some((ode.t, e));
-            break Ended::Failed { at: ode.t };
+                     tolerance is too tight for f64"
+                ),
+            });
+            failure = Some((at, e));
+            break Ended::Failed { at };
         }
         // The last evaluation was at the end of the step.
         eom.analysis.commit();
@@ -506,12 +531,12 @@ pub(crate) fn integrate<A: Analysis>(
             }
             None => None,
         };
-        let upto = limit.map_or(ode.t, |(_, t)| t);
+        let upto = limit.map_or(ode.t(), |(_, t)| t);
         let mut out = vec![0.0; n];
         while next <= settings.intervals && output(next) <= upto {
             let t = output(next);
-            let state = if t == ode.t {
-                &ode.y
+            let state = if t == ode.t() {
+                ode.y()
             } else {
                 ode.interpolate(t, &mut out);
                 &out
@@ -544,9 +569,9 @@ pub(crate) fn integrate<A: Analysis>(
         previous = now;
     };
     let statistics = Statistics {
-        steps: ode.accepted,
-        rejected: ode.rejected,
-        evaluations: ode.evaluations,
+        steps: ode.counts()[0],
+        rejected: ode.counts()[1],
+        evaluations: ode.counts()[2],
     };
     Ok((
         eom.analysis,
@@ -586,12 +611,12 @@ fn emit<A: Analysis>(eom: &mut Eom<'_, A>, t: f64, y: &[f64]) -> Result<Energy, 
 /// the Illinois method on the dense output (each trial an assembly).
 fn locate<A: Analysis>(
     eom: &mut Eom<'_, A>,
-    ode: &Dopri,
+    ode: &Solver,
     (j, rate, value): (usize, bool, f64),
     ga: f64,
     gb: f64,
 ) -> Option<f64> {
-    let (mut a, mut b) = (ode.t_old, ode.t);
+    let (mut a, mut b) = (ode.t_old(), ode.t());
     let (mut fa, mut fb) = (ga, gb);
     if fb == 0.0 {
         return Some(b);

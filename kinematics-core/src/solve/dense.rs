@@ -1,18 +1,19 @@
-//! Dense LU factors of run-time models' Jacobians: the factorisation with
-//! partial pivoting (unrolled for 2 × 2), its solves, the sign of the
-//! determinant and the conditioning 1/‖A⁻¹‖∞.
+//! Dense LU factors on slices, for run-time models' Jacobians and the
+//! implicit integrator's iteration matrix: the factorisation with partial
+//! pivoting (unrolled for 2 × 2), its solves, the sign of the determinant
+//! and the conditioning 1/‖A⁻¹‖∞.
 
 /// LU factorisation with partial pivoting of the n × n row-major `a`:
 /// the factors in place, the row permutation into `perm`; the sign of the
 /// permutation, or `None` at a zero or non-finite pivot.
-pub(super) fn lu(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
+pub(crate) fn lu(a: &mut [f64], perm: &mut [usize], n: usize) -> Option<f64> {
     lu_above(a, perm, n, 0.0).ok()
 }
 
 /// [`lu`] whose pivots must exceed `threshold` in magnitude (and be
 /// finite), as `solve::Lu::factor` requires of generated code's: at the
 /// first that does not, `Err((k, |pivot|))` for column k.
-pub(super) fn lu_above(
+pub(crate) fn lu_above(
     a: &mut [f64],
     perm: &mut [usize],
     n: usize,
@@ -94,7 +95,7 @@ fn lu_general(
 }
 
 /// x with A x = b, from the factors of [`lu`] (NaN where A is singular).
-pub(super) fn lu_apply(lu: &[f64], perm: &[usize], b: &[f64], x: &mut [f64], n: usize) {
+pub(crate) fn lu_apply(lu: &[f64], perm: &[usize], b: &[f64], x: &mut [f64], n: usize) {
     if n == 2 {
         lu_apply2(lu, perm, b, x);
     } else {
@@ -137,7 +138,7 @@ fn lu_apply_general(lu: &[f64], perm: &[usize], b: &[f64], x: &mut [f64], n: usi
 /// 1/‖A⁻¹‖∞ and the row of A⁻¹ with the largest absolute sum (the unknown
 /// the equations determine worst); (0, 0) when A is singular. `a` is
 /// overwritten by its factors; `scratch` holds three arrays of n.
-pub(super) fn conditioning(
+pub(crate) fn conditioning(
     a: &mut [f64],
     n: usize,
     perm: &mut [usize],

@@ -1,0 +1,153 @@
+"""Forward dynamics: the motion that the definition's ``bodies`` and
+``loads`` produce, the method :meth:`loopkin.Mechanism.forward` and its
+result, :class:`Trajectory`."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._values import Options, _opts
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._model import Pose
+    from ._sweep import Sweep
+
+__all__ = ["Trajectory"]
+
+
+def _seconds(value: Union[float, str]) -> float:
+    """A time in seconds: a number, or a string ending in ``s`` or ``ms``."""
+    if isinstance(value, str):
+        text = value.strip()
+        factor = 1.0
+        if text.endswith("ms"):
+            text, factor = text[:-2], 1e-3
+        elif text.endswith("s"):
+            text = text[:-1]
+        try:
+            return float(text) * factor
+        except ValueError:
+            raise ValueError(f"until={value!r}: give a time in seconds (3.0, '3s', '250ms')") from None
+    return float(value)
+
+
+class Trajectory:
+    """The result of :meth:`loopkin.Mechanism.forward`.
+
+    ``sweep`` holds the samples as a :class:`Sweep` in time (variable
+    ``t``: every column, plot and table of a sweep); ``t``, ``kinetic``
+    and ``potential`` are numpy arrays, one value per sample (s, J, J);
+    ``work`` the work done since the start by each load and prescribed
+    driver (samples × works, J), named by ``work_names``; ``effort`` each
+    driver's effort (samples × drivers; zero for a free driver);
+    ``ended`` is ``"complete"``, ``"event"`` (then ``event`` is the index
+    of the event in ``stop_when``), ``"failed"`` (``sweep.stop`` says
+    why) or ``"step limit"``, at time ``at``; ``steps``, ``rejected`` and
+    ``evaluations`` count the integration's work.
+    """
+
+    def __init__(self, sweep: "Sweep", d: Dict[str, Any]) -> None:
+        self.sweep = sweep
+        self.t: np.ndarray = d["t"]
+        self.kinetic: np.ndarray = d["kinetic"]
+        self.potential: np.ndarray = d["potential"]
+        self.work: np.ndarray = d["work"]
+        self.work_names: List[str] = list(d["work_names"])
+        self.effort: np.ndarray = d["effort"]
+        self.ended: str = d["ended"]
+        self.event: Optional[int] = d["event"]
+        self.at: float = d["at"]
+        self.steps: int = d["steps"]
+        self.rejected: int = d["rejected"]
+        self.evaluations: int = d["evaluations"]
+        self._energy_error: float = d["energy_error"]
+
+    @property
+    def balance(self) -> np.ndarray:
+        """T + V − ΣW at each sample: constant in an exact solution."""
+        return self.kinetic + self.potential - self.work.sum(axis=1)
+
+    def energy_error(self) -> float:
+        """The largest change of :attr:`balance`, relative to the largest
+        of |T|, |V| and the works."""
+        return self._energy_error
+
+    def __repr__(self) -> str:
+        return f"Trajectory({len(self.t)} samples, ended {self.ended!r} at t = {self.at:g} s)"
+
+
+class _Forward:
+    """:meth:`forward`, mixed into :class:`loopkin.Mechanism`."""
+
+    __slots__ = ()
+    _m: "_native.Model"
+
+    if TYPE_CHECKING:  # pragma: no cover
+
+        @classmethod
+        def driver_names(cls) -> Tuple[str, ...]: ...
+
+        def pose(self, pose: Optional[Mapping[str, float]] = None, **values: Union[float, str]) -> "Pose": ...
+
+        def _quantity(self, name: str, value: Union[float, str], order: int) -> float: ...
+
+    def forward(
+        self,
+        *,
+        start: Mapping[str, Union[float, str]],
+        until: Union[float, str],
+        rates: Optional[Mapping[str, Union[float, str]]] = None,
+        free: Optional[Iterable[str]] = None,
+        samples: int = 100,
+        tolerance: float = 1e-9,
+        stop_when: Optional[Mapping[str, Union[float, str]]] = None,
+        options: Optional[Options] = None,
+    ) -> Trajectory:
+        """The motion the definition's ``bodies`` and ``loads`` produce
+        from the pose ``start`` (forward dynamics): the drivers in ``free``
+        (every driver by default; the others stay at their start values)
+        move under the loads from the ``rates`` given (zero otherwise)
+        until ``until`` seconds (a number, or ``"3s"``), sampled at
+        ``samples`` equal intervals. The mechanism is assembled at every
+        evaluation, the free drivers' accelerations solve
+        M(q) d̈ = −b(q, q̇) (the mass matrix from the exact partial
+        velocities, b the efforts at zero free acceleration), integrated
+        by Dormand–Prince 5(4) at relative and absolute ``tolerance``.
+        ``stop_when`` ends the run where a coordinate reaches a value
+        (``{"th4": "60deg"}``), or a rate (``{"rate(phi)": "1400rpm"}``).
+
+        Raises:
+            InvalidDynamicsError: no ``bodies``/``loads`` section, an event
+                or a free driver the definition does not have, or a free
+                driver that moves no mass.
+            ValueError: a time, tolerance or sample count out of range.
+        """
+        q = self.pose(start)
+        drivers = self.driver_names()
+        r = [0.0] * len(drivers)
+        for name, value in (rates or {}).items():
+            if name not in drivers:
+                raise KeyError(f"{name!r} is not a driver of {type(self).__name__}: they are {list(drivers)}")
+            r[drivers.index(name)] = self._quantity(name, value, 1)
+        events: List[Tuple[str, bool, float]] = []
+        for key, value in (stop_when or {}).items():
+            rate = key.startswith("rate(") and key.endswith(")")
+            name = key[5:-1].strip() if rate else key
+            events.append((name, rate, self._quantity(name, value, 1 if rate else 0)))
+        sweep, d = _native.forward(
+            self._m,
+            q.array.tolist(),
+            r,
+            list(free or []),
+            _seconds(until),
+            int(samples),
+            float(tolerance),
+            events,
+            _opts(options),
+        )
+        from ._sweep import Sweep
+
+        return Trajectory(Sweep(type(self), self, sweep), d)  # type: ignore[arg-type]

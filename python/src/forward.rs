@@ -1,0 +1,102 @@
+//! Forward dynamics from Python: the motion that a definition's `bodies`
+//! and `loads` produce from a start pose (`Dynamics::forward_of`), its
+//! samples as a [`Sweep`] and its energies, works and efforts as numpy
+//! arrays.
+
+use kinematics_core::dynamics::{Ended, Event};
+use kinematics_core::runtime::SweepEnd;
+
+use super::*;
+
+/// The forward simulation of `model` from the pose `start` with the
+/// drivers' starting `rates`: the drivers named in `free` (all of them
+/// when empty) move under the loads until `until` seconds, `samples`
+/// equal intervals, relative and absolute tolerance `tolerance`, ended by
+/// the first of `events` (coordinate, of its rate, value) that happens.
+/// Returns the samples as a sweep in time and a dict: "t", "kinetic",
+/// "potential" (one per sample), "work" (samples × works), "work_names",
+/// "effort" (samples × drivers), "ended" ("complete", "event", "failed" or
+/// "step limit"), "event" (its index, or None), "at" (the time it ended),
+/// "steps", "rejected", "evaluations" and "energy_error".
+#[pyfunction]
+#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, opts=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn forward<'py>(
+    py: Python<'py>,
+    model: &Model,
+    start: Vec<f64>,
+    rates: Vec<f64>,
+    free: Vec<String>,
+    until: f64,
+    samples: usize,
+    tolerance: f64,
+    events: Vec<(String, bool, f64)>,
+    opts: Option<OptionsTuple>,
+) -> PyResult<(Sweep, Bound<'py, PyDict>)> {
+    let m = &model.model;
+    let o = options(py, opts.as_ref())?;
+    let dynamics = m.dynamics().map_err(|e| error(py, &e))?;
+    let mut builder = dynamics
+        .forward_of(m, &start)
+        .rates(&rates)
+        .until(until)
+        .samples(samples)
+        .tolerance(tolerance)
+        .options(&o);
+    for name in &free {
+        builder = builder.free(name);
+    }
+    for (name, rate, value) in &events {
+        builder = builder.stop_when(if *rate {
+            Event::rate_reaches(name, *value)
+        } else {
+            Event::reaches(name, *value)
+        });
+    }
+    let run = py.detach(|| builder.run()).map_err(|e| error(py, &e))?;
+    // The samples as a sweep's columns: each stepped again from its own
+    // assembled pose, which reproduces it.
+    let nd = m.drivers();
+    let n = run.sweep.samples.len();
+    let mut columns = Columns::new(m, "t", kinematics_core::Kind::Length, n);
+    let mut stepper = m.stepper(&o).map_err(|e| error(py, &e))?;
+    for s in &run.sweep.samples {
+        let flat = stepper
+            .step_flat(&s.motion.q, &s.motion.qd[..nd], &s.motion.qdd[..nd])
+            .map_err(|e| error(py, &e))?;
+        columns.push(s.at, &flat);
+    }
+    columns.end(SweepEnd {
+        stop: run.sweep.stop.clone(),
+        change_points: Vec::new(),
+    });
+    let sweep = Sweep::new(py, columns, m.clone())?;
+    let d = PyDict::new(py);
+    let e = &run.energy;
+    d.set_item("t", array(py, e.iter().map(|x| x.t).collect()))?;
+    d.set_item("kinetic", array(py, e.iter().map(|x| x.kinetic).collect()))?;
+    d.set_item(
+        "potential",
+        array(py, e.iter().map(|x| x.potential).collect()),
+    )?;
+    let nw = run.work_names.len();
+    let work = e.iter().flat_map(|x| x.work.iter().copied()).collect();
+    d.set_item("work", shaped(py, work, vec![e.len(), nw])?)?;
+    d.set_item("work_names", run.work_names.clone())?;
+    let effort = e.iter().flat_map(|x| x.effort.iter().copied()).collect();
+    d.set_item("effort", shaped(py, effort, vec![e.len(), nd])?)?;
+    let (ended, event, at) = match run.ended {
+        Ended::Complete => ("complete", None, run.energy.last().map_or(0.0, |x| x.t)),
+        Ended::Event { index, at } => ("event", Some(index), at),
+        Ended::Failed { at } => ("failed", None, at),
+        Ended::StepLimit { at } => ("step limit", None, at),
+    };
+    d.set_item("ended", ended)?;
+    d.set_item("event", event)?;
+    d.set_item("at", at)?;
+    d.set_item("steps", run.statistics.steps)?;
+    d.set_item("rejected", run.statistics.rejected)?;
+    d.set_item("evaluations", run.statistics.evaluations)?;
+    d.set_item("energy_error", run.energy_error())?;
+    Ok((sweep, d))
+}

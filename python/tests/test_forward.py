@@ -1,0 +1,95 @@
+"""Forward dynamics from Python (``Mechanism.forward``) against closed
+forms written here: a flywheel started by a DC motor,
+ω(t) = ω₀ (1 − e^(−t/τ)) with τ = J ω₀ / T_s and
+φ(t) = ω₀ (t − τ (1 − e^(−t/τ))); a pendulum's half swing at small
+amplitude, π √(I_O / (m g r)) (1 + θ₀²/16); and the errors."""
+
+import math
+
+import numpy as np
+import pytest
+
+import loopkin as kin
+
+FLYWHEEL = """
+struct Flywheel {
+    params   { j, ts, w0 }
+    drivers  { phi }
+    unknowns { }
+    points   { O = vec2(0.0, 0.0); P = polar(0.1, phi); }
+    bodies   { wheel(mass = 5.0, center = O, angle = phi, inertia = j); }
+    loads    { force(phi, ts * (1.0 - rate(phi) / w0)); }
+}
+"""
+
+SWING = """
+struct Swing {
+    params   { r, m, j }
+    drivers  { phi }
+    unknowns { }
+    points   { G = polar(r, phi); }
+    bodies   { bob(mass = m, center = G, angle = phi, inertia = j); }
+    loads    { gravity(vec2(0.0, -9.81)); }
+}
+"""
+
+NO_MASSES = """
+struct Crank { params { a } drivers { phi } unknowns { } points { B = polar(a, phi); } }
+"""
+
+
+def test_a_flywheel_started_by_a_dc_motor_follows_its_exponential():
+    j, ts, w0 = 0.5, 4.0, 100.0
+    m = kin.compile(FLYWHEEL)(j=j, ts=ts, w0=w0)
+    run = m.forward(start={"phi": 0.0}, until="30s", samples=60, tolerance=1e-11)
+    assert isinstance(run, kin.Trajectory)
+    assert run.ended == "complete" and run.at == 30.0
+    tau = j * w0 / ts
+    t = run.sweep.at
+    assert np.array_equal(t, run.t) and len(t) == 61
+    np.testing.assert_allclose(run.sweep.qd["phi"], w0 * (1 - np.exp(-t / tau)), rtol=0, atol=1e-8 * w0)
+    np.testing.assert_allclose(run.sweep["phi"], w0 * (t - tau * (1 - np.exp(-t / tau))), rtol=0, atol=1e-7 * w0)
+    # The motor's work is the kinetic energy the wheel has: no loss.
+    assert run.work_names == ["force on phi"]
+    np.testing.assert_allclose(run.work[:, 0], run.kinetic, rtol=1e-9, atol=1e-9)
+    assert run.energy_error() < 1e-9
+    assert np.all(np.abs(run.balance - run.balance[0]) < 1e-8 * run.kinetic.max())
+
+
+def test_a_speed_reached_ends_the_run_where_it_is_reached():
+    j, ts, w0 = 0.5, 4.0, 100.0
+    m = kin.compile(FLYWHEEL)(j=j, ts=ts, w0=w0)
+    run = m.forward(start={"phi": 0.0}, until=60.0, stop_when={"rate(phi)": 50.0}, tolerance=1e-11)
+    assert run.ended == "event" and run.event == 0
+    # Half the no-load speed at t = τ ln 2.
+    assert run.at == pytest.approx(j * w0 / ts * math.log(2.0), rel=1e-9)
+    assert run.sweep.qd["phi"][-1] == pytest.approx(50.0, rel=1e-9)
+
+
+def test_a_pendulum_swings_with_its_period():
+    r, mass, j = 0.1, 2.0, 0.01
+    m = kin.compile(SWING)(r=r, m=mass, j=j)
+    amplitude = 1e-3
+    run = m.forward(
+        start={"phi": -math.pi / 2 + amplitude},
+        until=5.0,
+        stop_when={"rate(phi)": 0.0},
+        tolerance=1e-12,
+    )
+    omega = math.sqrt(mass * 9.81 * r / (j + mass * r * r))
+    assert run.ended == "event"
+    assert 2 * run.at == pytest.approx(2 * math.pi / omega * (1 + amplitude**2 / 16), rel=1e-9)
+    # Released at rest: the free driver's effort is zero throughout.
+    assert np.all(run.effort == 0.0)
+
+
+def test_errors_say_what_is_wrong():
+    with pytest.raises(kin.InvalidDynamicsError, match="bodies"):
+        kin.compile(NO_MASSES)(a=0.1).forward(start={"phi": 0.0}, until=1.0)
+    m = kin.compile(FLYWHEEL)(j=0.5, ts=4.0, w0=100.0)
+    with pytest.raises(kin.InvalidDynamicsError, match="no coordinate `psi`"):
+        m.forward(start={"phi": 0.0}, until=1.0, stop_when={"psi": 1.0})
+    with pytest.raises(ValueError, match="until"):
+        m.forward(start={"phi": 0.0}, until="soon")
+    with pytest.raises(KeyError, match="not a driver"):
+        m.forward(start={"phi": 0.0}, until=1.0, rates={"x": 1.0})
