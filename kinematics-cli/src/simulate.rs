@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use kinematics_core::animate::write_table_html;
-use kinematics_core::dynamics::{Ended, Event};
+use kinematics_core::dynamics::{Ended, Event, Method};
 use kinematics_core::plot::{plot_motion_in, plot_simulation, Units};
 use kinematics_core::units::{AngleUnit, Order};
 use kinematics_core::view::Projection;
@@ -53,12 +53,25 @@ pub(super) struct SimulateArgs {
     /// (`rate(phi)=1500rpm`); repeatable, the first that happens.
     #[arg(long = "stop-when", value_name = "NAME=VALUE")]
     stop_when: Vec<String>,
+    /// The integrator: the explicit Dormand–Prince pair, or the implicit
+    /// TR-BDF2 for a stiff motion (a stiff spring, large damping).
+    #[arg(long, value_enum, default_value = "explicit")]
+    method: MethodArg,
     /// Write angles, their rates and accelerations in degrees.
     #[arg(long)]
     degrees: bool,
     /// The folder the files are written to (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
+}
+
+/// `--method`: the integrator.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum MethodArg {
+    /// Dormand–Prince 5(4), explicit.
+    Explicit,
+    /// TR-BDF2, implicit, for stiff motions.
+    Implicit,
 }
 
 /// `text` as a time in seconds: a number, or one ending in `s` or `ms`.
@@ -105,7 +118,11 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         .rates(&rates)
         .until(until)
         .samples(args.samples)
-        .tolerance(args.tolerance);
+        .tolerance(args.tolerance)
+        .method(match args.method {
+            MethodArg::Explicit => Method::Explicit,
+            MethodArg::Implicit => Method::Implicit,
+        });
     for name in &args.free {
         let j = coordinate(&m, name, "--free")?;
         if j >= m.drivers() {

@@ -704,6 +704,7 @@ fn the_readme_and_guide_commands_run_as_printed() {
     assert!(dir.join("out/sweep.csv").exists());
     assert!(dir.join("out/report.html").exists());
     assert!(dir.join("out/best.toml").exists());
+    assert!(dir.join("out/press/energy.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
