@@ -462,11 +462,12 @@ impl Dynamics {
     ) -> Result<(Totals, f64), Error> {
         let [q, qd, qdd] = self.coordinates_of(s);
         let totals = self.totals(s, [&q, &qd, &qdd])?;
+        let mut terms = Terms::default();
+        self.terms(s, [&q, &qd, &qdd], &mut terms)?;
         let mut power = 0.0;
         for k in 0..self.drivers {
-            let mut result = Ok(f64::NAN);
-            unit(k, &mut |u| result = self.effort(s, u, [&q, &qd, &qdd]))?;
-            let effort_k = result?;
+            let mut effort_k = f64::NAN;
+            unit(k, &mut |u| effort_k = self.effort(&terms, u))?;
             if !effort_k.is_finite() {
                 return Err(Error::NonFinite {
                     input: Input::Computed,
@@ -585,57 +586,108 @@ impl Dynamics {
         Ok((force, moment))
     }
 
-    /// One driver's effort Q_k at the motion `s`, from its unit analysis
-    /// `u`, with `coords` the q, q', q'' the loads read.
-    pub(super) fn effort(
+    /// The terms of the efforts that every driver shares at the motion
+    /// `s` (its loads read at `coords`, q, q', q''), written into `out`:
+    /// each body's m (a_G − g) and J α + ω × J ω, each load's value (once
+    /// per motion, however many drivers) and each spring's pull.
+    ///
+    /// # Errors
+    /// A load that is not finite, named.
+    pub(crate) fn terms(
         &self,
         s: &dyn View,
-        u: &dyn View,
         coords: [&[f64]; 3],
-    ) -> Result<f64, Error> {
+        out: &mut Terms,
+    ) -> Result<(), Error> {
         let g = self.gravity;
         let planar = self.dim == 2;
-        let velocity = |v: &dyn View, p: usize| v.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
         let instant = |at| Instant::of(coords, at).at_time(s.time());
-        let mut q = 0.0;
+        out.bodies.clear();
         for b in &self.bodies {
             let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
             let (omega, alpha, inertia) = turning(b, s);
             let h = inertia * alpha + omega.cross(&(inertia * omega));
-            q += ((a - g) * b.mass).dot(&velocity(u, b.center)) + h.dot(&turning(b, u).0);
+            out.bodies.push([(a - g) * b.mass, h]);
         }
+        out.forces.clear();
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let f = Vector3::from(f(&instant(s.point(*p))));
             self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
-            let f = if planar {
+            out.forces.push(if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
                 f
-            };
-            q -= f.dot(&velocity(u, *p));
+            });
         }
+        out.torques.clear();
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
             let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
             self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
-            let t = if planar {
+            out.torques.push(if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
                 t
-            };
-            q -= t.dot(&body.map_or(Vector3::zeros(), |b| turning(b, u).0));
+            });
         }
-        for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
+        out.coordinate_forces.clear();
+        for (i, (_, f)) in self.coordinate_forces.iter().enumerate() {
             let f = f(&instant(None));
             self.finite_load([f], LoadAt::Coordinate(i))?;
-            q -= f * u.coordinate(*j)[1];
+            out.coordinate_forces.push(f);
         }
+        out.springs.clear();
         for sp in &self.springs {
             let pull = sp.pull(s);
-            q += pull.tension * pull.e.dot(&(velocity(u, sp.to) - velocity(u, sp.from)));
+            out.springs.push((pull.tension, pull.e));
         }
-        Ok(q)
+        Ok(())
     }
+
+    /// One driver's effort Q_k from the shared `terms` of the motion and
+    /// the driver's unit analysis `u` (its partial velocities):
+    /// Q_k = Σ m (a_G − g) · v_G^k + h · ω^k − Σ F · v_P^k − Σ T · ω^k −
+    /// Σ f q̇_j^k + Σ f_s e · (v_B^k − v_A^k).
+    pub(super) fn effort(&self, terms: &Terms, u: &dyn View) -> f64 {
+        let velocity = |p: usize| u.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
+        let mut q = 0.0;
+        for (b, [ma, h]) in self.bodies.iter().zip(&terms.bodies) {
+            q += ma.dot(&velocity(b.center)) + h.dot(&angular_velocity(b, u));
+        }
+        for ((p, _, _), f) in self.forces.iter().zip(&terms.forces) {
+            q -= f.dot(&velocity(*p));
+        }
+        for ((b, _), t) in self.torques.iter().zip(&terms.torques) {
+            let w = self
+                .bodies
+                .get(*b)
+                .map_or(Vector3::zeros(), |b| angular_velocity(b, u));
+            q -= t.dot(&w);
+        }
+        for ((j, _), f) in self.coordinate_forces.iter().zip(&terms.coordinate_forces) {
+            q -= f * u.coordinate(*j)[1];
+        }
+        for (sp, (tension, e)) in self.springs.iter().zip(&terms.springs) {
+            q += tension * e.dot(&(velocity(sp.to) - velocity(sp.from)));
+        }
+        q
+    }
+}
+
+/// The terms of the efforts shared by every driver at one motion
+/// ([`Dynamics::terms`]); kept between motions, so that its vectors are
+/// allocated once.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Terms {
+    /// Per body: m (a_G − g) and J α + ω × J ω.
+    pub(crate) bodies: Vec<[Vector3<f64>; 2]>,
+    /// Per force, per torque (in the plane's terms where planar), per
+    /// coordinate force: its value.
+    pub(crate) forces: Vec<Vector3<f64>>,
+    pub(crate) torques: Vec<Vector3<f64>>,
+    pub(crate) coordinate_forces: Vec<f64>,
+    /// Per spring: its tension and the unit vector from its first end.
+    pub(crate) springs: Vec<(f64, Vector3<f64>)>,
 }
 
 /// The unit analyses of a generated mechanism `m` at `pose`: for driver
@@ -658,6 +710,24 @@ pub(super) fn unit_analyses<'a, M: Mechanism>(
         let u = m.analyze_slices(pose, &rates, &zeros, &Options::DEFAULT)?;
         with(&Generated(&u));
         Ok(())
+    }
+}
+
+/// ω of body `b` in the motion `s` alone (what a unit analysis's partial
+/// angular velocity is read as).
+pub(super) fn angular_velocity(b: &ResolvedBody, s: &dyn View) -> Vector3<f64> {
+    match &b.turning {
+        Turns::No => Vector3::zeros(),
+        Turns::Angle(terms) => {
+            let mut w = 0.0;
+            for &(j, c) in terms {
+                w += c * s.coordinate(j)[1];
+            }
+            Vector3::new(0.0, 0.0, w)
+        }
+        Turns::Frame(f) => s
+            .frame(*f)
+            .map_or(Vector3::repeat(f64::NAN), |f| f.angular_velocity),
     }
 }
 

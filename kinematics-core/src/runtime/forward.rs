@@ -10,7 +10,7 @@ use alloc::vec::Vec;
 use super::sweep::collect;
 use super::{Model, Motion, Stepper, Sweep, SweepEnd};
 use crate::dynamics::Dynamics;
-use crate::dynamics::evaluate::View;
+use crate::dynamics::evaluate::{View, WithUnit};
 use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
     Analysis, Course, Timed, course_settings, integrate, work_names,
@@ -192,15 +192,16 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
                 requirement: "the free drivers' values and rates must be finite",
             });
         }
-        let stepper = m.stepper(&self.course.options)?;
         let analysis = RunTime {
-            m,
-            stepper,
+            stepper: m.stepper(&self.course.options)?,
+            units: m.stepper(&self.course.options)?,
+            rates: vec![0.0; nd],
+            zeros: vec![0.0; nd],
             profile: self.profile,
             start: self.start.clone(),
             guess: self.start,
             modes: Vec::new(),
-            current: None,
+            current: false,
             samples: Vec::with_capacity(settings.intervals + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..nd]);
@@ -231,16 +232,22 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
 }
 
 /// A run-time model's part in the integration: a stepper, its assembly
-/// modes restored to the committed pose's before each evaluation.
+/// modes restored to the committed pose's before each evaluation, and a
+/// second one for the unit analyses, so that an evaluation allocates
+/// nothing.
 struct RunTime<'m, P> {
-    m: &'m Model,
     stepper: Stepper<'m>,
+    units: Stepper<'m>,
+    /// The unit rates and the zero accelerations of the unit analyses.
+    rates: Vec<f64>,
+    zeros: Vec<f64>,
     profile: P,
     start: Vec<f64>,
     /// The pose the next assembly starts from, and its modes.
     guess: Vec<f64>,
     modes: Vec<f64>,
-    current: Option<Motion>,
+    /// Whether the stepper holds a motion.
+    current: bool,
     samples: Vec<(f64, Motion)>,
 }
 
@@ -259,11 +266,10 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if signs.len() == self.modes.len() {
             signs.copy_from_slice(&self.modes);
         }
-        let mut q = core::mem::take(&mut self.guess);
-        q[..nd].copy_from_slice(d);
-        let result = self.stepper.step(&q, dd, ddd).cloned();
-        self.guess = q;
-        self.current = Some(result?);
+        self.guess[..nd].copy_from_slice(d);
+        self.current = false;
+        self.stepper.step(&self.guess, dd, ddd)?;
+        self.current = true;
         Ok(())
     }
 
@@ -273,45 +279,54 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         t: f64,
         out: &mut Equations<'_>,
     ) -> Result<(), Error> {
-        let Some(motion) = &self.current else {
+        if !self.current {
             return Ok(());
-        };
+        }
+        let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
+        let motion = self.stepper.motion_now();
         let view = super::dynamics::RunTime(motion);
-        dynamics.equations(
-            &Timed(&view, t),
-            &mut super::dynamics::unit_analyses(self.m, &motion.q, self.m.drivers()),
-            out,
-        )
+        let mut unit = |k: usize, with: WithUnit<'_>| -> Result<(), Error> {
+            for (i, r) in rates.iter_mut().enumerate() {
+                *r = if i == k { 1.0 } else { 0.0 };
+            }
+            let u = units.step(&motion.q, rates, zeros)?;
+            with(&super::dynamics::RunTime(u));
+            Ok(())
+        };
+        dynamics.equations(&Timed(&view, t), &mut unit, out)
     }
 
-    fn energies(&self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {
-        let Some(motion) = &self.current else {
+    fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {
+        if !self.current {
             return Ok((f64::NAN, f64::NAN));
-        };
-        let view = super::dynamics::RunTime(motion);
+        }
+        let view = super::dynamics::RunTime(self.stepper.motion_now());
         let view = Timed(&view, t);
         let [q, qd, qdd] = dynamics.coordinates_of(&view);
         let totals = dynamics.totals(&view, [&q, &qd, &qdd])?;
         Ok((totals.kinetic_energy, totals.potential_energy))
     }
 
-    fn coordinate(&self, j: usize) -> [f64; 3] {
-        self.current
-            .as_ref()
-            .map_or([f64::NAN; 3], |m| super::dynamics::RunTime(m).coordinate(j))
+    fn coordinate(&mut self, j: usize) -> [f64; 3] {
+        if !self.current {
+            return [f64::NAN; 3];
+        }
+        super::dynamics::RunTime(self.stepper.motion_now()).coordinate(j)
     }
 
     fn commit(&mut self) {
-        if let Some(m) = &self.current {
-            self.guess.clone_from(&m.q);
+        if self.current {
+            let q = &self.stepper.motion_now().q;
+            self.guess.clone_from(q);
             self.modes.clear();
             self.modes.extend_from_slice(self.stepper.signs_mut());
         }
     }
 
     fn record(&mut self, t: f64) {
-        if let Some(m) = &self.current {
-            self.samples.push((t, m.clone()));
+        if self.current {
+            let m = self.stepper.motion_now().clone();
+            self.samples.push((t, m));
         }
     }
 }

@@ -22,7 +22,8 @@ use alloc::vec::Vec;
 use nalgebra::Vector3;
 
 use crate::dynamics::Dynamics;
-use crate::dynamics::evaluate::{View, WithUnit, turning};
+use crate::dynamics::Turns;
+use crate::dynamics::evaluate::{Terms, View, WithUnit, angular_velocity, turning};
 use crate::error::{Error, Input};
 
 /// Where the equations are written: the mass matrix (drivers × drivers,
@@ -34,6 +35,8 @@ pub(crate) struct Equations<'w> {
     pub(crate) bias: &'w mut [f64],
     pub(crate) powers: &'w mut [f64],
     pub(crate) partials: &'w mut [[Vector3<f64>; 2]],
+    /// The efforts' shared terms, kept between evaluations.
+    pub(crate) terms: &'w mut Terms,
 }
 
 impl Dynamics {
@@ -83,33 +86,40 @@ impl Dynamics {
     ) -> Result<(), Error> {
         let nd = self.drivers;
         let nb = self.bodies.len();
+        out.mass.fill(0.0);
         let [q, qd, qdd] = self.coordinates_of(s);
         let coords = [&q[..], &qd[..], &qdd[..]];
+        let terms = &mut *out.terms;
+        self.terms(s, coords, terms)?;
         for k in 0..nd {
-            let mut result = Ok(f64::NAN);
+            let mut effort = f64::NAN;
             let partials = &mut out.partials[k * nb..(k + 1) * nb];
             unit(k, &mut |u| {
-                result = self.effort(s, u, coords);
+                effort = self.effort(terms, u);
                 for (b, p) in self.bodies.iter().zip(partials.iter_mut()) {
                     let v = u.point(b.center).map_or(Vector3::zeros(), |[_, v, _]| v);
-                    *p = [v, turning(b, u).0];
+                    *p = [v, angular_velocity(b, u)];
                 }
             })?;
-            out.bias[k] = result?;
+            out.bias[k] = effort;
         }
-        for k in 0..nd {
-            for l in 0..nd {
-                let mut m = 0.0;
-                for (i, b) in self.bodies.iter().enumerate() {
+        for (i, b) in self.bodies.iter().enumerate() {
+            // J in the fixed axes, once per body (none for a slider).
+            let inertia = match b.turning {
+                Turns::No => None,
+                Turns::Angle(_) => Some(b.inertia),
+                Turns::Frame(_) => Some(turning(b, s).2),
+            };
+            for k in 0..nd {
+                for l in 0..nd {
                     let [vk, wk] = out.partials[k * nb + i];
                     let [vl, wl] = out.partials[l * nb + i];
-                    let inertia = turning(b, s).2;
-                    m += b.mass * vk.dot(&vl) + wk.dot(&(inertia * wl));
+                    let rotation = inertia.map_or(0.0, |j| wk.dot(&(j * wl)));
+                    out.mass[k * nd + l] += b.mass * vk.dot(&vl) + rotation;
                 }
-                out.mass[k * nd + l] = m;
             }
         }
-        self.load_powers(s, coords, out.powers)?;
+        self.load_powers(s, out.terms, out.powers);
         for &value in out.mass.iter().chain(out.bias.iter()) {
             if !value.is_finite() {
                 return Err(Error::NonFinite {
@@ -123,59 +133,34 @@ impl Dynamics {
     }
 
     /// The power of each load of [`Dynamics::working_loads`] at the motion
-    /// `s`: F · v_P, T · ω, f q̇_j, and −c L̇² for each damper.
-    fn load_powers(
-        &self,
-        s: &dyn View,
-        coords: [&[f64]; 3],
-        powers: &mut [f64],
-    ) -> Result<(), Error> {
-        use crate::dynamics::evaluate::{Instant, LoadAt};
-        let planar = self.dim == 2;
-        let instant = |at| Instant::of(coords, at).at_time(s.time());
+    /// `s`, from its `terms`: F · v_P, T · ω, f q̇_j, and −c L̇² for each
+    /// damper.
+    fn load_powers(&self, s: &dyn View, terms: &Terms, powers: &mut [f64]) {
         let mut slots = powers.iter_mut();
         let mut put = |p: f64| {
             if let Some(slot) = slots.next() {
                 *slot = p;
             }
         };
-        for (i, (p, _, f)) in self.forces.iter().enumerate() {
-            let at = s.point(*p);
-            let f = Vector3::from(f(&instant(at)));
-            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
-            let v = at.map_or(Vector3::zeros(), |[_, v, _]| v);
-            put(if planar {
-                f.x * v.x + f.y * v.y
-            } else {
-                f.dot(&v)
-            });
+        for ((p, _, _), f) in self.forces.iter().zip(&terms.forces) {
+            put(f.dot(&s.point(*p).map_or(Vector3::zeros(), |[_, v, _]| v)));
         }
-        for (i, (b, t)) in self.torques.iter().enumerate() {
-            let body = self.bodies.get(*b);
-            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
-            let w = body.map_or(Vector3::zeros(), |b| turning(b, s).0);
-            put(if planar { t.z * w.z } else { t.dot(&w) });
+        for ((b, _), t) in self.torques.iter().zip(&terms.torques) {
+            put(t.dot(
+                &self
+                    .bodies
+                    .get(*b)
+                    .map_or(Vector3::zeros(), |b| angular_velocity(b, s)),
+            ));
         }
-        for (i, (j, f)) in self.coordinate_forces.iter().enumerate() {
-            let f = f(&instant(None));
-            self.finite_load([f], LoadAt::Coordinate(i))?;
+        for ((j, _), f) in self.coordinate_forces.iter().zip(&terms.coordinate_forces) {
             put(f * s.coordinate(*j)[1]);
         }
-        for sp in &self.springs {
-            let nan = [Vector3::repeat(f64::NAN); 3];
-            let [ra, va, _] = s.point(sp.from).unwrap_or(nan);
-            let [rb, vb, _] = s.point(sp.to).unwrap_or(nan);
-            let d = rb - ra;
-            let length = d.norm();
-            let rate = if length > 0.0 {
-                d.dot(&(vb - va)) / length
-            } else {
-                0.0
-            };
+        for (sp, (_, e)) in self.springs.iter().zip(&terms.springs) {
+            let velocity = |p: usize| s.point(p).map_or(Vector3::repeat(f64::NAN), |[_, v, _]| v);
+            let rate = e.dot(&(velocity(sp.to) - velocity(sp.from)));
             put(-sp.damping * rate * rate);
         }
-        Ok(())
     }
 }
 

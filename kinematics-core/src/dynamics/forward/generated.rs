@@ -201,7 +201,7 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         )
     }
 
-    fn energies(&self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {
+    fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {
         let Some(motion) = &self.current else {
             return Ok((f64::NAN, f64::NAN));
         };
@@ -212,7 +212,7 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         Ok((totals.kinetic_energy, totals.potential_energy))
     }
 
-    fn coordinate(&self, j: usize) -> [f64; 3] {
+    fn coordinate(&mut self, j: usize) -> [f64; 3] {
         self.current.as_ref().map_or([f64::NAN; 3], |m| {
             let get = |c: &M::Coords| c.get(j).unwrap_or(f64::NAN);
             [get(m.q()), get(m.qd()), get(m.qdd())]

@@ -14,7 +14,7 @@ use super::ode::{Dopri, Solver, Stepped, System, Tolerances};
 use super::stiff::TrBdf2;
 use super::{Ended, Energy, Event, Method, Statistics};
 use crate::dynamics::Dynamics;
-use crate::dynamics::evaluate::View;
+use crate::dynamics::evaluate::{Terms, View};
 use crate::error::Error;
 use crate::mechanism::FrameState;
 use crate::options::Options;
@@ -45,9 +45,9 @@ pub(crate) trait Analysis {
     ///
     /// # Errors
     /// As [`Dynamics::inverse`].
-    fn energies(&self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error>;
+    fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error>;
     /// q, q̇ and q̈ of coordinate j at the current motion.
-    fn coordinate(&self, j: usize) -> [f64; 3];
+    fn coordinate(&mut self, j: usize) -> [f64; 3];
     /// Makes the current motion the start of the next assemblies.
     fn commit(&mut self);
     /// Keeps the current motion as the output sample at time `t`.
@@ -340,6 +340,7 @@ struct Eom<'d, A> {
     bias: Vec<f64>,
     powers: Vec<f64>,
     partials: Vec<[nalgebra::Vector3<f64>; 2]>,
+    terms: Terms,
     /// M_ff, then its factor; −b_f, then d̈_f.
     mff: Vec<f64>,
     x: Vec<f64>,
@@ -394,6 +395,7 @@ impl<A: Analysis> System for Eom<'_, A> {
             bias: &mut self.bias,
             powers: &mut self.powers,
             partials: &mut self.partials,
+            terms: &mut self.terms,
         };
         self.analysis.equations(self.dynamics, t, &mut out)?;
         for (i, &k) in self.free.iter().enumerate() {
@@ -451,6 +453,7 @@ pub(crate) fn integrate<A: Analysis>(
         bias: vec![0.0; nd],
         powers: vec![0.0; nw],
         partials: vec![[nalgebra::Vector3::zeros(); 2]; nd * dynamics.body_count()],
+        terms: Terms::default(),
         mff: vec![0.0; nf * nf],
         x: vec![0.0; nf],
         free,
@@ -464,14 +467,14 @@ pub(crate) fn integrate<A: Analysis>(
     // The start: assembled from the given pose, its sample the first.
     energy.push(emit(&mut eom, 0.0, &y)?);
     eom.analysis.commit();
-    let values = |eom: &Eom<'_, A>| -> Vec<f64> {
+    let values = |eom: &mut Eom<'_, A>| -> Vec<f64> {
         settings
             .events
             .iter()
             .map(|&(j, rate, v)| eom.analysis.coordinate(j)[usize::from(rate)] - v)
             .collect()
     };
-    let mut previous = values(&eom);
+    let mut previous = values(&mut eom);
     let mut absolute = vec![settings.absolute[0]; nf];
     absolute.extend(core::iter::repeat_n(settings.absolute[1], nf));
     let tolerances = Tolerances {
@@ -520,7 +523,7 @@ pub(crate) fn integrate<A: Analysis>(
         }
         // The last evaluation was at the end of the step.
         eom.analysis.commit();
-        let now = values(&eom);
+        let now = values(&mut eom);
         let crossing = previous
             .iter()
             .zip(&now)
