@@ -202,7 +202,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             guess: self.start,
             modes: Vec::new(),
             current: false,
-            samples: Vec::with_capacity(settings.intervals + 2),
+            samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..nd]);
         let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;

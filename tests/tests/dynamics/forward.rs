@@ -589,3 +589,75 @@ fn a_stiff_torsion_spring_and_damper_are_integrated_implicitly() -> Result<(), E
     );
     Ok(())
 }
+
+#[test]
+fn a_forward_simulation_refuses_what_cannot_be_run_by_name() -> Result<(), Error> {
+    let m = Swing { r: 0.1 };
+    let dynamics = Dynamics::builder()
+        .body(
+            Body::new("pendulum", 2.0)
+                .center("G")
+                .angle("phi")
+                .inertia(0.01),
+        )
+        .gravity([0.0, -G, 0.0])
+        .build::<Swing>()?;
+    let start = SwingCoords { phi: 0.3 };
+    let message = |r: Result<kinematics_core::dynamics::Trajectory<Swing>, Error>| {
+        r.expect_err("refused").to_string()
+    };
+    let forward = || dynamics.forward(&m, &start);
+    assert!(message(forward().until(0.0).run()).contains("until"));
+    assert!(message(forward().until(f64::NAN).run()).contains("until"));
+    assert!(message(forward().tolerance(f64::NAN).run()).contains("tolerance"));
+    assert!(message(forward().samples(0).run()).contains("samples"));
+    assert!(message(forward().samples(usize::MAX).run()).contains("samples"));
+    assert!(message(forward().max_step(-1.0).run()).contains("max_step"));
+    let e = message(forward().stop_when(Event::reaches("psi", 1.0)).run());
+    assert!(
+        e.contains("no coordinate `psi`") && e.contains("phi"),
+        "{e}"
+    );
+    assert!(message(forward().stop_when(Event::reaches("phi", f64::NAN)).run()).contains("finite"));
+    // A driver that moves no mass: its mass matrix is zero.
+    let massless = Dynamics::builder()
+        .body(Body::new("pendulum", 0.0).center("G").angle("phi"))
+        .build::<Swing>()?;
+    let e = massless
+        .forward(&m, &start)
+        .run()
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("moves no mass"), "{e}");
+    // Built for another mechanism.
+    let other = Dynamics::builder()
+        .body(
+            Body::new("wheel", 1.0)
+                .center("O")
+                .angle("phi")
+                .inertia(0.1),
+        )
+        .build::<Flywheel>()?;
+    assert!(other.forward(&m, &start).run().is_err());
+    // A load that is not finite mid-run ends it there, named.
+    let blowing = Dynamics::builder()
+        .body(
+            Body::new("pendulum", 2.0)
+                .center("G")
+                .angle("phi")
+                .inertia(0.01),
+        )
+        .coordinate_force("phi", |s| if s.time() > 0.5 { f64::NAN } else { 1.0 })
+        .build::<Swing>()?;
+    let run = blowing.forward(&m, &start).until(1.0).run()?;
+    let Ended::Failed { at } = run.ended else {
+        panic!("{:?}", run.ended)
+    };
+    assert!((at - 0.5).abs() < 1e-9, "{at}");
+    let stop = run.sweep.stop.expect("a stop");
+    assert!(
+        stop.to_string().contains("force on coordinate `phi`"),
+        "{stop}"
+    );
+    Ok(())
+}

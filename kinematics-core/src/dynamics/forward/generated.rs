@@ -118,7 +118,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             current_state: state.clone(),
             state,
             current: None,
-            samples: Vec::with_capacity(settings.intervals + 2),
+            samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..M::DRIVERS]);
         let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;

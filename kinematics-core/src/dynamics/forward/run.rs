@@ -267,8 +267,8 @@ impl Course {
         range(
             "samples",
             self.intervals as f64,
-            self.intervals > 0,
-            "must be at least 1",
+            self.intervals > 0 && self.intervals <= MAX_INTERVALS,
+            "must be at least 1 and at most 100 000 000 (each sample is a full analysis)",
         )?;
         Ok((
             free,
@@ -297,6 +297,9 @@ pub(crate) fn work_names(dynamics: &Dynamics, free: &[usize], drivers: &[&str]) 
     }
     names
 }
+
+/// The most output intervals a run takes.
+const MAX_INTERVALS: usize = 100_000_000;
 
 /// What a run was asked for.
 pub(crate) struct Settings {
@@ -463,7 +466,7 @@ pub(crate) fn integrate<A: Analysis>(
     let mut y = vec![0.0; n];
     y[..nf].copy_from_slice(y0.0);
     y[nf..2 * nf].copy_from_slice(y0.1);
-    let mut energy = Vec::with_capacity(settings.intervals + 2);
+    let mut energy = Vec::with_capacity(settings.intervals.min(1 << 16) + 2);
     // The start: assembled from the given pose, its sample the first.
     energy.push(emit(&mut eom, 0.0, &y)?);
     eom.analysis.commit();
