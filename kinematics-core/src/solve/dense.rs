@@ -185,6 +185,7 @@ pub(crate) fn conditioning(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use alloc::vec::Vec;
 
     /// The unrolled 2 × 2 factorisation and solve give, bit for bit, what
     /// the general ones give: on random matrices, on ties between the

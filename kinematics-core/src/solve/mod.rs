@@ -6,6 +6,8 @@
 //! written once over slices and a [`System`], and serves run-time models
 //! too, with one convergence rule.
 
+// The run-time models use all of it, the implicit integrator its LU.
+#[cfg_attr(not(feature = "runtime"), allow(dead_code))]
 pub(crate) mod dense;
 mod failure;
 mod linalg;

@@ -107,6 +107,24 @@ pub(crate) struct Tolerances {
     pub(crate) absolute: Vec<f64>,
 }
 
+impl Tolerances {
+    /// The scaled root-mean-square norm of `v` over its first
+    /// `controlled` components, component i scaled by
+    /// `absolute[i] + relative · max(|y_i|, |y1_i|)`.
+    pub(crate) fn norm(&self, v: &[f64], y: &[f64], y1: &[f64], controlled: usize) -> f64 {
+        let mut sum = 0.0;
+        for i in 0..controlled {
+            let scale = self.absolute.get(i).copied().unwrap_or(0.0)
+                + self.relative * math::abs(y[i]).max(math::abs(y1[i]));
+            let x = v[i] / scale;
+            sum += x * x;
+        }
+        #[allow(clippy::cast_precision_loss)]
+        let count = controlled.max(1) as f64;
+        math::sqrt(sum / count)
+    }
+}
+
 /// How a call to [`Dopri::step`] ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Stepped {
@@ -187,24 +205,9 @@ impl Dopri {
         Ok(me)
     }
 
-    /// The scale of component i between `a` and `b`.
-    fn scale(&self, i: usize, a: f64, b: f64) -> f64 {
-        self.tolerances.absolute.get(i).copied().unwrap_or(0.0)
-            + self.tolerances.relative * math::abs(a).max(math::abs(b))
-    }
-
-    /// The scaled root-mean-square norm of `v` over the controlled
-    /// components, scaled at `y` (and `y1`).
+    /// The scaled norm of `v` ([`Tolerances::norm`]).
     fn norm(&self, v: &[f64], y: &[f64], y1: &[f64], controlled: usize) -> f64 {
-        let mut sum = 0.0;
-        for i in 0..controlled {
-            let s = self.scale(i, y[i], y1[i]);
-            let x = v[i] / s;
-            sum += x * x;
-        }
-        #[allow(clippy::cast_precision_loss)]
-        let count = controlled.max(1) as f64;
-        math::sqrt(sum / count)
+        self.tolerances.norm(v, y, y1, controlled)
     }
 
     /// Hairer's estimate of a first step: h₀ = 0.01 ‖y‖/‖f‖, then the

@@ -125,18 +125,9 @@ impl TrBdf2 {
         Ok(me)
     }
 
-    /// The scaled root-mean-square norm of the controlled part of `v`.
+    /// The scaled norm of the controlled part of `v`, scaled at `at`.
     fn norm(&self, v: &[f64], at: &[f64]) -> f64 {
-        let mut sum = 0.0;
-        for i in 0..self.c {
-            let s = self.tolerances.absolute.get(i).copied().unwrap_or(0.0)
-                + self.tolerances.relative * math::abs(at[i]);
-            let x = v[i] / s;
-            sum += x * x;
-        }
-        #[allow(clippy::cast_precision_loss)]
-        let count = self.c.max(1) as f64;
-        math::sqrt(sum / count)
+        self.tolerances.norm(v, at, at, self.c)
     }
 
     /// The Jacobian of the controlled components at (t, y) by forward
@@ -179,6 +170,8 @@ impl TrBdf2 {
     /// Solves `x − d h f(t1, x) = base` by Newton's method from the value
     /// in `x`, f at the solution into `fx`; `Ok(false)` when it does not
     /// converge in six iterations.
+    // The loops run over several arrays at once, by index.
+    #[allow(clippy::needless_range_loop)]
     fn newton<S: System>(
         &mut self,
         system: &mut S,
@@ -217,6 +210,7 @@ impl TrBdf2 {
     }
 
     /// One attempt at a step of size h: the stages, and the error norm.
+    #[allow(clippy::needless_range_loop)]
     fn attempt<S: System>(&mut self, system: &mut S, h: f64) -> Result<Option<f64>, Error> {
         let n = self.n;
         // The trapezoidal stage, from an Euler predictor.
