@@ -36,23 +36,9 @@ mechanism! {
     }
 }
 
-fn thread_time() -> f64 {
-    kinematics_bench::thread_cpu_ns() * 1e-9
-}
-
-fn median(mut v: Vec<f64>) -> (f64, f64, f64) {
-    v.sort_by(f64::total_cmp);
-    (v[v.len() / 2], v[0], v[v.len() - 1])
-}
-
-fn main() {
-    let m = FourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-    };
-    let dynamics = Dynamics::builder()
+/// The bodies, gravity, the spring-damper and the motor.
+fn description() -> kinematics_core::dynamics::DynamicsBuilder {
+    Dynamics::builder()
         .body(
             Body::new("crank", 0.3)
                 .center("G2")
@@ -79,8 +65,25 @@ fn main() {
                 .damping(2.0),
         )
         .motor("phi", Motor::dc(0.5, 60.0))
-        .build::<FourBar>()
-        .expect("the description");
+}
+
+fn thread_time() -> f64 {
+    kinematics_bench::thread_cpu_ns() * 1e-9
+}
+
+fn median(mut v: Vec<f64>) -> (f64, f64, f64) {
+    v.sort_by(f64::total_cmp);
+    (v[v.len() / 2], v[0], v[v.len() - 1])
+}
+
+fn main() {
+    let m = FourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let dynamics = description().build::<FourBar>().expect("the description");
     let start = m
         .assemble(&FourBarCoords {
             phi: 0.0,
@@ -142,35 +145,7 @@ fn main() {
         .expect("compiled")
         .with_values(&[0.04, 0.12, 0.10, 0.11])
         .expect("the values");
-    let run_time = Dynamics::builder()
-        .body(
-            Body::new("crank", 0.3)
-                .center("G2")
-                .angle("phi")
-                .inertia(2.0e-3),
-        )
-        .body(
-            Body::new("coupler", 0.5)
-                .center("G3")
-                .angle("th3")
-                .inertia(6.0e-4),
-        )
-        .body(
-            Body::new("rocker", 0.4)
-                .center("G4")
-                .angle("th4")
-                .inertia(3.5e-4),
-        )
-        .gravity([0.0, -9.81, 0.0])
-        .spring(
-            Spring::new("P0", "G3")
-                .stiffness(50.0)
-                .free_length(0.10)
-                .damping(2.0),
-        )
-        .motor("phi", Motor::dc(0.5, 60.0))
-        .build_for(&model)
-        .expect("the description");
+    let run_time = description().build_for(&model).expect("the description");
     let q0 = [start.phi, start.th3, start.th4];
     let run_model = || {
         run_time

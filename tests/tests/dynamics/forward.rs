@@ -169,19 +169,10 @@ mechanism! {
     }
 }
 
-/// The four-bar of the tests, its bodies, gravity and a spring from P0 to
-/// G3 of stiffness k and damping c.
-fn spring_four_bar(
-    k: f64,
-    c: f64,
-) -> Result<(SpringFourBar, Dynamics, SpringFourBarCoords), Error> {
-    let m = SpringFourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-    };
-    let dynamics = Dynamics::builder()
+/// The bodies of the four-bar of the tests, gravity and a spring from P0
+/// to G3 of stiffness k, free length 0.10 and damping c.
+fn four_bar_loads(k: f64, c: f64) -> kinematics_core::dynamics::DynamicsBuilder {
+    Dynamics::builder()
         .body(
             Body::new("crank", 0.3)
                 .center("G2")
@@ -207,7 +198,20 @@ fn spring_four_bar(
                 .free_length(0.10)
                 .damping(c),
         )
-        .build::<SpringFourBar>()?;
+}
+
+/// The four-bar of the tests with [`four_bar_loads`].
+fn spring_four_bar(
+    k: f64,
+    c: f64,
+) -> Result<(SpringFourBar, Dynamics, SpringFourBarCoords), Error> {
+    let m = SpringFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let dynamics = four_bar_loads(k, c).build::<SpringFourBar>()?;
     let start = m.assemble(&SpringFourBarCoords {
         phi: 0.0,
         th3: 1.2,
@@ -322,38 +326,10 @@ const SPRING_FOUR_BAR: &str = "struct SpringFourBar {
 fn a_run_time_model_moves_as_the_generated_mechanism() -> Result<(), Box<dyn std::error::Error>> {
     use kinematics_core::runtime::Model;
     let (m, _, start) = spring_four_bar(50.0, 2.0)?;
-    let motor = Motor::dc(0.5, 60.0);
-    let description = |b: kinematics_core::dynamics::DynamicsBuilder| {
-        b.body(
-            Body::new("crank", 0.3)
-                .center("G2")
-                .angle("phi")
-                .inertia(2.0e-3),
-        )
-        .body(
-            Body::new("coupler", 0.5)
-                .center("G3")
-                .angle("th3")
-                .inertia(6.0e-4),
-        )
-        .body(
-            Body::new("rocker", 0.4)
-                .center("G4")
-                .angle("th4")
-                .inertia(3.5e-4),
-        )
-        .gravity([0.0, -G, 0.0])
-        .spring(
-            Spring::new("P0", "G3")
-                .stiffness(50.0)
-                .free_length(0.10)
-                .damping(2.0),
-        )
-        .motor("phi", motor)
-    };
-    let generated = description(Dynamics::builder()).build::<SpringFourBar>()?;
+    let description = || four_bar_loads(50.0, 2.0).motor("phi", Motor::dc(0.5, 60.0));
+    let generated = description().build::<SpringFourBar>()?;
     let model = Model::compile(SPRING_FOUR_BAR)?.with_values(&[0.04, 0.12, 0.10, 0.11])?;
-    let run_time = description(Dynamics::builder()).build_for(&model)?;
+    let run_time = description().build_for(&model)?;
     let a = generated
         .forward(&m, &start)
         .until(2.0)
@@ -476,32 +452,7 @@ const LAGRANGE: [[f64; 6]; 8] = [
 #[test]
 fn a_motor_driven_four_bar_with_a_damper_moves_as_its_lagrange_equation() -> Result<(), Error> {
     let (m, _, start) = spring_four_bar(50.0, 2.0)?;
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("crank", 0.3)
-                .center("G2")
-                .angle("phi")
-                .inertia(2.0e-3),
-        )
-        .body(
-            Body::new("coupler", 0.5)
-                .center("G3")
-                .angle("th3")
-                .inertia(6.0e-4),
-        )
-        .body(
-            Body::new("rocker", 0.4)
-                .center("G4")
-                .angle("th4")
-                .inertia(3.5e-4),
-        )
-        .gravity([0.0, -G, 0.0])
-        .spring(
-            Spring::new("P0", "G3")
-                .stiffness(50.0)
-                .free_length(0.10)
-                .damping(2.0),
-        )
+    let dynamics = four_bar_loads(50.0, 2.0)
         .motor("phi", Motor::dc(0.5, 60.0))
         .build::<SpringFourBar>()?;
     let run = dynamics
