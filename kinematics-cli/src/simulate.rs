@@ -44,7 +44,7 @@ pub(super) struct SimulateArgs {
     #[arg(long, default_value = "1s")]
     until: String,
     /// The number of equal intervals between the output samples.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 100)]
     samples: usize,
     /// The relative and absolute tolerance of the local error.
     #[arg(long, default_value_t = 1e-9)]
@@ -170,7 +170,7 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         args.out.join("sweep.csv"),
         run.sweep.csv_with("m", angles),
     )?];
-    written.push(write(args.out.join("energy.csv"), energy_csv(&run))?);
+    written.push(write(args.out.join("energy.csv"), energy_csv(&m, &run))?);
     let motion = args.out.join("motion.svg");
     plot_motion_in(&run.sweep, units, &motion).map_err(failed)?;
     written.push(motion);
@@ -248,19 +248,49 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
 }
 
 /// The energies as CSV: t, T, V, the work of each load and prescribed
-/// driver, and the balance T + V − ΣW.
-fn energy_csv(run: &kinematics_core::runtime::TrajectoryOf) -> String {
+/// driver, the balance T + V − ΣW, then each prescribed driver's effort
+/// (what it must supply to follow its motion; N·m for an angle, N for a
+/// length).
+fn energy_csv(
+    m: &kinematics_core::runtime::Model,
+    run: &kinematics_core::runtime::TrajectoryOf,
+) -> String {
     let mut out = String::from("t (s),kinetic (J),potential (J)");
     for name in &run.work_names {
         let _ = write!(out, ",work of {name} (J)");
     }
-    out.push_str(",balance (J)\n");
+    out.push_str(",balance (J)");
+    // The prescribed drivers: those whose work is counted.
+    let prescribed: Vec<usize> = m.coordinates()[..m.drivers()]
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| {
+            run.work_names
+                .iter()
+                .any(|w| *w == format!("driver {}", c.name))
+        })
+        .map(|(k, _)| k)
+        .collect();
+    for &k in &prescribed {
+        let c = &m.coordinates()[k];
+        let unit = if c.kind == kinematics_core::Kind::Angle {
+            "N·m"
+        } else {
+            "N"
+        };
+        let _ = write!(out, ",effort of {} ({unit})", c.name);
+    }
+    out.push('\n');
     for e in &run.energy {
         let _ = write!(out, "{},{},{}", e.t, e.kinetic, e.potential);
         for w in &e.work {
             let _ = write!(out, ",{w}");
         }
-        let _ = writeln!(out, ",{}", e.balance());
+        let _ = write!(out, ",{}", e.balance());
+        for &k in &prescribed {
+            let _ = write!(out, ",{}", e.effort.get(k).copied().unwrap_or(f64::NAN));
+        }
+        out.push('\n');
     }
     out
 }

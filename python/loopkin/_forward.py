@@ -104,6 +104,8 @@ class _Forward:
         samples: int = 100,
         tolerance: float = 1e-9,
         stop_when: Optional[Mapping[str, Union[float, str]]] = None,
+        method: str = "explicit",
+        max_step: Optional[float] = None,
         options: Optional[Options] = None,
     ) -> Trajectory:
         """The motion the definition's ``bodies`` and ``loads`` produce
@@ -118,12 +120,17 @@ class _Forward:
         by Dormand–Prince 5(4) at relative and absolute ``tolerance``.
         ``stop_when`` ends the run where a coordinate reaches a value
         (``{"th4": "60deg"}``), or a rate (``{"rate(phi)": "1400rpm"}``).
+        ``method="implicit"`` integrates by TR-BDF2, for stiff motions (a
+        stiff spring, heavy damping); ``max_step`` bounds the step (s).
 
         Raises:
             InvalidDynamicsError: no ``bodies``/``loads`` section, an event
                 or a free driver the definition does not have, or a free
                 driver that moves no mass.
-            ValueError: a time, tolerance or sample count out of range.
+            InvalidOptionError: a time, tolerance, step or sample count out
+                of range (a ``ValueError``).
+            ValueError: a method that is neither ``"explicit"`` nor
+                ``"implicit"``, or a time that cannot be read.
         """
         q = self.pose(start)
         drivers = self.driver_names()
@@ -146,6 +153,8 @@ class _Forward:
             int(samples),
             float(tolerance),
             events,
+            str(method),
+            None if max_step is None else float(max_step),
             _opts(options),
         )
         from ._sweep import Sweep

@@ -3,7 +3,7 @@
 //! samples as a [`Sweep`] and its energies, works and efforts as numpy
 //! arrays.
 
-use kinematics_core::dynamics::{Ended, Event};
+use kinematics_core::dynamics::{Ended, Event, Method};
 use kinematics_core::runtime::SweepEnd;
 
 use super::*;
@@ -12,14 +12,16 @@ use super::*;
 /// drivers' starting `rates`: the drivers named in `free` (all of them
 /// when empty) move under the loads until `until` seconds, `samples`
 /// equal intervals, relative and absolute tolerance `tolerance`, ended by
-/// the first of `events` (coordinate, of its rate, value) that happens.
+/// the first of `events` (coordinate, of its rate, value) that happens,
+/// integrated by `method` ("explicit" or "implicit"), each step at most
+/// `max_step` seconds where given.
 /// Returns the samples as a sweep in time and a dict: "t", "kinetic",
 /// "potential" (one per sample), "work" (samples × works), "work_names",
 /// "effort" (samples × drivers), "ended" ("complete", "event", "failed" or
 /// "step limit"), "event" (its index, or None), "at" (the time it ended),
 /// "steps", "rejected", "evaluations" and "energy_error".
 #[pyfunction]
-#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, opts=None))]
+#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, method, max_step=None, opts=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn forward<'py>(
     py: Python<'py>,
@@ -31,8 +33,20 @@ pub(crate) fn forward<'py>(
     samples: usize,
     tolerance: f64,
     events: Vec<(String, bool, f64)>,
+    method: &str,
+    max_step: Option<f64>,
     opts: Option<OptionsTuple>,
 ) -> PyResult<(Sweep, Bound<'py, PyDict>)> {
+    let method = match method {
+        "explicit" => Method::Explicit,
+        "implicit" => Method::Implicit,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "method={other:?}: give \"explicit\" (Dormand–Prince 5(4)) or \"implicit\" \
+                 (TR-BDF2, for stiff motions)"
+            )))
+        }
+    };
     let m = &model.model;
     let o = options(py, opts.as_ref())?;
     let dynamics = m.dynamics().map_err(|e| error(py, &e))?;
@@ -42,7 +56,11 @@ pub(crate) fn forward<'py>(
         .until(until)
         .samples(samples)
         .tolerance(tolerance)
+        .method(method)
         .options(&o);
+    if let Some(h) = max_step {
+        builder = builder.max_step(h);
+    }
     for name in &free {
         builder = builder.free(name);
     }

@@ -93,3 +93,30 @@ def test_errors_say_what_is_wrong():
         m.forward(start={"phi": 0.0}, until="soon")
     with pytest.raises(KeyError, match="not a driver"):
         m.forward(start={"phi": 0.0}, until=1.0, rates={"x": 1.0})
+
+
+def test_a_stiff_spring_is_integrated_implicitly_and_the_method_is_checked():
+    stiff = kin.compile(
+        """
+        struct Stiff {
+            params   { j, k, c }
+            drivers  { phi }
+            unknowns { }
+            points   { O = vec2(0.0, 0.0); P = polar(0.1, phi); }
+            bodies   { wheel(mass = 1.0, center = O, angle = phi, inertia = j); }
+            loads    { force(phi, -k * phi - c * rate(phi)); }
+        }
+        """
+    )
+    j, k, c = 0.4, 1.0e4, 4.0e4
+    m = stiff(j=j, k=k, c=c)
+    run = m.forward(start={"phi": 1.0}, until=10.0, samples=20, tolerance=1e-7, method="implicit")
+    assert run.ended == "complete" and run.steps < 300
+    # J φ'' + c φ' + k φ = 0 from φ = 1 at rest, overdamped.
+    root = math.sqrt(c * c - 4 * j * k)
+    s1, s2 = (-c + root) / (2 * j), (-c - root) / (2 * j)
+    a = s2 / (s2 - s1)
+    t = run.sweep.at
+    np.testing.assert_allclose(run.sweep["phi"], a * np.exp(s1 * t) + (1 - a) * np.exp(s2 * t), rtol=0, atol=1e-5)
+    with pytest.raises(ValueError, match="implicit"):
+        m.forward(start={"phi": 1.0}, until=1.0, method="rk4")

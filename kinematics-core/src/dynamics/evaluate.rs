@@ -91,7 +91,9 @@ impl Instant<'_> {
         self.qd.get(j).copied().unwrap_or(f64::NAN)
     }
 
-    /// The acceleration of coordinate j.
+    /// The acceleration of coordinate j; NaN in a forward simulation
+    /// ([`Dynamics::forward`]), where the accelerations are what the loads
+    /// determine (a load that reads it is then reported as not finite).
     #[must_use]
     pub fn qdd(&self, j: usize) -> f64 {
         self.qdd.get(j).copied().unwrap_or(f64::NAN)

@@ -13,7 +13,7 @@ use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{View, WithUnit};
 use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
-    Analysis, Course, Timed, course_settings, integrate, work_names,
+    Analysis, Course, Timed, course_settings, integrate, start_state, work_names,
 };
 use crate::dynamics::forward::{Ended, Energy, Statistics};
 use crate::error::Error;
@@ -183,15 +183,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             }
         }
         let (free, settings) = self.course.settings(&names, nd)?;
-        let d0: Vec<f64> = free.iter().map(|&k| self.start[k]).collect();
-        let r0: Vec<f64> = free.iter().map(|&k| self.rates[k]).collect();
-        if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "start",
-                value: *v,
-                requirement: "the free drivers' values and rates must be finite",
-            });
-        }
+        let (d0, r0) = start_state((&self.start[..nd], &self.rates), &free, &names)?;
         let analysis = RunTime {
             stepper: m.stepper(&self.course.options)?,
             units: m.stepper(&self.course.options)?,
@@ -205,7 +197,13 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..nd]);
-        let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;
+        let (analysis, outcome) = integrate(
+            analysis,
+            self.dynamics,
+            (free, &names[..nd]),
+            (&d0, &r0),
+            &settings,
+        )?;
         let stop = outcome.failure.map(|(at, e)| Stop {
             variable: "t",
             at,

@@ -87,7 +87,10 @@ impl Dynamics {
         let nd = self.drivers;
         let nb = self.bodies.len();
         out.mass.fill(0.0);
-        let [q, qd, qdd] = self.coordinates_of(s);
+        let [q, qd, mut qdd] = self.coordinates_of(s);
+        // The loads may not read accelerations here (the free ones are
+        // what is solved for): NaN, so that one that does is named.
+        qdd.as_mut_slice().fill(f64::NAN);
         let coords = [&q[..], &qd[..], &qdd[..]];
         let terms = &mut *out.terms;
         self.terms(s, coords, terms)?;

@@ -5,7 +5,7 @@
 use alloc::vec::Vec;
 
 use super::equations::Equations;
-use super::run::{Analysis, Course, Timed, course_settings, integrate, work_names};
+use super::run::{Analysis, Course, Timed, course_settings, integrate, start_state, work_names};
 use super::{Ended, Trajectory};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
@@ -32,7 +32,7 @@ impl Dynamics {
     /// The motion these loads produce on `m` from the pose `start` (its
     /// unknowns a guess, assembled first), every driver free and at rest
     /// unless told otherwise: one second, 100 output intervals, relative
-    /// and absolute tolerance 1e-8 by default. See the
+    /// and absolute tolerance 1e-9 by default. See the
     /// [module](crate::dynamics::forward) for the equations.
     pub fn forward<'a, M: Mechanism>(
         &'a self,
@@ -51,14 +51,17 @@ impl Dynamics {
 }
 
 impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
-    /// Moves `driver` freely (the first call makes the others prescribed,
-    /// unless they are freed too).
+    /// Moves `driver` freely. The first call makes the others follow the
+    /// [`profile`](Self::profile), held at their start values without one,
+    /// unless they are freed too.
     pub fn free<U>(mut self, driver: Driver<M, U>) -> Self {
         self.course.free(driver.index());
         self
     }
 
-    /// The free drivers' rates at the start (their entries of `rates`).
+    /// The free drivers' rates at the start (their entries of `rates`; a
+    /// prescribed driver's rate is its profile's, and a nonzero entry for
+    /// one is refused).
     pub fn rates(mut self, rates: &M::Coords) -> Self {
         self.rates = *rates;
         self
@@ -94,21 +97,14 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
         self.dynamics.fits_mechanism::<M>()?;
         let names: Vec<&str> = M::COORDINATES.iter().map(|c| c.name).collect();
         let (free, settings) = self.course.settings(&names, M::DRIVERS)?;
-        let d0: Vec<f64> = free
-            .iter()
-            .map(|&k| self.start.get(k).unwrap_or(0.0))
-            .collect();
-        let r0: Vec<f64> = free
-            .iter()
-            .map(|&k| self.rates.get(k).unwrap_or(0.0))
-            .collect();
-        if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "start",
-                value: *v,
-                requirement: "the free drivers' values and rates must be finite",
-            });
-        }
+        let drivers = |c: &M::Coords| -> Vec<f64> {
+            (0..M::DRIVERS).map(|k| c.get(k).unwrap_or(0.0)).collect()
+        };
+        let (d0, r0) = start_state(
+            (&drivers(&self.start), &drivers(&self.rates)),
+            &free,
+            &names,
+        )?;
         let state = self.m.step_state(&self.course.options)?;
         let analysis = Model {
             m: self.m,
@@ -121,7 +117,13 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..M::DRIVERS]);
-        let (analysis, outcome) = integrate(analysis, self.dynamics, free, (&d0, &r0), &settings)?;
+        let (analysis, outcome) = integrate(
+            analysis,
+            self.dynamics,
+            (free, &names[..M::DRIVERS]),
+            (&d0, &r0),
+            &settings,
+        )?;
         let stop = outcome.failure.map(|(at, e)| Stop {
             variable: "t",
             at,

@@ -69,6 +69,11 @@ pub struct Event {
     pub(crate) value: f64,
 }
 
+/// An event is looked for at the end of every step, located on the dense
+/// output by the Illinois method to the resolution of the time. One whose
+/// value is already reached at the start counts from when the motion
+/// leaves it; a crossing there and back within one step is not seen
+/// (bound the step with `max_step` where that matters).
 impl Event {
     /// The coordinate `coordinate` (a driver or an unknown, by name)
     /// reaching `value`, from either side (an angle in radians, not
@@ -202,29 +207,35 @@ pub struct Trajectory<M: Mechanism> {
 
 impl<M: Mechanism> Trajectory<M> {
     /// The largest change of T + V − Σ W over the run, relative to the
-    /// largest of |T|, |V| and the works met (0 for a run of one sample):
-    /// how well the energy balance holds.
+    /// energy that moves in it, max T + (max V − min V) + max |W| (so that
+    /// where the origin of V lies does not matter; 0 for a run of one
+    /// sample): how well the energy balance holds. With
+    /// [`Method::Implicit`] the works are quadratures of its order 2,
+    /// not error-controlled, and this measures them too.
     #[must_use]
     pub fn energy_error(&self) -> f64 {
         energy_error(&self.energy)
     }
 }
 
-/// The largest change of T + V − Σ W over `energy`, relative to the
-/// largest of |T|, |V| and the works met.
+/// The largest change of T + V − Σ W over `energy`, relative to
+/// max T + (max V − min V) + max |W|.
 pub(crate) fn energy_error(energy: &[Energy]) -> f64 {
     let Some(first) = energy.first() else {
         return 0.0;
     };
     let e0 = first.balance();
-    let mut scale: f64 = 0.0;
+    let (mut kinetic, mut works): (f64, f64) = (0.0, 0.0);
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut worst: f64 = 0.0;
     for e in energy {
-        scale = scale.max(e.kinetic.abs()).max(e.potential.abs());
+        kinetic = kinetic.max(e.kinetic.abs());
+        (low, high) = (low.min(e.potential), high.max(e.potential));
         for w in &e.work {
-            scale = scale.max(w.abs());
+            works = works.max(w.abs());
         }
         worst = worst.max((e.balance() - e0).abs());
     }
+    let scale = kinetic + (high - low) + works;
     if scale > 0.0 { worst / scale } else { worst }
 }

@@ -93,18 +93,25 @@ impl Motor {
             Motor::Dc {
                 stall_torque,
                 no_load_speed,
-            } => (!finite(&[stall_torque, no_load_speed]) || no_load_speed == 0.0)
-                .then_some("its stall torque and no-load speed must be finite, the speed not 0"),
+            } => (!finite(&[stall_torque, no_load_speed])
+                || no_load_speed == 0.0
+                || stall_torque * no_load_speed < 0.0)
+                .then_some(
+                    "its stall torque and no-load speed must be finite, the speed not 0, and \
+                     of one sign (a motor turning backwards has both negative)",
+                ),
             Motor::Induction {
                 breakdown_torque,
                 synchronous_speed,
                 breakdown_slip,
             } => (!finite(&[breakdown_torque, synchronous_speed, breakdown_slip])
                 || synchronous_speed == 0.0
-                || breakdown_slip <= 0.0)
+                || breakdown_slip <= 0.0
+                || breakdown_torque * synchronous_speed < 0.0)
                 .then_some(
                     "its breakdown torque, synchronous speed and breakdown slip must be \
-                     finite, the speed not 0 and the slip positive",
+                     finite, the speed not 0, the slip positive, and the torque and the \
+                     speed of one sign (both negative for a field turning backwards)",
                 ),
             Motor::Constant(t) => (!t.is_finite()).then_some("its torque must be finite"),
         }
@@ -127,6 +134,10 @@ mod tests {
         assert!(t(-0.1) < 0.0);
         assert!(Motor::induction(1.0, 100.0, 0.0).invalid().is_some());
         assert!(Motor::dc(1.0, 0.0).invalid().is_some());
+        // A torque against its own speed would run away.
+        assert!(Motor::dc(2.0, -100.0).invalid().is_some());
+        assert!(Motor::induction(60.0, -157.0, 0.2).invalid().is_some());
+        assert!(Motor::dc(-2.0, -100.0).invalid().is_none());
         assert!(Motor::Constant(2.0).invalid().is_none());
     }
 }

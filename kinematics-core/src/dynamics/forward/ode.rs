@@ -222,12 +222,24 @@ impl Dopri {
             0.01 * d0 / d1
         };
         h0 = h0.min(self.max_step);
-        for i in 0..self.n {
-            self.stage[i] = self.y[i] + h0 * self.k[0][i];
-        }
         let mut f1 = vec![0.0; self.n];
-        system.rhs(self.t + h0, &self.stage, &mut f1)?;
-        self.evaluations += 1;
+        // A probe the system refuses (past a limit near the start) is
+        // tried again ten times closer, up to six times.
+        let mut tries = 0;
+        loop {
+            for i in 0..self.n {
+                self.stage[i] = self.y[i] + h0 * self.k[0][i];
+            }
+            self.evaluations += 1;
+            match system.rhs(self.t + h0, &self.stage, &mut f1) {
+                Ok(()) => break,
+                Err(e) if tries >= 6 => return Err(e),
+                Err(_) => {
+                    tries += 1;
+                    h0 *= 0.1;
+                }
+            }
+        }
         for (f, k) in f1.iter_mut().zip(&self.k[0]) {
             *f -= k;
         }

@@ -95,7 +95,7 @@ impl Default for Course {
             free: None,
             until: 1.0,
             intervals: 100,
-            relative: 1e-8,
+            relative: 1e-9,
             absolute: None,
             max_step: f64::INFINITY,
             max_steps: 10_000_000,
@@ -198,7 +198,13 @@ impl Course {
         drivers: usize,
     ) -> Result<(Vec<usize>, Settings), Error> {
         let free = self.free.clone().unwrap_or_else(|| (0..drivers).collect());
-        if free.is_empty() || free.iter().any(|&k| k >= drivers) {
+        if let Some(k) = free.iter().find(|&&k| k >= drivers) {
+            return Err(Error::InvalidDynamics {
+                item: "forward simulation".to_string(),
+                detail: format!("driver {k} is freed, but the mechanism has {drivers} drivers"),
+            });
+        }
+        if free.is_empty() {
             return Err(Error::InvalidDynamics {
                 item: "forward simulation".to_string(),
                 detail: "no driver moves freely: free one, or use a kinematic simulation for \
@@ -259,10 +265,20 @@ impl Course {
         for (name, v) in [
             ("absolute tolerance of the positions", absolute[0]),
             ("absolute tolerance of the velocities", absolute[1]),
-            ("max_step", self.max_step),
         ] {
-            range(name, v, v > 0.0, "must be positive")?;
+            range(
+                name,
+                v,
+                v > 0.0 && v.is_finite(),
+                "must be positive and finite",
+            )?;
         }
+        range(
+            "max_step",
+            self.max_step,
+            self.max_step > 1e-9 * until,
+            "must be positive, above a billionth of the end time",
+        )?;
         #[allow(clippy::cast_precision_loss)]
         range(
             "samples",
@@ -284,6 +300,49 @@ impl Course {
             },
         ))
     }
+}
+
+/// The free drivers' values and rates at the start, from every driver's
+/// (`drivers`: their values and rates), checked: finite, and no rate
+/// given for a prescribed driver (its profile gives it).
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a value or rate not finite,
+/// [`Error::InvalidDynamics`] for a rate of a prescribed driver.
+pub(crate) fn start_state(
+    (values, rates): (&[f64], &[f64]),
+    free: &[usize],
+    names: &[&str],
+) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    if let Some((k, r)) = rates
+        .iter()
+        .enumerate()
+        .find(|(k, r)| **r != 0.0 && !free.contains(k))
+    {
+        let name = names.get(k).copied().unwrap_or("?");
+        return Err(Error::InvalidDynamics {
+            item: format!("the rate of `{name}`"),
+            detail: format!(
+                "is given as {r}, but `{name}` is not free: a prescribed driver moves as its \
+                 profile says (held at its start value without one); free it, or give its \
+                 motion as a profile"
+            ),
+        });
+    }
+    let pick = |v: &[f64]| -> Vec<f64> {
+        free.iter()
+            .map(|&k| v.get(k).copied().unwrap_or(0.0))
+            .collect()
+    };
+    let (d0, r0) = (pick(values), pick(rates));
+    if let Some(v) = d0.iter().chain(&r0).find(|v| !v.is_finite()) {
+        return Err(Error::InvalidOption {
+            name: "start",
+            value: *v,
+            requirement: "the free drivers' values and rates must be finite",
+        });
+    }
+    Ok((d0, r0))
 }
 
 /// The names of a run's works: the loads', then `driver d` for each
@@ -344,6 +403,11 @@ struct Eom<'d, A> {
     powers: Vec<f64>,
     partials: Vec<[nalgebra::Vector3<f64>; 2]>,
     terms: Terms,
+    /// Each driver's effort at the last evaluation's accelerations: zero
+    /// for a free one, Q_p = b_p + M_pf d̈_f for a prescribed one.
+    effort: Vec<f64>,
+    /// The drivers' names, for messages.
+    names: Vec<String>,
     /// M_ff, then its factor; −b_f, then d̈_f.
     mff: Vec<f64>,
     x: Vec<f64>,
@@ -360,23 +424,6 @@ impl<A: Analysis> Eom<'_, A> {
             self.dd[k] = y[nf + i];
             self.ddd[k] = 0.0;
         }
-    }
-
-    /// Each driver's effort at the accelerations `x` of the free ones:
-    /// Q = b + M_·f d̈_f.
-    fn efforts(&self) -> Vec<f64> {
-        (0..self.nd)
-            .map(|k| {
-                if self.free.contains(&k) {
-                    return 0.0;
-                }
-                let mut q = self.bias[k];
-                for (i, &l) in self.free.iter().enumerate() {
-                    q += self.mass[k * self.nd + l] * self.x[i];
-                }
-                q
-            })
-            .collect()
     }
 }
 
@@ -408,8 +455,9 @@ impl<A: Analysis> System for Eom<'_, A> {
             }
         }
         if let Err(i) = cholesky_solve(&mut self.mff, &mut self.x, nf) {
+            let name = self.names.get(self.free[i]).map_or("?", String::as_str);
             return Err(Error::InvalidDynamics {
-                item: format!("free driver {}", self.free[i] + 1),
+                item: format!("free driver `{name}`"),
                 detail: "moves no mass or inertia of its own at this pose (the mass matrix \
                          of the free drivers is singular): give the bodies it moves their \
                          masses and moments of inertia, or prescribe it"
@@ -420,13 +468,17 @@ impl<A: Analysis> System for Eom<'_, A> {
         dy[nf..2 * nf].copy_from_slice(&self.x);
         let rest = &mut dy[2 * nf..];
         rest[..self.powers.len()].copy_from_slice(&self.powers);
-        let p0 = self.powers.len();
-        for (i, &p) in self.prescribed.iter().enumerate() {
+        self.effort.fill(0.0);
+        for &p in &self.prescribed {
             let mut q = self.bias[p];
             for (j, &l) in self.free.iter().enumerate() {
                 q += self.mass[p * self.nd + l] * self.x[j];
             }
-            rest[p0 + i] = q * self.dd[p];
+            self.effort[p] = q;
+        }
+        let p0 = self.powers.len();
+        for (i, &p) in self.prescribed.iter().enumerate() {
+            rest[p0 + i] = self.effort[p] * self.dd[p];
         }
         Ok(())
     }
@@ -437,7 +489,7 @@ impl<A: Analysis> System for Eom<'_, A> {
 pub(crate) fn integrate<A: Analysis>(
     analysis: A,
     dynamics: &Dynamics,
-    free: Vec<usize>,
+    (free, drivers): (Vec<usize>, &[&str]),
     y0: (&[f64], &[f64]),
     settings: &Settings,
 ) -> Result<(A, Outcome), Error> {
@@ -457,6 +509,8 @@ pub(crate) fn integrate<A: Analysis>(
         powers: vec![0.0; nw],
         partials: vec![[nalgebra::Vector3::zeros(); 2]; nd * dynamics.body_count()],
         terms: Terms::default(),
+        effort: vec![0.0; nd],
+        names: drivers.iter().map(|n| String::from(*n)).collect(),
         mff: vec![0.0; nf * nf],
         x: vec![0.0; nf],
         free,
@@ -490,18 +544,24 @@ pub(crate) fn integrate<A: Analysis>(
             0.0,
             &y,
             tolerances,
-            settings.max_step,
+            settings.max_step.min(settings.until),
         )?),
         Method::Implicit => Solver::Implicit(TrBdf2::new(
             &mut eom,
             0.0,
             &y,
             tolerances,
-            settings.max_step,
+            settings.max_step.min(settings.until),
         )?),
     };
     #[allow(clippy::cast_precision_loss)]
-    let output = |k: usize| settings.until * (k as f64) / (settings.intervals as f64);
+    let output = |k: usize| {
+        if k == settings.intervals {
+            settings.until
+        } else {
+            settings.until * (k as f64) / (settings.intervals as f64)
+        }
+    };
     let mut next = 1;
     let mut failure = None;
     let ended = loop {
@@ -527,16 +587,17 @@ pub(crate) fn integrate<A: Analysis>(
         // The last evaluation was at the end of the step.
         eom.analysis.commit();
         let now = values(&mut eom);
-        let crossing = previous
-            .iter()
-            .zip(&now)
-            .position(|(a, b)| *a != 0.0 && a * b <= 0.0);
-        let limit = match crossing {
-            Some(i) => {
-                locate(&mut eom, &ode, settings.events[i], previous[i], now[i]).map(|t| (i, t))
+        // Every event that changed sign in the step, located; the
+        // earliest ends the run (the lowest index at a tie).
+        let mut limit: Option<(usize, f64)> = None;
+        for (i, (a, b)) in previous.iter().zip(&now).enumerate() {
+            if *a != 0.0 && a * b <= 0.0 {
+                let t = locate(&mut eom, &ode, settings.events[i], *a, *b);
+                if limit.is_none_or(|(_, at)| t < at) {
+                    limit = Some((i, t));
+                }
             }
-            None => None,
-        };
+        }
         let upto = limit.map_or(ode.t(), |(_, t)| t);
         let mut out = vec![0.0; n];
         while next <= settings.intervals && output(next) <= upto {
@@ -596,7 +657,7 @@ fn emit<A: Analysis>(eom: &mut Eom<'_, A>, t: f64, y: &[f64]) -> Result<Energy, 
     let nf = eom.free.len();
     let mut dy = vec![0.0; eom.len()];
     eom.rhs(t, y, &mut dy)?;
-    let effort = eom.efforts();
+    let effort = eom.effort.clone();
     for (i, &k) in eom.free.iter().enumerate() {
         eom.ddd[k] = dy[nf + i];
     }
@@ -621,11 +682,11 @@ fn locate<A: Analysis>(
     (j, rate, value): (usize, bool, f64),
     ga: f64,
     gb: f64,
-) -> Option<f64> {
+) -> f64 {
     let (mut a, mut b) = (ode.t_old(), ode.t());
     let (mut fa, mut fb) = (ga, gb);
     if fb == 0.0 {
-        return Some(b);
+        return b;
     }
     let mut y = vec![0.0; eom.len()];
     let mut side = 0i8;
@@ -646,7 +707,7 @@ fn locate<A: Analysis>(
         }
         let f = eom.analysis.coordinate(j)[usize::from(rate)] - value;
         if f == 0.0 {
-            return Some(t);
+            return t;
         }
         if f * fa < 0.0 {
             (b, fb) = (t, f);
@@ -662,5 +723,5 @@ fn locate<A: Analysis>(
             side = 1;
         }
     }
-    Some(b)
+    b
 }

@@ -180,6 +180,7 @@ impl TrBdf2 {
         (x, fx, base): (&mut [f64], &mut [f64], &[f64]),
     ) -> Result<bool, Error> {
         let c = self.c;
+        let mut last = f64::INFINITY;
         for _ in 0..6 {
             system.rhs(t1, x, fx)?;
             self.evaluations += 1;
@@ -196,7 +197,14 @@ impl TrBdf2 {
             for i in 0..c {
                 x[i] += self.delta[i];
             }
-            if self.norm(&self.delta, x) <= 0.03 {
+            let size = self.norm(&self.delta, x);
+            // Diverging, or converging too slowly to be trusted: a new
+            // Jacobian and a shorter step.
+            if !size.is_finite() || size > 0.9 * last {
+                return Ok(false);
+            }
+            last = size;
+            if size <= 0.03 {
                 system.rhs(t1, x, fx)?;
                 self.evaluations += 1;
                 // The quadratures follow the stage.
@@ -253,7 +261,12 @@ impl TrBdf2 {
             &mut self.delta[..c],
             c,
         );
-        Ok(Some(self.norm(&self.delta, &self.y_new)))
+        Ok(Some(self.tolerances.norm(
+            &self.delta,
+            &self.y,
+            &self.y_new,
+            c,
+        )))
     }
 
     /// Takes one accepted step toward `t_end` (never past it).
@@ -271,8 +284,12 @@ impl TrBdf2 {
             if !self.fresh
                 && let Err(e) = self.differentiate(system)
             {
+                // A difference past a limit: a shorter step, which the
+                // next Jacobian's differences follow.
                 self.refused = Some(e);
-                return Stepped::TooSmall;
+                self.rejected += 1;
+                self.h = h * 0.25;
+                continue;
             }
             if !self.factor(h) {
                 self.rejected += 1;
