@@ -11,10 +11,11 @@
 //! M_ff(q) d̈_f = −b_f(q, q̇, t),
 //!
 //! M the mass matrix from the exact partial velocities and b the efforts
-//! at zero free acceleration, by virtual power ([`equations`]). The
+//! at zero free acceleration, by virtual power. The
 //! integrator is Dormand and Prince's explicit pair of orders 5(4) with
 //! error control on the positions and velocities and dense output
-//! ([`ode`]); the work of each load is integrated beside the motion, so
+//! (or, for stiff motions, the implicit TR-BDF2, [`Method`]); the work of
+//! each load is integrated beside the motion, so
 //! that every run reports its energy balance, T + V − Σ W = T₀ + V₀.
 //!
 //! ```
