@@ -106,7 +106,9 @@ use nalgebra::{Matrix3, Vector3};
 pub use builder::DynamicsBuilder;
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
-pub use forward::{Ended, Energy, Event, Forward, Method, Motor, Statistics, Trajectory};
+pub use forward::{
+    Ended, Energy, Event, Forward, Method, Motor, Sensitivities, Statistics, Trajectory,
+};
 pub use joints::{Axis, GROUND, Joint};
 pub use reactions::{JointReaction, Reactions};
 pub use sensitivity::EffortSensitivity;

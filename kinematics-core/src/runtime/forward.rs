@@ -15,7 +15,7 @@ use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
     Analysis, Course, Timed, course_settings, integrate, start_state, work_names,
 };
-use crate::dynamics::forward::{Ended, Energy, Statistics};
+use crate::dynamics::forward::{Ended, Energy, Sensitivities, Statistics};
 use crate::error::Error;
 use crate::mechanism::Kind;
 use crate::sweep::{Stop, StopReason};
@@ -33,6 +33,8 @@ pub struct ForwardOf<'a, P> {
     course: Course,
     /// A driver named to be freed that the model does not have.
     unknown: Option<String>,
+    /// Whether the sensitivities of the trajectory are integrated.
+    sensitivities: bool,
 }
 
 impl core::fmt::Debug for ForwardOf<'_, super::ProfileFn> {
@@ -53,6 +55,12 @@ pub struct TrajectoryOf {
     pub energy: Vec<Energy>,
     /// The names of the works.
     pub work_names: Vec<String>,
+    /// The sensitivity parameters ([`ForwardOf::sensitivities`]; empty
+    /// unless asked).
+    pub parameters: Vec<String>,
+    /// At each sample, the sensitivities of the free drivers' positions
+    /// and rates to each of `parameters`.
+    pub sensitivities: Vec<Sensitivities>,
     /// How it ended.
     pub ended: Ended,
     /// Steps and evaluations.
@@ -104,6 +112,7 @@ impl Dynamics {
             profile: at_rest,
             course: Course::default(),
             unknown: None,
+            sensitivities: false,
         }
     }
 }
@@ -140,10 +149,21 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             profile,
             course: self.course,
             unknown: self.unknown,
+            sensitivities: self.sensitivities,
         }
     }
 
     course_settings!();
+
+    /// Integrates, with the motion, the sensitivities of the free
+    /// drivers' positions and rates to the parameters of the definition's
+    /// `sensitivities` section ([`Sensitivities`]): one more assembly and
+    /// analysis, four per free driver for the state's differences, and the
+    /// efforts' partial derivatives, per evaluation.
+    pub fn sensitivities(mut self) -> Self {
+        self.sensitivities = true;
+        self
+    }
 
     /// Runs the simulation.
     ///
@@ -182,9 +202,31 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
                 });
             }
         }
-        let (free, settings) = self.course.settings(&names, nd)?;
+        let (free, mut settings) = self.course.settings(&names, nd)?;
+        let parameters: Vec<String> = if self.sensitivities {
+            let p: Vec<String> = m
+                .sensitivity_parameters()
+                .iter()
+                .map(|n| n.to_string())
+                .collect();
+            if p.is_empty() {
+                return Err(Error::InvalidDynamics {
+                    item: "sensitivities of the trajectory".into(),
+                    detail: format!(
+                        "model `{}` has no `sensitivities` section: list the parameters \
+                         there, `sensitivities {{ k, m }}`",
+                        m.name()
+                    ),
+                });
+            }
+            p
+        } else {
+            Vec::new()
+        };
+        settings.parameters = parameters.len();
         let (d0, r0) = start_state((&self.start[..nd], &self.rates), &free, &names)?;
         let analysis = RunTime {
+            m,
             stepper: m.stepper(&self.course.options)?,
             units: m.stepper(&self.course.options)?,
             rates: vec![0.0; nd],
@@ -197,6 +239,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..nd]);
+        let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
@@ -219,8 +262,16 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
                 change_points: Vec::new(),
             }
         });
+        let sensitivities = outcome
+            .energy
+            .iter()
+            .zip(&outcome.sensitivities)
+            .map(|(e, s)| Sensitivities::from_state(e.t, s, nf))
+            .collect();
         Ok(TrajectoryOf {
             sweep,
+            parameters,
+            sensitivities,
             energy: outcome.energy,
             work_names,
             ended: outcome.ended,
@@ -234,6 +285,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
 /// second one for the unit analyses, so that an evaluation allocates
 /// nothing.
 struct RunTime<'m, P> {
+    m: &'m Model,
     stepper: Stepper<'m>,
     units: Stepper<'m>,
     /// The unit rates and the zero accelerations of the unit analyses.
@@ -326,5 +378,28 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
             let m = self.stepper.motion_now().clone();
             self.samples.push((t, m));
         }
+    }
+
+    fn effort_partials(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let _ = t;
+        let nd = self.m.drivers();
+        let motion = self.stepper.motion_now();
+        for (p, s) in dynamics
+            .effort_sensitivities_of(self.m, motion)?
+            .iter()
+            .enumerate()
+        {
+            for (k, e) in s.effort.iter().take(nd).enumerate() {
+                if let Some(slot) = out.get_mut(p * nd + k) {
+                    *slot = *e;
+                }
+            }
+        }
+        Ok(())
     }
 }

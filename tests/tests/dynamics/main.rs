@@ -24,3 +24,4 @@ mod forward;
 mod press;
 mod reactions;
 mod sections;
+mod trajectory;

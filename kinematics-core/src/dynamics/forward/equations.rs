@@ -192,22 +192,27 @@ pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(
             m[i * n + j] = v / d;
         }
     }
-    // L y = r, then Lᵀ x = y.
+    cholesky_apply(m, r, n);
+    Ok(())
+}
+
+/// Solves M x = r in place with the Cholesky factor L of
+/// [`cholesky_solve`] (L y = r, then Lᵀ x = y).
+pub(crate) fn cholesky_apply(l: &[f64], r: &mut [f64], n: usize) {
     for i in 0..n {
         let mut v = r[i];
         for k in 0..i {
-            v -= m[i * n + k] * r[k];
+            v -= l[i * n + k] * r[k];
         }
-        r[i] = v / m[i * n + i];
+        r[i] = v / l[i * n + i];
     }
     for i in (0..n).rev() {
         let mut v = r[i];
         for k in i + 1..n {
-            v -= m[k * n + i] * r[k];
+            v -= l[k * n + i] * r[k];
         }
-        r[i] = v / m[i * n + i];
+        r[i] = v / l[i * n + i];
     }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -44,6 +44,7 @@
 //! # Ok::<(), kinematics_core::Error>(())
 //! ```
 
+mod eom;
 pub(crate) mod equations;
 mod generated;
 mod motor;
@@ -171,6 +172,41 @@ impl Energy {
     #[must_use]
     pub fn balance(&self) -> f64 {
         self.kinetic + self.potential - self.work.iter().sum::<f64>()
+    }
+}
+
+/// The sensitivities of a trajectory at one sample: ∂d_f/∂p and ∂ḋ_f/∂p
+/// of the free drivers for each sensitivity parameter p, by the forward
+/// sensitivity equations integrated with the motion: with S = ∂(d_f,
+/// ḋ_f)/∂p, Ṡ = (S_ḋ, ∂d̈_f/∂(d_f, ḋ_f) S + ∂d̈_f/∂p), where
+/// ∂d̈_f/∂p = −M_ff⁻¹ ∂Q_f/∂p comes from the compiled partial derivatives
+/// of the efforts (the definition's `sensitivities` section; exact) and
+/// ∂d̈_f/∂(d_f, ḋ_f) from central differences of the equations of motion
+/// at the state (to about 1e-10 of it). S starts at zero: the start pose
+/// and rates are given, not derived from p.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensitivities {
+    /// The time (s).
+    pub t: f64,
+    /// ∂d_f/∂p, parameter-major: entry `p * free + i` for parameter p and
+    /// free driver i (in the order the drivers are declared).
+    pub position: Vec<f64>,
+    /// ∂ḋ_f/∂p, laid out as `position`.
+    pub rate: Vec<f64>,
+}
+
+// The run-time models' forward simulations integrate them.
+#[cfg_attr(not(feature = "runtime"), allow(dead_code))]
+impl Sensitivities {
+    /// The sensitivities at time t from the integrated state `s` (for each
+    /// parameter, ∂d_f then ∂ḋ_f), `free` drivers.
+    pub(crate) fn from_state(t: f64, s: &[f64], free: usize) -> Self {
+        let (mut position, mut rate) = (Vec::new(), Vec::new());
+        for chunk in s.chunks(2 * free.max(1)) {
+            position.extend_from_slice(&chunk[..free.min(chunk.len())]);
+            rate.extend_from_slice(&chunk[free.min(chunk.len())..]);
+        }
+        Sensitivities { t, position, rate }
     }
 }
 

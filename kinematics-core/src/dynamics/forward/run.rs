@@ -9,7 +9,8 @@ use alloc::string::{String, ToString};
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::equations::{Equations, cholesky_solve};
+use super::eom::Eom;
+use super::equations::Equations;
 use super::ode::{Dopri, Solver, Stepped, System, Tolerances};
 use super::stiff::TrBdf2;
 use super::{Ended, Energy, Event, Method, Statistics};
@@ -52,6 +53,23 @@ pub(crate) trait Analysis {
     fn commit(&mut self);
     /// Keeps the current motion as the output sample at time `t`.
     fn record(&mut self, t: f64);
+    /// ∂Q_k/∂p of every driver at the current motion, the drivers' motion
+    /// held, for each sensitivity parameter, into `out` (parameter-major).
+    ///
+    /// # Errors
+    /// As [`Dynamics::effort_sensitivities`]; the model offers none.
+    fn effort_partials(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let _ = (dynamics, t, out);
+        Err(Error::InvalidDynamics {
+            item: "sensitivities of the trajectory".to_string(),
+            detail: "this kind of model gives no partial derivatives of its efforts".to_string(),
+        })
+    }
 }
 
 /// A motion's view at a time, for the loads that read it.
@@ -297,6 +315,7 @@ impl Course {
                 max_steps: self.max_steps,
                 events,
                 method: self.method,
+                parameters: 0,
             },
         ))
     }
@@ -373,6 +392,9 @@ pub(crate) struct Settings {
     /// (coordinate, of its rate, value).
     pub(crate) events: Vec<(usize, bool, f64)>,
     pub(crate) method: Method,
+    /// The number of sensitivity parameters whose ∂/∂p of the trajectory
+    /// is integrated (0: none).
+    pub(crate) parameters: usize,
 }
 
 /// How a run went, besides its samples.
@@ -382,106 +404,11 @@ pub(crate) struct Outcome {
     /// The error that ended it, with its time.
     pub(crate) failure: Option<(f64, Error)>,
     pub(crate) statistics: Statistics,
-}
-
-/// The equations of motion as a first-order system: y = (d_f, ḋ_f, W),
-/// y' = (ḋ_f, d̈_f, P), W the works of the loads and prescribed drivers.
-struct Eom<'d, A> {
-    analysis: A,
-    dynamics: &'d Dynamics,
-    free: Vec<usize>,
-    /// The prescribed drivers.
-    prescribed: Vec<usize>,
-    nd: usize,
-    /// The drivers' values, rates and accelerations of the last
-    /// evaluation.
-    d: Vec<f64>,
-    dd: Vec<f64>,
-    ddd: Vec<f64>,
-    mass: Vec<f64>,
-    bias: Vec<f64>,
-    powers: Vec<f64>,
-    partials: Vec<[nalgebra::Vector3<f64>; 2]>,
-    terms: Terms,
-    /// Each driver's effort at the last evaluation's accelerations: zero
-    /// for a free one, Q_p = b_p + M_pf d̈_f for a prescribed one.
-    effort: Vec<f64>,
-    /// The drivers' names, for messages.
-    names: Vec<String>,
-    /// M_ff, then its factor; −b_f, then d̈_f.
-    mff: Vec<f64>,
-    x: Vec<f64>,
-}
-
-impl<A: Analysis> Eom<'_, A> {
-    /// The drivers at (t, y), the free accelerations zero.
-    fn set_drivers(&mut self, t: f64, y: &[f64]) {
-        let nf = self.free.len();
-        self.analysis
-            .profile(t, &mut self.d, &mut self.dd, &mut self.ddd);
-        for (i, &k) in self.free.iter().enumerate() {
-            self.d[k] = y[i];
-            self.dd[k] = y[nf + i];
-            self.ddd[k] = 0.0;
-        }
-    }
-}
-
-impl<A: Analysis> System for Eom<'_, A> {
-    fn len(&self) -> usize {
-        2 * self.free.len() + self.powers.len() + self.prescribed.len()
-    }
-
-    fn controlled(&self) -> usize {
-        2 * self.free.len()
-    }
-
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        let nf = self.free.len();
-        self.set_drivers(t, y);
-        self.analysis.analyze(&self.d, &self.dd, &self.ddd)?;
-        let mut out = Equations {
-            mass: &mut self.mass,
-            bias: &mut self.bias,
-            powers: &mut self.powers,
-            partials: &mut self.partials,
-            terms: &mut self.terms,
-        };
-        self.analysis.equations(self.dynamics, t, &mut out)?;
-        for (i, &k) in self.free.iter().enumerate() {
-            self.x[i] = -self.bias[k];
-            for (j, &l) in self.free.iter().enumerate() {
-                self.mff[i * nf + j] = self.mass[k * self.nd + l];
-            }
-        }
-        if let Err(i) = cholesky_solve(&mut self.mff, &mut self.x, nf) {
-            let name = self.names.get(self.free[i]).map_or("?", String::as_str);
-            return Err(Error::InvalidDynamics {
-                item: format!("free driver `{name}`"),
-                detail: "moves no mass or inertia of its own at this pose (the mass matrix \
-                         of the free drivers is singular): give the bodies it moves their \
-                         masses and moments of inertia, or prescribe it"
-                    .to_string(),
-            });
-        }
-        dy[..nf].copy_from_slice(&y[nf..2 * nf]);
-        dy[nf..2 * nf].copy_from_slice(&self.x);
-        let rest = &mut dy[2 * nf..];
-        rest[..self.powers.len()].copy_from_slice(&self.powers);
-        self.effort.fill(0.0);
-        for &p in &self.prescribed {
-            let mut q = self.bias[p];
-            for (j, &l) in self.free.iter().enumerate() {
-                q += self.mass[p * self.nd + l] * self.x[j];
-            }
-            self.effort[p] = q;
-        }
-        let p0 = self.powers.len();
-        for (i, &p) in self.prescribed.iter().enumerate() {
-            rest[p0 + i] = self.effort[p] * self.dd[p];
-        }
-        Ok(())
-    }
+    /// At each sample, ∂(d_f, ḋ_f)/∂p for each parameter (positions then
+    /// rates of the free drivers, parameter-major); empty unless asked
+    /// (by a run-time model's simulation).
+    #[cfg_attr(not(feature = "runtime"), allow(dead_code))]
+    pub(crate) sensitivities: Vec<Vec<f64>>,
 }
 
 /// Integrates from the committed start pose of `analysis`, the free
@@ -513,6 +440,11 @@ pub(crate) fn integrate<A: Analysis>(
         names: drivers.iter().map(|n| String::from(*n)).collect(),
         mff: vec![0.0; nf * nf],
         x: vec![0.0; nf],
+        parameters: settings.parameters,
+        effort_partials: vec![0.0; nd * settings.parameters],
+        jacobian: vec![0.0; 2 * nf * nf],
+        scratch: Vec::with_capacity(2 * nf),
+        recorded: Vec::new(),
         free,
         prescribed,
     };
@@ -647,6 +579,7 @@ pub(crate) fn integrate<A: Analysis>(
             ended,
             failure,
             statistics,
+            sensitivities: core::mem::take(&mut eom.recorded),
         },
     ))
 }
@@ -664,11 +597,15 @@ fn emit<A: Analysis>(eom: &mut Eom<'_, A>, t: f64, y: &[f64]) -> Result<Energy, 
     eom.analysis.analyze(&eom.d, &eom.dd, &eom.ddd)?;
     let (kinetic, potential) = eom.analysis.energies(eom.dynamics, t)?;
     eom.analysis.record(t);
+    let at = eom.sensitivity_offset();
+    if eom.parameters > 0 {
+        eom.recorded.push(y[at..].to_vec());
+    }
     Ok(Energy {
         t,
         kinetic,
         potential,
-        work: y[2 * nf..].to_vec(),
+        work: y[2 * nf..at].to_vec(),
         effort,
     })
 }

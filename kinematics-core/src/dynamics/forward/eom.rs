@@ -1,0 +1,214 @@
+//! The equations of motion as the integrators see them: a first-order
+//! system in the free drivers, their rates and the works (and, where
+//! asked, the sensitivities of the first two to the parameters).
+
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+
+use super::equations::{Equations, cholesky_apply, cholesky_solve};
+use super::ode::System;
+use super::run::Analysis;
+use crate::dynamics::Dynamics;
+use crate::dynamics::evaluate::Terms;
+use crate::error::Error;
+
+/// The equations of motion as a first-order system: y = (d_f, ḋ_f, W, S),
+/// y' = (ḋ_f, d̈_f, P, Ṡ), W the works of the loads and prescribed
+/// drivers, S = ∂(d_f, ḋ_f)/∂p for each sensitivity parameter p (none
+/// unless asked).
+pub(super) struct Eom<'d, A> {
+    pub(super) analysis: A,
+    pub(super) dynamics: &'d Dynamics,
+    pub(super) free: Vec<usize>,
+    /// The prescribed drivers.
+    pub(super) prescribed: Vec<usize>,
+    pub(super) nd: usize,
+    /// The drivers' values, rates and accelerations of the last
+    /// evaluation.
+    pub(super) d: Vec<f64>,
+    pub(super) dd: Vec<f64>,
+    pub(super) ddd: Vec<f64>,
+    pub(super) mass: Vec<f64>,
+    pub(super) bias: Vec<f64>,
+    pub(super) powers: Vec<f64>,
+    pub(super) partials: Vec<[nalgebra::Vector3<f64>; 2]>,
+    pub(super) terms: Terms,
+    /// Each driver's effort at the last evaluation's accelerations: zero
+    /// for a free one, Q_p = b_p + M_pf d̈_f for a prescribed one.
+    pub(super) effort: Vec<f64>,
+    /// The drivers' names, for messages.
+    pub(super) names: Vec<String>,
+    /// M_ff, then its factor; −b_f, then d̈_f.
+    pub(super) mff: Vec<f64>,
+    pub(super) x: Vec<f64>,
+    /// The number of sensitivity parameters (0: none asked).
+    pub(super) parameters: usize,
+    /// ∂Q_k/∂p at the actual accelerations, parameter-major.
+    pub(super) effort_partials: Vec<f64>,
+    /// ∂d̈_f/∂(d_f, ḋ_f) (nf × 2nf, row-major) and a scratch state.
+    pub(super) jacobian: Vec<f64>,
+    pub(super) scratch: Vec<f64>,
+    /// The sensitivities at the output samples.
+    pub(super) recorded: Vec<Vec<f64>>,
+}
+
+impl<A: Analysis> Eom<'_, A> {
+    /// The drivers at (t, y), the free accelerations zero.
+    pub(super) fn set_drivers(&mut self, t: f64, y: &[f64]) {
+        let nf = self.free.len();
+        self.analysis
+            .profile(t, &mut self.d, &mut self.dd, &mut self.ddd);
+        for (i, &k) in self.free.iter().enumerate() {
+            self.d[k] = y[i];
+            self.dd[k] = y[nf + i];
+            self.ddd[k] = 0.0;
+        }
+    }
+
+    /// The free drivers' accelerations at (t, y) into `x`: the mechanism
+    /// assembled and analysed there, M_ff d̈_f = −b_f solved; M and b
+    /// kept.
+    fn accelerations(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        self.set_drivers(t, y);
+        self.analysis.analyze(&self.d, &self.dd, &self.ddd)?;
+        let mut out = Equations {
+            mass: &mut self.mass,
+            bias: &mut self.bias,
+            powers: &mut self.powers,
+            partials: &mut self.partials,
+            terms: &mut self.terms,
+        };
+        self.analysis.equations(self.dynamics, t, &mut out)?;
+        for (i, &k) in self.free.iter().enumerate() {
+            self.x[i] = -self.bias[k];
+            for (j, &l) in self.free.iter().enumerate() {
+                self.mff[i * nf + j] = self.mass[k * self.nd + l];
+            }
+        }
+        if let Err(i) = cholesky_solve(&mut self.mff, &mut self.x, nf) {
+            let name = self.names.get(self.free[i]).map_or("?", String::as_str);
+            return Err(Error::InvalidDynamics {
+                item: format!("free driver `{name}`"),
+                detail: "moves no mass or inertia of its own at this pose (the mass matrix \
+                         of the free drivers is singular): give the bodies it moves their \
+                         masses and moments of inertia, or prescribe it"
+                    .to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// ∂d̈_f/∂(d_f, ḋ_f) at (t, y) by central differences of the
+    /// accelerations, into `jacobian` (each component moved by
+    /// ε (1 + |y_j|), ε = 6e-6, the cube root of the resolution).
+    fn acceleration_jacobian(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        let mut point = core::mem::take(&mut self.scratch);
+        point.clear();
+        point.extend_from_slice(&y[..2 * nf]);
+        let mut result = Ok(());
+        for j in 0..2 * nf {
+            let step = 6e-6 * (1.0 + y[j].abs());
+            point[j] = y[j] + step;
+            if let Err(e) = self.accelerations(t, &point) {
+                result = Err(e);
+                break;
+            }
+            for i in 0..nf {
+                self.jacobian[i * 2 * nf + j] = self.x[i];
+            }
+            point[j] = y[j] - step;
+            if let Err(e) = self.accelerations(t, &point) {
+                result = Err(e);
+                break;
+            }
+            for i in 0..nf {
+                let up = self.jacobian[i * 2 * nf + j];
+                self.jacobian[i * 2 * nf + j] = (up - self.x[i]) / (2.0 * step);
+            }
+            point[j] = y[j];
+        }
+        self.scratch = point;
+        result
+    }
+
+    /// Where the sensitivities start in the state.
+    pub(super) fn sensitivity_offset(&self) -> usize {
+        2 * self.free.len() + self.powers.len() + self.prescribed.len()
+    }
+}
+
+impl<A: Analysis> System for Eom<'_, A> {
+    fn len(&self) -> usize {
+        self.sensitivity_offset() + 2 * self.free.len() * self.parameters
+    }
+
+    fn controlled(&self) -> usize {
+        2 * self.free.len()
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        if self.parameters > 0 {
+            self.acceleration_jacobian(t, y)?;
+        }
+        self.accelerations(t, y)?;
+        dy[..nf].copy_from_slice(&y[nf..2 * nf]);
+        dy[nf..2 * nf].copy_from_slice(&self.x);
+        let rest = &mut dy[2 * nf..];
+        rest[..self.powers.len()].copy_from_slice(&self.powers);
+        self.effort.fill(0.0);
+        for &p in &self.prescribed {
+            let mut q = self.bias[p];
+            for (j, &l) in self.free.iter().enumerate() {
+                q += self.mass[p * self.nd + l] * self.x[j];
+            }
+            self.effort[p] = q;
+        }
+        let p0 = self.powers.len();
+        for (i, &p) in self.prescribed.iter().enumerate() {
+            rest[p0 + i] = self.effort[p] * self.dd[p];
+        }
+        if self.parameters > 0 {
+            self.sensitivities(t, y, dy)?;
+        }
+        Ok(())
+    }
+}
+
+impl<A: Analysis> Eom<'_, A> {
+    /// Ṡ for each parameter p: Ṡ_d = S_v and Ṡ_v = ∂d̈/∂d S_d +
+    /// ∂d̈/∂ḋ S_v + ∂d̈/∂p, with ∂d̈_f/∂p = −M_ff⁻¹ ∂Q_f/∂p at the actual
+    /// accelerations (the compiled partials of the efforts, the drivers'
+    /// motion held), M_ff's factor the one [`Eom::accelerations`] left.
+    fn sensitivities(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        // The motion with its accelerations, for ∂Q/∂p there.
+        for (i, &k) in self.free.iter().enumerate() {
+            self.ddd[k] = self.x[i];
+        }
+        self.analysis.analyze(&self.d, &self.dd, &self.ddd)?;
+        self.analysis
+            .effort_partials(self.dynamics, t, &mut self.effort_partials)?;
+        let at = self.sensitivity_offset();
+        let mut rhs = core::mem::take(&mut self.scratch);
+        for p in 0..self.parameters {
+            let s = &y[at + p * 2 * nf..at + (p + 1) * 2 * nf];
+            rhs.clear();
+            for &k in &self.free {
+                rhs.push(-self.effort_partials[p * self.nd + k]);
+            }
+            cholesky_apply(&self.mff, &mut rhs, nf);
+            let ds = &mut dy[at + p * 2 * nf..at + (p + 1) * 2 * nf];
+            ds[..nf].copy_from_slice(&s[nf..]);
+            for i in 0..nf {
+                let row = &self.jacobian[i * 2 * nf..(i + 1) * 2 * nf];
+                ds[nf + i] = rhs[i] + row.iter().zip(s).map(|(j, v)| j * v).sum::<f64>();
+            }
+        }
+        self.scratch = rhs;
+        Ok(())
+    }
+}

@@ -1,0 +1,126 @@
+//! The sensitivities of a forward simulation's trajectory to the
+//! parameters of a definition's `sensitivities` section
+//! (`ForwardOf::sensitivities`) against fourth-order central differences
+//! of whole trajectories between designs, each integrated at tolerance
+//! 1e-12: a
+//! motor-driven four-bar with gravity and a spring-damper, its crank's
+//! flywheel inertia, the spring's stiffness and the crank's length (which
+//! moves the kinematics too).
+
+use kinematics_core::runtime::Model;
+
+const FOUR_BAR: &str = "struct FourBar {
+    params   { a, b, c, d, j2, k }
+    drivers  { phi }
+    unknowns { th3, th4 }
+    points {
+        G2 = polar(a / 2.0, phi);
+        G3 = polar(a, phi) + polar(b / 2.0, th3);
+        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+        P0 = vec2(0.05, 0.15);
+    }
+    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    bodies {
+        crank(mass = 0.3, center = G2, angle = phi, inertia = j2);
+        coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+        rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+    }
+    loads {
+        gravity(vec2(0.0, -9.81));
+        force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+        spring(P0, G3, stiffness = k, free_length = 0.10, damping = 2.0);
+    }
+    sensitivities { j2, k, a }
+}";
+
+const VALUES: [f64; 6] = [0.04, 0.12, 0.10, 0.11, 2.0e-3, 50.0];
+
+/// φ and φ̇ at the samples of a 1 s run of the design `values`.
+fn trajectory(model: &Model, values: &[f64]) -> Result<Vec<[f64; 2]>, Box<dyn std::error::Error>> {
+    let m = model.with_values(values)?;
+    let start = m.assemble(&[0.0, 1.2, 1.9])?;
+    let run = m
+        .dynamics()?
+        .forward_of(&m, &start)
+        .until(1.0)
+        .samples(10)
+        .tolerance(1e-12)
+        .run()?;
+    assert!(run.ended.is_complete());
+    Ok(run
+        .sweep
+        .samples
+        .iter()
+        .map(|s| [s.motion.q[0], s.motion.qd[0]])
+        .collect())
+}
+
+#[test]
+fn the_trajectory_sensitivities_match_central_differences_between_designs(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let model = Model::compile(FOUR_BAR)?;
+    let m = model.with_values(&VALUES)?;
+    let start = m.assemble(&[0.0, 1.2, 1.9])?;
+    let run = m
+        .dynamics()?
+        .forward_of(&m, &start)
+        .until(1.0)
+        .samples(10)
+        .tolerance(1e-12)
+        .sensitivities()
+        .run()?;
+    assert!(run.ended.is_complete());
+    assert_eq!(run.parameters, ["j2", "k", "a"]);
+    assert_eq!(run.sensitivities.len(), 11);
+    for (p, index) in [(0, 4), (1, 5), (2, 0)] {
+        // The fourth-order central difference, (8 (f(p + h) − f(p − h))
+        // − (f(p + 2h) − f(p − 2h))) / 12h: its truncation far below the
+        // tolerance's noise over h.
+        let h = 1e-4 * VALUES[index];
+        let at = |offset: f64| -> Result<Vec<[f64; 2]>, Box<dyn std::error::Error>> {
+            let mut v = VALUES;
+            v[index] += offset;
+            trajectory(&model, &v)
+        };
+        let (p1, m1, p2, m2) = (at(h)?, at(-h)?, at(2.0 * h)?, at(-2.0 * h)?);
+        let fd: Vec<[f64; 2]> = (0..p1.len())
+            .map(|i| {
+                let d =
+                    |j: usize| (8.0 * (p1[i][j] - m1[i][j]) - (p2[i][j] - m2[i][j])) / (12.0 * h);
+                [d(0), d(1)]
+            })
+            .collect();
+        let scale = fd
+            .iter()
+            .fold(0.0f64, |s, v| s.max(v[0].abs()).max(v[1].abs()));
+        assert!(scale > 0.0);
+        for (s, d) in run.sensitivities.iter().zip(&fd) {
+            let (dp, dv) = (s.position[p], s.rate[p]);
+            assert!(
+                (dp - d[0]).abs() < 1e-6 * scale && (dv - d[1]).abs() < 1e-6 * scale,
+                "{}: at t = {} ∂φ {dp} against {}, ∂φ' {dv} against {}",
+                run.parameters[p],
+                s.t,
+                d[0],
+                d[1]
+            );
+        }
+        println!("{}: largest |∂(φ, φ')/∂p| {scale:.4e}", run.parameters[p]);
+    }
+    Ok(())
+}
+
+#[test]
+fn sensitivities_need_a_sensitivities_section() -> Result<(), Box<dyn std::error::Error>> {
+    let text = FOUR_BAR.replace("    sensitivities { j2, k, a }\n", "");
+    let m = Model::compile(&text)?.with_values(&VALUES)?;
+    let start = m.assemble(&[0.0, 1.2, 1.9])?;
+    let e = m
+        .dynamics()?
+        .forward_of(&m, &start)
+        .sensitivities()
+        .run()
+        .expect_err("refused");
+    assert!(e.to_string().contains("no `sensitivities` section"), "{e}");
+    Ok(())
+}
