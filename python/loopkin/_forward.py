@@ -46,7 +46,11 @@ class Trajectory:
     ``ended`` is ``"complete"``, ``"event"`` (then ``event`` is the index
     of the event in ``stop_when``), ``"failed"`` (``sweep.stop`` says
     why) or ``"step limit"``, at time ``at``; ``steps``, ``rejected`` and
-    ``evaluations`` count the integration's work.
+    ``evaluations`` count the integration's work. With
+    ``sensitivities=True``, ``parameters`` names the definition's
+    sensitivity parameters and ``position_sensitivity`` and
+    ``rate_sensitivity`` hold ∂d/∂p and ∂ḋ/∂p of the free drivers
+    (samples × parameters × free drivers), integrated with the motion.
     """
 
     def __init__(self, sweep: "Sweep", d: Dict[str, Any]) -> None:
@@ -64,6 +68,9 @@ class Trajectory:
         self.rejected: int = d["rejected"]
         self.evaluations: int = d["evaluations"]
         self._energy_error: float = d["energy_error"]
+        self.parameters: List[str] = list(d.get("parameters", []))
+        self.position_sensitivity: np.ndarray = d.get("position_sensitivity", np.zeros((0, 0, 0)))
+        self.rate_sensitivity: np.ndarray = d.get("rate_sensitivity", np.zeros((0, 0, 0)))
 
     @property
     def balance(self) -> np.ndarray:
@@ -106,6 +113,7 @@ class _Forward:
         stop_when: Optional[Mapping[str, Union[float, str]]] = None,
         method: str = "explicit",
         max_step: Optional[float] = None,
+        sensitivities: bool = False,
         options: Optional[Options] = None,
     ) -> Trajectory:
         """The motion the definition's ``bodies`` and ``loads`` produce
@@ -122,6 +130,11 @@ class _Forward:
         (``{"th4": "60deg"}``), or a rate (``{"rate(phi)": "1400rpm"}``).
         ``method="implicit"`` integrates by TR-BDF2, for stiff motions (a
         stiff spring, heavy damping); ``max_step`` bounds the step (s).
+        ``sensitivities=True`` integrates, with the motion, the free
+        drivers' sensitivities to the parameters of the definition's
+        ``sensitivities`` section (the forward sensitivity equations: the
+        efforts' partial derivatives compiled, the state's by central
+        differences of the equations of motion).
 
         Raises:
             InvalidDynamicsError: no ``bodies``/``loads`` section, an event
@@ -155,6 +168,7 @@ class _Forward:
             events,
             str(method),
             None if max_step is None else float(max_step),
+            bool(sensitivities),
             _opts(options),
         )
         from ._sweep import Sweep

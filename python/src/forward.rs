@@ -19,9 +19,12 @@ use super::*;
 /// "potential" (one per sample), "work" (samples × works), "work_names",
 /// "effort" (samples × drivers), "ended" ("complete", "event", "failed" or
 /// "step limit"), "event" (its index, or None), "at" (the time it ended),
-/// "steps", "rejected", "evaluations" and "energy_error".
+/// "steps", "rejected", "evaluations" and "energy_error"; with
+/// `sensitivities`, "parameters" (the definition's sensitivity
+/// parameters) and "position_sensitivity" and "rate_sensitivity"
+/// (samples × parameters × free drivers: ∂d_f/∂p and ∂ḋ_f/∂p).
 #[pyfunction]
-#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, method, max_step=None, opts=None))]
+#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, method, max_step=None, sensitivities=false, opts=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn forward<'py>(
     py: Python<'py>,
@@ -35,6 +38,7 @@ pub(crate) fn forward<'py>(
     events: Vec<(String, bool, f64)>,
     method: &str,
     max_step: Option<f64>,
+    sensitivities: bool,
     opts: Option<OptionsTuple>,
 ) -> PyResult<(Sweep, Bound<'py, PyDict>)> {
     let method = match method {
@@ -60,6 +64,9 @@ pub(crate) fn forward<'py>(
         .options(&o);
     if let Some(h) = max_step {
         builder = builder.max_step(h);
+    }
+    if sensitivities {
+        builder = builder.sensitivities();
     }
     for name in &free {
         builder = builder.free(name);
@@ -116,5 +123,29 @@ pub(crate) fn forward<'py>(
     d.set_item("rejected", run.statistics.rejected)?;
     d.set_item("evaluations", run.statistics.evaluations)?;
     d.set_item("energy_error", run.energy_error())?;
+    d.set_item("parameters", run.parameters.clone())?;
+    let (np, nf) = (
+        run.parameters.len(),
+        run.sensitivities
+            .first()
+            .map_or(0, |s| s.position.len() / run.parameters.len().max(1)),
+    );
+    for (key, pick) in [("position_sensitivity", true), ("rate_sensitivity", false)] {
+        let flat: Vec<f64> = run
+            .sensitivities
+            .iter()
+            .flat_map(|s| {
+                if pick {
+                    s.position.clone()
+                } else {
+                    s.rate.clone()
+                }
+            })
+            .collect();
+        d.set_item(
+            key,
+            shaped(py, flat, vec![run.sensitivities.len(), np, nf])?,
+        )?;
+    }
     Ok((sweep, d))
 }

@@ -120,3 +120,21 @@ def test_a_stiff_spring_is_integrated_implicitly_and_the_method_is_checked():
     np.testing.assert_allclose(run.sweep["phi"], a * np.exp(s1 * t) + (1 - a) * np.exp(s2 * t), rtol=0, atol=1e-5)
     with pytest.raises(ValueError, match="implicit"):
         m.forward(start={"phi": 1.0}, until=1.0, method="rk4")
+
+
+def test_the_trajectory_sensitivity_to_the_inertia_is_its_closed_form():
+    text = FLYWHEEL.replace("loads    {", "sensitivities { j }\n    loads    {")
+    j, ts, w0 = 0.5, 4.0, 100.0
+    m = kin.compile(text)(j=j, ts=ts, w0=w0)
+    run = m.forward(start={"phi": 0.0}, until=20.0, samples=20, tolerance=1e-11, sensitivities=True)
+    assert run.parameters == ["j"]
+    assert run.position_sensitivity.shape == (21, 1, 1)
+    t = run.sweep.at
+    tau = j * w0 / ts
+    e = np.exp(-t / tau)
+    # ω = ω₀ (1 − e^(−t/τ)), φ = ω₀ (t − τ (1 − e^(−t/τ))), τ = J ω₀ / T_s:
+    # ∂/∂J = ∂/∂τ · τ/J.
+    d_rate = -w0 * e * t / tau**2 * (tau / j)
+    d_phi = -w0 * (1 - e - t / tau * e) * (tau / j)
+    np.testing.assert_allclose(run.rate_sensitivity[:, 0, 0], d_rate, rtol=0, atol=1e-7 * np.abs(d_rate).max())
+    np.testing.assert_allclose(run.position_sensitivity[:, 0, 0], d_phi, rtol=0, atol=1e-7 * np.abs(d_phi).max())

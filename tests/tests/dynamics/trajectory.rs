@@ -124,3 +124,46 @@ fn sensitivities_need_a_sensitivities_section() -> Result<(), Box<dyn std::error
     assert!(e.to_string().contains("no `sensitivities` section"), "{e}");
     Ok(())
 }
+
+/// The sensitivities at work: the crank's flywheel inertia sized so that
+/// the crank turns at 45 rad/s one second after starting, by Newton's
+/// method on φ̇(1 s) with the derivative the sensitivities give, each
+/// iteration one run.
+#[test]
+fn a_flywheel_is_sized_by_newtons_method_on_the_trajectory_sensitivity(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let model = Model::compile(FOUR_BAR)?;
+    let target = 45.0;
+    let mut values = VALUES;
+    let mut misses = Vec::new();
+    for _ in 0..8 {
+        let m = model.with_values(&values)?;
+        let start = m.assemble(&[0.0, 1.2, 1.9])?;
+        let run = m
+            .dynamics()?
+            .forward_of(&m, &start)
+            .until(1.0)
+            .samples(1)
+            .tolerance(1e-10)
+            .sensitivities()
+            .run()?;
+        let speed = run.sweep.samples.last().ok_or("no samples")?.motion.qd[0];
+        let slope = run.sensitivities.last().ok_or("no sensitivities")?.rate[0];
+        misses.push(speed - target);
+        if (speed - target).abs() < 1e-7 {
+            break;
+        }
+        values[4] -= (speed - target) / slope;
+    }
+    let last = *misses.last().ok_or("no iterations")?;
+    assert!(last.abs() < 1e-7, "{misses:?}");
+    // Newton's quadratic convergence: few iterations from 2e-3 kg·m².
+    assert!(misses.len() <= 6, "{misses:?}");
+    assert!(
+        values[4] > 0.0 && (values[4] - VALUES[4]).abs() > 1e-5,
+        "{}",
+        values[4]
+    );
+    println!("j2 = {:.6e} kg·m², misses {misses:?}", values[4]);
+    Ok(())
+}
