@@ -167,3 +167,76 @@ fn a_flywheel_is_sized_by_newtons_method_on_the_trajectory_sensitivity(
     println!("j2 = {:.6e} kg·m², misses {misses:?}", values[4]);
     Ok(())
 }
+
+kinematics_core::mechanism! {
+    /// The four-bar of [`FOUR_BAR`], generated.
+    pub struct SensitiveFourBar {
+        params   { a, b, c, d, j2, k }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points {
+            G2 = polar(a / 2.0, phi);
+            G3 = polar(a, phi) + polar(b / 2.0, th3);
+            G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+            P0 = vec2(0.05, 0.15);
+        }
+        loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+        bodies {
+            crank(mass = 0.3, center = G2, angle = phi, inertia = j2);
+            coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+            rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+        }
+        loads {
+            gravity(vec2(0.0, -9.81));
+            force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+            spring(P0, G3, stiffness = k, free_length = 0.10, damping = 2.0);
+        }
+        sensitivities { j2, k, a }
+    }
+}
+
+#[test]
+fn a_generated_mechanism_gives_the_run_time_models_trajectory_sensitivities(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let [a, b, c, d, j2, k] = VALUES;
+    let g = SensitiveFourBar { a, b, c, d, j2, k };
+    let start = g.assemble(&SensitiveFourBarCoords {
+        phi: 0.0,
+        th3: 1.2,
+        th4: 1.9,
+    })?;
+    let generated = g
+        .dynamics()?
+        .forward(&g, &start)
+        .until(1.0)
+        .samples(10)
+        .tolerance(1e-12)
+        .sensitivities()
+        .run()?;
+    let m = Model::compile(FOUR_BAR)?.with_values(&VALUES)?;
+    let run_time = m
+        .dynamics()?
+        .forward_of(&m, &[start.phi, start.th3, start.th4])
+        .until(1.0)
+        .samples(10)
+        .tolerance(1e-12)
+        .sensitivities()
+        .run()?;
+    assert_eq!(generated.parameters, run_time.parameters);
+    assert_eq!(generated.sensitivities.len(), 11);
+    for p in 0..3 {
+        let scale = run_time.sensitivities.iter().fold(0.0f64, |s, x| {
+            s.max(x.position[p].abs()).max(x.rate[p].abs())
+        });
+        for (x, y) in generated.sensitivities.iter().zip(&run_time.sensitivities) {
+            assert!((x.position[p] - y.position[p]).abs() < 1e-8 * scale);
+            assert!(
+                (x.rate[p] - y.rate[p]).abs() < 1e-8 * scale,
+                "{} at {}",
+                generated.parameters[p],
+                x.t
+            );
+        }
+    }
+    Ok(())
+}

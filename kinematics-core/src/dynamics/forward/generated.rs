@@ -2,11 +2,12 @@
 //! builder ([`Dynamics::forward`]) and the model's part in the
 //! integration.
 
+use alloc::string::String;
 use alloc::vec::Vec;
 
 use super::equations::Equations;
 use super::run::{Analysis, Course, Timed, course_settings, integrate, start_state, work_names};
-use super::{Ended, Trajectory};
+use super::{Ended, Sensitivities, Trajectory};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
 use crate::error::Error;
@@ -26,7 +27,19 @@ pub struct Forward<'a, M: Mechanism, P> {
     rates: M::Coords,
     profile: P,
     course: Course,
+    /// The efforts' partial derivatives, where the mechanism has a
+    /// `sensitivities` section and they were asked for.
+    partials: Option<Partials<M>>,
+    /// Their names.
+    parameters: &'static [&'static str],
 }
+
+/// ∂Q/∂p of a generated mechanism's efforts at a motion.
+type Partials<M> = fn(
+    &Dynamics,
+    &M,
+    &<M as Mechanism>::Motion,
+) -> Result<Vec<crate::dynamics::EffortSensitivity>, Error>;
 
 impl Dynamics {
     /// The motion these loads produce on `m` from the pose `start` (its
@@ -46,6 +59,8 @@ impl Dynamics {
             rates: M::Coords::default(),
             profile: AtRest,
             course: Course::default(),
+            partials: None,
+            parameters: &[],
         }
     }
 }
@@ -78,6 +93,8 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             rates: self.rates,
             profile,
             course: self.course,
+            partials: self.partials,
+            parameters: self.parameters,
         }
     }
 
@@ -96,7 +113,11 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
     pub fn run(self) -> Result<Trajectory<M>, Error> {
         self.dynamics.fits_mechanism::<M>()?;
         let names: Vec<&str> = M::COORDINATES.iter().map(|c| c.name).collect();
-        let (free, settings) = self.course.settings(&names, M::DRIVERS)?;
+        let (free, mut settings) = self.course.settings(&names, M::DRIVERS)?;
+        let parameters = self
+            .partials
+            .map_or_else(Vec::new, |_| self.parameters.to_vec());
+        settings.parameters = parameters.len();
         let drivers = |c: &M::Coords| -> Vec<f64> {
             (0..M::DRIVERS).map(|k| c.get(k).unwrap_or(0.0)).collect()
         };
@@ -114,9 +135,11 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             current_state: state.clone(),
             state,
             current: None,
+            partials: self.partials,
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
         let work_names = work_names(self.dynamics, &free, &names[..M::DRIVERS]);
+        let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
@@ -129,7 +152,15 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             at,
             reason: StopReason::from_error(e),
         });
+        let sensitivities = outcome
+            .energy
+            .iter()
+            .zip(&outcome.sensitivities)
+            .map(|(e, s)| Sensitivities::from_state(e.t, s, nf))
+            .collect();
         Ok(Trajectory {
+            parameters: parameters.iter().map(|p| String::from(*p)).collect(),
+            sensitivities,
             sweep: Sweep {
                 variable: "t",
                 kind: Kind::Length,
@@ -155,6 +186,7 @@ struct Model<'m, M: Mechanism, P> {
     state: M::StepState,
     current: Option<M::Motion>,
     current_state: M::StepState,
+    partials: Option<Partials<M>>,
     samples: Vec<Sample<M>>,
 }
 
@@ -232,6 +264,38 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         if let Some(motion) = self.current {
             self.samples.push(Sample { at: t, motion });
         }
+    }
+
+    fn effort_partials(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        let _ = t;
+        let (Some(partials), Some(motion)) = (self.partials, &self.current) else {
+            return Ok(());
+        };
+        for (p, s) in partials(dynamics, self.m, motion)?.iter().enumerate() {
+            for (k, e) in s.effort.iter().take(M::DRIVERS).enumerate() {
+                if let Some(slot) = out.get_mut(p * M::DRIVERS + k) {
+                    *slot = *e;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<M: crate::tolerance::Sensitive, P: Profile<M::Coords>> Forward<'_, M, P> {
+    /// Integrates, with the motion, the sensitivities of the free
+    /// drivers' positions and rates to the parameters of the mechanism's
+    /// `sensitivities` section ([`Sensitivities`]; see
+    /// [`Trajectory::sensitivities`]).
+    pub fn sensitivities(mut self) -> Self {
+        self.partials = Some(|d, m, motion| d.effort_sensitivities(m, motion));
+        self.parameters = M::PARAMETERS;
+        self
     }
 }
 

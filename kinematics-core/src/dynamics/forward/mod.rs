@@ -195,8 +195,6 @@ pub struct Sensitivities {
     pub rate: Vec<f64>,
 }
 
-// The run-time models' forward simulations integrate them.
-#[cfg_attr(not(feature = "runtime"), allow(dead_code))]
 impl Sensitivities {
     /// The sensitivities at time t from the integrated state `s` (for each
     /// parameter, ∂d_f then ∂ḋ_f), `free` drivers.
@@ -236,6 +234,12 @@ pub struct Trajectory<M: Mechanism> {
     /// `torque on body`, `force on coordinate`, `damper A-B`, then
     /// `driver d` for each prescribed driver.
     pub work_names: Vec<String>,
+    /// The sensitivity parameters (empty unless
+    /// [`Forward::sensitivities`] asked for them).
+    pub parameters: Vec<String>,
+    /// At each sample, the sensitivities of the free drivers' positions
+    /// and rates to each of `parameters`.
+    pub sensitivities: Vec<Sensitivities>,
     /// How it ended.
     pub ended: Ended,
     /// Steps and evaluations.

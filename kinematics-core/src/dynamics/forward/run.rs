@@ -405,9 +405,7 @@ pub(crate) struct Outcome {
     pub(crate) failure: Option<(f64, Error)>,
     pub(crate) statistics: Statistics,
     /// At each sample, ∂(d_f, ḋ_f)/∂p for each parameter (positions then
-    /// rates of the free drivers, parameter-major); empty unless asked
-    /// (by a run-time model's simulation).
-    #[cfg_attr(not(feature = "runtime"), allow(dead_code))]
+    /// rates of the free drivers, parameter-major); empty unless asked.
     pub(crate) sensitivities: Vec<Vec<f64>>,
 }
 
