@@ -57,6 +57,11 @@ pub(super) struct SimulateArgs {
     /// TR-BDF2 for a stiff motion (a stiff spring, large damping).
     #[arg(long, value_enum, default_value = "explicit")]
     method: MethodArg,
+    /// Integrate the free drivers' sensitivities to the parameters of the
+    /// definition's `sensitivities` section with the motion, written to
+    /// `sensitivities.csv`.
+    #[arg(long)]
+    sensitivities: bool,
     /// Write angles, their rates and accelerations in degrees.
     #[arg(long)]
     degrees: bool,
@@ -123,6 +128,9 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
             MethodArg::Explicit => Method::Explicit,
             MethodArg::Implicit => Method::Implicit,
         });
+    if args.sensitivities {
+        builder = builder.sensitivities();
+    }
     for name in &args.free {
         let j = coordinate(&m, name, "--free")?;
         if j >= m.drivers() {
@@ -171,6 +179,10 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         run.sweep.csv_with("m", angles),
     )?];
     written.push(write(args.out.join("energy.csv"), energy_csv(&m, &run))?);
+    if args.sensitivities {
+        let csv = sensitivities_csv(&m, &run, &args.free);
+        written.push(write(args.out.join("sensitivities.csv"), csv)?);
+    }
     let motion = args.out.join("motion.svg");
     plot_motion_in(&run.sweep, units, &motion).map_err(failed)?;
     written.push(motion);
@@ -289,6 +301,45 @@ fn energy_csv(
         let _ = write!(out, ",{}", e.balance());
         for &k in &prescribed {
             let _ = write!(out, ",{}", e.effort.get(k).copied().unwrap_or(f64::NAN));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The trajectory's sensitivities as CSV: t, then for each parameter p
+/// and free driver d, ∂d/∂p and ∂d'/∂p (in the model's units: rad or the
+/// length unit, and per second, per unit of p).
+fn sensitivities_csv(
+    m: &kinematics_core::runtime::Model,
+    run: &kinematics_core::runtime::TrajectoryOf,
+    free: &[String],
+) -> String {
+    let drivers: Vec<&str> = m.coordinates()[..m.drivers()]
+        .iter()
+        .map(|c| c.name)
+        .filter(|n| free.is_empty() || free.iter().any(|f| f == n))
+        .collect();
+    let mut out = String::from("t (s)");
+    for p in &run.parameters {
+        for d in &drivers {
+            let _ = write!(out, ",d{d}/d{p},d{d}_rate/d{p}");
+        }
+    }
+    out.push('\n');
+    let nf = drivers.len();
+    for s in &run.sensitivities {
+        let _ = write!(out, "{}", s.t);
+        for p in 0..run.parameters.len() {
+            for i in 0..nf {
+                let at = p * nf + i;
+                let _ = write!(
+                    out,
+                    ",{},{}",
+                    s.position.get(at).copied().unwrap_or(f64::NAN),
+                    s.rate.get(at).copied().unwrap_or(f64::NAN)
+                );
+            }
         }
         out.push('\n');
     }

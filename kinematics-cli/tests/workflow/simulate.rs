@@ -94,6 +94,54 @@ fn a_flywheel_started_by_a_dc_motor_follows_its_exponential() {
 }
 
 #[test]
+fn the_sensitivity_to_the_inertia_is_written_as_its_closed_form() {
+    let dir = std::env::temp_dir().join(format!("kinematics-sens-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("flywheel.mech");
+    std::fs::write(
+        &mech,
+        FLYWHEEL.replace("    loads", "    sensitivities { j }\n    loads"),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (j, ts, w0) = (0.5, 4.0, 100.0);
+    let o = run(&[
+        "simulate",
+        path(&mech),
+        "--param",
+        "j=0.5",
+        "--param",
+        "ts=4",
+        "--param",
+        "w0=100",
+        "--until",
+        "20s",
+        "--samples",
+        "20",
+        "--tolerance",
+        "1e-11",
+        "--sensitivities",
+        "--out",
+        path(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (header, rows) = columns(&out.join("sensitivities.csv"));
+    assert_eq!(header, ["t (s)", "dphi/dj", "dphi_rate/dj"]);
+    // ω = ω₀ (1 − e^(−t/τ)), τ = J ω₀ / T_s: ∂ω/∂J = −ω₀ e^(−t/τ) t / (τ J).
+    let tau = j * w0 / ts;
+    for r in &rows {
+        let t = r[0];
+        let exact = -w0 * (-t / tau).exp() * t / (tau * j);
+        assert!(
+            (r[2] - exact).abs() < 1e-7 * 80.0,
+            "{} against {exact} at {t}",
+            r[2]
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn the_press_runs_up_to_a_speed_and_keeps_its_energy_balance() {
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/dynamics");
     let out = std::env::temp_dir().join(format!("kinematics-press-{}", std::process::id()));
