@@ -191,6 +191,10 @@ pub struct MassSensitivity {
 pub(crate) trait View {
     /// r, v, a of point i.
     fn point(&self, i: usize) -> Option<[Vector3<f64>; 3]>;
+    /// v of point i alone (what the partial velocities are read as).
+    fn velocity(&self, i: usize) -> Option<Vector3<f64>> {
+        self.point(i).map(|[_, v, _]| v)
+    }
     /// Frame i.
     fn frame(&self, i: usize) -> Option<&FrameState>;
     /// q, q', q'' of coordinate j (NaN when there is none).
@@ -219,6 +223,9 @@ impl<S: MotionState> View for Generated<'_, S> {
             padded(p.velocity()),
             padded(p.acceleration()),
         ])
+    }
+    fn velocity(&self, i: usize) -> Option<Vector3<f64>> {
+        self.0.points().get(i).map(|p| padded(p.velocity()))
     }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frames().get(i)
@@ -607,8 +614,21 @@ impl Dynamics {
         out.bodies.clear();
         for b in &self.bodies {
             let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
-            let (omega, alpha, inertia) = turning(b, s);
-            let h = inertia * alpha + omega.cross(&(inertia * omega));
+            let h = match &b.turning {
+                // Planar: J α about the normal; the gyroscopic term
+                // vanishes.
+                Turns::Angle(terms) if planar => {
+                    let mut alpha = 0.0;
+                    for &(j, c) in terms {
+                        alpha += c * s.coordinate(j)[2];
+                    }
+                    Vector3::new(0.0, 0.0, b.inertia[(2, 2)] * alpha)
+                }
+                _ => {
+                    let (omega, alpha, inertia) = turning(b, s);
+                    inertia * alpha + omega.cross(&(inertia * omega))
+                }
+            };
             out.bodies.push([(a - g) * b.mass, h]);
         }
         out.forces.clear();
@@ -651,7 +671,7 @@ impl Dynamics {
     /// Q_k = Σ m (a_G − g) · v_G^k + h · ω^k − Σ F · v_P^k − Σ T · ω^k −
     /// Σ f q̇_j^k + Σ f_s e · (v_B^k − v_A^k).
     pub(super) fn effort(&self, terms: &Terms, u: &dyn View) -> f64 {
-        let velocity = |p: usize| u.point(p).map_or(Vector3::zeros(), |[_, v, _]| v);
+        let velocity = |p: usize| u.velocity(p).unwrap_or(Vector3::zeros());
         let mut q = 0.0;
         for (b, [ma, h]) in self.bodies.iter().zip(&terms.bodies) {
             q += ma.dot(&velocity(b.center)) + h.dot(&angular_velocity(b, u));
@@ -690,6 +710,9 @@ pub(crate) struct Terms {
     pub(crate) coordinate_forces: Vec<f64>,
     /// Per spring: its tension and the unit vector from its first end.
     pub(crate) springs: Vec<(f64, Vector3<f64>)>,
+    /// q, q', q'' of every coordinate, as the loads read them (kept, for
+    /// a forward run's evaluations).
+    pub(crate) coordinates: [Vec<f64>; 3],
 }
 
 /// The unit analyses of a generated mechanism `m` at `pose`: for driver

@@ -73,6 +73,12 @@ impl View for RunTime<'_> {
             crate::dynamics::evaluate::padded(&p.acceleration),
         ])
     }
+    fn velocity(&self, i: usize) -> Option<Vector3<f64>> {
+        self.0
+            .points
+            .get(i)
+            .map(|p| crate::dynamics::evaluate::padded(&p.velocity))
+    }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frames.get(i)
     }

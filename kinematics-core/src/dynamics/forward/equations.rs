@@ -87,20 +87,34 @@ impl Dynamics {
         let nd = self.drivers;
         let nb = self.bodies.len();
         out.mass.fill(0.0);
-        let [q, qd, mut qdd] = self.coordinates_of(s);
-        // The loads may not read accelerations here (the free ones are
-        // what is solved for): NaN, so that one that does is named.
-        qdd.as_mut_slice().fill(f64::NAN);
-        let coords = [&q[..], &qd[..], &qdd[..]];
         let terms = &mut *out.terms;
-        self.terms(s, coords, terms)?;
+        // q and q' as the loads read them; their accelerations may not be
+        // read here (the free ones are what is solved for): NaN, so that
+        // a load that does is named.
+        let mut coordinates = core::mem::take(&mut terms.coordinates);
+        for c in &mut coordinates {
+            c.clear();
+        }
+        for j in 0..self.coordinates {
+            let [q, qd, _] = s.coordinate(j);
+            coordinates[0].push(q);
+            coordinates[1].push(qd);
+            coordinates[2].push(f64::NAN);
+        }
+        let done = self.terms(
+            s,
+            [&coordinates[0], &coordinates[1], &coordinates[2]],
+            terms,
+        );
+        terms.coordinates = coordinates;
+        done?;
         for k in 0..nd {
             let mut effort = f64::NAN;
             let partials = &mut out.partials[k * nb..(k + 1) * nb];
             unit(k, &mut |u| {
                 effort = self.effort(terms, u);
                 for (b, p) in self.bodies.iter().zip(partials.iter_mut()) {
-                    let v = u.point(b.center).map_or(Vector3::zeros(), |[_, v, _]| v);
+                    let v = u.velocity(b.center).unwrap_or(Vector3::zeros());
                     *p = [v, angular_velocity(b, u)];
                 }
             })?;

@@ -79,6 +79,9 @@ impl View for Timed<'_> {
     fn point(&self, i: usize) -> Option<[nalgebra::Vector3<f64>; 3]> {
         self.0.point(i)
     }
+    fn velocity(&self, i: usize) -> Option<nalgebra::Vector3<f64>> {
+        self.0.velocity(i)
+    }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frame(i)
     }
