@@ -166,7 +166,7 @@ impl DynamicsBuilder {
     /// use kinematics_core::mechanism;
     /// mechanism! {
     ///     /// A flywheel.
-    ///     pub struct Wheel { params { } drivers { phi } unknowns { } points { O = vec2(0.0, 0.0); } }
+    ///     pub struct Wheel { params { } drivers { phi } unknowns { } points { O = vec2(0.0, 0.0); P = polar(0.2, phi); } }
     /// }
     /// let m = Wheel {};
     /// let dynamics = Dynamics::builder()
