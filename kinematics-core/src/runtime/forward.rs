@@ -159,7 +159,8 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
     /// drivers' positions and rates to the parameters of the definition's
     /// `sensitivities` section ([`Sensitivities`]): one more assembly and
     /// analysis, four per free driver for the state's differences, and the
-    /// efforts' partial derivatives, per evaluation.
+    /// efforts' partial derivatives, per evaluation; with the explicit
+    /// method only.
     pub fn sensitivities(mut self) -> Self {
         self.sensitivities = true;
         self

@@ -121,20 +121,12 @@ mechanism! {
     }
 }
 
-/// d(T + V)/dt by the fourth-order central difference of the energy along
-/// a motion, against the drivers' power Σ Q_k ḋ_k (no other load than
-/// gravity): for the RSSR with inertia tensors in its crank's and rocker's
-/// frames and the coupler as a point mass.
-#[test]
-fn the_power_of_an_rssr_is_the_rate_of_its_energy() -> Result<(), Error> {
-    let m = MassRssr {
-        a: 0.03,
-        b: 0.12,
-        c: 0.08,
-        d: 0.1,
-    };
+/// The RSSR's bodies, with inertia tensors in its crank's and rocker's
+/// frames and the coupler as a point mass, and gravity off the plane's
+/// axes.
+pub(crate) fn rssr_description() -> kinematics_core::dynamics::DynamicsBuilder {
     let tensor = |x: f64, y: f64, z: f64| [[x, 2e-6, 0.0], [2e-6, y, 1e-6], [0.0, 1e-6, z]];
-    let dynamics = Dynamics::builder()
+    Dynamics::builder()
         .body(
             Body::new("crank", 0.2)
                 .center("G2")
@@ -149,7 +141,21 @@ fn the_power_of_an_rssr_is_the_rate_of_its_energy() -> Result<(), Error> {
                 .inertia_tensor(tensor(2e-5, 4e-5, 5e-5)),
         )
         .gravity([0.0, -G, -2.0])
-        .build::<MassRssr>()?;
+}
+
+/// d(T + V)/dt by the fourth-order central difference of the energy along
+/// a motion, against the drivers' power Σ Q_k ḋ_k (no other load than
+/// gravity): for the RSSR with inertia tensors in its crank's and rocker's
+/// frames and the coupler as a point mass.
+#[test]
+fn the_power_of_an_rssr_is_the_rate_of_its_energy() -> Result<(), Error> {
+    let m = MassRssr {
+        a: 0.03,
+        b: 0.12,
+        c: 0.08,
+        d: 0.1,
+    };
+    let dynamics = rssr_description().build::<MassRssr>()?;
     let start = m.assemble(&MassRssrCoords { phi: 0.7, psi: 1.1 })?;
     let at = |t: f64| (0.7 + 9.0 * t + 20.0 * t * t, 9.0 + 40.0 * t, 40.0);
     let energy = |t: f64| -> Result<f64, Error> {

@@ -12,7 +12,7 @@ use kinematics_core::dynamics::{Body, Dynamics, Ended, Event, Motor, Spring};
 use kinematics_core::{mechanism, Error};
 
 use super::efforts::{close, G};
-use super::energy::{MassRssr, MassRssrCoords};
+use super::energy::{rssr_description, MassRssr, MassRssrCoords};
 
 mechanism! {
     /// A crank whose centre of mass is at distance r from its pivot.
@@ -22,6 +22,20 @@ mechanism! {
         unknowns { }
         points   { G = polar(r, phi); }
     }
+}
+
+/// The pendulum of the tests: 2 kg at 0.1 m (with [`Swing`]'s r), 0.01
+/// kg·m² about its centre, under gravity.
+fn swing_dynamics() -> Result<Dynamics, Error> {
+    Dynamics::builder()
+        .body(
+            Body::new("pendulum", 2.0)
+                .center("G")
+                .angle("phi")
+                .inertia(0.01),
+        )
+        .gravity([0.0, -G, 0.0])
+        .build::<Swing>()
 }
 
 /// K(k) = π / (2 AGM(1, √(1 − k²))), the complete elliptic integral of the
@@ -269,23 +283,7 @@ fn a_spatial_rssr_with_inertia_tensors_keeps_its_energy() -> Result<(), Error> {
         c: 0.08,
         d: 0.1,
     };
-    let tensor = |x: f64, y: f64, z: f64| [[x, 2e-6, 0.0], [2e-6, y, 1e-6], [0.0, 1e-6, z]];
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("crank", 0.2)
-                .center("G2")
-                .frame("crank")
-                .inertia_tensor(tensor(3e-5, 1e-5, 3e-5)),
-        )
-        .body(Body::new("coupler", 0.4).center("G3"))
-        .body(
-            Body::new("rocker", 0.3)
-                .center("G4")
-                .frame("rocker")
-                .inertia_tensor(tensor(2e-5, 4e-5, 5e-5)),
-        )
-        .gravity([0.0, -G, -2.0])
-        .build::<MassRssr>()?;
+    let dynamics = rssr_description().build::<MassRssr>()?;
     let start = m.assemble(&MassRssrCoords { phi: 0.7, psi: 1.1 })?;
     let run = dynamics
         .forward(&m, &start)
@@ -545,15 +543,7 @@ fn a_stiff_torsion_spring_and_damper_are_integrated_implicitly() -> Result<(), E
 #[test]
 fn a_forward_simulation_refuses_what_cannot_be_run_by_name() -> Result<(), Error> {
     let m = Swing { r: 0.1 };
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("pendulum", 2.0)
-                .center("G")
-                .angle("phi")
-                .inertia(0.01),
-        )
-        .gravity([0.0, -G, 0.0])
-        .build::<Swing>()?;
+    let dynamics = swing_dynamics()?;
     let start = SwingCoords { phi: 0.3 };
     let message = |r: Result<kinematics_core::dynamics::Trajectory<Swing>, Error>| {
         r.expect_err("refused").to_string()
@@ -696,15 +686,7 @@ fn a_pendulum_on_a_prescribed_cart_moves_and_pulls_as_its_lagrange_equations() -
 #[test]
 fn the_last_sample_is_at_the_end_and_the_earliest_event_ends_the_run() -> Result<(), Error> {
     let m = Swing { r: 0.1 };
-    let dynamics = Dynamics::builder()
-        .body(
-            Body::new("pendulum", 2.0)
-                .center("G")
-                .angle("phi")
-                .inertia(0.01),
-        )
-        .gravity([0.0, -G, 0.0])
-        .build::<Swing>()?;
+    let dynamics = swing_dynamics()?;
     let start = SwingCoords { phi: 0.3 };
     for (until, samples) in [(0.1, 3), (0.4, 6), (1.6, 12), (2.7, 24)] {
         let run = dynamics

@@ -122,6 +122,16 @@ fn sensitivities_need_a_sensitivities_section() -> Result<(), Box<dyn std::error
         .run()
         .expect_err("refused");
     assert!(e.to_string().contains("no `sensitivities` section"), "{e}");
+    // With the implicit method they are refused, by name.
+    let m = Model::compile(FOUR_BAR)?.with_values(&VALUES)?;
+    let e = m
+        .dynamics()?
+        .forward_of(&m, &start)
+        .method(kinematics_core::dynamics::Method::Implicit)
+        .sensitivities()
+        .run()
+        .expect_err("refused");
+    assert!(e.to_string().contains("explicit method only"), "{e}");
     Ok(())
 }
 

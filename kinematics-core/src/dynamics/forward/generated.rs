@@ -291,7 +291,7 @@ impl<M: crate::tolerance::Sensitive, P: Profile<M::Coords>> Forward<'_, M, P> {
     /// Integrates, with the motion, the sensitivities of the free
     /// drivers' positions and rates to the parameters of the mechanism's
     /// `sensitivities` section ([`Sensitivities`]; see
-    /// [`Trajectory::sensitivities`]).
+    /// [`Trajectory::sensitivities`]), with the explicit method only.
     pub fn sensitivities(mut self) -> Self {
         self.partials = Some(|d, m, motion| d.effort_sensitivities(m, motion));
         self.parameters = M::PARAMETERS;

@@ -421,6 +421,15 @@ pub(crate) fn integrate<A: Analysis>(
     y0: (&[f64], &[f64]),
     settings: &Settings,
 ) -> Result<(A, Outcome), Error> {
+    if settings.parameters > 0 && settings.method == Method::Implicit {
+        return Err(Error::InvalidDynamics {
+            item: "sensitivities of the trajectory".to_string(),
+            detail: "are integrated with the explicit method only (TR-BDF2 iterates on the \
+                     motion, not on its sensitivities): drop `Method::Implicit`, or the \
+                     sensitivities"
+                .to_string(),
+        });
+    }
     let nd = dynamics.drivers;
     let nf = free.len();
     let prescribed: Vec<usize> = (0..nd).filter(|k| !free.contains(k)).collect();
