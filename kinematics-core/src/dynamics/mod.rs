@@ -107,7 +107,7 @@ pub use builder::DynamicsBuilder;
 pub use cycle::{ForceSample, ForceSweep};
 pub use evaluate::{Forces, Instant, MassSensitivity};
 pub use forward::{
-    Ended, Energy, Event, Forward, Method, Motor, Sensitivities, Statistics, Trajectory,
+    Ended, Energy, Event, Forward, Impact, Method, Motor, Sensitivities, Statistics, Trajectory,
 };
 pub use joints::{Axis, GROUND, Joint};
 pub use reactions::{JointReaction, Reactions};

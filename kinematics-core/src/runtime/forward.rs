@@ -15,7 +15,7 @@ use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
     Analysis, Course, Timed, course_settings, integrate, start_state, work_names,
 };
-use crate::dynamics::forward::{Ended, Energy, Sensitivities, Statistics};
+use crate::dynamics::forward::{Ended, Energy, Impact, Sensitivities, Statistics};
 use crate::error::Error;
 use crate::mechanism::Kind;
 use crate::sweep::{Stop, StopReason};
@@ -55,6 +55,8 @@ pub struct TrajectoryOf {
     pub energy: Vec<Energy>,
     /// The names of the works.
     pub work_names: Vec<String>,
+    /// The impacts at the stops, in order.
+    pub impacts: Vec<Impact>,
     /// The sensitivity parameters ([`ForwardOf::sensitivities`]; empty
     /// unless asked).
     pub parameters: Vec<String>,
@@ -239,12 +241,12 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             current: false,
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
-        let work_names = work_names(self.dynamics, &free, &names[..nd]);
+        let work_names = work_names(self.dynamics, (&free, nd), &names, &settings);
         let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
-            (free, &names[..nd]),
+            (free, &names),
             (&d0, &r0),
             &settings,
         )?;
@@ -274,6 +276,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             parameters,
             sensitivities,
             energy: outcome.energy,
+            impacts: outcome.impacts,
             work_names,
             ended: outcome.ended,
             statistics: outcome.statistics,

@@ -715,3 +715,78 @@ fn the_last_sample_is_at_the_end_and_the_earliest_event_ends_the_run() -> Result
     }
     Ok(())
 }
+
+/// A pendulum released from rest at θ₀ onto a stop at the bottom: it hits
+/// at ω₀ = √(2 m g r (1 − cos θ₀) / I_O) and leaves at −e ω₀; with e = 1
+/// it swings back to θ₀, with e = 0.6 the kinetic energy lost, (1 − e²)
+/// of it, is the impacts' work, so the balance still holds.
+#[test]
+fn a_pendulum_bounces_off_a_stop_as_newtons_law_of_restitution() -> Result<(), Error> {
+    let (mass, r, j) = (2.0, 0.1, 0.01);
+    let m = Swing { r };
+    let dynamics = swing_dynamics()?;
+    let theta = 0.8;
+    let start = SwingCoords {
+        phi: -FRAC_PI_2 + theta,
+    };
+    let omega = (2.0 * mass * G * r * (1.0 - theta.cos()) / (j + mass * r * r)).sqrt();
+    for e in [1.0, 0.6] {
+        let run = dynamics
+            .forward(&m, &start)
+            .until(3.0)
+            .samples(300)
+            .tolerance(1e-11)
+            .stop_when(Event::stop("phi", -FRAC_PI_2, e))
+            .run()?;
+        assert!(run.is_complete(), "{:?}", run.ended);
+        assert!(run.impacts.len() >= 3, "{}", run.impacts.len());
+        let first = run.impacts[0];
+        close(first.before, -omega, 1e-8, "impact speed");
+        assert!(
+            (first.after + e * first.before).abs() < 1e-12 * omega,
+            "{first:?}"
+        );
+        // Between impacts it swings as a pendulum: back to the stop at
+        // the speed it left with, reversed again.
+        for w in run.impacts.windows(2) {
+            close(w[1].before.abs(), w[0].after.abs(), 1e-7, "the return");
+        }
+        // It never passes the stop.
+        assert!(run
+            .sweep
+            .samples
+            .iter()
+            .all(|s| s.motion.q.phi >= -FRAC_PI_2 - 1e-9));
+        assert_eq!(run.work_names, ["impacts at phi"]);
+        let lost = run.energy.last().expect("samples").work[0];
+        let expected: f64 = run
+            .impacts
+            .iter()
+            .map(|i| 0.5 * (j + mass * r * r) * (i.after * i.after - i.before * i.before))
+            .sum();
+        close(lost, expected, 1e-9, "the impacts' work");
+        if e == 1.0 {
+            assert!(lost.abs() < 1e-12, "{lost}");
+            let highest = run
+                .sweep
+                .samples
+                .iter()
+                .map(|s| s.motion.q.phi)
+                .fold(f64::MIN, f64::max);
+            close(
+                highest,
+                -FRAC_PI_2 + theta,
+                1e-6,
+                "back to the release angle",
+            );
+        }
+        assert!(run.energy_error() < 1e-9, "{}", run.energy_error());
+    }
+    let e = dynamics
+        .forward(&m, &start)
+        .stop_when(Event::stop("phi", 0.0, 1.5))
+        .run()
+        .expect_err("refused");
+    assert!(e.to_string().contains("restitution"), "{e}");
+    Ok(())
+}

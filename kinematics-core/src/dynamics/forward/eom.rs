@@ -51,6 +51,9 @@ pub(super) struct Eom<'d, A> {
     pub(super) scratch: Vec<f64>,
     /// The sensitivities at the output samples.
     pub(super) recorded: Vec<Vec<f64>>,
+    /// The number of stops, each with the work of its impacts in the
+    /// state after the prescribed drivers'.
+    pub(super) stops: usize,
 }
 
 impl<A: Analysis> Eom<'_, A> {
@@ -136,7 +139,62 @@ impl<A: Analysis> Eom<'_, A> {
 
     /// Where the sensitivities start in the state.
     pub(super) fn sensitivity_offset(&self) -> usize {
+        self.stop_offset() + self.stops
+    }
+
+    /// Where the works of the impacts start in the state.
+    pub(super) fn stop_offset(&self) -> usize {
         2 * self.free.len() + self.powers.len() + self.prescribed.len()
+    }
+
+    /// The impact at a stop on coordinate `j`, restitution `e`, at the
+    /// state (t, y): the free drivers' rates in `y` jump by Δḋ = λ M⁻¹ Gᵀ
+    /// with G_i = ∂q̇_j/∂ḋ_i and λ = −(1 + e) w / (G M⁻¹ Gᵀ), w the
+    /// coordinate's rate, so that it leaves at −e w; the kinetic energy's
+    /// change is added to the work in `slot`. Returns w before and after.
+    ///
+    /// # Errors
+    /// The analyses' errors; a stop the free drivers do not move.
+    pub(super) fn impact(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        (j, e, slot): (usize, f64, usize),
+    ) -> Result<(f64, f64), Error> {
+        let nf = self.free.len();
+        self.accelerations(t, y)?;
+        let (before, _) = self.analysis.energies(self.dynamics, t)?;
+        let w = self.analysis.coordinate(j)[1];
+        // G: the coordinate's rate at a unit rate of each free driver, the
+        // others at rest.
+        let zeros = alloc::vec![0.0; self.nd];
+        let mut g = alloc::vec![0.0; nf];
+        for (i, &k) in self.free.iter().enumerate() {
+            let mut rates = zeros.clone();
+            rates[k] = 1.0;
+            self.analysis.analyze(&self.d, &rates, &zeros)?;
+            g[i] = self.analysis.coordinate(j)[1];
+        }
+        let mut mg = g.clone();
+        cholesky_apply(&self.mff, &mut mg, nf);
+        let reach: f64 = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
+        if !(reach > 0.0) {
+            let name = self.names.get(j).map_or("?", String::as_str);
+            return Err(Error::InvalidDynamics {
+                item: format!("the stop on `{name}`"),
+                detail: "is not moved by the free drivers at this pose: no impact can \
+                         reverse it"
+                    .to_string(),
+            });
+        }
+        let lambda = -(1.0 + e) * w / reach;
+        for i in 0..nf {
+            y[nf + i] += lambda * mg[i];
+        }
+        self.accelerations(t, y)?;
+        let (after, _) = self.analysis.energies(self.dynamics, t)?;
+        y[slot] += after - before;
+        Ok((w, self.analysis.coordinate(j)[1]))
     }
 }
 
@@ -171,6 +229,9 @@ impl<A: Analysis> System for Eom<'_, A> {
         for (i, &p) in self.prescribed.iter().enumerate() {
             rest[p0 + i] = self.effort[p] * self.dd[p];
         }
+        // The impacts' works change at the impacts only.
+        let s0 = p0 + self.prescribed.len();
+        rest[s0..s0 + self.stops].fill(0.0);
         if self.parameters > 0 {
             self.sensitivities(t, y, dy)?;
         }

@@ -138,12 +138,12 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             partials: self.partials,
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
-        let work_names = work_names(self.dynamics, &free, &names[..M::DRIVERS]);
+        let work_names = work_names(self.dynamics, (&free, M::DRIVERS), &names, &settings);
         let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
-            (free, &names[..M::DRIVERS]),
+            (free, &names),
             (&d0, &r0),
             &settings,
         )?;
@@ -169,6 +169,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
                 stop,
             },
             energy: outcome.energy,
+            impacts: outcome.impacts,
             work_names,
             ended: outcome.ended,
             statistics: outcome.statistics,

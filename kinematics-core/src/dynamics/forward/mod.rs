@@ -69,6 +69,9 @@ pub struct Event {
     pub(crate) coordinate: String,
     pub(crate) rate: bool,
     pub(crate) value: f64,
+    /// Where the event is a stop the motion bounces off: the coefficient
+    /// of restitution.
+    pub(crate) restitution: Option<f64>,
 }
 
 /// An event is looked for at the end of every step, located on the dense
@@ -86,6 +89,53 @@ impl Event {
             coordinate: coordinate.into(),
             rate: false,
             value,
+            restitution: None,
+        }
+    }
+
+    /// A stop: where `coordinate` reaches `value` the motion does not end
+    /// but bounces off it, with the coefficient of restitution
+    /// `restitution` (0 plastic, 1 elastic). The impact is instantaneous:
+    /// the free drivers' rates jump by Δḋ = λ M⁻¹ Gᵀ, G = ∂q̇_j/∂ḋ_f the
+    /// coordinate's partial velocities and M the mass matrix, with λ such
+    /// that the coordinate's rate w becomes −e w (Newton's law with the
+    /// mechanism's own inertia); the kinetic energy lost is reported as the
+    /// work `impacts at <coordinate>` and each impact in
+    /// [`Trajectory::impacts`]. The run ends there when the rate after an
+    /// impact is below 1e-9 of the first's (it has come to rest at the
+    /// stop), or after a thousand impacts.
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics, Event};
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A pendulum of length 1.
+    ///     pub struct Pendulum { params { } drivers { phi } unknowns { } points { G = polar(1.0, phi); } }
+    /// }
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("bob", 1.0).center("G").angle("phi"))
+    ///     .gravity([0.0, -9.81, 0.0])
+    ///     .build::<Pendulum>()?;
+    /// // Released from horizontal onto a stop at the bottom, e = 0.5.
+    /// let run = dynamics
+    ///     .forward(&Pendulum {}, &PendulumCoords { phi: 0.0 })
+    ///     .until(0.6)
+    ///     .tolerance(1e-11)
+    ///     .stop_when(Event::stop("phi", -std::f64::consts::FRAC_PI_2, 0.5))
+    ///     .run()?;
+    /// let hit = &run.impacts[0];
+    /// // It hits at √(2 g l) / l and leaves at half that, backwards.
+    /// assert!((hit.before + (2.0f64 * 9.81).sqrt()).abs() < 1e-8);
+    /// assert!((hit.after + 0.5 * hit.before).abs() < 1e-12);
+    /// # Ok::<(), kinematics_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn stop(coordinate: &str, value: f64, restitution: f64) -> Self {
+        Event {
+            coordinate: coordinate.into(),
+            rate: false,
+            value,
+            restitution: Some(restitution),
         }
     }
 
@@ -96,6 +146,7 @@ impl Event {
             coordinate: coordinate.into(),
             rate: true,
             value,
+            restitution: None,
         }
     }
 }
@@ -148,6 +199,19 @@ impl Ended {
     pub fn is_complete(&self) -> bool {
         *self == Ended::Complete
     }
+}
+
+/// An impact at a stop ([`Event::stop`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Impact {
+    /// When (s).
+    pub t: f64,
+    /// The stop's index among the events.
+    pub event: usize,
+    /// The coordinate's rate before and after.
+    pub before: f64,
+    /// After: −e times `before`.
+    pub after: f64,
 }
 
 /// The energies and works at one sample of a forward simulation.
@@ -234,6 +298,8 @@ pub struct Trajectory<M: Mechanism> {
     /// `torque on body`, `force on coordinate`, `damper A-B`, then
     /// `driver d` for each prescribed driver.
     pub work_names: Vec<String>,
+    /// The impacts at the stops, in order.
+    pub impacts: Vec<Impact>,
     /// The sensitivity parameters (empty unless
     /// [`Forward::sensitivities`] asked for them).
     pub parameters: Vec<String>,

@@ -13,7 +13,7 @@ use super::eom::Eom;
 use super::equations::Equations;
 use super::ode::{Dopri, Solver, Stepped, System, Tolerances};
 use super::stiff::TrBdf2;
-use super::{Ended, Energy, Event, Method, Statistics};
+use super::{Ended, Energy, Event, Impact, Method, Statistics};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Terms, View};
 use crate::error::Error;
@@ -255,6 +255,17 @@ impl Course {
                         detail: format!("its value {} must be finite", e.value),
                     });
                 }
+                if let Some(r) = e.restitution
+                    && !(0.0..=1.0).contains(&r)
+                {
+                    return Err(Error::InvalidDynamics {
+                        item,
+                        detail: format!(
+                            "its coefficient of restitution {r} must be between 0 (plastic) and \
+                             1 (elastic)"
+                        ),
+                    });
+                }
                 Ok((j, e.rate, e.value))
             })
             .collect::<Result<Vec<_>, Error>>()?;
@@ -317,6 +328,7 @@ impl Course {
                 max_step: self.max_step,
                 max_steps: self.max_steps,
                 events,
+                restitution: self.events.iter().map(|e| e.restitution).collect(),
                 method: self.method,
                 parameters: 0,
             },
@@ -368,12 +380,23 @@ pub(crate) fn start_state(
 }
 
 /// The names of a run's works: the loads', then `driver d` for each
-/// prescribed driver (`drivers` their names, in order).
-pub(crate) fn work_names(dynamics: &Dynamics, free: &[usize], drivers: &[&str]) -> Vec<String> {
+/// prescribed driver, then `impacts at q` for each stop (`coordinates`
+/// every coordinate's name, drivers first; `drivers` their number).
+pub(crate) fn work_names(
+    dynamics: &Dynamics,
+    (free, drivers): (&[usize], usize),
+    coordinates: &[&str],
+    settings: &Settings,
+) -> Vec<String> {
     let mut names = dynamics.working_load_names();
-    for (k, name) in drivers.iter().enumerate() {
+    for (k, name) in coordinates.iter().take(drivers).enumerate() {
         if !free.contains(&k) {
             names.push(format!("driver {name}"));
+        }
+    }
+    for (&(j, _, _), r) in settings.events.iter().zip(&settings.restitution) {
+        if r.is_some() {
+            names.push(format!("impacts at {}", coordinates.get(j).unwrap_or(&"?")));
         }
     }
     names
@@ -394,6 +417,8 @@ pub(crate) struct Settings {
     pub(crate) max_steps: usize,
     /// (coordinate, of its rate, value).
     pub(crate) events: Vec<(usize, bool, f64)>,
+    /// Per event, its coefficient of restitution where it is a stop.
+    pub(crate) restitution: Vec<Option<f64>>,
     pub(crate) method: Method,
     /// The number of sensitivity parameters whose ∂/∂p of the trajectory
     /// is integrated (0: none).
@@ -407,6 +432,8 @@ pub(crate) struct Outcome {
     /// The error that ended it, with its time.
     pub(crate) failure: Option<(f64, Error)>,
     pub(crate) statistics: Statistics,
+    /// The impacts at the stops.
+    pub(crate) impacts: Vec<Impact>,
     /// At each sample, ∂(d_f, ḋ_f)/∂p for each parameter (positions then
     /// rates of the free drivers, parameter-major); empty unless asked.
     pub(crate) sensitivities: Vec<Vec<f64>>,
@@ -417,7 +444,7 @@ pub(crate) struct Outcome {
 pub(crate) fn integrate<A: Analysis>(
     analysis: A,
     dynamics: &Dynamics,
-    (free, drivers): (Vec<usize>, &[&str]),
+    (free, coordinates): (Vec<usize>, &[&str]),
     y0: (&[f64], &[f64]),
     settings: &Settings,
 ) -> Result<(A, Outcome), Error> {
@@ -447,7 +474,7 @@ pub(crate) fn integrate<A: Analysis>(
         partials: vec![[nalgebra::Vector3::zeros(); 2]; nd * dynamics.body_count()],
         terms: Terms::default(),
         effort: vec![0.0; nd],
-        names: drivers.iter().map(|n| String::from(*n)).collect(),
+        names: coordinates.iter().map(|n| String::from(*n)).collect(),
         mff: vec![0.0; nf * nf],
         x: vec![0.0; nf],
         parameters: settings.parameters,
@@ -455,6 +482,7 @@ pub(crate) fn integrate<A: Analysis>(
         jacobian: vec![0.0; 2 * nf * nf],
         scratch: Vec::with_capacity(2 * nf),
         recorded: Vec::new(),
+        stops: settings.restitution.iter().flatten().count(),
         free,
         prescribed,
     };
@@ -480,22 +508,19 @@ pub(crate) fn integrate<A: Analysis>(
         relative: settings.relative,
         absolute,
     };
-    let mut ode = match settings.method {
-        Method::Explicit => Solver::Explicit(Dopri::new(
-            &mut eom,
-            0.0,
-            &y,
-            tolerances,
-            settings.max_step.min(settings.until),
-        )?),
-        Method::Implicit => Solver::Implicit(TrBdf2::new(
-            &mut eom,
-            0.0,
-            &y,
-            tolerances,
-            settings.max_step.min(settings.until),
-        )?),
+    // A solver from (t0, y0): at the start, and again after an impact.
+    let start = |eom: &mut Eom<'_, A>, t0: f64, y0: &[f64]| -> Result<Solver, Error> {
+        let tolerances = tolerances.clone();
+        let h = settings.max_step.min(settings.until - t0);
+        Ok(match settings.method {
+            Method::Explicit => Solver::Explicit(Dopri::new(eom, t0, y0, tolerances, h)?),
+            Method::Implicit => Solver::Implicit(TrBdf2::new(eom, t0, y0, tolerances, h)?),
+        })
     };
+    let mut ode = start(&mut eom, 0.0, &y)?;
+    // The counts of the solvers before the last impact, and the impacts.
+    let mut counted = [0usize; 3];
+    let mut impacts: Vec<Impact> = Vec::new();
     #[allow(clippy::cast_precision_loss)]
     let output = |k: usize| {
         if k == settings.intervals {
@@ -510,7 +535,7 @@ pub(crate) fn integrate<A: Analysis>(
         if ode.t() >= settings.until {
             break Ended::Complete;
         }
-        if ode.counts()[0] >= settings.max_steps {
+        if ode.counts()[0] + counted[0] >= settings.max_steps {
             break Ended::StepLimit { at: ode.t() };
         }
         if ode.step(&mut eom, settings.until) == Stepped::TooSmall {
@@ -562,6 +587,49 @@ pub(crate) fn integrate<A: Analysis>(
         if let Some((t, _)) = failure {
             break Ended::Failed { at: t };
         }
+        if let Some((index, at)) = limit
+            && let Some(e) = settings.restitution[index]
+        {
+            // A stop: the impact, then the run goes on from it.
+            ode.interpolate(at, &mut out);
+            let (j, _, _) = settings.events[index];
+            let slot = eom.stop_offset() + settings.restitution[..index].iter().flatten().count();
+            match eom.impact(at, &mut out, (j, e, slot)) {
+                Ok((before, after)) => impacts.push(Impact {
+                    t: at,
+                    event: index,
+                    before,
+                    after,
+                }),
+                Err(e) => {
+                    failure = Some((at, e));
+                    break Ended::Failed { at };
+                }
+            }
+            eom.analysis.commit();
+            let first = impacts.first().map_or(0.0, |i| i.before.abs());
+            let last = impacts.last().map_or(0.0, |i| i.after.abs());
+            if last <= 1e-9 * first || impacts.len() >= 1000 {
+                // At rest at the stop.
+                if let Ok(e) = emit(&mut eom, at, &out) {
+                    energy.push(e);
+                }
+                break Ended::Event { index, at };
+            }
+            for (c, n) in counted.iter_mut().zip(ode.counts()) {
+                *c += n;
+            }
+            ode = match start(&mut eom, at, &out) {
+                Ok(s) => s,
+                Err(e) => {
+                    failure = Some((at, e));
+                    break Ended::Failed { at };
+                }
+            };
+            eom.analysis.commit();
+            previous = values(&mut eom);
+            continue;
+        }
         if let Some((index, at)) = limit {
             if next > settings.intervals || output(next - 1) < at {
                 ode.interpolate(at, &mut out);
@@ -577,10 +645,11 @@ pub(crate) fn integrate<A: Analysis>(
         }
         previous = now;
     };
+    let [steps, rejected, evaluations] = ode.counts();
     let statistics = Statistics {
-        steps: ode.counts()[0],
-        rejected: ode.counts()[1],
-        evaluations: ode.counts()[2],
+        steps: steps + counted[0],
+        rejected: rejected + counted[1],
+        evaluations: evaluations + counted[2],
     };
     Ok((
         eom.analysis,
@@ -589,6 +658,7 @@ pub(crate) fn integrate<A: Analysis>(
             ended,
             failure,
             statistics,
+            impacts,
             sensitivities: core::mem::take(&mut eom.recorded),
         },
     ))
