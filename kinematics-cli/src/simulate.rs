@@ -53,6 +53,11 @@ pub(super) struct SimulateArgs {
     /// (`rate(phi)=1500rpm`); repeatable, the first that happens.
     #[arg(long = "stop-when", value_name = "NAME=VALUE")]
     stop_when: Vec<String>,
+    /// A stop the motion bounces off: a coordinate's value and the
+    /// coefficient of restitution (`phi=-90deg,0.5`; repeatable). Each
+    /// impact is printed; its energy loss is the work `impacts at phi`.
+    #[arg(long = "stop", value_name = "NAME=VALUE,E", allow_hyphen_values = true)]
+    stop: Vec<String>,
     /// The integrator: the explicit Dormand–Prince pair, or the implicit
     /// TR-BDF2 for a stiff motion (a stiff spring, large damping).
     #[arg(long, value_enum, default_value = "explicit")]
@@ -154,6 +159,23 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
             Event::reaches(&name, value)
         });
     }
+    for (name, text) in pairs(&args.stop, "stop")? {
+        let Some((value, e)) = text.rsplit_once(',') else {
+            return Err(Failure::usage(format!(
+                "error: --stop `{name}={text}`: give the value and the coefficient of \
+                 restitution, `{name}=<value>,<e>`"
+            )));
+        };
+        let j = coordinate(&m, &name, "--stop")?;
+        let value = coordinate_value(&m, j, value.trim(), Order::Value, "--stop")?;
+        let e: f64 = e.trim().parse().map_err(|_| {
+            Failure::usage(format!(
+                "error: --stop `{name}={text}`: `{e}` is not a coefficient of restitution (a \
+                 number from 0 to 1)"
+            ))
+        })?;
+        builder = builder.stop_when(Event::stop(&name, value, e));
+    }
     let run = builder.run().map_err(failed)?;
     std::fs::create_dir_all(&args.out).map_err(|e| {
         Failure::mechanism(format!("error: cannot create {}: {e}", args.out.display()))
@@ -230,6 +252,13 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         for (name, w) in run.work_names.iter().zip(&last.work) {
             let _ = writeln!(out, "  work of {name}: {w:.6e} J");
         }
+    }
+    for i in &run.impacts {
+        let _ = writeln!(
+            out,
+            "  impact at t = {:.9} s: rate {:.6e} → {:.6e}",
+            i.t, i.before, i.after
+        );
     }
     for f in &written {
         let _ = writeln!(out, "  wrote {}", f.display());

@@ -51,6 +51,8 @@ class Trajectory:
     sensitivity parameters and ``position_sensitivity`` and
     ``rate_sensitivity`` hold ∂d/∂p and ∂ḋ/∂p of the free drivers
     (samples × parameters × free drivers), integrated with the motion.
+    ``impacts`` lists the impacts at the ``stops``: (t, index of the stop
+    among the events, the coordinate's rate before, after).
     """
 
     def __init__(self, sweep: "Sweep", d: Dict[str, Any]) -> None:
@@ -69,6 +71,7 @@ class Trajectory:
         self.evaluations: int = d["evaluations"]
         self._energy_error: float = d["energy_error"]
         self.parameters: List[str] = list(d.get("parameters", []))
+        self.impacts: List[Tuple[float, int, float, float]] = [tuple(i) for i in d.get("impacts", [])]  # type: ignore[misc]
         self.position_sensitivity: np.ndarray = d.get("position_sensitivity", np.zeros((0, 0, 0)))
         self.rate_sensitivity: np.ndarray = d.get("rate_sensitivity", np.zeros((0, 0, 0)))
 
@@ -114,6 +117,7 @@ class _Forward:
         method: str = "explicit",
         max_step: Optional[float] = None,
         sensitivities: bool = False,
+        stops: Optional[Mapping[str, Tuple[Union[float, str], float]]] = None,
         options: Optional[Options] = None,
     ) -> Trajectory:
         """The motion the definition's ``bodies`` and ``loads`` produce
@@ -134,7 +138,11 @@ class _Forward:
         drivers' sensitivities to the parameters of the definition's
         ``sensitivities`` section (the forward sensitivity equations: the
         efforts' partial derivatives compiled, the state's by central
-        differences of the equations of motion).
+        differences of the equations of motion). ``stops`` are stops the
+        motion bounces off: ``{"phi": ("-90deg", 0.5)}`` (coordinate:
+        value, coefficient of restitution); an impact is Newton's law with
+        the mechanism's own inertia, its energy loss reported as the work
+        ``impacts at phi``.
 
         Raises:
             InvalidDynamicsError: no ``bodies``/``loads`` section, an event
@@ -157,6 +165,9 @@ class _Forward:
             rate = key.startswith("rate(") and key.endswith(")")
             name = key[5:-1].strip() if rate else key
             events.append((name, rate, self._quantity(name, value, 1 if rate else 0)))
+        stop_list: List[Tuple[str, float, float]] = [
+            (name, self._quantity(name, value, 0), float(e)) for name, (value, e) in (stops or {}).items()
+        ]
         sweep, d = _native.forward(
             self._m,
             q.array.tolist(),
@@ -169,6 +180,7 @@ class _Forward:
             str(method),
             None if max_step is None else float(max_step),
             bool(sensitivities),
+            stop_list,
             _opts(options),
         )
         from ._sweep import Sweep

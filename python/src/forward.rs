@@ -22,9 +22,11 @@ use super::*;
 /// "steps", "rejected", "evaluations" and "energy_error"; with
 /// `sensitivities`, "parameters" (the definition's sensitivity
 /// parameters) and "position_sensitivity" and "rate_sensitivity"
-/// (samples × parameters × free drivers: ∂d_f/∂p and ∂ḋ_f/∂p).
+/// (samples × parameters × free drivers: ∂d_f/∂p and ∂ḋ_f/∂p); the
+/// `stops` (coordinate, value, restitution) the motion bounces off, after
+/// the events, and "impacts" (t, event index, rate before, rate after).
 #[pyfunction]
-#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, method, max_step=None, sensitivities=false, opts=None))]
+#[pyo3(signature = (model, start, rates, free, until, samples, tolerance, events, method, max_step=None, sensitivities=false, stops=Vec::new(), opts=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn forward<'py>(
     py: Python<'py>,
@@ -39,6 +41,7 @@ pub(crate) fn forward<'py>(
     method: &str,
     max_step: Option<f64>,
     sensitivities: bool,
+    stops: Vec<(String, f64, f64)>,
     opts: Option<OptionsTuple>,
 ) -> PyResult<(Sweep, Bound<'py, PyDict>)> {
     let method = match method {
@@ -67,6 +70,9 @@ pub(crate) fn forward<'py>(
     }
     if sensitivities {
         builder = builder.sensitivities();
+    }
+    for (name, value, restitution) in &stops {
+        builder = builder.stop_when(Event::stop(name, *value, *restitution));
     }
     for name in &free {
         builder = builder.free(name);
@@ -124,6 +130,12 @@ pub(crate) fn forward<'py>(
     d.set_item("evaluations", run.statistics.evaluations)?;
     d.set_item("energy_error", run.energy_error())?;
     d.set_item("parameters", run.parameters.clone())?;
+    let impacts: Vec<(f64, usize, f64, f64)> = run
+        .impacts
+        .iter()
+        .map(|i| (i.t, i.event, i.before, i.after))
+        .collect();
+    d.set_item("impacts", impacts)?;
     let (np, nf) = (
         run.parameters.len(),
         run.sensitivities

@@ -138,3 +138,22 @@ def test_the_trajectory_sensitivity_to_the_inertia_is_its_closed_form():
     d_phi = -w0 * (1 - e - t / tau * e) * (tau / j)
     np.testing.assert_allclose(run.rate_sensitivity[:, 0, 0], d_rate, rtol=0, atol=1e-7 * np.abs(d_rate).max())
     np.testing.assert_allclose(run.position_sensitivity[:, 0, 0], d_phi, rtol=0, atol=1e-7 * np.abs(d_phi).max())
+
+
+def test_a_pendulum_bounces_off_a_stop():
+    r, mass, j = 0.1, 2.0, 0.01
+    m = kin.compile(SWING)(r=r, m=mass, j=j)
+    theta = 0.8
+    run = m.forward(
+        start={"phi": -math.pi / 2 + theta},
+        until=2.0,
+        tolerance=1e-11,
+        stops={"phi": ("-90deg", 0.5)},
+    )
+    omega = math.sqrt(2 * mass * 9.81 * r * (1 - math.cos(theta)) / (j + mass * r * r))
+    t, index, before, after = run.impacts[0]
+    assert index == 0 and before == pytest.approx(-omega, rel=1e-8)
+    assert after == pytest.approx(0.5 * omega, rel=1e-10)
+    assert run.work_names == ["impacts at phi"]
+    assert run.energy_error() < 1e-9
+    assert np.all(run.sweep["phi"] >= -math.pi / 2 - 1e-9)

@@ -142,6 +142,60 @@ fn the_sensitivity_to_the_inertia_is_written_as_its_closed_form() {
 }
 
 #[test]
+fn a_pendulum_bounces_off_a_stop_given_on_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("kinematics-stop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("swing.mech");
+    std::fs::write(
+        &mech,
+        "pub struct Swing {
+            params   { }
+            drivers  { phi }
+            unknowns { }
+            points   { G = polar(1.0, phi); }
+            bodies   { bob(mass = 1.0, center = G, angle = phi); }
+            loads    { gravity(vec2(0.0, -9.81)); }
+        }",
+    )
+    .unwrap();
+    let o = run(&[
+        "simulate",
+        path(&mech),
+        "--until",
+        "1s",
+        "--tolerance",
+        "1e-11",
+        "--stop",
+        "phi=-90deg,0.5",
+        "--out",
+        path(&dir.join("out")),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    // Released from horizontal: it hits the bottom at √(2 g) and leaves
+    // at half that.
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("impact at"))
+        .expect("an impact");
+    let rates: Vec<f64> = line
+        .split("rate ")
+        .nth(1)
+        .expect("the rates")
+        .split(" → ")
+        .map(|v| v.trim().parse().expect("a number"))
+        .collect();
+    assert!((rates[0] + (2.0f64 * 9.81).sqrt()).abs() < 1e-5, "{line}");
+    assert!((rates[1] + 0.5 * rates[0]).abs() < 1e-5, "{line}");
+    let (header, _) = columns(&dir.join("out").join("energy.csv"));
+    assert!(
+        header.iter().any(|h| h == "work of impacts at phi (J)"),
+        "{header:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn the_press_runs_up_to_a_speed_and_keeps_its_energy_balance() {
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/dynamics");
     let out = std::env::temp_dir().join(format!("kinematics-press-{}", std::process::id()));
