@@ -178,7 +178,7 @@ impl<A: Analysis> Eom<'_, A> {
         let mut mg = g.clone();
         cholesky_apply(&self.mff, &mut mg, nf);
         let reach: f64 = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
-        if !(reach > 0.0) {
+        if reach.is_nan() || reach <= 0.0 {
             let name = self.names.get(j).map_or("?", String::as_str);
             return Err(Error::InvalidDynamics {
                 item: format!("the stop on `{name}`"),
