@@ -94,6 +94,7 @@ pub mod forward;
 mod joints;
 mod reactions;
 pub(crate) mod sensitivity;
+pub(crate) mod terms;
 
 use alloc::boxed::Box;
 use alloc::format;

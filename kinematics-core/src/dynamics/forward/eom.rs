@@ -10,7 +10,7 @@ use super::equations::{Equations, cholesky_apply, cholesky_solve};
 use super::ode::System;
 use super::run::Analysis;
 use crate::dynamics::Dynamics;
-use crate::dynamics::evaluate::Terms;
+use crate::dynamics::terms::Terms;
 use crate::error::Error;
 
 /// The equations of motion as a first-order system: y = (d_f, ḋ_f, W, S),

@@ -23,7 +23,8 @@ use nalgebra::Vector3;
 
 use crate::dynamics::Dynamics;
 use crate::dynamics::Turns;
-use crate::dynamics::evaluate::{Terms, View, WithUnit, angular_velocity, turning};
+use crate::dynamics::evaluate::{View, WithUnit, angular_velocity, turning};
+use crate::dynamics::terms::Terms;
 use crate::error::{Error, Input};
 
 /// Where the equations are written: the mass matrix (drivers × drivers,
