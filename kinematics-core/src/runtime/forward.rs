@@ -13,12 +13,11 @@ use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{View, WithUnit};
 use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
-    Analysis, Course, Timed, course_settings, integrate, start_state, work_names,
+    Analysis, Course, Timed, course_settings, integrate, start_state,
 };
 use crate::dynamics::forward::{Ended, Energy, Impact, Sensitivities, Statistics};
 use crate::error::Error;
 use crate::mechanism::Kind;
-use crate::sweep::{Stop, StopReason};
 
 /// A forward simulation of a run-time model, built by
 /// [`Dynamics::forward_of`]; the settings of
@@ -241,8 +240,6 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             current: false,
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
-        let work_names = work_names(self.dynamics, (&free, nd), &names, &settings);
-        let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
@@ -250,11 +247,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             (&d0, &r0),
             &settings,
         )?;
-        let stop = outcome.failure.map(|(at, e)| Stop {
-            variable: "t",
-            at,
-            reason: StopReason::from_error(e),
-        });
+        let stop = outcome.stop;
         let samples = analysis.samples;
         let sweep = collect(m, ("t", Kind::Length), |emit| {
             for (t, motion) in &samples {
@@ -265,19 +258,13 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
                 change_points: Vec::new(),
             }
         });
-        let sensitivities = outcome
-            .energy
-            .iter()
-            .zip(&outcome.sensitivities)
-            .map(|(e, s)| Sensitivities::from_state(e.t, s, nf))
-            .collect();
         Ok(TrajectoryOf {
             sweep,
             parameters,
-            sensitivities,
+            sensitivities: outcome.sensitivities,
             energy: outcome.energy,
             impacts: outcome.impacts,
-            work_names,
+            work_names: outcome.work_names,
             ended: outcome.ended,
             statistics: outcome.statistics,
         })

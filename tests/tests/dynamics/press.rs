@@ -75,9 +75,22 @@ fn the_press_runs_up_and_fluctuates_as_its_flywheel_estimate(
         .ok_or("no estimate")?;
     println!("C_s simulated {simulated:.5e}, estimated {estimate:.5e}, mean speed {mean:.4} rad/s");
     assert!(simulated > 1e-3, "it fluctuates: {simulated}");
+    // The first-order estimate holds the drive torque and the inertia
+    // constant over the cycle: it agrees within 3 % (2 % measured).
     assert!(
-        (simulated / estimate - 1.0).abs() < 0.05,
+        (simulated / estimate - 1.0).abs() < 0.03,
         "{simulated} against {estimate}"
     );
+    // The README prints the three numbers of this run: the page is read
+    // back and checked against them (a check of the page; the physics is
+    // the agreement above).
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))?;
+    for shown in [
+        format!("{mean:.1} rad/s"),
+        format!("is {simulated:.3e}"),
+        format!("gives {estimate:.3e}"),
+    ] {
+        assert!(readme.contains(&shown), "the README does not say `{shown}`");
+    }
     Ok(())
 }

@@ -6,13 +6,13 @@ use alloc::string::String;
 use alloc::vec::Vec;
 
 use super::equations::Equations;
-use super::run::{Analysis, Course, Timed, course_settings, integrate, start_state, work_names};
-use super::{Ended, Sensitivities, Trajectory};
+use super::run::{Analysis, Course, Timed, course_settings, integrate, start_state};
+use super::{Ended, Trajectory};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::{Generated, unit_analyses};
 use crate::error::Error;
 use crate::mechanism::{Coordinates, Kind, Mechanism, MotionState};
-use crate::sweep::{AtRest, Driver, Profile, Sample, Stop, StopReason, Sweep};
+use crate::sweep::{AtRest, Driver, Profile, Sample, Sweep};
 
 /// A forward simulation of a generated mechanism, built by
 /// [`Dynamics::forward`]: which drivers move freely, their initial rates,
@@ -138,8 +138,6 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             partials: self.partials,
             samples: Vec::with_capacity(settings.intervals.min(1 << 16) + 2),
         };
-        let work_names = work_names(self.dynamics, (&free, M::DRIVERS), &names, &settings);
-        let nf = free.len();
         let (analysis, outcome) = integrate(
             analysis,
             self.dynamics,
@@ -147,30 +145,19 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             (&d0, &r0),
             &settings,
         )?;
-        let stop = outcome.failure.map(|(at, e)| Stop {
-            variable: "t",
-            at,
-            reason: StopReason::from_error(e),
-        });
-        let sensitivities = outcome
-            .energy
-            .iter()
-            .zip(&outcome.sensitivities)
-            .map(|(e, s)| Sensitivities::from_state(e.t, s, nf))
-            .collect();
         Ok(Trajectory {
             parameters: parameters.iter().map(|p| String::from(*p)).collect(),
-            sensitivities,
+            sensitivities: outcome.sensitivities,
             sweep: Sweep {
                 variable: "t",
                 kind: Kind::Length,
                 samples: analysis.samples,
                 change_points: Vec::new(),
-                stop,
+                stop: outcome.stop,
             },
             energy: outcome.energy,
             impacts: outcome.impacts,
-            work_names,
+            work_names: outcome.work_names,
             ended: outcome.ended,
             statistics: outcome.statistics,
         })
@@ -291,7 +278,7 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
 impl<M: crate::tolerance::Sensitive, P: Profile<M::Coords>> Forward<'_, M, P> {
     /// Integrates, with the motion, the sensitivities of the free
     /// drivers' positions and rates to the parameters of the mechanism's
-    /// `sensitivities` section ([`Sensitivities`]; see
+    /// `sensitivities` section ([`Sensitivities`](super::Sensitivities); see
     /// [`Trajectory::sensitivities`]), with the explicit method only.
     pub fn sensitivities(mut self) -> Self {
         self.partials = Some(|d, m, motion| d.effort_sensitivities(m, motion));

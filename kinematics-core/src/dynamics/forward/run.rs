@@ -13,13 +13,14 @@ use super::eom::Eom;
 use super::equations::Equations;
 use super::ode::{Dopri, Solver, Stepped, System, Tolerances};
 use super::stiff::TrBdf2;
-use super::{Ended, Energy, Event, Impact, Method, Statistics};
+use super::{Ended, Energy, Event, Impact, Method, Sensitivities, Statistics};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::View;
 use crate::dynamics::terms::Terms;
 use crate::error::Error;
 use crate::mechanism::FrameState;
 use crate::options::Options;
+use crate::sweep::{Stop, StopReason};
 
 /// What the integration needs of a model.
 pub(crate) trait Analysis {
@@ -383,7 +384,7 @@ pub(crate) fn start_state(
 /// The names of a run's works: the loads', then `driver d` for each
 /// prescribed driver, then `impacts at q` for each stop (`coordinates`
 /// every coordinate's name, drivers first; `drivers` their number).
-pub(crate) fn work_names(
+fn work_names(
     dynamics: &Dynamics,
     (free, drivers): (&[usize], usize),
     coordinates: &[&str],
@@ -429,15 +430,17 @@ pub(crate) struct Settings {
 /// How a run went, besides its samples.
 pub(crate) struct Outcome {
     pub(crate) energy: Vec<Energy>,
+    /// The names of the works of each [`Energy`].
+    pub(crate) work_names: Vec<String>,
     pub(crate) ended: Ended,
-    /// The error that ended it, with its time.
-    pub(crate) failure: Option<(f64, Error)>,
+    /// Why it stopped before its end, where it failed: the sweep's stop.
+    pub(crate) stop: Option<Stop>,
     pub(crate) statistics: Statistics,
     /// The impacts at the stops.
     pub(crate) impacts: Vec<Impact>,
-    /// At each sample, ∂(d_f, ḋ_f)/∂p for each parameter (positions then
-    /// rates of the free drivers, parameter-major); empty unless asked.
-    pub(crate) sensitivities: Vec<Vec<f64>>,
+    /// At each sample, the sensitivities of the free drivers' motion
+    /// (empty unless asked).
+    pub(crate) sensitivities: Vec<Sensitivities>,
 }
 
 /// Integrates from the committed start pose of `analysis`, the free
@@ -652,15 +655,27 @@ pub(crate) fn integrate<A: Analysis>(
         rejected: rejected + counted[1],
         evaluations: evaluations + counted[2],
     };
+    let stop = failure.map(|(at, e)| Stop {
+        variable: "t",
+        at,
+        reason: StopReason::from_error(e),
+    });
+    let sensitivities = energy
+        .iter()
+        .zip(&eom.recorded)
+        .map(|(e, s)| Sensitivities::from_state(e.t, s, nf))
+        .collect();
+    let work_names = work_names(dynamics, (&eom.free, nd), coordinates, settings);
     Ok((
         eom.analysis,
         Outcome {
             energy,
+            work_names,
             ended,
-            failure,
+            stop,
             statistics,
             impacts,
-            sensitivities: core::mem::take(&mut eom.recorded),
+            sensitivities,
         },
     ))
 }
