@@ -58,6 +58,16 @@ impl<'m> Engine for Stepped<'m> {
     }
 
     #[inline(always)]
+    fn lend(slot: &mut Vec<f64>) -> Vec<f64> {
+        core::mem::take(slot)
+    }
+
+    #[inline(always)]
+    fn give_back(slot: &mut Vec<f64>, pose: Vec<f64>) {
+        *slot = pose;
+    }
+
+    #[inline(always)]
     fn get(pose: &Vec<f64>, j: usize) -> f64 {
         pose.get(j).copied().unwrap_or(f64::NAN)
     }
@@ -139,18 +149,25 @@ impl<'m> Solved<Stepped<'m>> for Held {
     }
 
     #[inline(always)]
-    fn record(&self, state: &Stepper<'m>, q: &mut Vec<f64>, qd: Option<&mut Vec<f64>>) {
-        let (from_q, from_qd) = match self {
-            Held::Current { .. } => {
+    fn record(
+        &self,
+        state: Option<&Stepper<'m>>,
+        q: &mut Vec<f64>,
+        qd: Option<&mut Vec<f64>>,
+    ) -> bool {
+        let (from_q, from_qd) = match (self, state) {
+            (Held::Current { .. }, None) => return false,
+            (Held::Current { .. }, Some(state)) => {
                 let f = state.flat();
                 (f.q, f.qd)
             }
-            Held::Kept { motion, .. } => (&motion.q[..], &motion.qd[..]),
+            (Held::Kept { motion, .. }, _) => (&motion.q[..], &motion.qd[..]),
         };
         q.copy_from_slice(from_q);
         if let Some(qd) = qd {
             qd.copy_from_slice(from_qd);
         }
+        true
     }
 
     fn q_mut(&mut self) -> Option<&mut Vec<f64>> {
@@ -219,8 +236,17 @@ impl<'m> Solved<Stepped<'m>> for PoseOnly {
         self.at
     }
 
-    fn record(&self, state: &Stepper<'m>, q: &mut Vec<f64>, _: Option<&mut Vec<f64>>) {
+    fn record(
+        &self,
+        state: Option<&Stepper<'m>>,
+        q: &mut Vec<f64>,
+        _: Option<&mut Vec<f64>>,
+    ) -> bool {
+        let Some(state) = state else {
+            return false;
+        };
         q.copy_from_slice(state.pose_now());
+        true
     }
 
     fn q_mut(&mut self) -> Option<&mut Vec<f64>> {

@@ -115,7 +115,9 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
         let (last, before) = (&last.q, &before.q);
         let predicted = extrapolated(self.m, known, s.at());
         let mut q = self.m.zero_pose();
-        s.record(self.state.as_ref()?, &mut q, None);
+        if !s.record(self.state.as_ref(), &mut q, None) {
+            return None;
+        }
         let (mut change, mut off, mut size) = (0.0f64, 0.0f64, 0.0f64);
         for j in self.m.drivers()..self.m.coordinates().len() {
             change = change.max((M::get(last, j) - M::get(before, j)).abs());
@@ -235,7 +237,7 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
                 let Ok(s) = self.solve(k, &guess, &mut state) else {
                     continue;
                 };
-                s.record(&state, &mut q, None);
+                s.record(Some(&state), &mut q, None);
                 let d = distance(self.m, &guess, &q);
                 let entry = Some((d, s, state));
                 if best[0].as_ref().is_none_or(|b| d < b.0) {

@@ -39,6 +39,13 @@ pub trait Engine {
     fn newton_guess(&self) -> bool;
     /// A pose of the right shape, every value 0.
     fn zero_pose(&self) -> Self::Pose;
+    /// A pose to write a guess into, lent by `slot` (the sweep's storage
+    /// for it): a fresh value where a pose is a few numbers on the stack,
+    /// `slot`'s own storage where it is on the heap (then no allocation).
+    /// Every entry is written before it is read.
+    fn lend(slot: &mut Self::Pose) -> Self::Pose;
+    /// Gives the storage of `pose` back to `slot` ([`Engine::lend`]).
+    fn give_back(slot: &mut Self::Pose, pose: Self::Pose);
     /// Coordinate `j` of `pose` (NaN past the last).
     fn get(pose: &Self::Pose, j: usize) -> f64;
     /// Sets coordinate `j` of `pose` (nothing past the last).
@@ -82,6 +89,14 @@ impl<M: Mechanism> Engine for M {
     fn zero_pose(&self) -> M::Coords {
         M::Coords::default()
     }
+
+    #[inline(always)]
+    fn lend(_: &mut M::Coords) -> M::Coords {
+        M::Coords::default()
+    }
+
+    #[inline(always)]
+    fn give_back(_: &mut M::Coords, _: M::Coords) {}
 
     #[inline(always)]
     fn get(pose: &M::Coords, j: usize) -> f64 {

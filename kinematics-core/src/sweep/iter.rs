@@ -280,9 +280,8 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         h.at = s.at();
         // The rates only where the predictor uses them.
         let qd = (S::RATES && self.m.newton_guess()).then_some(&mut h.qd);
-        match &self.state {
-            Some(state) => s.record(state, &mut h.q, qd),
-            None => h.at = f64::NAN,
+        if !s.record(self.state.as_ref(), &mut h.q, qd) {
+            h.at = f64::NAN;
         }
         h.conditioning = conditioning;
         h.det_sign = det_sign;
@@ -308,10 +307,10 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
 
     /// Sets `guess` to the guess at `at` ([`predict`]).
     #[inline(always)]
-    fn predict(&mut self, at: f64) {
+    fn predict(&self, at: f64, guess: &mut M::Pose) {
         let h = &self.history[self.newest & 3];
         let before = &self.history[self.newest.wrapping_sub(1) & 3];
-        predict::<M, S>(self.m, (h, before), (at, self.per_rate), &mut self.guess);
+        predict::<M, S>(self.m, (h, before), (at, self.per_rate), guess);
     }
 
     /// A sample as handed out: its angles wrapped as asked.
@@ -357,11 +356,19 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
     /// it where it is kept (returned, or pushed onto a vector).
     #[inline(always)]
     fn advance_to<R>(&mut self, k: usize, at: f64, place: impl FnOnce(S) -> R) -> Option<R> {
-        self.predict(at);
+        // The guess a local of the step (kept in registers where a pose
+        // is a few values), its storage lent by `self.guess`.
+        let mut guess = M::lend(&mut self.guess);
+        self.predict(at, &mut guess);
         self.drive
-            .drive(at, &mut self.guess, &mut self.rates, &mut self.accels);
-        let state = self.state.as_mut()?;
-        match S::step(self.m, &self.guess, &self.rates, &self.accels, state) {
+            .drive(at, &mut guess, &mut self.rates, &mut self.accels);
+        let Some(state) = self.state.as_mut() else {
+            M::give_back(&mut self.guess, guess);
+            return None;
+        };
+        let step = S::step(self.m, &guess, &self.rates, &self.accels, state);
+        M::give_back(&mut self.guess, guess);
+        match step {
             // The common case, handed out at once: det Φ_u keeps its sign,
             // the conditioning was not falling so fast that it could reach
             // zero before this sample, and nothing is held back (`gate`).

@@ -164,7 +164,9 @@ pub trait Solved<E: Engine>: Sized + fmt::Debug {
     fn at(&self) -> f64;
     /// Writes the pose into `q` and, when asked and [`Solved::RATES`], the
     /// rates into `qd`; `state` is the one whose step made the sample.
-    fn record(&self, state: &E::State, q: &mut E::Pose, qd: Option<&mut E::Pose>);
+    /// `false`, with nothing written, where the sample is read from the
+    /// state and there is none.
+    fn record(&self, state: Option<&E::State>, q: &mut E::Pose, qd: Option<&mut E::Pose>) -> bool;
     /// The pose, to wrap the angles the sweep reports (`None` where the
     /// state holds it: reported as solved).
     fn q_mut(&mut self) -> Option<&mut E::Pose>;
@@ -207,11 +209,17 @@ impl<M: Mechanism> Solved<M> for Sample<M> {
         self.at
     }
     #[inline(always)]
-    fn record(&self, _: &M::StepState, q: &mut M::Coords, qd: Option<&mut M::Coords>) {
+    fn record(
+        &self,
+        _: Option<&M::StepState>,
+        q: &mut M::Coords,
+        qd: Option<&mut M::Coords>,
+    ) -> bool {
         *q = *self.motion.q();
         if let Some(qd) = qd {
             *qd = *self.motion.qd();
         }
+        true
     }
     #[inline(always)]
     fn q_mut(&mut self) -> Option<&mut M::Coords> {
@@ -253,8 +261,14 @@ impl<M: Mechanism> Solved<M> for PoseSample<M> {
         self.at
     }
     #[inline(always)]
-    fn record(&self, _: &M::StepState, q: &mut M::Coords, _: Option<&mut M::Coords>) {
+    fn record(
+        &self,
+        _: Option<&M::StepState>,
+        q: &mut M::Coords,
+        _: Option<&mut M::Coords>,
+    ) -> bool {
         *q = self.pose.q;
+        true
     }
     #[inline(always)]
     fn q_mut(&mut self) -> Option<&mut M::Coords> {
