@@ -27,6 +27,26 @@ pub fn thread_cpu_ns() -> f64 {
     ns
 }
 
+/// CPU time of the whole process (every thread), in nanoseconds: for
+/// work a thread pool runs on the caller's behalf.
+///
+/// # Panics
+/// If the clock cannot be read (it always can on Linux).
+#[allow(unsafe_code)]
+#[must_use]
+pub fn process_cpu_ns() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid timespec for the call to write into.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &raw mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID)");
+    #[allow(clippy::cast_precision_loss)]
+    let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
+    ns
+}
+
 /// E as a cost for argmin, counting its evaluations.
 struct Cost<F: Fn(&[f64]) -> f64>(F, std::cell::Cell<usize>);
 

@@ -680,6 +680,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         accelerations: Optional[Mapping[str, float]] = None,
         outputs: Optional[Iterable[str]] = None,
         options: Optional[Options] = None,
+        reduce: Optional[str] = None,
     ) -> "Batch":
         """Runs many designs on every core, in native code with the
         interpreter released.
@@ -698,9 +699,14 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         ("P.acceleration"), or "conditioning". By default every
         coordinate and every point's position.
 
+        ``reduce`` keeps one value per design instead of every sample:
+        ``"max"`` or ``"min"`` of each component over the samples, or
+        ``"peak"``, the largest magnitude (the norm of a point's vector).
+
         Returns a :class:`Batch` whose arrays have a row per design (and a
-        column per sample of a sweep); a design that stops early has NaN
-        past its last sample, and says why in :attr:`Batch.stops`.
+        column per sample of a sweep, unless reduced); a design that stops
+        early has NaN past its last sample (its reduction is over the
+        samples it has), and says why in :attr:`Batch.stops`.
         """
         names = self.parameter_names()
         arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in params.items()}
@@ -758,6 +764,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
             spec,
             [k for _, k in kept],
             _opts(options),
+            reduce,
         )
         return Batch(table, names, [name for name, _ in kept], d)
 

@@ -93,6 +93,7 @@ class Model:
         sweep: Optional[_BatchSweep],
         outputs: Sequence[Tuple[str, int]],
         opts: Optional[_Options],
+        reduce: Optional[str],
     ) -> Dict[str, Any]: ...
 
 class Sweep:

@@ -1,223 +1,99 @@
 //! Batches of designs of one model, run on every core with the
-//! interpreter released: for each design a step at one pose or a sweep,
-//! of which only the outputs asked for are kept, as arrays with a row per
-//! design.
+//! interpreter released through the library's batch
+//! (`kinematics_core::runtime::Batch`): for each design a step at one
+//! pose or a sweep, of which only the outputs asked for are kept, as
+//! arrays with a row per design.
 
-use kinematics_core::runtime::{Flat, Model, Motion};
-use kinematics_core::sweep::ChangePoints;
-use kinematics_core::{Error, Options};
+use kinematics_core::runtime::{Batch, BatchResults, Output, Reduce};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert::{array, shaped};
 
-/// The sweep each design of a batch runs.
-pub(crate) struct SweepSpec {
-    pub driver: &'static str,
-    /// The driver's index among the coordinates.
-    pub index: usize,
-    pub from: Option<f64>,
-    pub to: Option<f64>,
-    pub turns: Option<f64>,
-    pub steps: usize,
-    pub change: ChangePoints,
-}
-
-impl SweepSpec {
-    /// The samples of a sweep that runs to its end: steps + 1 with a
-    /// given end (included), else steps (a whole turn leaves its end out).
-    fn count(&self) -> usize {
-        self.steps.max(1) + usize::from(self.to.is_some())
-    }
-}
-
-/// What every design of a batch runs, and what is kept of it: outputs
-/// are (kind, index) with kind "q", "qd", "qdd" (a coordinate), "position",
-/// "velocity", "acceleration" (a point) or "conditioning".
-pub(crate) struct Job<'a> {
-    pub model: &'a Model,
-    pub start: &'a [f64],
-    pub rates: &'a [f64],
-    pub accelerations: &'a [f64],
-    pub sweep: Option<SweepSpec>,
-    pub outputs: &'a [(String, usize)],
-    pub options: Options,
-    pub dim: usize,
-}
-
-/// One design's result: its outputs (each sample's values in a row), the
-/// number of samples, and the stop or error that ended it early.
-pub(crate) struct Outcome {
-    values: Vec<Vec<f64>>,
-    samples: usize,
-    stop: Option<String>,
-}
-
-impl Job<'_> {
-    fn width(&self, kind: &str) -> usize {
-        match kind {
-            "position" | "velocity" | "acceleration" => self.dim,
-            _ => 1,
+/// The output (kind, index) of the Python layer: kind "q", "qd", "qdd"
+/// (a coordinate), "position", "velocity", "acceleration" (a point) or
+/// "conditioning".
+pub(crate) fn output(kind: &str, index: usize) -> PyResult<Output> {
+    Ok(match kind {
+        "q" => Output::Coordinate(index),
+        "qd" => Output::Rate(index),
+        "qdd" => Output::Acceleration(index),
+        "position" => Output::Position(index),
+        "velocity" => Output::Velocity(index),
+        "acceleration" => Output::PointAcceleration(index),
+        "conditioning" => Output::Conditioning,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "{kind:?} is not a kind of output"
+            )))
         }
-    }
-
-    fn rows(&self) -> usize {
-        self.sweep.as_ref().map_or(1, SweepSpec::count)
-    }
-
-    fn keep(&self, m: &Motion, values: &mut [Vec<f64>]) {
-        self.keep_values(
-            (&m.q, &m.qd, &m.qdd, m.conditioning),
-            |i, k| {
-                m.points
-                    .get(i)
-                    .map(|p| [&p.position, &p.velocity, &p.acceleration][k].as_slice())
-            },
-            values,
-        );
-    }
-
-    /// [`Job::keep`] of a sample as flat arrays.
-    fn keep_flat(&self, m: &Flat<'_>, values: &mut [Vec<f64>]) {
-        let d = self.dim;
-        self.keep_values(
-            (m.q, m.qd, m.qdd, m.conditioning),
-            |i, k| m.outputs.get((3 * i + k) * d..(3 * i + k + 1) * d),
-            values,
-        );
-    }
-
-    /// Appends the outputs asked for to `values`, from q, q', q'', the
-    /// conditioning and point i's position (k = 0), velocity (1) or
-    /// acceleration (2).
-    fn keep_values<'a>(
-        &self,
-        (q, qd, qdd, conditioning): (&[f64], &[f64], &[f64], f64),
-        point: impl Fn(usize, usize) -> Option<&'a [f64]>,
-        values: &mut [Vec<f64>],
-    ) {
-        for ((kind, i), out) in self.outputs.iter().zip(values) {
-            match kind.as_str() {
-                "q" => out.push(q.get(*i).copied().unwrap_or(f64::NAN)),
-                "qd" => out.push(qd.get(*i).copied().unwrap_or(f64::NAN)),
-                "qdd" => out.push(qdd.get(*i).copied().unwrap_or(f64::NAN)),
-                "position" | "velocity" | "acceleration" => {
-                    let k = match kind.as_str() {
-                        "position" => 0,
-                        "velocity" => 1,
-                        _ => 2,
-                    };
-                    match point(*i, k) {
-                        Some(v) => out.extend_from_slice(v),
-                        None => out.extend(core::iter::repeat_n(f64::NAN, self.dim)),
-                    }
-                }
-                _ => out.push(conditioning),
-            }
-        }
-    }
-
-    /// Runs the design with parameter values `values`.
-    pub(crate) fn run(&self, values: &[f64]) -> Outcome {
-        let mut kept: Vec<Vec<f64>> = self
-            .outputs
-            .iter()
-            .map(|(k, _)| Vec::with_capacity(self.rows() * self.width(k)))
-            .collect();
-        let failed = |e: Error, kept| Outcome {
-            values: kept,
-            samples: 0,
-            stop: Some(e.to_string()),
-        };
-        let model = match self.model.with_values(values) {
-            Ok(m) => m,
-            Err(e) => return failed(e, kept),
-        };
-        let Some(spec) = &self.sweep else {
-            return match model.step(self.start, self.rates, self.accelerations) {
-                Ok(m) => {
-                    self.keep(&m, &mut kept);
-                    Outcome {
-                        values: kept,
-                        samples: 1,
-                        stop: None,
-                    }
-                }
-                Err(e) => failed(e, kept),
-            };
-        };
-        let builder = match model.sweep(spec.driver, self.start) {
-            Ok(b) => b,
-            Err(e) => return failed(e, kept),
-        };
-        let j = spec.index;
-        let mut builder = builder
-            .steps(spec.steps)
-            .rate(self.rates.get(j).copied().unwrap_or(0.0))
-            .acceleration(self.accelerations.get(j).copied().unwrap_or(0.0))
-            .options(&self.options)
-            .change_points(spec.change);
-        if let Some(f) = spec.from {
-            builder = builder.from(f);
-        }
-        builder = match (spec.to, spec.turns) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
-        };
-        let mut samples = 0;
-        let end = builder.for_each_flat(|_, sample| {
-            self.keep_flat(sample, &mut kept);
-            samples += 1;
-        });
-        Outcome {
-            values: kept,
-            samples,
-            stop: end.stop.map(|s| s.to_string()),
-        }
-    }
+    })
 }
 
-/// The outcomes as a dict: "outputs", a list with an array per output of
+/// The reduction `reduce` of the Python layer: None (every sample),
+/// "max", "min" or "peak".
+pub(crate) fn reduce(reduce: Option<&str>) -> PyResult<Reduce> {
+    Ok(match reduce {
+        None => Reduce::Samples,
+        Some("max") => Reduce::Max,
+        Some("min") => Reduce::Min,
+        Some("peak") => Reduce::Peak,
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "reduce must be None, 'max', 'min' or 'peak', not {other:?}"
+            )))
+        }
+    })
+}
+
+/// The results as a dict: "outputs", a list with an array per output of
 /// shape (designs, samples) or (designs, samples, dim) for a sweep,
 /// (designs,) or (designs, dim) for a step, NaN past the samples a design
-/// has; "samples", the count per design; "stops", the message of the stop
+/// has (without the samples' axis where the outputs are reduced, `swept`
+/// false); "samples", the count per design; "stops", the message of the stop
 /// or error that ended each design early, or None.
 pub(crate) fn gather<'py>(
     py: Python<'py>,
-    job: &Job<'_>,
-    outcomes: Vec<Outcome>,
+    batch: &Batch<'_>,
+    swept: bool,
+    outputs: usize,
+    results: BatchResults,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let designs = outcomes.len();
-    let rows = job.rows();
-    let mut outputs = Vec::with_capacity(job.outputs.len());
-    for (k, (kind, _)) in job.outputs.iter().enumerate() {
-        let width = job.width(kind);
-        let mut flat = vec![f64::NAN; designs * rows * width];
-        for (d, o) in outcomes.iter().enumerate() {
-            let v = &o.values[k];
-            let at = d * rows * width;
-            let n = v.len().min(rows * width);
-            flat[at..at + n].copy_from_slice(&v[..n]);
-        }
+    let designs = results.samples.len();
+    let rows = batch.rows();
+    let shape = |k: usize| {
         let mut shape = vec![designs];
-        if job.sweep.is_some() {
+        if swept {
             shape.push(rows);
         }
-        if width > 1 {
-            shape.push(width);
+        if batch.width(k) > 1 {
+            shape.push(batch.width(k));
         }
-        outputs.push(shaped(py, flat, shape)?);
+        shape
+    };
+    let mut arrays = Vec::with_capacity(outputs);
+    let samples = array(py, results.samples.iter().map(|&n| n as f64).collect());
+    let stops: Vec<Option<String>> = results
+        .early
+        .iter()
+        .map(|e| e.as_ref().map(ToString::to_string))
+        .collect();
+    if outputs == 1 {
+        // One output: the records are its array, handed over as they are.
+        arrays.push(shaped(py, results.values, shape(0))?);
+    } else {
+        for k in 0..outputs {
+            let mut flat = Vec::with_capacity(designs * rows * batch.width(k));
+            for d in 0..designs {
+                flat.extend_from_slice(results.output(batch, d, k));
+            }
+            arrays.push(shaped(py, flat, shape(k))?);
+        }
     }
     let d = PyDict::new(py);
-    d.set_item("outputs", outputs)?;
-    d.set_item(
-        "samples",
-        array(py, outcomes.iter().map(|o| o.samples as f64).collect()),
-    )?;
-    d.set_item(
-        "stops",
-        outcomes.into_iter().map(|o| o.stop).collect::<Vec<_>>(),
-    )?;
+    d.set_item("outputs", arrays)?;
+    d.set_item("samples", samples)?;
+    d.set_item("stops", stops)?;
     Ok(d)
 }

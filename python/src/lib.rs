@@ -10,7 +10,9 @@
 //! batches on every core.
 
 use kinematics_core::closed::Mode;
-use kinematics_core::runtime::{CompileError, Model as Runtime, Motion, Sample};
+use kinematics_core::runtime::{
+    Batch, BatchSweep, CompileError, Model as Runtime, Motion, Reduce, Sample,
+};
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::{PointRole, Projection};
 use kinematics_core::{Branch, Convergence, Error, Options};
@@ -18,7 +20,6 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
-use rayon::prelude::*;
 
 mod batch;
 mod columns;
@@ -667,7 +668,7 @@ impl Model {
     }
 
     /// Runs a batch of designs (one row of `values` per design, a value
-    /// per parameter) on every core; see `batch::run`. The arguments are
+    /// per parameter) on every core: `kinematics_core::runtime::Batch`. The arguments are
     /// those of `Mechanism.batch` in the Python layer, one for one.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn batch<'py>(
@@ -680,8 +681,10 @@ impl Model {
         sweep: Option<(String, Option<f64>, Option<f64>, Option<f64>, usize, String)>,
         outputs: Vec<(String, usize)>,
         opts: Option<OptionsTuple>,
+        reduce: Option<String>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(py, opts.as_ref())?;
+        let reduce = batch::reduce(reduce.as_deref())?;
         let shape = values.shape();
         let (designs, width) = (shape[0], shape[1]);
         if width != self.model.parameters().len() {
@@ -713,35 +716,30 @@ impl Model {
                                 .collect::<Vec<_>>()
                         ))
                     })?;
-                Some(batch::SweepSpec {
-                    driver: self.model.coordinates()[j].name,
-                    index: j,
+                Some(BatchSweep {
+                    driver: j,
                     from,
                     to,
                     turns,
                     steps,
-                    change: change_points(&change)?,
+                    change_points: change_points(&change)?,
                 })
             }
             None => None,
         };
-        let job = batch::Job {
-            model: &self.model,
-            start: &start,
-            rates: &rates,
-            accelerations: &accelerations,
-            sweep: spec,
-            outputs: &outputs,
-            options: o,
-            dim: self.dim(),
-        };
-        let out = py.detach(|| {
-            (0..designs)
-                .into_par_iter()
-                .map(|d| job.run(&table[d * width..(d + 1) * width]))
-                .collect::<Vec<_>>()
-        });
-        batch::gather(py, &job, out)
+        let swept = spec.is_some();
+        let kept = outputs
+            .iter()
+            .map(|(kind, i)| batch::output(kind, *i))
+            .collect::<PyResult<Vec<_>>>()?;
+        let job = Batch::new(&self.model, &start, &rates, &accelerations, spec, &kept, &o)
+            .map_err(|e| error(py, &e))?
+            .reduced(reduce);
+        // The table copied before the interpreter is released: no other
+        // thread can change it under the batch.
+        let results = py.detach(|| job.run(&table[..designs * width]));
+        let rows = swept && reduce == Reduce::Samples;
+        batch::gather(py, &job, rows, kept.len(), results)
     }
 
     /// Pickles as the definition's text and the parameter values: a

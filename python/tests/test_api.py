@@ -252,6 +252,33 @@ def test_a_batch_of_single_steps(four_bar):
         four_bar.batch({"d": d, "a": d[:3]}, start=start)
 
 
+def test_a_reduced_batch_keeps_each_designs_extremes(four_bar):
+    rng = np.random.default_rng(3)
+    n = 30
+    a = rng.uniform(0.02, 0.06, n)
+    a[4] = 0.09  # does not assemble at the start: no sample, NaN
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sweep = dict(driver="phi", turn=True, steps=48, rpm=60)
+    every = four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["th3", "P.acceleration"])
+    ran = every.samples > 0
+    assert not ran[4] and ran.sum() == n - 1
+    acc = every["P.acceleration"][ran]
+    norm = np.linalg.norm(acc, axis=2)
+    peak = four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["th3", "P.acceleration"], reduce="peak")
+    assert peak["th3"].shape == (n,) and peak["P.acceleration"].shape == (n,)
+    assert np.allclose(peak["P.acceleration"][ran], norm.max(axis=1), rtol=1e-15, atol=0)
+    assert np.array_equal(peak["th3"][ran], np.abs(every["th3"][ran]).max(axis=1))
+    assert np.isnan(peak["th3"][4]) and np.isnan(peak["P.acceleration"][4])
+    high = four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["P.acceleration"], reduce="max")
+    low = four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["P.acceleration"], reduce="min")
+    assert high["P.acceleration"].shape == (n, 2)
+    assert np.array_equal(high["P.acceleration"][ran], acc.max(axis=1))
+    assert np.array_equal(low["P.acceleration"][ran], acc.min(axis=1))
+    assert np.array_equal(peak.samples, every.samples) and peak.stops == every.stops
+    with pytest.raises(ValueError, match="reduce must be"):
+        four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["th3"], reduce="mean")
+
+
 def test_designs_and_classes_pickle_as_their_text(FourBar, four_bar):
     again = pickle.loads(pickle.dumps(four_bar))
     assert again == four_bar and type(again) is FourBar

@@ -124,8 +124,7 @@ impl<'m> Solved<Stepped<'m>> for Held {
     ) -> Result<(f64, f64), Error> {
         let nd = m.m.drivers;
         state.advance(start, &rates[..nd], &accelerations[..nd])?;
-        let f = state.flat();
-        Ok((f.conditioning, f.det_sign))
+        Ok(state.judged())
     }
 
     #[inline(always)]
@@ -157,10 +156,7 @@ impl<'m> Solved<Stepped<'m>> for Held {
     ) -> bool {
         let (from_q, from_qd) = match (self, state) {
             (Held::Current { .. }, None) => return false,
-            (Held::Current { .. }, Some(state)) => {
-                let f = state.flat();
-                (f.q, f.qd)
-            }
+            (Held::Current { .. }, Some(state)) => state.pose_rates(),
             (Held::Kept { motion, .. }, _) => (&motion.q[..], &motion.qd[..]),
         };
         q.copy_from_slice(from_q);
@@ -289,7 +285,16 @@ pub(super) fn drive_each<'m, D: Drive<Stepped<'m>>>(
         Err(end) => return end,
     };
     let mut stop = None;
-    while let Some(item) = it.next() {
+    loop {
+        // The common path's samples straight to the sink, then one item
+        // of the slow path (a change point, a stop, the end).
+        it.each_common(|s, stepper| match s {
+            Held::Current { at, .. } => sink.stepped(at, stepper),
+            Held::Kept { at, motion } => sink.motion(at, &motion),
+        });
+        let Some(item) = it.next() else {
+            break;
+        };
         match item {
             Ok(Held::Current { at, .. }) => {
                 if let Some(stepper) = it.state_mut() {

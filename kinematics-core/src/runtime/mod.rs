@@ -65,6 +65,7 @@ use crate::mechanism::{Coordinate, FrameState, Kind, Role};
 use crate::names::{Name, intern, intern_list};
 use crate::options::Options;
 
+mod batch;
 mod closed;
 mod describe;
 mod drive;
@@ -80,6 +81,7 @@ mod sweep;
 mod synthesis;
 mod vector;
 
+pub use batch::{Batch, BatchResults, BatchSweep, Early, Output, Reduce};
 pub use forward::{ForwardOf, TrajectoryOf};
 pub use sensitivity::Sensitivity;
 pub use stepper::Stepper;

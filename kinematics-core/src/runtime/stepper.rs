@@ -120,14 +120,14 @@ impl FusedRun<'_> {
 /// the residual; every range within the buffer (checked when the stepper
 /// is made).
 #[derive(Clone, Copy)]
-struct FlatAt {
-    q: usize,
-    qd: usize,
-    qdd: usize,
+pub(super) struct FlatAt {
+    pub(super) q: usize,
+    pub(super) qd: usize,
+    pub(super) qdd: usize,
     end: usize,
-    out: usize,
+    pub(super) out: usize,
     out_end: usize,
-    conditioning: usize,
+    pub(super) conditioning: usize,
     residual: usize,
 }
 
@@ -429,6 +429,44 @@ impl Stepper<'_> {
             return run.flat();
         }
         self.general_flat()
+    }
+
+    /// The conditioning of Φ_u and the sign of its determinant at the
+    /// last step: what the sweep judges every sample by, read without
+    /// the rest of [`Stepper::flat`].
+    #[inline(always)]
+    pub(super) fn judged(&self) -> (f64, f64) {
+        if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
+            let at = &run.io.flat;
+            if let Some(&[c, s]) = run.f.get(at.conditioning..at.conditioning + 2) {
+                return (c, s);
+            }
+        }
+        (self.motion.conditioning, self.motion.det_sign)
+    }
+
+    /// The fused buffer and where the last step's results lie in it,
+    /// while they are there only (else `None`: read [`Stepper::flat`]).
+    #[inline(always)]
+    pub(super) fn fused_results(&self) -> Option<(&[f64], &FlatAt)> {
+        match (self.pending, self.fused.as_ref()) {
+            (true, Some(run)) => Some((&run.f, &run.io.flat)),
+            _ => None,
+        }
+    }
+
+    /// q and q' of the last step, as [`Stepper::flat`] gives them.
+    #[inline(always)]
+    pub(super) fn pose_rates(&self) -> (&[f64], &[f64]) {
+        if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
+            let at = &run.io.flat;
+            if let Some(both) = run.f.get(at.q..at.qdd)
+                && let Some(split) = both.split_at_checked(at.qd - at.q)
+            {
+                return split;
+            }
+        }
+        (&self.motion.q, &self.motion.qd)
     }
 
     /// The motion of the last step of the general path as flat arrays.

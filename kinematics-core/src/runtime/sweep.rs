@@ -308,7 +308,7 @@ impl SweepBuilder<'_> {
     }
 
     /// The sweep, its samples handed to `sink`.
-    fn drive(self, sink: impl Sink) -> SweepEnd {
+    pub(super) fn drive(self, sink: impl Sink) -> SweepEnd {
         let (grid, drive) = self.parts();
         drive_each(self.m, &self.setup(), grid, drive, sink)
     }

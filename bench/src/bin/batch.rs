@@ -1,0 +1,283 @@
+//! A batch of designs against the steps it is made of: designs of the
+//! four-bar (its coupler point P) and of the Strider leg (its foot H),
+//! each swept over a turn of 360 positions with velocities and
+//! accelerations, run-time models from the examples' text.
+//!
+//! ```sh
+//! cargo run --release -p kinematics-bench --bin batch [rounds]
+//! ```
+//!
+//! The reference is what a user writes with the stepper: for each design,
+//! its values set in one model, a stepper, and 360 `step_flat` calls
+//! from the previous pose with the crank advanced a degree, the point's
+//! acceleration copied into an array kept for the design (no check of
+//! limits or change points). The batch ([`Batch::run`] on a one-thread
+//! pool) does the same work through the sweep driver, which also
+//! predicts, tests for limits and change points and keeps the samples'
+//! count and stops. Interleaved rounds, process CPU time; the median
+//! ratio and the range of the rounds are printed. The results of the two
+//! are first checked equal (to 1e-12 of the largest value).
+// A measuring harness: a failed step should stop it.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::cast_precision_loss)]
+
+use std::f64::consts::{FRAC_PI_2, TAU};
+use std::hint::black_box;
+
+use kinematics_bench::process_cpu_ns;
+use kinematics_core::runtime::{Batch, BatchSweep, Model, Output};
+use kinematics_core::sweep::ChangePoints;
+use kinematics_core::{Coordinates, Options};
+use kinematics_examples::Strider;
+
+const STEPS: usize = 360;
+
+/// A study: the model, its start, the point kept, the designs
+/// (row-major) and their count.
+struct Study {
+    name: &'static str,
+    model: Model,
+    start: Vec<f64>,
+    point: usize,
+    designs: Vec<f64>,
+    count: usize,
+}
+
+/// Uniform numbers in [0, 1), seeded (a linear congruential generator:
+/// the designs need only be the same from run to run).
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn four_bar(count: usize) -> Study {
+    let text = kinematics_examples::definition("FourBar").expect("an example");
+    let mut model = Model::compile(text).expect("it compiles");
+    model
+        .set_values(&[0.04, 0.12, 0.10, 0.11, 0.06, 0.5])
+        .unwrap();
+    let start = model.assemble(&[0.0, 0.5, 1.5]).unwrap();
+    let mut r = uniform(1);
+    // Crank, coupler, rocker and coupler point drawn as in
+    // `python/benchmarks/batch_million.py`; ground 0.11, β = 0.5.
+    let designs = (0..count)
+        .flat_map(|_| {
+            let (a, b, c, p) = (
+                0.02 + 0.04 * r(),
+                0.10 + 0.04 * r(),
+                0.08 + 0.04 * r(),
+                0.03 + 0.06 * r(),
+            );
+            [a, b, c, 0.11, p, 0.5]
+        })
+        .collect();
+    Study {
+        name: "four-bar, P",
+        point: model.point_names().iter().position(|p| *p == "P").unwrap(),
+        model,
+        start,
+        designs,
+        count,
+    }
+}
+
+fn strider(count: usize) -> Study {
+    let text = kinematics_examples::definition("Strider").expect("an example");
+    let mut model = Model::compile(text).expect("it compiles");
+    let base = Strider::PYLINKAGE;
+    let values = [
+        base.tri,
+        base.ape,
+        base.femur,
+        base.rocker_l,
+        base.rocker_s,
+        base.phi,
+        base.tibia,
+        base.foot,
+    ];
+    model.set_values(&values).unwrap();
+    let guess = Strider::pylinkage_guess(-FRAC_PI_2);
+    let guess: Vec<f64> = (0..model.coordinates().len())
+        .map(|j| guess.get(j).unwrap())
+        .collect();
+    let start = model.assemble(&guess).unwrap();
+    let mut r = uniform(2);
+    // Every length within ±2 % of pylinkage's example.
+    let designs = (0..count)
+        .flat_map(|_| {
+            let mut v = values;
+            for (k, x) in v.iter_mut().enumerate() {
+                if ![1, 5].contains(&k) {
+                    *x *= 0.98 + 0.04 * r();
+                }
+            }
+            v
+        })
+        .collect();
+    Study {
+        name: "Strider, H",
+        point: model.point_names().iter().position(|p| *p == "H").unwrap(),
+        model,
+        start,
+        designs,
+        count,
+    }
+}
+
+/// One run of one side on 200 designs of the four-bar, for instruction
+/// counts under callgrind (`count-step`, `count-batch`; the difference
+/// with `count-none`, the set-up alone, is the run's).
+fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
+    let study = four_bar(200);
+    let dim = study.model.point_dimension();
+    let mut reference = vec![f64::NAN; study.count * STEPS * dim];
+    let batch = Batch::new(
+        &study.model,
+        &study.start,
+        &[omega],
+        &[0.0],
+        Some(BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: STEPS,
+            change_points: ChangePoints::Stop,
+        }),
+        &[Output::PointAcceleration(study.point)],
+        &Options::DEFAULT,
+    )
+    .unwrap();
+    match which {
+        "count-step" => by_stepper(&study, omega, &mut reference),
+        "count-batch" => {
+            black_box(pool.install(|| batch.run(&study.designs)));
+        }
+        _ => {}
+    }
+    black_box(reference);
+}
+
+/// The reference: each design through the stepper, the point's
+/// acceleration kept; the kept values, NaN past a failed step.
+fn by_stepper(s: &Study, omega: f64, out: &mut [f64]) {
+    let dim = s.model.point_dimension();
+    let width = s.model.parameters().len();
+    let at = (3 * s.point + 2) * dim;
+    let mut m = s.model.clone();
+    for (d, kept) in out.chunks_mut(STEPS * dim).enumerate() {
+        m.set_values(&s.designs[d * width..(d + 1) * width])
+            .unwrap();
+        let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+        let mut q = s.start.clone();
+        let phi0 = q[0];
+        for (k, row) in kept.chunks_mut(dim).enumerate() {
+            q[0] = phi0 + TAU * k as f64 / STEPS as f64;
+            let Ok(f) = stepper.step_flat(&q, &[omega], &[0.0]) else {
+                break;
+            };
+            row.copy_from_slice(&f.outputs[at..at + dim]);
+            q.copy_from_slice(f.q);
+        }
+    }
+}
+
+fn main() {
+    let arg = std::env::args().nth(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let omega = 600.0 / 60.0 * TAU;
+    if let Some(which) = arg.as_deref().filter(|a| a.starts_with("count")) {
+        count(which, &pool, omega);
+        return;
+    }
+    let rounds: usize = arg.and_then(|v| v.parse().ok()).unwrap_or(21);
+    for study in [four_bar(2000), strider(500)] {
+        let dim = study.model.point_dimension();
+        let sweep = BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: STEPS,
+            change_points: ChangePoints::Stop,
+        };
+        let batch = Batch::new(
+            &study.model,
+            &study.start,
+            &[omega],
+            &[0.0],
+            Some(sweep),
+            &[Output::PointAcceleration(study.point)],
+            &Options::DEFAULT,
+        )
+        .unwrap();
+        // The two agree before any timing, on the designs that turn.
+        let mut reference = vec![f64::NAN; study.count * STEPS * dim];
+        by_stepper(&study, omega, &mut reference);
+        let results = pool.install(|| batch.run(&study.designs));
+        let scale = reference.iter().fold(
+            0.0f64,
+            |m, v| if v.is_finite() { m.max(v.abs()) } else { m },
+        );
+        let mut compared = 0;
+        for d in 0..study.count {
+            if results.early[d].is_none() {
+                let (a, b) = (
+                    results.output(&batch, d, 0),
+                    &reference[d * STEPS * dim..(d + 1) * STEPS * dim],
+                );
+                for (x, y) in a.iter().zip(b) {
+                    assert!(
+                        (x - y).abs() <= 1e-12 * scale,
+                        "design {d}: {x} against {y}"
+                    );
+                }
+                compared += 1;
+            }
+        }
+        let positions = (study.count * STEPS) as f64;
+        let (mut ratios, mut steps, mut batches) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            let t0 = process_cpu_ns();
+            by_stepper(&study, omega, &mut reference);
+            let t1 = process_cpu_ns();
+            let r = pool.install(|| batch.run(black_box(&study.designs)));
+            let t2 = process_cpu_ns();
+            black_box((&reference, r));
+            let (s, b) = ((t1 - t0) / positions, (t2 - t1) / positions);
+            steps.push(s);
+            batches.push(b);
+            ratios.push(b / s);
+        }
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let range = |v: &Vec<f64>| (v[0], v[v.len() - 1]);
+        let (rs, rb, rr) = (
+            median(&mut steps),
+            median(&mut batches),
+            median(&mut ratios),
+        );
+        println!(
+            "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12): \
+             step_flat {rs:.1} ns ({:.1}–{:.1}), batch {rb:.1} ns ({:.1}–{:.1}) per position; \
+             batch / step_flat {rr:.3} ({:.3}–{:.3}) over {rounds} rounds",
+            study.name,
+            study.count,
+            range(&steps).0,
+            range(&steps).1,
+            range(&batches).0,
+            range(&batches).1,
+            range(&ratios).0,
+            range(&ratios).1,
+        );
+    }
+}

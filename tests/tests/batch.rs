@@ -1,0 +1,351 @@
+//! Batches of designs of a run-time model (`runtime::Batch`): each
+//! design's record equals the sweep or step of the same model with its
+//! values, value for value, with the same samples and stop; the slider's
+//! position against its closed form; the layout of several outputs; and
+//! the errors of a batch set up wrong.
+
+// Test code: a failed check should stop the test.
+#![allow(clippy::expect_used, clippy::panic, clippy::cast_precision_loss)]
+
+use kinematics_core::runtime::{Batch, BatchSweep, Early, Model, Output, Reduce};
+use kinematics_core::sweep::ChangePoints;
+use kinematics_core::{Error, Options};
+
+const SLIDER_CRANK: &str = "struct SliderCrank {
+    params   { a, b }
+    drivers  { phi }
+    unknowns { th, x }
+    points   { B = polar(a, phi); C = vec2(x, 0.0); }
+    loops    { B + polar(b, th) == C; }
+}";
+
+fn turn(steps: usize, change_points: ChangePoints) -> BatchSweep {
+    BatchSweep {
+        driver: 0,
+        from: None,
+        to: None,
+        turns: Some(1.0),
+        steps,
+        change_points,
+    }
+}
+
+fn four_bar() -> Model {
+    let text = kinematics_examples::definition("FourBar").expect("an example");
+    let mut m = Model::compile(text).expect("it compiles");
+    m.set_values(&[0.04, 0.12, 0.10, 0.11, 0.06, 0.5])
+        .expect("six values");
+    m
+}
+
+#[test]
+fn each_design_is_its_own_sweep_value_for_value() {
+    let m = four_bar();
+    let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+    let outputs = [
+        Output::Coordinate(2),
+        Output::Rate(1),
+        Output::Acceleration(2),
+        Output::Position(4),
+        Output::Velocity(4),
+        Output::PointAcceleration(4),
+        Output::Conditioning,
+    ];
+    // A crank-rocker, a longer crank, and a crank too long to turn (a
+    // limit position: the sweep stops there).
+    let designs = [
+        [0.04, 0.12, 0.10, 0.11, 0.06, 0.5],
+        [0.05, 0.13, 0.09, 0.11, 0.04, 0.2],
+        [0.09, 0.12, 0.10, 0.11, 0.06, 0.5],
+    ];
+    let flat: Vec<f64> = designs.iter().flatten().copied().collect();
+    for change_points in [
+        ChangePoints::Stop,
+        ChangePoints::Smooth,
+        ChangePoints::Switch,
+    ] {
+        let batch = Batch::new(
+            &m,
+            &start,
+            &[7.0],
+            &[3.0],
+            Some(turn(90, change_points)),
+            &outputs,
+            &Options::DEFAULT,
+        )
+        .expect("a valid batch");
+        let results = batch.run(&flat);
+        assert_eq!(results.samples.len(), 3);
+        for (d, values) in designs.iter().enumerate() {
+            let mut one = m.clone();
+            one.set_values(values).expect("six values");
+            let mut rows: Vec<Vec<f64>> = Vec::new();
+            let end = one
+                .sweep("phi", &start)
+                .expect("a driver")
+                .steps(90)
+                .turns(1.0)
+                .rate(7.0)
+                .acceleration(3.0)
+                .change_points(change_points)
+                .for_each(|_, s| {
+                    let p = &s.points[4];
+                    let mut row = vec![s.q[2], s.qd[1], s.qdd[2]];
+                    row.extend_from_slice(&p.position);
+                    row.extend_from_slice(&p.velocity);
+                    row.extend_from_slice(&p.acceleration);
+                    row.push(s.conditioning);
+                    rows.push(row);
+                });
+            assert_eq!(results.samples[d], rows.len(), "design {d}");
+            assert_eq!(
+                results.early[d].as_ref().map(ToString::to_string),
+                end.stop.as_ref().map(ToString::to_string),
+                "design {d}"
+            );
+            // Output by output, row by row, bit for bit; NaN past the
+            // samples.
+            let mut column = 0;
+            for k in 0..outputs.len() {
+                let width = batch.width(k);
+                let got = results.output(&batch, d, k);
+                assert_eq!(got.len(), batch.rows() * width);
+                for r in 0..batch.rows() {
+                    for c in 0..width {
+                        let v = got[r * width + c];
+                        match rows.get(r) {
+                            Some(row) => assert_eq!(
+                                v.to_bits(),
+                                row[column + c].to_bits(),
+                                "design {d}, output {k}, row {r}"
+                            ),
+                            None => assert!(
+                                v.is_nan(),
+                                "design {d}, output {k}, row {r} past the samples: {v}"
+                            ),
+                        }
+                    }
+                }
+                column += width;
+            }
+        }
+        // The third design stops at a limit position (its crank is longer
+        // than the ground less the rocker can follow).
+        assert!(
+            matches!(results.early[2], Some(Early::Stopped(_))),
+            "{:?}",
+            results.early[2]
+        );
+        assert!(results.early[0].is_none() && results.early[1].is_none());
+    }
+}
+
+#[test]
+fn the_slider_follows_its_closed_form_in_every_design() {
+    let m = Model::compile(SLIDER_CRANK).expect("it compiles");
+    let start = [0.0, 0.0, 0.3];
+    let batch = Batch::new(
+        &m,
+        &start,
+        &[1.0],
+        &[0.0],
+        Some(turn(360, ChangePoints::Stop)),
+        &[Output::Coordinate(2)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch");
+    let designs: Vec<[f64; 2]> = (0..50)
+        .map(|k| [0.05 + 0.001 * k as f64, 0.2 + 0.002 * k as f64])
+        .collect();
+    let flat: Vec<f64> = designs.iter().flatten().copied().collect();
+    let results = batch.run(&flat);
+    for (d, [a, b]) in designs.iter().enumerate() {
+        assert_eq!(results.samples[d], 360);
+        for (k, x) in results.output(&batch, d, 0).iter().enumerate() {
+            let phi = std::f64::consts::TAU * k as f64 / 360.0;
+            // x = a cos φ + √(b² − a² sin² φ).
+            let want = a * phi.cos() + (b * b - a * a * phi.sin().powi(2)).sqrt();
+            assert!(
+                (x - want).abs() < 1e-14,
+                "design {d}, φ = {phi}: {x} against {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_step_batch_is_the_step_of_each_design() {
+    let m = Model::compile(SLIDER_CRANK).expect("it compiles");
+    let start = [1.0, -0.3, 0.35];
+    let batch = Batch::new(
+        &m,
+        &start,
+        &[2.0],
+        &[0.5],
+        None,
+        &[Output::Acceleration(2), Output::Velocity(1)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch");
+    assert_eq!(batch.rows(), 1);
+    // The last design's rod cannot reach the slider's line at φ = 1.
+    let flat = [0.1, 0.3, 0.12, 0.33, 0.1, 0.05];
+    let results = batch.run(&flat);
+    for d in 0..2 {
+        let mut one = m.clone();
+        one.set_values(&flat[2 * d..2 * d + 2]).expect("two values");
+        let s = one.step(&start, &[2.0], &[0.5]).expect("a step");
+        assert_eq!(results.output(&batch, d, 0), [s.qdd[2]]);
+        assert_eq!(results.output(&batch, d, 1), &s.points[1].velocity[..]);
+        assert_eq!(results.samples[d], 1);
+    }
+    assert_eq!(results.samples[2], 0);
+    assert!(
+        matches!(
+            results.early[2],
+            Some(Early::Failed(Error::CannotAssemble { .. }))
+        ),
+        "{:?}",
+        results.early[2]
+    );
+    assert!(results.output(&batch, 2, 0)[0].is_nan());
+}
+
+#[test]
+fn a_batch_set_up_wrong_says_what_is_wrong() {
+    let m = Model::compile(SLIDER_CRANK).expect("it compiles");
+    let new = |start: &[f64], outputs: &[Output], sweep| {
+        Batch::new(&m, start, &[1.0], &[0.0], sweep, outputs, &Options::DEFAULT).map(|_| ())
+    };
+    let start = [0.0, 0.0, 0.3];
+    assert!(matches!(
+        new(&start[..2], &[], None),
+        Err(Error::WrongLength {
+            expected: 3,
+            found: 2,
+            ..
+        })
+    ));
+    for bad in [
+        Output::Coordinate(3),
+        Output::Position(2),
+        Output::PointAcceleration(7),
+    ] {
+        let e = new(&start, &[bad], None).expect_err("an index the model lacks");
+        assert!(e.to_string().contains("index"), "{e}");
+    }
+    let mut sweep = turn(10, ChangePoints::Stop);
+    sweep.driver = 1;
+    assert!(
+        new(&start, &[], Some(sweep)).is_err(),
+        "an unknown is not a driver"
+    );
+    let options = Options {
+        tolerance: -1.0,
+        ..Options::DEFAULT
+    };
+    assert!(Batch::new(&m, &start, &[1.0], &[0.0], None, &[], &options).is_err());
+    // A design with a value that is not finite fails alone.
+    let batch = Batch::new(
+        &m,
+        &start,
+        &[1.0],
+        &[0.0],
+        Some(turn(10, ChangePoints::Stop)),
+        &[Output::Coordinate(2)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch");
+    let results = batch.run(&[0.1, f64::NAN, 0.1, 0.3]);
+    assert!(results.early[0].is_some(), "a NaN rod is refused");
+    assert_eq!(results.samples[0], 0);
+    assert!(results.early[1].is_none());
+    assert_eq!(results.samples[1], 10);
+}
+
+#[test]
+fn a_reduced_batch_keeps_the_extremes_of_every_design() {
+    let m = Model::compile(SLIDER_CRANK).expect("it compiles");
+    let start = [0.0, 0.0, 0.3];
+    let outputs = [Output::Coordinate(2), Output::PointAcceleration(0)];
+    let batch = |reduce| {
+        Batch::new(
+            &m,
+            &start,
+            &[3.0],
+            &[0.0],
+            Some(turn(360, ChangePoints::Stop)),
+            &outputs,
+            &Options::DEFAULT,
+        )
+        .expect("a valid batch")
+        .reduced(reduce)
+    };
+    let designs: Vec<f64> = (0..20)
+        .flat_map(|k| [0.05 + 0.002 * f64::from(k), 0.25])
+        .collect();
+    let every = batch(Reduce::Samples);
+    let all = every.run(&designs);
+    for (reduce, name) in [
+        (Reduce::Max, "max"),
+        (Reduce::Min, "min"),
+        (Reduce::Peak, "peak"),
+    ] {
+        let b = batch(reduce);
+        assert_eq!(b.rows(), 1);
+        let r = b.run(&designs);
+        for d in 0..20 {
+            let a = designs[2 * d];
+            let x = r.output(&b, d, 0)[0];
+            // The slider's extremes in closed form: a + b at φ = 0, b − a
+            // at φ = π (both on the grid of 360 steps).
+            let want = match reduce {
+                Reduce::Min => 0.25 - a,
+                _ => 0.25 + a,
+            };
+            assert!(
+                (x - want).abs() < 1e-15,
+                "{name}, design {d}: {x} against {want}"
+            );
+            // The crank pin's acceleration: a ω² in magnitude everywhere,
+            // its components between −a ω² and a ω².
+            let pin = r.output(&b, d, 1);
+            let full = all.output(&every, d, 1);
+            match reduce {
+                Reduce::Peak => {
+                    assert_eq!(pin.len(), 1);
+                    assert!((pin[0] - a * 9.0).abs() < 1e-13, "{pin:?}");
+                }
+                Reduce::Max => {
+                    assert_eq!(
+                        pin,
+                        [
+                            full.iter().step_by(2).copied().fold(f64::MIN, f64::max),
+                            full.iter()
+                                .skip(1)
+                                .step_by(2)
+                                .copied()
+                                .fold(f64::MIN, f64::max)
+                        ]
+                    );
+                }
+                _ => {
+                    assert_eq!(
+                        pin,
+                        [
+                            full.iter().step_by(2).copied().fold(f64::MAX, f64::min),
+                            full.iter()
+                                .skip(1)
+                                .step_by(2)
+                                .copied()
+                                .fold(f64::MAX, f64::min)
+                        ]
+                    );
+                }
+            }
+        }
+    }
+    // A design with no sample reduces to NaN.
+    let r = batch(Reduce::Peak).run(&[0.1, f64::NAN]);
+    assert!(r.output(&batch(Reduce::Peak), 0, 0)[0].is_nan());
+}
