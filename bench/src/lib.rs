@@ -12,19 +12,9 @@ use argmin::solver::neldermead::NelderMead;
 ///
 /// # Panics
 /// If the clock cannot be read (it always can on Linux).
-#[allow(unsafe_code)]
 #[must_use]
 pub fn thread_cpu_ns() -> f64 {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid timespec for the call to write into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &raw mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
-    #[allow(clippy::cast_precision_loss)]
-    let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
-    ns
+    cpu_ns(libc::CLOCK_THREAD_CPUTIME_ID)
 }
 
 /// CPU time of the whole process (every thread), in nanoseconds: for
@@ -32,16 +22,21 @@ pub fn thread_cpu_ns() -> f64 {
 ///
 /// # Panics
 /// If the clock cannot be read (it always can on Linux).
-#[allow(unsafe_code)]
 #[must_use]
 pub fn process_cpu_ns() -> f64 {
+    cpu_ns(libc::CLOCK_PROCESS_CPUTIME_ID)
+}
+
+/// The CPU-time clock `clock`, in nanoseconds.
+#[allow(unsafe_code)]
+fn cpu_ns(clock: libc::clockid_t) -> f64 {
     let mut t = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
     };
     // SAFETY: `t` is a valid timespec for the call to write into.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &raw mut t) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID)");
+    let rc = unsafe { libc::clock_gettime(clock, &raw mut t) };
+    assert_eq!(rc, 0, "clock_gettime({clock})");
     #[allow(clippy::cast_precision_loss)]
     let ns = t.tv_sec as f64 * 1e9 + t.tv_nsec as f64;
     ns

@@ -128,6 +128,29 @@ fn strider(count: usize) -> Study {
     }
 }
 
+/// The batch of `study`: every design over a turn of `STEPS` positions
+/// at `omega`, its point's acceleration kept.
+fn turns(study: &Study, omega: f64) -> Batch<'_> {
+    let sweep = BatchSweep {
+        driver: 0,
+        from: None,
+        to: None,
+        turns: Some(1.0),
+        steps: STEPS,
+        change_points: ChangePoints::Stop,
+    };
+    Batch::new(
+        &study.model,
+        &study.start,
+        &[omega],
+        &[0.0],
+        Some(sweep),
+        &[Output::PointAcceleration(study.point)],
+        &Options::DEFAULT,
+    )
+    .unwrap()
+}
+
 /// One run of one side on 200 designs of the four-bar, for instruction
 /// counts under callgrind (`count-step`, `count-batch`; the difference
 /// with `count-none`, the set-up alone, is the run's).
@@ -135,23 +158,7 @@ fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
     let study = four_bar(200);
     let dim = study.model.point_dimension();
     let mut reference = vec![f64::NAN; study.count * STEPS * dim];
-    let batch = Batch::new(
-        &study.model,
-        &study.start,
-        &[omega],
-        &[0.0],
-        Some(BatchSweep {
-            driver: 0,
-            from: None,
-            to: None,
-            turns: Some(1.0),
-            steps: STEPS,
-            change_points: ChangePoints::Stop,
-        }),
-        &[Output::PointAcceleration(study.point)],
-        &Options::DEFAULT,
-    )
-    .unwrap();
+    let batch = turns(&study, omega);
     match which {
         "count-step" => by_stepper(&study, omega, &mut reference),
         "count-batch" => {
@@ -200,24 +207,7 @@ fn main() {
     let rounds: usize = arg.and_then(|v| v.parse().ok()).unwrap_or(21);
     for study in [four_bar(2000), strider(500)] {
         let dim = study.model.point_dimension();
-        let sweep = BatchSweep {
-            driver: 0,
-            from: None,
-            to: None,
-            turns: Some(1.0),
-            steps: STEPS,
-            change_points: ChangePoints::Stop,
-        };
-        let batch = Batch::new(
-            &study.model,
-            &study.start,
-            &[omega],
-            &[0.0],
-            Some(sweep),
-            &[Output::PointAcceleration(study.point)],
-            &Options::DEFAULT,
-        )
-        .unwrap();
+        let batch = turns(&study, omega);
         // The two agree before any timing, on the designs that turn.
         let mut reference = vec![f64::NAN; study.count * STEPS * dim];
         by_stepper(&study, omega, &mut reference);
