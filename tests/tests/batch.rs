@@ -234,6 +234,8 @@ fn a_batch_set_up_wrong_says_what_is_wrong() {
         let e = new(&start, &[bad], None).expect_err("an index the model lacks");
         assert!(e.to_string().contains("index"), "{e}");
     }
+    let e = new(&start, &[], None).expect_err("nothing to keep");
+    assert!(e.to_string().contains("at least one output"), "{e}");
     let mut sweep = turn(10, ChangePoints::Stop);
     sweep.driver = 1;
     assert!(

@@ -216,7 +216,7 @@ impl<'m> Batch<'m> {
     /// # Errors
     /// [`Error::WrongLength`] for a start, rates or accelerations of the
     /// wrong length; [`Error::InvalidOption`] for an output or a driver
-    /// the model does not have, or invalid options.
+    /// the model does not have, no output at all, or invalid options.
     pub fn new(
         model: &'m Model,
         start: &[f64],
@@ -274,6 +274,13 @@ impl<'m> Batch<'m> {
                 width,
                 kept: width,
                 dest: 0,
+            });
+        }
+        if slots.is_empty() {
+            return Err(Error::InvalidOption {
+                name: crate::names::intern("outputs"),
+                value: 0.0,
+                requirement: "must name at least one output to keep",
             });
         }
         let mut batch = Self {
