@@ -14,7 +14,7 @@ dependency: ``pip install loopkin[ray]``.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping, Optional
 
 import numpy as np
 
@@ -33,15 +33,24 @@ def batch(
     params: Mapping[str, ArrayLike],
     *,
     chunk_size: int = 10_000,
+    retries: int = 3,
+    progress: Optional[Callable[[int, int], None]] = None,
     **kwargs: Any,
 ) -> Batch:
     """:meth:`Mechanism.batch <loopkin.Mechanism.batch>` over Ray: the
     designs in chunks of ``chunk_size``, each chunk a task; ``kwargs`` as
-    for ``Mechanism.batch`` (``start``, ``sweep``, ``outputs``, …).
+    for ``Mechanism.batch`` (``start``, ``sweep``, ``outputs``,
+    ``reduce``, …).
+
+    A chunk whose worker process dies is run again, up to ``retries``
+    times (an error of the study itself, such as a bad keyword, is not
+    retried). ``progress(done, total)`` is called with the designs done
+    so far each time a chunk finishes.
 
     Raises:
         ImportError: Ray is not installed.
         RuntimeError: no Ray cluster is running (call ``ray.init()``).
+        ValueError: ``chunk_size`` below 1 or ``retries`` below 0.
     """
     try:
         import ray
@@ -51,11 +60,19 @@ def batch(
         raise RuntimeError("no Ray cluster: call ray.init() (or ray.init(address='auto')) first")
     if chunk_size < 1:
         raise ValueError(f"chunk_size must be at least 1, not {chunk_size}")
+    if retries < 0:
+        raise ValueError(f"retries must be 0 or more, not {retries}")
     arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in params.items()}
     n = max((a.size for a in arrays.values()), default=1)
-    task = ray.remote(_run_chunk)
+    task = ray.remote(_run_chunk).options(max_retries=retries, retry_exceptions=False)
     ref = ray.put(design)
-    futures = [
-        task.remote(ref, {k: a[i : i + chunk_size] for k, a in arrays.items()}, kwargs) for i in range(0, n, chunk_size)
-    ]
+    starts = list(range(0, n, chunk_size))
+    futures = [task.remote(ref, {k: a[i : i + chunk_size] for k, a in arrays.items()}, kwargs) for i in starts]
+    sizes = {f: min(chunk_size, n - i) for f, i in zip(futures, starts)}
+    waiting, done = list(futures), 0
+    while waiting:
+        ready, waiting = ray.wait(waiting, num_returns=1)
+        done += sum(sizes[f] for f in ready)
+        if progress is not None:
+            progress(done, n)
     return Batch.concatenate(ray.get(futures))
