@@ -737,7 +737,14 @@ impl Model {
             .reduced(reduce);
         // The table copied before the interpreter is released: no other
         // thread can change it under the batch.
-        let results = py.detach(|| job.run(&table[..designs * width]));
+        // A model without parameters takes a row of one (unread) value
+        // per design.
+        let design_rows = if width == 0 {
+            vec![0.0; designs]
+        } else {
+            table
+        };
+        let results = py.detach(|| job.run(&design_rows));
         let rows = swept && reduce == Reduce::Samples;
         batch::gather(py, &job, rows, kept.len(), results)
     }

@@ -431,3 +431,16 @@ def test_results_are_read_only(four_bar):
             with pytest.raises(ValueError):
                 a[...] = 0.0
     assert sw.to_csv().startswith("phi")
+
+
+def test_a_model_without_parameters_runs_one_design_per_row():
+    Crank = kin.compile(
+        "struct Crank { drivers { phi } unknowns { th, x } loops { polar(0.1, phi) + polar(0.3, th) == vec2(x, 0.0); } }"
+    )
+    m = Crank()
+    res = m.batch({}, start=m.pose(phi=0.3, th=-0.1, x=0.39), rate=2.0, outputs=["x", "x.rate"])
+    assert res["x"].shape == (1,) and res.ok.all()
+    # x = a cos φ + √(b² − a² sin² φ), ẋ = −a ω sin φ (1 + a cos φ / √…).
+    root = math.sqrt(0.09 - 0.01 * math.sin(0.3) ** 2)
+    assert abs(res["x"][0] - (0.1 * math.cos(0.3) + root)) < 1e-15
+    assert abs(res["x.rate"][0] + 0.2 * math.sin(0.3) * (1 + 0.1 * math.cos(0.3) / root)) < 1e-14
