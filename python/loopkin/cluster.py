@@ -5,7 +5,10 @@ every worker process compiles the definition once and runs its share of
 the designs in native code. :func:`batch` splits a study into chunks, runs
 :meth:`Mechanism.batch <loopkin.Mechanism.batch>` on each chunk as a Ray
 task (each task on all the cores of its node) and joins the results in the
-designs' order, equal to what one in-process batch gives.
+designs' order, equal to what one in-process batch gives. A chunk whose
+worker dies (killed, out of memory, its node lost) is run again, up to
+``retries`` times, so that a failure costs only that chunk; ``progress``
+hears of every chunk as it finishes.
 
 Start or join a cluster first (``ray.init()`` on a laptop,
 ``ray.init(address="auto")`` on a cluster's node); Ray is an optional
