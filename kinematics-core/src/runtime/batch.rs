@@ -461,11 +461,7 @@ impl Keep<'_> {
     /// Copies the outputs of the sample in `f` into the next row.
     #[inline(always)]
     fn put(&mut self, f: &Flat<'_>) {
-        let row = self.row;
-        if row >= self.rows {
-            return;
-        }
-        for s in self.slots {
+        self.put_from(|s| {
             let from = match s.from {
                 From::Q => f.q,
                 From::Qd => f.qd,
@@ -473,9 +469,8 @@ impl Keep<'_> {
                 From::Outputs => f.outputs,
                 From::Conditioning => core::slice::from_ref(&f.conditioning),
             };
-            keep(self.out, s, row, self.reduce, from, s.at);
-        }
-        self.row = row + 1;
+            (from, s.at)
+        });
     }
 
     /// [`Keep::put`] of the sample a fused step left in the stepper's
@@ -483,11 +478,7 @@ impl Keep<'_> {
     /// lies, without the slices of a [`Flat`].
     #[inline(always)]
     fn put_fused(&mut self, buffer: &[f64], at: &FlatAt) {
-        let row = self.row;
-        if row >= self.rows {
-            return;
-        }
-        for s in self.slots {
+        self.put_from(|s| {
             let base = match s.from {
                 From::Q => at.q,
                 From::Qd => at.qd,
@@ -495,7 +486,21 @@ impl Keep<'_> {
                 From::Outputs => at.out,
                 From::Conditioning => at.conditioning,
             };
-            keep(self.out, s, row, self.reduce, buffer, base + s.at);
+            (buffer, base + s.at)
+        });
+    }
+
+    /// Keeps each slot's values, which `source` says where to read (an
+    /// array and the index of the first), as the next row.
+    #[inline(always)]
+    fn put_from<'b>(&mut self, source: impl Fn(&Slot) -> (&'b [f64], usize)) {
+        let row = self.row;
+        if row >= self.rows {
+            return;
+        }
+        for s in self.slots {
+            let (from, at) = source(s);
+            keep(self.out, s, row, self.reduce, from, at);
         }
         self.row = row + 1;
     }
