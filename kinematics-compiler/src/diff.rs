@@ -114,6 +114,7 @@ fn seed(g: &mut Graph, l: Leaf, along: Along) -> Id {
                 }
             }
             Leaf::Param(_) | Leaf::Qdd(_) => g.constant(0.0),
+            Leaf::Time => g.constant(1.0),
         },
     }
 }
@@ -385,7 +386,7 @@ mod tests {
             Leaf::Q(_) => t,
             Leaf::Qd(_) => w,
             Leaf::Qdd(_) => al,
-            Leaf::Param(_) => rr,
+            Leaf::Param(_) | Leaf::Time => rr,
         })[0];
         let want = -rr * w * w * t.cos() - rr * al * t.sin();
         assert!((got - want).abs() < 1e-14);

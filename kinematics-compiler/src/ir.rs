@@ -39,6 +39,10 @@ pub enum Leaf {
     Qd(u32),
     /// Its second time derivative q''_j.
     Qdd(u32),
+    /// The time t of a forward simulation (s): read only by the values
+    /// of loads (`time` in `loads { … }`), never by the loops, points or
+    /// frames, so the kinematics never differentiate it.
+    Time,
 }
 
 /// Elementary functions of one argument.

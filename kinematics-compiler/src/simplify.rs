@@ -267,6 +267,7 @@ mod tests {
                 Leaf::Q(i) => 0.3 + 0.17 * k + f64::from(i),
                 Leaf::Param(i) => 1.1 + 0.05 * k * f64::from(i + 1),
                 Leaf::Qd(i) | Leaf::Qdd(i) => -0.4 + 0.1 * k - f64::from(i),
+                Leaf::Time => 0.25 * k,
             };
             let a = raw.eval(&[r], &env)[0];
             let b = simp.eval(&[s], &env)[0];

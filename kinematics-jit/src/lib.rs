@@ -58,7 +58,7 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
-use kinematics_compiler::ir::{Graph, Id, Leaf};
+use kinematics_compiler::ir::{Graph, Id, Leaf, Node};
 use kinematics_compiler::Compiled;
 
 mod fused;
@@ -129,7 +129,8 @@ impl std::error::Error for LengthMismatch {}
 /// coordinates, rates and accelerations (drivers first, then unknowns).
 #[derive(Clone, Copy, Debug)]
 pub struct Inputs<'a> {
-    /// p.
+    /// p; then the time t where the program reads it
+    /// ([`Program::reads_time`]).
     pub params: &'a [f64],
     /// q.
     pub q: &'a [f64],
@@ -156,7 +157,11 @@ struct Stage {
 pub struct Program {
     module: ManuallyDrop<JITModule>,
     stages: Vec<Stage>,
+    /// The values of [`Inputs::params`]: the parameters, and the time
+    /// after them where a stage reads it.
     params: usize,
+    /// A stage reads the time.
+    time: bool,
     coords: usize,
     /// The coordinates whose cosine and sine some stage reads, ascending.
     trig: Vec<usize>,
@@ -415,7 +420,10 @@ impl Program {
 
     /// Compiles one function per stage of `graph`, each writing its roots
     /// in order; the graph's leaves index `params` parameters and `coords`
-    /// coordinates.
+    /// coordinates. Where a stage reads the time ([`Leaf::Time`], in the
+    /// values of loads), it is read after the parameters: the program then
+    /// takes `params + 1` values in [`Inputs::params`], the time last
+    /// ([`Program::reads_time`]).
     ///
     /// # Errors
     /// [`JitError::Host`] where Cranelift has no back end for the machine,
@@ -435,6 +443,12 @@ impl Program {
         for _ in 0..6 {
             sig.params.push(AbiParam::new(pointer));
         }
+        let time = stages.iter().any(|roots| {
+            let live = graph.reachable(roots);
+            live.iter()
+                .enumerate()
+                .any(|(i, &alive)| alive && graph.node(Id::from_index(i)) == Node::Leaf(Leaf::Time))
+        });
         let mut trig = std::collections::BTreeSet::new();
         let mut ids = Vec::with_capacity(stages.len());
         let mut ctx = module.make_context();
@@ -463,6 +477,7 @@ impl Program {
                     base: [0; 5],
                     params,
                     coords,
+                    time: time.then_some(params),
                 };
                 lower.emit(&mut b, &sources, &imports, roots)?;
                 let flags = MemFlags::trusted();
@@ -496,11 +511,19 @@ impl Program {
         Ok(Self {
             module: ManuallyDrop::new(module),
             stages,
-            params,
+            params: params + usize::from(time),
+            time,
             coords,
             trig: trig.into_iter().collect(),
             vex,
         })
+    }
+
+    /// Whether a stage reads the time ([`Leaf::Time`]): then the last of
+    /// [`Inputs::params`] is the time.
+    #[must_use]
+    pub fn reads_time(&self) -> bool {
+        self.time
     }
 
     /// Number of stages.

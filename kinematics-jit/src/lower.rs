@@ -22,6 +22,9 @@ pub(crate) struct Sources {
     pub(crate) params: usize,
     /// The number of coordinates.
     pub(crate) coords: usize,
+    /// Where the time t ([`Leaf::Time`]) is read in the parameters'
+    /// array, for code that has it (none: the leaf is an error).
+    pub(crate) time: Option<usize>,
 }
 
 /// The functions the code calls by name, declared in the function being
@@ -201,6 +204,10 @@ impl<'g> Lower<'g> {
                         Leaf::Q(j) => (1, j, s.coords),
                         Leaf::Qd(j) => (2, j, s.coords),
                         Leaf::Qdd(j) => (3, j, s.coords),
+                        Leaf::Time => match s.time {
+                            Some(at) => (0, u32::try_from(at).unwrap_or(u32::MAX), at + 1),
+                            None => return Err(JitError::Leaf(leaf)),
+                        },
                     };
                     let j = index as usize;
                     if j >= len {

@@ -56,6 +56,21 @@ def test_a_flywheel_started_by_a_dc_motor_follows_its_exponential():
     assert np.all(np.abs(run.balance - run.balance[0]) < 1e-8 * run.kinetic.max())
 
 
+def test_a_torque_of_the_time_turns_the_flywheel_as_its_closed_form():
+    # force(phi, k * time) on the inertia j: ω = k t² / (2 j), φ = k t³ / (6 j).
+    j, k = 0.4, 3.0
+    text = FLYWHEEL.replace("params   { j, ts, w0 }", "params   { j, k }").replace(
+        "ts * (1.0 - rate(phi) / w0)", "k * time"
+    )
+    run = kin.compile(text)(j=j, k=k).forward(start={"phi": 0.0}, until=2.0, samples=20, tolerance=1e-11)
+    t = run.t
+    np.testing.assert_allclose(run.sweep.qd["phi"], k * t**2 / (2 * j), rtol=0, atol=1e-10 * k / j)
+    np.testing.assert_allclose(run.sweep["phi"], k * t**3 / (6 * j), rtol=0, atol=1e-10 * k / j)
+    # Outside a load's value `time` is an error at its token.
+    with pytest.raises(kin.DefinitionError, match="may be used only in a load's value"):
+        kin.compile(text.replace("P = polar(0.1, phi)", "P = polar(0.1, phi + time)"))
+
+
 def test_a_speed_reached_ends_the_run_where_it_is_reached():
     j, ts, w0 = 0.5, 4.0, 100.0
     m = kin.compile(FLYWHEEL)(j=j, ts=ts, w0=w0)

@@ -333,6 +333,7 @@ fn sample(leaf: Leaf, k: u64) -> f64 {
         Leaf::Q(i) => (2, i),
         Leaf::Qd(i) => (3, i),
         Leaf::Qdd(i) => (4, i),
+        Leaf::Time => (5, 0),
     };
     // SplitMix64 of (kind, index, point).
     let mut z = (kind << 40 | u64::from(i) << 8 | k).wrapping_add(0x9E37_79B9_7F4A_7C15);

@@ -42,6 +42,7 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
             let j = Literal::usize_unsuffixed(j as usize);
             quote!(instant.qdd(#j))
         }
+        Leaf::Time => quote!(instant.time()),
     };
     let constants = dy.constants();
     let mut roots = constants.clone();

@@ -69,6 +69,9 @@ impl Idents {
                 let v = &self.qdd[j as usize];
                 quote!(#v)
             }
+            // The lowering lets `time` into the loads' values only, which
+            // are emitted as closures of the instant (`emit::dynamics`).
+            Leaf::Time => quote!(::core::f64::NAN),
         }
     }
 }

@@ -160,6 +160,16 @@ impl Lowerer<'_> {
                     ),
                 ),
             },
+            None if key == "time" => {
+                if self.rates {
+                    return Some(Value::Scalar(self.g.leaf(Leaf::Time)));
+                }
+                self.fail(
+                    ident.span(),
+                    "`time`, the time of a forward simulation (s), may be used only in a load's \
+                     value in `loads { … }`; elsewhere a motion is a function of the drivers",
+                )
+            }
             None => {
                 if function_names().any(|f| f == key) {
                     return self.fail(

@@ -573,7 +573,7 @@ impl Dynamics {
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let at = s.point(*p);
             let f = Vector3::from(f(&instant(at)));
-            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
+            self.finite_load(f.iter().copied(), LoadAt::Force(i), s.time())?;
             let f = if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
@@ -586,7 +586,7 @@ impl Dynamics {
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
             let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i), s.time())?;
             moment += if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
@@ -715,11 +715,13 @@ pub(super) enum LoadAt {
 
 impl Dynamics {
     /// Checks that the values of the load `at` are finite; the error
-    /// names it by its point, body or coordinate.
+    /// names it by its point, body or coordinate, and says where a time
+    /// of NaN (`time`: none outside a forward simulation) may be the cause.
     pub(super) fn finite_load(
         &self,
         values: impl IntoIterator<Item = f64>,
         at: LoadAt,
+        time: f64,
     ) -> Result<(), Error> {
         let Some(v) = values.into_iter().find(|v| !v.is_finite()) else {
             return Ok(());
@@ -744,7 +746,14 @@ impl Dynamics {
         };
         Err(Error::InvalidDynamics {
             item,
-            detail: format!("its value is {v} at this pose; a load must be finite"),
+            detail: if time.is_nan() {
+                format!(
+                    "its value is {v} at this pose; a load must be finite (a load of the \
+                     `time` has a value only in a forward simulation)"
+                )
+            } else {
+                format!("its value is {v} at this pose; a load must be finite")
+            },
         })
     }
 }

@@ -280,7 +280,7 @@ impl Dynamics {
         {
             let at = instant(s.point(*p));
             let value = Vector3::from(f(&at));
-            self.finite_load(value.iter().copied(), LoadAt::Force(i))?;
+            self.finite_load(value.iter().copied(), LoadAt::Force(i), s.time())?;
             forces.push(differentiate(value, partials.as_ref(), &at, force_mask));
         }
         let mut torques = Vec::with_capacity(self.torques.len());
@@ -292,7 +292,7 @@ impl Dynamics {
         {
             let at = instant(self.bodies.get(*b).and_then(|b| s.point(b.center)));
             let value = Vector3::from(t(&at));
-            self.finite_load(value.iter().copied(), LoadAt::Torque(i))?;
+            self.finite_load(value.iter().copied(), LoadAt::Torque(i), s.time())?;
             torques.push(differentiate(value, partials.as_ref(), &at, torque_mask));
         }
         let mut coordinate_forces = Vec::with_capacity(self.coordinate_forces.len());
@@ -304,7 +304,7 @@ impl Dynamics {
         {
             let at = instant(None);
             let value = Vector3::new(f(&at), 0.0, 0.0);
-            self.finite_load(value.iter().copied(), LoadAt::Coordinate(i))?;
+            self.finite_load(value.iter().copied(), LoadAt::Coordinate(i), s.time())?;
             coordinate_forces.push(differentiate(value, partials.as_ref(), &at, scalar_mask));
         }
         // The frames' R, ω, α and their partials at the motion, per body.

@@ -52,7 +52,7 @@ impl Dynamics {
         out.forces.clear();
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let f = Vector3::from(f(&instant(s.point(*p))));
-            self.finite_load(f.iter().copied(), LoadAt::Force(i))?;
+            self.finite_load(f.iter().copied(), LoadAt::Force(i), s.time())?;
             out.forces.push(if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
@@ -63,7 +63,7 @@ impl Dynamics {
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
             let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            self.finite_load(t.iter().copied(), LoadAt::Torque(i))?;
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i), s.time())?;
             out.torques.push(if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
@@ -73,7 +73,7 @@ impl Dynamics {
         out.coordinate_forces.clear();
         for (i, (_, f)) in self.coordinate_forces.iter().enumerate() {
             let f = f(&instant(None));
-            self.finite_load([f], LoadAt::Coordinate(i))?;
+            self.finite_load([f], LoadAt::Coordinate(i), s.time())?;
             out.coordinate_forces.push(f);
         }
         out.springs.clear();

@@ -386,8 +386,10 @@ impl SectionCode {
     }
 
     /// Stage `stage` at the parameters `values` (with the characteristic
-    /// length last) and the coordinates and rates of `instant` (zero
-    /// without one: the constants' stage reads none), into `out`.
+    /// length last) and the coordinates, rates and time of `instant` (zero,
+    /// and a time of NaN, without one: the constants' stage reads none),
+    /// into `out`. Nothing is allocated for a mechanism of up to ten
+    /// coordinates and thirty parameters.
     fn eval(
         &self,
         stage: usize,
@@ -395,8 +397,10 @@ impl SectionCode {
         instant: Option<&crate::dynamics::Instant<'_>>,
         out: &mut [f64],
     ) {
+        use crate::dynamics::evaluate::Buffer;
         let n = self.coordinates;
-        let mut q = vec![0.0; 3 * n];
+        let mut q = Buffer::zeros(3 * n);
+        let q = q.as_mut_slice();
         if let Some(i) = instant {
             for j in 0..n {
                 q[j] = i.q(j);
@@ -404,14 +408,25 @@ impl SectionCode {
                 q[2 * n + j] = i.qdd(j);
             }
         }
-        let mut trig = vec![0.0; 2 * n];
-        self.program.trig(&q[..n], &mut trig, 0);
+        let mut trig = Buffer::zeros(2 * n);
+        let trig = trig.as_mut_slice();
+        self.program.trig(&q[..n], trig, 0);
+        // The time, where a load reads it, after the parameters.
+        let mut timed = Buffer::zeros(values.len() + 1);
+        let params = if self.program.reads_time() {
+            let timed = timed.as_mut_slice();
+            timed[..values.len()].copy_from_slice(values);
+            timed[values.len()] = instant.map_or(f64::NAN, crate::dynamics::Instant::time);
+            &*timed
+        } else {
+            values
+        };
         let inputs = kinematics_jit::Inputs {
-            params: values,
+            params,
             q: &q[..n],
             qd: &q[n..2 * n],
             qdd: &q[2 * n..],
-            trig: &trig,
+            trig,
         };
         if self.program.eval(stage, &inputs, out).is_err() {
             // Lengths are the program's own; a mismatch cannot happen, and

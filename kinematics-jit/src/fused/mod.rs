@@ -150,6 +150,7 @@ impl Fused {
                     base: [layout.params, layout.q, layout.qd, layout.qdd, layout.trig],
                     params,
                     coords,
+                    time: None,
                 };
                 // Every leaf offset must lie in the buffer.
                 for (base, n) in [

@@ -24,4 +24,5 @@ mod forward;
 mod press;
 mod reactions;
 mod sections;
+mod timed;
 mod trajectory;

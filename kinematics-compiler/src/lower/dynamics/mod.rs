@@ -5,7 +5,8 @@
 //!
 //! The constants (masses, inertias, gravity, a spring's stiffness, free
 //! length and damping) may use the parameters only; a load's value may
-//! also use the coordinates and their rates (`rate(x)`).
+//! also use the coordinates, their rates (`rate(x)`) and the time of a
+//! forward simulation (`time`, in seconds from its start).
 
 mod args;
 
@@ -154,7 +155,7 @@ pub struct LoweredJoint {
 enum Allowed {
     /// Parameters and numbers.
     Constant,
-    /// Also the coordinates and their rates.
+    /// Also the coordinates, their rates and the time.
     Motion,
 }
 
@@ -437,12 +438,13 @@ impl Lowerer<'_> {
                 if self
                     .g
                     .leaves_under(id)
-                    .any(|l| matches!(l, Leaf::Qd(_) | Leaf::Qdd(_)))
+                    .any(|l| matches!(l, Leaf::Qd(_) | Leaf::Qdd(_) | Leaf::Time))
                 {
                     self.errors.spanned(
                         e,
                         format!(
-                            "{what} is a function of the coordinates; it may not use `rate(…)`"
+                            "{what} is a function of the coordinates; it may not use `rate(…)` \
+                             or `time`"
                         ),
                     );
                     return None;
