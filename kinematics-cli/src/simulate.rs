@@ -50,8 +50,10 @@ pub(super) struct SimulateArgs {
     #[arg(long, default_value_t = 1e-9)]
     tolerance: f64,
     /// Stop when a coordinate reaches a value (`th4=60deg`), or a rate
-    /// (`rate(phi)=1500rpm`); repeatable, the first that happens.
-    #[arg(long = "stop-when", value_name = "NAME=VALUE")]
+    /// (`rate(phi)=1500rpm`), from either side, or only while increasing
+    /// or decreasing (`th4=60deg,increasing`); repeatable, the first that
+    /// happens.
+    #[arg(long = "stop-when", value_name = "NAME=VALUE[,DIRECTION]")]
     stop_when: Vec<String>,
     /// A stop the motion bounces off: a coordinate's value and the
     /// coefficient of restitution (`phi=-90deg,0.5`; repeatable). Each
@@ -152,11 +154,26 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         };
         let j = coordinate(&m, &name, "--stop-when")?;
         let order = if rate { Order::Rate } else { Order::Value };
-        let value = coordinate_value(&m, j, &text, order, "--stop-when")?;
-        builder = builder.stop_when(if rate {
+        let (text, direction) = match text.rsplit_once(',') {
+            Some((value, direction)) => (value, Some(direction.trim())),
+            None => (text.as_str(), None),
+        };
+        let value = coordinate_value(&m, j, text.trim(), order, "--stop-when")?;
+        let event = if rate {
             Event::rate_reaches(&name, value)
         } else {
             Event::reaches(&name, value)
+        };
+        builder = builder.stop_when(match direction {
+            None => event,
+            Some("increasing") => event.increasing(),
+            Some("decreasing") => event.decreasing(),
+            Some(other) => {
+                return Err(Failure::usage(format!(
+                    "error: --stop-when `{name}={text},{other}`: the direction is `increasing` \
+                     or `decreasing` (or none, for either)"
+                )))
+            }
         });
     }
     for (name, text) in pairs(&args.stop, "stop")? {

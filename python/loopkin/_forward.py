@@ -4,7 +4,7 @@ result, :class:`Trajectory`."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -16,6 +16,17 @@ if TYPE_CHECKING:  # pragma: no cover
     from ._sweep import Sweep
 
 __all__ = ["Trajectory"]
+
+
+def _event_items(stop_when: Any) -> List[Tuple[Any, ...]]:
+    """``stop_when`` as a list of (key, value[, direction]): a mapping's
+    items (a value may be a (value, direction) pair), or a sequence of
+    tuples as they are."""
+    if stop_when is None:
+        return []
+    if isinstance(stop_when, Mapping):
+        return [(k, *v) if isinstance(v, tuple) else (k, v) for k, v in stop_when.items()]
+    return [tuple(item) for item in stop_when]
 
 
 def _seconds(value: Union[float, str]) -> float:
@@ -104,6 +115,26 @@ class _Forward:
 
         def _quantity(self, name: str, value: Union[float, str], order: int) -> float: ...
 
+    def _event(self, item: Tuple[Any, ...]) -> Tuple[str, bool, float, int]:
+        """One event of ``stop_when``, (key, value[, direction]), as the
+        native call takes it: (coordinate, of its rate, value, direction)."""
+        if len(item) not in (2, 3) or not isinstance(item[0], str):
+            raise ValueError(
+                f"stop_when: {item!r} is not (coordinate, value) or (coordinate, value, direction), "
+                'e.g. ("th4", "60deg", "increasing")'
+            )
+        key, value = item[0], item[1]
+        direction = item[2] if len(item) == 3 else None
+        rate = key.startswith("rate(") and key.endswith(")")
+        name = key[5:-1].strip() if rate else key
+        signs = {None: 0, "increasing": 1, "decreasing": -1}
+        if direction not in signs:
+            raise ValueError(
+                f"stop_when: the direction of {key!r} is {direction!r}; give \"increasing\" or "
+                '"decreasing" (or none, for either)'
+            )
+        return (name, rate, self._quantity(name, value, 1 if rate else 0), signs[direction])
+
     def forward(
         self,
         *,
@@ -113,7 +144,12 @@ class _Forward:
         free: Optional[Iterable[str]] = None,
         samples: int = 100,
         tolerance: float = 1e-9,
-        stop_when: Optional[Mapping[str, Union[float, str]]] = None,
+        stop_when: Optional[
+            Union[
+                Mapping[str, Union[float, str, Tuple[Union[float, str], str]]],
+                Sequence[Tuple[Union[str, float], ...]],
+            ]
+        ] = None,
         method: str = "explicit",
         max_step: Optional[float] = None,
         sensitivities: bool = False,
@@ -131,7 +167,11 @@ class _Forward:
         velocities, b the efforts at zero free acceleration), integrated
         by Dormand–Prince 5(4) at relative and absolute ``tolerance``.
         ``stop_when`` ends the run where a coordinate reaches a value
-        (``{"th4": "60deg"}``), or a rate (``{"rate(phi)": "1400rpm"}``).
+        (``{"th4": "60deg"}``), or a rate (``{"rate(phi)": "1400rpm"}``),
+        from either side, or only in one direction: ``{"th4": ("60deg",
+        "increasing")}`` (or ``"decreasing"``); a list of tuples
+        (``[("th4", "60deg", "increasing"), ("th4", "-60deg")]``) gives
+        several events on one coordinate; the first that happens ends it.
         ``method="implicit"`` integrates by TR-BDF2, for stiff motions (a
         stiff spring, heavy damping); ``max_step`` bounds the step (s).
         ``sensitivities=True`` integrates, with the motion, the free
@@ -151,7 +191,9 @@ class _Forward:
             InvalidOptionError: a time, tolerance, step or sample count out
                 of range (a ``ValueError``).
             ValueError: a method that is neither ``"explicit"`` nor
-                ``"implicit"``, or a time that cannot be read.
+                ``"implicit"``, a time that cannot be read, or an event
+                whose direction is neither ``"increasing"`` nor
+                ``"decreasing"``.
         """
         q = self.pose(start)
         drivers = self.driver_names()
@@ -160,11 +202,7 @@ class _Forward:
             if name not in drivers:
                 raise KeyError(f"{name!r} is not a driver of {type(self).__name__}: they are {list(drivers)}")
             r[drivers.index(name)] = self._quantity(name, value, 1)
-        events: List[Tuple[str, bool, float]] = []
-        for key, value in (stop_when or {}).items():
-            rate = key.startswith("rate(") and key.endswith(")")
-            name = key[5:-1].strip() if rate else key
-            events.append((name, rate, self._quantity(name, value, 1 if rate else 0)))
+        events = [self._event(item) for item in _event_items(stop_when)]
         stop_list: List[Tuple[str, float, float]] = [
             (name, self._quantity(name, value, 0), float(e)) for name, (value, e) in (stops or {}).items()
         ]

@@ -12,7 +12,8 @@ use super::*;
 /// drivers' starting `rates`: the drivers named in `free` (all of them
 /// when empty) move under the loads until `until` seconds, `samples`
 /// equal intervals, relative and absolute tolerance `tolerance`, ended by
-/// the first of `events` (coordinate, of its rate, value) that happens,
+/// the first of `events` (coordinate, of its rate, value, direction: 1
+/// increasing, −1 decreasing, 0 either) that happens,
 /// integrated by `method` ("explicit" or "implicit"), each step at most
 /// `max_step` seconds where given.
 /// Returns the samples as a sweep in time and a dict: "t", "kinetic",
@@ -37,7 +38,7 @@ pub(crate) fn forward<'py>(
     until: f64,
     samples: usize,
     tolerance: f64,
-    events: Vec<(String, bool, f64)>,
+    events: Vec<(String, bool, f64, i8)>,
     method: &str,
     max_step: Option<f64>,
     sensitivities: bool,
@@ -77,11 +78,16 @@ pub(crate) fn forward<'py>(
     for name in &free {
         builder = builder.free(name);
     }
-    for (name, rate, value) in &events {
-        builder = builder.stop_when(if *rate {
+    for (name, rate, value, direction) in &events {
+        let event = if *rate {
             Event::rate_reaches(name, *value)
         } else {
             Event::reaches(name, *value)
+        };
+        builder = builder.stop_when(match direction {
+            1 => event.increasing(),
+            -1 => event.decreasing(),
+            _ => event,
         });
     }
     let run = py.detach(|| builder.run()).map_err(|e| error(py, &e))?;

@@ -71,6 +71,43 @@ def test_a_torque_of_the_time_turns_the_flywheel_as_its_closed_form():
         kin.compile(text.replace("P = polar(0.1, phi)", "P = polar(0.1, phi + time)"))
 
 
+OSCILLATOR = """
+struct Oscillator {
+    params   { m, k }
+    drivers  { x }
+    unknowns { }
+    points   { C = vec2(x, 0.0); }
+    bodies   { block(mass = m, center = C); }
+    loads    { force(x, -k * x); }
+}
+"""
+
+
+def test_events_count_in_the_direction_asked_for():
+    # x = A cos ω t from x = A at rest: A/2 is reached decreasing at ω t = π/3
+    # and increasing at 5π/3, −A/2 increasing at 4π/3.
+    a, mass, k = 0.1, 2.0, 50.0
+    w = math.sqrt(k / mass)
+    m = kin.compile(OSCILLATOR)(m=mass, k=k)
+
+    def end(stop_when):
+        run = m.forward(start={"x": a}, until=10.0, stop_when=stop_when, tolerance=1e-12)
+        assert run.ended == "event"
+        return run.event, run.at
+
+    assert end({"x": a / 2}) == (0, pytest.approx(math.pi / 3 / w, abs=1e-9))
+    assert end({"x": (a / 2, "increasing")}) == (0, pytest.approx(5 * math.pi / 3 / w, abs=1e-9))
+    assert end([("x", a / 2, "increasing"), ("x", -a / 2, "increasing")]) == (
+        1,
+        pytest.approx(4 * math.pi / 3 / w, abs=1e-9),
+    )
+    assert end([("rate(x)", 0.0, "increasing")]) == (0, pytest.approx(math.pi / w, abs=1e-9))
+    with pytest.raises(ValueError, match="increasing"):
+        m.forward(start={"x": a}, until=1.0, stop_when={"x": (0.05, "upward")})
+    with pytest.raises(ValueError, match="not \\(coordinate, value\\)"):
+        m.forward(start={"x": a}, until=1.0, stop_when=[("x",)])
+
+
 def test_a_speed_reached_ends_the_run_where_it_is_reached():
     j, ts, w0 = 0.5, 4.0, 100.0
     m = kin.compile(FLYWHEEL)(j=j, ts=ts, w0=w0)

@@ -239,6 +239,64 @@ fn the_press_runs_up_to_a_speed_and_keeps_its_energy_balance() {
     std::fs::remove_dir_all(&out).ok();
 }
 
+/// A block on a spring to the frame, in the definition language: released
+/// from x = A at rest it moves x = A cos ω t, ω = √(k/m).
+const OSCILLATOR: &str = "pub struct Oscillator {
+    params   { m, k }
+    drivers  { x }
+    unknowns { }
+    points   { C = vec2(x, 0.0); }
+    bodies   { block(mass = m, center = C); }
+    loads    { force(x, -k * x); }
+}";
+
+#[test]
+fn an_event_given_with_its_direction_ends_the_run_there() {
+    let dir = std::env::temp_dir().join(format!("kinematics-events-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("oscillator.mech");
+    std::fs::write(&mech, OSCILLATOR).unwrap();
+    let out = dir.join("out");
+    let simulate = |event: &str| {
+        run(&[
+            "simulate",
+            path(&mech),
+            "--param",
+            "m=2",
+            "--param",
+            "k=50",
+            "--at",
+            "x=0.1",
+            "--until",
+            "10s",
+            "--tolerance",
+            "1e-12",
+            "--stop-when",
+            event,
+            "--out",
+            path(&out),
+        ])
+    };
+    // Released at x = 0.1 m, it passes x = 0.05 m decreasing at ω t = π/3
+    // and increasing at 5π/3.
+    let o = simulate("x=0.05,increasing");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("reached"), "{}", text(&o.stdout));
+    let (_, rows) = columns(&out.join("sweep.csv"));
+    let w = 5.0f64;
+    let end = rows.last().expect("rows")[0];
+    let want = 5.0 * std::f64::consts::PI / 3.0 / w;
+    assert!((end - want).abs() < 1e-9, "{end} against {want}");
+    let o = simulate("x=0.05,upward");
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("`increasing`"),
+        "{}",
+        text(&o.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn a_definition_without_masses_is_not_simulated() {
     let o = run(&[

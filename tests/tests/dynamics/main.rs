@@ -20,6 +20,7 @@ use kinematics_core::{mechanism, Error};
 mod descriptions;
 mod efforts;
 mod energy;
+mod events;
 mod forward;
 mod press;
 mod reactions;

@@ -69,16 +69,20 @@ pub struct Event {
     pub(crate) coordinate: String,
     pub(crate) rate: bool,
     pub(crate) value: f64,
+    /// The direction it is reached in: 1 increasing, −1 decreasing, 0
+    /// either.
+    pub(crate) direction: i8,
     /// Where the event is a stop the motion bounces off: the coefficient
     /// of restitution.
     pub(crate) restitution: Option<f64>,
 }
 
 /// An event is looked for at the end of every step, located on the dense
-/// output by the Illinois method to the resolution of the time. One whose
-/// value is already reached at the start counts from when the motion
-/// leaves it; a crossing there and back within one step is not seen
-/// (bound the step with `max_step` where that matters).
+/// output by the Illinois method to the resolution of the time, from
+/// either side unless [`Event::increasing`] or [`Event::decreasing`] says
+/// which. One whose value is already reached at the start counts from
+/// when the motion leaves it; a crossing there and back within one step
+/// is not seen (bound the step with `max_step` where that matters).
 impl Event {
     /// The coordinate `coordinate` (a driver or an unknown, by name)
     /// reaching `value`, from either side (an angle in radians, not
@@ -89,6 +93,7 @@ impl Event {
             coordinate: coordinate.into(),
             rate: false,
             value,
+            direction: 0,
             restitution: None,
         }
     }
@@ -135,6 +140,7 @@ impl Event {
             coordinate: coordinate.into(),
             rate: false,
             value,
+            direction: 0,
             restitution: Some(restitution),
         }
     }
@@ -146,7 +152,61 @@ impl Event {
             coordinate: coordinate.into(),
             rate: true,
             value,
+            direction: 0,
             restitution: None,
+        }
+    }
+
+    /// The same event, counted only where the coordinate (or its rate)
+    /// reaches the value while increasing: a crank passing an angle
+    /// forward, a speed reached on the way up.
+    ///
+    /// ```
+    /// use kinematics_core::dynamics::{Body, Dynamics, Ended, Event};
+    /// use kinematics_core::mechanism;
+    /// mechanism! {
+    ///     /// A pendulum of length 1.
+    ///     pub struct Pendulum { params { } drivers { phi } unknowns { } points { G = polar(1.0, phi); } }
+    /// }
+    /// let dynamics = Dynamics::builder()
+    ///     .body(Body::new("bob", 1.0).center("G").angle("phi"))
+    ///     .gravity([0.0, -9.81, 0.0])
+    ///     .build::<Pendulum>()?;
+    /// // Released from horizontal (φ = 0), it swings down through −π/2
+    /// // and up to −π on the far side, then back: φ = −2 is passed first
+    /// // decreasing, and increasing only on the way back.
+    /// let run = |event: Event| {
+    ///     dynamics
+    ///         .forward(&Pendulum {}, &PendulumCoords { phi: 0.0 })
+    ///         .until(5.0)
+    ///         .tolerance(1e-11)
+    ///         .stop_when(event)
+    ///         .run()
+    /// };
+    /// let down = run(Event::reaches("phi", -2.0))?;
+    /// let back = run(Event::reaches("phi", -2.0).increasing())?;
+    /// let (Ended::Event { at: t1, .. }, Ended::Event { at: t2, .. }) = (down.ended, back.ended) else {
+    ///     panic!("both end at the event");
+    /// };
+    /// assert!(t2 > t1);
+    /// assert!(back.sweep.samples.last().unwrap().motion.qd.phi > 0.0);
+    /// # Ok::<(), kinematics_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn increasing(self) -> Self {
+        Event {
+            direction: 1,
+            ..self
+        }
+    }
+
+    /// The same event, counted only where the value is reached while
+    /// decreasing ([`Event::increasing`]'s converse).
+    #[must_use]
+    pub fn decreasing(self) -> Self {
+        Event {
+            direction: -1,
+            ..self
         }
     }
 }

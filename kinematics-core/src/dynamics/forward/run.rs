@@ -330,6 +330,7 @@ impl Course {
                 max_step: self.max_step,
                 max_steps: self.max_steps,
                 events,
+                directions: self.events.iter().map(|e| e.direction).collect(),
                 restitution: self.events.iter().map(|e| e.restitution).collect(),
                 method: self.method,
                 parameters: 0,
@@ -419,6 +420,9 @@ pub(crate) struct Settings {
     pub(crate) max_steps: usize,
     /// (coordinate, of its rate, value).
     pub(crate) events: Vec<(usize, bool, f64)>,
+    /// Per event, the direction it counts in (1 increasing, −1
+    /// decreasing, 0 either).
+    pub(crate) directions: Vec<i8>,
     /// Per event, its coefficient of restitution where it is a stop.
     pub(crate) restitution: Vec<Option<f64>>,
     pub(crate) method: Method,
@@ -562,7 +566,14 @@ pub(crate) fn integrate<A: Analysis>(
         // earliest ends the run (the lowest index at a tie).
         let mut limit: Option<(usize, f64)> = None;
         for (i, (a, b)) in previous.iter().zip(&now).enumerate() {
-            if *a != 0.0 && a * b <= 0.0 {
+            // From a < 0 increasing, from a > 0 decreasing.
+            let direction = settings.directions.get(i).copied().unwrap_or(0);
+            let counts = match direction {
+                1 => *a < 0.0,
+                -1 => *a > 0.0,
+                _ => true,
+            };
+            if counts && *a != 0.0 && a * b <= 0.0 {
                 let t = locate(&mut eom, &ode, settings.events[i], *a, *b);
                 if limit.is_none_or(|(_, at)| t < at) {
                     limit = Some((i, t));
