@@ -87,6 +87,11 @@ import strider_pylinkage as sp  # noqa: E402
 
 TRI, APE, FEMUR, ROCKER_L, ROCKER_S, PHI, TIBIA, FOOT = sp.TRI, sp.APE, sp.FEMUR, sp.ROCKER_L, sp.ROCKER_S, sp.PHI, sp.TIBIA, sp.FOOT
 STRIDER = Pylinkage(sp.TYPES, sp.PARENTS, sp.CONSTRAINTS, sp.START, crank=4)
+# The same leg, its crank turning 2π/360 a step.
+STRIDER_TURN = Pylinkage(
+    sp.TYPES, sp.PARENTS, [(1.0, 2 * math.pi / 360) if c == (1.0, 2 * math.pi / STEPS) else c for c in sp.CONSTRAINTS],
+    sp.START, crank=4,
+)
 
 
 def angle(p, q):
@@ -148,14 +153,109 @@ def measure(name, pyl, ours, turns, rounds, omega=10.0):
         print(f"  pylinkage / loopkin, {ours_k.split()[1]:6s}: {statistics.median(r):.2f}× ({min(r):.2f}–{max(r):.2f})")
 
 
+def measure_turn(name, pyl_turn, ours, rounds, omega=10.0):
+    """One turn of 360 positions per call: the calls' fixed costs count."""
+    m, driver, start, _, _ = ours
+    th0 = start.array[0] + 2 * math.pi / 360 - 2 * math.pi / STEPS
+    pyl_turn.positions(360)
+    pyl_turn.kinematics(360, omega)
+    variants = {
+        "pylinkage positions": lambda: pyl_turn.positions(360),
+        "loopkin poses": lambda: m.poses(driver, start=start, from_=th0, turn=True, steps=360),
+        "pylinkage kinematics": lambda: pyl_turn.kinematics(360, omega),
+        "loopkin sweep": lambda: m.sweep(driver, start=start, from_=th0, turn=True, steps=360, rate=omega),
+    }
+    report(f"{name}, one turn of 360 positions a call", variants, rounds * 20, 360)
+
+
+def report(title, variants, rounds, n):
+    times = {k: [] for k in variants}
+    for _ in range(rounds):
+        for k, f in variants.items():
+            t0 = time.thread_time_ns()
+            f()
+            times[k].append((time.thread_time_ns() - t0) / n)
+    print(f"\n{title}: ns per position, median (range) over {rounds} rounds")
+    for k, v in times.items():
+        print(f"  {k:22s} {statistics.median(v):8.1f}  ({min(v):.1f}–{max(v):.1f})")
+    for ours_k, theirs_k in (("loopkin poses", "pylinkage positions"), ("loopkin sweep", "pylinkage kinematics")):
+        r = [t / u for u, t in zip(times[ours_k], times[theirs_k])]
+        print(f"  pylinkage / loopkin, {ours_k.split()[1]:6s}: {statistics.median(r):.2f}× ({min(r):.2f}–{max(r):.2f})")
+
+
+def four_bar_of(a, b, c, steps):
+    """pylinkage's four-bar of crank a, coupler b, rocker c (ground D4), its
+    crank turning 2π/steps a step, C started above the ground line."""
+    return Pylinkage(
+        [JOINT_STATIC, JOINT_STATIC, JOINT_CRANK, JOINT_REVOLUTE],
+        [(-1, -1), (-1, -1), (0, -1), (2, 1)],
+        [(), (), (a, 2 * math.pi / steps), (b, c)],
+        [(0, 0), (D4, 0), (a, 0), (0.10, 0.11)],
+        crank=2,
+    )
+
+
+def measure_batch(designs, rounds, omega=10.0):
+    """10⁴ four-bar designs (crank, coupler, rocker drawn at random, all
+    crank-rockers), 360 positions each with velocities and accelerations:
+    pylinkage's solver called once per design (its arrays built before the
+    clock starts) against one loopkin batch keeping C's position, velocity
+    and acceleration at every sample; process CPU time (the batch runs on
+    every core)."""
+    rng = np.random.default_rng(7)
+    a = rng.uniform(0.030, 0.045, designs)
+    b = rng.uniform(0.115, 0.125, designs)
+    c = rng.uniform(0.095, 0.105, designs)
+    pyl = [four_bar_of(*abc, 360) for abc in zip(a, b, c)]
+    m, driver, start, _, _ = loopkin_four_bar()
+    th0 = 2 * math.pi / 360
+    sweep = dict(driver=driver, from_=th0, turn=True, steps=360, rate=omega)
+    outputs = ["C", "C.velocity", "C.acceleration"]
+
+    def ours():
+        return m.batch({"a": a, "b": b, "c": c}, start=start, sweep=sweep, outputs=outputs)
+
+    def theirs():
+        return [p.kinematics(360, omega) for p in pyl]
+
+    # The same answers first: C's position, velocity and acceleration of
+    # every design at every position.
+    res, out = ours(), theirs()
+    assert bool(res.ok.all())
+    worst = 0.0
+    for k, (pos, vel, acc) in enumerate(out):
+        for got, want in zip((res["C"][k], res["C.velocity"][k], res["C.acceleration"][k]), (pos, vel, acc)):
+            scale = max(1.0, float(np.abs(want[:, 3]).max()))
+            worst = max(worst, float(np.abs(got - want[:, 3]).max()) / scale)
+    print(f"\nbatch: C, its velocity and acceleration agree with pylinkage's to {worst:.1e} (relative) "
+          f"over {designs} designs × 360 positions")
+    assert worst < 1e-12, worst
+    times = {"pylinkage, one call per design": [], "loopkin batch": []}
+    for _ in range(rounds):
+        for k, f in (("pylinkage, one call per design", theirs), ("loopkin batch", ours)):
+            t0 = time.process_time_ns()
+            f()
+            times[k].append((time.process_time_ns() - t0) / (designs * 360))
+    print(f"batch of {designs} designs × 360 positions (v and a): ns of CPU per position, median (range) "
+          f"over {rounds} rounds")
+    for k, v in times.items():
+        print(f"  {k:32s} {statistics.median(v):8.1f}  ({min(v):.1f}–{max(v):.1f})")
+    r = [t / u for t, u in zip(times["pylinkage, one call per design"], times["loopkin batch"])]
+    print(f"  pylinkage / loopkin, batch : {statistics.median(r):.2f}× ({min(r):.2f}–{max(r):.2f})")
+
+
 def main():
     turns = int(sys.argv[1]) if len(sys.argv) > 1 else 5
     rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 5
+    designs = int(sys.argv[3]) if len(sys.argv) > 3 else 10_000
     four, strider = loopkin_four_bar(), loopkin_strider()
     check("four-bar", FOUR_BAR, four)
     check("Strider", STRIDER, strider)
     measure("four-bar", FOUR_BAR, four, turns, rounds)
     measure("Strider", STRIDER, strider, turns, rounds)
+    measure_turn("four-bar", four_bar_of(A4, B4, C4, 360), four, rounds)
+    measure_turn("Strider", STRIDER_TURN, strider, rounds)
+    measure_batch(designs, rounds)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,115 @@
+//! The cost of positions only on a run-time model: a turn of 3600 poses
+//! of the four-bar and of the Strider leg of the examples, by the
+//! stepper's `pose` and `positions` in a loop (each pose from the last,
+//! the driver advanced by hand) against the sweep's `for_each_pose` (the
+//! same poses with the grid, the limit search and the callback), in
+//! interleaved rounds of thread CPU time: the median and the range of
+//! nine rounds, ns per pose.
+//!
+//! ```text
+//! cargo run --release -p kinematics-bench --bin poses
+//! ```
+
+// A benchmark program: a failed set-up should stop it.
+#![allow(clippy::expect_used, missing_docs)]
+
+use std::f64::consts::TAU;
+use std::hint::black_box;
+
+use kinematics_core::runtime::Model;
+use kinematics_core::Options;
+
+const STEPS: usize = 3600;
+
+fn load(file: &str, values: &[f64]) -> Model {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/");
+    let text = std::fs::read_to_string(format!("{root}{file}")).expect("the example");
+    Model::compile(&text)
+        .expect("compiled")
+        .with_values(values)
+        .expect("the values")
+}
+
+fn median(mut v: Vec<f64>) -> (f64, f64, f64) {
+    v.sort_by(f64::total_cmp);
+    (v[v.len() / 2], v[0], v[v.len() - 1])
+}
+
+fn main() {
+    use std::f64::consts::{FRAC_PI_4, PI};
+    let four_bar = load("four_bar.mech", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
+    let strider = load(
+        "strider.mech",
+        &[2.0, FRAC_PI_4, 1.8, 2.6, 1.4, PI + 0.2, 2.5, 1.8],
+    );
+    for (name, m) in [("four-bar", &four_bar), ("Strider", &strider)] {
+        let o = Options::default();
+        let mut guess = vec![0.0; m.coordinates().len()];
+        guess[0] = 0.3;
+        let start = m
+            .assemble_all(&guess)
+            .find_map(|(_, p)| p.ok())
+            .expect("an assembly");
+        let d = m.point_names().len() * m.point_dimension();
+        let mut positions = vec![0.0; d];
+        let h = TAU / STEPS as f64;
+        let (mut raw, mut swept) = (Vec::new(), Vec::new());
+        for _ in 0..9 {
+            let mut stepper = m.stepper(&o).expect("a stepper");
+            let mut q = start.clone();
+            let t0 = kinematics_bench::thread_cpu_ns();
+            for _ in 0..STEPS {
+                q[0] += h;
+                let p = stepper.pose(&q).expect("a pose");
+                q.copy_from_slice(p);
+                stepper.positions(&mut positions).expect("positions");
+                black_box(&positions);
+            }
+            raw.push((kinematics_bench::thread_cpu_ns() - t0) / STEPS as f64);
+            let t0 = kinematics_bench::thread_cpu_ns();
+            let mut n = 0usize;
+            let end = m
+                .sweep(m.coordinates()[0].name, &start)
+                .expect("a sweep")
+                .turns(1.0)
+                .steps(STEPS)
+                .for_each_pose(|at, q, r| {
+                    n += 1;
+                    black_box((at, q, r));
+                });
+            swept.push((kinematics_bench::thread_cpu_ns() - t0) / n as f64);
+            assert!(end.stop.is_none(), "{name}: {:?}", end.stop);
+        }
+        // The fixed cost of a sweep: one of a single step.
+        let mut fixed = Vec::new();
+        for _ in 0..9 {
+            let t0 = kinematics_bench::thread_cpu_ns();
+            for _ in 0..1000 {
+                let end = m
+                    .sweep(m.coordinates()[0].name, &start)
+                    .expect("a sweep")
+                    .to(start[0] + 0.01)
+                    .steps(1)
+                    .for_each_pose(|at, q, r| {
+                        black_box((at, q, r));
+                    });
+                black_box(end);
+            }
+            fixed.push((kinematics_bench::thread_cpu_ns() - t0) / 1000.0);
+        }
+        let (c, c0, c1) = median(fixed);
+        println!(
+            "{name:9} a sweep of one step: {:.2} µs ({:.2}–{:.2})",
+            c * 1e-3,
+            c0 * 1e-3,
+            c1 * 1e-3
+        );
+        let (a, a0, a1) = median(raw);
+        let (b, b0, b1) = median(swept);
+        println!(
+            "{name:9} pose + positions {a:6.1} ns ({a0:.1}–{a1:.1}), for_each_pose {b:6.1} ns \
+             ({b0:.1}–{b1:.1}): {:.2}×",
+            b / a
+        );
+    }
+}
