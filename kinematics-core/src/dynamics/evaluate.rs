@@ -196,6 +196,14 @@ pub(crate) trait View {
     fn velocity(&self, i: usize) -> Option<Vector3<f64>> {
         self.point(i).map(|[_, v, _]| v)
     }
+    /// a of point i alone (what the inertial terms read).
+    fn acceleration(&self, i: usize) -> Option<Vector3<f64>> {
+        self.point(i).map(|[_, _, a]| a)
+    }
+    /// q' of coordinate j alone (NaN when there is none).
+    fn rate(&self, j: usize) -> f64 {
+        self.coordinate(j)[1]
+    }
     /// Frame i.
     fn frame(&self, i: usize) -> Option<&FrameState>;
     /// q, q', q'' of coordinate j (NaN when there is none).
@@ -227,6 +235,12 @@ impl<S: MotionState> View for Generated<'_, S> {
     }
     fn velocity(&self, i: usize) -> Option<Vector3<f64>> {
         self.0.points().get(i).map(|p| padded(p.velocity()))
+    }
+    fn acceleration(&self, i: usize) -> Option<Vector3<f64>> {
+        self.0.points().get(i).map(|p| padded(p.acceleration()))
+    }
+    fn rate(&self, j: usize) -> f64 {
+        self.0.qd().get(j).unwrap_or(f64::NAN)
     }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frames().get(i)
@@ -628,7 +642,7 @@ pub(super) fn angular_velocity(b: &ResolvedBody, s: &dyn View) -> Vector3<f64> {
         Turns::Angle(terms) => {
             let mut w = 0.0;
             for &(j, c) in terms {
-                w += c * s.coordinate(j)[1];
+                w += c * s.rate(j);
             }
             Vector3::new(0.0, 0.0, w)
         }

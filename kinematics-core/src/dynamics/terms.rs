@@ -31,7 +31,9 @@ impl Dynamics {
         let instant = |at| Instant::of(coords, at).at_time(s.time());
         out.bodies.clear();
         for b in &self.bodies {
-            let [_, _, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let a = s
+                .acceleration(b.center)
+                .unwrap_or(Vector3::repeat(f64::NAN));
             let h = match &b.turning {
                 // Planar: J α about the normal; the gyroscopic term
                 // vanishes.
@@ -105,7 +107,7 @@ impl Dynamics {
             q -= t.dot(&w);
         }
         for ((j, _), f) in self.coordinate_forces.iter().zip(&terms.coordinate_forces) {
-            q -= f * u.coordinate(*j)[1];
+            q -= f * u.rate(*j);
         }
         for (sp, (tension, e)) in self.springs.iter().zip(&terms.springs) {
             q += tension * e.dot(&(velocity(sp.to) - velocity(sp.from)));

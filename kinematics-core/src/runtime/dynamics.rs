@@ -79,6 +79,15 @@ impl View for RunTime<'_> {
             .get(i)
             .map(|p| crate::dynamics::evaluate::padded(&p.velocity))
     }
+    fn acceleration(&self, i: usize) -> Option<Vector3<f64>> {
+        self.0
+            .points
+            .get(i)
+            .map(|p| crate::dynamics::evaluate::padded(&p.acceleration))
+    }
+    fn rate(&self, j: usize) -> f64 {
+        self.0.qd.get(j).copied().unwrap_or(f64::NAN)
+    }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frames.get(i)
     }

@@ -161,7 +161,7 @@ impl Dynamics {
             }
         };
         for ((p, _, _), f) in self.forces.iter().zip(&terms.forces) {
-            put(f.dot(&s.point(*p).map_or(Vector3::zeros(), |[_, v, _]| v)));
+            put(f.dot(&s.velocity(*p).unwrap_or(Vector3::zeros())));
         }
         for ((b, _), t) in self.torques.iter().zip(&terms.torques) {
             put(t.dot(
@@ -172,10 +172,10 @@ impl Dynamics {
             ));
         }
         for ((j, _), f) in self.coordinate_forces.iter().zip(&terms.coordinate_forces) {
-            put(f * s.coordinate(*j)[1]);
+            put(f * s.rate(*j));
         }
         for (sp, (_, e)) in self.springs.iter().zip(&terms.springs) {
-            let velocity = |p: usize| s.point(p).map_or(Vector3::repeat(f64::NAN), |[_, v, _]| v);
+            let velocity = |p: usize| s.velocity(p).unwrap_or(Vector3::repeat(f64::NAN));
             let rate = e.dot(&(velocity(sp.to) - velocity(sp.from)));
             put(-sp.damping * rate * rate);
         }

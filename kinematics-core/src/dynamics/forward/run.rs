@@ -84,6 +84,12 @@ impl View for Timed<'_> {
     fn velocity(&self, i: usize) -> Option<nalgebra::Vector3<f64>> {
         self.0.velocity(i)
     }
+    fn acceleration(&self, i: usize) -> Option<nalgebra::Vector3<f64>> {
+        self.0.acceleration(i)
+    }
+    fn rate(&self, j: usize) -> f64 {
+        self.0.rate(j)
+    }
     fn frame(&self, i: usize) -> Option<&FrameState> {
         self.0.frame(i)
     }
