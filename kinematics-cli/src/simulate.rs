@@ -148,6 +148,7 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
         builder = builder.free(name);
     }
     for (name, text) in pairs(&args.stop_when, "stop-when")? {
+        let given = format!("{name}={text}");
         let (name, rate) = match name.strip_prefix("rate(").and_then(|n| n.strip_suffix(')')) {
             Some(inner) => (inner.trim().to_string(), true),
             None => (name, false),
@@ -170,8 +171,8 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
             Some("decreasing") => event.decreasing(),
             Some(other) => {
                 return Err(Failure::usage(format!(
-                    "error: --stop-when `{name}={text},{other}`: the direction is `increasing` \
-                     or `decreasing` (or none, for either)"
+                    "error: --stop-when `{given}`: the direction `{other}` is neither \
+                     `increasing` nor `decreasing` (give none for either)"
                 )))
             }
         });

@@ -232,12 +232,17 @@ fn check_unique_names(def: &Definition, errors: &mut Errors) -> Names {
         // A declared name may be a built-in function's (`t3`, `T4`, `norm`):
         // it names the declared item, and the function cannot be called in
         // this definition (a call is a located error). `pi` stays the
-        // constant.
-        if key == "pi" {
+        // constant, and `time` the time of a forward simulation.
+        if key == "pi" || key == "time" {
+            let what = if key == "pi" {
+                "the built-in constant π"
+            } else {
+                "the time of a forward simulation, which loads read"
+            };
             errors.at(
                 name.span(),
                 format!(
-                    "`pi` is the built-in constant π; choose another name for this {}",
+                    "`{key}` is {what}; choose another name for this {}",
                     singular(section)
                 ),
             );

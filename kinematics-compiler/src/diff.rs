@@ -51,8 +51,9 @@ pub fn time_derivative(g: &mut Graph, root: Id, accelerating: Accelerating, memo
 
 /// d(root)/dt as Σ_j ∂root/∂q_j · q'_j (+ Σ_j ∂root/∂q'_j · q''_j for the
 /// rates picked by `accelerating`), over the first `coords` coordinates:
-/// the same value as [`time_derivative`], built from the partial
-/// derivatives. Where those partials are needed anyway (Φ_u for the loop
+/// the same value as [`time_derivative`] for a root that does not read
+/// the time ([`Leaf::Time`], which only loads read), built from the
+/// partial derivatives. Where those partials are needed anyway (Φ_u for the loop
 /// equations), this form shares them and comes out smaller.
 pub fn time_derivative_by_partials(
     g: &mut Graph,

@@ -74,6 +74,7 @@ impl Names {
     pub fn suggest(&self, wanted: &str) -> Option<String> {
         let mut candidates: Vec<&str> = self.map.keys().map(String::as_str).collect();
         candidates.push("pi");
+        candidates.push("time");
         closest(wanted, candidates)
     }
 }

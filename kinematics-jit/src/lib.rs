@@ -58,7 +58,7 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
-use kinematics_compiler::ir::{Graph, Id, Leaf, Node};
+use kinematics_compiler::ir::{Graph, Id, Leaf};
 use kinematics_compiler::Compiled;
 
 mod fused;
@@ -83,7 +83,8 @@ pub enum JitError {
     /// Cranelift could not compile or link a stage.
     Codegen(String),
     /// A leaf of the graph indexes past the declared parameters or
-    /// coordinates (a graph that does not belong to the lengths given).
+    /// coordinates (a graph that does not belong to the lengths given),
+    /// or is the time where the code has none (a fused step).
     Leaf(Leaf),
 }
 
@@ -94,7 +95,8 @@ impl fmt::Display for JitError {
             Self::Codegen(m) => write!(f, "native code generation failed: {m}"),
             Self::Leaf(l) => write!(
                 f,
-                "the expression graph reads {l:?}, beyond the model's parameters or coordinates"
+                "the expression graph reads {l:?}, beyond the model's parameters or \
+                 coordinates, or a time where there is none"
             ),
         }
     }
@@ -150,6 +152,8 @@ struct Stage {
     outputs: usize,
     /// Whether it reads a coordinate (or its cosine or sine).
     reads_q: bool,
+    /// Whether it reads the time.
+    reads_time: bool,
 }
 
 /// Machine code for the stages of one expression graph. The code lives as
@@ -443,12 +447,7 @@ impl Program {
         for _ in 0..6 {
             sig.params.push(AbiParam::new(pointer));
         }
-        let time = stages.iter().any(|roots| {
-            let live = graph.reachable(roots);
-            live.iter()
-                .enumerate()
-                .any(|(i, &alive)| alive && graph.node(Id::from_index(i)) == Node::Leaf(Leaf::Time))
-        });
+        let mut time = false;
         let mut trig = std::collections::BTreeSet::new();
         let mut ids = Vec::with_capacity(stages.len());
         let mut ctx = module.make_context();
@@ -477,7 +476,7 @@ impl Program {
                     base: [0; 5],
                     params,
                     coords,
-                    time: time.then_some(params),
+                    time: Some(params),
                 };
                 lower.emit(&mut b, &sources, &imports, roots)?;
                 let flags = MemFlags::trusted();
@@ -492,20 +491,22 @@ impl Program {
                 b.finalize();
             }
             trig.extend(lower.trig.iter().copied());
+            time |= lower.reads_time;
             module
                 .define_function(id, &mut ctx)
                 .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
             module.clear_context(&mut ctx);
-            ids.push((id, roots.len(), lower.reads_q));
+            ids.push((id, roots.len(), lower.reads_q, lower.reads_time));
         }
         module.finalize_definitions().map_err(|e| codegen(&e))?;
         let vex = vex_encoded(&module);
         let stages = ids
             .into_iter()
-            .map(|(id, outputs, reads_q)| Stage {
+            .map(|(id, outputs, reads_q, reads_time)| Stage {
                 entry: entry(module.get_finalized_function(id)),
                 outputs,
                 reads_q,
+                reads_time,
             })
             .collect();
         Ok(Self {
@@ -520,10 +521,16 @@ impl Program {
     }
 
     /// Whether a stage reads the time ([`Leaf::Time`]): then the last of
-    /// [`Inputs::params`] is the time.
+    /// [`Inputs::params`] is the time (for every stage).
     #[must_use]
     pub fn reads_time(&self) -> bool {
         self.time
+    }
+
+    /// Whether stage `stage` reads the time (false past the last).
+    #[must_use]
+    pub fn stage_reads_time(&self, stage: usize) -> bool {
+        self.stages.get(stage).is_some_and(|s| s.reads_time)
     }
 
     /// Number of stages.

@@ -80,6 +80,8 @@ pub(crate) struct Lower<'g> {
     pub(crate) trig: std::collections::BTreeSet<usize>,
     /// Whether a coordinate (or its cosine or sine) was read.
     pub(crate) reads_q: bool,
+    /// Whether the time was read.
+    pub(crate) reads_time: bool,
 }
 
 impl<'g> Lower<'g> {
@@ -90,6 +92,7 @@ impl<'g> Lower<'g> {
             preset: std::collections::HashMap::new(),
             trig: std::collections::BTreeSet::new(),
             reads_q: false,
+            reads_time: false,
         }
     }
 
@@ -215,6 +218,9 @@ impl<'g> Lower<'g> {
                     }
                     if array == 1 {
                         self.reads_q = true;
+                    }
+                    if leaf == Leaf::Time {
+                        self.reads_time = true;
                     }
                     let at = offset(array, j)?;
                     b.ins().load(float, flags, s.ptr[array], at)

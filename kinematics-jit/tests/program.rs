@@ -28,7 +28,7 @@ fn the_time_is_read_after_the_parameters_where_a_stage_reads_it() {
         trig: &trig,
     };
     let both = Program::new(&g, 1, 1, &[&[timed], &[plain]]).unwrap();
-    assert!(both.reads_time());
+    assert!(both.reads_time() && both.stage_reads_time(0) && !both.stage_reads_time(1));
     let mut out = [0.0];
     both.eval(0, &inputs(&[2.0, 0.3]), &mut out).unwrap();
     assert_eq!(out[0], 2.0 * 0.3f64.sin() + 0.5);

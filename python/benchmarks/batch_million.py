@@ -14,7 +14,8 @@ time per position, and how many designs turn fully.
 With ``--ray`` the same study runs, in alternation with the in-process
 batch (two rounds each), through ``loopkin.cluster.batch`` on a local Ray
 cluster of one worker per core (started before the clock, each worker
-compiling the definition on its first chunk), and the two are printed
+compiling the definition on its first chunk; each task runs its chunk's
+batch on the node's threads), and the two are printed
 side by side as wall time per position times the cores: the CPU a
 position costs each way, the in-process batch's from its threads and
 Ray's from its worker processes, with the driver's scheduling and the

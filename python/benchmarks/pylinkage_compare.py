@@ -4,7 +4,7 @@ accelerations, on a four-bar and on pylinkage's Strider leg, through each
 library's fastest public Python path.
 
     pip install ./python "pylinkage==1.3.*" numba
-    python python/benchmarks/pylinkage_compare.py [turns] [rounds]
+    python python/benchmarks/pylinkage_compare.py [turns] [rounds] [designs]
 
 pylinkage: ``pylinkage.solver.simulation.simulate`` (positions) and
 ``simulate_with_kinematics`` (positions, velocities, accelerations), the
@@ -88,8 +88,10 @@ import strider_pylinkage as sp  # noqa: E402
 TRI, APE, FEMUR, ROCKER_L, ROCKER_S, PHI, TIBIA, FOOT = sp.TRI, sp.APE, sp.FEMUR, sp.ROCKER_L, sp.ROCKER_S, sp.PHI, sp.TIBIA, sp.FOOT
 STRIDER = Pylinkage(sp.TYPES, sp.PARENTS, sp.CONSTRAINTS, sp.START, crank=4)
 # The same leg, its crank turning 2π/360 a step.
+CRANK = (1.0, 2 * math.pi / STEPS)
+assert sp.CONSTRAINTS.count(CRANK) == 1, "the Strider's crank constraint is not where it was"
 STRIDER_TURN = Pylinkage(
-    sp.TYPES, sp.PARENTS, [(1.0, 2 * math.pi / 360) if c == (1.0, 2 * math.pi / STEPS) else c for c in sp.CONSTRAINTS],
+    sp.TYPES, sp.PARENTS, [(1.0, 2 * math.pi / 360) if c == CRANK else c for c in sp.CONSTRAINTS],
     sp.START, crank=4,
 )
 
@@ -154,10 +156,15 @@ def measure(name, pyl, ours, turns, rounds, omega=10.0):
 
 
 def measure_turn(name, pyl_turn, ours, rounds, omega=10.0):
-    """One turn of 360 positions per call: the calls' fixed costs count."""
-    m, driver, start, _, _ = ours
+    """One turn of 360 positions per call: the calls' fixed costs count.
+    The two libraries' points are checked equal first, at every position."""
+    m, driver, start, _, pairs = ours
     th0 = start.array[0] + 2 * math.pi / 360 - 2 * math.pi / STEPS
-    pyl_turn.positions(360)
+    trajectory = pyl_turn.positions(360)
+    poses = m.poses(driver, start=start, from_=th0, turn=True, steps=360)
+    assert poses.stop is None and len(poses) == 360
+    worst = max(float(np.abs(poses.point(p) - trajectory[:, j]).max()) for p, j in pairs)
+    assert worst < 1e-12, (name, worst)
     pyl_turn.kinematics(360, omega)
     variants = {
         "pylinkage positions": lambda: pyl_turn.positions(360),

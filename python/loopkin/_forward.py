@@ -25,7 +25,8 @@ def _event_items(stop_when: Any) -> List[Tuple[Any, ...]]:
     if stop_when is None:
         return []
     if isinstance(stop_when, Mapping):
-        return [(k, *v) if isinstance(v, tuple) else (k, v) for k, v in stop_when.items()]
+        pair = (tuple, list)
+        return [(k, *v) if isinstance(v, pair) else (k, v) for k, v in stop_when.items()]
     return [tuple(item) for item in stop_when]
 
 
@@ -125,6 +126,8 @@ class _Forward:
             )
         key, value = item[0], item[1]
         direction = item[2] if len(item) == 3 else None
+        if isinstance(direction, str):
+            direction = direction.strip()
         rate = key.startswith("rate(") and key.endswith(")")
         name = key[5:-1].strip() if rate else key
         signs = {None: 0, "increasing": 1, "decreasing": -1}
@@ -146,7 +149,7 @@ class _Forward:
         tolerance: float = 1e-9,
         stop_when: Optional[
             Union[
-                Mapping[str, Union[float, str, Tuple[Union[float, str], str]]],
+                Mapping[str, Union[float, str, Sequence[Union[float, str]]]],
                 Sequence[Tuple[Union[str, float], ...]],
             ]
         ] = None,
@@ -191,8 +194,9 @@ class _Forward:
             InvalidOptionError: a time, tolerance, step or sample count out
                 of range (a ``ValueError``).
             ValueError: a method that is neither ``"explicit"`` nor
-                ``"implicit"``, a time that cannot be read, or an event
-                whose direction is neither ``"increasing"`` nor
+                ``"implicit"``, a time that cannot be read, an event that
+                is not (coordinate, value) or (coordinate, value,
+                direction), or a direction neither ``"increasing"`` nor
                 ``"decreasing"``.
         """
         q = self.pose(start)

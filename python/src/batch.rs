@@ -7,7 +7,7 @@
 use kinematics_core::runtime::{Batch, BatchResults, Output, Reduce};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PySlice};
 
 use crate::convert::{array, shaped};
 
@@ -83,12 +83,25 @@ pub(crate) fn gather<'py>(
         // One output: the records are its array, handed over as they are.
         arrays.push(shaped(py, results.values, shape(0))?);
     } else {
+        // Several: each is a view of the records, taken as one designs ×
+        // record array (its columns offset … offset + rows · width), with
+        // no copy; the views share no value, so each may be written.
+        let record = results.record;
+        let base = shaped(py, results.values, vec![designs, record])?;
+        let index = |i: usize| {
+            isize::try_from(i).map_err(|_| PyValueError::new_err("a batch too large to index"))
+        };
         for k in 0..outputs {
-            let mut flat = Vec::with_capacity(designs * rows * batch.width(k));
-            for d in 0..designs {
-                flat.extend_from_slice(results.output(batch, d, k));
-            }
-            arrays.push(shaped(py, flat, shape(k))?);
+            let start = batch.offset(k).unwrap_or(0);
+            let end = start + rows * batch.width(k);
+            let columns = (
+                PySlice::full(py),
+                PySlice::new(py, index(start)?, index(end)?, 1),
+            );
+            let view = base
+                .get_item(columns)?
+                .call_method1("reshape", (shape(k),))?;
+            arrays.push(view);
         }
     }
     let d = PyDict::new(py);

@@ -67,7 +67,7 @@ def test_a_torque_of_the_time_turns_the_flywheel_as_its_closed_form():
     np.testing.assert_allclose(run.sweep.qd["phi"], k * t**2 / (2 * j), rtol=0, atol=1e-10 * k / j)
     np.testing.assert_allclose(run.sweep["phi"], k * t**3 / (6 * j), rtol=0, atol=1e-10 * k / j)
     # Outside a load's value `time` is an error at its token.
-    with pytest.raises(kin.DefinitionError, match="may be used only in a load's value"):
+    with pytest.raises(kin.DefinitionError, match="may be used only in the value of a `force"):
         kin.compile(text.replace("P = polar(0.1, phi)", "P = polar(0.1, phi + time)"))
 
 
@@ -102,6 +102,7 @@ def test_events_count_in_the_direction_asked_for():
         pytest.approx(4 * math.pi / 3 / w, abs=1e-9),
     )
     assert end([("rate(x)", 0.0, "increasing")]) == (0, pytest.approx(math.pi / w, abs=1e-9))
+    assert end({"rate(x)": [0.0, " decreasing "]}) == (0, pytest.approx(2 * math.pi / w, abs=1e-9))
     with pytest.raises(ValueError, match="increasing"):
         m.forward(start={"x": a}, until=1.0, stop_when={"x": (0.05, "upward")})
     with pytest.raises(ValueError, match="not \\(coordinate, value\\)"):

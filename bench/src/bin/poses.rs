@@ -67,6 +67,8 @@ fn main() {
             }
             raw.push((kinematics_bench::thread_cpu_ns() - t0) / STEPS as f64);
             let t0 = kinematics_bench::thread_cpu_ns();
+            // Its first sample is the start itself: the steps are the
+            // samples after it.
             let mut n = 0usize;
             let end = m
                 .sweep(m.coordinates()[0].name, &start)
@@ -77,7 +79,7 @@ fn main() {
                     n += 1;
                     black_box((at, q, r));
                 });
-            swept.push((kinematics_bench::thread_cpu_ns() - t0) / n as f64);
+            swept.push((kinematics_bench::thread_cpu_ns() - t0) / (n - 1) as f64);
             assert!(end.stop.is_none(), "{name}: {:?}", end.stop);
         }
         // The fixed cost of a sweep: one of a single step.

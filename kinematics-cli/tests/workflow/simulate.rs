@@ -287,13 +287,55 @@ fn an_event_given_with_its_direction_ends_the_run_there() {
     let end = rows.last().expect("rows")[0];
     let want = 5.0 * std::f64::consts::PI / 3.0 / w;
     assert!((end - want).abs() < 1e-9, "{end} against {want}");
-    let o = simulate("x=0.05,upward");
+    let o = simulate("rate(x)=0,upward");
     assert!(!o.status.success());
+    let stderr = text(&o.stderr);
     assert!(
-        text(&o.stderr).contains("`increasing`"),
-        "{}",
-        text(&o.stderr)
+        stderr.contains("`rate(x)=0,upward`") && stderr.contains("`increasing`"),
+        "{stderr}"
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_torque_of_the_time_turns_the_flywheel_as_its_closed_form() {
+    // force(phi, k * time) on the inertia j: ω = k t² / (2 j).
+    let dir = std::env::temp_dir().join(format!("kinematics-ramp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("ramp.mech");
+    let definition = FLYWHEEL
+        .replace("params   { j, ts, w0 }", "params   { j, k }")
+        .replace("ts * (1.0 - rate(phi) / w0)", "k * time");
+    std::fs::write(&mech, definition).unwrap();
+    let out = dir.join("out");
+    let o = run(&[
+        "simulate",
+        path(&mech),
+        "--param",
+        "j=0.4",
+        "--param",
+        "k=3",
+        "--until",
+        "2s",
+        "--samples",
+        "20",
+        "--tolerance",
+        "1e-11",
+        "--out",
+        path(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (_, rows) = columns(&out.join("sweep.csv"));
+    assert_eq!(rows.len(), 21);
+    for r in &rows {
+        let w = 3.0 * r[0] * r[0] / (2.0 * 0.4);
+        assert!(
+            (r[2] - w).abs() < 1e-9 * 15.0,
+            "ω {} against {w} at {}",
+            r[2],
+            r[0]
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -70,8 +70,12 @@ impl Idents {
                 quote!(#v)
             }
             // The lowering lets `time` into the loads' values only, which
-            // are emitted as closures of the instant (`emit::dynamics`).
-            Leaf::Time => quote!(::core::f64::NAN),
+            // are emitted as closures of the instant (`emit::dynamics`):
+            // reaching here is a bug of the compiler, stopped at compile
+            // time.
+            Leaf::Time => quote!(::core::compile_error!(
+                "the time reached the kinematics: a bug of the mechanism compiler"
+            )),
         }
     }
 }

@@ -166,8 +166,10 @@ impl Lowerer<'_> {
                 }
                 self.fail(
                     ident.span(),
-                    "`time`, the time of a forward simulation (s), may be used only in a load's \
-                     value in `loads { … }`; elsewhere a motion is a function of the drivers",
+                    "`time`, the time of a forward simulation (s), may be used only in the value \
+                     of a `force(…)` or a `torque(…)` in `loads { … }`: the points, frames and \
+                     loops are functions of the coordinates, and masses, inertias, gravity and a \
+                     spring's constants of the parameters",
                 )
             }
             None => {

@@ -1,6 +1,8 @@
 //! The evaluation of [`Dynamics`] at one motion: the views of a motion it
 //! reads, the loads' view of the instant, and the sums of virtual power.
 
+use core::cell::Cell;
+
 use alloc::format;
 use alloc::string::{String, ToString};
 use alloc::vec;
@@ -53,6 +55,9 @@ pub struct Instant<'a> {
     pub velocity: Vector3<f64>,
     /// The time, in a forward simulation (NaN otherwise).
     pub(super) time: f64,
+    /// Set when the load reads the time, for the message of a load that
+    /// is not finite for want of one.
+    pub(super) read: Option<&'a Cell<bool>>,
 }
 
 impl<'a> Instant<'a> {
@@ -68,12 +73,19 @@ impl<'a> Instant<'a> {
             position,
             velocity,
             time: f64::NAN,
+            read: None,
         }
     }
 
     /// The same instant at time `t`.
     pub(super) fn at_time(mut self, t: f64) -> Self {
         self.time = t;
+        self
+    }
+
+    /// The same instant, `read` set when the load reads the time.
+    pub(super) fn watched(mut self, read: &'a Cell<bool>) -> Self {
+        self.read = Some(read);
         self
     }
 }
@@ -105,6 +117,9 @@ impl Instant<'_> {
     /// that a load of the time used there is reported as not finite.
     #[must_use]
     pub fn time(&self) -> f64 {
+        if let Some(read) = self.read {
+            read.set(true);
+        }
         self.time
     }
 }
@@ -586,8 +601,9 @@ impl Dynamics {
         }
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
             let at = s.point(*p);
-            let f = Vector3::from(f(&instant(at)));
-            self.finite_load(f.iter().copied(), LoadAt::Force(i), s.time())?;
+            let read = Cell::new(false);
+            let f = Vector3::from(f(&instant(at).watched(&read)));
+            self.finite_load(f.iter().copied(), LoadAt::Force(i), read.get())?;
             let f = if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
@@ -599,8 +615,11 @@ impl Dynamics {
         }
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
-            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            self.finite_load(t.iter().copied(), LoadAt::Torque(i), s.time())?;
+            let read = Cell::new(false);
+            let t = Vector3::from(t(
+                &instant(body.and_then(|b| s.point(b.center))).watched(&read)
+            ));
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i), read.get())?;
             moment += if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
@@ -729,13 +748,14 @@ pub(super) enum LoadAt {
 
 impl Dynamics {
     /// Checks that the values of the load `at` are finite; the error
-    /// names it by its point, body or coordinate, and says where a time
-    /// of NaN (`time`: none outside a forward simulation) may be the cause.
+    /// names it by its point, body or coordinate, and says so where the
+    /// load read the time (`read`) and there is none (outside a forward
+    /// simulation).
     pub(super) fn finite_load(
         &self,
         values: impl IntoIterator<Item = f64>,
         at: LoadAt,
-        time: f64,
+        read: bool,
     ) -> Result<(), Error> {
         let Some(v) = values.into_iter().find(|v| !v.is_finite()) else {
             return Ok(());
@@ -760,10 +780,11 @@ impl Dynamics {
         };
         Err(Error::InvalidDynamics {
             item,
-            detail: if time.is_nan() {
+            detail: if read && v.is_nan() {
                 format!(
-                    "its value is {v} at this pose; a load must be finite (a load of the \
-                     `time` has a value only in a forward simulation)"
+                    "its value is {v} at this pose: it reads the `time`, which has a value \
+                     only in a forward simulation (an inverse analysis or a kinematic sweep \
+                     has none)"
                 )
             } else {
                 format!("its value is {v} at this pose; a load must be finite")

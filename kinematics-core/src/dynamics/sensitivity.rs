@@ -21,6 +21,8 @@
 //! ∂L = e · ∂(r_B − r_A), ∂e = (∂(r_B − r_A) − e ∂L)/L and
 //! ∂f_s = ∂k (L − L₀) + k (∂L − ∂L₀) + ∂c e · Δv + c (∂e · Δv + e · ∂Δv).
 
+use core::cell::Cell;
+
 use alloc::format;
 use alloc::string::{String, ToString};
 use alloc::vec;
@@ -191,6 +193,17 @@ impl Dynamics {
         m: &M,
         motion: &M::Motion,
     ) -> Result<Vec<EffortSensitivity>, Error> {
+        self.effort_sensitivities_at(m, motion, f64::NAN)
+    }
+
+    /// [`Dynamics::effort_sensitivities`] at the time `time` of a forward
+    /// simulation (NaN: none), which the loads of the time read.
+    pub(crate) fn effort_sensitivities_at<M: Sensitive>(
+        &self,
+        m: &M,
+        motion: &M::Motion,
+        time: f64,
+    ) -> Result<Vec<EffortSensitivity>, Error> {
         self.fits_mechanism::<M>()?;
         let (k, n, np, dim) = (
             M::PARAMETERS.len(),
@@ -208,7 +221,9 @@ impl Dynamics {
         let pose = motion.q();
         let mut rates = vec![0.0; self.drivers];
         let zeros = vec![0.0; self.drivers];
-        self.effort_partials(M::PARAMETERS, &Generated(motion), &ds, &mut |d, with| {
+        let view = Generated(motion);
+        let view = crate::dynamics::forward::run::Timed(&view, time);
+        self.effort_partials(M::PARAMETERS, &view, &ds, &mut |d, with| {
             rates
                 .iter_mut()
                 .enumerate()
@@ -278,9 +293,10 @@ impl Dynamics {
             .zip(&self.load_partials.forces)
             .enumerate()
         {
-            let at = instant(s.point(*p));
+            let read = Cell::new(false);
+            let at = instant(s.point(*p)).watched(&read);
             let value = Vector3::from(f(&at));
-            self.finite_load(value.iter().copied(), LoadAt::Force(i), s.time())?;
+            self.finite_load(value.iter().copied(), LoadAt::Force(i), read.get())?;
             forces.push(differentiate(value, partials.as_ref(), &at, force_mask));
         }
         let mut torques = Vec::with_capacity(self.torques.len());
@@ -290,9 +306,10 @@ impl Dynamics {
             .zip(&self.load_partials.torques)
             .enumerate()
         {
-            let at = instant(self.bodies.get(*b).and_then(|b| s.point(b.center)));
+            let read = Cell::new(false);
+            let at = instant(self.bodies.get(*b).and_then(|b| s.point(b.center))).watched(&read);
             let value = Vector3::from(t(&at));
-            self.finite_load(value.iter().copied(), LoadAt::Torque(i), s.time())?;
+            self.finite_load(value.iter().copied(), LoadAt::Torque(i), read.get())?;
             torques.push(differentiate(value, partials.as_ref(), &at, torque_mask));
         }
         let mut coordinate_forces = Vec::with_capacity(self.coordinate_forces.len());
@@ -302,9 +319,10 @@ impl Dynamics {
             .zip(&self.load_partials.coordinate_forces)
             .enumerate()
         {
-            let at = instant(None);
+            let read = Cell::new(false);
+            let at = instant(None).watched(&read);
             let value = Vector3::new(f(&at), 0.0, 0.0);
-            self.finite_load(value.iter().copied(), LoadAt::Coordinate(i), s.time())?;
+            self.finite_load(value.iter().copied(), LoadAt::Coordinate(i), read.get())?;
             coordinate_forces.push(differentiate(value, partials.as_ref(), &at, scalar_mask));
         }
         // The frames' R, ω, α and their partials at the motion, per body.
@@ -316,6 +334,7 @@ impl Dynamics {
                 position: Vector3::zeros(),
                 velocity: Vector3::zeros(),
                 time: x.time(),
+                read: None,
             };
             self.bodies
                 .iter()

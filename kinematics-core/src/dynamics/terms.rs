@@ -4,6 +4,8 @@
 //! partial velocities: the virtual-power sum the inverse dynamics and
 //! the equations of motion both use.
 
+use core::cell::Cell;
+
 use alloc::vec::Vec;
 
 use nalgebra::Vector3;
@@ -53,8 +55,9 @@ impl Dynamics {
         }
         out.forces.clear();
         for (i, (p, _, f)) in self.forces.iter().enumerate() {
-            let f = Vector3::from(f(&instant(s.point(*p))));
-            self.finite_load(f.iter().copied(), LoadAt::Force(i), s.time())?;
+            let read = Cell::new(false);
+            let f = Vector3::from(f(&instant(s.point(*p)).watched(&read)));
+            self.finite_load(f.iter().copied(), LoadAt::Force(i), read.get())?;
             out.forces.push(if planar {
                 Vector3::new(f.x, f.y, 0.0)
             } else {
@@ -64,8 +67,11 @@ impl Dynamics {
         out.torques.clear();
         for (i, (b, t)) in self.torques.iter().enumerate() {
             let body = self.bodies.get(*b);
-            let t = Vector3::from(t(&instant(body.and_then(|b| s.point(b.center)))));
-            self.finite_load(t.iter().copied(), LoadAt::Torque(i), s.time())?;
+            let read = Cell::new(false);
+            let t = Vector3::from(t(
+                &instant(body.and_then(|b| s.point(b.center))).watched(&read)
+            ));
+            self.finite_load(t.iter().copied(), LoadAt::Torque(i), read.get())?;
             out.torques.push(if planar {
                 Vector3::new(0.0, 0.0, t.z)
             } else {
@@ -74,8 +80,9 @@ impl Dynamics {
         }
         out.coordinate_forces.clear();
         for (i, (_, f)) in self.coordinate_forces.iter().enumerate() {
-            let f = f(&instant(None));
-            self.finite_load([f], LoadAt::Coordinate(i), s.time())?;
+            let read = Cell::new(false);
+            let f = f(&instant(None).watched(&read));
+            self.finite_load([f], LoadAt::Coordinate(i), read.get())?;
             out.coordinate_forces.push(f);
         }
         out.springs.clear();

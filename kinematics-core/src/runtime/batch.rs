@@ -348,6 +348,16 @@ impl<'m> Batch<'m> {
         self.record
     }
 
+    /// Where output `k`'s values start in a design's record ([`Batch::rows`]
+    /// × [`Batch::width`]`(k)` of them, row by row; `None` past the last
+    /// output): so that the records of every design, taken as one
+    /// designs × [`Batch::record`] array, hold each output as the columns
+    /// `offset .. offset + rows · width` of its rows.
+    #[must_use]
+    pub fn offset(&self, k: usize) -> Option<usize> {
+        self.slots.get(k).map(|s| s.dest)
+    }
+
     /// Runs the designs of `designs` (row-major: one value per parameter,
     /// in declaration order, per design), on every core with the feature
     /// `parallel`; a trailing partial row is not a design.

@@ -174,6 +174,17 @@ impl Dynamics {
         model: &Model,
         motion: &Motion,
     ) -> Result<Vec<EffortSensitivity>, Error> {
+        self.effort_sensitivities_of_at(model, motion, f64::NAN)
+    }
+
+    /// [`Dynamics::effort_sensitivities_of`] at the time `time` of a
+    /// forward simulation (NaN: none), which the loads of the time read.
+    pub(crate) fn effort_sensitivities_of_at(
+        &self,
+        model: &Model,
+        motion: &Motion,
+        time: f64,
+    ) -> Result<Vec<EffortSensitivity>, Error> {
         self.fits_model(model)?;
         let names: Vec<&str> = model
             .sensitivity_parameters()
@@ -183,7 +194,9 @@ impl Dynamics {
         let ds = tangents(&model.sensitivities(motion)?);
         let mut rates = vec![0.0; self.drivers];
         let zeros = vec![0.0; self.drivers];
-        self.effort_partials(&names, &RunTime(motion), &ds, &mut |d, with| {
+        let view = RunTime(motion);
+        let view = crate::dynamics::forward::run::Timed(&view, time);
+        self.effort_partials(&names, &view, &ds, &mut |d, with| {
             rates
                 .iter_mut()
                 .enumerate()
@@ -421,11 +434,19 @@ impl SectionCode {
         let trig = trig.as_mut_slice();
         self.program.trig(&q[..n], trig, 0);
         // The time, where a load reads it, after the parameters.
-        let mut timed = Buffer::zeros(values.len() + 1);
+        let timed;
         let params = if self.program.reads_time() {
-            let timed = timed.as_mut_slice();
-            timed[..values.len()].copy_from_slice(values);
-            timed[values.len()] = instant.map_or(f64::NAN, crate::dynamics::Instant::time);
+            let mut with_time = Buffer::zeros(values.len() + 1);
+            let slice = with_time.as_mut_slice();
+            slice[..values.len()].copy_from_slice(values);
+            // Read from the instant only by a stage that reads it: the
+            // instant notes the reading, for the message of a load that is
+            // not finite for want of a time.
+            slice[values.len()] = match instant {
+                Some(i) if self.program.stage_reads_time(stage) => i.time(),
+                _ => f64::NAN,
+            };
+            timed = with_time;
             &*timed
         } else {
             values

@@ -377,11 +377,10 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         t: f64,
         out: &mut [f64],
     ) -> Result<(), Error> {
-        let _ = t;
         let nd = self.m.drivers();
         let motion = self.stepper.motion_now();
         for (p, s) in dynamics
-            .effort_sensitivities_of(self.m, motion)?
+            .effort_sensitivities_of_at(self.m, motion, t)?
             .iter()
             .enumerate()
         {

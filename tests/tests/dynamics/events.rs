@@ -2,7 +2,8 @@
 //! a block of mass m on a spring of stiffness k released from x = A at
 //! rest: x = A cos ω t, ω = √(k/m). x = A/2 is reached decreasing at
 //! ω t = π/3 and increasing at 5π/3; x = −A/2 decreasing at 2π/3 and
-//! increasing at 4π/3; the rate reaches 0 increasing at ω t = π.
+//! increasing at 4π/3; the rate, 0 at the start, reaches 0 increasing
+//! at ω t = π and decreasing at 2π.
 
 use std::f64::consts::PI;
 
@@ -95,6 +96,13 @@ fn an_event_counts_in_the_direction_asked_for() -> Result<(), Box<dyn std::error
         first(&[Event::rate_reaches("x", 0.0).increasing()])?,
         (0, PI / w),
         "the rate, increasing",
+    );
+    // The rate is 0 at the start, which does not count: decreasing, it is
+    // reached next at ω t = 2π (at π it is reached increasing).
+    close(
+        first(&[Event::rate_reaches("x", 0.0).decreasing()])?,
+        (0, 2.0 * PI / w),
+        "the rate, decreasing",
     );
     // Two events on one coordinate: the earliest ends the run.
     close(

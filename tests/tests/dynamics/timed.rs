@@ -20,6 +20,7 @@ mechanism! {
         unknowns { }
         points   { O = vec2(0.0, 0.0); P = polar(0.2, phi); }
         bodies   { wheel(mass = 25.0, center = O, angle = phi, inertia = j); }
+        sensitivities { j, k }
         loads    { force(phi, k * time); }
     }
 }
@@ -30,6 +31,7 @@ const RAMPED_WHEEL: &str = "struct RampedWheel {
     unknowns { }
     points   { O = vec2(0.0, 0.0); P = polar(0.2, phi); }
     bodies   { wheel(mass = 25.0, center = O, angle = phi, inertia = j); }
+    sensitivities { j, k }
     loads    { force(phi, k * time); }
 }";
 
@@ -104,6 +106,43 @@ fn a_flywheel_under_a_torque_growing_with_the_time_turns_as_its_closed_form(
 }
 
 #[test]
+fn the_sensitivities_of_a_motion_under_a_load_of_the_time_are_its_closed_forms(
+) -> Result<(), Box<dyn std::error::Error>> {
+    // φ = k t³ / (6J), ω = k t² / (2J): ∂φ/∂J = −φ/J, ∂φ/∂k = φ/k, and so
+    // for ω; the parameters in the order of `sensitivities { j, k }`.
+    let (j, k) = (0.4, 3.0);
+    let m = RampedWheel { j, k };
+    let generated = m
+        .dynamics()?
+        .forward(&m, &RampedWheelCoords { phi: 0.0 })
+        .until(2.0)
+        .samples(10)
+        .tolerance(1e-11)
+        .sensitivities()
+        .run()?;
+    let model = Model::compile(RAMPED_WHEEL)?.with_values(&[j, k])?;
+    let run_time = model
+        .dynamics()?
+        .forward_of(&model, &[0.0])
+        .until(2.0)
+        .samples(10)
+        .tolerance(1e-11)
+        .sensitivities()
+        .run()?;
+    for run in [&generated.sensitivities, &run_time.sensitivities] {
+        assert_eq!(run.len(), 11);
+        for s in run {
+            let [phi, w, _] = wheel_closed_form(j, k, s.t);
+            close(s.position[0], -phi / j, 1e-9, "∂φ/∂J");
+            close(s.position[1], phi / k, 1e-9, "∂φ/∂k");
+            close(s.rate[0], -w / j, 1e-9, "∂ω/∂J");
+            close(s.rate[1], w / k, 1e-9, "∂ω/∂k");
+        }
+    }
+    Ok(())
+}
+
+#[test]
 fn a_block_pushed_by_a_sine_force_of_the_time_moves_as_its_closed_form(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let (mass, f0, w) = (2.0, 5.0, 3.0);
@@ -156,15 +195,46 @@ fn an_inverse_analysis_has_no_time_and_says_so() -> Result<(), Error> {
 }
 
 #[test]
+fn a_load_not_finite_for_another_reason_is_not_blamed_on_the_time(
+) -> Result<(), Box<dyn std::error::Error>> {
+    // f = f0/x on a block at x = 0: infinite, and nothing to do with time.
+    let text = SHAKEN_BLOCK.replace("vec2(f0 * sin(w * time), 0.0)", "vec2(f0 / x, 0.0)");
+    let m = Model::compile(&text)?.with_values(&[2.0, 5.0, 3.0])?;
+    let motion = m.analyze(&[0.0], &[1.0], &[0.0])?;
+    let Err(e) = m.dynamics()?.inverse_of(&m, &motion) else {
+        panic!("an infinite load is an error");
+    };
+    let message = e.to_string();
+    assert!(
+        message.contains("must be finite") && !message.contains("time"),
+        "{message}"
+    );
+    Ok(())
+}
+
+#[test]
+fn time_is_a_reserved_name() {
+    let text = RAMPED_WHEEL.replace("params   { j, k }", "params   { j, k, time }");
+    let message = match Model::compile(&text) {
+        Ok(_) => panic!("a parameter named `time` compiled"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        message.contains("`time` is the time of a forward simulation") && message.contains("2:22"),
+        "{message}"
+    );
+}
+
+#[test]
 fn time_outside_a_loads_value_is_an_error_at_its_token() {
     let cases = [
         (
             "points   { O = vec2(0.0, 0.0); P = polar(0.2, phi + time); }",
-            "a load's value",
+            "only in the value of a `force(…)`",
         ),
         (
             "bodies   { wheel(mass = time, center = O, angle = phi); }",
-            "a load's value",
+            "only in the value of a `force(…)`",
         ),
         (
             "bodies   { wheel(mass = 1.0, center = O, angle = phi + time); }",

@@ -115,6 +115,13 @@ impl Lowerer<'_> {
                 .g
                 .leaves_under(id)
                 .find(|l| !matches!(l, Leaf::Param(_)));
+            if moving == Some(Leaf::Time) {
+                // Unreachable while `time` lowers only where rates do; kept
+                // so that a constant can never read it.
+                self.errors
+                    .spanned(e, format!("{what} is a constant: it may not use `time`"));
+                return None;
+            }
             if let Some(Leaf::Q(j) | Leaf::Qd(j) | Leaf::Qdd(j)) = moving {
                 let name = self
                     .names

@@ -39,6 +39,7 @@ type Partials<M> = fn(
     &Dynamics,
     &M,
     &<M as Mechanism>::Motion,
+    f64,
 ) -> Result<Vec<crate::dynamics::EffortSensitivity>, Error>;
 
 impl Dynamics {
@@ -260,11 +261,10 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         t: f64,
         out: &mut [f64],
     ) -> Result<(), Error> {
-        let _ = t;
         let (Some(partials), Some(motion)) = (self.partials, &self.current) else {
             return Ok(());
         };
-        for (p, s) in partials(dynamics, self.m, motion)?.iter().enumerate() {
+        for (p, s) in partials(dynamics, self.m, motion, t)?.iter().enumerate() {
             for (k, e) in s.effort.iter().take(M::DRIVERS).enumerate() {
                 if let Some(slot) = out.get_mut(p * M::DRIVERS + k) {
                     *slot = *e;
@@ -281,7 +281,7 @@ impl<M: crate::tolerance::Sensitive, P: Profile<M::Coords>> Forward<'_, M, P> {
     /// `sensitivities` section ([`Sensitivities`](super::Sensitivities); see
     /// [`Trajectory::sensitivities`]), with the explicit method only.
     pub fn sensitivities(mut self) -> Self {
-        self.partials = Some(|d, m, motion| d.effort_sensitivities(m, motion));
+        self.partials = Some(|d, m, motion, t| d.effort_sensitivities_at(m, motion, t));
         self.parameters = M::PARAMETERS;
         self
     }

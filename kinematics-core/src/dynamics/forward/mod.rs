@@ -159,7 +159,11 @@ impl Event {
 
     /// The same event, counted only where the coordinate (or its rate)
     /// reaches the value while increasing: a crank passing an angle
-    /// forward, a speed reached on the way up.
+    /// forward, a speed reached on the way up. A value already reached at
+    /// the start counts from when the motion leaves it, whichever way it
+    /// leaves. On a stop ([`Event::stop`]) it makes a one-way stop: the
+    /// motion bounces off it coming from below and passes it coming from
+    /// above.
     ///
     /// ```
     /// use kinematics_core::dynamics::{Body, Dynamics, Ended, Event};
