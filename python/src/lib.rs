@@ -104,7 +104,8 @@ fn modes_text(modes: &[Mode]) -> Vec<&'static str> {
 /// design that shares the machine code.
 #[pyclass(frozen, module = "loopkin._native")]
 struct Model {
-    model: Runtime,
+    /// Shared with the sweeps made from it, which read it back.
+    model: std::sync::Arc<Runtime>,
     text: String,
 }
 
@@ -117,7 +118,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<Model> {
     let compiled = py.detach(move || Runtime::compile(&owned));
     match compiled {
         Ok(model) => Ok(Model {
-            model,
+            model: std::sync::Arc::new(model),
             text: text.to_owned(),
         }),
         Err(CompileError::Definition(d)) => {
@@ -274,7 +275,7 @@ impl Model {
     fn with_values(&self, py: Python<'_>, values: Vec<f64>) -> PyResult<Model> {
         let model = self.model.with_values(&values).map_err(|e| error(py, &e))?;
         Ok(Model {
-            model,
+            model: std::sync::Arc::new(model),
             text: self.text.clone(),
         })
     }

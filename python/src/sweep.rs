@@ -64,9 +64,11 @@ pub(crate) fn change_points(s: &str) -> PyResult<ChangePoints> {
 #[pyclass(frozen, module = "loopkin._native")]
 pub(crate) struct Sweep {
     pub(crate) columns: Columns,
-    pub(crate) arrays: Py<PyDict>,
+    /// The arrays of the data columns in the order of [`DATA`], then the
+    /// frames'.
+    pub(crate) arrays: Vec<Py<PyAny>>,
     pub(crate) rows: usize,
-    pub(crate) model: Runtime,
+    pub(crate) model: std::sync::Arc<Runtime>,
 }
 
 /// The names of the data columns, in the order of `Columns::take_data`.
@@ -85,7 +87,11 @@ impl Sweep {
     /// The sweep of `model` whose samples are `columns`: its data columns
     /// moved into numpy arrays (no copy), shaped as [`Sweep::columns`]
     /// gives them.
-    pub(crate) fn new(py: Python<'_>, mut columns: Columns, model: Runtime) -> PyResult<Self> {
+    pub(crate) fn new(
+        py: Python<'_>,
+        mut columns: Columns,
+        model: std::sync::Arc<Runtime>,
+    ) -> PyResult<Self> {
         let n = columns.rows();
         let nc = model.coordinates().len();
         let np = model.point_names().len();
@@ -96,7 +102,7 @@ impl Sweep {
             .iter()
             .flat_map(convert::frame_values)
             .collect();
-        let d = PyDict::new(py);
+        let mut arrays = Vec::with_capacity(DATA.len() + 1);
         for (key, v) in DATA.into_iter().zip(columns.take_data()) {
             let a = match key {
                 "q" | "qd" | "qdd" => shaped(py, v, vec![n, nc])?,
@@ -104,12 +110,12 @@ impl Sweep {
                 _ => array(py, v).into_any(),
             };
             // Read-only: they hold the sweep's data, which `full` reads.
-            d.set_item(key, frozen_any(a)?)?;
+            arrays.push(frozen_any(a)?.unbind());
         }
-        d.set_item("frames", frozen_any(shaped(py, frames, vec![n, nf, 24])?)?)?;
+        arrays.push(frozen_any(shaped(py, frames, vec![n, nf, 24])?)?.unbind());
         Ok(Self {
             columns,
-            arrays: d.unbind(),
+            arrays,
             rows: n,
             model,
         })
@@ -150,13 +156,9 @@ impl Sweep {
     /// what the tables, the CSV, the text, the animation and the
     /// deviations read.
     fn full(&self, py: Python<'_>) -> PyResult<Columns> {
-        let d = self.arrays.bind(py);
         let mut held = Vec::with_capacity(DATA.len());
-        for key in DATA {
-            let a = d
-                .get_item(key)?
-                .ok_or_else(|| PyValueError::new_err(format!("the column {key:?} is missing")))?;
-            held.push(a.cast_into::<numpy::PyArrayDyn<f64>>()?.readonly());
+        for a in &self.arrays[..DATA.len()] {
+            held.push(a.bind(py).cast::<numpy::PyArrayDyn<f64>>()?.readonly());
         }
         let mut data: [&[f64]; 8] = [&[]; 8];
         for (slot, a) in data.iter_mut().zip(&held) {
@@ -183,8 +185,12 @@ impl Sweep {
     /// acceleration, ω, α), "conditioning", "det_sign", "residual" (n).
     /// The same arrays at every call: they hold the sweep's data (made
     /// read-only by the Python class that wraps them).
-    fn columns<'py>(&self, py: Python<'py>) -> Bound<'py, PyDict> {
-        self.arrays.bind(py).clone()
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (key, a) in DATA.iter().chain(&["frames"]).zip(&self.arrays) {
+            d.set_item(key, a.bind(py))?;
+        }
+        Ok(d)
     }
 
     /// What the Python `Sweep` is made of, in one call: the arrays of
@@ -196,24 +202,17 @@ impl Sweep {
         &self,
         py: Python<'py>,
     ) -> PyResult<(Vec<Bound<'py, PyAny>>, Option<Bound<'py, PyDict>>, Vec<f64>)> {
-        let d = self.arrays.bind(py);
-        let arrays = [
-            "at",
-            "q",
-            "qd",
-            "qdd",
-            "points",
-            "frames",
-            "conditioning",
-            "det_sign",
-            "residual",
-        ]
-        .iter()
-        .map(|k| {
-            d.get_item(k)?
-                .ok_or_else(|| PyValueError::new_err(format!("the column {k:?} is missing")))
-        })
-        .collect::<PyResult<Vec<_>>>()?;
+        // DATA's order with the frames moved after the points.
+        let order = [0, 1, 2, 3, 4, 8, 5, 6, 7];
+        let arrays = order
+            .iter()
+            .map(|&i| {
+                self.arrays
+                    .get(i)
+                    .map(|a| a.bind(py).clone())
+                    .ok_or_else(|| PyValueError::new_err("a column of the sweep is missing"))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
         Ok((
             arrays,
             stop_dict(py, self.columns.stop.as_ref())?,

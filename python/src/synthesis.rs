@@ -69,7 +69,7 @@ pub(crate) fn synthesize<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let spec = read_spec(spec)?;
-    let m = &model.model;
+    let m: &Runtime = &model.model;
     let mut search = spec.search(m, &start).map_err(|e| error(py, &e))?;
     if let Some(callback) = progress {
         search = search.progress(move |p: &Progress| {

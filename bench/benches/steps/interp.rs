@@ -96,6 +96,8 @@ impl Interp {
                 Node::Leaf(Leaf::Q(k)) => q[k as usize],
                 Node::Leaf(Leaf::Qd(k)) => qd[k as usize],
                 Node::Leaf(Leaf::Qdd(k)) => qdd[k as usize],
+                // A kinematic graph never reads the time (only loads do).
+                Node::Leaf(Leaf::Time) => f64::NAN,
                 Node::Add(a, b) => v(a) + v(b),
                 Node::Mul(a, b) => v(a) * v(b),
                 Node::Div(a, b) => v(a) / v(b),
