@@ -2,9 +2,10 @@
 package against the same work done in Rust through the same run-time
 model (`cargo run --release -p kinematics-bench --bin parity`, which this
 script runs), alternated: a round of the Rust program, then the same calls
-from Python, three times. Each side's time is the median of its rounds
-(thread CPU time; the batch's in process CPU time, on every core); the
-ratio Python / Rust is printed per alternation, with its range.
+from Python, three times. Each side's time is the median of its rounds of
+200 calls (thread CPU time; the batch's, one call a round, in process CPU
+time, on every core); the ratio Python / Rust is printed per alternation,
+with its range.
 
     pip install ./python
     cargo build --release -p kinematics-bench --bin parity
@@ -32,13 +33,15 @@ MECHANISMS = ROOT / "examples" / "mechanisms"
 RUST = ROOT / "target" / "release" / "parity"
 
 
-def median(rounds, clock, f):
+def median(rounds, clock, f, calls=200):
+    """µs a call: the median of `rounds` rounds of `calls` calls."""
     f()
     t = []
     for _ in range(rounds):
         t0 = clock()
-        f()
-        t.append((clock() - t0) / 1000)
+        for _ in range(calls):
+            f()
+        t.append((clock() - t0) / 1000 / calls)
     return statistics.median(t)
 
 
@@ -71,7 +74,7 @@ def python_round(rounds=9):
         res = m.batch(params, start=start, sweep=sweep, outputs=["C", "C.velocity", "C.acceleration"])
         assert bool(res.ok.all())
 
-    out["four-bar batch 10000x360"] = median(min(rounds, 5), time.process_time_ns, batch)
+    out["four-bar batch 10000x360"] = median(min(rounds, 5), time.process_time_ns, batch, calls=1)
     return out
 
 

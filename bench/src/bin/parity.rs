@@ -9,8 +9,8 @@
 //! batch of 10⁴ designs (crank, coupler and rocker drawn at random) over
 //! one turn of 360 positions keeping C's position, velocity and
 //! acceleration at every sample. Prints one line per call, `name µs`,
-//! the median of `rounds` rounds (thread CPU time; the batch's in
-//! process CPU time, on every core).
+//! the median of `rounds` rounds of 200 calls (thread CPU time; the
+//! batch's, one call a round, in process CPU time, on every core).
 //!
 //! ```text
 //! cargo run --release -p kinematics-bench --bin parity [rounds]
@@ -35,14 +35,17 @@ fn load(file: &str, values: &[f64]) -> Model {
         .expect("the values")
 }
 
-/// The median over `rounds` of `f`'s time (µs), by `clock` (ns).
-fn median(rounds: usize, clock: fn() -> f64, mut f: impl FnMut()) -> f64 {
+/// The median over `rounds` of `f`'s time (µs a call, `calls` calls a
+/// round), by `clock` (ns).
+fn median(rounds: usize, calls: u32, clock: fn() -> f64, mut f: impl FnMut()) -> f64 {
     f();
     let mut t: Vec<f64> = (0..rounds)
         .map(|_| {
             let t0 = clock();
-            f();
-            (clock() - t0) * 1e-3
+            for _ in 0..calls {
+                f();
+            }
+            (clock() - t0) * 1e-3 / f64::from(calls)
         })
         .collect();
     t.sort_by(f64::total_cmp);
@@ -126,10 +129,10 @@ fn main() {
             .assemble_all(&guess)
             .find_map(|(_, p)| p.ok())
             .expect("an assembly");
-        let s = median(rounds, thread, || {
+        let s = median(rounds, 200, thread, || {
             black_box(sweep(m, &start));
         });
-        let p = median(rounds, thread, || {
+        let p = median(rounds, 200, thread, || {
             black_box(poses(m, &start));
         });
         println!("{name} sweep 360 {s:.2}");
@@ -185,7 +188,7 @@ fn main() {
         &Options::DEFAULT,
     )
     .expect("a batch");
-    let b = median(rounds.min(5), kinematics_bench::process_cpu_ns, || {
+    let b = median(rounds.min(5), 1, kinematics_bench::process_cpu_ns, || {
         black_box(batch.run(&rows));
     });
     println!("four-bar batch 10000x360 {b:.2}");
