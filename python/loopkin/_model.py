@@ -681,6 +681,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         outputs: Optional[Iterable[str]] = None,
         options: Optional[Options] = None,
         reduce: Optional[str] = None,
+        positions_only: bool = False,
     ) -> "Batch":
         """Runs many designs on every core, in native code with the
         interpreter released.
@@ -702,6 +703,12 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         ``reduce`` keeps one value per design instead of every sample:
         ``"max"`` or ``"min"`` of each component over the samples, or
         ``"peak"``, the largest magnitude (the norm of a point's vector).
+
+        ``positions_only=True`` assembles each sample and evaluates the
+        points' positions alone, as :meth:`poses` does (no rates,
+        accelerations or conditioning, a change point passed on the branch
+        the closed forms carry): coupler curves at the cost of a pose. The
+        outputs are then coordinates and points' positions only.
 
         Returns a :class:`Batch` whose arrays have a row per design (and a
         column per sample of a sweep, unless reduced); a design that stops
@@ -765,6 +772,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
             [k for _, k in kept],
             _opts(options),
             reduce,
+            bool(positions_only),
         )
         return Batch(table, names, [name for name, _ in kept], d)
 

@@ -94,6 +94,7 @@ class Model:
         outputs: Sequence[Tuple[str, int]],
         opts: Optional[_Options],
         reduce: Optional[str],
+        positions_only: bool = ...,
     ) -> Dict[str, Any]: ...
 
 class Sweep:

@@ -672,6 +672,7 @@ impl Model {
     /// per parameter) on every core: `kinematics_core::runtime::Batch`. The arguments are
     /// those of `Mechanism.batch` in the Python layer, one for one.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    #[pyo3(signature = (values, start, rates, accelerations, sweep, outputs, opts, reduce, positions_only=false))]
     fn batch<'py>(
         &self,
         py: Python<'py>,
@@ -683,6 +684,7 @@ impl Model {
         outputs: Vec<(String, usize)>,
         opts: Option<OptionsTuple>,
         reduce: Option<String>,
+        positions_only: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(py, opts.as_ref())?;
         let reduce = batch::reduce(reduce.as_deref())?;
@@ -733,9 +735,12 @@ impl Model {
             .iter()
             .map(|(kind, i)| batch::output(kind, *i))
             .collect::<PyResult<Vec<_>>>()?;
-        let job = Batch::new(&self.model, &start, &rates, &accelerations, spec, &kept, &o)
+        let mut job = Batch::new(&self.model, &start, &rates, &accelerations, spec, &kept, &o)
             .map_err(|e| error(py, &e))?
             .reduced(reduce);
+        if positions_only {
+            job = job.positions_only().map_err(|e| error(py, &e))?;
+        }
         // The table copied before the interpreter is released: no other
         // thread can change it under the batch.
         // A model without parameters takes a row of one (unread) value

@@ -279,6 +279,22 @@ def test_a_reduced_batch_keeps_each_designs_extremes(four_bar):
         four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["th3"], reduce="mean")
 
 
+def test_a_batch_of_positions_only_is_each_designs_poses(four_bar):
+    rng = np.random.default_rng(5)
+    n = 12
+    a = rng.uniform(0.03, 0.05, n)
+    start = four_bar.assemble_all(phi=0.0)[0]
+    sweep = dict(driver="phi", turn=True, steps=90)
+    res = four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["th3", "P"], positions_only=True)
+    assert bool(res.ok.all()) and res["P"].shape == (n, 90, 2)
+    for k in range(n):
+        poses = four_bar.replace(a=a[k]).poses("phi", start=start, turn=True, steps=90)
+        assert np.array_equal(res["th3"][k], poses["th3"])
+        assert np.array_equal(res["P"][k], poses.point("P").position)
+    with pytest.raises(kin.InvalidOptionError, match="a point's position"):
+        four_bar.batch({"a": a}, start=start, sweep=sweep, outputs=["P.velocity"], positions_only=True)
+
+
 def test_designs_and_classes_pickle_as_their_text(FourBar, four_bar):
     again = pickle.loads(pickle.dumps(four_bar))
     assert again == four_bar and type(again) is FourBar

@@ -351,3 +351,76 @@ fn a_reduced_batch_keeps_the_extremes_of_every_design() {
     let r = batch(Reduce::Peak).run(&[0.1, f64::NAN]);
     assert!(r.output(&batch(Reduce::Peak), 0, 0)[0].is_nan());
 }
+
+#[test]
+fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
+    let m = Model::compile(SLIDER_CRANK).expect("it compiles");
+    let start = [0.0, 0.0, 0.3];
+    let c = m.point_names().iter().position(|p| *p == "C").expect("C");
+    let batch = Batch::new(
+        &m,
+        &start,
+        &[1.0],
+        &[0.0],
+        Some(turn(360, ChangePoints::Stop)),
+        &[Output::Coordinate(2), Output::Position(c)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch")
+    .positions_only()
+    .expect("positions only");
+    // 50 designs that turn, and one whose rod is shorter than its crank
+    // (a limit position where a sin φ = b).
+    let mut designs: Vec<[f64; 2]> = (0..50)
+        .map(|k| [0.05 + 0.001 * k as f64, 0.2 + 0.002 * k as f64])
+        .collect();
+    designs.push([0.1, 0.05]);
+    let flat: Vec<f64> = designs.iter().flatten().copied().collect();
+    let results = batch.run(&flat);
+    for (d, &[a, b]) in designs.iter().enumerate() {
+        // The same as the design's own sweep of poses, value for value.
+        let own = m.with_values(&[a, b]).expect("the values");
+        let (mut xs, mut cs) = (Vec::new(), Vec::new());
+        let end = own
+            .sweep("phi", &start)
+            .expect("a sweep")
+            .turns(1.0)
+            .steps(360)
+            .for_each_pose(|_, q, r| {
+                xs.push(q[2]);
+                cs.extend_from_slice(&r[2 * c..2 * c + 2]);
+            });
+        assert_eq!(results.samples[d], xs.len(), "design {d}");
+        assert_eq!(results.early[d].is_some(), end.stop.is_some(), "design {d}");
+        let (x, p) = (results.output(&batch, d, 0), results.output(&batch, d, 1));
+        assert_eq!(&x[..xs.len()], &xs[..], "design {d}");
+        assert_eq!(&p[..cs.len()], &cs[..], "design {d}");
+        if d < 50 {
+            assert_eq!(xs.len(), 360);
+            for (k, x) in xs.iter().enumerate() {
+                let phi = std::f64::consts::TAU * k as f64 / 360.0;
+                let want = a * phi.cos() + (b * b - a * a * phi.sin().powi(2)).sqrt();
+                assert!((x - want).abs() < 1e-14, "design {d}, φ = {phi}");
+            }
+        }
+    }
+    // It stops at the limit, a sin φ = b: φ = 30°.
+    let short = results.samples[50];
+    assert!((30..=31).contains(&short), "{short}");
+    // A rate is not a position: refused, with what it may keep.
+    let refused = Batch::new(
+        &m,
+        &start,
+        &[1.0],
+        &[0.0],
+        Some(turn(360, ChangePoints::Stop)),
+        &[Output::Coordinate(2), Output::Velocity(c)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch")
+    .positions_only();
+    let Err(Error::InvalidOption { requirement, .. }) = refused else {
+        panic!("a velocity in a batch of positions only");
+    };
+    assert!(requirement.contains("a point's position"), "{requirement}");
+}

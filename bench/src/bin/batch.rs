@@ -17,6 +17,12 @@
 //! count and stops. Interleaved rounds, process CPU time; the median
 //! ratio and the range of the rounds are printed. The results of the two
 //! are first checked equal (to 1e-12 of the largest value).
+//!
+//! Then positions only: the same designs, each posed over the turn by
+//! the stepper's `pose` and `positions` (the point's position copied
+//! into the design's array), against the batch of positions only
+//! ([`Batch::positions_only`]) keeping the point's position, checked
+//! equal first and timed the same way.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::cast_precision_loss)]
 
@@ -256,6 +262,7 @@ fn main() {
             median(&mut batches),
             median(&mut ratios),
         );
+        poses_study(&study, &pool, rounds);
         println!(
             "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12): \
              step_flat {rs:.1} ns ({:.1}–{:.1}), batch {rb:.1} ns ({:.1}–{:.1}) per position; \
@@ -270,4 +277,96 @@ fn main() {
             range(&ratios).1,
         );
     }
+}
+
+/// The reference of positions only: each design posed by the stepper,
+/// the point's position kept (NaN past a failed pose).
+fn by_poses(s: &Study, out: &mut [f64]) {
+    let dim = s.model.point_dimension();
+    let width = s.model.parameters().len();
+    let at = s.point * dim;
+    let mut m = s.model.clone();
+    let mut r = vec![0.0; m.point_names().len() * dim];
+    for (d, kept) in out.chunks_mut(STEPS * dim).enumerate() {
+        m.set_values(&s.designs[d * width..(d + 1) * width])
+            .unwrap();
+        let mut stepper = m.stepper(&Options::DEFAULT).unwrap();
+        let mut q = s.start.clone();
+        let phi0 = q[0];
+        for (k, row) in kept.chunks_mut(dim).enumerate() {
+            q[0] = phi0 + TAU * k as f64 / STEPS as f64;
+            let Ok(p) = stepper.pose(&q) else {
+                break;
+            };
+            q.copy_from_slice(p);
+            if stepper.positions(&mut r).is_err() {
+                break;
+            }
+            row.copy_from_slice(&r[at..at + dim]);
+        }
+    }
+}
+
+/// Positions only: the stepper's poses against the batch of positions
+/// only, checked equal on the designs that turn, then timed.
+fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
+    let dim = study.model.point_dimension();
+    let batch = Batch::new(
+        &study.model,
+        &study.start,
+        &[1.0],
+        &[0.0],
+        Some(BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: STEPS,
+            change_points: ChangePoints::Stop,
+        }),
+        &[Output::Position(study.point)],
+        &Options::DEFAULT,
+    )
+    .unwrap()
+    .positions_only()
+    .unwrap();
+    let mut reference = vec![f64::NAN; study.count * STEPS * dim];
+    by_poses(study, &mut reference);
+    let results = pool.install(|| batch.run(&study.designs));
+    let mut compared = 0;
+    for d in (0..study.count).filter(|&d| results.early[d].is_none()) {
+        let want = &reference[d * STEPS * dim..(d + 1) * STEPS * dim];
+        for (x, y) in results.output(&batch, d, 0).iter().zip(want) {
+            assert!(
+                (x - y).abs() <= 1e-12 * (1.0 + y.abs()),
+                "design {d}: {x} against {y}"
+            );
+        }
+        compared += 1;
+    }
+    let positions = (study.count * STEPS) as f64;
+    let (mut poses, mut batches, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let t0 = process_cpu_ns();
+        by_poses(study, &mut reference);
+        let t1 = process_cpu_ns();
+        let r = pool.install(|| batch.run(black_box(&study.designs)));
+        let t2 = process_cpu_ns();
+        black_box((&reference, r));
+        let (p, b) = ((t1 - t0) / positions, (t2 - t1) / positions);
+        poses.push(p);
+        batches.push(b);
+        ratios.push(b / p);
+    }
+    for v in [&mut poses, &mut batches, &mut ratios] {
+        v.sort_by(f64::total_cmp);
+    }
+    let m = |v: &[f64]| (v[v.len() / 2], v[0], v[v.len() - 1]);
+    let ((p, p0, p1), (b, b0, b1), (r, r0, r1)) = (m(&poses), m(&batches), m(&ratios));
+    println!(
+        "{}, positions only ({compared} turn fully, equal to 1e-12): pose {p:.1} ns \
+         ({p0:.1}–{p1:.1}), batch {b:.1} ns ({b0:.1}–{b1:.1}) per position; batch / pose \
+         {r:.3} ({r0:.3}–{r1:.3})",
+        study.name
+    );
 }

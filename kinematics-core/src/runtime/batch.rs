@@ -8,7 +8,10 @@
 //! stepper's arrays straight into the design's record of the result (no
 //! collection per design, no second copy), and the sweep is the one
 //! sweep driver, so that a design's samples, stop and change points are
-//! those of [`Model::sweep`] with its values.
+//! those of [`Model::sweep`] with its values. A batch of positions only
+//! ([`Batch::positions_only`]) assembles each sample as
+//! [`SweepBuilder::for_each_pose`](super::SweepBuilder::for_each_pose)
+//! does, with no velocity or acceleration analysis.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -113,6 +116,8 @@ enum From {
     Qdd,
     Outputs,
     Conditioning,
+    /// The points' positions of a pose (positions only).
+    Positions,
 }
 
 /// An output as copied: `width` values from `at` in the arrays of `from`
@@ -176,6 +181,8 @@ pub struct Batch<'m> {
     samples: usize,
     reduce: Reduce,
     record: usize,
+    /// Positions only ([`Batch::positions_only`]).
+    poses: bool,
 }
 
 /// The results of a batch: the designs' records one after the other
@@ -294,9 +301,50 @@ impl<'m> Batch<'m> {
             samples,
             reduce: Reduce::Samples,
             record: 0,
+            poses: false,
         };
         batch.lay_out();
         Ok(batch)
+    }
+
+    /// The batch of positions only: each sample assembled from the last
+    /// (the closed-form blocks in the start's modes) and the points'
+    /// positions evaluated, with no rates, accelerations or conditioning,
+    /// as [`SweepBuilder::for_each_pose`](super::SweepBuilder::for_each_pose)
+    /// sweeps: what coupler curves and data sets of paths need, at the
+    /// cost of a pose rather than of a step. A sweep then stops only
+    /// where the mechanism does not assemble (a limit position): a change
+    /// point is passed on the branch the closed forms carry.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when an output is not a coordinate's value
+    /// or a point's position.
+    pub fn positions_only(mut self) -> Result<Self, Error> {
+        let dim = self.model.point_dim;
+        for (k, s) in self.slots.iter_mut().enumerate() {
+            match s.from {
+                From::Q | From::Positions => {}
+                // A point's position lies at 3 i dim among the outputs,
+                // at i dim among a pose's positions.
+                From::Outputs if s.at % (3 * dim) == 0 => {
+                    s.from = From::Positions;
+                    s.at /= 3;
+                }
+                _ => {
+                    #[allow(clippy::cast_precision_loss)]
+                    let value = k as f64;
+                    return Err(Error::InvalidOption {
+                        name: crate::names::intern("output of a batch of positions only"),
+                        value,
+                        requirement: "must be a coordinate's value or a point's position (a \
+                                      batch of positions only has no rates, accelerations or \
+                                      conditioning)",
+                    });
+                }
+            }
+        }
+        self.poses = true;
+        Ok(self)
     }
 
     /// The batch keeping `reduce` of each output over a design's samples
@@ -420,6 +468,9 @@ impl<'m> Batch<'m> {
             reduce: self.reduce,
             scratch: Vec::new(),
         };
+        if self.poses {
+            return self.poses_of(model, &mut keep);
+        }
         let Some(s) = &self.sweep else {
             // One step, as `Model::step` takes it.
             return match model.step(&self.start, &self.rates, &self.accelerations) {
@@ -452,6 +503,47 @@ impl<'m> Batch<'m> {
         let end = builder.drive(&mut keep);
         (keep.row, end.stop.map(Early::Stopped))
     }
+
+    /// [`Batch::design`] of positions only: the sweep's poses, or the one
+    /// pose at the start.
+    fn poses_of(&self, model: &Model, keep: &mut Keep<'_>) -> (usize, Option<Early>) {
+        let put = |keep: &mut Keep<'_>, q: &[f64], r: &[f64]| {
+            keep.put_from(|s| match s.from {
+                From::Positions => (r, s.at),
+                _ => (q, s.at),
+            });
+        };
+        let Some(s) = &self.sweep else {
+            let mut stepper = match model.stepper(&self.options) {
+                Ok(stepper) => stepper,
+                Err(e) => return (0, Some(Early::Failed(e))),
+            };
+            let mut r = vec![0.0; model.points.len() * model.point_dim];
+            let pose = stepper.pose(&self.start).map(<[f64]>::to_vec);
+            return match pose.and_then(|q| stepper.positions(&mut r).map(|()| q)) {
+                Ok(q) => {
+                    put(keep, &q, &r);
+                    (1, None)
+                }
+                Err(e) => (0, Some(Early::Failed(e))),
+            };
+        };
+        let name = model.coordinates[s.driver].name;
+        let mut builder = match model.sweep(name, &self.start) {
+            Ok(b) => b.steps(s.steps).options(&self.options),
+            Err(e) => return (0, Some(Early::Failed(e))),
+        };
+        if let Some(f) = s.from {
+            builder = builder.from(f);
+        }
+        builder = match (s.to, s.turns) {
+            (Some(t), _) => builder.to(t),
+            (None, Some(n)) => builder.turns(n),
+            (None, None) => builder,
+        };
+        let end = builder.for_each_pose(|_, q, r| put(keep, q, r));
+        (keep.row, end.stop.map(Early::Stopped))
+    }
 }
 
 /// Copies each sample's outputs into a design's record.
@@ -478,6 +570,9 @@ impl Keep<'_> {
                 From::Qdd => f.qdd,
                 From::Outputs => f.outputs,
                 From::Conditioning => core::slice::from_ref(&f.conditioning),
+                // Only a batch of positions only has them, which takes
+                // no step.
+                From::Positions => &[],
             };
             (from, s.at)
         });
@@ -495,6 +590,8 @@ impl Keep<'_> {
                 From::Qdd => at.qdd,
                 From::Outputs => at.out,
                 From::Conditioning => at.conditioning,
+                // As in `put`: none in a step.
+                From::Positions => return (&[], 0),
             };
             (buffer, base + s.at)
         });
