@@ -27,6 +27,32 @@ pub fn process_cpu_ns() -> f64 {
     cpu_ns(libc::CLOCK_PROCESS_CPUTIME_ID)
 }
 
+/// The run-time model of the example definition `file` of
+/// `examples/mechanisms/` with the parameter values `values`.
+///
+/// # Panics
+/// If the file cannot be read, does not compile, or the values are not
+/// the model's (a benchmark's set-up that must not fail).
+#[must_use]
+#[allow(clippy::expect_used)]
+pub fn example_model(file: &str, values: &[f64]) -> kinematics_core::runtime::Model {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/");
+    let text = std::fs::read_to_string(format!("{root}{file}")).expect("the example");
+    kinematics_core::runtime::Model::compile(&text)
+        .expect("compiled")
+        .with_values(values)
+        .expect("the values")
+}
+
+/// The median, the least and the largest of `v` (sorted in place).
+///
+/// # Panics
+/// If `v` is empty.
+pub fn spread(v: &mut [f64]) -> (f64, f64, f64) {
+    v.sort_by(f64::total_cmp);
+    (v[v.len() / 2], v[0], v[v.len() - 1])
+}
+
 /// The CPU-time clock `clock`, in nanoseconds.
 #[allow(unsafe_code)]
 fn cpu_ns(clock: libc::clockid_t) -> f64 {

@@ -141,18 +141,7 @@ def measure(name, pyl, ours, turns, rounds, omega=10.0):
         "pylinkage kinematics": lambda: pyl.kinematics(n, omega),
         "loopkin sweep": lambda: m.sweep(driver, start=start, from_=th0, turns=turns, steps=n, rate=omega),
     }
-    times = {k: [] for k in variants}
-    for _ in range(rounds):
-        for k, f in variants.items():
-            t0 = time.thread_time_ns()
-            f()
-            times[k].append((time.thread_time_ns() - t0) / n)
-    print(f"\n{name}: ns per position, median (range) over {rounds} rounds of {turns} turns")
-    for k, v in times.items():
-        print(f"  {k:22s} {statistics.median(v):8.1f}  ({min(v):.1f}–{max(v):.1f})")
-    for ours_k, theirs_k in (("loopkin poses", "pylinkage positions"), ("loopkin sweep", "pylinkage kinematics")):
-        r = [t / u for u, t in zip(times[ours_k], times[theirs_k])]
-        print(f"  pylinkage / loopkin, {ours_k.split()[1]:6s}: {statistics.median(r):.2f}× ({min(r):.2f}–{max(r):.2f})")
+    report(f"{name}, {turns} turns of {STEPS} positions a call", variants, rounds, n)
 
 
 def measure_turn(name, pyl_turn, ours, rounds, omega=10.0):

@@ -238,44 +238,24 @@ fn main() {
                 compared += 1;
             }
         }
-        let positions = (study.count * STEPS) as f64;
-        let (mut ratios, mut steps, mut batches) = (Vec::new(), Vec::new(), Vec::new());
-        for _ in 0..rounds {
-            let t0 = process_cpu_ns();
-            by_stepper(&study, omega, &mut reference);
-            let t1 = process_cpu_ns();
-            let r = pool.install(|| batch.run(black_box(&study.designs)));
-            let t2 = process_cpu_ns();
-            black_box((&reference, r));
-            let (s, b) = ((t1 - t0) / positions, (t2 - t1) / positions);
-            steps.push(s);
-            batches.push(b);
-            ratios.push(b / s);
-        }
-        let median = |v: &mut Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        };
-        let range = |v: &Vec<f64>| (v[0], v[v.len() - 1]);
-        let (rs, rb, rr) = (
-            median(&mut steps),
-            median(&mut batches),
-            median(&mut ratios),
+        let [(rs, s0, s1), (rb, b0, b1), (rr, r0, r1)] = interleaved(
+            rounds,
+            (study.count * STEPS) as f64,
+            || {
+                by_stepper(&study, omega, &mut reference);
+                black_box(&reference);
+            },
+            || {
+                black_box(pool.install(|| batch.run(black_box(&study.designs))));
+            },
         );
-        poses_study(&study, &pool, rounds);
         println!(
             "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12): \
-             step_flat {rs:.1} ns ({:.1}–{:.1}), batch {rb:.1} ns ({:.1}–{:.1}) per position; \
-             batch / step_flat {rr:.3} ({:.3}–{:.3}) over {rounds} rounds",
-            study.name,
-            study.count,
-            range(&steps).0,
-            range(&steps).1,
-            range(&batches).0,
-            range(&batches).1,
-            range(&ratios).0,
-            range(&ratios).1,
+             step_flat {rs:.1} ns ({s0:.1}–{s1:.1}), batch {rb:.1} ns ({b0:.1}–{b1:.1}) per \
+             position; batch / step_flat {rr:.3} ({r0:.3}–{r1:.3}) over {rounds} rounds",
+            study.name, study.count,
         );
+        poses_study(&study, &pool, rounds);
     }
 }
 
@@ -344,29 +324,45 @@ fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
         }
         compared += 1;
     }
-    let positions = (study.count * STEPS) as f64;
-    let (mut poses, mut batches, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..rounds {
-        let t0 = process_cpu_ns();
-        by_poses(study, &mut reference);
-        let t1 = process_cpu_ns();
-        let r = pool.install(|| batch.run(black_box(&study.designs)));
-        let t2 = process_cpu_ns();
-        black_box((&reference, r));
-        let (p, b) = ((t1 - t0) / positions, (t2 - t1) / positions);
-        poses.push(p);
-        batches.push(b);
-        ratios.push(b / p);
-    }
-    for v in [&mut poses, &mut batches, &mut ratios] {
-        v.sort_by(f64::total_cmp);
-    }
-    let m = |v: &[f64]| (v[v.len() / 2], v[0], v[v.len() - 1]);
-    let ((p, p0, p1), (b, b0, b1), (r, r0, r1)) = (m(&poses), m(&batches), m(&ratios));
+    let [(p, p0, p1), (b, b0, b1), (r, r0, r1)] = interleaved(
+        rounds,
+        (study.count * STEPS) as f64,
+        || {
+            by_poses(study, &mut reference);
+            black_box(&reference);
+        },
+        || {
+            black_box(pool.install(|| batch.run(black_box(&study.designs))));
+        },
+    );
     println!(
         "{}, positions only ({compared} turn fully, equal to 1e-12): pose {p:.1} ns \
          ({p0:.1}–{p1:.1}), batch {b:.1} ns ({b0:.1}–{b1:.1}) per position; batch / pose \
          {r:.3} ({r0:.3}–{r1:.3})",
         study.name
     );
+}
+
+/// `rounds` interleaved rounds of `reference` then `batch` (process CPU
+/// time, ns per position over `positions`): the median and range of
+/// each, and of their ratio batch / reference.
+fn interleaved(
+    rounds: usize,
+    positions: f64,
+    mut reference: impl FnMut(),
+    mut batch: impl FnMut(),
+) -> [(f64, f64, f64); 3] {
+    let (mut a, mut b, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let t0 = process_cpu_ns();
+        reference();
+        let t1 = process_cpu_ns();
+        batch();
+        let t2 = process_cpu_ns();
+        let (x, y) = ((t1 - t0) / positions, (t2 - t1) / positions);
+        a.push(x);
+        b.push(y);
+        ratios.push(y / x);
+    }
+    [&mut a, &mut b, &mut ratios].map(|v| kinematics_bench::spread(v))
 }

@@ -26,15 +26,6 @@ use kinematics_core::runtime::{Batch, BatchSweep, Model, Output};
 use kinematics_core::sweep::ChangePoints;
 use kinematics_core::Options;
 
-fn load(file: &str, values: &[f64]) -> Model {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/");
-    let text = std::fs::read_to_string(format!("{root}{file}")).expect("the example");
-    Model::compile(&text)
-        .expect("compiled")
-        .with_values(values)
-        .expect("the values")
-}
-
 /// The median over `rounds` of `f`'s time (µs a call, `calls` calls a
 /// round), by `clock` (ns).
 fn median(rounds: usize, calls: u32, clock: fn() -> f64, mut f: impl FnMut()) -> f64 {
@@ -116,8 +107,9 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(9);
-    let four_bar = load("four_bar.mech", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
-    let strider = load(
+    let four_bar =
+        kinematics_bench::example_model("four_bar.mech", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
+    let strider = kinematics_bench::example_model(
         "strider.mech",
         &[2.0, FRAC_PI_4, 1.8, 2.6, 1.4, PI + 0.2, 2.5, 1.8],
     );

@@ -16,29 +16,15 @@
 use std::f64::consts::TAU;
 use std::hint::black_box;
 
-use kinematics_core::runtime::Model;
 use kinematics_core::Options;
 
 const STEPS: usize = 3600;
 
-fn load(file: &str, values: &[f64]) -> Model {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/mechanisms/");
-    let text = std::fs::read_to_string(format!("{root}{file}")).expect("the example");
-    Model::compile(&text)
-        .expect("compiled")
-        .with_values(values)
-        .expect("the values")
-}
-
-fn median(mut v: Vec<f64>) -> (f64, f64, f64) {
-    v.sort_by(f64::total_cmp);
-    (v[v.len() / 2], v[0], v[v.len() - 1])
-}
-
 fn main() {
     use std::f64::consts::{FRAC_PI_4, PI};
-    let four_bar = load("four_bar.mech", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
-    let strider = load(
+    let four_bar =
+        kinematics_bench::example_model("four_bar.mech", &[0.04, 0.12, 0.10, 0.11, 0.06, 0.5]);
+    let strider = kinematics_bench::example_model(
         "strider.mech",
         &[2.0, FRAC_PI_4, 1.8, 2.6, 1.4, PI + 0.2, 2.5, 1.8],
     );
@@ -99,15 +85,15 @@ fn main() {
             }
             fixed.push((kinematics_bench::thread_cpu_ns() - t0) / 1000.0);
         }
-        let (c, c0, c1) = median(fixed);
+        let (c, c0, c1) = kinematics_bench::spread(&mut fixed);
         println!(
             "{name:9} a sweep of one step: {:.2} µs ({:.2}–{:.2})",
             c * 1e-3,
             c0 * 1e-3,
             c1 * 1e-3
         );
-        let (a, a0, a1) = median(raw);
-        let (b, b0, b1) = median(swept);
+        let (a, a0, a1) = kinematics_bench::spread(&mut raw);
+        let (b, b0, b1) = kinematics_bench::spread(&mut swept);
         println!(
             "{name:9} pose + positions {a:6.1} ns ({a0:.1}–{a1:.1}), for_each_pose {b:6.1} ns \
              ({b0:.1}–{b1:.1}): {:.2}×",
