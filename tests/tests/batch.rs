@@ -357,18 +357,20 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
     let m = Model::compile(SLIDER_CRANK).expect("it compiles");
     let start = [0.0, 0.0, 0.3];
     let c = m.point_names().iter().position(|p| *p == "C").expect("C");
-    let batch = Batch::new(
-        &m,
-        &start,
-        &[1.0],
-        &[0.0],
-        Some(turn(360, ChangePoints::Stop)),
-        &[Output::Coordinate(2), Output::Position(c)],
-        &Options::DEFAULT,
-    )
-    .expect("a valid batch")
-    .positions_only()
-    .expect("positions only");
+    let of = |second: Output| {
+        Batch::new(
+            &m,
+            &start,
+            &[1.0],
+            &[0.0],
+            Some(turn(360, ChangePoints::Stop)),
+            &[Output::Coordinate(2), second],
+            &Options::DEFAULT,
+        )
+        .expect("a valid batch")
+        .positions_only()
+    };
+    let batch = of(Output::Position(c)).expect("positions only");
     // 50 designs that turn, and one whose rod is shorter than its crank
     // (a limit position where a sin φ = b).
     let mut designs: Vec<[f64; 2]> = (0..50)
@@ -408,18 +410,7 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
     let short = results.samples[50];
     assert!((30..=31).contains(&short), "{short}");
     // A rate is not a position: refused, with what it may keep.
-    let refused = Batch::new(
-        &m,
-        &start,
-        &[1.0],
-        &[0.0],
-        Some(turn(360, ChangePoints::Stop)),
-        &[Output::Coordinate(2), Output::Velocity(c)],
-        &Options::DEFAULT,
-    )
-    .expect("a valid batch")
-    .positions_only();
-    let Err(Error::InvalidOption { requirement, .. }) = refused else {
+    let Err(Error::InvalidOption { requirement, .. }) = of(Output::Velocity(c)) else {
         panic!("a velocity in a batch of positions only");
     };
     assert!(requirement.contains("a point's position"), "{requirement}");

@@ -137,6 +137,12 @@ fn strider(count: usize) -> Study {
 /// The batch of `study`: every design over a turn of `STEPS` positions
 /// at `omega`, its point's acceleration kept.
 fn turns(study: &Study, omega: f64) -> Batch<'_> {
+    turn_keeping(study, omega, Output::PointAcceleration(study.point))
+}
+
+/// A turn of [`STEPS`] positions of each design at `omega`, keeping
+/// `output`.
+fn turn_keeping(study: &Study, omega: f64, output: Output) -> Batch<'_> {
     let sweep = BatchSweep {
         driver: 0,
         from: None,
@@ -151,7 +157,7 @@ fn turns(study: &Study, omega: f64) -> Batch<'_> {
         &[omega],
         &[0.0],
         Some(sweep),
-        &[Output::PointAcceleration(study.point)],
+        &[output],
         &Options::DEFAULT,
     )
     .unwrap()
@@ -291,25 +297,9 @@ fn by_poses(s: &Study, out: &mut [f64]) {
 /// only, checked equal on the designs that turn, then timed.
 fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
     let dim = study.model.point_dimension();
-    let batch = Batch::new(
-        &study.model,
-        &study.start,
-        &[1.0],
-        &[0.0],
-        Some(BatchSweep {
-            driver: 0,
-            from: None,
-            to: None,
-            turns: Some(1.0),
-            steps: STEPS,
-            change_points: ChangePoints::Stop,
-        }),
-        &[Output::Position(study.point)],
-        &Options::DEFAULT,
-    )
-    .unwrap()
-    .positions_only()
-    .unwrap();
+    let batch = turn_keeping(study, 1.0, Output::Position(study.point))
+        .positions_only()
+        .unwrap();
     let mut reference = vec![f64::NAN; study.count * STEPS * dim];
     by_poses(study, &mut reference);
     let results = pool.install(|| batch.run(&study.designs));
