@@ -131,11 +131,72 @@ fn mutate(ts: proc_macro2::TokenStream, rng: &mut Rng) -> proc_macro2::TokenStre
     tokens.into_iter().collect()
 }
 
+/// Base definitions with `bodies` and `loads` sections (and a
+/// `sensitivities` one): masses, inertias, gravity, springs and dampers,
+/// and loads of the coordinates, their rates (`rate(…)`) and the time
+/// (`time`), for the mutations to move around.
+pub fn dynamics_definitions() -> Vec<proc_macro2::TokenStream> {
+    vec![
+        quote! {
+            pub struct DynFourBar {
+                params   { a, b, c, d, m3, k, t0 }
+                drivers  { phi }
+                unknowns { th3, th4 }
+                points {
+                    G2 = polar(a / 2.0, phi);
+                    G3 = polar(a, phi) + polar(b / 2.0, th3);
+                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                    P0 = vec2(0.05, 0.15);
+                }
+                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                bodies {
+                    crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+                    coupler(mass = m3, center = G3, angle = th3, inertia = 6.0e-4);
+                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                }
+                sensitivities { m3, k }
+                loads {
+                    gravity(vec2(0.0, -9.81));
+                    force(phi, t0 * (1.0 - rate(phi) / 60.0) * sin(time));
+                    torque(rocker, -0.01 * rate(th4));
+                    force(G3, vec2(0.1 * time, 0.0));
+                    spring(P0, G3, stiffness = k, free_length = 0.10, damping = 2.0);
+                }
+            }
+        },
+        quote! {
+            pub struct DynEngine {
+                params   { a, b, m4, p }
+                drivers  { phi }
+                unknowns { th, x }
+                points   { G3 = polar(a, phi) + polar(b / 2.0, th); C = vec2(x, 0.0); }
+                loops    { polar(a, phi) + polar(b, th) == vec2(x, 0.0); }
+                bodies {
+                    rod(mass = 0.5, center = G3, angle = th, inertia = 1.7e-3);
+                    piston(mass = m4, center = C);
+                }
+                loads {
+                    force(C, vec2(-p * powi(0.2 / x, 2) * (1.0 + time), 0.0));
+                    force(x, -3.0 * rate(x));
+                }
+            }
+        },
+    ]
+}
+
 /// `count` mutants (one to three random edits each) of the base
 /// definitions, reproducible from `seed`.
 pub fn mutants(seed: u64, count: usize) -> Vec<proc_macro2::TokenStream> {
+    mutants_of(&definitions(), seed, count)
+}
+
+/// `count` mutants of `bases`, as [`mutants`] makes them.
+pub fn mutants_of(
+    bases: &[proc_macro2::TokenStream],
+    seed: u64,
+    count: usize,
+) -> Vec<proc_macro2::TokenStream> {
     let mut rng = Rng(fastrand::Rng::with_seed(seed));
-    let bases = definitions();
     (0..count)
         .map(|case| {
             let mut ts = bases[case % bases.len()].clone();
@@ -152,9 +213,20 @@ pub fn mutants(seed: u64, count: usize) -> Vec<proc_macro2::TokenStream> {
 // Used by the `fuzz` feature's macro.
 #[cfg_attr(not(feature = "fuzz"), allow(dead_code))]
 pub fn accepted_expansions(seed: u64, count: usize) -> proc_macro2::TokenStream {
+    accepted_expansions_of(&definitions(), seed, count)
+}
+
+/// [`accepted_expansions`] of the mutants of `bases`.
+// Used by the `fuzz` feature's macro.
+#[cfg_attr(not(feature = "fuzz"), allow(dead_code))]
+pub fn accepted_expansions_of(
+    bases: &[proc_macro2::TokenStream],
+    seed: u64,
+    count: usize,
+) -> proc_macro2::TokenStream {
     let mut out = proc_macro2::TokenStream::new();
     let mut accepted = 0usize;
-    for (k, ts) in mutants(seed, count).into_iter().enumerate() {
+    for (k, ts) in mutants_of(bases, seed, count).into_iter().enumerate() {
         let code = crate::expand(ts);
         if code.to_string().contains("compile_error") {
             continue;

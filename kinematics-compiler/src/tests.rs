@@ -66,8 +66,29 @@ fn mutated_definitions_give_code_or_errors_never_a_panic() {
 }
 
 #[test]
+fn mutated_definitions_with_bodies_and_loads_give_code_or_errors_never_a_panic() {
+    let (mut errors, mut accepted) = (0, 0);
+    for ts in crate::fuzz::mutants_of(&crate::fuzz::dynamics_definitions(), 0xD1A, 3000) {
+        let input = ts.to_string();
+        let out = std::panic::catch_unwind(|| crate::expand(ts))
+            .unwrap_or_else(|_| panic!("the macro panicked on: {input}"));
+        if out.to_string().contains("compile_error") {
+            errors += 1;
+        } else {
+            syn::parse2::<syn::File>(out)
+                .unwrap_or_else(|e| panic!("invalid expansion ({e}) of: {input}"));
+            accepted += 1;
+        }
+    }
+    assert!(errors > 1000 && accepted > 30, "{errors} / {accepted}");
+}
+
+#[test]
 fn the_mutation_bases_are_valid_definitions() {
-    for def in crate::fuzz::definitions() {
+    for def in crate::fuzz::definitions()
+        .into_iter()
+        .chain(crate::fuzz::dynamics_definitions())
+    {
         let text = crate::expand(def.clone()).to_string();
         assert!(!text.contains("compile_error"), "{def}\n{text}");
     }

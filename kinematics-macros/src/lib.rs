@@ -44,12 +44,17 @@ pub fn __fuzz_accepted(input: proc_macro::TokenStream) -> proc_macro::TokenStrea
     let args: Vec<u64> = parsed
         .map(|p| p.iter().filter_map(|l| l.base10_parse().ok()).collect())
         .unwrap_or_default();
+    let count = |c: &u64| usize::try_from(*c).unwrap_or(0);
     match args.as_slice() {
-        [seed, count] => kinematics_compiler::fuzz::accepted_expansions(
+        [seed, n] => kinematics_compiler::fuzz::accepted_expansions(*seed, count(n)).into(),
+        // The bases with bodies and loads.
+        [seed, n, 1] => kinematics_compiler::fuzz::accepted_expansions_of(
+            &kinematics_compiler::fuzz::dynamics_definitions(),
             *seed,
-            usize::try_from(*count).unwrap_or(0),
+            count(n),
         )
         .into(),
-        _ => quote::quote!(::core::compile_error!("expected `seed, count`");).into(),
+        _ => quote::quote!(::core::compile_error!("expected `seed, count` or `seed, count, 1`");)
+            .into(),
     }
 }
