@@ -234,7 +234,10 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
     // The forces, where the definition has them: their failure is the
     // sweep's, but leaves the kinematics written (and reported).
     let mut forces_error = None;
-    if m.has_dynamics() {
+    // Loads of the time have no value along a kinematic sweep: their
+    // forces are a simulation's (said in the summary).
+    let timed = m.loads_read_time();
+    if m.has_dynamics() && !timed {
         match forces(&m, &sweep, &args.out) {
             Ok((files, m)) => {
                 written.extend(files);
@@ -254,6 +257,13 @@ pub(super) fn swept(args: &SweepArgs) -> Result<Swept, Failure> {
     );
     for &at in &sweep.change_points {
         let _ = writeln!(out, "  passed a change point near {driver} = {}", value(at));
+    }
+    if timed {
+        let _ = writeln!(
+            out,
+            "  forces not computed: the loads read the time, which a kinematic sweep has not \
+             (`kinematics simulate` integrates the motion they produce)"
+        );
     }
     if !found.is_empty() {
         let shown: Vec<String> = found

@@ -336,6 +336,22 @@ fn a_torque_of_the_time_turns_the_flywheel_as_its_closed_form() {
             r[0]
         );
     }
+    // A kinematic sweep of it has no time: the kinematics are written, the
+    // forces skipped with a note.
+    let swept = dir.join("swept");
+    let o = run(&[
+        "sweep",
+        path(&mech),
+        "--param",
+        "j=0.4",
+        "--param",
+        "k=3",
+        "--out",
+        path(&swept),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("forces not computed: the loads read the time"));
+    assert!(swept.join("sweep.csv").exists() && !swept.join("forces.csv").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -474,6 +474,15 @@ impl Model {
         self.sections().is_some()
     }
 
+    /// Whether a load's value in the definition reads the time (`time`):
+    /// its forces have a value only in a forward simulation
+    /// ([`Dynamics::forward_of`]), not along a kinematic sweep or at one
+    /// motion.
+    #[must_use]
+    pub fn loads_read_time(&self) -> bool {
+        self.sections().is_some_and(|c| c.program.reads_time())
+    }
+
     /// The masses and loads of the definition's `bodies` and `loads`
     /// sections (and the joints of `joints`), with the model's parameter
     /// values: the constants (masses, inertias, gravity, springs, axes)
