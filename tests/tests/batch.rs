@@ -410,6 +410,25 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
     let short = results.samples[50];
     assert!((30..=31).contains(&short), "{short}");
     // A rate is not a position: refused, with what it may keep.
+    // Without a sweep, the one pose at the start: x = a + b at φ = 0.
+    let one = Batch::new(
+        &m,
+        &start,
+        &[1.0],
+        &[0.0],
+        None,
+        &[Output::Coordinate(2), Output::Position(c)],
+        &Options::DEFAULT,
+    )
+    .expect("a valid batch")
+    .positions_only()
+    .expect("positions only");
+    let posed = one.run(&[0.1, 0.25, 0.05, 0.2]);
+    assert_eq!(posed.samples, [1, 1]);
+    for (d, want) in [(0, 0.35), (1, 0.25)] {
+        assert!((posed.output(&one, d, 0)[0] - want).abs() < 1e-15);
+        assert!((posed.output(&one, d, 1)[0] - want).abs() < 1e-15);
+    }
     let Err(Error::InvalidOption { requirement, .. }) = of(Output::Velocity(c)) else {
         panic!("a velocity in a batch of positions only");
     };
