@@ -51,6 +51,7 @@ fn mutated_definitions_give_code_or_errors_never_a_panic() {
         let out = std::panic::catch_unwind(|| crate::expand(ts))
             .unwrap_or_else(|_| panic!("the macro panicked on: {input}"));
         let text = out.to_string();
+        assert!(!text.contains("a bug of the mechanism compiler"), "{input}");
         if text.contains("compile_error") {
             errors += 1;
         } else {
@@ -72,7 +73,9 @@ fn mutated_definitions_with_bodies_and_loads_give_code_or_errors_never_a_panic()
         let input = ts.to_string();
         let out = std::panic::catch_unwind(|| crate::expand(ts))
             .unwrap_or_else(|_| panic!("the macro panicked on: {input}"));
-        if out.to_string().contains("compile_error") {
+        let text = out.to_string();
+        assert!(!text.contains("a bug of the mechanism compiler"), "{input}");
+        if text.contains("compile_error") {
             errors += 1;
         } else {
             syn::parse2::<syn::File>(out)

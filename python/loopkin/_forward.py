@@ -149,7 +149,7 @@ class _Forward:
         tolerance: float = 1e-9,
         stop_when: Optional[
             Union[
-                Mapping[str, Union[float, str, Sequence[Union[float, str]]]],
+                Mapping[str, Union[float, str, Tuple[Union[float, str], str], List[Union[float, str]]]],
                 Sequence[Tuple[Union[str, float], ...]],
             ]
         ] = None,

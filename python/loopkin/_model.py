@@ -706,9 +706,14 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
 
         ``positions_only=True`` assembles each sample and evaluates the
         points' positions alone, as :meth:`poses` does (no rates,
-        accelerations or conditioning, a change point passed on the branch
-        the closed forms carry): coupler curves at the cost of a pose. The
-        outputs are then coordinates and points' positions only.
+        accelerations or conditioning; a change point passed on the branch
+        the closed forms carry, whatever ``change_points`` says; the rate
+        not read): coupler curves for less than a step costs. The outputs
+        are then coordinates and points' positions only.
+
+        With several outputs, each array is a view of one block of the
+        designs' records (not C-contiguous; ``np.ascontiguousarray`` copies
+        one out).
 
         Returns a :class:`Batch` whose arrays have a row per design (and a
         column per sample of a sweep, unless reduced); a design that stops

@@ -85,7 +85,8 @@ pub(crate) fn gather<'py>(
     } else {
         // Several: each is a view of the records, taken as one designs ×
         // record array (its columns offset … offset + rows · width), with
-        // no copy; the views share no value, so each may be written.
+        // no copy; the views share no value (the Python `Batch` makes them
+        // read-only).
         let record = results.record;
         let base = shaped(py, results.values, vec![designs, record])?;
         let index = |i: usize| {

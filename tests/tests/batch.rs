@@ -409,7 +409,6 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
     // It stops at the limit, a sin φ = b: φ = 30°.
     let short = results.samples[50];
     assert!((30..=31).contains(&short), "{short}");
-    // A rate is not a position: refused, with what it may keep.
     // Without a sweep, the one pose at the start: x = a + b at φ = 0.
     let one = Batch::new(
         &m,
@@ -429,8 +428,29 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
         assert!((posed.output(&one, d, 0)[0] - want).abs() < 1e-15);
         assert!((posed.output(&one, d, 1)[0] - want).abs() < 1e-15);
     }
-    let Err(Error::InvalidOption { requirement, .. }) = of(Output::Velocity(c)) else {
-        panic!("a velocity in a batch of positions only");
-    };
-    assert!(requirement.contains("a point's position"), "{requirement}");
+    // Reduced, the extremes of the same samples.
+    let high = of(Output::Position(c))
+        .expect("positions only")
+        .reduced(Reduce::Max);
+    let extremes = high.run(&flat);
+    for d in 0..designs.len() {
+        let x = results.output(&batch, d, 0);
+        let n = results.samples[d];
+        let max = x[..n].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(extremes.output(&high, d, 0), [max], "design {d}");
+    }
+    // Anything but a coordinate's value or a point's position is refused,
+    // with what it may keep.
+    for other in [
+        Output::Velocity(c),
+        Output::PointAcceleration(c),
+        Output::Rate(2),
+        Output::Acceleration(2),
+        Output::Conditioning,
+    ] {
+        let Err(Error::InvalidOption { requirement, .. }) = of(other) else {
+            panic!("{other:?} in a batch of positions only");
+        };
+        assert!(requirement.contains("a point's position"), "{requirement}");
+    }
 }

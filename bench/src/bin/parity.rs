@@ -150,9 +150,9 @@ fn main() {
             [a, b, c, 0.11, 0.06, 0.5]
         })
         .collect();
+    // The start the Python side assembles from.
     let start = four_bar
-        .assemble_all(&[2.0 * PI / 360.0, 0.0, 0.0])
-        .find_map(|(_, p)| p.ok())
+        .assemble(&[2.0 * PI / 360.0, 0.9, 1.6])
         .expect("an assembly");
     let c = four_bar
         .point_names()
@@ -180,6 +180,11 @@ fn main() {
         &Options::DEFAULT,
     )
     .expect("a batch");
+    let results = batch.run(&rows);
+    assert!(
+        results.early.iter().all(Option::is_none),
+        "a design stopped"
+    );
     let b = median(rounds.min(5), 1, kinematics_bench::process_cpu_ns, || {
         black_box(batch.run(&rows));
     });

@@ -295,14 +295,15 @@ fn time_outside_a_loads_value_is_an_error_at_its_token() {
 #[test]
 fn mutated_definitions_with_loads_compile_at_run_time_or_are_errors_never_a_panic() {
     // The mutants of the bases with bodies and loads (`time` and `rate(…)`
-    // among them), as text: each compiles to a model whose dynamics and
-    // forces at its first assembled pose are computed, or fails with an
-    // error; nothing panics.
-    let (mut compiled, mut errors) = (0, 0);
+    // among them), as text: each compiles to a model whose forces at its
+    // first assembled pose are computed (an error where a load reads the
+    // time) and whose motion over a millisecond is integrated (its loads
+    // of the time then read it), or fails with an error; nothing panics.
+    let (mut compiled, mut errors, mut simulated) = (0, 0, 0);
     let bases = kinematics_compiler::fuzz::dynamics_definitions();
     for ts in kinematics_compiler::fuzz::mutants_of(&bases, 0xD1B, 600) {
         let text = ts.to_string();
-        let outcome = std::panic::catch_unwind(|| -> Result<(), String> {
+        let outcome = std::panic::catch_unwind(|| -> Result<bool, String> {
             let m = Model::compile(&text).map_err(|e| e.to_string())?;
             let values = vec![0.5; m.parameters().len()];
             let m = m.with_values(&values).map_err(|e| e.to_string())?;
@@ -312,18 +313,26 @@ fn mutated_definitions_with_loads_compile_at_run_time_or_are_errors_never_a_pani
                 let rates = vec![1.0; m.drivers()];
                 let zeros = vec![0.0; m.drivers()];
                 if let Ok(motion) = m.analyze(&pose, &rates, &zeros) {
-                    // A load of the time has no value here: an error, or
-                    // forces where no load reads it.
-                    let _ = dynamics.inverse_of(&m, &motion);
+                    // A load of the time has no value at one motion.
+                    let forces = dynamics.inverse_of(&m, &motion);
+                    assert!(forces.is_err() || !m.loads_read_time(), "{text}");
                 }
+                let run = dynamics.forward_of(&m, &pose).until(1e-3).samples(2).run();
+                return Ok(run.is_ok_and(|r| r.sweep.samples.len() == 3));
             }
-            Ok(())
+            Ok(false)
         });
         match outcome {
-            Ok(Ok(())) => compiled += 1,
+            Ok(Ok(ran)) => {
+                compiled += 1;
+                simulated += usize::from(ran);
+            }
             Ok(Err(_)) => errors += 1,
             Err(_) => panic!("a panic on: {text}"),
         }
     }
-    assert!(compiled > 30 && errors > 100, "{compiled} / {errors}");
+    assert!(
+        compiled > 30 && errors > 100 && simulated > 10,
+        "{compiled} / {errors} / {simulated}"
+    );
 }
