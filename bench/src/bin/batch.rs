@@ -30,7 +30,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use std::hint::black_box;
 
 use kinematics_bench::process_cpu_ns;
-use kinematics_core::runtime::{Batch, BatchSweep, Model, Output};
+use kinematics_core::runtime::{Batch, BatchResults, BatchSweep, Model, Output};
 use kinematics_core::sweep::ChangePoints;
 use kinematics_core::{Coordinates, Options};
 use kinematics_examples::Strider;
@@ -224,26 +224,7 @@ fn main() {
         let mut reference = vec![f64::NAN; study.count * STEPS * dim];
         by_stepper(&study, omega, &mut reference);
         let results = pool.install(|| batch.run(&study.designs));
-        let scale = reference.iter().fold(
-            0.0f64,
-            |m, v| if v.is_finite() { m.max(v.abs()) } else { m },
-        );
-        let mut compared = 0;
-        for d in 0..study.count {
-            if results.early[d].is_none() {
-                let (a, b) = (
-                    results.output(&batch, d, 0),
-                    &reference[d * STEPS * dim..(d + 1) * STEPS * dim],
-                );
-                for (x, y) in a.iter().zip(b) {
-                    assert!(
-                        (x - y).abs() <= 1e-12 * scale,
-                        "design {d}: {x} against {y}"
-                    );
-                }
-                compared += 1;
-            }
-        }
+        let compared = compare(&batch, &results, &reference, STEPS * dim);
         let [(rs, s0, s1), (rb, b0, b1), (rr, r0, r1)] = interleaved(
             rounds,
             (study.count * STEPS) as f64,
@@ -303,17 +284,7 @@ fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
     let mut reference = vec![f64::NAN; study.count * STEPS * dim];
     by_poses(study, &mut reference);
     let results = pool.install(|| batch.run(&study.designs));
-    let mut compared = 0;
-    for d in (0..study.count).filter(|&d| results.early[d].is_none()) {
-        let want = &reference[d * STEPS * dim..(d + 1) * STEPS * dim];
-        for (x, y) in results.output(&batch, d, 0).iter().zip(want) {
-            assert!(
-                (x - y).abs() <= 1e-12 * (1.0 + y.abs()),
-                "design {d}: {x} against {y}"
-            );
-        }
-        compared += 1;
-    }
+    let compared = compare(&batch, &results, &reference, STEPS * dim);
     let [(p, p0, p1), (b, b0, b1), (r, r0, r1)] = interleaved(
         rounds,
         (study.count * STEPS) as f64,
@@ -355,4 +326,26 @@ fn interleaved(
         ratios.push(y / x);
     }
     [&mut a, &mut b, &mut ratios].map(|v| kinematics_bench::spread(v))
+}
+
+/// Checks the batch's one output against `reference` (`per` values a
+/// design) on every design that ran to its end, to 1e-12 of the largest
+/// reference value; returns how many designs were compared.
+fn compare(batch: &Batch<'_>, results: &BatchResults, reference: &[f64], per: usize) -> usize {
+    let scale = reference
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut compared = 0;
+    for d in (0..results.samples.len()).filter(|&d| results.early[d].is_none()) {
+        let want = &reference[d * per..(d + 1) * per];
+        for (x, y) in results.output(batch, d, 0).iter().zip(want) {
+            assert!(
+                (x - y).abs() <= 1e-12 * scale,
+                "design {d}: {x} against {y}"
+            );
+        }
+        compared += 1;
+    }
+    compared
 }
