@@ -66,6 +66,7 @@ pub mod ir;
 mod kinematics;
 pub mod limits;
 mod lower;
+pub mod motion;
 mod names;
 mod parse;
 mod pipeline;

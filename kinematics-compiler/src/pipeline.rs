@@ -37,6 +37,7 @@ pub struct Compiled {
     sensitivities: Option<Partials>,
     mobility: Option<Mobility>,
     dynamics: Option<crate::dynamics::Dynamics>,
+    motion: Option<crate::motion::EquationsOfMotion>,
 }
 
 /// The kind of a coordinate: what its value measures.
@@ -239,6 +240,13 @@ impl Compiled {
         self.dynamics.as_ref()
     }
 
+    /// The equations of motion of the `bodies` and `loads` sections in
+    /// the coordinates ([`crate::motion`]), where they are formed.
+    #[must_use]
+    pub fn equations_of_motion(&self) -> Option<&crate::motion::EquationsOfMotion> {
+        self.motion.as_ref()
+    }
+
     /// The partial derivatives behind the `sensitivities` section, when
     /// the definition has one.
     #[must_use]
@@ -382,6 +390,9 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
             .collect();
         d.partials = Some(crate::dynamics::partials(&mut model, d, &s.params, &frames));
     }
+    let motion = dynamics
+        .as_ref()
+        .and_then(|d| crate::motion::equations(&def, &mut model, &derived, d));
     Ok(Compiled {
         def,
         model,
@@ -392,6 +403,7 @@ fn run(input: TokenStream) -> Result<Compiled, Failure> {
         sensitivities,
         mobility,
         dynamics,
+        motion,
     })
 }
 

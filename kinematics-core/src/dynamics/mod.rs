@@ -398,6 +398,11 @@ pub struct Dynamics {
     /// (frame index, the partials of its R, ω, α).
     frame_partials: Vec<(usize, FramePartials)>,
     load_partials: PartialsOfLoads,
+    /// Where this is a run-time model's own sections unchanged
+    /// (`Model::dynamics`): the model's parameter values it was made at,
+    /// so that a forward simulation may use the model's compiled
+    /// equations of motion instead.
+    sections: Option<Vec<f64>>,
 }
 
 /// The names of the points the forces act at and of the coordinates the
@@ -417,6 +422,21 @@ struct Design {
     parameters: Vec<String>,
     /// One per parameter (empty: no constant depends on them).
     constants: Vec<ConstantPartials>,
+}
+
+impl Dynamics {
+    /// Marks this description as a run-time model's own sections at the
+    /// parameter values `values`.
+    #[cfg(feature = "runtime")]
+    pub(crate) fn mark_sections(&mut self, values: &[f64]) {
+        self.sections = Some(values.to_vec());
+    }
+
+    /// The values of [`Dynamics::mark_sections`], where marked.
+    #[cfg(feature = "runtime")]
+    pub(crate) fn sections_values(&self) -> Option<&[f64]> {
+        self.sections.as_deref()
+    }
 }
 
 /// ∂/∂p of a description's constants, for one parameter p.

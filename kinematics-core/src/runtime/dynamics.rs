@@ -368,6 +368,9 @@ pub(crate) struct SectionCode {
     sections: kinematics_compiler::dynamics::Dynamics,
     program: kinematics_jit::Program,
     coordinates: usize,
+    /// The equations of motion in the coordinates, where the compiler
+    /// formed them, and their stage (the last).
+    motion: Option<(usize, kinematics_compiler::motion::EquationsOfMotion)>,
 }
 
 impl SectionCode {
@@ -393,6 +396,17 @@ impl SectionCode {
             stages.extend(p.loads.iter().map(Vec::as_slice));
             stages.extend(p.frames.iter().map(|(_, f)| f.as_slice()));
         }
+        let motion = c.equations_of_motion().cloned();
+        let roots = motion
+            .as_ref()
+            .map(kinematics_compiler::motion::EquationsOfMotion::roots);
+        let motion = match (motion, &roots) {
+            (Some(m), Some(r)) => {
+                stages.push(r);
+                Some((stages.len() - 1, m))
+            }
+            _ => None,
+        };
         let coordinates = c.coordinates().len();
         let program = kinematics_jit::Program::new(
             c.graph(),
@@ -404,7 +418,61 @@ impl SectionCode {
             sections: sections.clone(),
             program,
             coordinates,
+            motion,
         }))
+    }
+
+    /// The equations of motion in the coordinates and their stage, where
+    /// the compiler formed them.
+    pub(crate) fn motion(
+        &self,
+    ) -> Option<(usize, &kinematics_compiler::motion::EquationsOfMotion)> {
+        self.motion.as_ref().map(|(s, m)| (*s, m))
+    }
+
+    /// The number of values stage `stage` writes.
+    pub(crate) fn outputs(&self, stage: usize) -> usize {
+        self.program.outputs(stage)
+    }
+
+    /// Stage `stage` at the parameters `values` (the characteristic length
+    /// last), the coordinates, rates and accelerations `coords` and the
+    /// time `time`, into `out`; `false` where the lengths do not fit the
+    /// program. Nothing is allocated for a mechanism of up to ten
+    /// coordinates and thirty parameters.
+    pub(crate) fn eval_at(
+        &self,
+        stage: usize,
+        values: &[f64],
+        coords: [&[f64]; 3],
+        time: f64,
+        out: &mut [f64],
+    ) -> bool {
+        use crate::dynamics::evaluate::Buffer;
+        let n = self.coordinates;
+        let mut trig = Buffer::zeros(2 * n);
+        let trig = trig.as_mut_slice();
+        if coords[0].len() != n {
+            return false;
+        }
+        self.program.trig(coords[0], trig, 0);
+        let mut with_time = Buffer::zeros(values.len() + 1);
+        let params = if self.program.reads_time() {
+            let slice = with_time.as_mut_slice();
+            slice[..values.len()].copy_from_slice(values);
+            slice[values.len()] = time;
+            &*slice
+        } else {
+            values
+        };
+        let inputs = kinematics_jit::Inputs {
+            params,
+            q: coords[0],
+            qd: coords[1],
+            qdd: coords[2],
+            trig,
+        };
+        self.program.eval(stage, &inputs, out).is_ok()
     }
 
     /// Stage `stage` at the parameters `values` (with the characteristic
@@ -690,6 +758,8 @@ impl Model {
     /// # Errors
     /// As [`Model::dynamics_builder`] and [`DynamicsBuilder::build_for`].
     pub fn dynamics(&self) -> Result<Dynamics, Error> {
-        self.dynamics_builder()?.build_for(self)
+        let mut d = self.dynamics_builder()?.build_for(self)?;
+        d.mark_sections(self.all_values());
+        Ok(d)
     }
 }

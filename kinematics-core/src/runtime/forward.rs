@@ -231,6 +231,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             m,
             stepper: m.stepper(&self.course.options)?,
             units: m.stepper(&self.course.options)?,
+            compiled: super::motion::Compiled::new(m, self.dynamics),
             rates: vec![0.0; nd],
             zeros: vec![0.0; nd],
             profile: self.profile,
@@ -279,6 +280,9 @@ struct RunTime<'m, P> {
     m: &'m Model,
     stepper: Stepper<'m>,
     units: Stepper<'m>,
+    /// The model's compiled equations of motion, where the description is
+    /// its own sections: then no unit analysis is made.
+    compiled: Option<super::motion::Compiled<'m>>,
     /// The unit rates and the zero accelerations of the unit analyses.
     rates: Vec<f64>,
     zeros: Vec<f64>,
@@ -309,7 +313,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         }
         self.guess[..nd].copy_from_slice(d);
         self.current = false;
-        self.stepper.step(&self.guess, dd, ddd)?;
+        self.stepper.advance(&self.guess, dd, ddd)?;
         self.current = true;
         Ok(())
     }
@@ -322,6 +326,12 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
     ) -> Result<(), Error> {
         if !self.current {
             return Ok(());
+        }
+        if let Some(c) = &mut self.compiled {
+            let flat = self.stepper.flat();
+            if c.equations([flat.q, flat.qd, flat.qdd], t, out) {
+                return Ok(());
+            }
         }
         let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
         let motion = self.stepper.motion_now();

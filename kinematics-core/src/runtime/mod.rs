@@ -73,6 +73,7 @@ mod dynamics;
 mod forward;
 mod fused;
 mod invariant;
+mod motion;
 mod sensitivity;
 mod solve;
 mod stepper;

@@ -1,0 +1,371 @@
+//! The equations of motion of a run-time model's own `bodies` and `loads`
+//! sections from their compiled roots
+//! ([`kinematics_compiler::motion::EquationsOfMotion`]): one call of the
+//! machine code gives Φ_q, the mass matrix M̃ and the generalized forces f̃
+//! in the coordinates and each load's power; the kinematic coefficients C
+//! (C_d = I, Φ_u C_u = −Φ_d) then give the drivers' M = Cᵀ M̃ C and
+//! b = Cᵀ f̃, with no walk over the bodies and loads and no unit analysis.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::Model;
+use super::dynamics::SectionCode;
+use crate::dynamics::Dynamics;
+use crate::dynamics::forward::equations::Equations;
+use crate::solve::dense::{lu, lu_apply};
+
+/// The compiled equations of one model, with room for one evaluation.
+pub(super) struct Compiled<'m> {
+    code: &'m SectionCode,
+    stage: usize,
+    values: &'m [f64],
+    /// Coordinates, drivers, unknowns.
+    n: usize,
+    nd: usize,
+    /// The stage's outputs: Φ_q, M̃'s upper triangle, f̃, the powers.
+    out: Vec<f64>,
+    /// C, n × nd, row-major.
+    c: Vec<f64>,
+    /// M̃ C, n × nd.
+    mc: Vec<f64>,
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    rhs: Vec<f64>,
+    x: Vec<f64>,
+}
+
+impl<'m> Compiled<'m> {
+    /// The compiled equations of `m`, when `dynamics` is exactly its
+    /// sections at its present values ([`Model::dynamics`]) and the
+    /// compiler formed them; `None` otherwise (the forward simulation then
+    /// sums the bodies and loads at run time).
+    pub(super) fn new(m: &'m Model, dynamics: &Dynamics) -> Option<Self> {
+        // Value for value, bit for bit (a value not set is NaN).
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        if !dynamics
+            .sections_values()
+            .is_some_and(|v| same(v, m.all_values()))
+        {
+            return None;
+        }
+        let code: &SectionCode = m.sections()?;
+        let (stage, motion) = code.motion()?;
+        let (n, nd) = (motion.coordinates, m.drivers());
+        let powers = motion.powers.len();
+        if n != m.coordinates().len()
+            || powers != dynamics.working_loads()
+            || code.outputs(stage) != (n - nd) * n + n * (n + 1) / 2 + n + powers
+        {
+            return None;
+        }
+        let nu = n - nd;
+        Some(Self {
+            code,
+            stage,
+            values: m.all_values(),
+            n,
+            nd,
+            out: vec![0.0; code.outputs(stage)],
+            c: vec![0.0; n * nd],
+            mc: vec![0.0; n * nd],
+            lu: vec![0.0; nu * nu],
+            perm: vec![0; nu],
+            rhs: vec![0.0; nu],
+            x: vec![0.0; nu],
+        })
+    }
+
+    /// M, b and the loads' powers at the coordinates `coords` (q, q̇ and q̈
+    /// with the free drivers' accelerations zero) and the time `t`, into
+    /// `eq`; `false` where Φ_u is singular or a value is not finite (the
+    /// caller then sums the general way, which names the cause).
+    pub(super) fn equations(
+        &mut self,
+        coords: [&[f64]; 3],
+        t: f64,
+        eq: &mut Equations<'_>,
+    ) -> bool {
+        let (n, nd) = (self.n, self.nd);
+        let nu = n - nd;
+        if !self
+            .code
+            .eval_at(self.stage, self.values, coords, t, &mut self.out)
+        {
+            return false;
+        }
+        let (jacobian, rest) = self.out.split_at(nu * n);
+        let (upper, rest) = rest.split_at(n * (n + 1) / 2);
+        let (forces, powers) = rest.split_at(n);
+        // C: the drivers' rows the identity, the unknowns' from Φ_u.
+        for i in 0..nu {
+            self.lu[i * nu..(i + 1) * nu].copy_from_slice(&jacobian[i * n + nd..(i + 1) * n]);
+        }
+        if nu > 0 && lu(&mut self.lu, &mut self.perm, nu).is_none() {
+            return false;
+        }
+        self.c.fill(0.0);
+        for k in 0..nd {
+            self.c[k * nd + k] = 1.0;
+            for i in 0..nu {
+                self.rhs[i] = -jacobian[i * n + k];
+            }
+            if nu > 0 {
+                lu_apply(&self.lu, &self.perm, &self.rhs, &mut self.x, nu);
+            }
+            for i in 0..nu {
+                self.c[(nd + i) * nd + k] = self.x[i];
+            }
+        }
+        // M̃_ij from the upper triangle (row i starts at i n − i (i − 1)/2).
+        let mt = |i: usize, j: usize| {
+            let (a, b) = if i <= j { (i, j) } else { (j, i) };
+            upper[a * n - a * a.saturating_sub(1) / 2 - a + b]
+        };
+        for i in 0..n {
+            for k in 0..nd {
+                let mut s = 0.0;
+                for j in 0..n {
+                    s += mt(i, j) * self.c[j * nd + k];
+                }
+                self.mc[i * nd + k] = s;
+            }
+        }
+        for k in 0..nd {
+            for l in 0..nd {
+                let mut s = 0.0;
+                for i in 0..n {
+                    s += self.c[i * nd + k] * self.mc[i * nd + l];
+                }
+                eq.mass[k * nd + l] = s;
+            }
+            let mut b = 0.0;
+            for (j, f) in forces.iter().enumerate() {
+                b += self.c[j * nd + k] * f;
+            }
+            eq.bias[k] = b;
+        }
+        for (p, v) in eq.powers.iter_mut().zip(powers) {
+            *p = *v;
+        }
+        eq.mass[..nd * nd]
+            .iter()
+            .chain(&eq.bias[..nd])
+            .chain(powers)
+            .all(|v| v.is_finite())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::vec;
+    use alloc::vec::Vec;
+
+    use super::Compiled;
+    use crate::dynamics::forward::equations::Equations;
+    use crate::dynamics::forward::run::Timed;
+    use crate::dynamics::terms::Terms;
+    use crate::runtime::Model;
+    use crate::runtime::dynamics::{RunTime, unit_analyses};
+
+    /// M, b and the powers of `text` at the pose `start` (assembled there)
+    /// with the rates `rates`, the free accelerations `accelerations`, at
+    /// time `t`: by the compiled equations and by the sums over the bodies
+    /// and loads with unit analyses, which must agree.
+    fn agree(text: &str, values: &[f64], start: &[f64], rates: &[f64], t: f64) {
+        let m = Model::compile(text)
+            .expect("compiles")
+            .with_values(values)
+            .expect("values");
+        let marked = m.dynamics().expect("sections");
+        let mut compiled = Compiled::new(&m, &marked).expect("the compiled equations");
+        let general = m
+            .dynamics_builder()
+            .expect("builder")
+            .build_for(&m)
+            .expect("built");
+        assert!(
+            Compiled::new(&m, &general).is_none(),
+            "a description not marked as the sections sums at run time"
+        );
+        let nd = m.drivers();
+        let pose = m.assemble(start).expect("assembled");
+        let motion = m.analyze(&pose, rates, &vec![0.0; nd]).expect("analysed");
+        let w = general.working_loads();
+        let nb = general.body_count();
+        let run = |use_compiled: bool, compiled: &mut Compiled<'_>| {
+            let (mut mass, mut bias, mut powers) =
+                (vec![0.0; nd * nd], vec![0.0; nd], vec![0.0; w]);
+            let mut partials = vec![[nalgebra::Vector3::zeros(); 2]; nd * nb];
+            let mut terms = Terms::default();
+            let mut out = Equations {
+                mass: &mut mass,
+                bias: &mut bias,
+                powers: &mut powers,
+                partials: &mut partials,
+                terms: &mut terms,
+            };
+            if use_compiled {
+                assert!(compiled.equations([&motion.q, &motion.qd, &motion.qdd], t, &mut out));
+            } else {
+                let view = RunTime(&motion);
+                general
+                    .equations(
+                        &Timed(&view, t),
+                        &mut unit_analyses(&m, &motion.q, nd),
+                        &mut out,
+                    )
+                    .expect("the sums");
+            }
+            (mass, bias, powers)
+        };
+        let a = run(true, &mut compiled);
+        let b = run(false, &mut compiled);
+        let all = |x: &(Vec<f64>, Vec<f64>, Vec<f64>)| -> Vec<f64> {
+            x.0.iter().chain(&x.1).chain(&x.2).copied().collect()
+        };
+        let (a, b) = (all(&a), all(&b));
+        let scale = b.iter().fold(1e-300_f64, |s, v| s.max(v.abs()));
+        for (x, y) in a.iter().zip(&b) {
+            assert!(
+                (x - y).abs() <= 1e-12 * scale,
+                "compiled {a:?}\nsummed {b:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_four_bar_with_a_motor_a_spring_damper_and_a_force_agrees_with_the_sums() {
+        agree(
+            "struct FourBar {
+                params   { a, b, c, d }
+                drivers  { phi }
+                unknowns { th3, th4 }
+                points {
+                    G2 = polar(a / 2.0, phi);
+                    G3 = polar(a, phi) + polar(b / 2.0, th3);
+                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                    P0 = vec2(0.05, 0.15);
+                }
+                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                bodies {
+                    crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+                    coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                }
+                loads {
+                    gravity(vec2(0.0, -9.81));
+                    force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+                    force(G3, vec2(2.0 * sin(time), -rate(th4)));
+                    torque(rocker, 0.1 * cos(th4) + 0.01 * time);
+                    spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
+                }
+            }",
+            &[0.04, 0.12, 0.10, 0.11],
+            &[0.7, 1.2, 1.9],
+            &[13.0],
+            0.4,
+        );
+    }
+
+    #[test]
+    fn two_free_drivers_and_a_slider_agree_with_the_sums() {
+        // A two-link arm (two drivers) carrying a slider along its
+        // second link, held by a spring to the frame.
+        agree(
+            "struct Arm {
+                params   { l1, l2 }
+                drivers  { t1, t2 }
+                unknowns { }
+                points {
+                    O = vec2(0.0, 0.0);
+                    E = polar(l1, t1);
+                    G1 = polar(l1 / 2.0, t1);
+                    G2 = polar(l1, t1) + polar(l2 / 2.0, t1 + t2);
+                    T = polar(l1, t1) + polar(l2, t1 + t2);
+                }
+                bodies {
+                    upper(mass = 1.2, center = G1, angle = t1, inertia = 0.02);
+                    fore(mass = 0.8, center = G2, angle = t1 + t2, inertia = 0.01);
+                    tip(mass = 0.3, center = T);
+                }
+                loads {
+                    gravity(vec2(0.0, -9.81));
+                    force(t2, -0.5 * rate(t2));
+                    spring(O, T, stiffness = 20.0, free_length = 0.3, damping = 0.4);
+                }
+            }",
+            &[0.5, 0.4],
+            &[0.3, 0.9],
+            &[1.5, -2.0],
+            0.0,
+        );
+    }
+
+    #[test]
+    fn a_spatial_rssr_with_inertia_tensors_and_a_torque_agrees_with_the_sums() {
+        agree(
+            "struct Rssr {
+                params   { a, b, c, d, g }
+                drivers  { phi }
+                unknowns { psi }
+                frames {
+                    crank = rot_y(-phi);
+                    rocker = translation(vec3(-d, 0.0, 0.0)) * rot_z(-psi);
+                }
+                points {
+                    A = vec3(-a * cos(phi), 0.0, a * sin(phi));
+                    B = vec3(-d - c * cos(psi), c * sin(psi), 0.0);
+                    G2 = vec3(-a * cos(phi) / 2.0, 0.0, a * sin(phi) / 2.0);
+                    G3 = 0.5 * (vec3(-a * cos(phi), 0.0, a * sin(phi)) + vec3(-d - c * cos(psi), c * sin(psi), 0.0));
+                    G4 = vec3(-d - c * cos(psi) / 2.0, c * sin(psi) / 2.0, 0.0);
+                }
+                constraints { norm(B - A) == b; }
+                bodies {
+                    crank(mass = 0.2, center = G2, frame = crank,
+                          inertia = [[3e-5, 2e-6, 0.0], [2e-6, 1e-5, 1e-6], [0.0, 1e-6, 3e-5]]);
+                    coupler(mass = 0.4, center = G3);
+                    rocker(mass = 0.3, center = G4, frame = rocker,
+                           inertia = [[2e-5, 2e-6, 0.0], [2e-6, 4e-5, 1e-6], [0.0, 1e-6, 5e-5]]);
+                }
+                loads {
+                    gravity(vec3(0.0, -g, -2.0));
+                    torque(rocker, vec3(0.001, 0.01 * rate(psi), 0.02));
+                    force(B, vec3(0.0, 0.3, -rate(phi)));
+                }
+            }",
+            &[0.03, 0.12, 0.08, 0.1, 9.81],
+            &[0.7, 1.1],
+            &[9.0],
+            0.0,
+        );
+    }
+
+    #[test]
+    fn a_gimbal_with_its_gyroscopic_terms_agrees_with_the_sums() {
+        // Two drivers turning a disc about axes that move: ω × J ω works.
+        agree(
+            "struct Gimbal {
+                params   { r }
+                drivers  { t1, t2 }
+                unknowns { }
+                frames   { ring = rot_z(t1) * rot_x(t2); }
+                points   { G = rot_z(t1) * rot_x(t2) * vec3(r, 0.05, 0.02); }
+                bodies {
+                    disc(mass = 1.5, center = G, frame = ring,
+                         inertia = [[0.03, 0.002, 0.001], [0.002, 0.02, 0.003], [0.001, 0.003, 0.04]]);
+                }
+                loads {
+                    gravity(vec3(0.0, 0.0, -9.81));
+                    torque(disc, vec3(0.0, 0.1, 0.02 * rate(t2)));
+                }
+            }",
+            &[0.2],
+            &[0.4, 0.9],
+            &[3.0, -5.0],
+            0.0,
+        );
+    }
+}
