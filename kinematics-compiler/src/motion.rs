@@ -120,6 +120,13 @@ pub fn equations(
         .chain(&def.unknowns)
         .map(|c| unraw(&c.name))
         .collect();
+    // Every point's position, velocity and acceleration has 1 to 3
+    // components (so the indexing below by a point's place holds).
+    let components =
+        |v: &Vec<Vec<Id>>| v.len() == points.len() && v.iter().all(|c| (1..=3).contains(&c.len()));
+    if !(components(&derived.pos) && components(&derived.vel) && components(&derived.acc)) {
+        return None;
+    }
     let point = |name: &str| points.iter().position(|p| p == name);
     let coordinate = |name: &str| coordinates.iter().position(|c| c == name);
     let mut memo = Memo::default();

@@ -456,12 +456,15 @@ impl SectionCode {
             return false;
         }
         self.program.trig(coords[0], trig, 0);
-        let mut with_time = Buffer::zeros(values.len() + 1);
+        // The time, where a load reads it, after the parameters.
+        let timed;
         let params = if self.program.reads_time() {
+            let mut with_time = Buffer::zeros(values.len() + 1);
             let slice = with_time.as_mut_slice();
             slice[..values.len()].copy_from_slice(values);
             slice[values.len()] = time;
-            &*slice
+            timed = with_time;
+            &*timed
         } else {
             values
         };
@@ -498,35 +501,15 @@ impl SectionCode {
                 q[2 * n + j] = i.qdd(j);
             }
         }
-        let mut trig = Buffer::zeros(2 * n);
-        let trig = trig.as_mut_slice();
-        self.program.trig(&q[..n], trig, 0);
-        // The time, where a load reads it, after the parameters.
-        let timed;
-        let params = if self.program.reads_time() {
-            let mut with_time = Buffer::zeros(values.len() + 1);
-            let slice = with_time.as_mut_slice();
-            slice[..values.len()].copy_from_slice(values);
-            // Read from the instant only by a stage that reads it: the
-            // instant notes the reading, for the message of a load that is
-            // not finite for want of a time.
-            slice[values.len()] = match instant {
-                Some(i) if self.program.stage_reads_time(stage) => i.time(),
-                _ => f64::NAN,
-            };
-            timed = with_time;
-            &*timed
-        } else {
-            values
+        // Read from the instant only by a stage that reads it: the instant
+        // notes the reading, for the message of a load that is not finite
+        // for want of a time.
+        let time = match instant {
+            Some(i) if self.program.stage_reads_time(stage) => i.time(),
+            _ => f64::NAN,
         };
-        let inputs = kinematics_jit::Inputs {
-            params,
-            q: &q[..n],
-            qd: &q[n..2 * n],
-            qdd: &q[2 * n..],
-            trig,
-        };
-        if self.program.eval(stage, &inputs, out).is_err() {
+        let coords = [&q[..n], &q[n..2 * n], &q[2 * n..]];
+        if !self.eval_at(stage, values, coords, time, out) {
             // Lengths are the program's own; a mismatch cannot happen, and
             // would show as NaN, which the sums report.
             out.fill(f64::NAN);
