@@ -170,7 +170,76 @@ fn main() {
     println!(
         "run-time model, one evaluation: {r:.0} ns ({r0:.0}–{r1:.0}), {evaluations} evaluations"
     );
+    // The same mechanism with its `bodies` and `loads` sections: the
+    // model's compiled equations of motion, no unit analysis.
+    let sections = kinematics_core::runtime::Model::compile(FOUR_BAR_SECTIONS)
+        .expect("compiled")
+        .with_values(&[0.04, 0.12, 0.10, 0.11])
+        .expect("the values");
+    let own = sections.dynamics().expect("the sections");
+    let run_sections = || {
+        own.forward_of(&sections, &q0)
+            .until(3.0)
+            .samples(300)
+            .tolerance(1e-10)
+            .run()
+            .expect("the run")
+    };
+    let reference = run_model();
+    let compiled = run_sections();
+    let last = |t: &kinematics_core::runtime::TrajectoryOf| {
+        t.sweep.samples.last().expect("samples").motion.q[0]
+    };
+    println!(
+        "sections compiled: phi(3 s) = {:.12} (the description's {:.12}), {} evaluations",
+        last(&compiled),
+        last(&reference),
+        compiled.statistics.evaluations
+    );
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for _ in 0..7 {
+        let t0 = thread_time();
+        black_box(run_model());
+        #[allow(clippy::cast_precision_loss)]
+        a.push((thread_time() - t0) / evaluations as f64 * 1e9);
+        let t0 = thread_time();
+        let n = black_box(run_sections()).statistics.evaluations;
+        #[allow(clippy::cast_precision_loss)]
+        b.push((thread_time() - t0) / n as f64 * 1e9);
+    }
+    let ratios: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x / y).collect();
+    let (r, r0, r1) = median(b);
+    let (q, q0, q1) = median(ratios);
+    println!(
+        "sections compiled, one evaluation: {r:.0} ns ({r0:.0}–{r1:.0}); \
+         the description's / compiled per round: {q:.2} ({q0:.2}–{q1:.2})"
+    );
 }
+
+/// The four-bar with its masses and loads as sections (the description
+/// of `description()`), for the compiled equations of motion.
+const FOUR_BAR_SECTIONS: &str = "struct FourBar {
+    params   { a, b, c, d }
+    drivers  { phi }
+    unknowns { th3, th4 }
+    points {
+        G2 = polar(a / 2.0, phi);
+        G3 = polar(a, phi) + polar(b / 2.0, th3);
+        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+        P0 = vec2(0.05, 0.15);
+    }
+    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    bodies {
+        crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+        coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+        rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+    }
+    loads {
+        gravity(vec2(0.0, -9.81));
+        force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+        spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
+    }
+}";
 
 /// The four-bar as text, for the run-time model.
 const FOUR_BAR: &str = "struct FourBar {
