@@ -587,6 +587,7 @@ impl DynamicsBuilder {
             design,
             load_partials: self.load_partials,
             frame_partials,
+            #[cfg(feature = "runtime")]
             sections: None,
         })
     }

@@ -402,6 +402,7 @@ pub struct Dynamics {
     /// (`Model::dynamics`): the model's parameter values it was made at,
     /// so that a forward simulation may use the model's compiled
     /// equations of motion instead.
+    #[cfg(feature = "runtime")]
     sections: Option<Vec<f64>>,
 }
 
