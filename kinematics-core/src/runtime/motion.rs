@@ -27,8 +27,6 @@ pub(super) struct Compiled<'m> {
     out: Vec<f64>,
     /// C, n × nd, row-major.
     c: Vec<f64>,
-    /// M̃ C, n × nd.
-    mc: Vec<f64>,
     lu: Vec<f64>,
     perm: Vec<usize>,
     rhs: Vec<f64>,
@@ -55,13 +53,20 @@ impl<'m> Compiled<'m> {
         let (stage, motion) = code.motion()?;
         let (n, nd) = (motion.coordinates, m.drivers());
         let powers = motion.powers.len();
-        if n != m.coordinates().len()
+        // (No driver, no motion to simulate; the arrays' rows below are
+        // chunks of nd.)
+        if nd == 0
+            || n != m.coordinates().len()
             || powers != dynamics.working_loads()
             || code.outputs(stage) != (n - nd) * n + n * (n + 1) / 2 + n + powers
         {
             return None;
         }
         let nu = n - nd;
+        let mut c = vec![0.0; n * nd];
+        for k in 0..nd {
+            c[k * nd + k] = 1.0;
+        }
         Some(Self {
             code,
             stage,
@@ -69,8 +74,7 @@ impl<'m> Compiled<'m> {
             n,
             nd,
             out: vec![0.0; code.outputs(stage)],
-            c: vec![0.0; n * nd],
-            mc: vec![0.0; n * nd],
+            c,
             lu: vec![0.0; nu * nu],
             perm: vec![0; nu],
             rhs: vec![0.0; nu],
@@ -99,53 +103,67 @@ impl<'m> Compiled<'m> {
         let (jacobian, rest) = self.out.split_at(nu * n);
         let (upper, rest) = rest.split_at(n * (n + 1) / 2);
         let (forces, powers) = rest.split_at(n);
-        // C: the drivers' rows the identity, the unknowns' from Φ_u.
-        for i in 0..nu {
-            self.lu[i * nu..(i + 1) * nu].copy_from_slice(&jacobian[i * n + nd..(i + 1) * n]);
-        }
-        if nu > 0 && lu(&mut self.lu, &mut self.perm, nu).is_none() {
-            return false;
-        }
-        self.c.fill(0.0);
-        for k in 0..nd {
-            self.c[k * nd + k] = 1.0;
+        // C: the drivers' rows the identity (written once, in `new`), the
+        // unknowns' from Φ_u C_u = −Φ_d.
+        if nu > 0 {
             for i in 0..nu {
-                self.rhs[i] = -jacobian[i * n + k];
+                for j in 0..nu {
+                    self.lu[i * nu + j] = jacobian[i * n + nd + j];
+                }
             }
-            if nu > 0 {
-                lu_apply(&self.lu, &self.perm, &self.rhs, &mut self.x, nu);
+            if lu(&mut self.lu, &mut self.perm, nu).is_none() {
+                return false;
             }
-            for i in 0..nu {
-                self.c[(nd + i) * nd + k] = self.x[i];
-            }
-        }
-        // M̃_ij from the upper triangle (row i starts at i n − i (i − 1)/2).
-        let mt = |i: usize, j: usize| {
-            let (a, b) = if i <= j { (i, j) } else { (j, i) };
-            upper[a * n - a * a.saturating_sub(1) / 2 - a + b]
-        };
-        for i in 0..n {
             for k in 0..nd {
-                let mut s = 0.0;
-                for j in 0..n {
-                    s += mt(i, j) * self.c[j * nd + k];
+                for i in 0..nu {
+                    self.rhs[i] = -jacobian[i * n + k];
                 }
-                self.mc[i * nd + k] = s;
+                lu_apply(&self.lu, &self.perm, &self.rhs, &mut self.x, nu);
+                for i in 0..nu {
+                    self.c[(nd + i) * nd + k] = self.x[i];
+                }
             }
         }
-        for k in 0..nd {
-            for l in 0..nd {
-                let mut s = 0.0;
-                for i in 0..n {
-                    s += self.c[i * nd + k] * self.mc[i * nd + l];
+        let c = &self.c;
+        if nd == 1 {
+            // One driver: C is a column, M = Σ_i c_i (M̃_ii c_i + 2 Σ_{j>i}
+            // M̃_ij c_j), row i of the triangle holding M̃_ii … M̃_in.
+            let (mut mass, mut rows) = (0.0, upper);
+            for (i, &ci) in c.iter().enumerate() {
+                let (row, rest) = rows.split_at(n - i);
+                rows = rest;
+                let mut s = 0.5 * row[0] * ci;
+                for (&v, &cj) in row[1..].iter().zip(&c[i + 1..]) {
+                    s += v * cj;
                 }
-                eq.mass[k * nd + l] = s;
+                mass += 2.0 * ci * s;
             }
-            let mut b = 0.0;
-            for (j, f) in forces.iter().enumerate() {
-                b += self.c[j * nd + k] * f;
+            eq.mass[0] = mass;
+            eq.bias[0] = c.iter().zip(forces).map(|(c, f)| c * f).sum();
+        } else {
+            let mass = &mut eq.mass[..nd * nd];
+            mass.fill(0.0);
+            let mut at = 0;
+            for i in 0..n {
+                for j in i..n {
+                    let v = upper[at];
+                    at += 1;
+                    for k in 0..nd {
+                        let (cik, cjk) = (c[i * nd + k], c[j * nd + k]);
+                        for l in 0..nd {
+                            let other = if i == j { 0.0 } else { cjk * c[i * nd + l] };
+                            mass[k * nd + l] += v * (cik * c[j * nd + l] + other);
+                        }
+                    }
+                }
             }
-            eq.bias[k] = b;
+            for k in 0..nd {
+                let mut b = 0.0;
+                for (j, f) in forces.iter().enumerate() {
+                    b += c[j * nd + k] * f;
+                }
+                eq.bias[k] = b;
+            }
         }
         for (p, v) in eq.powers.iter_mut().zip(powers) {
             *p = *v;

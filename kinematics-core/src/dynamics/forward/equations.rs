@@ -187,6 +187,15 @@ impl Dynamics {
 /// M = L Lᵀ). `Err(k)` when the k-th pivot is not positive: the free
 /// driver k moves no mass that the earlier ones do not.
 pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(), usize> {
+    // One free driver: its factor √m, and x = r / m, without the loops.
+    if let ([m], [r]) = (&mut *m, &mut *r) {
+        if !m.is_finite() || *m <= 0.0 {
+            return Err(0);
+        }
+        *r /= *m;
+        *m = crate::math::sqrt(*m);
+        return Ok(());
+    }
     // The scale below which a pivot counts as zero.
     let largest = (0..n).map(|i| m[i * n + i].abs()).fold(0.0, f64::max);
     for j in 0..n {
