@@ -248,13 +248,15 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
     let s = run.statistics;
     let _ = writeln!(
         out,
-        "{}: {} samples from t = 0 to {} s; {} steps ({} rejected), {} evaluations",
+        "{}: {} samples from t = 0 to {} s; {} steps ({} rejected), {} evaluations ({} by the \
+         compiled equations of motion)",
         m.name(),
         run.sweep.samples.len(),
         run.sweep.samples.last().map_or(0.0, |x| x.at),
         s.steps,
         s.rejected,
-        s.evaluations
+        s.evaluations,
+        s.compiled
     );
     if let (Some(first), Some(last)) = (run.energy.first(), run.energy.last()) {
         let _ = writeln!(

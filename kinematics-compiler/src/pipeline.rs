@@ -330,6 +330,7 @@ impl Compiled {
             &emit::Optional {
                 sensitivities: self.sensitivities.as_ref(),
                 dynamics: self.dynamics.as_ref(),
+                motion: self.motion.as_ref(),
             },
         )
     }

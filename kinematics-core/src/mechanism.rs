@@ -650,6 +650,45 @@ pub trait Mechanism {
     #[doc(hidden)]
     const NEWTON_GUESS: bool = true;
 
+    /// The number of values [`Mechanism::equations_of_motion`] writes, 0
+    /// where the definition has no `bodies` and `loads` sections or the
+    /// compiler did not form their equations (more than 24 coordinates, a
+    /// loop system that is not square).
+    const MOTION_OUTPUTS: usize = 0;
+
+    /// The equations of motion of the definition's `bodies` and `loads`
+    /// sections in all n coordinates, at this parameter set, the
+    /// coordinates `q`, their rates `qd` and accelerations `qdd` and the
+    /// time, as compiled: Φ_q (one row per loop equation, row-major), the
+    /// upper triangle of the mass matrix M̃_ij = Σ m v_G^i · v_G^j +
+    /// ω^iᵀ J ω^j row by row, the generalized forces f̃_j (the inertia and
+    /// the loads at `qdd`, on coordinate j's partial velocities), then the
+    /// power of each load whose work a forward simulation reports; the
+    /// drivers' M = Cᵀ M̃ C and b = Cᵀ f̃ follow with the kinematic
+    /// coefficients C. `false`, with nothing written, where `out` has not
+    /// [`Mechanism::MOTION_OUTPUTS`] entries (always, without the
+    /// sections).
+    fn equations_of_motion(
+        &self,
+        q: &Self::Coords,
+        qd: &Self::Coords,
+        qdd: &Self::Coords,
+        time: f64,
+        out: &mut [f64],
+    ) -> bool {
+        let _ = (q, qd, qdd, time, out);
+        false
+    }
+
+    /// Whether `values` are this mechanism's parameter values in
+    /// declaration order, bit for bit: a description marked as made from
+    /// the sections at `values` is then this mechanism's own, and its
+    /// forward simulation may use [`Mechanism::equations_of_motion`].
+    fn has_parameter_values(&self, values: &[f64]) -> bool {
+        let _ = values;
+        false
+    }
+
     /// Solves Φ(d, u) = 0 for u, with d and a guess of u taken from
     /// `start`: each block with a closed form exactly (in the mode the
     /// guess lies in), each other block by Newton–Raphson on that block;

@@ -4,7 +4,11 @@
 //! `mechanism!`, at tolerance 1e-10; its steps and evaluations, and the
 //! CPU time of one evaluation of the equations of motion against what it
 //! is made of: one kinematic step (assembly and analysis) and one unit
-//! analysis, the partial velocities, plus the 1 × 1 factorisation of M.
+//! analysis, the partial velocities, plus the 1 × 1 factorisation of M;
+//! then the same mechanism with `bodies` and `loads` sections, whose
+//! forward simulation evaluates the compiled equations of motion (no
+//! unit analysis), generated and at run time, against one kinematic step
+//! and the factorisation.
 //! Interleaved rounds, thread CPU time, the median and the range of
 //! seven rounds.
 //!
@@ -33,6 +37,33 @@ mechanism! {
             P0 = vec2(0.05, 0.15);
         }
         loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+    }
+}
+
+mechanism! {
+    /// The same four-bar with its masses and loads as sections: its
+    /// forward simulation evaluates the compiled equations of motion.
+    pub struct FourBarSections {
+        params   { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points {
+            G2 = polar(a / 2.0, phi);
+            G3 = polar(a, phi) + polar(b / 2.0, th3);
+            G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+            P0 = vec2(0.05, 0.15);
+        }
+        loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+        bodies {
+            crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+            coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+            rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+        }
+        loads {
+            gravity(vec2(0.0, -9.81));
+            force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+            spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
+        }
     }
 }
 
@@ -146,10 +177,10 @@ fn main() {
         .with_values(&[0.04, 0.12, 0.10, 0.11])
         .expect("the values");
     let run_time = description().build_for(&model).expect("the description");
-    let q0 = [start.phi, start.th3, start.th4];
+    let pose0 = [start.phi, start.th3, start.th4];
     let run_model = || {
         run_time
-            .forward_of(&model, &q0)
+            .forward_of(&model, &pose0)
             .until(3.0)
             .samples(300)
             .tolerance(1e-10)
@@ -178,7 +209,7 @@ fn main() {
         .expect("the values");
     let own = sections.dynamics().expect("the sections");
     let run_sections = || {
-        own.forward_of(&sections, &q0)
+        own.forward_of(&sections, &pose0)
             .until(3.0)
             .samples(300)
             .tolerance(1e-10)
@@ -208,12 +239,99 @@ fn main() {
         b.push((thread_time() - t0) / n as f64 * 1e9);
     }
     let ratios: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x / y).collect();
-    let (r, r0, r1) = median(b);
+    let (r, r0, r1) = median(b.clone());
     let (q, q0, q1) = median(ratios);
     println!(
         "sections compiled, one evaluation: {r:.0} ns ({r0:.0}–{r1:.0}); \
          the description's / compiled per round: {q:.2} ({q0:.2}–{q1:.2})"
     );
+    // Against one run-time kinematic step (`step_flat`) and the factor of
+    // the 1 × 1 M, interleaved.
+    let mut stepper = sections
+        .stepper(&kinematics_core::Options::default())
+        .expect("a stepper");
+    let (mut evals, mut steps) = (Vec::new(), Vec::new());
+    for _ in 0..7 {
+        let t0 = thread_time();
+        let e = black_box(run_sections()).statistics.evaluations;
+        #[allow(clippy::cast_precision_loss)]
+        evals.push((thread_time() - t0) / e as f64 * 1e9);
+        let mut q = pose0;
+        let t0 = thread_time();
+        for k in 0..n {
+            q[0] = f64::from(k) * 1e-3;
+            let flat = stepper.step_flat(&q, &[30.0], &[0.0]).expect("a step");
+            let mass = black_box(0.01f64);
+            black_box((flat.qdd[1], mass.sqrt()));
+            q.copy_from_slice(flat.q);
+        }
+        steps.push((thread_time() - t0) / f64::from(n) * 1e9);
+    }
+    let ratios: Vec<f64> = evals.iter().zip(&steps).map(|(x, y)| x / y).collect();
+    let (p, p0, p1) = median(steps);
+    let (q, q0, q1) = median(ratios);
+    println!(
+        "run-time step_flat + M's factor: {p:.0} ns ({p0:.0}–{p1:.0}); \
+         sections compiled / it per round: {q:.2} ({q0:.2}–{q1:.2})"
+    );
+    // The generated four-bar with its sections: the compiled equations of
+    // motion against what the issue compares them with, one kinematic
+    // step and the factorisation of the 1 × 1 M (no unit analysis).
+    let ms = FourBarSections {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let own = ms.dynamics().expect("the sections");
+    let start_s = ms
+        .assemble(&FourBarSectionsCoords {
+            phi: 0.0,
+            th3: 1.2,
+            th4: 1.9,
+        })
+        .expect("assembled");
+    let run_s = || {
+        own.forward(&ms, &start_s)
+            .until(3.0)
+            .samples(300)
+            .tolerance(1e-10)
+            .run()
+            .expect("the run")
+    };
+    let first = run_s();
+    let s = first.statistics;
+    assert!(s.compiled >= s.evaluations, "the compiled equations");
+    println!(
+        "generated, sections compiled: phi(3 s) = {:.12}, {} evaluations ({} compiled)",
+        first.sweep.samples.last().expect("samples").motion.q.phi,
+        s.evaluations,
+        s.compiled
+    );
+    let mut pose = start_s;
+    let (mut runs, mut parts) = (Vec::new(), Vec::new());
+    for _ in 0..7 {
+        let t0 = thread_time();
+        black_box(run_s());
+        #[allow(clippy::cast_precision_loss)]
+        runs.push((thread_time() - t0) / s.evaluations as f64 * 1e9);
+        let t0 = thread_time();
+        for k in 0..n {
+            pose.phi = f64::from(k) * 1e-3;
+            let motion = ms.step(&pose, 30.0, 0.0).expect("a step");
+            let mass = black_box(0.01f64);
+            black_box((motion.qdd.th3, mass.sqrt()));
+            pose = motion.q;
+        }
+        parts.push((thread_time() - t0) / f64::from(n) * 1e9);
+    }
+    let ratios: Vec<f64> = runs.iter().zip(&parts).map(|(a, b)| a / b).collect();
+    let (r, r0, r1) = median(runs);
+    let (p, p0, p1) = median(parts);
+    let (q, q0, q1) = median(ratios);
+    println!("generated, sections compiled, one evaluation: {r:.0} ns ({r0:.0}–{r1:.0})");
+    println!("a kinematic step + M's factor: {p:.0} ns ({p0:.0}–{p1:.0})");
+    println!("ratio per round: {q:.2} ({q0:.2}–{q1:.2})");
 }
 
 /// The four-bar with its masses and loads as sections (the description

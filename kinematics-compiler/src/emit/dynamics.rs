@@ -13,6 +13,7 @@ use super::Ctx;
 use crate::cse::schedule;
 use crate::dynamics::{Dynamics, JointKind, LoadTarget, Turning};
 use crate::ir::{Id, Leaf};
+use crate::motion::EquationsOfMotion;
 
 /// The two methods, or nothing without the sections.
 pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream {
@@ -266,8 +267,70 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
             /// invalid (a negative or NaN mass, an inertia tensor that is
             /// not symmetric, …).
             pub fn dynamics(&self) -> #pp::Result<#dm::Dynamics, #pp::Error> {
-                self.dynamics_builder().build::<Self>()
+                self.dynamics_builder()
+                    .build_sections::<Self>(&self.parameter_values())
             }
+        }
+    }
+}
+
+/// The compiled equations of motion of the sections as items of the
+/// mechanism's `Mechanism` implementation
+/// (`kinematics_core::Mechanism::equations_of_motion` and its companions),
+/// or nothing where they were not formed: one straight-line function of
+/// the parameters, q, q̇, q̈ and the time writing Φ_q, M̃'s upper triangle,
+/// f̃ and the loads' powers.
+pub(super) fn motion(cx: &Ctx<'_>, eom: Option<&EquationsOfMotion>) -> TokenStream {
+    let Some(eom) = eom else {
+        return TokenStream::new();
+    };
+    let (g, allow) = (cx.g(), &cx.allow);
+    let npar = cx.id.params.len();
+    let coord = &cx.id.coord;
+    let field = |j: u32| coord.get(j as usize).map(|c| quote!(#c));
+    let leaf = |l: Leaf| match l {
+        Leaf::Param(i) => {
+            let i = Literal::usize_unsuffixed(i as usize);
+            quote!(values[#i])
+        }
+        Leaf::Q(j) => field(j).map_or_else(|| quote!(f64::NAN), |c| quote!(q.#c)),
+        Leaf::Qd(j) => field(j).map_or_else(|| quote!(f64::NAN), |c| quote!(qd.#c)),
+        Leaf::Qdd(j) => field(j).map_or_else(|| quote!(f64::NAN), |c| quote!(qdd.#c)),
+        Leaf::Time => quote!(time),
+    };
+    let roots = eom.roots();
+    let sched = schedule(g, std::slice::from_ref(&roots));
+    let (pr, lets) = bind(g, &sched, &leaf);
+    let stores = roots.iter().enumerate().map(|(i, &id)| {
+        let (i, e) = (Literal::usize_unsuffixed(i), pr.element(id));
+        quote!(out[#i] = #e;)
+    });
+    let len = roots.len();
+    quote! {
+        const MOTION_OUTPUTS: usize = #len;
+
+        #allow
+        fn equations_of_motion(
+            &self,
+            q: &Self::Coords,
+            qd: &Self::Coords,
+            qdd: &Self::Coords,
+            time: f64,
+            out: &mut [f64],
+        ) -> bool {
+            if out.len() != #len {
+                return false;
+            }
+            let values: [f64; #npar] = self.parameter_values();
+            #(#lets)*
+            #(#stores)*
+            true
+        }
+
+        fn has_parameter_values(&self, values: &[f64]) -> bool {
+            let own = self.parameter_values();
+            values.len() == own.len()
+                && values.iter().zip(own.iter()).all(|(a, b)| a.to_bits() == b.to_bits())
         }
     }
 }

@@ -9,7 +9,7 @@ use super::Ctx;
 use crate::lower::CoordKind;
 
 /// The `Mechanism` impl.
-pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
+pub(super) fn mechanism_impl(cx: &Ctx<'_>, equations_of_motion: TokenStream) -> TokenStream {
     let pp = &cx.pp;
     let (nd, nu, ne, np, nf) = (cx.nd, cx.nu, cx.ne, cx.np, cx.nf);
     let point_dim = cx.model.point_dim;
@@ -67,6 +67,8 @@ pub(super) fn mechanism_impl(cx: &Ctx<'_>) -> TokenStream {
             const FRAME_NAMES: &'static [&'static str] = &[#(#frame_names),*];
             const EQUATION_NAMES: &'static [&'static str] = &[#(#eq_names),*];
             const NEWTON_GUESS: bool = #newton_guess;
+
+            #equations_of_motion
 
             fn assemble_with(&self, start: &#coords, options: &#pp::Options) -> #pp::Result<#coords, #pp::Error> {
                 #name::assemble_with(self, start, options)

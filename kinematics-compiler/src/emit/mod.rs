@@ -402,6 +402,8 @@ pub struct Optional<'a> {
     pub sensitivities: Option<&'a crate::sensitivity::Partials>,
     /// The masses and loads of the `bodies` and `loads` sections.
     pub dynamics: Option<&'a crate::dynamics::Dynamics>,
+    /// Their equations of motion in the coordinates, where formed.
+    pub motion: Option<&'a crate::motion::EquationsOfMotion>,
 }
 
 /// The full expansion of a checked model.
@@ -435,7 +437,8 @@ pub fn expand(
     let stepper = step::stepper_items(&cx);
     let analyze = analyze::analyze(&cx);
     let evaluate = evaluate::evaluate(&cx);
-    let mechanism_impl = mechanism_impl::mechanism_impl(&cx);
+    let mechanism_impl =
+        mechanism_impl::mechanism_impl(&cx, dynamics::motion(&cx, optional.motion));
     let blocks = closed::blocks_const(&cx);
     let modes = closed::modes_type(&cx);
     let closed_methods = closed_step::closed_methods(&cx);

@@ -332,6 +332,21 @@ impl DynamicsBuilder {
         self
     }
 
+    /// [`DynamicsBuilder::build`] of a generated mechanism's own sections
+    /// (its `dynamics()`), marked as made at the parameter values
+    /// `values`: a forward simulation of a mechanism with those values
+    /// then evaluates its compiled equations of motion
+    /// ([`Mechanism::equations_of_motion`]) instead of the sums.
+    ///
+    /// # Errors
+    /// As [`DynamicsBuilder::build`].
+    #[doc(hidden)]
+    pub fn build_sections<M: Mechanism>(self, values: &[f64]) -> Result<Dynamics, Error> {
+        let mut d = self.build::<M>()?;
+        d.mark_sections(values);
+        Ok(d)
+    }
+
     /// Resolves the names against the generated mechanism `M`, and checks
     /// the values: masses, moments of inertia, stiffnesses and dampings
     /// finite and not negative, inertia tensors symmetric, free lengths
@@ -587,7 +602,6 @@ impl DynamicsBuilder {
             design,
             load_partials: self.load_partials,
             frame_partials,
-            #[cfg(feature = "runtime")]
             sections: None,
         })
     }

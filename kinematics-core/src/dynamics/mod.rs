@@ -398,11 +398,10 @@ pub struct Dynamics {
     /// (frame index, the partials of its R, ω, α).
     frame_partials: Vec<(usize, FramePartials)>,
     load_partials: PartialsOfLoads,
-    /// Where this is a run-time model's own sections unchanged
-    /// (`Model::dynamics`): the model's parameter values it was made at,
-    /// so that a forward simulation may use the model's compiled
-    /// equations of motion instead.
-    #[cfg(feature = "runtime")]
+    /// Where this is a model's own sections unchanged (a run-time model's
+    /// `Model::dynamics`, a generated mechanism's `dynamics()`): the
+    /// parameter values it was made at, so that a forward simulation of
+    /// that model may use its compiled equations of motion instead.
     sections: Option<Vec<f64>>,
 }
 
@@ -426,15 +425,13 @@ struct Design {
 }
 
 impl Dynamics {
-    /// Marks this description as a run-time model's own sections at the
-    /// parameter values `values`.
-    #[cfg(feature = "runtime")]
+    /// Marks this description as a model's own sections at the parameter
+    /// values `values`.
     pub(crate) fn mark_sections(&mut self, values: &[f64]) {
         self.sections = Some(values.to_vec());
     }
 
     /// The values of [`Dynamics::mark_sections`], where marked.
-    #[cfg(feature = "runtime")]
     pub(crate) fn sections_values(&self) -> Option<&[f64]> {
         self.sections.as_deref()
     }

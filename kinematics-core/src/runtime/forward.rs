@@ -232,6 +232,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             stepper: m.stepper(&self.course.options)?,
             units: m.stepper(&self.course.options)?,
             compiled: super::motion::Compiled::new(m, self.dynamics),
+            compiled_evaluations: 0,
             rates: vec![0.0; nd],
             zeros: vec![0.0; nd],
             profile: self.profile,
@@ -283,6 +284,8 @@ struct RunTime<'m, P> {
     /// The model's compiled equations of motion, where the description is
     /// its own sections: then no unit analysis is made.
     compiled: Option<super::motion::Compiled<'m>>,
+    /// The evaluations it gave.
+    compiled_evaluations: usize,
     /// The unit rates and the zero accelerations of the unit analyses.
     rates: Vec<f64>,
     zeros: Vec<f64>,
@@ -330,6 +333,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if let Some(c) = &mut self.compiled {
             let flat = self.stepper.flat();
             if c.equations([flat.q, flat.qd, flat.qdd], t, out) {
+                self.compiled_evaluations += 1;
                 return Ok(());
             }
         }
@@ -345,6 +349,10 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
             Ok(())
         };
         dynamics.equations(&Timed(&view, t), &mut unit, out)
+    }
+
+    fn compiled_evaluations(&self) -> usize {
+        self.compiled_evaluations
     }
 
     fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {

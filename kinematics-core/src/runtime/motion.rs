@@ -12,25 +12,16 @@ use alloc::vec::Vec;
 use super::Model;
 use super::dynamics::SectionCode;
 use crate::dynamics::Dynamics;
-use crate::dynamics::forward::equations::Equations;
-use crate::solve::dense::{lu, lu_apply};
+use crate::dynamics::forward::equations::{Equations, Reduction};
 
 /// The compiled equations of one model, with room for one evaluation.
 pub(super) struct Compiled<'m> {
     code: &'m SectionCode,
     stage: usize,
     values: &'m [f64],
-    /// Coordinates, drivers, unknowns.
-    n: usize,
-    nd: usize,
     /// The stage's outputs: Φ_q, M̃'s upper triangle, f̃, the powers.
     out: Vec<f64>,
-    /// C, n × nd, row-major.
-    c: Vec<f64>,
-    lu: Vec<f64>,
-    perm: Vec<usize>,
-    rhs: Vec<f64>,
-    x: Vec<f64>,
+    reduction: Reduction,
 }
 
 impl<'m> Compiled<'m> {
@@ -53,32 +44,21 @@ impl<'m> Compiled<'m> {
         let (stage, motion) = code.motion()?;
         let (n, nd) = (motion.coordinates, m.drivers());
         let powers = motion.powers.len();
-        // (No driver, no motion to simulate; the arrays' rows below are
-        // chunks of nd.)
+        let reduction = Reduction::new(n, nd);
+        // (No driver, no motion to simulate.)
         if nd == 0
             || n != m.coordinates().len()
             || powers != dynamics.working_loads()
-            || code.outputs(stage) != (n - nd) * n + n * (n + 1) / 2 + n + powers
+            || code.outputs(stage) != reduction.outputs(powers)
         {
             return None;
-        }
-        let nu = n - nd;
-        let mut c = vec![0.0; n * nd];
-        for k in 0..nd {
-            c[k * nd + k] = 1.0;
         }
         Some(Self {
             code,
             stage,
             values: m.all_values(),
-            n,
-            nd,
             out: vec![0.0; code.outputs(stage)],
-            c,
-            lu: vec![0.0; nu * nu],
-            perm: vec![0; nu],
-            rhs: vec![0.0; nu],
-            x: vec![0.0; nu],
+            reduction,
         })
     }
 
@@ -92,87 +72,13 @@ impl<'m> Compiled<'m> {
         t: f64,
         eq: &mut Equations<'_>,
     ) -> bool {
-        let (n, nd) = (self.n, self.nd);
-        let nu = n - nd;
         if !self
             .code
             .eval_at(self.stage, self.values, coords, t, &mut self.out)
         {
             return false;
         }
-        let (jacobian, rest) = self.out.split_at(nu * n);
-        let (upper, rest) = rest.split_at(n * (n + 1) / 2);
-        let (forces, powers) = rest.split_at(n);
-        // C: the drivers' rows the identity (written once, in `new`), the
-        // unknowns' from Φ_u C_u = −Φ_d.
-        if nu > 0 {
-            for i in 0..nu {
-                for j in 0..nu {
-                    self.lu[i * nu + j] = jacobian[i * n + nd + j];
-                }
-            }
-            if lu(&mut self.lu, &mut self.perm, nu).is_none() {
-                return false;
-            }
-            for k in 0..nd {
-                for i in 0..nu {
-                    self.rhs[i] = -jacobian[i * n + k];
-                }
-                lu_apply(&self.lu, &self.perm, &self.rhs, &mut self.x, nu);
-                for i in 0..nu {
-                    self.c[(nd + i) * nd + k] = self.x[i];
-                }
-            }
-        }
-        let c = &self.c;
-        if nd == 1 {
-            // One driver: C is a column, M = Σ_i c_i (M̃_ii c_i + 2 Σ_{j>i}
-            // M̃_ij c_j), row i of the triangle holding M̃_ii … M̃_in.
-            let (mut mass, mut rows) = (0.0, upper);
-            for (i, &ci) in c.iter().enumerate() {
-                let (row, rest) = rows.split_at(n - i);
-                rows = rest;
-                let mut s = 0.5 * row[0] * ci;
-                for (&v, &cj) in row[1..].iter().zip(&c[i + 1..]) {
-                    s += v * cj;
-                }
-                mass += 2.0 * ci * s;
-            }
-            eq.mass[0] = mass;
-            eq.bias[0] = c.iter().zip(forces).map(|(c, f)| c * f).sum();
-        } else {
-            let mass = &mut eq.mass[..nd * nd];
-            mass.fill(0.0);
-            let mut at = 0;
-            for i in 0..n {
-                for j in i..n {
-                    let v = upper[at];
-                    at += 1;
-                    for k in 0..nd {
-                        let (cik, cjk) = (c[i * nd + k], c[j * nd + k]);
-                        for l in 0..nd {
-                            let other = if i == j { 0.0 } else { cjk * c[i * nd + l] };
-                            mass[k * nd + l] += v * (cik * c[j * nd + l] + other);
-                        }
-                    }
-                }
-            }
-            for k in 0..nd {
-                let mut b = 0.0;
-                for (j, f) in forces.iter().enumerate() {
-                    b += c[j * nd + k] * f;
-                }
-                eq.bias[k] = b;
-            }
-        }
-        for (p, v) in eq.powers.iter_mut().zip(powers) {
-            *p = *v;
-        }
-        eq.mass[..nd * nd]
-            .iter()
-            .chain(&eq.bias[..nd])
-            .chain(powers)
-            .all(|v| v.is_finite())
+        self.reduction.reduce(&self.out, eq)
     }
 }
 

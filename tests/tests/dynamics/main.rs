@@ -17,6 +17,7 @@ use kinematics_core::dynamics::{Body, Dynamics, Joint, Spring, GROUND};
 use kinematics_core::nalgebra::{DMatrix, DVector, Vector3};
 use kinematics_core::{mechanism, Error};
 
+mod compiled;
 mod descriptions;
 mod efforts;
 mod energy;

@@ -17,6 +17,7 @@
 
 use alloc::format;
 use alloc::string::String;
+use alloc::vec;
 use alloc::vec::Vec;
 
 use nalgebra::Vector3;
@@ -26,6 +27,7 @@ use crate::dynamics::Turns;
 use crate::dynamics::evaluate::{View, WithUnit, angular_velocity, turning};
 use crate::dynamics::terms::Terms;
 use crate::error::{Error, Input};
+use crate::solve::dense::{lu, lu_apply};
 
 /// Where the equations are written: the mass matrix (drivers × drivers,
 /// row-major), the efforts at zero free acceleration, the power of each
@@ -179,6 +181,141 @@ impl Dynamics {
             let rate = e.dot(&(velocity(sp.to) - velocity(sp.from)));
             put(-sp.damping * rate * rate);
         }
+    }
+}
+
+/// The drivers' M, b and the loads' powers from the equations of motion
+/// in all the coordinates, as the compiled roots give them
+/// ([`kinematics_compiler::motion::EquationsOfMotion`], laid out
+/// `[Φ_q (u × n) | M̃'s upper triangle | f̃ (n) | powers]`): with the
+/// kinematic coefficients C (n × d, C_d = I, Φ_u C_u = −Φ_d),
+/// M = Cᵀ M̃ C and b = Cᵀ f̃ (the virtual power of f̃ along the drivers'
+/// partial velocities). Its work arrays are allocated once.
+pub(crate) struct Reduction {
+    n: usize,
+    nd: usize,
+    /// C, n × nd, row-major; the drivers' rows the identity.
+    c: Vec<f64>,
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    rhs: Vec<f64>,
+    x: Vec<f64>,
+}
+
+impl Reduction {
+    /// For n coordinates of which the first `nd` (at least one) are the
+    /// drivers.
+    pub(crate) fn new(n: usize, nd: usize) -> Self {
+        let nu = n.saturating_sub(nd);
+        let mut c = vec![0.0; n * nd];
+        for k in 0..nd.min(n) {
+            c[k * nd + k] = 1.0;
+        }
+        Self {
+            n,
+            nd,
+            c,
+            lu: vec![0.0; nu * nu],
+            perm: vec![0; nu],
+            rhs: vec![0.0; nu],
+            x: vec![0.0; nu],
+        }
+    }
+
+    /// The length of the output it reads, with `powers` loads' powers.
+    pub(crate) fn outputs(&self, powers: usize) -> usize {
+        let (n, nd) = (self.n, self.nd);
+        n.saturating_sub(nd) * n + n * (n + 1) / 2 + n + powers
+    }
+
+    /// M, b and the powers from `out` into `eq`; `false` where `out` has
+    /// not the length of [`Reduction::outputs`] for `eq`'s powers, Φ_u is
+    /// singular or a value is not finite (the caller then sums the
+    /// general way, which names the cause).
+    pub(crate) fn reduce(&mut self, out: &[f64], eq: &mut Equations<'_>) -> bool {
+        let (n, nd) = (self.n, self.nd);
+        if nd == 0
+            || nd > n
+            || out.len() != self.outputs(eq.powers.len())
+            || eq.mass.len() < nd * nd
+            || eq.bias.len() < nd
+        {
+            return false;
+        }
+        let nu = n - nd;
+        let (jacobian, rest) = out.split_at(nu * n);
+        let (upper, rest) = rest.split_at(n * (n + 1) / 2);
+        let (forces, powers) = rest.split_at(n);
+        // C: the drivers' rows the identity (written once, in `new`), the
+        // unknowns' from Φ_u C_u = −Φ_d.
+        if nu > 0 {
+            for i in 0..nu {
+                for j in 0..nu {
+                    self.lu[i * nu + j] = jacobian[i * n + nd + j];
+                }
+            }
+            if lu(&mut self.lu, &mut self.perm, nu).is_none() {
+                return false;
+            }
+            for k in 0..nd {
+                for i in 0..nu {
+                    self.rhs[i] = -jacobian[i * n + k];
+                }
+                lu_apply(&self.lu, &self.perm, &self.rhs, &mut self.x, nu);
+                for i in 0..nu {
+                    self.c[(nd + i) * nd + k] = self.x[i];
+                }
+            }
+        }
+        let c = &self.c;
+        if nd == 1 {
+            // One driver: C is a column, M = Σ_i c_i (M̃_ii c_i + 2 Σ_{j>i}
+            // M̃_ij c_j), row i of the triangle holding M̃_ii … M̃_in.
+            let (mut mass, mut rows) = (0.0, upper);
+            for (i, &ci) in c.iter().enumerate() {
+                let (row, rest) = rows.split_at(n - i);
+                rows = rest;
+                let mut s = 0.5 * row[0] * ci;
+                for (&v, &cj) in row[1..].iter().zip(&c[i + 1..]) {
+                    s += v * cj;
+                }
+                mass += 2.0 * ci * s;
+            }
+            eq.mass[0] = mass;
+            eq.bias[0] = c.iter().zip(forces).map(|(c, f)| c * f).sum();
+        } else {
+            let mass = &mut eq.mass[..nd * nd];
+            mass.fill(0.0);
+            let mut at = 0;
+            for i in 0..n {
+                for j in i..n {
+                    let v = upper[at];
+                    at += 1;
+                    for k in 0..nd {
+                        let (cik, cjk) = (c[i * nd + k], c[j * nd + k]);
+                        for l in 0..nd {
+                            let other = if i == j { 0.0 } else { cjk * c[i * nd + l] };
+                            mass[k * nd + l] += v * (cik * c[j * nd + l] + other);
+                        }
+                    }
+                }
+            }
+            for k in 0..nd {
+                let mut b = 0.0;
+                for (j, f) in forces.iter().enumerate() {
+                    b += c[j * nd + k] * f;
+                }
+                eq.bias[k] = b;
+            }
+        }
+        for (p, v) in eq.powers.iter_mut().zip(powers) {
+            *p = *v;
+        }
+        eq.mass[..nd * nd]
+            .iter()
+            .chain(&eq.bias[..nd])
+            .chain(powers)
+            .all(|v| v.is_finite())
     }
 }
 

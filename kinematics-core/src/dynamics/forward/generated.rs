@@ -3,9 +3,10 @@
 //! integration.
 
 use alloc::string::String;
+use alloc::vec;
 use alloc::vec::Vec;
 
-use super::equations::Equations;
+use super::equations::{Equations, Reduction};
 use super::run::{Analysis, Course, Timed, course_settings, integrate, start_state};
 use super::{Ended, Trajectory};
 use crate::dynamics::Dynamics;
@@ -128,7 +129,19 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             &names,
         )?;
         let state = self.m.step_state(&self.course.options)?;
+        // The compiled equations of motion, where the description is the
+        // mechanism's own sections at its parameter values.
+        let reduction = Reduction::new(M::COORDINATES.len(), M::DRIVERS);
+        let compiled = (M::MOTION_OUTPUTS > 0
+            && M::MOTION_OUTPUTS == reduction.outputs(self.dynamics.working_loads())
+            && self
+                .dynamics
+                .sections_values()
+                .is_some_and(|v| self.m.has_parameter_values(v)))
+        .then(|| (reduction, vec![0.0; M::MOTION_OUTPUTS]));
         let analysis = Model {
+            compiled,
+            compiled_evaluations: 0,
             m: self.m,
             profile: self.profile,
             start: self.start,
@@ -177,6 +190,11 @@ struct Model<'m, M: Mechanism, P> {
     current_state: M::StepState,
     partials: Option<Partials<M>>,
     samples: Vec<Sample<M>>,
+    /// The reduction of the compiled equations of motion and their
+    /// outputs, where the description is the mechanism's own sections.
+    compiled: Option<(Reduction, Vec<f64>)>,
+    /// The evaluations they gave.
+    compiled_evaluations: usize,
 }
 
 impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
@@ -216,12 +234,25 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         let Some(motion) = &self.current else {
             return Ok(());
         };
+        if let Some((reduction, outputs)) = &mut self.compiled {
+            let (m, motion) = (self.m, motion);
+            if m.equations_of_motion(motion.q(), motion.qd(), motion.qdd(), t, outputs)
+                && reduction.reduce(outputs, out)
+            {
+                self.compiled_evaluations += 1;
+                return Ok(());
+            }
+        }
         let view = Generated(motion);
         dynamics.equations(
             &Timed(&view, t),
             &mut unit_analyses(self.m, motion.q(), M::DRIVERS),
             out,
         )
+    }
+
+    fn compiled_evaluations(&self) -> usize {
+        self.compiled_evaluations
     }
 
     fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {

@@ -344,8 +344,15 @@ pub struct Statistics {
     /// Rejected steps (the error too large, or a stage past a limit).
     pub rejected: usize,
     /// Evaluations of the equations of motion (each an assembly, an
-    /// analysis, one unit analysis per driver and a solve with M).
+    /// analysis, M and b, and a solve with M).
     pub evaluations: usize,
+    /// The evaluations of M and b that the model's compiled equations of
+    /// motion gave (M = Cᵀ M̃ C, b = Cᵀ f̃ from one call of the code
+    /// compiled from its `bodies` and `loads` sections): all of them where
+    /// the description is the model's own sections (`dynamics()`), none
+    /// where it was built or changed otherwise (then each sums the bodies
+    /// and loads with one unit analysis per driver).
+    pub compiled: usize,
 }
 
 /// The result of a forward simulation: its samples as a sweep in time

@@ -44,6 +44,12 @@ pub(crate) trait Analysis {
         t: f64,
         out: &mut Equations<'_>,
     ) -> Result<(), Error>;
+    /// How many evaluations of [`Analysis::equations`] the model's
+    /// compiled equations of motion gave (the others summed the bodies and
+    /// loads).
+    fn compiled_evaluations(&self) -> usize {
+        0
+    }
     /// T and V at the current motion.
     ///
     /// # Errors
@@ -671,6 +677,7 @@ pub(crate) fn integrate<A: Analysis>(
         steps: steps + counted[0],
         rejected: rejected + counted[1],
         evaluations: evaluations + counted[2],
+        compiled: eom.analysis.compiled_evaluations(),
     };
     let stop = failure.map(|(at, e)| Stop {
         variable: "t",

@@ -1,0 +1,219 @@
+//! The compiled equations of motion a generated mechanism carries for its
+//! `bodies` and `loads` sections (`Mechanism::equations_of_motion`),
+//! against what they must equal: Φ_q against central differences of the
+//! loop residual, ½ q̇ᵀ M̃ q̇ against the kinetic energy of the inverse
+//! analysis, Cᵀ f̃ against its driving effort, a load's power against its
+//! closed form; and a forward simulation through them against the same
+//! simulation summing the bodies and loads at run time.
+
+use super::efforts::*;
+use super::sections::*;
+use super::*;
+use kinematics_core::{Coordinates, Mechanism};
+
+/// The outputs of `equations_of_motion` at a motion, split: Φ_q (u × n),
+/// M̃ (n × n, from its upper triangle), f̃, the powers.
+struct Split {
+    jacobian: DMatrix<f64>,
+    mass: DMatrix<f64>,
+    forces: DVector<f64>,
+    powers: Vec<f64>,
+}
+
+fn split<M: Mechanism>(m: &M, q: &M::Coords, qd: &M::Coords, qdd: &M::Coords) -> Split {
+    let (n, nu) = (M::COORDINATES.len(), M::UNKNOWNS);
+    let mut out = vec![f64::NAN; M::MOTION_OUTPUTS];
+    assert!(
+        M::MOTION_OUTPUTS > 0,
+        "the sections' equations are compiled"
+    );
+    assert!(m.equations_of_motion(q, qd, qdd, 0.0, &mut out));
+    assert!(
+        !m.equations_of_motion(q, qd, qdd, 0.0, &mut out[1..]),
+        "a buffer of the wrong length is refused"
+    );
+    let jacobian = DMatrix::from_row_slice(nu, n, &out[..nu * n]);
+    let mut mass = DMatrix::zeros(n, n);
+    let mut at = nu * n;
+    for i in 0..n {
+        for j in i..n {
+            mass[(i, j)] = out[at];
+            mass[(j, i)] = out[at];
+            at += 1;
+        }
+    }
+    let forces = DVector::from_column_slice(&out[at..at + n]);
+    Split {
+        jacobian,
+        mass,
+        forces,
+        powers: out[at + n..].to_vec(),
+    }
+}
+
+/// Φ_q by central differences of the residual at `q`.
+fn jacobian_by_differences<M: Mechanism>(m: &M, q: &M::Coords) -> DMatrix<f64> {
+    let (n, ne) = (M::COORDINATES.len(), M::EQUATIONS);
+    let mut out = DMatrix::zeros(ne, n);
+    let (mut up, mut down) = (vec![0.0; ne], vec![0.0; ne]);
+    for j in 0..n {
+        let h = 1e-6 * (1.0 + q.get(j).expect("a coordinate").abs());
+        let (mut a, mut b) = (*q, *q);
+        a.set(j, q.get(j).expect("a coordinate") + h);
+        b.set(j, q.get(j).expect("a coordinate") - h);
+        m.residual_into(&a, &mut up);
+        m.residual_into(&b, &mut down);
+        for i in 0..ne {
+            out[(i, j)] = (up[i] - down[i]) / (2.0 * h);
+        }
+    }
+    out
+}
+
+/// C (n × d): the drivers' rows the identity, Φ_u C_u = −Φ_d.
+fn coefficients(jacobian: &DMatrix<f64>, nd: usize) -> DMatrix<f64> {
+    let (nu, n) = jacobian.shape();
+    let phi_u = jacobian.columns(nd, nu).into_owned();
+    let phi_d = jacobian.columns(0, nd).into_owned();
+    let c_u = phi_u.lu().solve(&(-phi_d)).expect("Φ_u regular");
+    let mut c = DMatrix::zeros(n, nd);
+    for k in 0..nd {
+        c[(k, k)] = 1.0;
+    }
+    c.rows_mut(nd, nu).copy_from(&c_u);
+    c
+}
+
+/// The engine: Φ_q, the kinetic energy, the crank torque and the gas
+/// force's power −p0 (x0/x)² ẋ over a turn at a varying speed.
+#[test]
+fn the_engines_compiled_equations_are_its_jacobian_energy_effort_and_power(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = DEFINED_ENGINE;
+    let dynamics = m.dynamics()?;
+    for k in 0..24 {
+        let phi = TAU * f64::from(k) / 24.0 + 0.01;
+        let (w, al) = (150.0 + 30.0 * phi.sin(), -800.0 * phi.cos());
+        let kin = engine_kinematics(phi, w, al);
+        let pose = m.assemble(&DefinedEngineCoords {
+            phi,
+            th: kin.th,
+            x: kin.x,
+        })?;
+        let motion = m.analyze(&pose, w, al)?;
+        let s = split(&m, &motion.q, &motion.qd, &motion.qdd);
+        let fd = jacobian_by_differences(&m, &motion.q);
+        for (a, b) in s.jacobian.iter().zip(fd.iter()) {
+            close(*a, *b, 1e-8, "Φ_q against differences of the residual");
+        }
+        let inverse = dynamics.inverse(&m, &motion)?;
+        let qd = DVector::from_vec(vec![motion.qd.phi, motion.qd.th, motion.qd.x]);
+        let kinetic = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
+        close(kinetic, inverse.kinetic_energy, 1e-12, "½ q̇ᵀ M̃ q̇");
+        let c = coefficients(&s.jacobian, 1);
+        let effort = (c.transpose() * &s.forces)[0];
+        close(effort, inverse.effort.phi, 1e-11, "Cᵀ f̃ against the torque");
+        let gas = -m.p0 * (m.x0 / motion.q.x).powi(2) * motion.qd.x;
+        assert_eq!(s.powers.len(), 1);
+        close(s.powers[0], gas, 1e-12, "the gas force's power");
+    }
+    Ok(())
+}
+
+/// The spatial RSSR with inertia tensors: the same checks (its kinetic
+/// energy holds the rotating tensors' ωᵀ J ω).
+#[test]
+fn the_rssrs_compiled_equations_are_its_jacobian_energy_and_effort(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = DefinedRssr {
+        a: 0.03,
+        b: 0.12,
+        c: 0.08,
+        d: 0.1,
+        g: G,
+    };
+    let dynamics = m.dynamics()?;
+    let mut pose = m.assemble(&DefinedRssrCoords { phi: 0.7, psi: 1.1 })?;
+    for k in 0..12 {
+        pose.phi = 0.7 + 0.4 * f64::from(k);
+        let motion = m.step(&pose, 9.0 + f64::from(k), 40.0 - 7.0 * f64::from(k))?;
+        pose = motion.q;
+        let s = split(&m, &motion.q, &motion.qd, &motion.qdd);
+        let fd = jacobian_by_differences(&m, &motion.q);
+        for (a, b) in s.jacobian.iter().zip(fd.iter()) {
+            close(*a, *b, 1e-8, "Φ_q against differences of the residual");
+        }
+        let inverse = dynamics.inverse(&m, &motion)?;
+        let qd = DVector::from_vec(vec![motion.qd.phi, motion.qd.psi]);
+        let kinetic = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
+        assert!(kinetic > 1e-4, "a test: T = {kinetic}");
+        close(kinetic, inverse.kinetic_energy, 1e-12, "½ q̇ᵀ M̃ q̇");
+        let effort = (coefficients(&s.jacobian, 1).transpose() * &s.forces)[0];
+        close(effort, inverse.effort.phi, 1e-11, "Cᵀ f̃ against the torque");
+        assert!(s.powers.is_empty(), "gravity reports no work of its own");
+    }
+    Ok(())
+}
+
+/// A forward simulation of the RSSR released under gravity, from its own
+/// sections (through the compiled equations) and from the same
+/// description built again (summed at run time): the same motion.
+#[test]
+fn a_forward_run_through_the_compiled_equations_is_the_summed_one(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = DefinedRssr {
+        a: 0.03,
+        b: 0.12,
+        c: 0.08,
+        d: 0.1,
+        g: G,
+    };
+    let own = m.dynamics()?;
+    let summed = m.dynamics_builder().build::<DefinedRssr>()?;
+    let start = m.assemble(&DefinedRssrCoords { phi: 0.7, psi: 1.1 })?;
+    let run = |d: &Dynamics| {
+        d.forward(&m, &start)
+            .until(0.5)
+            .samples(10)
+            .tolerance(1e-11)
+            .run()
+    };
+    let (a, b) = (run(&own)?, run(&summed)?);
+    assert!(a.is_complete() && b.is_complete());
+    // Every evaluation of the one compiled, none of the other.
+    assert!(a.statistics.compiled >= a.statistics.evaluations);
+    assert_eq!(b.statistics.compiled, 0);
+    for (x, y) in a.sweep.samples.iter().zip(&b.sweep.samples) {
+        close(x.motion.q.phi, y.motion.q.phi, 1e-10, "φ");
+        close(x.motion.qd.phi, y.motion.qd.phi, 1e-9, "φ'");
+    }
+    // The same definition compiled at run time, through its compiled
+    // equations too.
+    let model = kinematics_core::runtime::Model::compile(text_of("DefinedRssr"))?
+        .with_values(&m.parameter_values())?;
+    let c = model
+        .dynamics()?
+        .forward_of(&model, &[start.phi, start.psi])
+        .until(0.5)
+        .samples(10)
+        .tolerance(1e-11)
+        .run()?;
+    assert!(c.statistics.compiled >= c.statistics.evaluations);
+    for (x, y) in c.sweep.samples.iter().zip(&a.sweep.samples) {
+        close(x.motion.q[0], y.motion.q.phi, 1e-10, "run-time φ");
+    }
+    let end = a.sweep.samples.last().expect("samples").motion.q.phi;
+    assert!((end - 0.7).abs() > 0.1, "a test: φ from 0.7 to {end}");
+    assert!(a.energy_error() < 1e-9, "{}", a.energy_error());
+    Ok(())
+}
+
+/// Without `bodies` and `loads` sections there is nothing compiled.
+#[test]
+fn a_mechanism_without_sections_has_no_compiled_equations() {
+    let m = Engine { a: A, b: B, r3: R3 };
+    assert_eq!(<Engine as Mechanism>::MOTION_OUTPUTS, 0);
+    let q = EngineCoords::default();
+    assert!(!m.equations_of_motion(&q, &q, &q, 0.0, &mut []));
+    assert!(!m.has_parameter_values(&m.parameter_values()));
+}
