@@ -195,6 +195,36 @@ mod tests {
     }
 
     #[test]
+    fn a_coupler_placed_from_the_rocker_side_agrees_with_the_sums() {
+        // The coupler's centre reached through the rocker: its velocity
+        // reads both unknowns' rates, so M̃ couples them (M̃₁₂ ≠ 0), which
+        // the coupler placed from the crank's side does not.
+        agree(
+            "struct FourBar {
+                params   { a, b, c, d }
+                drivers  { phi }
+                unknowns { th3, th4 }
+                points {
+                    G2 = polar(a / 2.0, phi);
+                    G3 = vec2(d, 0.0) + polar(c, th4) - polar(b / 2.0, th3);
+                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                }
+                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                bodies {
+                    crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+                    coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                }
+                loads { gravity(vec2(0.0, -9.81)); force(G3, vec2(1.0, -rate(th3))); }
+            }",
+            &[0.04, 0.12, 0.10, 0.11],
+            &[0.7, 1.2, 1.9],
+            &[13.0],
+            0.0,
+        );
+    }
+
+    #[test]
     fn two_free_drivers_and_a_slider_agree_with_the_sums() {
         // A two-link arm (two drivers) carrying a slider along its
         // second link, held by a spring to the frame.

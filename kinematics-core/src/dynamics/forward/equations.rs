@@ -246,6 +246,34 @@ impl Reduction {
         let (jacobian, rest) = out.split_at(nu * n);
         let (upper, rest) = rest.split_at(n * (n + 1) / 2);
         let (forces, powers) = rest.split_at(n);
+        if let ([a0, a1, a2, b0, b1, b2], [m00, m01, m02, m11, m12, m22], [f0, f1, f2]) =
+            (jacobian, upper, forces)
+        {
+            // One driver and two unknowns (a four-bar, a slider-crank),
+            // unrolled: C = (1, x₀, x₁) with Φ_u x = −Φ_d by elimination
+            // with the larger pivot, M = Cᵀ M̃ C, b = Cᵀ f̃.
+            let ([p, q, r], [s, t, u]) = if b1.abs() > a1.abs() {
+                ([*b1, *b2, -*b0], [*a1, *a2, -*a0])
+            } else {
+                ([*a1, *a2, -*a0], [*b1, *b2, -*b0])
+            };
+            let l = s / p;
+            let d = t - l * q;
+            if !(p.abs() > 0.0 && d.abs() > 0.0) {
+                return false;
+            }
+            let x1 = (u - l * r) / d;
+            let x0 = (r - q * x1) / p;
+            eq.mass[0] =
+                m00 + 2.0 * (m01 * x0 + m02 * x1 + m12 * x0 * x1) + m11 * x0 * x0 + m22 * x1 * x1;
+            eq.bias[0] = f0 + f1 * x0 + f2 * x1;
+            for (p, v) in eq.powers.iter_mut().zip(powers) {
+                *p = *v;
+            }
+            return eq.mass[0].is_finite()
+                && eq.bias[0].is_finite()
+                && powers.iter().all(|v| v.is_finite());
+        }
         // C: the drivers' rows the identity (written once, in `new`), the
         // unknowns' from Φ_u C_u = −Φ_d.
         if nu > 0 {
