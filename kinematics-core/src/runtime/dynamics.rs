@@ -438,14 +438,18 @@ impl SectionCode {
     /// Stage `stage` at the parameters `values` (the characteristic length
     /// last), the coordinates, rates and accelerations `coords` and the
     /// time `time`, into `out`; `false` where the lengths do not fit the
-    /// program. Nothing is allocated for a mechanism of up to ten
-    /// coordinates and thirty parameters.
+    /// program. The cosines and sines of the coordinates marked in
+    /// `given` are taken from it (cos q_j, sin q_j at 2j and 2j + 1: those
+    /// a fused step already holds), the others computed. Nothing is
+    /// allocated for a mechanism of up to ten coordinates and thirty
+    /// parameters.
     pub(crate) fn eval_at(
         &self,
         stage: usize,
         values: &[f64],
         coords: [&[f64]; 3],
         time: f64,
+        given: Option<(&[f64], &[bool])>,
         out: &mut [f64],
     ) -> bool {
         use crate::dynamics::evaluate::Buffer;
@@ -455,7 +459,25 @@ impl SectionCode {
         if coords[0].len() != n {
             return false;
         }
-        self.program.trig(coords[0], trig, 0);
+        match given {
+            Some((known, fresh)) => {
+                for &j in self.program.trig_coordinates() {
+                    let (Some(&x), Some(pair)) = (coords[0].get(j), trig.get_mut(2 * j..2 * j + 2))
+                    else {
+                        continue;
+                    };
+                    match (fresh.get(j), known.get(2 * j..2 * j + 2)) {
+                        (Some(true), Some(k)) => pair.copy_from_slice(k),
+                        _ => {
+                            let (s, c) = x.sin_cos();
+                            pair[0] = c;
+                            pair[1] = s;
+                        }
+                    }
+                }
+            }
+            None => self.program.trig(coords[0], trig, 0),
+        }
         // The time, where a load reads it, after the parameters.
         let timed;
         let params = if self.program.reads_time() {
@@ -509,7 +531,7 @@ impl SectionCode {
             _ => f64::NAN,
         };
         let coords = [&q[..n], &q[n..2 * n], &q[2 * n..]];
-        if !self.eval_at(stage, values, coords, time, out) {
+        if !self.eval_at(stage, values, coords, time, None, out) {
             // Lengths are the program's own; a mismatch cannot happen, and
             // would show as NaN, which the sums report.
             out.fill(f64::NAN);

@@ -331,8 +331,8 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
             return Ok(());
         }
         if let Some(c) = &mut self.compiled {
-            let flat = self.stepper.flat();
-            if c.equations([flat.q, flat.qd, flat.qdd], t, out) {
+            let (flat, trig) = (self.stepper.flat(), self.stepper.fused_trig());
+            if c.equations([flat.q, flat.qd, flat.qdd], t, trig, out) {
                 self.compiled_evaluations += 1;
                 return Ok(());
             }

@@ -63,18 +63,21 @@ impl<'m> Compiled<'m> {
     }
 
     /// M, b and the loads' powers at the coordinates `coords` (q, q̇ and q̈
-    /// with the free drivers' accelerations zero) and the time `t`, into
+    /// with the free drivers' accelerations zero; the cosines and sines
+    /// `trig` holds of some, as in `SectionCode::eval_at`) and the time
+    /// `t`, into
     /// `eq`; `false` where Φ_u is singular or a value is not finite (the
     /// caller then sums the general way, which names the cause).
     pub(super) fn equations(
         &mut self,
         coords: [&[f64]; 3],
         t: f64,
+        trig: Option<(&[f64], &[bool])>,
         eq: &mut Equations<'_>,
     ) -> bool {
         if !self
             .code
-            .eval_at(self.stage, self.values, coords, t, &mut self.out)
+            .eval_at(self.stage, self.values, coords, t, trig, &mut self.out)
         {
             return false;
         }
@@ -97,8 +100,10 @@ mod tests {
     /// M, b and the powers of `text` at the pose `start` (assembled there)
     /// with the rates `rates`, the free accelerations `accelerations`, at
     /// time `t`: by the compiled equations and by the sums over the bodies
-    /// and loads with unit analyses, which must agree.
-    fn agree(text: &str, values: &[f64], start: &[f64], rates: &[f64], t: f64) {
+    /// and loads with unit analyses, which must agree; and, where a fused
+    /// step takes the pose, by the compiled equations with the cosines
+    /// and sines that step holds (then `true`).
+    fn agree(text: &str, values: &[f64], start: &[f64], rates: &[f64], t: f64) -> bool {
         let m = Model::compile(text)
             .expect("compiles")
             .with_values(values)
@@ -119,7 +124,15 @@ mod tests {
         let motion = m.analyze(&pose, rates, &vec![0.0; nd]).expect("analysed");
         let w = general.working_loads();
         let nb = general.body_count();
-        let run = |use_compiled: bool, compiled: &mut Compiled<'_>| {
+        let mut stepper = m.stepper(&crate::Options::default()).expect("a stepper");
+        let stepped: Vec<Vec<f64>> = {
+            let flat = stepper
+                .step_flat(&pose, rates, &vec![0.0; nd])
+                .expect("a step");
+            vec![flat.q.to_vec(), flat.qd.to_vec(), flat.qdd.to_vec()]
+        };
+        let fused = stepper.fused_trig();
+        let run = |mode: u8, compiled: &mut Compiled<'_>| {
             let (mut mass, mut bias, mut powers) =
                 (vec![0.0; nd * nd], vec![0.0; nd], vec![0.0; w]);
             let mut partials = vec![[nalgebra::Vector3::zeros(); 2]; nd * nb];
@@ -131,8 +144,16 @@ mod tests {
                 partials: &mut partials,
                 terms: &mut terms,
             };
-            if use_compiled {
-                assert!(compiled.equations([&motion.q, &motion.qd, &motion.qdd], t, &mut out));
+            if mode == 0 {
+                assert!(compiled.equations(
+                    [&motion.q, &motion.qd, &motion.qdd],
+                    t,
+                    None,
+                    &mut out
+                ));
+            } else if mode == 1 {
+                let coords = [&stepped[0][..], &stepped[1][..], &stepped[2][..]];
+                assert!(compiled.equations(coords, t, fused, &mut out));
             } else {
                 let view = RunTime(&motion);
                 general
@@ -145,52 +166,58 @@ mod tests {
             }
             (mass, bias, powers)
         };
-        let a = run(true, &mut compiled);
-        let b = run(false, &mut compiled);
         let all = |x: &(Vec<f64>, Vec<f64>, Vec<f64>)| -> Vec<f64> {
             x.0.iter().chain(&x.1).chain(&x.2).copied().collect()
         };
-        let (a, b) = (all(&a), all(&b));
+        let b = all(&run(2, &mut compiled));
         let scale = b.iter().fold(1e-300_f64, |s, v| s.max(v.abs()));
-        for (x, y) in a.iter().zip(&b) {
-            assert!(
-                (x - y).abs() <= 1e-12 * scale,
-                "compiled {a:?}\nsummed {b:?}"
-            );
+        let modes: &[u8] = if fused.is_some() { &[0, 1] } else { &[0] };
+        for &mode in modes {
+            let a = all(&run(mode, &mut compiled));
+            for (x, y) in a.iter().zip(&b) {
+                assert!(
+                    (x - y).abs() <= 1e-12 * scale,
+                    "compiled ({mode}) {a:?}\nsummed {b:?}"
+                );
+            }
         }
+        fused.is_some()
     }
 
     #[test]
     fn a_four_bar_with_a_motor_a_spring_damper_and_a_force_agrees_with_the_sums() {
-        agree(
-            "struct FourBar {
-                params   { a, b, c, d }
-                drivers  { phi }
-                unknowns { th3, th4 }
-                points {
-                    G2 = polar(a / 2.0, phi);
-                    G3 = polar(a, phi) + polar(b / 2.0, th3);
-                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
-                    P0 = vec2(0.05, 0.15);
-                }
-                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-                bodies {
-                    crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
-                    coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
-                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
-                }
-                loads {
-                    gravity(vec2(0.0, -9.81));
-                    force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
-                    force(G3, vec2(2.0 * sin(time), -rate(th4)));
-                    torque(rocker, 0.1 * cos(th4) + 0.01 * time);
-                    spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
-                }
-            }",
-            &[0.04, 0.12, 0.10, 0.11],
-            &[0.7, 1.2, 1.9],
-            &[13.0],
-            0.4,
+        assert!(
+            agree(
+                "struct FourBar {
+                    params   { a, b, c, d }
+                    drivers  { phi }
+                    unknowns { th3, th4 }
+                    points {
+                        G2 = polar(a / 2.0, phi);
+                        G3 = polar(a, phi) + polar(b / 2.0, th3);
+                        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                        P0 = vec2(0.05, 0.15);
+                    }
+                    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                    bodies {
+                        crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+                        coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+                        rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                    }
+                    loads {
+                        gravity(vec2(0.0, -9.81));
+                        force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+                        force(G3, vec2(2.0 * sin(time), -rate(th4)));
+                        torque(rocker, 0.1 * cos(th4) + 0.01 * time);
+                        spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
+                    }
+                }",
+                &[0.04, 0.12, 0.10, 0.11],
+                &[0.7, 1.2, 1.9],
+                &[13.0],
+                0.4,
+            ),
+            "the fused step's cosines and sines are used"
         );
     }
 
@@ -199,28 +226,31 @@ mod tests {
         // The coupler's centre reached through the rocker: its velocity
         // reads both unknowns' rates, so M̃ couples them (M̃₁₂ ≠ 0), which
         // the coupler placed from the crank's side does not.
-        agree(
-            "struct FourBar {
-                params   { a, b, c, d }
-                drivers  { phi }
-                unknowns { th3, th4 }
-                points {
-                    G2 = polar(a / 2.0, phi);
-                    G3 = vec2(d, 0.0) + polar(c, th4) - polar(b / 2.0, th3);
-                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
-                }
-                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-                bodies {
-                    crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
-                    coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
-                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
-                }
-                loads { gravity(vec2(0.0, -9.81)); force(G3, vec2(1.0, -rate(th3))); }
-            }",
-            &[0.04, 0.12, 0.10, 0.11],
-            &[0.7, 1.2, 1.9],
-            &[13.0],
-            0.0,
+        assert!(
+            agree(
+                "struct FourBar {
+                    params   { a, b, c, d }
+                    drivers  { phi }
+                    unknowns { th3, th4 }
+                    points {
+                        G2 = polar(a / 2.0, phi);
+                        G3 = vec2(d, 0.0) + polar(c, th4) - polar(b / 2.0, th3);
+                        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                    }
+                    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                    bodies {
+                        crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+                        coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+                        rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                    }
+                    loads { gravity(vec2(0.0, -9.81)); force(G3, vec2(1.0, -rate(th3))); }
+                }",
+                &[0.04, 0.12, 0.10, 0.11],
+                &[0.7, 1.2, 1.9],
+                &[13.0],
+                0.0,
+            ),
+            "the fused step's cosines and sines are used"
         );
     }
 

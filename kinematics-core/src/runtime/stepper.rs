@@ -431,6 +431,18 @@ impl Stepper<'_> {
         self.general_flat()
     }
 
+    /// The cosines and sines of the last step's pose where it was fused
+    /// ([`super::fused::Plan::trig_of`]: cos q_j and sin q_j at 2j and
+    /// 2j + 1, and which coordinates' the step wrote); `None` after a
+    /// general step.
+    #[inline]
+    pub(super) fn fused_trig(&self) -> Option<(&[f64], &[bool])> {
+        match (self.pending, self.fused.as_ref()) {
+            (true, Some(run)) => Some(run.plan.trig_of(&run.f)),
+            _ => None,
+        }
+    }
+
     /// The conditioning of Φ_u and the sign of its determinant at the
     /// last step: what the sweep judges every sample by, read without
     /// the rest of [`Stepper::flat`].

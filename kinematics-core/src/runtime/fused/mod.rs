@@ -142,6 +142,10 @@ pub(super) struct Plan {
     /// of opposite parity (then det Φ_u is minus the product of theirs).
     odd: bool,
     mode_count: usize,
+    /// The coordinates whose cosine and sine every successful step writes
+    /// into the buffer (the drivers the code reads them of, each block's
+    /// angles).
+    fresh_trig: Vec<bool>,
 }
 
 /// The rewritten graph and the ops of the fused functions, each with the
@@ -295,6 +299,15 @@ impl Plan {
         // The drivers whose cosine and sine the rewritten graph reads (the
         // addition theorem reads some that no stage of the program does).
         let driver_trig = h.trig_read(&all_roots, nd);
+        let mut fresh_trig = vec![false; n];
+        let angles = parts
+            .iter()
+            .flat_map(|p| p.coords.into_iter().take(p.count.min(p.form.angles())));
+        for j in driver_trig.iter().copied().chain(angles) {
+            if let Some(fresh) = fresh_trig.get_mut(j) {
+                *fresh = true;
+            }
+        }
 
         // The assembly, shared by both functions: the drivers' cosines
         // and sines, each block from its coefficients, the residual.
@@ -577,7 +590,17 @@ impl Plan {
             parts,
             odd: c.blocks_flip_determinant(),
             mode_count,
+            fresh_trig,
         })
+    }
+
+    /// The cosines and sines of the pose in the buffer `f` (cos q_j and
+    /// sin q_j at 2j and 2j + 1) and, for each coordinate, whether a
+    /// successful step wrote them (the others are stale or unset).
+    pub(super) fn trig_of<'f>(&self, f: &'f [f64]) -> (&'f [f64], &[bool]) {
+        let at = self.layout.trig;
+        let n = self.fresh_trig.len();
+        (f.get(at..at + 2 * n).unwrap_or(&[]), &self.fresh_trig)
     }
 
     /// The compiled functions, compiled at the first call.
