@@ -172,7 +172,7 @@ fn main() {
     println!("a kinematic step + a unit analysis + M's factor: {p:.0} ns ({p0:.0}–{p1:.0})");
     println!("ratio per round: {q:.2} ({q0:.2}–{q1:.2})");
     // The same through a run-time model compiled from the same text.
-    let model = kinematics_core::runtime::Model::compile(FOUR_BAR)
+    let model = kinematics_core::runtime::Model::compile(text_of("FourBar"))
         .expect("compiled")
         .with_values(&[0.04, 0.12, 0.10, 0.11])
         .expect("the values");
@@ -203,7 +203,7 @@ fn main() {
     );
     // The same mechanism with its `bodies` and `loads` sections: the
     // model's compiled equations of motion, no unit analysis.
-    let sections = kinematics_core::runtime::Model::compile(FOUR_BAR_SECTIONS)
+    let sections = kinematics_core::runtime::Model::compile(text_of("FourBarSections"))
         .expect("compiled")
         .with_values(&[0.04, 0.12, 0.10, 0.11])
         .expect("the values");
@@ -334,41 +334,13 @@ fn main() {
     println!("ratio per round: {q:.2} ({q0:.2}–{q1:.2})");
 }
 
-/// The four-bar with its masses and loads as sections (the description
-/// of `description()`), for the compiled equations of motion.
-const FOUR_BAR_SECTIONS: &str = "struct FourBar {
-    params   { a, b, c, d }
-    drivers  { phi }
-    unknowns { th3, th4 }
-    points {
-        G2 = polar(a / 2.0, phi);
-        G3 = polar(a, phi) + polar(b / 2.0, th3);
-        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
-        P0 = vec2(0.05, 0.15);
-    }
-    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-    bodies {
-        crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
-        coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
-        rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
-    }
-    loads {
-        gravity(vec2(0.0, -9.81));
-        force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
-        spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
-    }
-}";
-
-/// The four-bar as text, for the run-time model.
-const FOUR_BAR: &str = "struct FourBar {
-    params   { a, b, c, d }
-    drivers  { phi }
-    unknowns { th3, th4 }
-    points {
-        G2 = polar(a / 2.0, phi);
-        G3 = polar(a, phi) + polar(b / 2.0, th3);
-        G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
-        P0 = vec2(0.05, 0.15);
-    }
-    loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
-}";
+/// The text of this file's `mechanism!` of `name`, for the same
+/// definition compiled at run time.
+fn text_of(name: &str) -> &'static str {
+    let head = format!("pub struct {name} {{");
+    kinematics_examples::mechanism_bodies(include_str!("forward.rs"))
+        .into_iter()
+        .map(|(text, _)| text)
+        .find(|text| text.contains(&head))
+        .expect("the definition is in this file")
+}
