@@ -248,15 +248,16 @@ pub(super) fn run(args: &SimulateArgs) -> Result<String, Failure> {
     let s = run.statistics;
     let _ = writeln!(
         out,
-        "{}: {} samples from t = 0 to {} s; {} steps ({} rejected), {} evaluations ({} by the \
-         compiled equations of motion)",
+        "{}: {} samples from t = 0 to {} s; {} steps ({} rejected), {} evaluations (M and b: {} \
+         by the compiled equations of motion, {} summed)",
         m.name(),
         run.sweep.samples.len(),
         run.sweep.samples.last().map_or(0.0, |x| x.at),
         s.steps,
         s.rejected,
         s.evaluations,
-        s.compiled
+        s.compiled,
+        s.summed
     );
     if let (Some(first), Some(last)) = (run.energy.first(), run.energy.last()) {
         let _ = writeln!(

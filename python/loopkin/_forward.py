@@ -58,10 +58,12 @@ class Trajectory:
     ``ended`` is ``"complete"``, ``"event"`` (then ``event`` is the index
     of the event in ``stop_when``), ``"failed"`` (``sweep.stop`` says
     why) or ``"step limit"``, at time ``at``; ``steps``, ``rejected`` and
-    ``evaluations`` count the integration's work, ``compiled`` how many
-    evaluations of the mass matrix and the efforts came from the model's
-    compiled equations of motion (all of them for a model's own
-    ``bodies`` and ``loads`` sections). With
+    ``evaluations`` count the integration's work; ``compiled`` and
+    ``summed`` how many evaluations of the mass matrix and the efforts
+    (the integration's and the samples') came from the model's compiled
+    equations of motion and how many from the sums over its bodies and
+    loads (``summed`` is 0 for a model's own ``bodies`` and ``loads``
+    sections). With
     ``sensitivities=True``, ``parameters`` names the definition's
     sensitivity parameters and ``position_sensitivity`` and
     ``rate_sensitivity`` hold ∂d/∂p and ∂ḋ/∂p of the free drivers
@@ -85,6 +87,7 @@ class Trajectory:
         self.rejected: int = d["rejected"]
         self.evaluations: int = d["evaluations"]
         self.compiled: int = d["compiled"]
+        self.summed: int = d["summed"]
         self._energy_error: float = d["energy_error"]
         self.parameters: List[str] = list(d.get("parameters", []))
         self.impacts: List[Tuple[float, int, float, float]] = [tuple(i) for i in d.get("impacts", [])]  # type: ignore[misc]

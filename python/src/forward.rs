@@ -20,9 +20,9 @@ use super::*;
 /// "potential" (one per sample), "work" (samples × works), "work_names",
 /// "effort" (samples × drivers), "ended" ("complete", "event", "failed" or
 /// "step limit"), "event" (its index, or None), "at" (the time it ended),
-/// "steps", "rejected", "evaluations", "compiled" (the evaluations of M
-/// and b by the model's compiled equations of motion) and
-/// "energy_error"; with
+/// "steps", "rejected", "evaluations", "compiled" and "summed" (the
+/// evaluations of M and b by the model's compiled equations of motion
+/// and by the sums over its bodies and loads) and "energy_error"; with
 /// `sensitivities`, "parameters" (the definition's sensitivity
 /// parameters) and "position_sensitivity" and "rate_sensitivity"
 /// (samples × parameters × free drivers: ∂d_f/∂p and ∂ḋ_f/∂p); the
@@ -137,6 +137,7 @@ pub(crate) fn forward<'py>(
     d.set_item("rejected", run.statistics.rejected)?;
     d.set_item("evaluations", run.statistics.evaluations)?;
     d.set_item("compiled", run.statistics.compiled)?;
+    d.set_item("summed", run.statistics.summed)?;
     d.set_item("energy_error", run.energy_error())?;
     d.set_item("parameters", run.parameters.clone())?;
     let impacts: Vec<(f64, usize, f64, f64)> = run

@@ -333,9 +333,9 @@ impl DynamicsBuilder {
     }
 
     /// [`DynamicsBuilder::build`] of a generated mechanism's own sections
-    /// (its `dynamics()`), marked as made at the parameter values
-    /// `values`: a forward simulation of a mechanism with those values
-    /// then evaluates its compiled equations of motion
+    /// (its `dynamics()`), marked as made by the type `M` at the parameter
+    /// values `values`: a forward simulation of a mechanism of that type
+    /// with those values then evaluates its compiled equations of motion
     /// ([`Mechanism::equations_of_motion`]) instead of the sums.
     ///
     /// # Errors
@@ -343,7 +343,7 @@ impl DynamicsBuilder {
     #[doc(hidden)]
     pub fn build_sections<M: Mechanism>(self, values: &[f64]) -> Result<Dynamics, Error> {
         let mut d = self.build::<M>()?;
-        d.mark_sections(values);
+        d.mark_sections(core::any::type_name::<M>(), values);
         Ok(d)
     }
 

@@ -399,10 +399,12 @@ pub struct Dynamics {
     frame_partials: Vec<(usize, FramePartials)>,
     load_partials: PartialsOfLoads,
     /// Where this is a model's own sections unchanged (a run-time model's
-    /// `Model::dynamics`, a generated mechanism's `dynamics()`): the
-    /// parameter values it was made at, so that a forward simulation of
-    /// that model may use its compiled equations of motion instead.
-    sections: Option<Vec<f64>>,
+    /// `Model::dynamics`, a generated mechanism's `dynamics()`): which
+    /// model made it (a generated type's name, a run-time model's
+    /// compiled sections' number) and the parameter values it was made
+    /// at, so that a forward simulation of that model at those values
+    /// may use its compiled equations of motion instead.
+    sections: Option<(String, Vec<f64>)>,
 }
 
 /// The names of the points the forces act at and of the coordinates the
@@ -425,15 +427,19 @@ struct Design {
 }
 
 impl Dynamics {
-    /// Marks this description as a model's own sections at the parameter
-    /// values `values`.
-    pub(crate) fn mark_sections(&mut self, values: &[f64]) {
-        self.sections = Some(values.to_vec());
+    /// Marks this description as the sections of the model `owner` at
+    /// the parameter values `values`.
+    pub(crate) fn mark_sections(&mut self, owner: &str, values: &[f64]) {
+        self.sections = Some((owner.to_string(), values.to_vec()));
     }
 
-    /// The values of [`Dynamics::mark_sections`], where marked.
-    pub(crate) fn sections_values(&self) -> Option<&[f64]> {
-        self.sections.as_deref()
+    /// The values of [`Dynamics::mark_sections`], where marked as the
+    /// sections of `owner`.
+    pub(crate) fn sections_values(&self, owner: &str) -> Option<&[f64]> {
+        match &self.sections {
+            Some((by, values)) if by == owner => Some(values),
+            _ => None,
+        }
     }
 }
 

@@ -371,7 +371,13 @@ pub(crate) struct SectionCode {
     /// The equations of motion in the coordinates, where the compiler
     /// formed them, and their stage (the last).
     motion: Option<(usize, kinematics_compiler::motion::EquationsOfMotion)>,
+    /// What marks a description as these sections' own: a number no
+    /// other compiled sections of this process share.
+    owner: String,
 }
+
+/// The number of the next compiled sections.
+static NEXT_SECTIONS: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
 
 impl SectionCode {
     /// The sections as the compiler describes them.
@@ -414,12 +420,20 @@ impl SectionCode {
             coordinates,
             &stages,
         )?;
+        let number = NEXT_SECTIONS.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
         Ok(Some(Self {
             sections: sections.clone(),
             program,
             coordinates,
             motion,
+            owner: format!("run-time model's sections #{number}"),
         }))
+    }
+
+    /// What [`Dynamics::mark_sections`] marks these sections' own
+    /// descriptions with.
+    pub(crate) fn owner(&self) -> &str {
+        &self.owner
     }
 
     /// The equations of motion in the coordinates and their stage, where
@@ -764,7 +778,9 @@ impl Model {
     /// As [`Model::dynamics_builder`] and [`DynamicsBuilder::build_for`].
     pub fn dynamics(&self) -> Result<Dynamics, Error> {
         let mut d = self.dynamics_builder()?.build_for(self)?;
-        d.mark_sections(self.all_values());
+        if let Some(code) = self.sections() {
+            d.mark_sections(code.owner(), self.all_values());
+        }
         Ok(d)
     }
 }

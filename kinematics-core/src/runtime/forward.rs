@@ -232,7 +232,7 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             stepper: m.stepper(&self.course.options)?,
             units: m.stepper(&self.course.options)?,
             compiled: super::motion::Compiled::new(m, self.dynamics),
-            compiled_evaluations: 0,
+            counts: [0; 2],
             rates: vec![0.0; nd],
             zeros: vec![0.0; nd],
             profile: self.profile,
@@ -284,8 +284,8 @@ struct RunTime<'m, P> {
     /// The model's compiled equations of motion, where the description is
     /// its own sections: then no unit analysis is made.
     compiled: Option<super::motion::Compiled<'m>>,
-    /// The evaluations it gave.
-    compiled_evaluations: usize,
+    /// The evaluations of M and b it gave, and those summed.
+    counts: [usize; 2],
     /// The unit rates and the zero accelerations of the unit analyses.
     rates: Vec<f64>,
     zeros: Vec<f64>,
@@ -333,10 +333,11 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if let Some(c) = &mut self.compiled {
             let (flat, trig) = (self.stepper.flat(), self.stepper.fused_trig());
             if c.equations([flat.q, flat.qd, flat.qdd], t, trig, out) {
-                self.compiled_evaluations += 1;
+                self.counts[0] += 1;
                 return Ok(());
             }
         }
+        self.counts[1] += 1;
         let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
         let motion = self.stepper.motion_now();
         let view = super::dynamics::RunTime(motion);
@@ -351,8 +352,8 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         dynamics.equations(&Timed(&view, t), &mut unit, out)
     }
 
-    fn compiled_evaluations(&self) -> usize {
-        self.compiled_evaluations
+    fn equation_counts(&self) -> [usize; 2] {
+        self.counts
     }
 
     fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {

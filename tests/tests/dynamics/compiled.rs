@@ -181,8 +181,8 @@ fn a_forward_run_through_the_compiled_equations_is_the_summed_one(
     let (a, b) = (run(&own)?, run(&summed)?);
     assert!(a.is_complete() && b.is_complete());
     // Every evaluation of the one compiled, none of the other.
-    assert!(a.statistics.compiled >= a.statistics.evaluations);
-    assert_eq!(b.statistics.compiled, 0);
+    assert!(a.statistics.compiled >= a.statistics.evaluations && a.statistics.summed == 0);
+    assert!(b.statistics.summed >= b.statistics.evaluations && b.statistics.compiled == 0);
     for (x, y) in a.sweep.samples.iter().zip(&b.sweep.samples) {
         close(x.motion.q.phi, y.motion.q.phi, 1e-10, "φ");
         close(x.motion.qd.phi, y.motion.qd.phi, 1e-9, "φ'");
@@ -198,13 +198,145 @@ fn a_forward_run_through_the_compiled_equations_is_the_summed_one(
         .samples(10)
         .tolerance(1e-11)
         .run()?;
-    assert!(c.statistics.compiled >= c.statistics.evaluations);
+    assert!(c.statistics.compiled >= c.statistics.evaluations && c.statistics.summed == 0);
     for (x, y) in c.sweep.samples.iter().zip(&a.sweep.samples) {
         close(x.motion.q[0], y.motion.q.phi, 1e-10, "run-time φ");
     }
     let end = a.sweep.samples.last().expect("samples").motion.q.phi;
     assert!((end - 0.7).abs() > 0.1, "a test: φ from 0.7 to {end}");
     assert!(a.energy_error() < 1e-9, "{}", a.energy_error());
+    Ok(())
+}
+
+mechanism! {
+    /// The motor-driven four-bar of the forward benchmark, its masses and
+    /// loads as sections: one driver and two unknowns.
+    pub struct DrivenFourBar {
+        params   { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points {
+            G2 = polar(a / 2.0, phi);
+            G3 = polar(a, phi) + polar(b / 2.0, th3);
+            G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+            P0 = vec2(0.05, 0.15);
+        }
+        loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+        bodies {
+            crank(mass = 0.3, center = G2, angle = phi, inertia = 2.0e-3);
+            coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+            rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+        }
+        loads {
+            gravity(vec2(0.0, -9.81));
+            force(phi, 0.5 * (1.0 - rate(phi) / 60.0));
+            spring(P0, G3, stiffness = 50.0, free_length = 0.10, damping = 2.0);
+        }
+    }
+}
+
+/// The four-bar started by its motor, through the compiled equations
+/// (one driver, two unknowns: the reduction written out) and summed: the
+/// same motion.
+#[test]
+fn a_four_bars_start_up_through_the_compiled_equations_is_the_summed_one(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = DrivenFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let start = m.assemble(&DrivenFourBarCoords {
+        phi: 0.0,
+        th3: 1.2,
+        th4: 1.9,
+    })?;
+    let run = |d: &Dynamics| {
+        d.forward(&m, &start)
+            .until(1.0)
+            .samples(20)
+            .tolerance(1e-11)
+            .run()
+    };
+    let (a, b) = (
+        run(&m.dynamics()?)?,
+        run(&m.dynamics_builder().build::<DrivenFourBar>()?)?,
+    );
+    assert!(a.is_complete() && b.is_complete());
+    assert!(a.statistics.compiled >= a.statistics.evaluations && a.statistics.summed == 0);
+    assert_eq!(b.statistics.compiled, 0);
+    for (x, y) in a.sweep.samples.iter().zip(&b.sweep.samples) {
+        close(x.motion.q.phi, y.motion.q.phi, 1e-10, "φ");
+        close(x.motion.qd.phi, y.motion.qd.phi, 1e-9, "φ'");
+    }
+    let end = a.sweep.samples.last().expect("samples").motion.q.phi;
+    assert!(end > 10.0, "a test: the motor turns the crank to {end}");
+    Ok(())
+}
+
+mechanism! {
+    /// A pendulum of 2 kg.
+    pub struct HeavySwing {
+        params { } drivers { phi } unknowns { }
+        points { G = polar(0.5, phi); }
+        bodies { bob(mass = 2.0, center = G, angle = phi, inertia = 0.01); }
+        loads { gravity(vec2(0.0, -9.81)); }
+    }
+}
+
+mechanism! {
+    /// The same pendulum of 1 kg: the same sizes, no parameters either.
+    pub struct LightSwing {
+        params { } drivers { phi } unknowns { }
+        points { G = polar(0.5, phi); }
+        bodies { bob(mass = 1.0, center = G, angle = phi, inertia = 0.03); }
+        loads { gravity(vec2(0.0, -9.81)); }
+    }
+}
+
+/// A description made from one mechanism's sections, run on another of
+/// the same sizes and parameter values, is summed: the other's compiled
+/// equations (its own masses) are not taken for it.
+#[test]
+fn another_mechanisms_sections_are_summed_not_compiled() -> Result<(), Box<dyn std::error::Error>> {
+    let (heavy, light) = (HeavySwing {}, LightSwing {});
+    let described = heavy.dynamics()?;
+    let start = LightSwingCoords { phi: 0.3 };
+    let on_light = described
+        .forward(&light, &start)
+        .until(0.5)
+        .tolerance(1e-11)
+        .run()?;
+    assert_eq!(on_light.statistics.compiled, 0);
+    assert!(on_light.statistics.summed > 0);
+    let own = described
+        .forward(&heavy, &HeavySwingCoords { phi: 0.3 })
+        .until(0.5)
+        .tolerance(1e-11)
+        .run()?;
+    assert!(own.statistics.compiled > 0 && own.statistics.summed == 0);
+    // The heavy pendulum's motion either way (its inertia 0.01, not 0.03).
+    let (x, y) = (
+        on_light.sweep.samples.last().expect("samples"),
+        own.sweep.samples.last().expect("samples"),
+    );
+    close(x.motion.q.phi, y.motion.q.phi, 1e-10, "φ(0.5 s)");
+    // The same type at other values: summed too.
+    let mut other = DEFINED_ENGINE;
+    other.p0 = 1000.0;
+    let kin = engine_kinematics(0.3, 0.0, 0.0);
+    let start = other.assemble(&DefinedEngineCoords {
+        phi: 0.3,
+        th: kin.th,
+        x: kin.x,
+    })?;
+    let run = DEFINED_ENGINE
+        .dynamics()?
+        .forward(&other, &start)
+        .until(0.01)
+        .run()?;
+    assert!(run.statistics.compiled == 0 && run.statistics.summed > 0);
     Ok(())
 }
 

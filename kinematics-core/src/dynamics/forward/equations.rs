@@ -259,7 +259,8 @@ impl Reduction {
             };
             let l = s / p;
             let d = t - l * q;
-            if !(p.abs() > 0.0 && d.abs() > 0.0) {
+            // (A pivot of zero, infinite or NaN: the general way says why.)
+            if !(p.abs() > 0.0 && p.is_finite() && d.abs() > 0.0 && d.is_finite()) {
                 return false;
             }
             let x1 = (u - l * r) / d;
@@ -406,7 +407,73 @@ pub(crate) fn cholesky_apply(l: &[f64], r: &mut [f64], n: usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::cholesky_solve;
+    use alloc::vec::Vec;
+
+    use super::{Equations, Reduction, cholesky_solve};
+    use crate::dynamics::terms::Terms;
+
+    /// M = Cᵀ M̃ C and b = Cᵀ f̃ of one driver and two unknowns (the
+    /// unrolled case) against C solved here and the products summed, with
+    /// either row the larger pivot; an infinite entry refused.
+    #[test]
+    fn one_driver_and_two_unknowns_reduce_as_the_products() {
+        use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
+        let upper = [2.0, 0.3, -0.2, 1.5, 0.4, 0.9];
+        let forces = [0.7, -1.1, 0.25];
+        for jacobian in [
+            [0.3, 2.0, -0.5, -0.8, 0.4, 1.7],
+            [0.3, 0.4, -0.5, -0.8, 2.0, 1.7],
+        ] {
+            let mut out: Vec<f64> = jacobian.to_vec();
+            out.extend(upper);
+            out.extend(forces);
+            out.push(0.125);
+            let (mut mass, mut bias, mut powers) = ([0.0], [0.0], [0.0]);
+            let mut partials = Vec::new();
+            let mut terms = Terms::default();
+            let mut eq = Equations {
+                mass: &mut mass,
+                bias: &mut bias,
+                powers: &mut powers,
+                partials: &mut partials,
+                terms: &mut terms,
+            };
+            let mut r = Reduction::new(3, 1);
+            assert!(r.reduce(&out, &mut eq));
+            let phi_u = Matrix2::new(jacobian[1], jacobian[2], jacobian[4], jacobian[5]);
+            let x = phi_u
+                .lu()
+                .solve(&-Vector2::new(jacobian[0], jacobian[3]))
+                .expect("regular");
+            let c = Vector3::new(1.0, x[0], x[1]);
+            let [a, b, d, e, f, g] = upper;
+            let mt = Matrix3::new(a, b, d, b, e, f, d, f, g);
+            let m = (c.transpose() * mt * c)[0];
+            let q = c.dot(&Vector3::from(forces));
+            assert!((mass[0] - m).abs() < 1e-14 * m.abs(), "{} {m}", mass[0]);
+            assert!(
+                (bias[0] - q).abs() < 1e-14 * (1.0 + q.abs()),
+                "{} {q}",
+                bias[0]
+            );
+            assert_eq!(powers[0], 0.125);
+            // An infinite pivot is refused, not reduced to a finite M.
+            let mut bad = out.clone();
+            bad[if jacobian[4].abs() > jacobian[1].abs() {
+                4
+            } else {
+                1
+            }] = f64::INFINITY;
+            let mut eq = Equations {
+                mass: &mut mass,
+                bias: &mut bias,
+                powers: &mut powers,
+                partials: &mut partials,
+                terms: &mut terms,
+            };
+            assert!(!r.reduce(&bad, &mut eq));
+        }
+    }
 
     #[test]
     fn cholesky_solves_a_positive_definite_system_and_names_a_zero_pivot() {

@@ -136,12 +136,12 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
             && M::MOTION_OUTPUTS == reduction.outputs(self.dynamics.working_loads())
             && self
                 .dynamics
-                .sections_values()
+                .sections_values(core::any::type_name::<M>())
                 .is_some_and(|v| self.m.has_parameter_values(v)))
         .then(|| (reduction, vec![0.0; M::MOTION_OUTPUTS]));
         let analysis = Model {
             compiled,
-            compiled_evaluations: 0,
+            counts: [0; 2],
             m: self.m,
             profile: self.profile,
             start: self.start,
@@ -193,8 +193,8 @@ struct Model<'m, M: Mechanism, P> {
     /// The reduction of the compiled equations of motion and their
     /// outputs, where the description is the mechanism's own sections.
     compiled: Option<(Reduction, Vec<f64>)>,
-    /// The evaluations they gave.
-    compiled_evaluations: usize,
+    /// The evaluations of M and b they gave, and those summed.
+    counts: [usize; 2],
 }
 
 impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
@@ -239,10 +239,11 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
             if m.equations_of_motion(motion.q(), motion.qd(), motion.qdd(), t, outputs)
                 && reduction.reduce(outputs, out)
             {
-                self.compiled_evaluations += 1;
+                self.counts[0] += 1;
                 return Ok(());
             }
         }
+        self.counts[1] += 1;
         let view = Generated(motion);
         dynamics.equations(
             &Timed(&view, t),
@@ -251,8 +252,8 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         )
     }
 
-    fn compiled_evaluations(&self) -> usize {
-        self.compiled_evaluations
+    fn equation_counts(&self) -> [usize; 2] {
+        self.counts
     }
 
     fn energies(&mut self, dynamics: &Dynamics, t: f64) -> Result<(f64, f64), Error> {

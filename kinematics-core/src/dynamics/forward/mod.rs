@@ -346,13 +346,20 @@ pub struct Statistics {
     /// Evaluations of the equations of motion (each an assembly, an
     /// analysis, M and b, and a solve with M).
     pub evaluations: usize,
-    /// The evaluations of M and b that the model's compiled equations of
-    /// motion gave (M = Cᵀ M̃ C, b = Cᵀ f̃ from one call of the code
-    /// compiled from its `bodies` and `loads` sections): all of them where
-    /// the description is the model's own sections (`dynamics()`), none
-    /// where it was built or changed otherwise (then each sums the bodies
-    /// and loads with one unit analysis per driver).
+    /// The evaluations of M and b (the integrator's, and those at the
+    /// output samples, the impacts and, with sensitivities, the
+    /// differences of the accelerations) that the model's compiled
+    /// equations of motion gave: M = Cᵀ M̃ C, b = Cᵀ f̃ from one call of
+    /// the code compiled from its `bodies` and `loads` sections. All of
+    /// them where the description is the model's own sections
+    /// (`dynamics()`, at the model's parameter values), none where it
+    /// was built or changed otherwise.
     pub compiled: usize,
+    /// The evaluations of M and b that summed the bodies and loads, with
+    /// one unit analysis per driver (a description not the model's own
+    /// sections, or a pose where the compiled equations gave no finite
+    /// value and the sums say why).
+    pub summed: usize,
 }
 
 /// The result of a forward simulation: its samples as a sweep in time

@@ -45,10 +45,10 @@ pub(crate) trait Analysis {
         out: &mut Equations<'_>,
     ) -> Result<(), Error>;
     /// How many evaluations of [`Analysis::equations`] the model's
-    /// compiled equations of motion gave (the others summed the bodies and
-    /// loads).
-    fn compiled_evaluations(&self) -> usize {
-        0
+    /// compiled equations of motion gave, and how many summed the bodies
+    /// and loads.
+    fn equation_counts(&self) -> [usize; 2] {
+        [0, 0]
     }
     /// T and V at the current motion.
     ///
@@ -677,7 +677,8 @@ pub(crate) fn integrate<A: Analysis>(
         steps: steps + counted[0],
         rejected: rejected + counted[1],
         evaluations: evaluations + counted[2],
-        compiled: eom.analysis.compiled_evaluations(),
+        compiled: eom.analysis.equation_counts()[0],
+        summed: eom.analysis.equation_counts()[1],
     };
     let stop = failure.map(|(at, e)| Stop {
         variable: "t",
