@@ -466,11 +466,26 @@ impl SectionCode {
         given: Option<(&[f64], &[bool])>,
         out: &mut [f64],
     ) -> bool {
+        let mut trig = crate::dynamics::evaluate::Buffer::zeros(2 * self.coordinates);
+        self.eval_into(stage, values, coords, time, given, trig.as_mut_slice(), out)
+    }
+
+    /// [`SectionCode::eval_at`] with the cosines and sines written into
+    /// `trig` (2 per coordinate: room kept by the caller).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn eval_into(
+        &self,
+        stage: usize,
+        values: &[f64],
+        coords: [&[f64]; 3],
+        time: f64,
+        given: Option<(&[f64], &[bool])>,
+        trig: &mut [f64],
+        out: &mut [f64],
+    ) -> bool {
         use crate::dynamics::evaluate::Buffer;
         let n = self.coordinates;
-        let mut trig = Buffer::zeros(2 * n);
-        let trig = trig.as_mut_slice();
-        if coords[0].len() != n {
+        if coords[0].len() != n || trig.len() != 2 * n {
             return false;
         }
         match given {

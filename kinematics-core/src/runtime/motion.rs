@@ -21,6 +21,8 @@ pub(super) struct Compiled<'m> {
     values: &'m [f64],
     /// The stage's outputs: Φ_q, M̃'s upper triangle, f̃, the powers.
     out: Vec<f64>,
+    /// The coordinates' cosines and sines, two each.
+    trig: Vec<f64>,
     reduction: Reduction,
 }
 
@@ -58,6 +60,7 @@ impl<'m> Compiled<'m> {
             stage,
             values: m.all_values(),
             out: vec![0.0; code.outputs(stage)],
+            trig: vec![0.0; 2 * n],
             reduction,
         })
     }
@@ -75,10 +78,15 @@ impl<'m> Compiled<'m> {
         trig: Option<(&[f64], &[bool])>,
         eq: &mut Equations<'_>,
     ) -> bool {
-        if !self
-            .code
-            .eval_at(self.stage, self.values, coords, t, trig, &mut self.out)
-        {
+        if !self.code.eval_into(
+            self.stage,
+            self.values,
+            coords,
+            t,
+            trig,
+            &mut self.trig,
+            &mut self.out,
+        ) {
             return false;
         }
         self.reduction.reduce(&self.out, eq)

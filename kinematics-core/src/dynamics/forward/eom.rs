@@ -60,8 +60,11 @@ impl<A: Analysis> Eom<'_, A> {
     /// The drivers at (t, y), the free accelerations zero.
     pub(super) fn set_drivers(&mut self, t: f64, y: &[f64]) {
         let nf = self.free.len();
-        self.analysis
-            .profile(t, &mut self.d, &mut self.dd, &mut self.ddd);
+        // (Every driver free: each is written below.)
+        if !self.prescribed.is_empty() {
+            self.analysis
+                .profile(t, &mut self.d, &mut self.dd, &mut self.ddd);
+        }
         for (i, &k) in self.free.iter().enumerate() {
             self.d[k] = y[i];
             self.dd[k] = y[nf + i];
