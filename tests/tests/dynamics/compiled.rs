@@ -84,6 +84,26 @@ fn coefficients(jacobian: &DMatrix<f64>, nd: usize) -> DMatrix<f64> {
     c
 }
 
+/// The compiled equations of a one-driver mechanism at `motion`, checked:
+/// Φ_q against central differences of the residual, ½ q̇ᵀ M̃ q̇ against
+/// the `kinetic` energy and Cᵀ f̃ against the driving `effort` of the
+/// inverse analysis.
+fn checked<M: Mechanism>(m: &M, motion: &M::Motion, kinetic: f64, effort: f64) -> Split {
+    use kinematics_core::MotionState;
+    let s = split(m, motion.q(), motion.qd(), motion.qdd());
+    let fd = jacobian_by_differences(m, motion.q());
+    for (a, b) in s.jacobian.iter().zip(fd.iter()) {
+        close(*a, *b, 1e-8, "Φ_q against differences of the residual");
+    }
+    let n = M::COORDINATES.len();
+    let qd = DVector::from_iterator(n, (0..n).map(|j| motion.qd().get(j).expect("a rate")));
+    let t = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
+    close(t, kinetic, 1e-12, "½ q̇ᵀ M̃ q̇");
+    let q = (coefficients(&s.jacobian, 1).transpose() * &s.forces)[0];
+    close(q, effort, 1e-11, "Cᵀ f̃ against the torque");
+    s
+}
+
 /// The engine: Φ_q, the kinetic energy, the crank torque and the gas
 /// force's power −p0 (x0/x)² ẋ over a turn at a varying speed.
 #[test]
@@ -101,18 +121,8 @@ fn the_engines_compiled_equations_are_its_jacobian_energy_effort_and_power(
             x: kin.x,
         })?;
         let motion = m.analyze(&pose, w, al)?;
-        let s = split(&m, &motion.q, &motion.qd, &motion.qdd);
-        let fd = jacobian_by_differences(&m, &motion.q);
-        for (a, b) in s.jacobian.iter().zip(fd.iter()) {
-            close(*a, *b, 1e-8, "Φ_q against differences of the residual");
-        }
         let inverse = dynamics.inverse(&m, &motion)?;
-        let qd = DVector::from_vec(vec![motion.qd.phi, motion.qd.th, motion.qd.x]);
-        let kinetic = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
-        close(kinetic, inverse.kinetic_energy, 1e-12, "½ q̇ᵀ M̃ q̇");
-        let c = coefficients(&s.jacobian, 1);
-        let effort = (c.transpose() * &s.forces)[0];
-        close(effort, inverse.effort.phi, 1e-11, "Cᵀ f̃ against the torque");
+        let s = checked(&m, &motion, inverse.kinetic_energy, inverse.effort.phi);
         let gas = -m.p0 * (m.x0 / motion.q.x).powi(2) * motion.qd.x;
         assert_eq!(s.powers.len(), 1);
         close(s.powers[0], gas, 1e-12, "the gas force's power");
@@ -138,18 +148,13 @@ fn the_rssrs_compiled_equations_are_its_jacobian_energy_and_effort(
         pose.phi = 0.7 + 0.4 * f64::from(k);
         let motion = m.step(&pose, 9.0 + f64::from(k), 40.0 - 7.0 * f64::from(k))?;
         pose = motion.q;
-        let s = split(&m, &motion.q, &motion.qd, &motion.qdd);
-        let fd = jacobian_by_differences(&m, &motion.q);
-        for (a, b) in s.jacobian.iter().zip(fd.iter()) {
-            close(*a, *b, 1e-8, "Φ_q against differences of the residual");
-        }
         let inverse = dynamics.inverse(&m, &motion)?;
-        let qd = DVector::from_vec(vec![motion.qd.phi, motion.qd.psi]);
-        let kinetic = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
-        assert!(kinetic > 1e-4, "a test: T = {kinetic}");
-        close(kinetic, inverse.kinetic_energy, 1e-12, "½ q̇ᵀ M̃ q̇");
-        let effort = (coefficients(&s.jacobian, 1).transpose() * &s.forces)[0];
-        close(effort, inverse.effort.phi, 1e-11, "Cᵀ f̃ against the torque");
+        assert!(
+            inverse.kinetic_energy > 1e-4,
+            "a test: T = {}",
+            inverse.kinetic_energy
+        );
+        let s = checked(&m, &motion, inverse.kinetic_energy, inverse.effort.phi);
         assert!(s.powers.is_empty(), "gravity reports no work of its own");
     }
     Ok(())
