@@ -188,7 +188,7 @@ impl Model {
         let Some(d) = self
             .sections
             .as_deref()
-            .map(super::dynamics::SectionCode::sections)
+            .map(super::sections::SectionCode::sections)
         else {
             return;
         };

@@ -74,6 +74,7 @@ mod forward;
 mod fused;
 mod invariant;
 mod motion;
+mod sections;
 mod sensitivity;
 mod solve;
 mod stepper;
@@ -223,7 +224,7 @@ pub struct Model {
     fused: Option<Arc<fused::Plan>>,
     /// The `bodies` and `loads` sections in machine code, where the
     /// definition has them.
-    sections: Option<Arc<dynamics::SectionCode>>,
+    sections: Option<Arc<sections::SectionCode>>,
     /// The Kutzbach–Gruebler count of a `joints` section of counts.
     mobility: Option<kinematics_compiler::Mobility>,
 }
@@ -252,7 +253,7 @@ impl Model {
         let c = compile_str(text).map_err(CompileError::Definition)?;
         let program = Program::for_model(&c).map_err(CompileError::Native)?;
         let fused = fused::Plan::new(&c).map(Arc::new);
-        let sections = dynamics::SectionCode::new(&c)
+        let sections = sections::SectionCode::new(&c)
             .map_err(CompileError::Native)?
             .map(Arc::new);
         let drivers = c.drivers();
@@ -372,7 +373,7 @@ impl Model {
     }
 
     /// The compiled `bodies` and `loads` sections, where written.
-    pub(crate) fn sections(&self) -> Option<&Arc<dynamics::SectionCode>> {
+    pub(crate) fn sections(&self) -> Option<&Arc<sections::SectionCode>> {
         self.sections.as_ref()
     }
 

@@ -10,7 +10,7 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::Model;
-use super::dynamics::SectionCode;
+use super::sections::SectionCode;
 use crate::dynamics::Dynamics;
 use crate::dynamics::forward::equations::{Equations, Reduction};
 
