@@ -109,3 +109,11 @@ pub fn finite_outputs<const D: usize>(
     }
     Ok(())
 }
+
+/// Whether `a` and `b` hold the same values bit for bit (a NaN equal to
+/// the same NaN): a description marked with the parameter values it was
+/// made at is a model's own only at exactly those values.
+#[must_use]
+pub fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}

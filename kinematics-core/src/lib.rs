@@ -176,7 +176,9 @@ pub struct ReadmeDoctests;
 #[doc(hidden)]
 pub mod __private {
     pub use crate::MotionState;
-    pub use crate::checks::{driver_arrays, finite, finite_outputs, positive, positive_distance};
+    pub use crate::checks::{
+        driver_arrays, finite, finite_outputs, positive, positive_distance, same_bits,
+    };
     pub use crate::closed;
     pub use crate::math;
     pub use crate::solve::{

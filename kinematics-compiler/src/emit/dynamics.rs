@@ -284,7 +284,7 @@ pub(super) fn motion(cx: &Ctx<'_>, eom: Option<&EquationsOfMotion>) -> TokenStre
     let Some(eom) = eom else {
         return TokenStream::new();
     };
-    let (g, allow) = (cx.g(), &cx.allow);
+    let (g, allow, pp) = (cx.g(), &cx.allow, &cx.pp);
     let npar = cx.id.params.len();
     let coord = &cx.id.coord;
     let field = |j: u32| coord.get(j as usize).map(|c| quote!(#c));
@@ -328,9 +328,7 @@ pub(super) fn motion(cx: &Ctx<'_>, eom: Option<&EquationsOfMotion>) -> TokenStre
         }
 
         fn has_parameter_values(&self, values: &[f64]) -> bool {
-            let own = self.parameter_values();
-            values.len() == own.len()
-                && values.iter().zip(own.iter()).all(|(a, b)| a.to_bits() == b.to_bits())
+            #pp::same_bits(values, &self.parameter_values())
         }
     }
 }

@@ -32,14 +32,10 @@ impl<'m> Compiled<'m> {
     /// compiler formed them; `None` otherwise (the forward simulation then
     /// sums the bodies and loads at run time).
     pub(super) fn new(m: &'m Model, dynamics: &Dynamics) -> Option<Self> {
-        // Value for value, bit for bit (a value not set is NaN).
-        let same = |a: &[f64], b: &[f64]| {
-            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
-        };
         let code: &SectionCode = m.sections()?;
         if !dynamics
             .sections_values(code.owner())
-            .is_some_and(|v| same(v, m.all_values()))
+            .is_some_and(|v| crate::checks::same_bits(v, m.all_values()))
         {
             return None;
         }

@@ -234,14 +234,14 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         let Some(motion) = &self.current else {
             return Ok(());
         };
-        if let Some((reduction, outputs)) = &mut self.compiled {
-            let (m, motion) = (self.m, motion);
-            if m.equations_of_motion(motion.q(), motion.qd(), motion.qdd(), t, outputs)
-                && reduction.reduce(outputs, out)
-            {
-                self.counts[0] += 1;
-                return Ok(());
-            }
+        if let Some((reduction, outputs)) = &mut self.compiled
+            && self
+                .m
+                .equations_of_motion(motion.q(), motion.qd(), motion.qdd(), t, outputs)
+            && reduction.reduce(outputs, out)
+        {
+            self.counts[0] += 1;
+            return Ok(());
         }
         self.counts[1] += 1;
         let view = Generated(motion);
