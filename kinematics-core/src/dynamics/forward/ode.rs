@@ -146,14 +146,20 @@ pub(crate) struct Dopri {
     /// The time and solution at the start of the last accepted step.
     pub(crate) t_old: f64,
     y_old: Vec<f64>,
-    /// The stages; `k[0]` is f at (t, y).
-    k: [Vec<f64>; 7],
+    /// The seven stages by component (component i's at `k[i]`), stage 0
+    /// f at (t, y).
+    k: Vec<[f64; 7]>,
     stage: Vec<f64>,
+    /// f at the last stage, before it is spread over `k`.
+    f: Vec<f64>,
     y_new: Vec<f64>,
-    /// The dense output's terms Δ, B, the fourth and the fifth.
-    dense: [Vec<f64>; 4],
+    /// The dense output's terms Δ, B, the fourth and the fifth, by
+    /// component.
+    dense: Vec<[f64; 4]>,
     h: f64,
-    previous_error: f64,
+    /// The last accepted step's error norm, at least 1e-4, raised to the
+    /// PI controller's 0.04.
+    previous_factor: f64,
     tolerances: Tolerances,
     /// The largest step allowed.
     pub(crate) max_step: f64,
@@ -186,12 +192,13 @@ impl Dopri {
             y: y0.to_vec(),
             t_old: t0,
             y_old: y0.to_vec(),
-            k: core::array::from_fn(|_| zeros()),
+            k: vec![[0.0; 7]; n],
             stage: zeros(),
+            f: zeros(),
             y_new: zeros(),
-            dense: core::array::from_fn(|_| zeros()),
+            dense: vec![[0.0; 4]; n],
             h: 0.0,
-            previous_error: 1e-4,
+            previous_factor: math::exp(0.04 * math::ln(1e-4)),
             tolerances,
             max_step,
             evaluations: 0,
@@ -199,7 +206,8 @@ impl Dopri {
             rejected: 0,
             refused: None,
         };
-        system.rhs(t0, y0, &mut me.k[0])?;
+        system.rhs(t0, y0, &mut me.f)?;
+        me.spread(0);
         me.evaluations += 1;
         me.h = me.starting_step(system)?;
         Ok(me)
@@ -215,7 +223,8 @@ impl Dopri {
     fn starting_step<S: System>(&mut self, system: &mut S) -> Result<f64, Error> {
         let c = system.controlled();
         let d0 = self.norm(&self.y, &self.y, &self.y, c);
-        let d1 = self.norm(&self.k[0], &self.y, &self.y, c);
+        let first: Vec<f64> = self.k.iter().map(|k| k[0]).collect();
+        let d1 = self.norm(&first, &self.y, &self.y, c);
         let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
             1e-6
         } else {
@@ -227,8 +236,8 @@ impl Dopri {
         // tried again ten times closer, up to six times.
         let mut tries = 0;
         loop {
-            for i in 0..self.n {
-                self.stage[i] = self.y[i] + h0 * self.k[0][i];
+            for ((s, y), k) in self.stage.iter_mut().zip(&self.y).zip(&first) {
+                *s = y + h0 * k;
             }
             self.evaluations += 1;
             match system.rhs(self.t + h0, &self.stage, &mut f1) {
@@ -240,7 +249,7 @@ impl Dopri {
                 }
             }
         }
-        for (f, k) in f1.iter_mut().zip(&self.k[0]) {
+        for (f, k) in f1.iter_mut().zip(&first) {
             *f -= k;
         }
         let d2 = self.norm(&f1, &self.y, &self.y, c) / h0;
@@ -276,12 +285,8 @@ impl Dopri {
                 continue;
             }
             // The error estimate, in `stage`.
-            for i in 0..self.n {
-                let mut e = 0.0;
-                for (s, w) in E.iter().enumerate() {
-                    e += w * self.k[s][i];
-                }
-                self.stage[i] = h * e;
+            for (e, k) in self.stage.iter_mut().zip(&self.k) {
+                *e = h * combine(&E, k);
             }
             let err = self.norm(&self.stage, &self.y, &self.y_new, controlled);
             if !err.is_finite() {
@@ -296,9 +301,9 @@ impl Dopri {
                 0.0
             };
             if err <= 1.0 {
-                let fac = fac11 / math::exp(0.04 * math::ln(self.previous_error));
+                let fac = fac11 / self.previous_factor;
                 let fac = (fac / 0.9).clamp(0.1, 5.0);
-                self.previous_error = err.max(1e-4);
+                self.previous_factor = math::exp(0.04 * math::ln(err.max(1e-4)));
                 self.accept(h, last.then_some(t_end));
                 self.h = h / fac;
                 self.refused = None;
@@ -313,14 +318,16 @@ impl Dopri {
     /// `y_new`.
     fn stages<S: System>(&mut self, system: &mut S, h: f64) -> Result<(), Error> {
         for s in 1..7 {
-            for i in 0..self.n {
+            let a = &A[s];
+            for ((x, y), k) in self.stage.iter_mut().zip(&self.y).zip(&self.k) {
                 let mut sum = 0.0;
-                for (j, a) in A[s].iter().enumerate().take(s) {
-                    sum += a * self.k[j][i];
+                for j in 0..s {
+                    sum += a[j] * k[j];
                 }
-                self.stage[i] = self.y[i] + h * sum;
+                *x = y + h * sum;
             }
-            system.rhs(self.t + C[s] * h, &self.stage, &mut self.k[s])?;
+            system.rhs(self.t + C[s] * h, &self.stage, &mut self.f)?;
+            self.spread(s);
             self.evaluations += 1;
         }
         // Stage 7 is at y₁ (the weights of order 5 are A's last row).
@@ -332,26 +339,33 @@ impl Dopri {
     /// terms, then (t, y) moved to its end (`end` exactly, for the last
     /// step to the end).
     fn accept(&mut self, h: f64, end: Option<f64>) {
-        for i in 0..self.n {
-            let delta = self.y_new[i] - self.y[i];
-            let b = h * self.k[0][i] - delta;
-            let mut d = 0.0;
-            for (s, w) in D.iter().enumerate() {
-                d += w * self.k[s][i];
-            }
-            self.dense[0][i] = delta;
-            self.dense[1][i] = b;
-            self.dense[2][i] = delta - h * self.k[6][i] - b;
-            self.dense[3][i] = h * d;
+        let columns = self
+            .dense
+            .iter_mut()
+            .zip(self.y_new.iter().zip(&self.y))
+            .zip(&mut self.k);
+        for ((terms, (y1, y0)), k) in columns {
+            let delta = y1 - y0;
+            let b = h * k[0] - delta;
+            *terms = [delta, b, delta - h * k[6] - b, h * combine(&D, k)];
+            // The last stage is f at the new point: the next step's first.
+            k[0] = k[6];
         }
         self.t_old = self.t;
         self.y_old.copy_from_slice(&self.y);
         self.t = end.unwrap_or(self.t + h);
         self.y.copy_from_slice(&self.y_new);
-        // The last stage is f at the new point: the next step's first.
-        let (first, rest) = self.k.split_at_mut(6);
-        first[0].copy_from_slice(&rest[0]);
         self.accepted += 1;
+    }
+
+    /// f of stage `s`, in `f`, spread over the components' stages.
+    #[inline(always)]
+    fn spread(&mut self, s: usize) {
+        for (k, f) in self.k.iter_mut().zip(&self.f) {
+            if let Some(slot) = k.get_mut(s) {
+                *slot = *f;
+            }
+        }
     }
 
     /// The dense output at time t within the last accepted step, written
@@ -364,16 +378,21 @@ impl Dopri {
             1.0
         };
         let rest = 1.0 - theta;
-        for (i, o) in out.iter_mut().enumerate().take(self.n) {
-            let [delta, b, c, d] = [
-                self.dense[0][i],
-                self.dense[1][i],
-                self.dense[2][i],
-                self.dense[3][i],
-            ];
-            *o = self.y_old[i] + theta * (delta + rest * (b + theta * (c + rest * d)));
+        for ((o, y0), terms) in out.iter_mut().zip(&self.y_old).zip(&self.dense) {
+            let [delta, b, c, d] = *terms;
+            *o = y0 + theta * (delta + rest * (b + theta * (c + rest * d)));
         }
     }
+}
+
+/// Σ_s w_s k_s over the seven stages, in the order of s.
+#[inline(always)]
+fn combine(weights: &[f64; 7], k: &[f64; 7]) -> f64 {
+    let mut sum = 0.0;
+    for (w, v) in weights.iter().zip(k) {
+        sum += w * v;
+    }
+    sum
 }
 
 /// The integrator a run uses: the explicit pair or the implicit method
