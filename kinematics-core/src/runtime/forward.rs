@@ -227,11 +227,18 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
         };
         settings.parameters = parameters.len();
         let (d0, r0) = start_state((&self.start[..nd], &self.rates), &free, &names)?;
+        let compiled = super::motion::Compiled::new(m, self.dynamics);
+        let mut stepper = m.stepper(&self.course.options)?;
+        // The compiled equations of motion in the fused step itself, where
+        // it has them: one call of machine code per evaluation.
+        if compiled.is_some() {
+            stepper.with_motion();
+        }
         let analysis = RunTime {
             m,
-            stepper: m.stepper(&self.course.options)?,
+            stepper,
             units: m.stepper(&self.course.options)?,
-            compiled: super::motion::Compiled::new(m, self.dynamics),
+            compiled,
             counts: [0; 2],
             rates: vec![0.0; nd],
             zeros: vec![0.0; nd],
@@ -331,6 +338,12 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
             return Ok(());
         }
         if let Some(c) = &mut self.compiled {
+            if let Some(roots) = self.stepper.fused_motion() {
+                if c.reduce(roots, out) {
+                    self.counts[0] += 1;
+                    return Ok(());
+                }
+            }
             let (flat, trig) = (self.stepper.flat(), self.stepper.fused_trig());
             if c.equations([flat.q, flat.qd, flat.qdd], t, trig, out) {
                 self.counts[0] += 1;

@@ -87,6 +87,14 @@ impl<'m> Compiled<'m> {
         }
         self.reduction.reduce(&self.out, eq)
     }
+
+    /// M, b and the powers from the roots of the equations of motion as a
+    /// fused step evaluated them ([`super::Stepper::fused_motion`]), as
+    /// [`Compiled::equations`] does from its own evaluation.
+    #[inline]
+    pub(super) fn reduce(&mut self, roots: &[f64], eq: &mut Equations<'_>) -> bool {
+        self.reduction.reduce(roots, eq)
+    }
 }
 
 #[cfg(test)]
@@ -129,6 +137,12 @@ mod tests {
         let w = general.working_loads();
         let nb = general.body_count();
         let mut stepper = m.stepper(&crate::Options::default()).expect("a stepper");
+        // A second stepper whose fused step evaluates the equations of
+        // motion itself: everywhere a fused step is, but for loads that
+        // read the time (that code reads none).
+        let mut with_motion = m.stepper(&crate::Options::default()).expect("a stepper");
+        let reads_time = m.sections().expect("sections").reads_time();
+        let fusible = with_motion.with_motion();
         // Twenty steps toward the pose, then the pose: the fused step's
         // carried cosines and sines as a run has them, not a first step's.
         let mut q = pose.clone();
@@ -140,6 +154,9 @@ mod tests {
                 .step_flat(&q, rates, &vec![0.0; nd])
                 .expect("a step");
             q.copy_from_slice(flat.q);
+            with_motion
+                .step_flat(&q, rates, &vec![0.0; nd])
+                .expect("a step");
         }
         q[..nd].copy_from_slice(&pose[..nd]);
         let stepped: Vec<Vec<f64>> = {
@@ -149,6 +166,12 @@ mod tests {
             vec![flat.q.to_vec(), flat.qd.to_vec(), flat.qdd.to_vec()]
         };
         let fused = stepper.fused_trig();
+        assert_eq!(fusible, fused.is_some() && !reads_time);
+        with_motion
+            .step_flat(&q, rates, &vec![0.0; nd])
+            .expect("a step");
+        let roots = with_motion.fused_motion().map(<[f64]>::to_vec);
+        assert_eq!(roots.is_some(), fusible);
         let run = |mode: u8, compiled: &mut Compiled<'_>| {
             let (mut mass, mut bias, mut powers) =
                 (vec![0.0; nd * nd], vec![0.0; nd], vec![0.0; w]);
@@ -171,6 +194,8 @@ mod tests {
             } else if mode == 1 {
                 let coords = [&stepped[0][..], &stepped[1][..], &stepped[2][..]];
                 assert!(compiled.equations(coords, t, fused, &mut out));
+            } else if mode == 3 {
+                assert!(compiled.reduce(roots.as_deref().unwrap_or(&[]), &mut out));
             } else {
                 let view = RunTime(&motion);
                 general
@@ -188,7 +213,11 @@ mod tests {
         };
         let b = all(&run(2, &mut compiled));
         let scale = b.iter().fold(1e-300_f64, |s, v| s.max(v.abs()));
-        let modes: &[u8] = if fused.is_some() { &[0, 1] } else { &[0] };
+        let modes: &[u8] = match (fused.is_some(), fusible) {
+            (true, true) => &[0, 1, 3],
+            (true, false) => &[0, 1],
+            _ => &[0],
+        };
         for &mode in modes {
             let a = all(&run(mode, &mut compiled));
             for (x, y) in a.iter().zip(&b) {

@@ -76,10 +76,17 @@ struct FusedRun<'m> {
     /// The step and pose functions of the plan's code.
     step: StepFn<'m>,
     pose: PoseFn<'m>,
+    /// The step with the equations of motion after it, taking the place
+    /// of `step` once a forward simulation asked for it
+    /// ([`Stepper::with_motion`]).
+    dynamics: Option<StepFn<'m>>,
     f: Vec<f64>,
     steps: u32,
     scaled: bool,
     positions: bool,
+    /// Whether the buffer holds the equations of motion at the last
+    /// step's motion.
+    motion: bool,
     io: Io,
 }
 
@@ -213,10 +220,12 @@ impl Model {
                 plan,
                 step,
                 pose,
+                dynamics: None,
                 f,
                 steps: 0,
                 scaled: false,
                 positions: false,
+                motion: false,
                 io,
             })
         });
@@ -596,7 +605,7 @@ impl Stepper<'_> {
                     return false;
                 }
                 run.plan.step(
-                    &run.step,
+                    run.dynamics.as_ref().unwrap_or(&run.step),
                     &mut run.f,
                     [start, rates, accelerations],
                     &mut self.modes,
@@ -611,6 +620,7 @@ impl Stepper<'_> {
             return false;
         }
         run.positions = motion.is_none();
+        run.motion = motion.is_some() && run.dynamics.is_some();
         // The cosines and sines are in the buffer, not in the work: the
         // positions of a step are evaluated afresh when asked for.
         self.assembled = false;
@@ -623,7 +633,30 @@ impl Stepper<'_> {
         self.pending = false;
         if let Some(run) = self.fused.as_mut() {
             run.positions = false;
+            run.motion = false;
         }
+    }
+
+    /// Makes every fused step of this stepper evaluate the model's
+    /// equations of motion after the motion ([`Stepper::fused_motion`]
+    /// reads them), compiling that code at the first call for the model;
+    /// `false` where the model has no fused step or no such code.
+    pub(super) fn with_motion(&mut self) -> bool {
+        let Some(run) = self.fused.as_mut() else {
+            return false;
+        };
+        run.dynamics = run.plan.dynamics_function();
+        run.dynamics.is_some()
+    }
+
+    /// The roots of the equations of motion
+    /// ([`kinematics_compiler::motion::EquationsOfMotion::roots`]) at the
+    /// last step's motion, where that step was fused with them.
+    #[inline]
+    pub(super) fn fused_motion(&self) -> Option<&[f64]> {
+        let run = self.fused.as_ref().filter(|r| r.motion)?;
+        let (at, len) = run.plan.motion_at();
+        run.f.get(at..at + len)
     }
 
     /// Assembles `start` (already checked) into the stepper's pose, in its

@@ -34,7 +34,7 @@ use std::sync::OnceLock;
 use kinematics_compiler::Compiled;
 use kinematics_compiler::ir::{Graph, Id, Node};
 use kinematics_jit::{
-    Callable, Function, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
+    Callable, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
 };
 
 /// The step function of a plan's code: its inputs read from the start,
@@ -47,6 +47,7 @@ pub(super) type StepFn<'a> = Callable<'a, 3, 2>;
 pub(super) type PoseFn<'a> = Callable<'a, 1, 2>;
 
 mod closed;
+mod code;
 mod helper;
 
 use super::closed::Form;
@@ -79,6 +80,9 @@ const INCONSISTENT: i64 = 6;
 const PRELUDE: usize = 0;
 const STEP: usize = 1;
 const POSE: usize = 2;
+/// In the second module, compiled for a forward simulation only: the
+/// step with the equations of motion's roots after it.
+const DYNAMICS: usize = 1;
 
 /// One closed-form block as the fused step solves it.
 #[derive(Clone, Debug)]
@@ -112,6 +116,13 @@ pub(super) struct Plan {
     /// stepper first needs them (`None` if that failed: the steppers then
     /// take the general path).
     code: OnceLock<Option<Fused>>,
+    /// [`PRELUDE`] and [`DYNAMICS`], compiled when a forward simulation
+    /// first needs them (`None` without equations of motion, or where the
+    /// compiler formed none this code can evaluate: a load that reads the
+    /// time).
+    dynamics: OnceLock<Option<Fused>>,
+    /// Where the equations of motion's roots lie, and how many there are.
+    motion: (usize, usize),
     /// What they are compiled from.
     source: Source,
     /// Where the offsets k of sin(q + k) lie, and how many there are.
@@ -154,6 +165,9 @@ struct Source {
     graph: Graph,
     coords: usize,
     functions: [Ops; 3],
+    /// The step followed by the equations of motion, where the model has
+    /// them.
+    dynamics: Option<Ops>,
 }
 
 /// A fused function's ops, and the nodes it reads from the buffer.
@@ -259,6 +273,11 @@ impl Plan {
         all_roots.extend(c.acceleration_rhs());
         all_roots.extend(&outputs);
         all_roots.extend(&position_roots);
+        let motion_roots = c
+            .equations_of_motion()
+            .map(kinematics_compiler::motion::EquationsOfMotion::roots)
+            .unwrap_or_default();
+        all_roots.extend(&motion_roots);
         let h = hoist(graph, np, n, &all_roots);
         let mut at = Regions(0);
         let params = at.take(np);
@@ -283,6 +302,7 @@ impl Plan {
             .collect();
         let out = at.take(outputs.len());
         let positions = at.take(position_roots.len());
+        let motion = at.take(motion_roots.len());
         let conditioning = at.take(1);
         let sign = at.take(1);
         let invariants = at.take(h.invariants.len());
@@ -517,6 +537,18 @@ impl Plan {
             at: (out..out + outputs.len()).collect(),
             finite: Some(NOT_FINITE),
         });
+        // (The equations of motion checked by their reduction, which
+        // sends a value not finite the general way.)
+        let dynamics = (!motion_roots.is_empty()).then(|| {
+            let mut ops = step.clone();
+            ops.push(Op::Store {
+                roots: h.map_all(&motion_roots),
+                at: (motion..motion + motion_roots.len()).collect(),
+                finite: None,
+            });
+            ops.extend(export.iter().cloned());
+            ops
+        });
         step.extend(export.iter().cloned());
         // The invariants and offsets, computed once per stepper; the two
         // functions read them.
@@ -540,9 +572,12 @@ impl Plan {
             .collect();
         Some(Plan {
             code: OnceLock::new(),
+            dynamics: OnceLock::new(),
+            motion: (motion, motion_roots.len()),
             source: Source {
                 graph: h.graph,
                 coords: n,
+                dynamics: dynamics.map(|ops| (ops, preset.clone())),
                 functions: [
                     (prelude.to_vec(), Vec::new()),
                     (step, preset.clone()),
@@ -601,21 +636,6 @@ impl Plan {
         let at = self.layout.trig;
         let n = self.fresh_trig.len();
         (f.get(at..at + 2 * n).unwrap_or(&[]), &self.fresh_trig)
-    }
-
-    /// The compiled functions, compiled at the first call.
-    fn code(&self) -> Option<&Fused> {
-        self.code
-            .get_or_init(|| {
-                let s = &self.source;
-                let functions: Vec<Function<'_>> = s
-                    .functions
-                    .iter()
-                    .map(|(ops, preset)| Function { ops, preset })
-                    .collect();
-                Fused::new(&s.graph, self.np, s.coords, self.layout, &functions).ok()
-            })
-            .as_ref()
     }
 
     /// A buffer for the code, its parameters `params` (with the
@@ -720,44 +740,6 @@ impl Plan {
         [self.conditioning, self.sign, self.residual]
     }
 
-    /// The step and pose functions, looked up once for a stepper (`None`
-    /// where the code did not compile).
-    pub(super) fn functions(&self) -> Option<(StepFn<'_>, PoseFn<'_>)> {
-        let code = self.code()?;
-        Some((code.function(STEP)?, code.function(POSE)?))
-    }
-
-    /// One step in the buffer through `step` (of [`Plan::functions`]), its
-    /// inputs read from `start`, `rates` and `accelerations` and the modes
-    /// from `modes`: 0 when it is done (`modes` and `q` then hold the
-    /// modes followed and the pose, the buffer the motion); otherwise the
-    /// status that sends it to the general path, `modes` and `q` as they
-    /// were. A port shorter than the model's is a status too (−1).
-    #[inline]
-    pub(super) fn step(
-        &self,
-        step: &StepFn<'_>,
-        f: &mut [f64],
-        inputs: [&[f64]; 3],
-        modes: &mut [f64],
-        q: &mut [f64],
-    ) -> i64 {
-        step.call(f, &mut Context { plan: self }, inputs, [modes, q])
-    }
-
-    /// One assembly in the buffer through `pose` (as [`Plan::step`],
-    /// without the rates), with the points' positions: 0 when it is done.
-    #[inline]
-    pub(super) fn pose(
-        &self,
-        pose: &PoseFn<'_>,
-        f: &mut [f64],
-        start: &[f64],
-        modes: &mut [f64],
-        q: &mut [f64],
-    ) -> i64 {
-        pose.call(f, &mut Context { plan: self }, [start], [modes, q])
-    }
 }
 
 /// `dst` = `src` (of the same length), element by element where the
