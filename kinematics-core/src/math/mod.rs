@@ -122,3 +122,33 @@ mod tests {
         }
     }
 }
+
+/// `dst` = `src` (of the same length), element by element where the
+/// slices are as short as a point's, a small model's coordinates or a
+/// small system's state (the library's `memcpy` costs more than the copy
+/// there).
+#[inline]
+pub(crate) fn copy_small(dst: &mut [f64], src: &[f64]) {
+    match (dst, src) {
+        ([], []) => {}
+        ([d0], [s0]) => *d0 = *s0,
+        ([d0, d1], [s0, s1]) => (*d0, *d1) = (*s0, *s1),
+        ([d0, d1, d2], [s0, s1, s2]) => (*d0, *d1, *d2) = (*s0, *s1, *s2),
+        ([d0, d1, d2, d3], [s0, s1, s2, s3]) => {
+            (*d0, *d1, *d2, *d3) = (*s0, *s1, *s2, *s3);
+        }
+        (d, s) => d.copy_from_slice(s),
+    }
+}
+
+/// Every value of `dst` zero, element by element for up to two values
+/// (as [`copy_small`]).
+#[inline]
+pub(crate) fn zero_small(dst: &mut [f64]) {
+    match dst {
+        [] => {}
+        [d0] => *d0 = 0.0,
+        [d0, d1] => (*d0, *d1) = (0.0, 0.0),
+        d => d.fill(0.0),
+    }
+}

@@ -319,9 +319,9 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         let nd = d.len();
         let signs = self.stepper.signs_mut();
         if signs.len() == self.modes.len() {
-            signs.copy_from_slice(&self.modes);
+            crate::math::copy_small(signs, &self.modes);
         }
-        self.guess[..nd].copy_from_slice(d);
+        crate::math::copy_small(&mut self.guess[..nd], d);
         self.current = false;
         self.stepper.advance(&self.guess, dd, ddd)?;
         self.current = true;

@@ -4,7 +4,8 @@
 
 use alloc::vec::Vec;
 
-use super::fused::{PoseFn, StepFn, copy_small};
+use super::fused::{PoseFn, StepFn};
+use crate::math::copy_small;
 use super::solve::Work;
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;

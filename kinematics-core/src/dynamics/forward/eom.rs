@@ -12,6 +12,7 @@ use super::run::Analysis;
 use crate::dynamics::Dynamics;
 use crate::dynamics::terms::Terms;
 use crate::error::Error;
+use crate::math::{copy_small, zero_small};
 
 /// The equations of motion as a first-order system: y = (d_f, ḋ_f, W, S),
 /// y' = (ḋ_f, d̈_f, P, Ṡ), W the works of the loads and prescribed
@@ -216,11 +217,11 @@ impl<A: Analysis> System for Eom<'_, A> {
             self.acceleration_jacobian(t, y)?;
         }
         self.accelerations(t, y)?;
-        dy[..nf].copy_from_slice(&y[nf..2 * nf]);
-        dy[nf..2 * nf].copy_from_slice(&self.x);
+        copy_small(&mut dy[..nf], &y[nf..2 * nf]);
+        copy_small(&mut dy[nf..2 * nf], &self.x);
         let rest = &mut dy[2 * nf..];
-        rest[..self.powers.len()].copy_from_slice(&self.powers);
-        self.effort.fill(0.0);
+        copy_small(&mut rest[..self.powers.len()], &self.powers);
+        zero_small(&mut self.effort);
         for &p in &self.prescribed {
             let mut q = self.bias[p];
             for (j, &l) in self.free.iter().enumerate() {
@@ -234,7 +235,7 @@ impl<A: Analysis> System for Eom<'_, A> {
         }
         // The impacts' works change at the impacts only.
         let s0 = p0 + self.prescribed.len();
-        rest[s0..s0 + self.stops].fill(0.0);
+        zero_small(&mut rest[s0..s0 + self.stops]);
         if self.parameters > 0 {
             self.sensitivities(t, y, dy)?;
         }

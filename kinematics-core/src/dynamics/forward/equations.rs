@@ -268,8 +268,8 @@ impl Reduction {
             eq.mass[0] =
                 m00 + 2.0 * (m01 * x0 + m02 * x1 + m12 * x0 * x1) + m11 * x0 * x0 + m22 * x1 * x1;
             eq.bias[0] = f0 + f1 * x0 + f2 * x1;
-            for (p, v) in eq.powers.iter_mut().zip(powers) {
-                *p = *v;
+            if eq.powers.len() == powers.len() {
+                crate::math::copy_small(eq.powers, powers);
             }
             return eq.mass[0].is_finite()
                 && eq.bias[0].is_finite()

@@ -331,7 +331,7 @@ impl Dopri {
             self.evaluations += 1;
         }
         // Stage 7 is at y₁ (the weights of order 5 are A's last row).
-        self.y_new.copy_from_slice(&self.stage);
+        math::copy_small(&mut self.y_new, &self.stage);
         Ok(())
     }
 
@@ -352,9 +352,9 @@ impl Dopri {
             k[0] = k[6];
         }
         self.t_old = self.t;
-        self.y_old.copy_from_slice(&self.y);
+        math::copy_small(&mut self.y_old, &self.y);
         self.t = end.unwrap_or(self.t + h);
-        self.y.copy_from_slice(&self.y_new);
+        math::copy_small(&mut self.y, &self.y_new);
         self.accepted += 1;
     }
 

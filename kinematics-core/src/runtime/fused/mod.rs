@@ -739,18 +739,4 @@ impl Plan {
     pub(super) fn results_at(&self) -> [usize; 3] {
         [self.conditioning, self.sign, self.residual]
     }
-
-}
-
-/// `dst` = `src` (of the same length), element by element where the
-/// slices are as short as a point's or a small model's coordinates (the
-/// library's `memcpy` costs more than the copy there).
-#[inline]
-pub(super) fn copy_small(dst: &mut [f64], src: &[f64]) {
-    match (dst, src) {
-        ([d0, d1], [s0, s1]) => (*d0, *d1) = (*s0, *s1),
-        ([d0, d1, d2], [s0, s1, s2]) => (*d0, *d1, *d2) = (*s0, *s1, *s2),
-        ([d0], [s0]) => *d0 = *s0,
-        (d, s) => d.copy_from_slice(s),
-    }
 }
