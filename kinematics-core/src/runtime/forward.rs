@@ -280,6 +280,34 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
     }
 }
 
+impl<P> RunTime<'_, P> {
+    /// M, b and the powers summed over the bodies and loads with unit
+    /// analyses: a description that is not the model's sections, or where
+    /// the compiled equations gave no finite reduction.
+    #[cold]
+    #[inline(never)]
+    fn summed(
+        &mut self,
+        dynamics: &Dynamics,
+        t: f64,
+        out: &mut Equations<'_>,
+    ) -> Result<(), Error> {
+        self.counts[1] += 1;
+        let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
+        let motion = self.stepper.motion_now();
+        let view = super::dynamics::RunTime(motion);
+        let mut unit = |k: usize, with: WithUnit<'_>| -> Result<(), Error> {
+            for (i, r) in rates.iter_mut().enumerate() {
+                *r = if i == k { 1.0 } else { 0.0 };
+            }
+            let u = units.step(&motion.q, rates, zeros)?;
+            with(&super::dynamics::RunTime(u));
+            Ok(())
+        };
+        dynamics.equations(&Timed(&view, t), &mut unit, out)
+    }
+}
+
 /// A run-time model's part in the integration: a stepper, its assembly
 /// modes restored to the committed pose's before each evaluation, and a
 /// second one for the unit analyses, so that an evaluation allocates
@@ -315,6 +343,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         (self.profile)(t, d, dd, ddd);
     }
 
+    #[inline(always)]
     fn analyze(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error> {
         let nd = d.len();
         let signs = self.stepper.signs_mut();
@@ -328,6 +357,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         Ok(())
     }
 
+    #[inline(always)]
     fn equations(
         &mut self,
         dynamics: &Dynamics,
@@ -350,19 +380,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
                 return Ok(());
             }
         }
-        self.counts[1] += 1;
-        let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
-        let motion = self.stepper.motion_now();
-        let view = super::dynamics::RunTime(motion);
-        let mut unit = |k: usize, with: WithUnit<'_>| -> Result<(), Error> {
-            for (i, r) in rates.iter_mut().enumerate() {
-                *r = if i == k { 1.0 } else { 0.0 };
-            }
-            let u = units.step(&motion.q, rates, zeros)?;
-            with(&super::dynamics::RunTime(u));
-            Ok(())
-        };
-        dynamics.equations(&Timed(&view, t), &mut unit, out)
+        self.summed(dynamics, t, out)
     }
 
     fn equation_counts(&self) -> [usize; 2] {

@@ -59,6 +59,7 @@ pub(super) struct Eom<'d, A> {
 
 impl<A: Analysis> Eom<'_, A> {
     /// The drivers at (t, y), the free accelerations zero.
+    #[inline(always)]
     pub(super) fn set_drivers(&mut self, t: f64, y: &[f64]) {
         let nf = self.free.len();
         // (Every driver free: each is written below.)
@@ -76,6 +77,7 @@ impl<A: Analysis> Eom<'_, A> {
     /// The free drivers' accelerations at (t, y) into `x`: the mechanism
     /// assembled and analysed there, M_ff d̈_f = −b_f solved; M and b
     /// kept.
+    #[inline(always)]
     fn accelerations(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
         let nf = self.free.len();
         self.set_drivers(t, y);
