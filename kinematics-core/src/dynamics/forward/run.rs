@@ -551,6 +551,8 @@ pub(crate) fn integrate<A: Analysis>(
     };
     let mut next = 1;
     let mut failure = None;
+    // The interpolated state of an output sample or an event.
+    let mut out = vec![0.0; n];
     let ended = loop {
         if ode.t() >= settings.until {
             break Ended::Complete;
@@ -593,7 +595,6 @@ pub(crate) fn integrate<A: Analysis>(
             }
         }
         let upto = limit.map_or(ode.t(), |(_, t)| t);
-        let mut out = vec![0.0; n];
         while next <= settings.intervals && output(next) <= upto {
             let t = output(next);
             let state = if t == ode.t() {
