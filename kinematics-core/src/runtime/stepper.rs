@@ -5,11 +5,11 @@
 use alloc::vec::Vec;
 
 use super::fused::{PoseFn, StepFn};
-use crate::math::copy_small;
 use super::solve::Work;
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;
 use crate::error::Error;
+use crate::math::copy_small;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
 

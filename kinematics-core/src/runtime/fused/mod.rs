@@ -33,9 +33,7 @@ use std::sync::OnceLock;
 
 use kinematics_compiler::Compiled;
 use kinematics_compiler::ir::{Graph, Id, Node};
-use kinematics_jit::{
-    Callable, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow,
-};
+use kinematics_jit::{Callable, Fused, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow};
 
 /// The step function of a plan's code: its inputs read from the start,
 /// the drivers' rates and their accelerations; the modes and the pose
