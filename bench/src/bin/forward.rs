@@ -15,6 +15,10 @@
 //! ```text
 //! cargo run --release -p kinematics-bench --bin forward
 //! ```
+//!
+//! With the argument `count`, it runs only the run-time model's three
+//! start-ups through its compiled sections, for instruction counts under
+//! callgrind (`valgrind --tool=callgrind target/release/forward count`).
 
 // A benchmark program: a failed set-up should stop it.
 #![allow(clippy::expect_used, missing_docs)]
@@ -107,7 +111,31 @@ fn median(mut v: Vec<f64>) -> (f64, f64, f64) {
     (v[v.len() / 2], v[0], v[v.len() - 1])
 }
 
+/// Three start-ups of the run-time model through its compiled sections,
+/// from the guesses the Python benchmark gives, and nothing else.
+fn count() {
+    let sections = kinematics_core::runtime::Model::compile(text_of("FourBarSections"))
+        .expect("compiled")
+        .with_values(&[0.04, 0.12, 0.10, 0.11])
+        .expect("the values");
+    let own = sections.dynamics().expect("the sections");
+    for _ in 0..3 {
+        let run = own
+            .forward_of(&sections, &[0.0, 1.2, 1.9])
+            .until(3.0)
+            .samples(300)
+            .tolerance(1e-10)
+            .run()
+            .expect("the run");
+        black_box(run);
+    }
+}
+
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("count") {
+        count();
+        return;
+    }
     let m = FourBar {
         a: 0.04,
         b: 0.12,

@@ -99,30 +99,6 @@ pub fn rem_euclid(x: f64, m: f64) -> f64 {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    /// With `std` these are the `f64` methods themselves; with libm they
-    /// agree with them to a few units of round-off.
-    #[test]
-    fn the_functions_are_those_of_f64() {
-        let close = |a: f64, b: f64| (a - b).abs() <= 4e-16 * (1.0 + b.abs());
-        for x in [-2.5, -0.3, 0.0, 0.7, 1.9] {
-            let (s, c) = super::sin_cos(x);
-            assert!(close(s, x.sin()) && close(c, x.cos()), "{x}");
-            assert!(close(super::sin(x), x.sin()) && close(super::cos(x), x.cos()));
-            assert!(close(super::tan(x), x.tan()) && close(super::exp(x), x.exp()));
-            assert!(close(super::atan2(x, 0.4), x.atan2(0.4)));
-            assert!(close(super::asin(x / 3.0), (x / 3.0).asin()));
-            assert!(close(super::acos(x / 3.0), (x / 3.0).acos()));
-            assert!(close(super::sqrt(x.abs()), x.abs().sqrt()));
-            assert!(close(super::ln(x.abs() + 1.0), (x.abs() + 1.0).ln()));
-            assert!(close(super::powi(x, 3), x.powi(3)));
-            assert!(close(super::rem_euclid(x, 1.0), x.rem_euclid(1.0)));
-            assert_eq!(super::abs(x), x.abs());
-        }
-    }
-}
-
 /// `dst` = `src` (of the same length), element by element where the
 /// slices are as short as a point's, a small model's coordinates or a
 /// small system's state (the library's `memcpy` costs more than the copy
@@ -150,5 +126,29 @@ pub(crate) fn zero_small(dst: &mut [f64]) {
         [d0] => *d0 = 0.0,
         [d0, d1] => (*d0, *d1) = (0.0, 0.0),
         d => d.fill(0.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// With `std` these are the `f64` methods themselves; with libm they
+    /// agree with them to a few units of round-off.
+    #[test]
+    fn the_functions_are_those_of_f64() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 4e-16 * (1.0 + b.abs());
+        for x in [-2.5, -0.3, 0.0, 0.7, 1.9] {
+            let (s, c) = super::sin_cos(x);
+            assert!(close(s, x.sin()) && close(c, x.cos()), "{x}");
+            assert!(close(super::sin(x), x.sin()) && close(super::cos(x), x.cos()));
+            assert!(close(super::tan(x), x.tan()) && close(super::exp(x), x.exp()));
+            assert!(close(super::atan2(x, 0.4), x.atan2(0.4)));
+            assert!(close(super::asin(x / 3.0), (x / 3.0).asin()));
+            assert!(close(super::acos(x / 3.0), (x / 3.0).acos()));
+            assert!(close(super::sqrt(x.abs()), x.abs().sqrt()));
+            assert!(close(super::ln(x.abs() + 1.0), (x.abs() + 1.0).ln()));
+            assert!(close(super::powi(x, 3), x.powi(3)));
+            assert!(close(super::rem_euclid(x, 1.0), x.rem_euclid(1.0)));
+            assert_eq!(super::abs(x), x.abs());
+        }
     }
 }

@@ -368,11 +368,11 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
             return Ok(());
         }
         if let Some(c) = &mut self.compiled {
-            if let Some(roots) = self.stepper.fused_motion() {
-                if c.reduce(roots, out) {
-                    self.counts[0] += 1;
-                    return Ok(());
-                }
+            if let Some(roots) = self.stepper.fused_motion()
+                && c.reduce(roots, out)
+            {
+                self.counts[0] += 1;
+                return Ok(());
             }
             let (flat, trig) = (self.stepper.flat(), self.stepper.fused_trig());
             if c.equations([flat.q, flat.qd, flat.qdd], t, trig, out) {
