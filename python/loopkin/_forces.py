@@ -4,7 +4,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Dict, List, Tuple
+from typing import TYPE_CHECKING, Any, ClassVar, Dict, List, Tuple, Type, cast
 
 import numpy as np
 
@@ -12,6 +12,7 @@ from ._values import Forces, JointReaction, MassSensitivity, Motion, Sensitivity
 
 if TYPE_CHECKING:  # pragma: no cover
     from . import _native
+    from ._model import Mechanism
 
 __all__: List[str] = []
 
@@ -29,8 +30,8 @@ class _Forces:
 
     __slots__ = ()
     _m: "_native.Model"
-    _native: "_native.Model"
-    _nd: int
+    _native: ClassVar["_native.Model"]
+    _nd: ClassVar[int]
 
     if TYPE_CHECKING:  # pragma: no cover
 
@@ -112,5 +113,7 @@ class _Forces:
         from Φ_u ∂u/∂p = −Φ_p, and likewise the rates', accelerations' and
         points' derivatives, all exact. Empty without the section."""
         d = self._m.sensitivities(*_motion_args(self, motion))
-        return {p: Sensitivity(type(self), p, v) for p, v in d.items()}
+        # A mixin: the class of a design is a compiled Mechanism.
+        cls = cast("Type[Mechanism]", type(self))
+        return {p: Sensitivity(cls, p, v) for p, v in d.items()}
 

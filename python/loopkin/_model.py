@@ -11,6 +11,7 @@ import threading
 import warnings
 from typing import (
     Any,
+    ClassVar,
     Dict,
     Iterable,
     List,
@@ -21,6 +22,7 @@ from typing import (
     Type,
     TypeVar,
     Union,
+    cast,
 )
 
 import numpy as np
@@ -83,15 +85,15 @@ def compile(text: str) -> Type["Mechanism"]:  # noqa: A001 (the language's word)
             column of the first, and the message the Rust macro gives.
     """
     with _lock:
-        cls = _classes.get(text)
-    if cls is not None:
-        return cls
+        cached = _classes.get(text)
+    if cached is not None:
+        return cached
     native = _native.compile(text)
-    names = ", ".join(native.parameters)
+    keywords = ", ".join(native.parameters)
     doc = (
         f"The mechanism {native.name}, compiled from its definition.\n\n"
         f"Construct a design with its parameters as keywords: "
-        f"{native.name}({names}).\n"
+        f"{native.name}({keywords}).\n"
     )
     coordinates = native.coordinates
     names = tuple(c[0] for c in coordinates)
@@ -113,7 +115,8 @@ def compile(text: str) -> Type["Mechanism"]:  # noqa: A001 (the language's word)
         },
     )
     with _lock:
-        return _classes.setdefault(text, cls)
+        # The metaclass made a subclass of Mechanism.
+        return _classes.setdefault(text, cast("Type[Mechanism]", cls))
 
 
 def load(path: Union[str, "os.PathLike[str]"]) -> Type["Mechanism"]:
@@ -187,7 +190,18 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
     worker process recompiles it (once per process).
     """
 
-    _native: "_native.Model"
+    # Set on each compiled class by compile(), read from the native model
+    # once: the model, the coordinates (drivers first) with their index and
+    # kind, the points with their index, the frames and the number of
+    # drivers.
+    _native: ClassVar["_native.Model"]
+    _coords: ClassVar[Tuple[str, ...]]
+    _where: ClassVar[Dict[str, int]]
+    _kinds: ClassVar[Dict[str, str]]
+    _points: ClassVar[Tuple[str, ...]]
+    _point_where: ClassVar[Dict[str, int]]
+    _frames: ClassVar[Tuple[str, ...]]
+    _nd: ClassVar[int]
     __slots__ = ("_m",)
 
     def __init__(self, **params: Union[float, str]) -> None:
@@ -203,8 +217,8 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         if missing:
             raise TypeError(f"{cls.__name__}() missing parameter(s): {', '.join(missing)}")
         values = [
-            _native.read_quantity(params[n], 3, True) if isinstance(params[n], str) else float(params[n])
-            for n in names
+            _native.read_quantity(v, 3, True) if isinstance(v, str) else float(v)
+            for v in (params[n] for n in names)
         ]
         m = cls._native.with_values(values)
         m.validate()
@@ -284,10 +298,10 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         """The parameter values by name."""
         return dict(zip(self._native.parameters, self._m.values))
 
-    def replace(self: M, **changes: float) -> M:
-        """A copy of the design with some parameters changed."""
-        p = self.params
-        p.update(changes)
+    def replace(self: M, **changes: Union[float, str]) -> M:
+        """A copy of the design with some parameters changed (a value may be
+        a string with a unit, as for the constructor)."""
+        p: Dict[str, Union[float, str]] = {**self.params, **changes}
         return type(self)(**p)
 
     def __reduce__(self) -> Tuple[Any, Tuple[str, Dict[str, float]]]:
@@ -305,7 +319,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
 
     # -- poses ------------------------------------------------------------
 
-    def pose(self, pose: Optional[Mapping[str, float]] = None, **values: Union[float, str]) -> Pose:
+    def pose(self, pose: Optional[Mapping[str, Union[float, str]]] = None, **values: Union[float, str]) -> Pose:
         """A pose from values by name: drivers and guesses of the unknowns
         (a coordinate not given is 0, or its value in ``pose``); a value
         may be a string with a unit, ``phi="30deg"`` (angles in radians
@@ -359,17 +373,17 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
             hint = _hint(name, names)
             raise KeyError(f"{name!r} is not a coordinate of {type(self).__name__}{hint}: they are {list(names)}") from None
 
-    def residual(self, pose: Mapping[str, float]) -> np.ndarray:
+    def residual(self, pose: Mapping[str, Union[float, str]]) -> np.ndarray:
         """Φ(q), one value per loop equation (0 where the loops close)."""
         return self._m.residual(self.pose(pose).array.tolist())
 
     def assemble(
         self,
-        pose: Optional[Mapping[str, float]] = None,
+        pose: Optional[Mapping[str, Union[float, str]]] = None,
         *,
         modes: Optional[Sequence[str]] = None,
         options: Optional[Options] = None,
-        **values: float,
+        **values: Union[float, str],
     ) -> Pose:
         """Assembles the mechanism at the drivers given (by keyword, or in
         ``pose``), from the guesses of the unknowns there.
@@ -392,7 +406,9 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         out = self._m.assemble(q.array.tolist(), _opts(options))
         return Pose(q._names, out)
 
-    def assemble_all(self, pose: Optional[Mapping[str, float]] = None, **values: float) -> List[Pose]:
+    def assemble_all(
+        self, pose: Optional[Mapping[str, Union[float, str]]] = None, **values: Union[float, str]
+    ) -> List[Pose]:
         """Every assembly at the drivers given, one per combination of
         modes that closes (in the order of :meth:`assemblies`), each with
         its ``modes``.
@@ -413,7 +429,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         return found
 
     def assemblies(
-        self, pose: Optional[Mapping[str, float]] = None, **values: float
+        self, pose: Optional[Mapping[str, Union[float, str]]] = None, **values: Union[float, str]
     ) -> List[Tuple[Tuple[str, ...], Union[Pose, BaseException]]]:
         """Every combination of modes with its pose, or the exception that
         says why it does not close: combination i has block j in mode "-"
@@ -430,7 +446,11 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
     # -- motion -----------------------------------------------------------
 
     def _driver_values(
-        self, what: str, one: Optional[float], many: Optional[Mapping[str, float]], default: float
+        self,
+        what: str,
+        one: Optional[Union[float, str]],
+        many: Optional[Mapping[str, Union[float, str]]],
+        default: float,
     ) -> List[float]:
         if many is None and (one is None or type(one) is float) and self._nd == 1:
             return [default if one is None else one]
@@ -455,12 +475,12 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
 
     def analyze(
         self,
-        pose: Mapping[str, float],
+        pose: Mapping[str, Union[float, str]],
         *,
-        rate: Optional[float] = None,
-        acceleration: Optional[float] = None,
-        rates: Optional[Mapping[str, float]] = None,
-        accelerations: Optional[Mapping[str, float]] = None,
+        rate: Optional[Union[float, str]] = None,
+        acceleration: Optional[Union[float, str]] = None,
+        rates: Optional[Mapping[str, Union[float, str]]] = None,
+        accelerations: Optional[Mapping[str, Union[float, str]]] = None,
         options: Optional[Options] = None,
     ) -> Motion:
         """The motion at the closed pose ``pose`` (from :meth:`assemble`):
@@ -487,12 +507,12 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
 
     def step(
         self,
-        pose: Mapping[str, float],
+        pose: Mapping[str, Union[float, str]],
         *,
-        rate: Optional[float] = None,
-        acceleration: Optional[float] = None,
-        rates: Optional[Mapping[str, float]] = None,
-        accelerations: Optional[Mapping[str, float]] = None,
+        rate: Optional[Union[float, str]] = None,
+        acceleration: Optional[Union[float, str]] = None,
+        rates: Optional[Mapping[str, Union[float, str]]] = None,
+        accelerations: Optional[Mapping[str, Union[float, str]]] = None,
     ) -> Motion:
         """Assembles at the drivers of ``pose`` from its unknowns (as
         :meth:`assemble`) and analyses the motion there (as :meth:`analyze`)
@@ -505,7 +525,9 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         )
         return Motion(type(self), d)
 
-    def _range(self, driver: str, to: Optional[float], turn: bool, turns: Optional[float]) -> Optional[float]:
+    def _range(
+        self, driver: str, to: Optional[Union[float, str]], turn: bool, turns: Optional[float]
+    ) -> Optional[float]:
         """The whole turns of a sweep's range (``None`` with an end
         ``to``), once ``driver`` is checked to be a driver."""
         if self._where.get(driver, self._nd) >= self._nd:
@@ -520,7 +542,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         self,
         driver: str,
         *,
-        start: Mapping[str, float],
+        start: Mapping[str, Union[float, str]],
         from_: Optional[Union[float, str]] = None,
         to: Optional[Union[float, str]] = None,
         turn: bool = False,
@@ -573,13 +595,9 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         # to below from_) with a positive rate would give the velocities
         # of the opposite motion.
         rate = float(rate)
-        first = from_
-        if to is not None and first is None:
-            first = float(q.array[self._where[driver]])
+        first = from_ if from_ is not None else float(q.array[self._where[driver]])
         backwards = (turns is not None and turns < 0) or (to is not None and to < first)
         if backwards and rate > 0:
-            if first is None:
-                first = float(q.array[self._where[driver]])
             raise ValueError(
                 f"the sweep runs {driver} backwards, from {first:g} "
                 f"{'by ' + format(turns, 'g') + ' turns' if turns is not None else 'to ' + format(to, 'g')}, "
@@ -597,7 +615,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
     def simulate(
         self,
         *,
-        start: Mapping[str, float],
+        start: Mapping[str, Union[float, str]],
         duration: float,
         steps: int,
         values: Optional[Mapping[str, ArrayLike]] = None,
@@ -642,7 +660,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         self,
         driver: str,
         *,
-        start: Mapping[str, float],
+        start: Mapping[str, Union[float, str]],
         from_: Optional[Union[float, str]] = None,
         to: Optional[Union[float, str]] = None,
         turn: bool = False,
@@ -672,12 +690,12 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         self,
         params: Mapping[str, ArrayLike],
         *,
-        start: Mapping[str, float],
+        start: Mapping[str, Union[float, str]],
         sweep: Optional[Mapping[str, Any]] = None,
-        rate: Optional[float] = None,
-        acceleration: Optional[float] = None,
-        rates: Optional[Mapping[str, float]] = None,
-        accelerations: Optional[Mapping[str, float]] = None,
+        rate: Optional[Union[float, str]] = None,
+        acceleration: Optional[Union[float, str]] = None,
+        rates: Optional[Mapping[str, Union[float, str]]] = None,
+        accelerations: Optional[Mapping[str, Union[float, str]]] = None,
         outputs: Optional[Iterable[str]] = None,
         options: Optional[Options] = None,
         reduce: Optional[str] = None,

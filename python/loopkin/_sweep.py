@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import os
-from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Type, Union
 
 import numpy as np
 
@@ -14,7 +14,7 @@ from ._model import FrameMotion, Values, _readonly
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-    from ._model import Mechanism, MechanismType
+    from ._model import Mechanism
     from .merit import DeadCentre, MechanicalAdvantage, Stroke, TimeRatio, Transmission
 
 __all__ = ["Sweep", "ForceSweep", "ReactionColumns", "Poses", "Stop", "PointColumns", "Deviations", "Batch", "Link"]
@@ -167,6 +167,13 @@ class Deviations:
         "velocity_components",
         "velocity_rss",
     )
+    at: np.ndarray
+    position_worst: np.ndarray
+    position_components: np.ndarray
+    position_rss: np.ndarray
+    velocity_worst: np.ndarray
+    velocity_components: np.ndarray
+    velocity_rss: np.ndarray
 
     def __init__(self, d: Mapping[str, np.ndarray]) -> None:
         for k in self.__slots__:
@@ -205,7 +212,7 @@ class Sweep:
     early; ``sw.to_pandas()`` a DataFrame with units in the column names.
     """
 
-    def __init__(self, cls: "MechanismType", design: "Mechanism", native: "_native.Sweep") -> None:
+    def __init__(self, cls: Type["Mechanism"], design: "Mechanism", native: "_native.Sweep") -> None:
         self._cls = cls
         self.design = design
         self._native = native
@@ -568,7 +575,7 @@ class Poses:
     samples × dim, with no velocity or acceleration), ``stop`` the
     :class:`Stop` that ended it before the end of its range, or ``None``."""
 
-    def __init__(self, cls: "MechanismType", d: Mapping[str, Any]) -> None:
+    def __init__(self, cls: Type["Mechanism"], d: Mapping[str, Any]) -> None:
         self._cls = cls
         # Read-only arrays from the native module.
         self.at: np.ndarray = d["at"]
@@ -596,7 +603,7 @@ class Poses:
         return f"<Poses: {len(self)} samples{end}>"
 
 
-def _outputs(cls: "MechanismType", outputs: Optional[Iterable[str]]) -> List[Tuple[str, Tuple[str, int]]]:
+def _outputs(cls: Type["Mechanism"], outputs: Optional[Iterable[str]]) -> List[Tuple[str, Tuple[str, int]]]:
     """The batch outputs asked for, as (name, (kind, index))."""
     coords = list(cls._coords)
     points = list(cls._points)

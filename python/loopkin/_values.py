@@ -13,6 +13,8 @@ from typing import (
     Optional,
     Sequence,
     Tuple,
+    Type,
+    TypeVar,
 )
 
 import numpy as np
@@ -20,7 +22,7 @@ import numpy as np
 from . import _native
 
 if TYPE_CHECKING:
-    from ._model import MechanismType
+    from ._model import Mechanism
 
 class Options:
     """Solver options, shared by assembly, analysis, sweeps and batches.
@@ -77,6 +79,9 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
+V = TypeVar("V", bound="Values")
+
+
 class Values(Mapping[str, float]):
     """Values by name (coordinates, or their rates or accelerations); the
     array, in the mechanism's order, is :attr:`array`."""
@@ -91,12 +96,12 @@ class Values(Mapping[str, float]):
         self.array = array
 
     @classmethod
-    def _view(cls, names: Tuple[str, ...], array: np.ndarray) -> Any:
+    def _view(cls: Type[V], names: Tuple[str, ...], array: np.ndarray) -> V:
         """Values over ``array``, a read-only float array, as it is."""
         v = object.__new__(cls)
         v._names = names
         v.array = array
-        if cls is Pose:
+        if isinstance(v, Pose):
             v.modes = None
         return v
 
@@ -234,7 +239,7 @@ class Motion:
 
     __slots__ = ("_cls", "_raw", "_q", "_qd", "_qdd", "_points", "_frames", "conditioning", "det_sign", "residual")
 
-    def __init__(self, cls: "MechanismType", native: Tuple[Any, ...]) -> None:
+    def __init__(self, cls: Type["Mechanism"], native: Tuple[Any, ...]) -> None:
         # The native arrays, shaped into values by name where first read.
         self._cls = cls
         self._raw = native[:3]
@@ -409,7 +414,7 @@ class Sensitivity:
 
     __slots__ = ("parameter", "q", "qd", "qdd", "points")
 
-    def __init__(self, cls: "MechanismType", parameter: str, d: Dict[str, Any]) -> None:
+    def __init__(self, cls: Type["Mechanism"], parameter: str, d: Dict[str, Any]) -> None:
         names = cls._coords
         self.parameter = parameter
         self.q = Values(names, d["q"])

@@ -196,7 +196,7 @@ def _amount(v: Amount) -> Union[float, str]:
 def synthesize(
     design: Mechanism,
     *,
-    targets: ArrayLike,
+    targets: Union[Sequence[Sequence[Amount]], np.ndarray],
     vary: Mapping[str, Tuple[Amount, Amount]],
     point: Optional[str] = None,
     motion: Optional[Tuple[str, str, float]] = None,
@@ -352,7 +352,7 @@ def synthesize_file(
 def path(
     design: Mechanism,
     point: str,
-    targets: ArrayLike,
+    targets: Union[Sequence[Sequence[float]], np.ndarray],
     driver_values: ArrayLike,
     *,
     vary: Sequence[str],
@@ -413,7 +413,7 @@ def path(
             m = design.replace(**dict(zip(vary, x)))
             q: Mapping[str, float] = guess
             for i, value in enumerate(d):
-                pose = m.assemble(q, modes=modes, **{driver: float(value)})
+                pose = m.assemble(m.pose(q, **{driver: float(value)}), modes=modes)
                 motion = m.analyze(pose)
                 sens = m.sensitivities(motion)
                 r[i] = motion.points[point].position - t[i]

@@ -352,8 +352,10 @@ impl Reduction {
 /// n × n matrix `m` (row-major, overwritten by its Cholesky factor L,
 /// M = L Lᵀ). `Err(k)` when the k-th pivot is not positive: the free
 /// driver k moves no mass that the earlier ones do not.
+#[inline]
 pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(), usize> {
-    // One free driver: its factor √m, and x = r / m, without the loops.
+    // One free driver: its factor √m, and x = r / m, in the caller's code
+    // (no call, no loops).
     if let ([m], [r]) = (&mut *m, &mut *r) {
         if !m.is_finite() || *m <= 0.0 {
             return Err(0);
@@ -362,6 +364,12 @@ pub(crate) fn cholesky_solve(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(
         *m = crate::math::sqrt(*m);
         return Ok(());
     }
+    cholesky_loops(m, r, n)
+}
+
+/// [`cholesky_solve`] of two or more free drivers.
+#[inline(never)]
+fn cholesky_loops(m: &mut [f64], r: &mut [f64], n: usize) -> Result<(), usize> {
     // The scale below which a pivot counts as zero.
     let largest = (0..n).map(|i| m[i * n + i].abs()).fold(0.0, f64::max);
     for j in 0..n {
