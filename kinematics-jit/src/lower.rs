@@ -114,8 +114,19 @@ impl<'g> Lower<'g> {
                 continue;
             }
             seen[i] = true;
-            if !self.preset.contains_key(&i) {
-                stack.extend(self.graph.node(id).children());
+            if self.preset.contains_key(&i) {
+                continue;
+            }
+            // A sum with a negated term is a subtraction of the term
+            // itself ([`Lower::subtrahend`]): the negation is needed only
+            // where something else reads it.
+            match self.graph.node(id) {
+                Node::Add(x, y) => {
+                    for c in [x, y] {
+                        stack.push(self.subtrahend(c).unwrap_or(c));
+                    }
+                }
+                node => stack.extend(node.children()),
             }
         }
         seen
@@ -143,6 +154,20 @@ impl<'g> Lower<'g> {
     pub(crate) fn seed(&mut self, id: Id, value: Value) {
         if let Some(slot) = self.values.get_mut(id.index()) {
             *slot = Some(value);
+        }
+    }
+
+    /// `z` where `id` is −z, a negation neither lowered nor preset: a
+    /// sum reading it is lowered as a subtraction of `z` (x + (−z) and
+    /// x − z are the same IEEE operation, bit for bit).
+    fn subtrahend(&self, id: Id) -> Option<Id> {
+        let i = id.index();
+        if self.values.get(i).copied().flatten().is_some() || self.preset.contains_key(&i) {
+            return None;
+        }
+        match self.graph.node(id) {
+            Node::Neg(z) => Some(z),
+            _ => None,
         }
     }
 
@@ -225,10 +250,20 @@ impl<'g> Lower<'g> {
                     let at = offset(array, j)?;
                     b.ins().load(float, flags, s.ptr[array], at)
                 }
-                Node::Add(x, y) => {
-                    let (x, y) = (self.get(x)?, self.get(y)?);
-                    b.ins().fadd(x, y)
-                }
+                Node::Add(x, y) => match (self.subtrahend(x), self.subtrahend(y)) {
+                    (_, Some(z)) => {
+                        let (x, z) = (self.get(x)?, self.get(z)?);
+                        b.ins().fsub(x, z)
+                    }
+                    (Some(z), None) => {
+                        let (y, z) = (self.get(y)?, self.get(z)?);
+                        b.ins().fsub(y, z)
+                    }
+                    (None, None) => {
+                        let (x, y) = (self.get(x)?, self.get(y)?);
+                        b.ins().fadd(x, y)
+                    }
+                },
                 Node::Mul(x, y) => {
                     let (x, y) = (self.get(x)?, self.get(y)?);
                     b.ins().fmul(x, y)

@@ -40,3 +40,54 @@ fn the_time_is_read_after_the_parameters_where_a_stage_reads_it() {
     plain_only.eval(0, &inputs(&[2.0]), &mut out).unwrap();
     assert_eq!(out[0], 1.0);
 }
+
+/// A sum with a negated term is evaluated as a subtraction, bit for bit
+/// the sum (x + (−z) and x − z are one IEEE operation): on either side of
+/// the sum, with the negation also read elsewhere (a root of its own, a
+/// product) or read by sums alone, signed zeros and infinities included.
+#[test]
+fn sums_of_negations_equal_the_sums_bit_for_bit() {
+    use kinematics_compiler::ir::Node;
+    let mut g = Graph::new();
+    let (x, z) = (g.leaf(Leaf::Q(0)), g.leaf(Leaf::Qd(0)));
+    let nz = g.intern(Node::Neg(z));
+    let right = g.intern(Node::Add(x, nz));
+    let left = g.intern(Node::Add(nz, x));
+    let product = g.intern(Node::Mul(nz, x));
+    let nx = g.intern(Node::Neg(x));
+    // −x read by a sum alone: never evaluated as a value of its own.
+    let only = g.intern(Node::Add(z, nx));
+    let stages: [&[_]; 3] = [&[right, left, only], &[right, nz, product], &[left, only]];
+    let p = Program::new(&g, 0, 1, &stages).unwrap();
+    let cases = [
+        (0.75, 0.25),
+        (0.0, 0.0),
+        (-0.0, 0.0),
+        (0.0, -0.0),
+        (1e300, -1e300),
+        (f64::INFINITY, 1.0),
+        (2.5, f64::INFINITY),
+        (-3.0, 1e-320),
+    ];
+    for (xv, zv) in cases {
+        let (q, qd) = ([xv], [zv]);
+        let inputs = Inputs {
+            params: &[],
+            q: &q,
+            qd: &qd,
+            qdd: &[0.0],
+            trig: &[xv.cos(), xv.sin()],
+        };
+        let want: [&[f64]; 3] = [
+            &[xv + (-zv), (-zv) + xv, zv + (-xv)],
+            &[xv + (-zv), -zv, (-zv) * xv],
+            &[(-zv) + xv, zv + (-xv)],
+        ];
+        for (k, w) in want.iter().enumerate() {
+            let mut out = vec![f64::NAN; w.len()];
+            p.eval(k, &inputs, &mut out).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&out), bits(w), "stage {k} at x = {xv}, z = {zv}");
+        }
+    }
+}
