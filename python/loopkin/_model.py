@@ -159,6 +159,7 @@ class MechanismType(type):
 copyreg.pickle(MechanismType, lambda cls: (compile, (cls._native.text,)))
 
 
+from ._batch import _Batch
 from ._forces import _Forces
 from ._forward import Trajectory, _Forward  # noqa: F401 (Trajectory re-exported)
 from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them too)
@@ -177,7 +178,7 @@ from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them t
     _readonly,
 )
 
-class Mechanism(_Forces, _Forward, metaclass=MechanismType):
+class Mechanism(_Forces, _Forward, _Batch, metaclass=MechanismType):
     """A design of a compiled mechanism: the class :func:`compile` returns,
     with one value per parameter.
 
@@ -686,120 +687,7 @@ class Mechanism(_Forces, _Forward, metaclass=MechanismType):
         d = self._m.poses(driver, q.array.tolist(), (from_, to, turns, int(steps)), _opts(options))
         return Poses(type(self), d)
 
-    def batch(
-        self,
-        params: Mapping[str, ArrayLike],
-        *,
-        start: Mapping[str, Union[float, str]],
-        sweep: Optional[Mapping[str, Any]] = None,
-        rate: Optional[Union[float, str]] = None,
-        acceleration: Optional[Union[float, str]] = None,
-        rates: Optional[Mapping[str, Union[float, str]]] = None,
-        accelerations: Optional[Mapping[str, Union[float, str]]] = None,
-        outputs: Optional[Iterable[str]] = None,
-        options: Optional[Options] = None,
-        reduce: Optional[str] = None,
-        positions_only: bool = False,
-    ) -> "Batch":
-        """Runs many designs on every core, in native code with the
-        interpreter released.
-
-        ``params`` maps parameter names to arrays of one value per design
-        (a parameter not given keeps this design's value). Each design is
-        assembled at ``start`` and analysed (one sample), or swept when
-        ``sweep`` is given: ``dict(driver="phi", turn=True, steps=360)``
-        with the keys of :meth:`sweep` (``from_``, ``to``, ``turn``,
-        ``turns``, ``steps``, ``rpm``, ``change_points``), the rate and
-        acceleration of the driver from ``rate``/``rpm``, ``acceleration``.
-
-        ``outputs`` names what to keep: a coordinate ("th3"), its rate
-        ("th3.rate") or acceleration ("th3.acceleration"), a point's
-        position ("P"), velocity ("P.velocity") or acceleration
-        ("P.acceleration"), or "conditioning". By default every
-        coordinate and every point's position.
-
-        ``reduce`` keeps one value per design instead of every sample:
-        ``"max"`` or ``"min"`` of each component over the samples, or
-        ``"peak"``, the largest magnitude (the norm of a point's vector).
-
-        ``positions_only=True`` assembles each sample and evaluates the
-        points' positions alone, as :meth:`poses` does (no rates,
-        accelerations or conditioning; a change point passed on the branch
-        the closed forms carry, whatever ``change_points`` says; the rate
-        not read): coupler curves for less than a step costs. The outputs
-        are then coordinates and points' positions only.
-
-        With several outputs, each array is a view of one block of the
-        designs' records (not C-contiguous; ``np.ascontiguousarray`` copies
-        one out).
-
-        Returns a :class:`Batch` whose arrays have a row per design (and a
-        column per sample of a sweep, unless reduced); a design that stops
-        early has NaN past its last sample (its reduction is over the
-        samples it has), and says why in :attr:`Batch.stops`.
-        """
-        names = self.parameter_names()
-        arrays = {k: np.asarray(v, dtype=float).reshape(-1) for k, v in params.items()}
-        for k in arrays:
-            if k not in names:
-                raise KeyError(f"{k!r} is not a parameter of {type(self).__name__}: they are {list(names)}")
-        sizes = {a.size for a in arrays.values()}
-        if len(sizes) > 1:
-            raise ValueError(f"every parameter array must have one value per design; the sizes are {sorted(sizes)}")
-        n = sizes.pop() if sizes else 1
-        table = np.empty((n, len(names)))
-        base = self._m.values
-        for i, name in enumerate(names):
-            table[:, i] = arrays[name] if name in arrays else base[i]
-        spec = None
-        kept = _outputs(type(self), outputs)
-        rate_values = self._driver_values("rate", rate, rates, 0.0)
-        if sweep is not None:
-            s = dict(sweep)
-            driver = s.pop("driver")
-            if self._where.get(driver, self._nd) >= self._nd:
-                raise KeyError(f"{driver!r} is not a driver of {type(self).__name__}")
-            j = self.driver_names().index(driver)
-            swept_rate, rpm = s.pop("rate", None), s.pop("rpm", None)
-            if swept_rate is not None and rpm is not None:
-                raise TypeError("give the sweep's rate or its rpm, not both")
-            if rpm is not None:
-                rate_values[j] = rpm * 2.0 * math.pi / 60.0
-            elif swept_rate is not None:
-                rate_values[j] = float(swept_rate)
-            swept_acceleration = s.pop("acceleration", None)
-            if swept_acceleration is not None:
-                if acceleration is not None or accelerations is not None:
-                    raise TypeError("give the driver's acceleration in the sweep or as an argument, not both")
-                accelerations = {driver: float(swept_acceleration)}
-            turns = s.pop("turns", None)
-            if s.pop("turn", False) and turns is None:
-                turns = 1.0
-            spec = (
-                driver,
-                s.pop("from_", None),
-                s.pop("to", None),
-                turns,
-                int(s.pop("steps", 360)),
-                s.pop("change_points", "stop"),
-            )
-            if s:
-                raise TypeError(f"unknown sweep key(s): {sorted(s)}")
-        q = self.pose(start)
-        d = self._m.batch(
-            np.ascontiguousarray(table),
-            q.array.tolist(),
-            rate_values,
-            self._driver_values("acceleration", acceleration, accelerations, 0.0),
-            spec,
-            [k for _, k in kept],
-            _opts(options),
-            reduce,
-            bool(positions_only),
-        )
-        return Batch(table, names, [name for name, _ in kept], d)
-
 
 # The result classes, imported once the classes they name are defined
 # (`_sweep` reads `_model`'s values), not at every call.
-from ._sweep import Batch, Poses, Sweep, _outputs  # noqa: E402
+from ._sweep import Poses, Sweep  # noqa: E402
