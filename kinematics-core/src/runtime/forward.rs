@@ -281,6 +281,27 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
 }
 
 impl<P> RunTime<'_, P> {
+    /// A step at the drivers `d` from the committed pose, in its modes:
+    /// with the equations of motion after it and the points' outputs left
+    /// out where `equations` ([`Stepper::advance_motion`]).
+    #[inline(always)]
+    fn step(&mut self, d: &[f64], dd: &[f64], ddd: &[f64], equations: bool) -> Result<(), Error> {
+        let nd = d.len();
+        let signs = self.stepper.signs_mut();
+        if signs.len() == self.modes.len() {
+            crate::math::copy_small(signs, &self.modes);
+        }
+        crate::math::copy_small(&mut self.guess[..nd], d);
+        self.current = false;
+        if equations {
+            self.stepper.advance_motion(&self.guess, dd, ddd)?;
+        } else {
+            self.stepper.advance(&self.guess, dd, ddd)?;
+        }
+        self.current = true;
+        Ok(())
+    }
+
     /// M, b and the powers summed over the bodies and loads with unit
     /// analyses: a description that is not the model's sections, or where
     /// the compiled equations gave no finite reduction.
@@ -293,6 +314,7 @@ impl<P> RunTime<'_, P> {
         out: &mut Equations<'_>,
     ) -> Result<(), Error> {
         self.counts[1] += 1;
+        self.stepper.complete()?;
         let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
         let motion = self.stepper.motion_now();
         let view = super::dynamics::RunTime(motion);
@@ -343,18 +365,13 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         (self.profile)(t, d, dd, ddd);
     }
 
-    #[inline(always)]
     fn analyze(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error> {
-        let nd = d.len();
-        let signs = self.stepper.signs_mut();
-        if signs.len() == self.modes.len() {
-            crate::math::copy_small(signs, &self.modes);
-        }
-        crate::math::copy_small(&mut self.guess[..nd], d);
-        self.current = false;
-        self.stepper.advance(&self.guess, dd, ddd)?;
-        self.current = true;
-        Ok(())
+        self.step(d, dd, ddd, false)
+    }
+
+    #[inline(always)]
+    fn analyze_for_equations(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error> {
+        self.step(d, dd, ddd, true)
     }
 
     #[inline(always)]
@@ -391,6 +408,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if !self.current {
             return Ok((f64::NAN, f64::NAN));
         }
+        self.stepper.complete()?;
         let view = super::dynamics::RunTime(self.stepper.motion_now());
         let view = Timed(&view, t);
         let [q, qd, qdd] = dynamics.coordinates_of(&view);
@@ -415,7 +433,8 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
     }
 
     fn record(&mut self, t: f64) {
-        if self.current {
+        // (After the sample's energies, which completed the motion.)
+        if self.current && self.stepper.complete().is_ok() {
             let m = self.stepper.motion_now().clone();
             self.samples.push((t, m));
         }
@@ -428,6 +447,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         out: &mut [f64],
     ) -> Result<(), Error> {
         let nd = self.m.drivers();
+        self.stepper.complete()?;
         let motion = self.stepper.motion_now();
         for (p, s) in dynamics
             .effort_sensitivities_of_at(self.m, motion, t)?

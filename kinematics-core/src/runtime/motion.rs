@@ -138,8 +138,8 @@ mod tests {
         let nb = general.body_count();
         let mut stepper = m.stepper(&crate::Options::default()).expect("a stepper");
         // A second stepper whose fused step evaluates the equations of
-        // motion itself: everywhere a fused step is, but for loads that
-        // read the time (that code reads none).
+        // motion itself (`advance_motion`): everywhere a fused step is, but
+        // for loads that read the time (that code reads none).
         let mut with_motion = m.stepper(&crate::Options::default()).expect("a stepper");
         let reads_time = m.sections().expect("sections").reads_time();
         let fusible = with_motion.with_motion();
@@ -155,7 +155,7 @@ mod tests {
                 .expect("a step");
             q.copy_from_slice(flat.q);
             with_motion
-                .step_flat(&q, rates, &vec![0.0; nd])
+                .advance_motion(&q, rates, &vec![0.0; nd])
                 .expect("a step");
         }
         q[..nd].copy_from_slice(&pose[..nd]);
@@ -168,7 +168,7 @@ mod tests {
         let fused = stepper.fused_trig();
         assert_eq!(fusible, fused.is_some() && !reads_time);
         with_motion
-            .step_flat(&q, rates, &vec![0.0; nd])
+            .advance_motion(&q, rates, &vec![0.0; nd])
             .expect("a step");
         let roots = with_motion.fused_motion().map(<[f64]>::to_vec);
         assert_eq!(roots.is_some(), fusible);

@@ -63,6 +63,9 @@ pub struct Stepper<'m> {
     /// Whether the last step was fused and its motion is still in the
     /// buffer only (written into `motion` when asked for).
     pending: bool,
+    /// Whether the last step was [`Stepper::advance_motion`]'s, whose
+    /// points' outputs are not evaluated until [`Stepper::complete`].
+    stale: bool,
 }
 
 /// What a stepper keeps for the fused step: the model's plan and its step
@@ -77,10 +80,10 @@ struct FusedRun<'m> {
     /// The step and pose functions of the plan's code.
     step: StepFn<'m>,
     pose: PoseFn<'m>,
-    /// The step with the equations of motion after it, taking the place
-    /// of `step` once a forward simulation asked for it
-    /// ([`Stepper::with_motion`]).
-    dynamics: Option<StepFn<'m>>,
+    /// The step with the equations of motion after it (without the
+    /// points' outputs) and the outputs alone, once a forward simulation
+    /// asked for them ([`Stepper::with_motion`]).
+    dynamics: Option<(StepFn<'m>, StepFn<'m>)>,
     f: Vec<f64>,
     steps: u32,
     scaled: bool,
@@ -240,6 +243,7 @@ impl Model {
             assembled: false,
             fused,
             pending: false,
+            stale: false,
         })
     }
 }
@@ -432,7 +436,9 @@ impl Stepper<'_> {
     }
 
     /// The motion of the last step as flat arrays, from the fused buffer
-    /// or from the general path's arrays.
+    /// or from the general path's arrays (after
+    /// [`Stepper::advance_motion`], the points' outputs only once
+    /// [`Stepper::complete`] evaluated them).
     #[inline]
     pub(super) fn flat(&self) -> Flat<'_> {
         if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
@@ -565,14 +571,14 @@ impl Stepper<'_> {
     /// stepper's state (its modes) then as before.
     #[inline(always)]
     fn fused_step(&mut self, start: &[f64], rates: &[f64], accelerations: &[f64]) -> bool {
-        self.fused_go(start, Some((rates, accelerations)))
+        self.fused_go(start, Some((rates, accelerations)), false)
     }
 
     /// The assembly through the model's fused code, with the points'
     /// positions (as [`Stepper::fused_step`]; `start` already checked).
     #[inline]
     fn fused_pose(&mut self, start: &[f64]) -> bool {
-        self.fused_go(start, None)
+        self.fused_go(start, None, false)
     }
 
     /// Runs the fused step on `start` (and for a step the drivers' rates
@@ -585,7 +591,12 @@ impl Stepper<'_> {
     /// not finite, or when the step left its common path (the pose and
     /// modes then as before).
     #[inline(always)]
-    fn fused_go(&mut self, start: &[f64], motion: Option<(&[f64], &[f64])>) -> bool {
+    fn fused_go(
+        &mut self,
+        start: &[f64],
+        motion: Option<(&[f64], &[f64])>,
+        equations: bool,
+    ) -> bool {
         let Some(run) = self.fused.as_mut() else {
             return false;
         };
@@ -605,8 +616,12 @@ impl Stepper<'_> {
                 if rates.len() != io.nd || accelerations.len() != io.nd {
                     return false;
                 }
+                let step = match (&run.dynamics, equations) {
+                    (Some((dynamics, _)), true) => dynamics,
+                    _ => &run.step,
+                };
                 run.plan.step(
-                    run.dynamics.as_ref().unwrap_or(&run.step),
+                    step,
                     &mut run.f,
                     [start, rates, accelerations],
                     &mut self.modes,
@@ -621,7 +636,8 @@ impl Stepper<'_> {
             return false;
         }
         run.positions = motion.is_none();
-        run.motion = motion.is_some() && run.dynamics.is_some();
+        run.motion = motion.is_some() && equations && run.dynamics.is_some();
+        self.stale = run.motion;
         // The cosines and sines are in the buffer, not in the work: the
         // positions of a step are evaluated afresh when asked for.
         self.assembled = false;
@@ -632,22 +648,93 @@ impl Stepper<'_> {
     fn forget(&mut self) {
         self.assembled = false;
         self.pending = false;
+        self.stale = false;
         if let Some(run) = self.fused.as_mut() {
             run.positions = false;
             run.motion = false;
         }
     }
 
-    /// Makes every fused step of this stepper evaluate the model's
-    /// equations of motion after the motion ([`Stepper::fused_motion`]
+    /// Gives this stepper the model's step with the equations of motion
+    /// after it ([`Stepper::advance_motion`]; [`Stepper::fused_motion`]
     /// reads them), compiling that code at the first call for the model;
-    /// `false` where the model has no fused step or no such code.
+    /// `false` where the model has no fused step or no such code. Its
+    /// other steps are as before.
     pub(super) fn with_motion(&mut self) -> bool {
         let Some(run) = self.fused.as_mut() else {
             return false;
         };
         run.dynamics = run.plan.dynamics_function();
         run.dynamics.is_some()
+    }
+
+    /// [`Stepper::advance`] through the step with the equations of motion
+    /// ([`Stepper::with_motion`]; the plain step without it): the motion
+    /// of the coordinates and the equations' roots
+    /// ([`Stepper::fused_motion`]), the points' outputs left until
+    /// [`Stepper::complete`] (an evaluation of the forward dynamics reads
+    /// none of them).
+    #[inline]
+    pub(super) fn advance_motion(
+        &mut self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<(), Error> {
+        self.forget();
+        if self.fused_go(start, Some((rates, accelerations)), true) {
+            self.pending = true;
+            return Ok(());
+        }
+        self.general_step(start, rates, accelerations)
+    }
+
+    /// Evaluates the points' outputs that [`Stepper::advance_motion`] left
+    /// out, so that [`Stepper::motion_now`] holds the whole motion: from
+    /// the buffer that step left; where an output is not finite, the
+    /// step again by the general path, which says why.
+    ///
+    /// # Errors
+    /// The general path's, where it was taken.
+    #[inline]
+    pub(super) fn complete(&mut self) -> Result<(), Error> {
+        if self.stale {
+            self.evaluate_outputs()
+        } else {
+            Ok(())
+        }
+    }
+
+    /// [`Stepper::complete`] where the outputs are left out.
+    #[cold]
+    #[inline(never)]
+    fn evaluate_outputs(&mut self) -> Result<(), Error> {
+        self.stale = false;
+        let Some(run) = self.fused.as_mut() else {
+            return Ok(());
+        };
+        let status = match &run.dynamics {
+            Some((_, outputs)) => {
+                run.plan
+                    .step(outputs, &mut run.f, [&[], &[], &[]], &mut [], &mut [])
+            }
+            None => -1,
+        };
+        if status == 0 {
+            // The motion, whether written already or not, from the buffer
+            // again.
+            self.pending = true;
+            return Ok(());
+        }
+        let flat = run.flat();
+        let nd = self.m.drivers();
+        let (q, rates, accelerations) = (
+            flat.q.to_vec(),
+            flat.qd[..nd].to_vec(),
+            flat.qdd[..nd].to_vec(),
+        );
+        self.forget();
+        self.general_step(&q, &rates, &accelerations)
     }
 
     /// The roots of the equations of motion

@@ -280,6 +280,151 @@ fn a_four_bars_start_up_through_the_compiled_equations_is_the_summed_one(
     Ok(())
 }
 
+/// The run-time model of [`DrivenFourBar`], from this file's definition.
+fn driven_four_bar_model() -> Result<kinematics_core::runtime::Model, Box<dyn std::error::Error>> {
+    let text = kinematics_examples::mechanism_bodies(include_str!("compiled.rs"))
+        .into_iter()
+        .map(|(text, _)| text)
+        .find(|text| text.contains("pub struct DrivenFourBar {"))
+        .ok_or("the definition is in this file")?;
+    Ok(kinematics_core::runtime::Model::compile(text)?.with_values(&[0.04, 0.12, 0.10, 0.11])?)
+}
+
+/// A run-time model's forward samples against the general path: each
+/// sample's whole motion (every coordinate, every point's position,
+/// velocity and acceleration) is `Model::step` at the sample's pose with
+/// its rates and accelerations (no fused code), to round-off. The
+/// evaluations of the integration leave the points out; the samples must
+/// not.
+#[test]
+fn a_run_time_forward_runs_samples_are_the_models_own_steps(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let model = driven_four_bar_model()?;
+    let run = model
+        .dynamics()?
+        .forward_of(&model, &[0.0, 1.2, 1.9])
+        .until(1.0)
+        .samples(20)
+        .tolerance(1e-11)
+        .run()?;
+    assert!(run.statistics.compiled >= run.statistics.evaluations && run.statistics.summed == 0);
+    assert_eq!(run.sweep.samples.len(), 21);
+    let same = |a: f64, b: f64, what: &str| {
+        assert!(
+            (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+            "{what}: {a} against {b}"
+        );
+    };
+    for s in &run.sweep.samples {
+        let m = &s.motion;
+        let general = model.step(&m.q, &m.qd[..1], &m.qdd[..1])?;
+        for (what, a, b) in [
+            ("q", &m.q, &general.q),
+            ("q'", &m.qd, &general.qd),
+            ("q''", &m.qdd, &general.qdd),
+        ] {
+            for (x, y) in a.iter().zip(b.iter()) {
+                same(*x, *y, what);
+            }
+        }
+        assert_eq!(m.points.len(), 4);
+        for (p, g) in m.points.iter().zip(&general.points) {
+            for (x, y) in [
+                (&p.position, &g.position),
+                (&p.velocity, &g.velocity),
+                (&p.acceleration, &g.acceleration),
+            ] {
+                for (a, b) in x.iter().zip(y.iter()) {
+                    same(*a, *b, "a point's motion");
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A stop on the rocker (restitution 0.5) during the motor's start-up:
+/// each impact's kinetic energies are read right after an evaluation of
+/// the equations of motion, which left the points out. The run-time
+/// model's impacts, energies and works equal the generated mechanism's,
+/// whose motion is always whole, and the energy balance holds across the
+/// impacts' losses.
+#[test]
+fn a_run_time_forward_runs_impacts_read_the_whole_motion() -> Result<(), Box<dyn std::error::Error>>
+{
+    use kinematics_core::dynamics::Event;
+    let m = DrivenFourBar {
+        a: 0.04,
+        b: 0.12,
+        c: 0.10,
+        d: 0.11,
+    };
+    let start = m.assemble(&DrivenFourBarCoords {
+        phi: 0.0,
+        th3: 1.2,
+        th4: 1.9,
+    })?;
+    let stop = || Event::stop("th4", start.th4 + 0.05, 0.5).increasing();
+    let generated = m
+        .dynamics()?
+        .forward(&m, &start)
+        .until(0.3)
+        .samples(30)
+        .tolerance(1e-11)
+        .stop_when(stop())
+        .run()?;
+    let model = driven_four_bar_model()?;
+    let run_time = model
+        .dynamics()?
+        .forward_of(&model, &[start.phi, start.th3, start.th4])
+        .until(0.3)
+        .samples(30)
+        .tolerance(1e-11)
+        .stop_when(stop())
+        .run()?;
+    assert!(
+        !generated.impacts.is_empty(),
+        "a test: the rocker reaches its stop"
+    );
+    assert_eq!(generated.impacts.len(), run_time.impacts.len());
+    for (a, b) in generated.impacts.iter().zip(&run_time.impacts) {
+        close(a.t, b.t, 1e-9, "the impact's time");
+        close(a.before, b.before, 1e-8, "the rate before");
+        close(a.after, b.after, 1e-8, "the rate after");
+    }
+    assert_eq!(generated.energy.len(), run_time.energy.len());
+    for (a, b) in generated.energy.iter().zip(&run_time.energy) {
+        let scale = a.kinetic.abs() + a.potential.abs() + 1e-3;
+        for (x, y, what) in [(a.kinetic, b.kinetic, "T"), (a.potential, b.potential, "V")]
+            .into_iter()
+            .chain(a.work.iter().zip(&b.work).map(|(x, y)| (*x, *y, "a work")))
+        {
+            assert!(
+                (x - y).abs() <= 1e-8 * scale,
+                "{what} at t = {}: {x} against {y}",
+                a.t
+            );
+        }
+    }
+    let lost = run_time
+        .work_names
+        .iter()
+        .position(|n| n.contains("impacts"))
+        .ok_or("the impacts' work")?;
+    let last = run_time.energy.last().ok_or("samples")?;
+    assert!(
+        last.work[lost] < 0.0,
+        "a test: the impacts lose energy ({})",
+        last.work[lost]
+    );
+    assert!(
+        run_time.energy_error() < 1e-8,
+        "{}",
+        run_time.energy_error()
+    );
+    Ok(())
+}
+
 mechanism! {
     /// A pendulum of 2 kg.
     pub struct HeavySwing {

@@ -81,7 +81,8 @@ impl<A: Analysis> Eom<'_, A> {
     fn accelerations(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
         let nf = self.free.len();
         self.set_drivers(t, y);
-        self.analysis.analyze(&self.d, &self.dd, &self.ddd)?;
+        self.analysis
+            .analyze_for_equations(&self.d, &self.dd, &self.ddd)?;
         let mut out = Equations {
             mass: &mut self.mass,
             bias: &mut self.bias,

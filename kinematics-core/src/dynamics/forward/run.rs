@@ -34,6 +34,16 @@ pub(crate) trait Analysis {
     /// # Errors
     /// The assembly's and the analysis' errors.
     fn analyze(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error>;
+    /// [`Analysis::analyze`] for an evaluation of the equations of motion,
+    /// which reads the coordinates' motion and [`Analysis::equations`]
+    /// only: a model may leave the points' outputs until the motion is
+    /// read otherwise ([`Analysis::energies`], [`Analysis::record`]).
+    ///
+    /// # Errors
+    /// As [`Analysis::analyze`].
+    fn analyze_for_equations(&mut self, d: &[f64], dd: &[f64], ddd: &[f64]) -> Result<(), Error> {
+        self.analyze(d, dd, ddd)
+    }
     /// The equations of motion at the current motion, at time `t`.
     ///
     /// # Errors

@@ -4,7 +4,7 @@
 use kinematics_jit::{Function, Fused};
 
 use super::helper::Context;
-use super::{DYNAMICS, POSE, PRELUDE, Plan, PoseFn, STEP, StepFn};
+use super::{DYNAMICS, OUTPUTS, POSE, PRELUDE, Plan, PoseFn, STEP, StepFn};
 
 impl Plan {
     /// The compiled functions, compiled at the first call.
@@ -24,24 +24,32 @@ impl Plan {
 
     /// The step with the equations of motion after it
     /// ([`kinematics_compiler::motion::EquationsOfMotion`], in the
-    /// buffer at [`Plan::motion_at`]), compiled at the first call; `None`
-    /// where the model has none or they did not compile.
-    pub(in crate::runtime) fn dynamics_function(&self) -> Option<StepFn<'_>> {
-        self.dynamics
+    /// buffer at [`Plan::motion_at`]) but without the points' outputs, and
+    /// the function that evaluates those outputs from the buffer that step
+    /// left (checked: status 0 where every output is finite), compiled at
+    /// the first call; `None` where the model has none or they did not
+    /// compile.
+    pub(in crate::runtime) fn dynamics_function(&self) -> Option<(StepFn<'_>, StepFn<'_>)> {
+        let code = self
+            .dynamics
             .get_or_init(|| {
                 let s = &self.source;
-                let (ops, preset) = s.dynamics.as_ref()?;
+                let [(ops, preset), (outputs, outputs_preset)] = s.dynamics.as_ref()?;
                 let functions = [
                     Function {
                         ops: &s.functions[PRELUDE].0,
                         preset: &[],
                     },
                     Function { ops, preset },
+                    Function {
+                        ops: outputs,
+                        preset: outputs_preset,
+                    },
                 ];
                 Fused::new(&s.graph, self.np, s.coords, self.layout, &functions).ok()
             })
-            .as_ref()?
-            .function(DYNAMICS)
+            .as_ref()?;
+        Some((code.function(DYNAMICS)?, code.function(OUTPUTS)?))
     }
 
     /// Where the roots of the equations of motion lie in the buffer after

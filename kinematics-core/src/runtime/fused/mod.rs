@@ -79,8 +79,11 @@ const PRELUDE: usize = 0;
 const STEP: usize = 1;
 const POSE: usize = 2;
 /// In the second module, compiled for a forward simulation only: the
-/// step with the equations of motion's roots after it.
+/// step with the equations of motion's roots after it (the points'
+/// outputs left out), and the points' outputs alone, evaluated from the
+/// buffer that step left when a motion is read.
 const DYNAMICS: usize = 1;
+const OUTPUTS: usize = 2;
 
 /// One closed-form block as the fused step solves it.
 #[derive(Clone, Debug)]
@@ -163,9 +166,9 @@ struct Source {
     graph: Graph,
     coords: usize,
     functions: [Ops; 3],
-    /// The step followed by the equations of motion, where the model has
-    /// them.
-    dynamics: Option<Ops>,
+    /// The step followed by the equations of motion, without the points'
+    /// outputs, and the outputs alone, where the model has them.
+    dynamics: Option<[Ops; 2]>,
 }
 
 /// A fused function's ops, and the nodes it reads from the buffer.
@@ -530,13 +533,16 @@ impl Plan {
             to: qdd + nd,
             finite: Some(NOT_FINITE),
         });
-        step.push(Op::Store {
+        let outputs_store = Op::Store {
             roots: h.map_all(&outputs),
             at: (out..out + outputs.len()).collect(),
             finite: Some(NOT_FINITE),
-        });
-        // (The equations of motion checked by their reduction, which
-        // sends a value not finite the general way.)
+        };
+        // The equations of motion after the motion, without the points'
+        // outputs: an evaluation of the forward dynamics needs none of
+        // them (they are evaluated, checked, where a motion is read). (The
+        // equations checked by their reduction, which sends a value not
+        // finite the general way.)
         let dynamics = (!motion_roots.is_empty()).then(|| {
             let mut ops = step.clone();
             ops.push(Op::Store {
@@ -545,8 +551,9 @@ impl Plan {
                 finite: None,
             });
             ops.extend(export.iter().cloned());
-            ops
+            [ops, vec![outputs_store.clone()]]
         });
+        step.push(outputs_store);
         step.extend(export.iter().cloned());
         // The invariants and offsets, computed once per stepper; the two
         // functions read them.
@@ -575,7 +582,8 @@ impl Plan {
             source: Source {
                 graph: h.graph,
                 coords: n,
-                dynamics: dynamics.map(|ops| (ops, preset.clone())),
+                dynamics: dynamics
+                    .map(|[ops, outputs]| [(ops, preset.clone()), (outputs, preset.clone())]),
                 functions: [
                     (prelude.to_vec(), Vec::new()),
                     (step, preset.clone()),
