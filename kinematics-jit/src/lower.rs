@@ -118,14 +118,15 @@ impl<'g> Lower<'g> {
                 continue;
             }
             // A sum with a negated term is a subtraction of the term
-            // itself ([`Lower::subtrahend`]): the negation is needed only
+            // itself ([`Lower::subtrahend`], the second term's where both
+            // are negated, as `emit` chooses): the negation is needed only
             // where something else reads it.
             match self.graph.node(id) {
-                Node::Add(x, y) => {
-                    for c in [x, y] {
-                        stack.push(self.subtrahend(c).unwrap_or(c));
-                    }
-                }
+                Node::Add(x, y) => match (self.subtrahend(x), self.subtrahend(y)) {
+                    (_, Some(z)) => stack.extend([x, z]),
+                    (Some(z), None) => stack.extend([z, y]),
+                    (None, None) => stack.extend([x, y]),
+                },
                 node => stack.extend(node.children()),
             }
         }
@@ -159,7 +160,8 @@ impl<'g> Lower<'g> {
 
     /// `z` where `id` is −z, a negation neither lowered nor preset: a
     /// sum reading it is lowered as a subtraction of `z` (x + (−z) and
-    /// x − z are the same IEEE operation, bit for bit).
+    /// x − z are the same IEEE operation, bit for bit but for the sign
+    /// of a NaN).
     fn subtrahend(&self, id: Id) -> Option<Id> {
         let i = id.index();
         if self.values.get(i).copied().flatten().is_some() || self.preset.contains_key(&i) {

@@ -42,9 +42,10 @@ fn the_time_is_read_after_the_parameters_where_a_stage_reads_it() {
 }
 
 /// A sum with a negated term is evaluated as a subtraction, bit for bit
-/// the sum (x + (−z) and x − z are one IEEE operation): on either side of
-/// the sum, with the negation also read elsewhere (a root of its own, a
-/// product) or read by sums alone, signed zeros and infinities included.
+/// the sum for every input but a NaN (x + (−z) and x − z are one IEEE
+/// operation): on either side of the sum, both terms negated, with the
+/// negation also read elsewhere (a root of its own, a product) or read by
+/// sums alone, signed zeros and infinities included.
 #[test]
 fn sums_of_negations_equal_the_sums_bit_for_bit() {
     use kinematics_compiler::ir::Node;
@@ -57,7 +58,14 @@ fn sums_of_negations_equal_the_sums_bit_for_bit() {
     let nx = g.intern(Node::Neg(x));
     // −x read by a sum alone: never evaluated as a value of its own.
     let only = g.intern(Node::Add(z, nx));
-    let stages: [&[_]; 3] = [&[right, left, only], &[right, nz, product], &[left, only]];
+    // Both terms negated, one of them read by sums alone.
+    let both = g.intern(Node::Add(nz, nx));
+    let stages: [&[_]; 4] = [
+        &[right, left, only],
+        &[right, nz, product],
+        &[left, only],
+        &[both],
+    ];
     let p = Program::new(&g, 0, 1, &stages).unwrap();
     let cases = [
         (0.75, 0.25),
@@ -78,10 +86,11 @@ fn sums_of_negations_equal_the_sums_bit_for_bit() {
             qdd: &[0.0],
             trig: &[xv.cos(), xv.sin()],
         };
-        let want: [&[f64]; 3] = [
+        let want: [&[f64]; 4] = [
             &[xv + (-zv), (-zv) + xv, zv + (-xv)],
             &[xv + (-zv), -zv, (-zv) * xv],
             &[(-zv) + xv, zv + (-xv)],
+            &[(-zv) + (-xv)],
         ];
         for (k, w) in want.iter().enumerate() {
             let mut out = vec![f64::NAN; w.len()];

@@ -302,6 +302,17 @@ impl<P> RunTime<'_, P> {
         Ok(())
     }
 
+    /// The stepper's motion made whole, its points evaluated where an
+    /// evaluation of the equations of motion left them out
+    /// ([`Stepper::complete`]); where that fails, no motion is current.
+    fn whole(&mut self) -> Result<(), Error> {
+        let done = self.stepper.complete();
+        if done.is_err() {
+            self.current = false;
+        }
+        done
+    }
+
     /// M, b and the powers summed over the bodies and loads with unit
     /// analyses: a description that is not the model's sections, or where
     /// the compiled equations gave no finite reduction.
@@ -314,7 +325,7 @@ impl<P> RunTime<'_, P> {
         out: &mut Equations<'_>,
     ) -> Result<(), Error> {
         self.counts[1] += 1;
-        self.stepper.complete()?;
+        self.whole()?;
         let (units, rates, zeros) = (&mut self.units, &mut self.rates, &self.zeros);
         let motion = self.stepper.motion_now();
         let view = super::dynamics::RunTime(motion);
@@ -408,7 +419,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if !self.current {
             return Ok((f64::NAN, f64::NAN));
         }
-        self.stepper.complete()?;
+        self.whole()?;
         let view = super::dynamics::RunTime(self.stepper.motion_now());
         let view = Timed(&view, t);
         let [q, qd, qdd] = dynamics.coordinates_of(&view);
@@ -420,13 +431,16 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         if !self.current {
             return [f64::NAN; 3];
         }
-        super::dynamics::RunTime(self.stepper.motion_now()).coordinate(j)
+        // (The coordinates' motion, whole after any step.)
+        let flat = self.stepper.flat();
+        let get = |v: &[f64]| v.get(j).copied().unwrap_or(f64::NAN);
+        [get(flat.q), get(flat.qd), get(flat.qdd)]
     }
 
     fn commit(&mut self) {
         if self.current {
-            let q = &self.stepper.motion_now().q;
-            self.guess.clone_from(q);
+            self.guess.clear();
+            self.guess.extend_from_slice(self.stepper.flat().q);
             self.modes.clear();
             self.modes.extend_from_slice(self.stepper.signs_mut());
         }
@@ -434,7 +448,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
 
     fn record(&mut self, t: f64) {
         // (After the sample's energies, which completed the motion.)
-        if self.current && self.stepper.complete().is_ok() {
+        if self.current && self.whole().is_ok() {
             let m = self.stepper.motion_now().clone();
             self.samples.push((t, m));
         }
@@ -447,7 +461,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         out: &mut [f64],
     ) -> Result<(), Error> {
         let nd = self.m.drivers();
-        self.stepper.complete()?;
+        self.whole()?;
         let motion = self.stepper.motion_now();
         for (p, s) in dynamics
             .effort_sensitivities_of_at(self.m, motion, t)?

@@ -230,6 +230,75 @@ mod tests {
         fused.is_some()
     }
 
+    /// After `advance_motion`, which leaves the points out, `complete`
+    /// evaluates them: bit for bit the plain step's through the same
+    /// poses (two steppers, one stepped each way); and where a point is
+    /// not finite, the general path's error, as `Model::step` gives it.
+    #[test]
+    fn complete_evaluates_the_points_an_evaluation_left_out() {
+        // Q is finite where the rocker is past 1.9 rad (the crank near
+        // π), not where it is short of it (the crank near 0: 1.61 rad).
+        let m = Model::compile(
+            "struct FourBar {
+                params   { a, b, c, d }
+                drivers  { phi }
+                unknowns { th3, th4 }
+                points {
+                    G3 = polar(a, phi) + polar(b / 2.0, th3);
+                    G4 = vec2(d, 0.0) + polar(c / 2.0, th4);
+                    Q = vec2(sqrt(th4 - 1.9), 0.0);
+                }
+                loops { polar(a, phi) + polar(b, th3) == vec2(d, 0.0) + polar(c, th4); }
+                bodies {
+                    coupler(mass = 0.5, center = G3, angle = th3, inertia = 6.0e-4);
+                    rocker(mass = 0.4, center = G4, angle = th4, inertia = 3.5e-4);
+                }
+                loads { gravity(vec2(0.0, -9.81)); }
+            }",
+        )
+        .expect("compiles")
+        .with_values(&[0.04, 0.12, 0.10, 0.11])
+        .expect("values");
+        let options = crate::Options::default();
+        let (mut plain, mut motion) = (
+            m.stepper(&options).expect("a stepper"),
+            m.stepper(&options).expect("a stepper"),
+        );
+        assert!(
+            motion.with_motion(),
+            "the model has its equations of motion"
+        );
+        let mut q = vec![2.6, 1.0, 2.1];
+        for k in 0..40 {
+            q[0] = 2.6 + 0.02 * f64::from(k);
+            let (rates, accelerations) = ([3.0 + 0.1 * f64::from(k)], [-2.0]);
+            let flat = plain.step_flat(&q, &rates, &accelerations).expect("a step");
+            let want: Vec<u64> = flat.outputs.iter().map(|v| v.to_bits()).collect();
+            let want_q = flat.q.to_vec();
+            motion
+                .advance_motion(&q, &rates, &accelerations)
+                .expect("a step");
+            assert!(
+                motion.fused_motion().is_some(),
+                "the fused step with the equations"
+            );
+            motion.complete().expect("every point finite");
+            let got: Vec<u64> = motion.flat().outputs.iter().map(|v| v.to_bits()).collect();
+            assert_eq!(got, want, "the points at step {k}");
+            assert_eq!(motion.motion_now().q, want_q);
+            q.copy_from_slice(&want_q);
+        }
+        // The crank at 0.3 rad: the rocker short of 1.9 rad, Q not finite.
+        let start = [0.3, 0.9, 1.6];
+        motion
+            .advance_motion(&start, &[3.0], &[0.0])
+            .expect("the equations need no Q");
+        let error = motion.complete().expect_err("Q is not finite");
+        let general = m.step(&start, &[3.0], &[0.0]).expect_err("Q is not finite");
+        assert_eq!(error.to_string(), general.to_string());
+        assert!(error.to_string().contains('Q'), "{error}");
+    }
+
     #[test]
     fn a_four_bar_with_a_motor_a_spring_damper_and_a_force_agrees_with_the_sums() {
         assert!(

@@ -426,6 +426,10 @@ impl Stepper<'_> {
     /// is still there only.
     #[inline]
     pub(super) fn motion_now(&mut self) -> &Motion {
+        debug_assert!(
+            !self.stale,
+            "a motion read before `complete` evaluated its points"
+        );
         if self.pending {
             self.pending = false;
             if let Some(run) = self.fused.as_ref() {
@@ -477,6 +481,7 @@ impl Stepper<'_> {
     /// while they are there only (else `None`: read [`Stepper::flat`]).
     #[inline(always)]
     pub(super) fn fused_results(&self) -> Option<(&[f64], &FlatAt)> {
+        debug_assert!(!self.stale, "outputs read before `complete` evaluated them");
         match (self.pending, self.fused.as_ref()) {
             (true, Some(run)) => Some((&run.f, &run.io.flat)),
             _ => None,

@@ -542,7 +542,13 @@ impl Plan {
         // outputs: an evaluation of the forward dynamics needs none of
         // them (they are evaluated, checked, where a motion is read). (The
         // equations checked by their reduction, which sends a value not
-        // finite the general way.)
+        // finite the general way.) The outputs' own function reads what
+        // that step left in the buffer: q, q', q'' (the unknowns' written
+        // by the step), the invariants and parameters, and the cosines and
+        // sines of the drivers and the blocks' angles, which the shared
+        // assembly writes for every coordinate the outputs read
+        // (`driver_trig` is taken over all the roots, the outputs' with
+        // them); the stepper takes no step between the two.
         let dynamics = (!motion_roots.is_empty()).then(|| {
             let mut ops = step.clone();
             ops.push(Op::Store {
