@@ -8,12 +8,11 @@ from typing import TYPE_CHECKING, Any, ClassVar, Dict, Iterable, List, Mapping, 
 
 import numpy as np
 
-from ._values import Options, _opts
+from ._values import Options, Pose, _opts
 
 if TYPE_CHECKING:  # pragma: no cover
     from . import _native
-    from ._model import ArrayLike, Mechanism, Pose
-    from ._sweep import Batch
+    from ._model import Mechanism
 
 __all__: List[str] = []
 
@@ -112,10 +111,6 @@ class _Batch:
         for i, name in enumerate(names):
             table[:, i] = arrays[name] if name in arrays else base[i]
         spec = None
-        # (Imported here: `_sweep` reads the classes of `_model`, which
-        # imports this module.)
-        from ._sweep import Batch, _outputs
-
         # A mixin: the class of a design is a compiled Mechanism.
         kept = _outputs(cast("Type[Mechanism]", type(self)), outputs)
         rate_values = self._driver_values("rate", rate, rates, 0.0)
@@ -163,3 +158,11 @@ class _Batch:
             bool(positions_only),
         )
         return Batch(table, names, [name for name, _ in kept], d)
+
+
+# The array type of `_model`, defined before it imports this module; the
+# result class and the outputs' parser of `_sweep`, which reads the
+# classes `_model` imported before this module (so that the annotations
+# resolve at run time too, for `typing.get_type_hints`).
+from ._model import ArrayLike  # noqa: E402
+from ._sweep import Batch, _outputs  # noqa: E402

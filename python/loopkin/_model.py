@@ -159,7 +159,6 @@ class MechanismType(type):
 copyreg.pickle(MechanismType, lambda cls: (compile, (cls._native.text,)))
 
 
-from ._batch import _Batch
 from ._forces import _Forces
 from ._forward import Trajectory, _Forward  # noqa: F401 (Trajectory re-exported)
 from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them too)
@@ -177,6 +176,9 @@ from ._values import (  # noqa: F401 (re-exported: `loopkin._model` names them t
     _opts,
     _readonly,
 )
+
+# After the values: `_batch` reads `_sweep`, which reads them from here.
+from ._batch import _Batch  # noqa: E402
 
 class Mechanism(_Forces, _Forward, _Batch, metaclass=MechanismType):
     """A design of a compiled mechanism: the class :func:`compile` returns,
