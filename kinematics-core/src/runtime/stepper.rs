@@ -388,11 +388,24 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<(), Error> {
+        self.advance_with(start, rates, accelerations, false)
+    }
+
+    /// [`Stepper::advance`], through the step with the equations of motion
+    /// where `equations` ([`Stepper::advance_motion`]).
+    #[inline(always)]
+    fn advance_with(
+        &mut self,
+        start: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        equations: bool,
+    ) -> Result<(), Error> {
         self.forget();
         // The fused step checks the inputs as it copies them into its
         // buffer (lengths, every value finite) and leaves the errors to
         // the general path's checks.
-        if self.fused_step(start, rates, accelerations) {
+        if self.fused_go(start, Some((rates, accelerations)), equations) {
             self.pending = true;
             return Ok(());
         }
@@ -686,12 +699,7 @@ impl Stepper<'_> {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<(), Error> {
-        self.forget();
-        if self.fused_go(start, Some((rates, accelerations)), true) {
-            self.pending = true;
-            return Ok(());
-        }
-        self.general_step(start, rates, accelerations)
+        self.advance_with(start, rates, accelerations, true)
     }
 
     /// Evaluates the points' outputs that [`Stepper::advance_motion`] left

@@ -240,12 +240,8 @@ mechanism! {
     }
 }
 
-/// The four-bar started by its motor, through the compiled equations
-/// (one driver, two unknowns: the reduction written out) and summed: the
-/// same motion.
-#[test]
-fn a_four_bars_start_up_through_the_compiled_equations_is_the_summed_one(
-) -> Result<(), Box<dyn std::error::Error>> {
+/// The benchmark's four-bar and its start from rest, assembled at φ = 0.
+fn driven_four_bar() -> Result<(DrivenFourBar, DrivenFourBarCoords), kinematics_core::Error> {
     let m = DrivenFourBar {
         a: 0.04,
         b: 0.12,
@@ -257,6 +253,16 @@ fn a_four_bars_start_up_through_the_compiled_equations_is_the_summed_one(
         th3: 1.2,
         th4: 1.9,
     })?;
+    Ok((m, start))
+}
+
+/// The four-bar started by its motor, through the compiled equations
+/// (one driver, two unknowns: the reduction written out) and summed: the
+/// same motion.
+#[test]
+fn a_four_bars_start_up_through_the_compiled_equations_is_the_summed_one(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (m, start) = driven_four_bar()?;
     let run = |d: &Dynamics| {
         d.forward(&m, &start)
             .until(1.0)
@@ -353,17 +359,7 @@ fn a_run_time_forward_runs_samples_are_the_models_own_steps(
 fn a_run_time_forward_runs_impacts_read_the_whole_motion() -> Result<(), Box<dyn std::error::Error>>
 {
     use kinematics_core::dynamics::Event;
-    let m = DrivenFourBar {
-        a: 0.04,
-        b: 0.12,
-        c: 0.10,
-        d: 0.11,
-    };
-    let start = m.assemble(&DrivenFourBarCoords {
-        phi: 0.0,
-        th3: 1.2,
-        th4: 1.9,
-    })?;
+    let (m, start) = driven_four_bar()?;
     let stop = || Event::stop("th4", start.th4 + 0.05, 0.5).increasing();
     let generated = m
         .dynamics()?
