@@ -10,7 +10,7 @@ use alloc::vec::Vec;
 use super::sweep::collect;
 use super::{Model, Motion, Stepper, Sweep, SweepEnd};
 use crate::dynamics::Dynamics;
-use crate::dynamics::evaluate::{View, WithUnit};
+use crate::dynamics::evaluate::WithUnit;
 use crate::dynamics::forward::equations::Equations;
 use crate::dynamics::forward::run::{
     Analysis, Course, Timed, course_settings, integrate, start_state,
