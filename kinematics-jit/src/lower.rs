@@ -262,12 +262,12 @@ impl<'g> Lower<'g> {
                         b.ins().fsub(y, z)
                     }
                     (None, None) => {
-                        let (x, y) = (self.get(x)?, self.get(y)?);
+                        let (x, y) = constant_last(b, self.get(x)?, self.get(y)?);
                         b.ins().fadd(x, y)
                     }
                 },
                 Node::Mul(x, y) => {
-                    let (x, y) = (self.get(x)?, self.get(y)?);
+                    let (x, y) = constant_last(b, self.get(x)?, self.get(y)?);
                     b.ins().fmul(x, y)
                 }
                 Node::Div(x, y) => {
@@ -299,6 +299,34 @@ impl<'g> Lower<'g> {
             self.values[i] = Some(value);
         }
         Ok(())
+    }
+}
+
+/// The operands of a commutative operation (a sum or a product) with a
+/// constant second: the x86-64 back end reads a second operand that is a
+/// constant from the constant pool within the instruction, where a first
+/// one is built in a register (two instructions, and a register held).
+/// The result is the same number either way: IEEE 754 addition and
+/// multiplication commute (a NaN's payload aside).
+pub(crate) fn constant_last(b: &FunctionBuilder<'_>, x: Value, y: Value) -> (Value, Value) {
+    if constant(b, x).is_some() && constant(b, y).is_none() {
+        (y, x)
+    } else {
+        (x, y)
+    }
+}
+
+/// The value of `v` when it is a constant.
+pub(crate) fn constant(b: &FunctionBuilder<'_>, v: Value) -> Option<f64> {
+    let dfg = &b.func.dfg;
+    let cranelift_codegen::ir::ValueDef::Result(inst, 0) = dfg.value_def(v) else {
+        return None;
+    };
+    match dfg.insts[inst] {
+        cranelift_codegen::ir::InstructionData::UnaryIeee64 { imm, .. } => {
+            Some(f64::from_bits(imm.bits()))
+        }
+        _ => None,
     }
 }
 

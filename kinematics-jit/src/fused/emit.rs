@@ -8,7 +8,7 @@ use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::{Func, Graph, Leaf, Node};
 
 use super::{Compare, Inst, Layout, Port, Val, PORTS};
-use crate::lower::{Imports, Lower, SignBits, Sources};
+use crate::lower::{constant, constant_last, Imports, Lower, SignBits, Sources};
 use crate::JitError;
 
 /// The buffer as the code reads and writes it, with the values it is
@@ -182,7 +182,7 @@ pub(super) fn guarded(
             Inst::Load(at) => number(memory.load(b, *at)?),
             Inst::Const(x) => number(b.ins().f64const(*x)),
             Inst::Add(x, y) => {
-                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                let (x, y) = constant_last(b, get(&values, *x)?, get(&values, *y)?);
                 number(b.ins().fadd(x, y))
             }
             Inst::Sub(x, y) => {
@@ -190,7 +190,7 @@ pub(super) fn guarded(
                 number(b.ins().fsub(x, y))
             }
             Inst::Mul(x, y) => {
-                let (x, y) = (get(&values, *x)?, get(&values, *y)?);
+                let (x, y) = constant_last(b, get(&values, *x)?, get(&values, *y)?);
                 number(b.ins().fmul(x, y))
             }
             Inst::Div(x, y) => {
@@ -335,7 +335,10 @@ pub(super) fn sum_of_products(
         let term = match (cx, cy) {
             (Some(1.0), _) => y,
             (_, Some(1.0)) => x,
-            _ => b.ins().fmul(x, y),
+            _ => {
+                let (x, y) = constant_last(b, x, y);
+                b.ins().fmul(x, y)
+            }
         };
         sum = Some(match sum {
             None => term,
@@ -414,18 +417,4 @@ pub(super) fn not_finite(
     let sum = level.pop()?;
     let test = b.ins().fmul(sum, zero);
     Some(b.ins().fcmp(FloatCC::Unordered, test, test))
-}
-
-/// The value of `v` when it is a constant.
-pub(super) fn constant(b: &FunctionBuilder<'_>, v: cranelift_codegen::ir::Value) -> Option<f64> {
-    let dfg = &b.func.dfg;
-    let cranelift_codegen::ir::ValueDef::Result(inst, 0) = dfg.value_def(v) else {
-        return None;
-    };
-    match dfg.insts[inst] {
-        cranelift_codegen::ir::InstructionData::UnaryIeee64 { imm, .. } => {
-            Some(f64::from_bits(imm.bits()))
-        }
-        _ => None,
-    }
 }
