@@ -21,7 +21,10 @@
 //! With C = ∂q̇/∂ḋ, the kinematic coefficients (C_d = I, Φ_u C_u = −Φ_d),
 //! the drivers' equations are M = Cᵀ M̃ C and the efforts Q = Cᵀ f̃: the
 //! back ends evaluate Φ_q, M̃, f̃ and each load's power here and do the
-//! small solve and products with numbers.
+//! small solve and products with numbers. For one driver and at most two
+//! unknowns (a four-bar, a slider-crank) the roots are M and Q themselves
+//! ([`EquationsOfMotion::reduced`]), C written out by Cramer's rule, so
+//! that the whole reduction is part of the straight-line code.
 
 use crate::diff::{partial, Memo};
 use crate::dynamics::{Dynamics, LoadTarget, Turning};
@@ -55,18 +58,89 @@ pub struct EquationsOfMotion {
     /// on a coordinate (each in declaration order), then each spring's
     /// damper (−c L̇²).
     pub powers: Vec<Id>,
+    /// For one driver and at most two unknowns ([`MAX_REDUCED_UNKNOWNS`]),
+    /// the driver's M = Cᵀ M̃ C and Q = Cᵀ f̃ with C = (1, c₁, c₂) from
+    /// Φ_u C_u = −Φ_d by Cramer's rule (c₁ = −Φ_0/Φ_1 for one unknown; for
+    /// two, with rows a and b of Φ_q, Δ = a₁b₂ − a₂b₁, c₁ = (a₂b₀ − a₀b₂)/Δ
+    /// and c₂ = (a₀b₁ − a₁b₀)/Δ): a singular Φ_u gives a value that is not
+    /// finite. `None` otherwise.
+    pub reduced: Option<[Id; 2]>,
 }
 
+/// The most unknowns for which the equations of one driver are formed
+/// reduced ([`EquationsOfMotion::reduced`]).
+pub const MAX_REDUCED_UNKNOWNS: usize = 2;
+
 impl EquationsOfMotion {
-    /// Every root in one list: Φ_q, M̃, f̃, then the powers.
+    /// Every root in one list: M and Q, then the powers, where the
+    /// equations are [`EquationsOfMotion::reduced`]; otherwise Φ_q, M̃, f̃,
+    /// then the powers.
     #[must_use]
     pub fn roots(&self) -> Vec<Id> {
-        let mut all = self.jacobian.clone();
-        all.extend(&self.mass);
-        all.extend(&self.forces);
+        let mut all = match self.reduced {
+            Some(reduced) => reduced.to_vec(),
+            None => {
+                let mut all = self.jacobian.clone();
+                all.extend(&self.mass);
+                all.extend(&self.forces);
+                all
+            }
+        };
         all.extend(&self.powers);
         all
     }
+}
+
+/// M = Cᵀ M̃ C and Q = Cᵀ f̃ for one driver of `n` coordinates (at most
+/// [`MAX_REDUCED_UNKNOWNS`] + 1), from Φ_q (row-major, n − 1 rows), M̃'s
+/// upper triangle and f̃, as [`EquationsOfMotion::reduced`] states them.
+fn reduced(
+    g: &mut Graph,
+    jacobian: &[Id],
+    mass: &[Id],
+    forces: &[Id],
+    n: usize,
+) -> Option<[Id; 2]> {
+    let one = g.constant(1.0);
+    let c: Vec<Id> = match (n, jacobian) {
+        (1, []) => vec![one],
+        (2, [a0, a1]) => {
+            let r = g.div(*a0, *a1);
+            vec![one, g.neg(r)]
+        }
+        (3, [a0, a1, a2, b0, b1, b2]) => {
+            let mut det = |x: Id, y: Id, z: Id, w: Id| {
+                let (xy, zw) = (g.mul(x, y), g.mul(z, w));
+                g.sub(xy, zw)
+            };
+            let delta = det(*a1, *b2, *a2, *b1);
+            let n1 = det(*a2, *b0, *a0, *b2);
+            let n2 = det(*a0, *b1, *a1, *b0);
+            vec![one, g.div(n1, delta), g.div(n2, delta)]
+        }
+        _ => return None,
+    };
+    if mass.len() != n * (n + 1) / 2 || forces.len() != n {
+        return None;
+    }
+    // Σ_i c_i (M̃_ii c_i + 2 Σ_{j>i} M̃_ij c_j), row i of the triangle
+    // holding M̃_ii … M̃_i(n−1).
+    let (two, mut m, mut at) = (g.constant(2.0), g.constant(0.0), 0);
+    for i in 0..n {
+        let diagonal = g.mul(mass[at], c[i]);
+        let mut off = g.constant(0.0);
+        for j in i + 1..n {
+            let t = g.mul(mass[at + j - i], c[j]);
+            off = g.sum(off, t);
+        }
+        at += n - i;
+        let off = g.mul(two, off);
+        let row = g.sum(diagonal, off);
+        let t = g.mul(c[i], row);
+        m = g.sum(m, t);
+    }
+    let q = dot(g, &c, forces);
+    Some([m, q])
 }
 
 /// Dot product of two vectors of roots (over the shorter).
@@ -341,11 +415,17 @@ pub fn equations(
         let p = g.mul(s.damping, rr);
         powers.push(g.neg(p));
     }
+    let reduced = if nd == 1 && n - nd <= MAX_REDUCED_UNKNOWNS {
+        reduced(g, &jacobian, &mass, &forces, n)
+    } else {
+        None
+    };
     Some(EquationsOfMotion {
         coordinates: n,
         jacobian,
         mass,
         forces,
         powers,
+        reduced,
     })
 }

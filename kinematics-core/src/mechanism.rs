@@ -656,16 +656,24 @@ pub trait Mechanism {
     /// loop system that is not square).
     const MOTION_OUTPUTS: usize = 0;
 
+    /// Whether [`Mechanism::equations_of_motion`] writes the driver's M and
+    /// b themselves (one driver and at most two unknowns) rather than the
+    /// equations in all the coordinates.
+    const MOTION_REDUCED: bool = false;
+
     /// The equations of motion of the definition's `bodies` and `loads`
-    /// sections in all n coordinates, at this parameter set, the
-    /// coordinates `q`, their rates `qd` and accelerations `qdd` and the
-    /// time, as compiled: Φ_q (one row per loop equation, row-major), the
-    /// upper triangle of the mass matrix M̃_ij = Σ m v_G^i · v_G^j +
-    /// ω^iᵀ J ω^j row by row, the generalized forces f̃_j (the inertia and
-    /// the loads at `qdd`, on coordinate j's partial velocities), then the
-    /// power of each load whose work a forward simulation reports; the
-    /// drivers' M = Cᵀ M̃ C and b = Cᵀ f̃ follow with the kinematic
-    /// coefficients C. `false`, with nothing written, where `out` has not
+    /// sections at this parameter set, the coordinates `q`, their rates
+    /// `qd` and accelerations `qdd` and the time, as compiled. In all n
+    /// coordinates: Φ_q (one row per loop equation, row-major), the upper
+    /// triangle of the mass matrix M̃_ij = Σ m v_G^i · v_G^j + ω^iᵀ J ω^j
+    /// row by row, the generalized forces f̃_j (the inertia and the loads
+    /// at `qdd`, on coordinate j's partial velocities), then the power of
+    /// each load whose work a forward simulation reports; the drivers'
+    /// M = Cᵀ M̃ C and b = Cᵀ f̃ follow with the kinematic coefficients C
+    /// (C_d = I, Φ_u C_u = −Φ_d). Where [`Mechanism::MOTION_REDUCED`] (one
+    /// driver, at most two unknowns), M and b themselves, C written out by
+    /// Cramer's rule (not finite where Φ_u is singular), then the powers.
+    /// `false`, with nothing written, where `out` has not
     /// [`Mechanism::MOTION_OUTPUTS`] entries (always, without the
     /// sections).
     fn equations_of_motion(

@@ -279,7 +279,8 @@ pub(super) fn dynamics(cx: &Ctx<'_>, dynamics: Option<&Dynamics>) -> TokenStream
 /// (`kinematics_core::Mechanism::equations_of_motion` and its companions),
 /// or nothing where they were not formed: one straight-line function of
 /// the parameters, q, q̇, q̈ and the time writing Φ_q, M̃'s upper triangle,
-/// f̃ and the loads' powers.
+/// f̃ and the loads' powers, or M and b and the powers where they are
+/// reduced.
 pub(super) fn motion(cx: &Ctx<'_>, eom: Option<&EquationsOfMotion>) -> TokenStream {
     let Some(eom) = eom else {
         return TokenStream::new();
@@ -306,8 +307,10 @@ pub(super) fn motion(cx: &Ctx<'_>, eom: Option<&EquationsOfMotion>) -> TokenStre
         quote!(out[#i] = #e;)
     });
     let len = roots.len();
+    let reduced = eom.reduced.is_some();
     quote! {
         const MOTION_OUTPUTS: usize = #len;
+        const MOTION_REDUCED: bool = #reduced;
 
         #allow
         fn equations_of_motion(

@@ -42,7 +42,7 @@ impl<'m> Compiled<'m> {
         let (stage, motion) = code.motion()?;
         let (n, nd) = (motion.coordinates, m.drivers());
         let powers = motion.powers.len();
-        let reduction = Reduction::new(n, nd);
+        let reduction = Reduction::new(n, nd, motion.reduced.is_some());
         // (No driver, no motion to simulate.)
         if nd == 0
             || n != m.coordinates().len()

@@ -11,13 +11,30 @@ use super::sections::*;
 use super::*;
 use kinematics_core::{Coordinates, Mechanism};
 
-/// The outputs of `equations_of_motion` at a motion, split: Φ_q (u × n),
-/// M̃ (n × n, from its upper triangle), f̃, the powers.
-struct Split {
-    jacobian: DMatrix<f64>,
-    mass: DMatrix<f64>,
-    forces: DVector<f64>,
-    powers: Vec<f64>,
+/// The outputs of `equations_of_motion` at a motion, split: in all the
+/// coordinates Φ_q (u × n), M̃ (n × n, from its upper triangle), f̃ and
+/// the powers; reduced (`Mechanism::MOTION_REDUCED`), the driver's M and b
+/// and the powers.
+enum Split {
+    Full {
+        jacobian: DMatrix<f64>,
+        mass: DMatrix<f64>,
+        forces: DVector<f64>,
+        powers: Vec<f64>,
+    },
+    Reduced {
+        mass: f64,
+        bias: f64,
+        powers: Vec<f64>,
+    },
+}
+
+impl Split {
+    fn powers(&self) -> &[f64] {
+        match self {
+            Split::Full { powers, .. } | Split::Reduced { powers, .. } => powers,
+        }
+    }
 }
 
 fn split<M: Mechanism>(m: &M, q: &M::Coords, qd: &M::Coords, qdd: &M::Coords) -> Split {
@@ -32,6 +49,13 @@ fn split<M: Mechanism>(m: &M, q: &M::Coords, qd: &M::Coords, qdd: &M::Coords) ->
         !m.equations_of_motion(q, qd, qdd, 0.0, &mut out[1..]),
         "a buffer of the wrong length is refused"
     );
+    if M::MOTION_REDUCED {
+        return Split::Reduced {
+            mass: out[0],
+            bias: out[1],
+            powers: out[2..].to_vec(),
+        };
+    }
     let jacobian = DMatrix::from_row_slice(nu, n, &out[..nu * n]);
     let mut mass = DMatrix::zeros(n, n);
     let mut at = nu * n;
@@ -43,7 +67,7 @@ fn split<M: Mechanism>(m: &M, q: &M::Coords, qd: &M::Coords, qdd: &M::Coords) ->
         }
     }
     let forces = DVector::from_column_slice(&out[at..at + n]);
-    Split {
+    Split::Full {
         jacobian,
         mass,
         forces,
@@ -84,23 +108,46 @@ fn coefficients(jacobian: &DMatrix<f64>, nd: usize) -> DMatrix<f64> {
     c
 }
 
-/// The compiled equations of a one-driver mechanism at `motion`, checked:
+/// The compiled equations at `motion`, checked: in all the coordinates,
 /// Φ_q against central differences of the residual, ½ q̇ᵀ M̃ q̇ against
-/// the `kinetic` energy and Cᵀ f̃ against the driving `effort` of the
-/// inverse analysis.
-fn checked<M: Mechanism>(m: &M, motion: &M::Motion, kinetic: f64, effort: f64) -> Split {
+/// the `kinetic` energy and Cᵀ f̃ against the drivers' `efforts` of the
+/// inverse analysis; reduced (one driver), ½ M ḋ² against the kinetic
+/// energy and b (the effort at the motion's accelerations) against the
+/// driving effort.
+fn checked<M: Mechanism>(m: &M, motion: &M::Motion, kinetic: f64, efforts: &[f64]) -> Split {
     use kinematics_core::MotionState;
     let s = split(m, motion.q(), motion.qd(), motion.qdd());
-    let fd = jacobian_by_differences(m, motion.q());
-    for (a, b) in s.jacobian.iter().zip(fd.iter()) {
-        close(*a, *b, 1e-8, "Φ_q against differences of the residual");
-    }
     let n = M::COORDINATES.len();
     let qd = DVector::from_iterator(n, (0..n).map(|j| motion.qd().get(j).expect("a rate")));
-    let t = 0.5 * (qd.transpose() * &s.mass * &qd)[(0, 0)];
-    close(t, kinetic, 1e-12, "½ q̇ᵀ M̃ q̇");
-    let q = (coefficients(&s.jacobian, 1).transpose() * &s.forces)[0];
-    close(q, effort, 1e-11, "Cᵀ f̃ against the torque");
+    match &s {
+        Split::Full {
+            jacobian,
+            mass,
+            forces,
+            ..
+        } => {
+            let fd = jacobian_by_differences(m, motion.q());
+            for (a, b) in jacobian.iter().zip(fd.iter()) {
+                close(*a, *b, 1e-8, "Φ_q against differences of the residual");
+            }
+            let t = 0.5 * (qd.transpose() * mass * &qd)[(0, 0)];
+            close(t, kinetic, 1e-12, "½ q̇ᵀ M̃ q̇");
+            let q = coefficients(jacobian, M::DRIVERS).transpose() * forces;
+            assert_eq!(q.len(), efforts.len());
+            for (q, effort) in q.iter().zip(efforts) {
+                close(*q, *effort, 1e-11, "Cᵀ f̃ against the driving effort");
+            }
+        }
+        Split::Reduced { mass, bias, .. } => {
+            assert_eq!(
+                (M::DRIVERS, efforts.len()),
+                (1, 1),
+                "reduced for one driver"
+            );
+            close(0.5 * mass * qd[0] * qd[0], kinetic, 1e-12, "½ M ḋ²");
+            close(*bias, efforts[0], 1e-11, "b against the torque");
+        }
+    }
     s
 }
 
@@ -122,10 +169,14 @@ fn the_engines_compiled_equations_are_its_jacobian_energy_effort_and_power(
         })?;
         let motion = m.analyze(&pose, w, al)?;
         let inverse = dynamics.inverse(&m, &motion)?;
-        let s = checked(&m, &motion, inverse.kinetic_energy, inverse.effort.phi);
+        let s = checked(&m, &motion, inverse.kinetic_energy, &[inverse.effort.phi]);
+        assert!(
+            matches!(s, Split::Reduced { .. }),
+            "one driver, two unknowns"
+        );
         let gas = -m.p0 * (m.x0 / motion.q.x).powi(2) * motion.qd.x;
-        assert_eq!(s.powers.len(), 1);
-        close(s.powers[0], gas, 1e-12, "the gas force's power");
+        assert_eq!(s.powers().len(), 1);
+        close(s.powers()[0], gas, 1e-12, "the gas force's power");
     }
     Ok(())
 }
@@ -154,8 +205,8 @@ fn the_rssrs_compiled_equations_are_its_jacobian_energy_and_effort(
             "a test: T = {}",
             inverse.kinetic_energy
         );
-        let s = checked(&m, &motion, inverse.kinetic_energy, inverse.effort.phi);
-        assert!(s.powers.is_empty(), "gravity reports no work of its own");
+        let s = checked(&m, &motion, inverse.kinetic_energy, &[inverse.effort.phi]);
+        assert!(s.powers().is_empty(), "gravity reports no work of its own");
     }
     Ok(())
 }
@@ -494,4 +545,68 @@ fn a_mechanism_without_sections_has_no_compiled_equations() {
     let q = EngineCoords::default();
     assert!(!m.equations_of_motion(&q, &q, &q, 0.0, &mut []));
     assert!(!m.has_parameter_values(&m.parameter_values()));
+}
+
+mechanism! {
+    /// A five-bar with two driven cranks and its four links' masses: two
+    /// drivers, so its compiled equations are in all the coordinates.
+    pub struct MassFiveBar {
+        params   { a, b, c, d, e }
+        drivers  { p1, p2 }
+        unknowns { t3, t4 }
+        points {
+            G1 = polar(a / 2.0, p1);
+            G2 = polar(a, p1) + polar(b / 2.0, t3);
+            G3 = vec2(d, 0.0) + polar(e, p2) + polar(c / 2.0, t4);
+            G4 = vec2(d, 0.0) + polar(e / 2.0, p2);
+        }
+        loops { polar(a, p1) + polar(b, t3) == vec2(d, 0.0) + polar(e, p2) + polar(c, t4); }
+        bodies {
+            left(mass = 0.3, center = G1, angle = p1, inertia = 2.0e-3);
+            upper(mass = 0.5, center = G2, angle = t3, inertia = 6.0e-4);
+            lower(mass = 0.4, center = G3, angle = t4, inertia = 3.5e-4);
+            right(mass = 0.3, center = G4, angle = p2, inertia = 1.0e-3);
+        }
+        loads { gravity(vec2(0.0, -9.81)); }
+    }
+}
+
+/// The five-bar (two drivers, two unknowns: not reduced): Φ_q, M̃ and f̃
+/// against the residual's differences, the kinetic energy and both
+/// cranks' torques of the inverse analysis, along a motion of both.
+#[test]
+fn a_five_bars_compiled_equations_are_its_jacobian_energy_and_efforts(
+) -> Result<(), Box<dyn std::error::Error>> {
+    let m = MassFiveBar {
+        a: 0.05,
+        b: 0.12,
+        c: 0.12,
+        d: 0.08,
+        e: 0.05,
+    };
+    const { assert!(!<MassFiveBar as Mechanism>::MOTION_REDUCED) };
+    let dynamics = m.dynamics()?;
+    let mut pose = m.assemble(&MassFiveBarCoords {
+        p1: 1.0,
+        p2: 1.6,
+        t3: 1.0,
+        t4: 2.2,
+    })?;
+    for k in 0..10 {
+        let s = f64::from(k);
+        pose.p1 = 1.0 + 0.1 * s;
+        pose.p2 = 1.6 - 0.05 * s;
+        let motion = m.step(&pose, [3.0 + s, -2.0], [10.0, 4.0 - s])?;
+        pose = motion.q;
+        let inverse = dynamics.inverse(&m, &motion)?;
+        let s = checked(
+            &m,
+            &motion,
+            inverse.kinetic_energy,
+            &[inverse.effort.p1, inverse.effort.p2],
+        );
+        assert!(matches!(s, Split::Full { .. }));
+        assert!(s.powers().is_empty(), "gravity reports no work of its own");
+    }
+    Ok(())
 }

@@ -190,10 +190,14 @@ impl Dynamics {
 /// `[Φ_q (u × n) | M̃'s upper triangle | f̃ (n) | powers]`): with the
 /// kinematic coefficients C (n × d, C_d = I, Φ_u C_u = −Φ_d),
 /// M = Cᵀ M̃ C and b = Cᵀ f̃ (the virtual power of f̃ along the drivers'
-/// partial velocities). Its work arrays are allocated once.
+/// partial velocities). Its work arrays are allocated once. Where the
+/// roots are reduced (one driver, at most two unknowns:
+/// [`kinematics_compiler::motion::EquationsOfMotion::reduced`]), they are
+/// `[M | b | powers]`, which it checks and copies.
 pub(crate) struct Reduction {
     n: usize,
     nd: usize,
+    reduced: bool,
     /// C, n × nd, row-major; the drivers' rows the identity.
     c: Vec<f64>,
     lu: Vec<f64>,
@@ -204,8 +208,8 @@ pub(crate) struct Reduction {
 
 impl Reduction {
     /// For n coordinates of which the first `nd` (at least one) are the
-    /// drivers.
-    pub(crate) fn new(n: usize, nd: usize) -> Self {
+    /// drivers, the roots `reduced` or not.
+    pub(crate) fn new(n: usize, nd: usize, reduced: bool) -> Self {
         let nu = n.saturating_sub(nd);
         let mut c = vec![0.0; n * nd];
         for k in 0..nd.min(n) {
@@ -214,6 +218,8 @@ impl Reduction {
         Self {
             n,
             nd,
+            // (Reduced for one driver only.)
+            reduced: reduced && nd == 1,
             c,
             lu: vec![0.0; nu * nu],
             perm: vec![0; nu],
@@ -225,6 +231,9 @@ impl Reduction {
     /// The length of the output it reads, with `powers` loads' powers.
     pub(crate) fn outputs(&self, powers: usize) -> usize {
         let (n, nd) = (self.n, self.nd);
+        if self.reduced {
+            return 2 + powers;
+        }
         n.saturating_sub(nd) * n + n * (n + 1) / 2 + n + powers
     }
 
@@ -233,6 +242,21 @@ impl Reduction {
     /// singular or a value is not finite (the caller then sums the
     /// general way, which names the cause).
     pub(crate) fn reduce(&mut self, out: &[f64], eq: &mut Equations<'_>) -> bool {
+        if self.reduced {
+            // M and b as compiled (not finite where Φ_u is singular), then
+            // the powers; their sum is finite where each is (a sum that
+            // overflows sends the step to the general way, which decides).
+            return match (out.split_first_chunk::<2>(), &mut *eq.mass, &mut *eq.bias) {
+                (Some(([m, b], powers)), [mass, ..], [bias, ..])
+                    if powers.len() == eq.powers.len() =>
+                {
+                    (*mass, *bias) = (*m, *b);
+                    crate::math::copy_small(eq.powers, powers);
+                    (m + b + powers.iter().sum::<f64>()).is_finite()
+                }
+                _ => false,
+            };
+        }
         let (n, nd) = (self.n, self.nd);
         if nd == 0
             || nd > n
@@ -446,7 +470,7 @@ mod tests {
                 partials: &mut partials,
                 terms: &mut terms,
             };
-            let mut r = Reduction::new(3, 1);
+            let mut r = Reduction::new(3, 1, false);
             assert!(r.reduce(&out, &mut eq));
             let phi_u = Matrix2::new(jacobian[1], jacobian[2], jacobian[4], jacobian[5]);
             let x = phi_u
@@ -481,6 +505,41 @@ mod tests {
             };
             assert!(!r.reduce(&bad, &mut eq));
         }
+    }
+
+    /// Reduced roots `[M | b | powers]` are copied as they are; one that
+    /// is not finite, or the wrong number of powers, is refused (the
+    /// caller then sums the general way); reduced roots are for one
+    /// driver only.
+    #[test]
+    fn reduced_roots_are_copied_or_refused() {
+        let (mut mass, mut bias, mut powers) = ([0.0], [0.0], [0.0, 0.0]);
+        let mut partials = Vec::new();
+        let mut terms = Terms::default();
+        let mut r = Reduction::new(3, 1, true);
+        assert_eq!(r.outputs(2), 4);
+        for (out, ok) in [
+            (&[2.5, -0.75, 0.125, -3.0][..], true),
+            (&[f64::NAN, -0.75, 0.125, -3.0][..], false),
+            (&[2.5, f64::INFINITY, 0.125, -3.0][..], false),
+            (&[2.5, -0.75, 0.125, f64::NEG_INFINITY][..], false),
+            (&[2.5, -0.75, 0.125][..], false),
+            (&[2.5][..], false),
+        ] {
+            let mut eq = Equations {
+                mass: &mut mass,
+                bias: &mut bias,
+                powers: &mut powers,
+                partials: &mut partials,
+                terms: &mut terms,
+            };
+            assert_eq!(r.reduce(out, &mut eq), ok, "{out:?}");
+            if ok {
+                assert_eq!((mass, bias, powers), ([2.5], [-0.75], [0.125, -3.0]));
+            }
+        }
+        // Two drivers: the full layout.
+        assert_eq!(Reduction::new(3, 2, true).outputs(0), 3 + 6 + 3);
     }
 
     #[test]

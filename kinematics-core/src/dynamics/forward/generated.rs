@@ -131,7 +131,7 @@ impl<'a, M: Mechanism, P: Profile<M::Coords>> Forward<'a, M, P> {
         let state = self.m.step_state(&self.course.options)?;
         // The compiled equations of motion, where the description is the
         // mechanism's own sections at its parameter values.
-        let reduction = Reduction::new(M::COORDINATES.len(), M::DRIVERS);
+        let reduction = Reduction::new(M::COORDINATES.len(), M::DRIVERS, M::MOTION_REDUCED);
         let compiled = (M::MOTION_OUTPUTS > 0
             && M::MOTION_OUTPUTS == reduction.outputs(self.dynamics.working_loads())
             && self
