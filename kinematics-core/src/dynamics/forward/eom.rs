@@ -55,6 +55,9 @@ pub(super) struct Eom<'d, A> {
     /// The number of stops, each with the work of its impacts in the
     /// state after the prescribed drivers'.
     pub(super) stops: usize,
+    /// One free driver, none prescribed and no sensitivities: the
+    /// evaluation takes `rhs_one`.
+    pub(super) lean: bool,
 }
 
 impl<A: Analysis> Eom<'_, A> {
@@ -98,14 +101,77 @@ impl<A: Analysis> Eom<'_, A> {
             }
         }
         if let Err(i) = cholesky_solve(&mut self.mff, &mut self.x, nf) {
-            let name = self.names.get(self.free[i]).map_or("?", String::as_str);
-            return Err(Error::InvalidDynamics {
-                item: format!("free driver `{name}`"),
-                detail: "moves no mass or inertia of its own at this pose (the mass matrix \
-                         of the free drivers is singular): give the bodies it moves their \
-                         masses and moments of inertia, or prescribe it"
-                    .to_string(),
-            });
+            return Err(self.singular(i));
+        }
+        Ok(())
+    }
+
+    /// The error of a mass matrix of the free drivers that is singular at
+    /// free driver `i`.
+    #[cold]
+    fn singular(&self, i: usize) -> Error {
+        let name = self
+            .free
+            .get(i)
+            .and_then(|&k| self.names.get(k))
+            .map_or("?", String::as_str);
+        Error::InvalidDynamics {
+            item: format!("free driver `{name}`"),
+            detail: "moves no mass or inertia of its own at this pose (the mass matrix \
+                     of the free drivers is singular): give the bodies it moves their \
+                     masses and moments of inertia, or prescribe it"
+                .to_string(),
+        }
+    }
+
+    /// [`System::rhs`] where the evaluation is `lean`: the same
+    /// numbers as the general way (d̈ = −b/M, the powers, the stops'
+    /// works unchanged), with none of its loops over the drivers. The
+    /// prescribed drivers' efforts are none, so `effort` stays zero.
+    #[inline(always)]
+    fn rhs_one(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        let (Some(&[d, dd]), Some((head, rest)), Some(&k)) = (
+            y.first_chunk::<2>(),
+            dy.split_first_chunk_mut::<2>(),
+            self.free.first(),
+        ) else {
+            return Err(short());
+        };
+        let (Some(dk), Some(ddk), Some(dddk)) =
+            (self.d.get_mut(k), self.dd.get_mut(k), self.ddd.get_mut(k))
+        else {
+            return Err(short());
+        };
+        (*dk, *ddk, *dddk) = (d, dd, 0.0);
+        self.analysis
+            .analyze_for_equations(&self.d, &self.dd, &self.ddd)?;
+        let mut out = Equations {
+            mass: &mut self.mass,
+            bias: &mut self.bias,
+            powers: &mut self.powers,
+            partials: &mut self.partials,
+            terms: &mut self.terms,
+        };
+        self.analysis.equations(self.dynamics, t, &mut out)?;
+        let (Some(&m), Some(&b), Some(factor), Some(x)) = (
+            self.mass.get(k * self.nd + k),
+            self.bias.get(k),
+            self.mff.first_mut(),
+            self.x.first_mut(),
+        ) else {
+            return Err(short());
+        };
+        let (mut f, mut r) = ([m], [-b]);
+        if cholesky_solve(&mut f, &mut r, 1).is_err() {
+            return Err(self.singular(0));
+        }
+        (*factor, *x) = (f[0], r[0]);
+        *head = [dd, r[0]];
+        let np = self.powers.len();
+        if let Some((p, works)) = rest.split_at_mut_checked(np) {
+            copy_small(p, &self.powers);
+            // The impacts' works change at the impacts only.
+            zero_small(works);
         }
         Ok(())
     }
@@ -215,6 +281,9 @@ impl<A: Analysis> System for Eom<'_, A> {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        if self.lean {
+            return self.rhs_one(t, y, dy);
+        }
         let nf = self.free.len();
         if self.parameters > 0 {
             self.acceleration_jacobian(t, y)?;
@@ -278,5 +347,17 @@ impl<A: Analysis> Eom<'_, A> {
         }
         self.scratch = rhs;
         Ok(())
+    }
+}
+
+/// The error of a state or work array shorter than the simulation's
+/// drivers: an inconsistency of the library's own, reported, not a panic.
+#[cold]
+fn short() -> Error {
+    Error::InvalidDynamics {
+        item: "a forward simulation's evaluation".to_string(),
+        detail: "found its state shorter than its drivers: a defect of the library, \
+                 please report it with the definition"
+            .to_string(),
     }
 }

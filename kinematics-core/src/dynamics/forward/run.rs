@@ -513,6 +513,7 @@ pub(crate) fn integrate<A: Analysis>(
         scratch: Vec::with_capacity(2 * nf),
         recorded: Vec::new(),
         stops: settings.restitution.iter().flatten().count(),
+        lean: free.len() == 1 && prescribed.is_empty() && settings.parameters == 0,
         free,
         prescribed,
     };
