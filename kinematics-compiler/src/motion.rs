@@ -23,8 +23,12 @@
 //! back ends evaluate Φ_q, M̃, f̃ and each load's power here and do the
 //! small solve and products with numbers. For one driver and at most two
 //! unknowns (a four-bar, a slider-crank) the roots are M and Q themselves
-//! ([`EquationsOfMotion::reduced`]), C written out by Cramer's rule, so
-//! that the whole reduction is part of the straight-line code.
+//! ([`EquationsOfMotion::reduced`]): C written out by Cramer's rule, the
+//! same sums formed along the one direction C of the rates (v_P^C =
+//! Σ_j c_j v_P^j, ω^C likewise: M = Σ_b m v_G^C · v_G^C + ω^Cᵀ J ω^C and
+//! Q = f̃ along C), not n × n of them then reduced, so that the whole
+//! reduction is part of the straight-line code and costs a dot product
+//! per body and load.
 
 use crate::diff::{partial, Memo};
 use crate::dynamics::{Dynamics, LoadTarget, Turning};
@@ -49,9 +53,11 @@ pub struct EquationsOfMotion {
     /// drivers first), row-major.
     pub jacobian: Vec<Id>,
     /// M̃'s upper triangle, row by row: (0, 0), (0, 1), …, (0, n − 1),
-    /// (1, 1), ….
+    /// (1, 1), … (empty where the equations are
+    /// [`EquationsOfMotion::reduced`]).
     pub mass: Vec<Id>,
-    /// f̃_j, the generalized force on each coordinate, at the leaves' q̈.
+    /// f̃_j, the generalized force on each coordinate, at the leaves' q̈
+    /// (empty where the equations are [`EquationsOfMotion::reduced`]).
     pub forces: Vec<Id>,
     /// The power of each load whose work a forward simulation reports, in
     /// the runtime's order: each force at a point, each torque, each force
@@ -62,8 +68,8 @@ pub struct EquationsOfMotion {
     /// the driver's M = Cᵀ M̃ C and Q = Cᵀ f̃ with C = (1, c₁, c₂) from
     /// Φ_u C_u = −Φ_d by Cramer's rule (c₁ = −Φ_0/Φ_1 for one unknown; for
     /// two, with rows a and b of Φ_q, Δ = a₁b₂ − a₂b₁, c₁ = (a₂b₀ − a₀b₂)/Δ
-    /// and c₂ = (a₀b₁ − a₁b₀)/Δ): a singular Φ_u gives a value that is not
-    /// finite. `None` otherwise.
+    /// and c₂ = (a₀b₁ − a₁b₀)/Δ), each formed along C directly: a singular
+    /// Φ_u gives a value that is not finite. `None` otherwise.
     pub reduced: Option<[Id; 2]>,
 }
 
@@ -91,18 +97,12 @@ impl EquationsOfMotion {
     }
 }
 
-/// M = Cᵀ M̃ C and Q = Cᵀ f̃ for one driver of `n` coordinates (at most
-/// [`MAX_REDUCED_UNKNOWNS`] + 1), from Φ_q (row-major, n − 1 rows), M̃'s
-/// upper triangle and f̃, as [`EquationsOfMotion::reduced`] states them.
-fn reduced(
-    g: &mut Graph,
-    jacobian: &[Id],
-    mass: &[Id],
-    forces: &[Id],
-    n: usize,
-) -> Option<[Id; 2]> {
+/// The kinematic coefficients C = (1, c₁, c₂) of one driver of `n`
+/// coordinates (at most [`MAX_REDUCED_UNKNOWNS`] + 1) from Φ_q (row-major,
+/// n − 1 rows), as [`EquationsOfMotion::reduced`] states them.
+fn coefficients(g: &mut Graph, jacobian: &[Id], n: usize) -> Option<Vec<Id>> {
     let one = g.constant(1.0);
-    let c: Vec<Id> = match (n, jacobian) {
+    Some(match (n, jacobian) {
         (1, []) => vec![one],
         (2, [a0, a1]) => {
             let r = g.div(*a0, *a1);
@@ -119,28 +119,21 @@ fn reduced(
             vec![one, g.div(n1, delta), g.div(n2, delta)]
         }
         _ => return None,
-    };
-    if mass.len() != n * (n + 1) / 2 || forces.len() != n {
-        return None;
-    }
-    // Σ_i c_i (M̃_ii c_i + 2 Σ_{j>i} M̃_ij c_j), row i of the triangle
-    // holding M̃_ii … M̃_i(n−1).
-    let (two, mut m, mut at) = (g.constant(2.0), g.constant(0.0), 0);
-    for i in 0..n {
-        let diagonal = g.mul(mass[at], c[i]);
-        let mut off = g.constant(0.0);
-        for j in i + 1..n {
-            let t = g.mul(mass[at + j - i], c[j]);
-            off = g.sum(off, t);
+    })
+}
+
+/// Σ_j w_j p_j, the partial velocities `p` (one per coordinate) along the
+/// direction `w` of the coordinates' rates: p_k itself for a unit
+/// direction (the simplifier drops the zero terms and the unit factor).
+fn along(g: &mut Graph, p: &[[Id; 3]], w: &[Id]) -> [Id; 3] {
+    let mut out = [g.constant(0.0); 3];
+    for (pj, &wj) in p.iter().zip(w) {
+        for (o, &c) in out.iter_mut().zip(pj) {
+            let t = g.mul(wj, c);
+            *o = g.sum(*o, t);
         }
-        at += n - i;
-        let off = g.mul(two, off);
-        let row = g.sum(diagonal, off);
-        let t = g.mul(c[i], row);
-        m = g.sum(m, t);
     }
-    let q = dot(g, &c, forces);
-    Some([m, q])
+    out
 }
 
 /// Dot product of two vectors of roots (over the shorter).
@@ -214,7 +207,24 @@ pub fn equations(
         .into_iter()
         .map(|(p, j)| partial(g, p, Leaf::Q(j), &mut memo))
         .collect();
-    // v_P^j of every point, padded to three components.
+    // The directions of the coordinates' rates along which the equations
+    // are formed: each coordinate's own (M̃ and f̃), or, reduced, the one
+    // driver's with the unknowns as the loops move them, C (M and Q).
+    let reduced = if nd == 1 && n - nd <= MAX_REDUCED_UNKNOWNS {
+        coefficients(g, &jacobian, n)
+    } else {
+        None
+    };
+    let one = g.constant(1.0);
+    let directions: Vec<Vec<Id>> = match &reduced {
+        Some(c) => vec![c.clone()],
+        None => (0..n)
+            .map(|k| (0..n).map(|j| if j == k { one } else { zero }).collect())
+            .collect(),
+    };
+    let nk = directions.len();
+    // v_P along each direction for every point, padded to three
+    // components.
     let pad = |v: &[Id]| {
         [
             v[0],
@@ -229,6 +239,7 @@ pub fn equations(
         for j in 0..n as u32 {
             per.push(v.map(|c| partial(g, c, Leaf::Qd(j), &mut memo)));
         }
+        let per: Vec<[Id; 3]> = directions.iter().map(|w| along(g, &per, w)).collect();
         velocity_partials.push(per);
     }
     let gravity = if d.gravity.is_empty() {
@@ -257,6 +268,7 @@ pub fn equations(
                 // a tensor); the gyroscopic term does no virtual work.
                 let mut inertia = vec![zero; 9];
                 inertia[8] = b.inertia.last().copied().unwrap_or(zero);
+                let partials = directions.iter().map(|w| along(g, &partials, w)).collect();
                 Some(Turn {
                     omega: [zero, zero, w],
                     alpha: [zero, zero, a],
@@ -266,9 +278,10 @@ pub fn equations(
             }
             Turning::Frame(name) => {
                 let f = derived.frames.get(frames.iter().position(|f| f == name)?)?;
-                let partials = (0..n as u32)
+                let partials: Vec<[Id; 3]> = (0..n as u32)
                     .map(|j| f.omega.map(|c| partial(g, c, Leaf::Qd(j), &mut memo)))
                     .collect();
+                let partials = directions.iter().map(|w| along(g, &partials, w)).collect();
                 // R J Rᵀ.
                 let r: Vec<Id> = f.rotation.iter().flatten().copied().collect();
                 let body = if b.inertia.len() == 9 {
@@ -299,9 +312,9 @@ pub fn equations(
         };
         turns.push(turn);
     }
-    let mut mass = Vec::with_capacity(n * (n + 1) / 2);
-    for i in 0..n {
-        for j in i..n {
+    let mut mass = Vec::with_capacity(nk * (nk + 1) / 2);
+    for i in 0..nk {
+        for j in i..nk {
             let mut m = zero;
             for (b, turn) in d.bodies.iter().zip(&turns) {
                 let vg = velocity_partials.get(point(&b.center)?)?;
@@ -317,7 +330,7 @@ pub fn equations(
             mass.push(m);
         }
     }
-    let mut forces = vec![zero; n];
+    let mut forces = vec![zero; nk];
     for (b, turn) in d.bodies.iter().zip(&turns) {
         let at = point(&b.center)?;
         let a = pad(&derived.acc[at]);
@@ -381,7 +394,10 @@ pub fn equations(
             LoadTarget::Coordinate { coordinate: c } => {
                 let j = coordinate(c)?;
                 let value = *load.value.first()?;
-                forces[j] = g.sub(forces[j], value);
+                for (f, w) in forces.iter_mut().zip(&directions) {
+                    let t = g.mul(w[j], value);
+                    *f = g.sub(*f, t);
+                }
                 let qd = g.leaf(Leaf::Qd(j as u32));
                 coordinate_powers.push(g.mul(value, qd));
             }
@@ -415,17 +431,23 @@ pub fn equations(
         let p = g.mul(s.damping, rr);
         powers.push(g.neg(p));
     }
-    let reduced = if nd == 1 && n - nd <= MAX_REDUCED_UNKNOWNS {
-        reduced(g, &jacobian, &mass, &forces, n)
-    } else {
-        None
-    };
+    if reduced.is_some() {
+        // Along C alone: M and Q.
+        return Some(EquationsOfMotion {
+            coordinates: n,
+            jacobian,
+            reduced: Some([*mass.first()?, *forces.first()?]),
+            mass: Vec::new(),
+            forces: Vec::new(),
+            powers,
+        });
+    }
     Some(EquationsOfMotion {
         coordinates: n,
         jacobian,
         mass,
         forces,
         powers,
-        reduced,
+        reduced: None,
     })
 }
