@@ -527,21 +527,25 @@ impl Dynamics {
         Ok((totals, power))
     }
 
-    /// The energies, the shaking force and moment and the totals on the
-    /// frame of the motion `s`, its loads read at `coords` (q, q', q'').
-    pub(crate) fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
-        let g = self.gravity;
-        let (mut kinetic, mut potential) = (0.0, 0.0);
-        let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());
-        for b in &self.bodies {
-            let [r, v, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
-            let (omega, alpha, inertia) = turning(b, s);
-            let ma = a * b.mass;
-            kinetic += 0.5 * b.mass * v.norm_squared() + 0.5 * omega.dot(&(inertia * omega));
-            potential -= b.mass * g.dot(&r);
-            shaking_force -= ma;
-            shaking_moment -= r.cross(&ma) + inertia * alpha + omega.cross(&(inertia * omega));
-        }
+    /// A body's kinetic and potential energies at its centre's position
+    /// and velocity `[r, v]` and its angular velocity ω (J in the fixed
+    /// axes): ½ m |v|² + ½ ω · J ω and −m g · r.
+    fn body_energies(
+        &self,
+        b: &ResolvedBody,
+        [r, v]: [Vector3<f64>; 2],
+        omega: Vector3<f64>,
+        inertia: &Matrix3<f64>,
+    ) -> (f64, f64) {
+        (
+            0.5 * b.mass * v.norm_squared() + 0.5 * omega.dot(&(inertia * omega)),
+            -b.mass * self.gravity.dot(&r),
+        )
+    }
+
+    /// The springs' energy at the motion `s`: Σ ½ k (L − L₀)².
+    fn spring_energy(&self, s: &dyn View) -> f64 {
+        let mut energy = 0.0;
         for sp in &self.springs {
             let (a, b) = (s.point(sp.from), s.point(sp.to));
             let length = match (a, b) {
@@ -549,8 +553,59 @@ impl Dynamics {
                 _ => f64::NAN,
             };
             let stretch = length - sp.free_length;
-            potential += 0.5 * sp.stiffness * stretch * stretch;
+            energy += 0.5 * sp.stiffness * stretch * stretch;
         }
+        energy
+    }
+
+    /// The kinetic and potential energies of the motion `s`, as
+    /// [`Dynamics::totals`] sums them (T = Σ ½ m |v_G|² + ½ ω · J ω over
+    /// the bodies, V = −Σ m g · r_G + Σ ½ k (L − L₀)² over the bodies and
+    /// springs), without the forces.
+    ///
+    /// # Errors
+    /// An energy that is not finite.
+    pub(crate) fn energies(&self, s: &dyn View) -> Result<(f64, f64), Error> {
+        let (mut kinetic, mut potential) = (0.0, 0.0);
+        for b in &self.bodies {
+            let [r, v, _] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let (omega, _, inertia) = turning(b, s);
+            let (t, u) = self.body_energies(b, [r, v], omega, &inertia);
+            kinetic += t;
+            potential += u;
+        }
+        potential += self.spring_energy(s);
+        for (name, value) in [
+            ("the kinetic energy", kinetic),
+            ("the potential energy", potential),
+        ] {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    input: Input::Computed,
+                    name,
+                    value,
+                });
+            }
+        }
+        Ok((kinetic, potential))
+    }
+
+    /// The energies, the shaking force and moment and the totals on the
+    /// frame of the motion `s`, its loads read at `coords` (q, q', q'').
+    pub(crate) fn totals(&self, s: &dyn View, coords: [&[f64]; 3]) -> Result<Totals, Error> {
+        let (mut kinetic, mut potential) = (0.0, 0.0);
+        let (mut shaking_force, mut shaking_moment) = (Vector3::zeros(), Vector3::zeros());
+        for b in &self.bodies {
+            let [r, v, a] = s.point(b.center).unwrap_or([Vector3::repeat(f64::NAN); 3]);
+            let (omega, alpha, inertia) = turning(b, s);
+            let ma = a * b.mass;
+            let (t, u) = self.body_energies(b, [r, v], omega, &inertia);
+            kinetic += t;
+            potential += u;
+            shaking_force -= ma;
+            shaking_moment -= r.cross(&ma) + inertia * alpha + omega.cross(&(inertia * omega));
+        }
+        potential += self.spring_energy(s);
         let (frame_force, frame_moment) =
             self.on_frame(s, coords, shaking_force, shaking_moment)?;
         let totals = Totals {

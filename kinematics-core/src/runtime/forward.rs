@@ -422,9 +422,7 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
         self.whole()?;
         let view = super::dynamics::RunTime(self.stepper.motion_now());
         let view = Timed(&view, t);
-        let [q, qd, qdd] = dynamics.coordinates_of(&view);
-        let totals = dynamics.totals(&view, [&q, &qd, &qdd])?;
-        Ok((totals.kinetic_energy, totals.potential_energy))
+        dynamics.energies(&view)
     }
 
     fn coordinate(&mut self, j: usize) -> [f64; 3] {

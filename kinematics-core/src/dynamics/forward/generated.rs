@@ -262,9 +262,7 @@ impl<M: Mechanism, P: Profile<M::Coords>> Analysis for Model<'_, M, P> {
         };
         let view = Generated(motion);
         let view = Timed(&view, t);
-        let [q, qd, qdd] = dynamics.coordinates_of(&view);
-        let totals = dynamics.totals(&view, [&q, &qd, &qdd])?;
-        Ok((totals.kinetic_energy, totals.potential_energy))
+        dynamics.energies(&view)
     }
 
     fn coordinate(&mut self, j: usize) -> [f64; 3] {
