@@ -167,12 +167,12 @@ impl<A: Analysis> Eom<'_, A> {
         }
         (*factor, *x) = (f[0], r[0]);
         *head = [dd, r[0]];
-        let np = self.powers.len();
-        if let Some((p, works)) = rest.split_at_mut_checked(np) {
-            copy_small(p, &self.powers);
-            // The impacts' works change at the impacts only.
-            zero_small(works);
-        }
+        let Some((p, works)) = rest.split_at_mut_checked(self.powers.len()) else {
+            return Err(short());
+        };
+        copy_small(p, &self.powers);
+        // The impacts' works change at the impacts only.
+        zero_small(works);
         Ok(())
     }
 
