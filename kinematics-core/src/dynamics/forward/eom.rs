@@ -77,13 +77,10 @@ impl<A: Analysis> Eom<'_, A> {
         }
     }
 
-    /// The free drivers' accelerations at (t, y) into `x`: the mechanism
-    /// assembled and analysed there, M_ff d̈_f = −b_f solved; M and b
-    /// kept.
+    /// M, b and the powers at the drivers' motion `d`, `dd`, `ddd` and
+    /// time t: the mechanism assembled and analysed there.
     #[inline(always)]
-    fn accelerations(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
-        let nf = self.free.len();
-        self.set_drivers(t, y);
+    fn equations_at(&mut self, t: f64) -> Result<(), Error> {
         self.analysis
             .analyze_for_equations(&self.d, &self.dd, &self.ddd)?;
         let mut out = Equations {
@@ -93,7 +90,17 @@ impl<A: Analysis> Eom<'_, A> {
             partials: &mut self.partials,
             terms: &mut self.terms,
         };
-        self.analysis.equations(self.dynamics, t, &mut out)?;
+        self.analysis.equations(self.dynamics, t, &mut out)
+    }
+
+    /// The free drivers' accelerations at (t, y) into `x`: the mechanism
+    /// assembled and analysed there, M_ff d̈_f = −b_f solved; M and b
+    /// kept.
+    #[inline(always)]
+    fn accelerations(&mut self, t: f64, y: &[f64]) -> Result<(), Error> {
+        let nf = self.free.len();
+        self.set_drivers(t, y);
+        self.equations_at(t)?;
         for (i, &k) in self.free.iter().enumerate() {
             self.x[i] = -self.bias[k];
             for (j, &l) in self.free.iter().enumerate() {
@@ -143,16 +150,7 @@ impl<A: Analysis> Eom<'_, A> {
             return Err(short());
         };
         (*dk, *ddk, *dddk) = (d, dd, 0.0);
-        self.analysis
-            .analyze_for_equations(&self.d, &self.dd, &self.ddd)?;
-        let mut out = Equations {
-            mass: &mut self.mass,
-            bias: &mut self.bias,
-            powers: &mut self.powers,
-            partials: &mut self.partials,
-            terms: &mut self.terms,
-        };
-        self.analysis.equations(self.dynamics, t, &mut out)?;
+        self.equations_at(t)?;
         let (Some(&m), Some(&b), Some(factor), Some(x)) = (
             self.mass.get(k * self.nd + k),
             self.bias.get(k),

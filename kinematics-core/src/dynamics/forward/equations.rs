@@ -444,6 +444,22 @@ mod tests {
     use super::{Equations, Reduction, cholesky_solve};
     use crate::dynamics::terms::Terms;
 
+    /// The arrays as `Equations`.
+    fn room<'w>(
+        mass: &'w mut [f64],
+        bias: &'w mut [f64],
+        powers: &'w mut [f64],
+        (partials, terms): (&'w mut [[nalgebra::Vector3<f64>; 2]], &'w mut Terms),
+    ) -> Equations<'w> {
+        Equations {
+            mass,
+            bias,
+            powers,
+            partials,
+            terms,
+        }
+    }
+
     /// M = Cᵀ M̃ C and b = Cᵀ f̃ of one driver and two unknowns (the
     /// unrolled case) against C solved here and the products summed, with
     /// either row the larger pivot; an infinite entry refused.
@@ -463,13 +479,12 @@ mod tests {
             let (mut mass, mut bias, mut powers) = ([0.0], [0.0], [0.0]);
             let mut partials = Vec::new();
             let mut terms = Terms::default();
-            let mut eq = Equations {
-                mass: &mut mass,
-                bias: &mut bias,
-                powers: &mut powers,
-                partials: &mut partials,
-                terms: &mut terms,
-            };
+            let mut eq = room(
+                &mut mass,
+                &mut bias,
+                &mut powers,
+                (&mut partials, &mut terms),
+            );
             let mut r = Reduction::new(3, 1, false);
             assert!(r.reduce(&out, &mut eq));
             let phi_u = Matrix2::new(jacobian[1], jacobian[2], jacobian[4], jacobian[5]);
@@ -496,13 +511,12 @@ mod tests {
             } else {
                 1
             }] = f64::INFINITY;
-            let mut eq = Equations {
-                mass: &mut mass,
-                bias: &mut bias,
-                powers: &mut powers,
-                partials: &mut partials,
-                terms: &mut terms,
-            };
+            let mut eq = room(
+                &mut mass,
+                &mut bias,
+                &mut powers,
+                (&mut partials, &mut terms),
+            );
             assert!(!r.reduce(&bad, &mut eq));
         }
     }
@@ -526,13 +540,12 @@ mod tests {
             (&[2.5, -0.75, 0.125][..], false),
             (&[2.5][..], false),
         ] {
-            let mut eq = Equations {
-                mass: &mut mass,
-                bias: &mut bias,
-                powers: &mut powers,
-                partials: &mut partials,
-                terms: &mut terms,
-            };
+            let mut eq = room(
+                &mut mass,
+                &mut bias,
+                &mut powers,
+                (&mut partials, &mut terms),
+            );
             assert_eq!(r.reduce(out, &mut eq), ok, "{out:?}");
             if ok {
                 assert_eq!((mass, bias, powers), ([2.5], [-0.75], [0.125, -3.0]));
