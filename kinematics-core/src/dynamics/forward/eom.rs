@@ -278,10 +278,20 @@ impl<A: Analysis> System for Eom<'_, A> {
         2 * self.free.len()
     }
 
+    #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         if self.lean {
             return self.rhs_one(t, y, dy);
         }
+        self.rhs_general(t, y, dy)
+    }
+}
+
+impl<A: Analysis> Eom<'_, A> {
+    /// [`System::rhs`] of any number of free and prescribed drivers, with
+    /// the sensitivities where asked.
+    #[inline(never)]
+    fn rhs_general(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         let nf = self.free.len();
         if self.parameters > 0 {
             self.acceleration_jacobian(t, y)?;

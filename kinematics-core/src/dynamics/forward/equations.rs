@@ -241,6 +241,7 @@ impl Reduction {
     /// not the length of [`Reduction::outputs`] for `eq`'s powers, Φ_u is
     /// singular or a value is not finite (the caller then sums the
     /// general way, which names the cause).
+    #[inline]
     pub(crate) fn reduce(&mut self, out: &[f64], eq: &mut Equations<'_>) -> bool {
         if self.reduced {
             // M and b as compiled (not finite where Φ_u is singular), then
@@ -257,6 +258,12 @@ impl Reduction {
                 _ => false,
             };
         }
+        self.reduce_full(out, eq)
+    }
+
+    /// [`Reduction::reduce`] of roots in all the coordinates.
+    #[inline(never)]
+    fn reduce_full(&mut self, out: &[f64], eq: &mut Equations<'_>) -> bool {
         let (n, nd) = (self.n, self.nd);
         if nd == 0
             || nd > n
