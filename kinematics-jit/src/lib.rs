@@ -65,8 +65,8 @@ mod fused;
 mod lower;
 
 pub use fused::{
-    Callable, Compare, Function, Fused, Helper, Inst, Layout, Op, Port, SmallBlock, SolveBlock,
-    SolveRow, Val, HELPER_PANICKED, PORTS,
+    Callable, Compare, Function, Fused, Helper, Inst, Layout, Op, Port, Series, SmallBlock,
+    SolveBlock, SolveRow, Val, HELPER_PANICKED, PORTS,
 };
 use lower::{Imports, Lower, Sources};
 

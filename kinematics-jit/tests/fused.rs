@@ -219,6 +219,7 @@ fn carried_cosines_and_sines() {
             carried: 20,
             to: 8,
             fresh: 3,
+            series: TAYLOR,
         },
         Op::Store {
             roots: vec![pc, ps],
@@ -245,13 +246,34 @@ fn carried_cosines_and_sines() {
         assert_eq!((f[20], f[21], f[22]), (f[8], f[9], f[2]));
         used_after(&f);
     }
-    assert_eq!(h.calls, [3], "no fresh computation within 1/32");
-    // A jump beyond 1/32 is computed afresh.
+    // Steps of 0.06, within 1/16 but past 1/32.
+    for k in 1..=4 {
+        f[2] = 1.16 + 0.06 * f64::from(k);
+        assert_eq!(code.call(0, &mut f, &mut h), 0);
+        assert!((f[8] - f[2].cos()).abs() < 4e-15 && (f[9] - f[2].sin()).abs() < 4e-15);
+        used_after(&f);
+    }
+    assert_eq!(h.calls, [3], "no fresh computation within 1/16");
+    // A jump beyond 1/16 is computed afresh.
     f[2] = 2.0;
     assert_eq!(code.call(0, &mut f, &mut h), 0);
     assert_eq!(h.calls, [3, 3]);
     used_after(&f);
 }
+
+/// sin Δ and 1 − cos Δ by their Taylor series to Δ⁹ and Δ¹⁰, for
+/// |Δ| ≤ 1/16.
+const TAYLOR: kinematics_jit::Series = kinematics_jit::Series {
+    step: 0.0625,
+    sin: [1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0, 1.0 / 362_880.0],
+    vers: [
+        0.5,
+        1.0 / 24.0,
+        1.0 / 720.0,
+        1.0 / 40_320.0,
+        1.0 / 3_628_800.0,
+    ],
+};
 
 #[test]
 fn ports_are_read_and_written() {

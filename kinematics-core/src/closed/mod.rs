@@ -488,6 +488,25 @@ pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
     shifted
 }
 
+/// The largest change of a driver angle (rad) that [`carried_sin_cos`]
+/// rotates by; beyond it the cosine and sine are computed afresh. The
+/// run-time models' machine code takes the same rule.
+pub const CARRIED_STEP: f64 = 0.0625;
+
+/// The coefficients of sin Δ = Δ − Δ³ (c₀ − Δ² (c₁ − Δ² (c₂ − Δ² c₃))):
+/// 1/3!, 1/5!, 1/7!, 1/9!.
+pub const SIN_SERIES: [f64; 4] = [1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0, 1.0 / 362_880.0];
+
+/// The coefficients of 1 − cos Δ = Δ² (c₀ − Δ² (c₁ − Δ² (c₂ − Δ² (c₃ −
+/// Δ² c₄)))): 1/2!, 1/4!, 1/6!, 1/8!, 1/10!.
+pub const VERS_SERIES: [f64; 5] = [
+    0.5,
+    1.0 / 24.0,
+    1.0 / 720.0,
+    1.0 / 40_320.0,
+    1.0 / 3_628_800.0,
+];
+
 /// The cosine and sine of a driver angle φ, from those of the previous
 /// step's value φ₀ held in `carried` = (cos φ₀, sin φ₀, φ₀): with
 /// Δ = φ − φ₀,
@@ -495,18 +514,19 @@ pub fn near(c: &mut f64, s: &mut f64, reference: f64) -> f64 {
 /// cos φ = cos φ₀ − (cos φ₀ (1 − cos Δ) + sin φ₀ sin Δ),
 /// sin φ = sin φ₀ − (sin φ₀ (1 − cos Δ) − cos φ₀ sin Δ),
 ///
-/// with sin Δ and 1 − cos Δ by their series (truncation below 1e-19 for
-/// |Δ| ≤ 1/32), so no trigonometric function is called. Each rotation adds
+/// with sin Δ and 1 − cos Δ by their series (truncation below 2e-21 for
+/// |Δ| ≤ 1/16), so no trigonometric function is called. Each rotation adds
 /// at most about one unit in the last place; a stepper sets φ₀ to NaN every
-/// 16 steps, and then, as for |Δ| > 1/32, (cos φ, sin φ) are computed
+/// 16 steps, and then, as for |Δ| > 1/16, (cos φ, sin φ) are computed
 /// afresh. On return `carried` holds (cos φ, sin φ, φ).
 ///
 /// ```
 /// use kinematics_core::closed::carried_sin_cos;
 /// let mut carried = [f64::NAN; 3];
 /// let mut worst = 0.0f64;
-/// for k in 0..16 {
-///     let phi = 1.0 + 0.01 * f64::from(k);
+/// for k in 0i32..16 {
+///     // Steps of 0.01 rad, then of 0.06.
+///     let phi = 1.0 + 0.01 * f64::from(k) + 0.05 * f64::from((k - 8).max(0));
 ///     let [c, s] = carried_sin_cos(phi, &mut carried);
 ///     worst = worst.max((c - phi.cos()).abs()).max((s - phi.sin()).abs());
 /// }
@@ -518,12 +538,18 @@ pub fn carried_sin_cos(phi: f64, carried: &mut [f64; 3]) -> [f64; 2] {
     let [c0, s0, phi0] = *carried;
     let d = phi - phi0;
     // Written so that a NaN φ₀ (or φ) takes the fresh computation.
-    let (c, s) = if d.abs() <= 0.031_25 {
+    let (c, s) = if d.abs() <= CARRIED_STEP {
         let d2 = d * d;
-        // sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7! (next term below 1e-19);
-        // 1 − cos Δ = Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8! (next below 3e-22).
-        let sin = d - d * d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0)));
-        let vers = d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))));
+        // sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7! + Δ⁹/9! (next term below 2e-21);
+        // 1 − cos Δ = Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8! + Δ¹⁰/10! (next below
+        // 8e-24).
+        let sin = d - d
+            * d2
+            * (SIN_SERIES[0] - d2 * (SIN_SERIES[1] - d2 * (SIN_SERIES[2] - d2 * SIN_SERIES[3])));
+        let vers = d2
+            * (VERS_SERIES[0]
+                - d2 * (VERS_SERIES[1]
+                    - d2 * (VERS_SERIES[2] - d2 * (VERS_SERIES[3] - d2 * VERS_SERIES[4]))));
         (c0 - (c0 * vers + s0 * sin), s0 - (s0 * vers - c0 * sin))
     } else {
         let (s, c) = crate::math::table::sin_cos(phi);

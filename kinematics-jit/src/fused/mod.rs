@@ -39,7 +39,7 @@ use emit::{
     alternating, call_helper, guarded, not_finite, offset, port_slot, seed_at, Guard, Memory,
 };
 pub use ops::{
-    Compare, Helper, Inst, Layout, Op, Port, SmallBlock, SolveBlock, SolveRow, Val,
+    Compare, Helper, Inst, Layout, Op, Port, Series, SmallBlock, SolveBlock, SolveRow, Val,
     HELPER_PANICKED, PORTS,
 };
 
@@ -310,6 +310,7 @@ impl Fused {
                             carried,
                             to,
                             fresh,
+                            series: rotation,
                         } => {
                             let x = memory.load(&mut b, *value)?;
                             let c0 = memory.load(&mut b, *carried)?;
@@ -317,25 +318,20 @@ impl Fused {
                             let x0 = memory.load(&mut b, carried + 2)?;
                             let d = b.ins().fsub(x, x0);
                             let ad = b.abs(d);
-                            let limit = b.ins().f64const(0.031_25);
+                            let limit = b.ins().f64const(rotation.step);
                             let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
                             let (series, computed, join) =
                                 (b.create_block(), b.create_block(), b.create_block());
                             b.ins().brif(near, series, &[], computed, &[]);
                             b.switch_to_block(series);
                             let d2 = b.ins().fmul(d, d);
-                            // sin Δ = Δ − Δ·Δ²·(1/6 − Δ²·(1/120 − Δ²·(1/5040))).
-                            let inner =
-                                alternating(&mut b, d2, &[1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0]);
+                            // sin Δ = Δ − Δ·Δ²·(s₀ − Δ²·(s₁ − …)).
+                            let inner = alternating(&mut b, d2, &rotation.sin);
                             let dd2 = b.ins().fmul(d, d2);
                             let t = b.ins().fmul(dd2, inner);
                             let sin = b.ins().fsub(d, t);
-                            // 1 − cos Δ = Δ²·(1/2 − Δ²·(1/24 − Δ²·(1/720 − Δ²·(1/40320)))).
-                            let inner = alternating(
-                                &mut b,
-                                d2,
-                                &[0.5, 1.0 / 24.0, 1.0 / 720.0, 1.0 / 40320.0],
-                            );
+                            // 1 − cos Δ = Δ²·(v₀ − Δ²·(v₁ − …)).
+                            let inner = alternating(&mut b, d2, &rotation.vers);
                             let vers = b.ins().fmul(d2, inner);
                             // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
                             let a = b.ins().fmul(c0, vers);

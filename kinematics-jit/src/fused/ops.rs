@@ -67,11 +67,10 @@ pub enum Op {
     },
     /// The cosine and sine of x = `f[value]` from those of the x₀ carried at
     /// `f[carried..carried + 3]` as (cos x₀, sin x₀, x₀): where
-    /// |x − x₀| ≤ 1/32, rotated by Δ = x − x₀ with sin Δ and 1 − cos Δ by
-    /// their series (sin Δ = Δ − Δ³/3! + Δ⁵/5! − Δ⁷/7!, 1 − cos Δ =
-    /// Δ²/2! − Δ⁴/4! + Δ⁶/6! − Δ⁸/8!, truncation below 1e-19), written at
-    /// `f[to]`, `f[to + 1]` and carried; otherwise (a NaN x₀ among them) by
-    /// calling the helper with `fresh`, which computes and writes them.
+    /// |x − x₀| ≤ `series.step`, rotated by Δ = x − x₀ with sin Δ and
+    /// 1 − cos Δ by their series ([`Series`]), written at `f[to]`,
+    /// `f[to + 1]` and carried; otherwise (a NaN x₀ among them) by calling
+    /// the helper with `fresh`, which computes and writes them.
     CarriedTrig {
         /// Where x lies.
         value: usize,
@@ -81,6 +80,8 @@ pub enum Op {
         to: usize,
         /// The helper's argument for a fresh computation.
         fresh: u64,
+        /// The largest step rotated by, and the series.
+        series: Series,
     },
     /// The scaled diagonal blocks (each entry the root times its row's
     /// and column's scales), of one or two unknowns each, factored as
@@ -293,6 +294,21 @@ pub enum Inst {
     And(Val, Val),
     /// `if flag { x } else { y }`, without a branch.
     Select(Val, Val, Val),
+}
+
+/// The rotation of a [`Op::CarriedTrig`]: the largest step |Δ| it
+/// rotates by, and the coefficients of sin Δ = Δ − Δ³ (s₀ − Δ² (s₁ −
+/// Δ² (s₂ − Δ² s₃))) and 1 − cos Δ = Δ² (v₀ − Δ² (v₁ − Δ² (v₂ − Δ² (v₃ −
+/// Δ² v₄)))), evaluated in that order (so that a caller's own evaluation
+/// of the same series gives the same numbers, bit for bit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Series {
+    /// The largest |Δ| rotated by.
+    pub step: f64,
+    /// s₀ … s₃ (1/3!, 1/5!, … for the Taylor series).
+    pub sin: [f64; 4],
+    /// v₀ … v₄ (1/2!, 1/4!, … for the Taylor series).
+    pub vers: [f64; 5],
 }
 
 /// One diagonal block of an [`Op::FactorSmall`], of one or two unknowns.

@@ -339,6 +339,11 @@ impl Plan {
                 carried: carry + 3 * j,
                 to: trig + 2 * j,
                 fresh: DRIVER_TRIG + j as u64,
+                series: kinematics_jit::Series {
+                    step: crate::closed::CARRIED_STEP,
+                    sin: crate::closed::SIN_SERIES,
+                    vers: crate::closed::VERS_SERIES,
+                },
             })
             .collect();
         // The dyads and the small blocks' factors are written into the
