@@ -294,16 +294,19 @@ impl Dopri {
                 self.h = h * 0.25;
                 continue;
             }
-            // The PI controller: exponents 1/5 − 0.75 β and β, β = 0.04.
+            // The PI controller: exponents 1/5 − 0.75 β and β, β = 0.04
+            // (ln err taken once).
+            let ln_err = if err > 0.0 { math::ln(err) } else { f64::NAN };
             let fac11 = if err > 0.0 {
-                math::exp(0.17 * math::ln(err))
+                math::exp(0.17 * ln_err)
             } else {
                 0.0
             };
             if err <= 1.0 {
                 let fac = fac11 / self.previous_factor;
                 let fac = (fac / 0.9).clamp(0.1, 5.0);
-                self.previous_factor = math::exp(0.04 * math::ln(err.max(1e-4)));
+                let floor = if err >= 1e-4 { ln_err } else { math::ln(1e-4) };
+                self.previous_factor = math::exp(0.04 * floor);
                 self.accept(h, last.then_some(t_end));
                 self.h = h / fac;
                 self.refused = None;
