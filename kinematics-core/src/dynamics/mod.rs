@@ -95,6 +95,7 @@ mod joints;
 mod reactions;
 pub(crate) mod sensitivity;
 pub(crate) mod terms;
+pub(crate) mod totals;
 
 use alloc::boxed::Box;
 use alloc::format;
