@@ -84,6 +84,9 @@ class Model:
         self, driver: str, start: Sequence[float], spec: Tuple[Optional[float], Optional[float], Optional[float], int], opts: Optional[_Options]
     ) -> Dict[str, Any]: ...
     def sweep(self, driver: str, start: Sequence[float], spec: _SweepSpec, opts: Optional[_Options]) -> Sweep: ...
+    def _repeat_in_rust(
+        self, kind: str, driver: str, start: Sequence[float], spec: _SweepSpec, opts: Optional[_Options], repeats: int
+    ) -> None: ...
     def batch(
         self,
         values: npt.NDArray[np.float64],

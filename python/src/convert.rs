@@ -2,7 +2,7 @@
 
 use kinematics_core::runtime::{Motion, PointState};
 use kinematics_core::FrameState;
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -13,7 +13,11 @@ pub(crate) fn array(py: Python<'_>, v: Vec<f64>) -> Bound<'_, PyArray1<f64>> {
 
 /// The values `v` (in C order) as an array of shape `shape`.
 pub(crate) fn shaped(py: Python<'_>, v: Vec<f64>, shape: Vec<usize>) -> PyResult<Bound<'_, PyAny>> {
-    Ok(PyArray1::from_vec(py, v).reshape(shape)?.into_any())
+    // One array object over the vector's memory (a reshape would make a
+    // second, a view of the first).
+    let a = numpy::ndarray::ArrayD::from_shape_vec(shape, v)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(numpy::PyArrayDyn::from_owned_array(py, a).into_any())
 }
 
 /// `a`, a new array nothing else refers to, made read-only: the arrays a

@@ -11,7 +11,7 @@
 
 use kinematics_core::closed::Mode;
 use kinematics_core::runtime::{
-    Batch, BatchSweep, CompileError, Model as Runtime, Motion, Reduce, Sample,
+    Batch, BatchSweep, CompileError, Model as Runtime, Motion, Reduce, Sample, SweepBuilder,
 };
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::{PointRole, Projection};
@@ -517,33 +517,11 @@ impl Model {
         let o = options(py, opts.as_ref())?;
         let change = change_points(&spec.6)?;
         let builder = self
-            .model
-            .sweep(driver, &start)
-            .map_err(|e| error(py, &e))?;
-        let builder = builder
-            .steps(spec.3)
+            .grid(py, driver, &start, (spec.0, spec.1, spec.2, spec.3), &o)?
             .rate(spec.4)
             .acceleration(spec.5)
-            .options(&o)
             .change_points(change);
-        let builder = match spec.0 {
-            Some(f) => builder.from(f),
-            None => builder,
-        };
-        let builder = match (spec.1, spec.2) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
-        };
-        // `sweep` checked that the driver is one of the model's.
-        let (name, kind) = self
-            .model
-            .coordinates()
-            .iter()
-            .find(|c| c.name == driver)
-            .map_or(("", kinematics_core::Kind::Angle), |c| (c.name, c.kind));
-        let rows = spec.3.max(1) + usize::from(spec.1.is_some());
-        let mut columns = Columns::new(&self.model, name, kind, rows);
+        let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
         py.detach(|| {
             let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
             columns.end(end);
@@ -565,26 +543,8 @@ impl Model {
         opts: Option<OptionsTuple>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(py, opts.as_ref())?;
-        let m = &self.model;
-        let builder = m
-            .sweep(driver, &start)
-            .map_err(|e| error(py, &e))?
-            .steps(spec.3)
-            .options(&o);
-        let builder = match spec.0 {
-            Some(f) => builder.from(f),
-            None => builder,
-        };
-        let builder = match (spec.1, spec.2) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
-        };
-        let (nc, np, dim) = (m.coordinates().len(), m.point_names().len(), self.dim());
-        let rows = spec.3.max(1) + usize::from(spec.1.is_some());
-        let mut at = Vec::with_capacity(rows);
-        let mut qs = Vec::with_capacity(rows * nc);
-        let mut points = Vec::with_capacity(rows * np * dim);
+        let builder = self.grid(py, driver, &start, spec, &o)?;
+        let (mut at, mut qs, mut points) = self.pose_columns(spec.1.is_some(), spec.3);
         let end = py.detach(|| {
             builder.for_each_pose(|value, q, r| {
                 at.push(value);
@@ -592,6 +552,11 @@ impl Model {
                 points.extend_from_slice(r);
             })
         });
+        let (nc, np, dim) = (
+            self.model.coordinates().len(),
+            self.model.point_names().len(),
+            self.dim(),
+        );
         let n = at.len();
         let d = PyDict::new(py);
         // Read-only: the result's own data.
@@ -603,6 +568,72 @@ impl Model {
         )?;
         d.set_item("stop", stop_dict(py, end.stop.as_ref())?)?;
         Ok(d)
+    }
+
+    /// The native work of `sweep` (`kind` "sweep") or of `poses` ("poses")
+    /// done `repeats` times over, nothing handed to Python: the same
+    /// builder, the same columns filled, then dropped. The benchmark
+    /// `python/benchmarks/python_overhead.py` times it against the calls
+    /// from Python, to measure what the binding adds. `spec` is `sweep`'s.
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    fn _repeat_in_rust(
+        &self,
+        py: Python<'_>,
+        kind: &str,
+        driver: &str,
+        start: Vec<f64>,
+        spec: (
+            Option<f64>,
+            Option<f64>,
+            Option<f64>,
+            usize,
+            f64,
+            f64,
+            String,
+        ),
+        opts: Option<OptionsTuple>,
+        repeats: usize,
+    ) -> PyResult<()> {
+        let o = options(py, opts.as_ref())?;
+        let grid = (spec.0, spec.1, spec.2, spec.3);
+        match kind {
+            "sweep" => {
+                let change = change_points(&spec.6)?;
+                for _ in 0..repeats {
+                    let builder = self
+                        .grid(py, driver, &start, grid, &o)?
+                        .rate(spec.4)
+                        .acceleration(spec.5)
+                        .change_points(change);
+                    let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
+                    py.detach(|| {
+                        let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
+                        columns.end(end);
+                    });
+                    std::hint::black_box(&columns);
+                }
+            }
+            "poses" => {
+                for _ in 0..repeats {
+                    let builder = self.grid(py, driver, &start, grid, &o)?;
+                    let (mut at, mut qs, mut points) = self.pose_columns(spec.1.is_some(), spec.3);
+                    let end = py.detach(|| {
+                        builder.for_each_pose(|value, q, r| {
+                            at.push(value);
+                            qs.extend_from_slice(q);
+                            points.extend_from_slice(r);
+                        })
+                    });
+                    std::hint::black_box((&at, &qs, &points, &end));
+                }
+            }
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "kind {kind:?}: \"sweep\" or \"poses\""
+                )))
+            }
+        }
+        Ok(())
     }
 
     /// A simulation in time from the pose `start` over `duration` seconds
@@ -768,6 +799,58 @@ impl Model {
 }
 
 impl Model {
+    /// The sweep of `driver` from `start` over the grid `(from, to,
+    /// turns, steps)`, as `sweep` and `poses` read it.
+    fn grid<'a>(
+        &'a self,
+        py: Python<'_>,
+        driver: &str,
+        start: &[f64],
+        spec: (Option<f64>, Option<f64>, Option<f64>, usize),
+        o: &Options,
+    ) -> PyResult<SweepBuilder<'a>> {
+        let builder = self
+            .model
+            .sweep(driver, start)
+            .map_err(|e| error(py, &e))?
+            .steps(spec.3)
+            .options(o);
+        let builder = match spec.0 {
+            Some(f) => builder.from(f),
+            None => builder,
+        };
+        Ok(match (spec.1, spec.2) {
+            (Some(t), _) => builder.to(t),
+            (None, Some(n)) => builder.turns(n),
+            (None, None) => builder,
+        })
+    }
+
+    /// The columns of a sweep of `driver` over `steps` steps (one row
+    /// more with an end value: its first sample).
+    fn columns(&self, driver: &str, to: bool, steps: usize) -> Columns {
+        // `grid` checked that the driver is one of the model's.
+        let (name, kind) = self
+            .model
+            .coordinates()
+            .iter()
+            .find(|c| c.name == driver)
+            .map_or(("", kinematics_core::Kind::Angle), |c| (c.name, c.kind));
+        Columns::new(&self.model, name, kind, steps.max(1) + usize::from(to))
+    }
+
+    /// The three vectors a sweep of poses fills: the driver's values,
+    /// the coordinates and the points' positions.
+    fn pose_columns(&self, to: bool, steps: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let rows = steps.max(1) + usize::from(to);
+        let m = &self.model;
+        (
+            Vec::with_capacity(rows),
+            Vec::with_capacity(rows * m.coordinates().len()),
+            Vec::with_capacity(rows * m.point_names().len() * self.dim()),
+        )
+    }
+
     fn dim(&self) -> usize {
         // The model knows its point dimension; an empty sweep's layout
         // gives it without a pose.

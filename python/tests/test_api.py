@@ -363,6 +363,30 @@ def test_poses_are_the_sweeps_positions(FourBar, four_bar):
     assert abs(short.stop.at - math.pi / 2) < 1e-9 and short.at[-1] <= math.pi / 2 and len(short) < 251
 
 
+def test_the_benchmarks_native_repeat_runs_the_same_sweeps(four_bar):
+    # The hook python/benchmarks/python_overhead.py times against the
+    # calls from Python: it takes their arguments and refuses what they
+    # refuse (a sweep that cannot start, an unknown kind).
+    start = four_bar.assemble_all(phi=0.3)[1]
+    q = start.array.tolist()
+    spec = (None, None, 1.0, 36, 10.0, 0.0, "stop")
+    assert four_bar._m._repeat_in_rust("sweep", "phi", q, spec, None, 2) is None
+    assert four_bar._m._repeat_in_rust("poses", "phi", q, spec, None, 2) is None
+    with pytest.raises(ValueError, match="kind"):
+        four_bar._m._repeat_in_rust("forces", "phi", q, spec, None, 1)
+    with pytest.raises(kin.InvalidOptionError):
+        four_bar._m._repeat_in_rust("poses", "th3", q, spec, None, 1)
+    # The arrays handed out are C-ordered, read-only, of the sweep's
+    # shape, and own no copy: their base is the sweep's memory itself.
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=36)
+    for a, shape in ((sw.q._table, (36, 3)), (sw._points, (36, 5, 3, 2))):
+        assert a.shape == shape and a.flags.c_contiguous and not a.flags.writeable
+        assert not isinstance(a.base, np.ndarray)
+    ps = four_bar.poses("phi", start=start, turn=True, steps=36)
+    assert ps.points.shape == (36, 5, 2) and not ps.points.flags.writeable
+    assert not isinstance(ps.points.base, np.ndarray)
+
+
 def test_a_simulation_follows_its_profile(four_bar):
     # The crank starts from rest with φ'' = 20 rad/s² for one second:
     # φ = 10 t², φ' = 20 t; every sample is the analysis at its pose.

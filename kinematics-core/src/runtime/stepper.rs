@@ -785,3 +785,16 @@ fn rescale(m: &Model, run: &mut FusedRun<'_>, start: &[f64], work: &mut Work, op
         .set_scaling(&mut run.f, length, &work.rows, &work.weights);
     run.scaled = m.fixed_scaling;
 }
+
+#[cfg(test)]
+impl Stepper<'_> {
+    /// Whether the fused code took the pose `start`, its closing bound
+    /// first set to `bound` where one is given.
+    pub(super) fn fused_pose_within(&mut self, start: &[f64], bound: Option<f64>) -> bool {
+        if let (Some(run), Some(bound)) = (self.fused.as_mut(), bound) {
+            let threshold = self.options.singularity_threshold;
+            run.plan.set_options(&mut run.f, bound, threshold, 0.0);
+        }
+        self.fused_pose(start)
+    }
+}

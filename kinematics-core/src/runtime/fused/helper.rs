@@ -6,8 +6,8 @@
 use kinematics_jit::Helper;
 
 use super::{
-    BLOCK, CLOSING, DRIVER_TRIG, FACTOR, INCONSISTENT, NO_SOLUTION, NOT_CLOSED, PartPlan, Plan,
-    SINGULAR, WRONG_BRANCH,
+    BLOCK, DRIVER_TRIG, FACTOR, INCONSISTENT, NO_SOLUTION, NOT_CLOSED, PartPlan, Plan, SINGULAR,
+    WRONG_BRANCH,
 };
 use crate::closed;
 use crate::solve::Lu;
@@ -22,7 +22,6 @@ impl Helper for Context<'_> {
         let plan = self.plan;
         let status = match argument {
             FACTOR => plan.factor(f),
-            CLOSING => Some(plan.closing(f)),
             i if i >= BLOCK => usize::try_from(i - BLOCK)
                 .ok()
                 .and_then(|i| plan.parts.get(i))

@@ -47,17 +47,18 @@ pub(super) type PoseFn<'a> = Callable<'a, 1, 2>;
 mod closed;
 mod code;
 mod helper;
+#[cfg(test)]
+mod tests;
 
 use super::closed::Form;
 use super::invariant::hoist;
 use closed::AngleAt;
 use helper::Context;
 
-/// The helper's arguments: the closing check and factorisation, the
-/// closing check alone, driver j's cosine and sine computed afresh at
-/// `DRIVER_TRIG + j`, and block i's closed form at `BLOCK + i`.
+/// The helper's arguments: the closing check and factorisation, driver
+/// j's cosine and sine computed afresh at `DRIVER_TRIG + j`, and block
+/// i's closed form at `BLOCK + i`.
 const FACTOR: u64 = 1;
-const CLOSING: u64 = 2;
 const DRIVER_TRIG: u64 = 1 << 32;
 const BLOCK: u64 = 1 << 48;
 
@@ -436,7 +437,13 @@ impl Plan {
         ];
         let mut pose = import(false);
         pose.extend(assembly.iter().cloned());
-        pose.push(Op::Call(CLOSING));
+        // The closing check in the machine code (a call of the helper
+        // would cost more than the comparison).
+        pose.push(Op::AtMost {
+            at: closing,
+            bound,
+            status: NOT_CLOSED,
+        });
         pose.push(Op::Store {
             roots: h.map_all(&position_roots),
             at: (positions..positions + position_roots.len()).collect(),
