@@ -543,10 +543,11 @@ impl Stepper<'_> {
     /// which [`Model::stepper`] checked; [`Error::Singular`] only from such
     /// a Newton–Raphson step.
     pub fn pose(&mut self, start: &[f64]) -> Result<&[f64], Error> {
-        let m = self.m;
         self.forget();
-        m.check_pose(start)?;
+        // The fused code checks the pose's length and values itself, and
+        // leaves a wrong one to the general path, which says what it is.
         if !self.fused_pose(start) {
+            self.m.check_pose(start)?;
             self.assemble(start)?;
         }
         Ok(&self.q)
@@ -788,8 +789,7 @@ fn rescale(m: &Model, run: &mut FusedRun<'_>, start: &[f64], work: &mut Work, op
 
 #[cfg(test)]
 impl Stepper<'_> {
-    /// Whether the fused code took the pose `start`, its closing bound
-    /// first set to `bound` where one is given.
+    /// Whether the fused code took `start`, its closing bound set first.
     pub(super) fn fused_pose_within(&mut self, start: &[f64], bound: Option<f64>) -> bool {
         if let (Some(run), Some(bound)) = (self.fused.as_mut(), bound) {
             let threshold = self.options.singularity_threshold;
