@@ -655,3 +655,58 @@ fn every_assembly_at_extreme_scales() {
         }
     }
 }
+
+/// A fused stepper's `pose` reports a bad pose as the general path does
+/// (by name, for the right input, or its length), then poses on.
+#[test]
+fn a_fused_pose_reports_bad_inputs_and_poses_on() {
+    use kinematics_core::Input;
+    let text = kinematics_examples::definition("SliderCrank").expect("an example");
+    let mut m = Model::compile(text).expect("compiles");
+    let (a, b) = (0.1, 0.3);
+    m.set_values(&[a, b, 0.0]).expect("three values");
+    let mut stepper = m.stepper(&Options::DEFAULT).expect("valid");
+    assert!(stepper.is_fused());
+    let slider = |phi: f64| a * phi.cos() + (b * b - a * a * phi.sin().powi(2)).sqrt();
+    let mut q = vec![0.0, 0.0, 0.4];
+    for k in 0..40 {
+        q[0] = f64::from(k) * 0.05;
+        let mut bad = q.clone();
+        match k % 10 {
+            3 => {
+                bad[0] = f64::NAN;
+                assert!(matches!(
+                    stepper.pose(&bad),
+                    Err(Error::NonFinite {
+                        input: Input::Driver,
+                        name: "phi",
+                        ..
+                    })
+                ));
+            }
+            7 => {
+                bad[2] = f64::INFINITY;
+                assert!(matches!(
+                    stepper.pose(&bad),
+                    Err(Error::NonFinite {
+                        input: Input::Guess,
+                        name: "x",
+                        ..
+                    })
+                ));
+            }
+            9 => assert!(matches!(
+                stepper.pose(&q[..2]),
+                Err(Error::WrongLength {
+                    expected: 3,
+                    found: 2,
+                    ..
+                })
+            )),
+            _ => {}
+        }
+        let pose = stepper.pose(&q).expect("assembles");
+        assert!((pose[2] - slider(q[0])).abs() < 1e-15, "{k}");
+        q.copy_from_slice(pose);
+    }
+}
