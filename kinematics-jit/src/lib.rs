@@ -62,6 +62,7 @@ use kinematics_compiler::ir::{Graph, Id, Leaf};
 use kinematics_compiler::Compiled;
 
 mod fused;
+mod lanes;
 mod lower;
 
 pub use fused::{
@@ -171,6 +172,9 @@ pub struct Program {
     trig: Vec<usize>,
     /// The code is VEX-encoded ([`clear_upper`] before a call).
     vex: bool,
+    /// The designs evaluated by one call: 1, or 2 in vector lanes
+    /// ([`Program::new_in_lanes`]).
+    lanes: usize,
 }
 
 impl fmt::Debug for Program {
@@ -183,6 +187,7 @@ impl fmt::Debug for Program {
             .field("params", &self.params)
             .field("coords", &self.coords)
             .field("trig", &self.trig)
+            .field("lanes", &self.lanes)
             .finish_non_exhaustive()
     }
 }
@@ -391,6 +396,11 @@ impl Program {
     /// # Errors
     /// As [`Program::new`].
     pub fn for_model(model: &Compiled) -> Result<Self, JitError> {
+        Self::for_model_with(model, false)
+    }
+
+    /// [`Program::for_model`], in lanes or not.
+    fn for_model_with(model: &Compiled, lanes: bool) -> Result<Self, JitError> {
         let newton: Vec<Id> = model
             .residuals()
             .iter()
@@ -414,11 +424,12 @@ impl Program {
             .map(kinematics_compiler::Block::coefficients)
             .collect();
         stages.extend(coefficients.iter().map(Vec::as_slice));
-        Self::new(
+        Self::build(
             model.graph(),
             model.parameters().len() + 1,
             model.coordinates().len(),
             &stages,
+            lanes,
         )
     }
 
@@ -438,6 +449,17 @@ impl Program {
         params: usize,
         coords: usize,
         stages: &[&[Id]],
+    ) -> Result<Self, JitError> {
+        Self::build(graph, params, coords, stages, false)
+    }
+
+    /// [`Program::new`], in lanes or not.
+    fn build(
+        graph: &Graph,
+        params: usize,
+        coords: usize,
+        stages: &[&[Id]],
+        lanes: bool,
     ) -> Result<Self, JitError> {
         let mut module = new_module(&[])?;
         let codegen = |e: &dyn fmt::Display| JitError::Codegen(e.to_string());
@@ -459,6 +481,10 @@ impl Program {
             ctx.func.signature = sig.clone();
             ctx.func.name = UserFuncName::user(0, id.as_u32());
             let mut lower = Lower::new(graph);
+            if lanes {
+                lower = lower.in_lanes();
+            }
+            let width = lower.width();
             {
                 let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
                 let block = b.create_block();
@@ -479,10 +505,14 @@ impl Program {
                     time: Some(params),
                 };
                 lower.emit(&mut b, &sources, &imports, roots)?;
-                let flags = MemFlags::trusted();
+                let flags = if lanes {
+                    MemFlags::new().with_notrap()
+                } else {
+                    MemFlags::trusted()
+                };
                 for (k, &root) in roots.iter().enumerate() {
                     let value = lower.value(&mut b, &sources, &imports, root)?;
-                    let offset = i32::try_from(k * 8)
+                    let offset = i32::try_from(k * 8 * width)
                         .map_err(|_| JitError::Codegen("too many outputs".into()))?;
                     b.ins().store(flags, value, args[4], offset);
                 }
@@ -517,6 +547,7 @@ impl Program {
             coords,
             trig: trig.into_iter().collect(),
             vex,
+            lanes: if lanes { 2 } else { 1 },
         })
     }
 
@@ -575,11 +606,17 @@ impl Program {
     pub fn trig_between(&self, q: &[f64], trig: &mut [f64], from: usize, to: usize) {
         let start = self.trig.partition_point(|&j| j < from);
         let end = self.trig.partition_point(|&j| j < to).max(start);
+        // In lanes, value j of lane l is at 2j + l, its cosine at 4j + l
+        // and its sine at 4j + 2 + l.
+        let w = self.lanes;
         for &j in &self.trig[start..end] {
-            if let (Some(&x), Some(pair)) = (q.get(j), trig.get_mut(2 * j..2 * j + 2)) {
-                let (s, c) = x.sin_cos();
-                pair[0] = c;
-                pair[1] = s;
+            for l in 0..w {
+                let (x, c, s) = (w * j + l, 2 * w * j + l, 2 * w * j + w + l);
+                if let (Some(&x), true) = (q.get(x), s < trig.len()) {
+                    let (sin, cos) = x.sin_cos();
+                    trig[c] = cos;
+                    trig[s] = sin;
+                }
             }
         }
     }
@@ -587,12 +624,13 @@ impl Program {
     /// The first array of a call whose length is not the program's.
     #[cold]
     fn mismatch(&self, inputs: &Inputs<'_>, outputs: usize, out: usize) -> LengthMismatch {
+        let w = self.lanes;
         [
-            ("params", self.params, inputs.params.len()),
-            ("q", self.coords, inputs.q.len()),
-            ("qd", self.coords, inputs.qd.len()),
-            ("qdd", self.coords, inputs.qdd.len()),
-            ("trig", 2 * self.coords, inputs.trig.len()),
+            ("params", w * self.params, inputs.params.len()),
+            ("q", w * self.coords, inputs.q.len()),
+            ("qd", w * self.coords, inputs.qd.len()),
+            ("qdd", w * self.coords, inputs.qdd.len()),
+            ("trig", 2 * w * self.coords, inputs.trig.len()),
             ("out", outputs, out),
         ]
         .into_iter()
@@ -623,9 +661,10 @@ impl Program {
         inputs: &Inputs<'_>,
         out: &mut [f64],
     ) -> Result<(), LengthMismatch> {
-        let outputs = self.outputs(stage);
-        let coords = self.coords;
-        if inputs.params.len() != self.params
+        let w = self.lanes;
+        let outputs = w * self.outputs(stage);
+        let coords = w * self.coords;
+        if inputs.params.len() != w * self.params
             || inputs.q.len() != coords
             || inputs.qd.len() != coords
             || inputs.qdd.len() != coords

@@ -82,6 +82,9 @@ pub(crate) struct Lower<'g> {
     pub(crate) reads_q: bool,
     /// Whether the time was read.
     pub(crate) reads_time: bool,
+    /// Two designs at once: every value a vector of two f64 lanes, every
+    /// array interleaved (value j of lane l at 2j + l).
+    lanes: bool,
 }
 
 impl<'g> Lower<'g> {
@@ -93,7 +96,60 @@ impl<'g> Lower<'g> {
             trig: std::collections::BTreeSet::new(),
             reads_q: false,
             reads_time: false,
+            lanes: false,
         }
+    }
+
+    /// The same lowering on two designs at once ([`Lower::lanes`]).
+    pub(crate) fn in_lanes(mut self) -> Self {
+        self.lanes = true;
+        self
+    }
+
+    /// The values this lowering computes per value of the graph: 2 in
+    /// lanes, else 1.
+    pub(crate) fn width(&self) -> usize {
+        if self.lanes {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// The constant `x`, in every lane.
+    pub(crate) fn constant(&self, b: &mut FunctionBuilder<'_>, x: f64) -> Value {
+        let c = b.ins().f64const(x);
+        if self.lanes {
+            b.ins().splat(types::F64X2, c)
+        } else {
+            c
+        }
+    }
+
+    /// A call of the function `name` of the imports, lane by lane.
+    fn call(
+        &self,
+        b: &mut FunctionBuilder<'_>,
+        imports: &Imports,
+        name: &str,
+        xs: &[Value],
+    ) -> Result<Value, JitError> {
+        if !self.lanes {
+            return imports.call(b, name, xs);
+        }
+        let mut lanes = [None; 2];
+        for (lane, slot) in lanes.iter_mut().enumerate() {
+            let args: Vec<Value> = xs
+                .iter()
+                .map(|&x| b.ins().extractlane(x, lane as u8))
+                .collect();
+            *slot = Some(imports.call(b, name, &args)?);
+        }
+        let [Some(x0), Some(x1)] = lanes else {
+            return Err(JitError::Codegen(format!("`{name}` in lanes")));
+        };
+        let v = b.ins().splat(types::F64X2, x0);
+        Ok(b.ins().insertlane(v, x1, 1))
     }
 
     /// Nodes to read at the given indices of the parameters' array
@@ -195,10 +251,16 @@ impl<'g> Lower<'g> {
     ) -> Result<(), JitError> {
         let graph = self.graph;
         let live = self.needed(roots);
-        let flags = MemFlags::trusted();
-        let float = types::F64;
+        // Lanes are read as unaligned vectors (a Rust array of f64 is
+        // aligned to 8 bytes, not 16).
+        let (flags, float) = if self.lanes {
+            (MemFlags::new().with_notrap(), types::F64X2)
+        } else {
+            (MemFlags::trusted(), types::F64)
+        };
+        let width = self.width();
         let offset = |array: usize, j: usize| {
-            i32::try_from((s.base[array] + j) * 8)
+            i32::try_from((s.base[array] + j) * 8 * width)
                 .map_err(|_| JitError::Codegen("too many values for one function".into()))
         };
         for (i, &alive) in live.iter().enumerate() {
@@ -227,7 +289,7 @@ impl<'g> Lower<'g> {
                 }
             }
             let value = match node {
-                Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
+                Node::Const(bits) => self.constant(b, f64::from_bits(bits)),
                 Node::Leaf(leaf) => {
                     let (array, index, len) = match leaf {
                         Leaf::Param(j) => (0, j, s.params),
@@ -276,24 +338,30 @@ impl<'g> Lower<'g> {
                 }
                 Node::Neg(x) => {
                     let x = self.get(x)?;
-                    b.neg(x)
+                    if self.lanes {
+                        b.ins().fneg(x)
+                    } else {
+                        b.neg(x)
+                    }
                 }
                 Node::Powi(x, n) => {
                     let x = self.get(x)?;
-                    powi(b, x, n)
+                    let one = self.constant(b, 1.0);
+                    powi(b, x, n, one)
                 }
                 Node::Call(f, x) => {
                     let x = self.get(x)?;
                     match (f, symbol(f)) {
                         (Func::Sqrt, _) => b.ins().sqrt(x),
+                        (Func::Abs, _) if self.lanes => b.ins().fabs(x),
                         (Func::Abs, _) => b.abs(x),
-                        (_, Some(name)) => imports.call(b, name, &[x])?,
+                        (_, Some(name)) => self.call(b, imports, name, &[x])?,
                         (_, None) => return Err(JitError::Codegen(format!("no code for {f:?}"))),
                     }
                 }
                 Node::Atan2(y, x) => {
                     let (y, x) = (self.get(y)?, self.get(x)?);
-                    imports.call(b, "kinematics_atan2", &[y, x])?
+                    self.call(b, imports, "kinematics_atan2", &[y, x])?
                 }
             };
             self.values[i] = Some(value);
@@ -354,8 +422,8 @@ impl SignBits for FunctionBuilder<'_> {
 
 /// xⁿ by binary powering, as the standard library's `powi` computes it
 /// (r = 1; for each bit of |n| from the lowest: r ← r·x where it is set,
-/// x ← x²), then 1/r for n < 0.
-fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
+/// x ← x²), then 1/r for n < 0; `one` is 1 in x's type.
+fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32, one: Value) -> Value {
     let mut bits = n.unsigned_abs();
     let mut base = x;
     let mut r: Option<Value> = None;
@@ -372,12 +440,8 @@ fn powi(b: &mut FunctionBuilder<'_>, x: Value, n: i32) -> Value {
         }
         base = b.ins().fmul(base, base);
     }
-    let r = match r {
-        Some(r) => r,
-        None => b.ins().f64const(1.0),
-    };
+    let r = r.unwrap_or(one);
     if n < 0 {
-        let one = b.ins().f64const(1.0);
         b.ins().fdiv(one, r)
     } else {
         r
