@@ -18,7 +18,8 @@
 //!
 //! With `count` it runs 10 000 of each, untimed, for an instruction count
 //! (`valgrind --tool=callgrind`): `scalar_calls` and `lane_calls` are
-//! each 10 000 pairs of designs.
+//! each 10 000 pairs of designs; `count four-bar 2` (a mechanism, a stage
+//! by its place in the list above, from 0) counts that one alone.
 
 #![allow(clippy::expect_used, missing_docs)]
 
@@ -132,7 +133,13 @@ fn lane_calls(c: &Case, stage: usize, out: &mut [f64]) {
 
 fn main() {
     use std::f64::consts::{FRAC_PI_4, PI};
-    let count = std::env::args().nth(1).is_some_and(|a| a == "count");
+    let args: Vec<String> = std::env::args().collect();
+    let count = args.get(1).is_some_and(|a| a == "count");
+    // `count` with a mechanism and a stage: that one alone.
+    let only = |name: &str, k: usize| {
+        args.get(2).is_none_or(|a| a == name)
+            && args.get(3).is_none_or(|a| a.parse() == Ok(k))
+    };
     let cases = [
         case(
             "four-bar",
@@ -150,7 +157,10 @@ fn main() {
         ),
     ];
     for c in &cases {
-        for (what, stage) in STAGES {
+        for (i, (what, stage)) in STAGES.into_iter().enumerate() {
+            if !only(c.name, i) {
+                continue;
+            }
             let k = c.one.outputs(stage);
             let (mut one, mut two) = (vec![0.0; k], vec![0.0; 2 * k]);
             c.two
