@@ -143,7 +143,9 @@ pub struct Inputs<'a> {
     pub qdd: &'a [f64],
     /// cos q_j and sin q_j at entries 2j and 2j + 1, for every coordinate
     /// j of [`Program::trig_coordinates`] (the others are not read), as
-    /// [`Program::trig`] writes them.
+    /// [`Program::trig`] writes them. In lanes ([`Program::lanes`]) every
+    /// array holds both designs interleaved: value j of design l at
+    /// 2j + l, cos q_j and sin q_j of design l at 4j + l and 4j + 2 + l.
     pub trig: &'a [f64],
 }
 
@@ -596,6 +598,7 @@ impl Program {
     /// standard library's `sin_cos`): the [`Inputs::trig`] of the pose
     /// `q`. With `from` the number of drivers, it updates a pose whose
     /// drivers have not changed. Entries past either array are skipped.
+    /// In lanes, both designs' (interleaved as [`Inputs::trig`] says).
     pub fn trig(&self, q: &[f64], trig: &mut [f64], from: usize) {
         self.trig_between(q, trig, from, usize::MAX);
     }
@@ -696,9 +699,10 @@ fn entry(code: *const u8) -> Entry {
 #[allow(unsafe_code)]
 fn call(entry: Entry, inputs: &Inputs<'_>, out: &mut [f64]) {
     // SAFETY: the caller checked every array's length against the
-    // program's: the code reads parameters below `params`, coordinates,
-    // rates and accelerations below `coords`, cosines and sines below
-    // `2 coords`, and writes exactly
+    // program's, times its lanes w: the code reads parameters below
+    // `w params`, coordinates, rates and accelerations below `w coords`,
+    // cosines and sines below `2 w coords` (in lanes as unaligned
+    // 16-byte vectors, each within those bounds), and writes exactly
     // `out.len()` values; the module holding the code lives as long as
     // the program, which the caller borrows.
     unsafe {

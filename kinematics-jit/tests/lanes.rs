@@ -1,6 +1,8 @@
 //! Two designs per call in vector lanes: every stage of every example
 //! definition, and a graph calling every function the code knows, give in
-//! each lane the scalar program's numbers for that design, bit for bit.
+//! each lane the scalar program's numbers for that design, bit for bit (a
+//! NaN where the scalar's is NaN, its sign aside), whether the arrays lie
+//! on 16-byte boundaries or not.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
@@ -96,36 +98,65 @@ fn compare(
     coords: usize,
     draw: &mut Draw,
 ) {
+    compare_with(name, (one, two), (params, coords), draw, None);
+}
+
+/// [`compare`], the first parameter of lane 0 `special` where one is
+/// given; every second round the arrays are read and written 8 bytes past
+/// a 16-byte boundary (the lanes' vectors unaligned).
+fn compare_with(
+    name: &str,
+    (one, two): (&Program, &Program),
+    (params, coords): (usize, usize),
+    draw: &mut Draw,
+    special: Option<f64>,
+) {
     assert_eq!((one.lanes(), two.lanes()), (1, 2));
-    for _ in 0..4 {
+    for round in 0..4 {
+        let skew = round % 2;
+        // Each array one value longer than the call reads, taken from
+        // its value `skew` on.
         let n = |k: usize, draw: &mut Draw, lo: f64, hi: f64| -> Vec<f64> {
-            (0..2 * k).map(|_| draw.next(lo, hi)).collect()
+            (0..=2 * k).map(|_| draw.next(lo, hi)).collect()
         };
-        let p = n(params, draw, 0.2, 2.0);
+        let mut p = n(params, draw, 0.2, 2.0);
+        if let Some(x) = special {
+            p[skew] = x;
+        }
         let (q, qd, qdd) = (
             n(coords, draw, -3.0, 3.0),
             n(coords, draw, -5.0, 5.0),
             n(coords, draw, -50.0, 50.0),
         );
-        let mut trig = vec![0.0; 4 * coords];
-        two.trig(&q, &mut trig, 0);
+        let (p, q, qd, qdd) = (
+            &p[skew..skew + 2 * params],
+            &q[skew..skew + 2 * coords],
+            &qd[skew..skew + 2 * coords],
+            &qdd[skew..skew + 2 * coords],
+        );
+        let mut trig_buffer = vec![0.0; 4 * coords + 1];
+        two.trig(q, &mut trig_buffer[skew..skew + 4 * coords], 0);
+        let trig = &trig_buffer[skew..skew + 4 * coords];
         let inputs = Inputs {
-            params: &p,
-            q: &q,
-            qd: &qd,
-            qdd: &qdd,
-            trig: &trig,
+            params: p,
+            q,
+            qd,
+            qdd,
+            trig,
         };
         for stage in 0..one.stages() {
-            let mut both = vec![0.0; 2 * one.outputs(stage)];
-            two.eval(stage, &inputs, &mut both).unwrap();
+            let k = one.outputs(stage);
+            let mut out = vec![0.0; 2 * k + 1];
+            two.eval(stage, &inputs, &mut out[skew..skew + 2 * k])
+                .unwrap();
+            let both = &out[skew..skew + 2 * k];
             for l in 0..2 {
-                let (pl, ql, qdl, qddl) = (lane(&p, l), lane(&q, l), lane(&qd, l), lane(&qdd, l));
+                let (pl, ql, qdl, qddl) = (lane(p, l), lane(q, l), lane(qd, l), lane(qdd, l));
                 let mut tl = vec![0.0; 2 * coords];
                 one.trig(&ql, &mut tl, 0);
                 assert_eq!(
                     tl,
-                    lane(&trig, l),
+                    lane(trig, l),
                     "{name}: the cosines and sines of lane {l}"
                 );
                 let alone_inputs = Inputs {
@@ -135,13 +166,13 @@ fn compare(
                     qdd: &qddl,
                     trig: &tl,
                 };
-                let mut alone = vec![0.0; one.outputs(stage)];
+                let mut alone = vec![0.0; k];
                 one.eval(stage, &alone_inputs, &mut alone).unwrap();
-                let got = lane(&both, l);
-                for (k, (a, b)) in alone.iter().zip(&got).enumerate() {
+                let got = lane(both, l);
+                for (r, (a, b)) in alone.iter().zip(&got).enumerate() {
                     assert!(
                         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
-                        "{name}, stage {stage}, root {k}, lane {l}: {a:e} alone, {b:e} in lanes"
+                        "{name}, stage {stage}, root {r}, lane {l}: {a:e} alone, {b:e} in lanes"
                     );
                 }
             }
@@ -216,6 +247,12 @@ fn every_function_and_power_is_the_scalar_programs_in_each_lane() {
     let mut draw = Draw(11);
     for _ in 0..20 {
         compare("functions", &one, &two, 3, 1, &mut draw);
+    }
+    // p0 = 0, ±0, ±∞, NaN or huge in one lane: x = p1 exactly, or
+    // infinite, or NaN there; ln, negative powers and quotients then give
+    // infinities and NaN in that lane, finite numbers in the other.
+    for special in [0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, 1e300] {
+        compare_with("functions", (&one, &two), (3, 1), &mut draw, Some(special));
     }
 }
 

@@ -575,6 +575,8 @@ impl Model {
     /// builder, the same columns filled, then dropped. The benchmark
     /// `python/benchmarks/python_overhead.py` times it against the calls
     /// from Python, to measure what the binding adds. `spec` is `sweep`'s.
+    /// Returns the last run's samples and its stop's kind (`None` where
+    /// it ran to its end), as a check that it did the work.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn _repeat_in_rust(
         &self,
@@ -593,9 +595,11 @@ impl Model {
         ),
         opts: Option<OptionsTuple>,
         repeats: usize,
-    ) -> PyResult<()> {
+    ) -> PyResult<(usize, Option<String>)> {
         let o = options(py, opts.as_ref())?;
         let grid = (spec.0, spec.1, spec.2, spec.3);
+        let mut last = (0, None);
+        let kind_of = |stop: Option<&Stop>| stop.map(|s| sweep::stop_kind(&s.reason).to_owned());
         match kind {
             "sweep" => {
                 let change = change_points(&spec.6)?;
@@ -606,11 +610,14 @@ impl Model {
                         .acceleration(spec.5)
                         .change_points(change);
                     let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
-                    py.detach(|| {
+                    let end = py.detach(|| {
                         let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
+                        let stop = end.stop.clone();
                         columns.end(end);
+                        stop
                     });
                     std::hint::black_box(&columns);
+                    last = (columns.rows(), kind_of(end.as_ref()));
                 }
             }
             "poses" => {
@@ -624,7 +631,8 @@ impl Model {
                             points.extend_from_slice(r);
                         })
                     });
-                    std::hint::black_box((&at, &qs, &points, &end));
+                    std::hint::black_box((&at, &qs, &points));
+                    last = (at.len(), kind_of(end.stop.as_ref()));
                 }
             }
             _ => {
@@ -633,7 +641,7 @@ impl Model {
                 )))
             }
         }
-        Ok(())
+        Ok(last)
     }
 
     /// A simulation in time from the pose `start` over `duration` seconds

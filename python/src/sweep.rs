@@ -20,22 +20,27 @@ pub(crate) fn stop_dict<'py>(
         "message",
         stop.message_with("change_points=\"smooth\" (or \"switch\")"),
     )?;
-    let kind = match &stop.reason {
-        StopReason::LimitPosition { unknowns } => {
-            d.set_item("unknowns", *unknowns)?;
-            "limit_position"
-        }
+    match &stop.reason {
+        StopReason::LimitPosition { unknowns } => d.set_item("unknowns", *unknowns)?,
         StopReason::ChangePoint { from, to } => {
             d.set_item("from", *from)?;
             d.set_item("to", *to)?;
-            "change_point"
         }
+        _ => {}
+    }
+    d.set_item("kind", stop_kind(&stop.reason))?;
+    Ok(Some(d))
+}
+
+/// The kind of a stop as Python names it.
+pub(crate) fn stop_kind(reason: &StopReason) -> &'static str {
+    match reason {
+        StopReason::LimitPosition { .. } => "limit_position",
+        StopReason::ChangePoint { .. } => "change_point",
         StopReason::Singular(_) => "singular",
         StopReason::NotAssembled(_) => "not_assembled",
         StopReason::Invalid(_) => "invalid",
-    };
-    d.set_item("kind", kind)?;
-    Ok(Some(d))
+    }
 }
 
 /// Degrees where asked, else radians.

@@ -363,15 +363,25 @@ def test_poses_are_the_sweeps_positions(FourBar, four_bar):
     assert abs(short.stop.at - math.pi / 2) < 1e-9 and short.at[-1] <= math.pi / 2 and len(short) < 251
 
 
-def test_the_benchmarks_native_repeat_runs_the_same_sweeps(four_bar):
+def test_the_benchmarks_native_repeat_runs_the_same_sweeps(FourBar, four_bar):
     # The hook python/benchmarks/python_overhead.py times against the
     # calls from Python: it takes their arguments and refuses what they
     # refuse (a sweep that cannot start, an unknown kind).
     start = four_bar.assemble_all(phi=0.3)[1]
     q = start.array.tolist()
     spec = (None, None, 1.0, 36, 10.0, 0.0, "stop")
-    assert four_bar._m._repeat_in_rust("sweep", "phi", q, spec, None, 2) is None
-    assert four_bar._m._repeat_in_rust("poses", "phi", q, spec, None, 2) is None
+    assert four_bar._m._repeat_in_rust("sweep", "phi", q, spec, None, 2) == (36, None)
+    assert four_bar._m._repeat_in_rust("poses", "phi", q, spec, None, 2) == (36, None)
+    # A crank that cannot turn: both stop where the Python calls stop.
+    m = FourBar(a=0.08, b=0.10, c=0.07, d=0.15, p=0.05, beta=0.0)
+    s = m.assemble_all(phi=0.5)[0]
+    short = (0.5, 3.0, None, 250, 1.0, 0.0, "stop")
+    rows, stop = m._m._repeat_in_rust("sweep", "phi", s.array.tolist(), short, None, 1)
+    sw = m.sweep("phi", start=s, from_=0.5, to=3.0, steps=250)
+    assert (rows, stop) == (len(sw), sw.stop.kind) and stop == "limit_position"
+    rows, stop = m._m._repeat_in_rust("poses", "phi", s.array.tolist(), short, None, 1)
+    ps = m.poses("phi", start=s, from_=0.5, to=3.0, steps=250)
+    assert (rows, stop) == (len(ps), ps.stop.kind)
     with pytest.raises(ValueError, match="kind"):
         four_bar._m._repeat_in_rust("forces", "phi", q, spec, None, 1)
     with pytest.raises(kin.InvalidOptionError):

@@ -137,8 +137,7 @@ fn main() {
     let count = args.get(1).is_some_and(|a| a == "count");
     // `count` with a mechanism and a stage: that one alone.
     let only = |name: &str, k: usize| {
-        args.get(2).is_none_or(|a| a == name)
-            && args.get(3).is_none_or(|a| a.parse() == Ok(k))
+        args.get(2).is_none_or(|a| a == name) && args.get(3).is_none_or(|a| a.parse() == Ok(k))
     };
     let cases = [
         case(

@@ -594,7 +594,7 @@ impl Stepper<'_> {
     }
 
     /// The assembly through the model's fused code, with the points'
-    /// positions (as [`Stepper::fused_step`]; `start` already checked).
+    /// positions (as [`Stepper::fused_step`]; a bad `start` is refused).
     #[inline]
     fn fused_pose(&mut self, start: &[f64]) -> bool {
         self.fused_go(start, None, false)
@@ -789,7 +789,7 @@ fn rescale(m: &Model, run: &mut FusedRun<'_>, start: &[f64], work: &mut Work, op
 
 #[cfg(test)]
 impl Stepper<'_> {
-    /// Whether the fused code took `start`, its closing bound set first.
+    /// Whether the fused code took `start`, its bound (and branch: any) set.
     pub(super) fn fused_pose_within(&mut self, start: &[f64], bound: Option<f64>) -> bool {
         if let (Some(run), Some(bound)) = (self.fused.as_mut(), bound) {
             let threshold = self.options.singularity_threshold;
