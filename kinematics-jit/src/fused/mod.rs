@@ -31,6 +31,7 @@ use crate::{clear_upper, declare_imports, new_module, vex_encoded, JitError};
 
 mod callable;
 mod emit;
+mod lanes;
 mod ops;
 
 pub use callable::Callable;
