@@ -454,3 +454,108 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
         assert!(requirement.contains("a point's position"), "{requirement}");
     }
 }
+
+/// A batch of positions only of the four-bar runs its designs in pairs in
+/// vector lanes; every design's samples, stop and values are those of
+/// the same batch design by design, bit for bit (and of its own sweep of
+/// poses): designs that turn, designs that stop at a limit position, an
+/// odd count, and a sweep long enough for the carried cosines and sines
+/// to be refreshed many times.
+#[test]
+fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
+    let m = four_bar();
+    let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+    let outputs = [
+        Output::Coordinate(1),
+        Output::Coordinate(2),
+        Output::Position(4),
+    ];
+    // Crank-rockers, and every ninth a long crank: it assembles at φ = 0,
+    // and stops where |BD| = b + c if a + d exceeds it. Its unknowns turn
+    // by more than 1/32 rad in some steps, which the scalar pose takes
+    // through the library's closed form: its pair is swept alone.
+    let designs: Vec<f64> = (0..37)
+        .flat_map(|k| {
+            let t = f64::from(k);
+            let (a, c) = if k % 9 == 4 {
+                (0.15, 0.13)
+            } else {
+                (0.03 + 0.0004 * t, 0.10)
+            };
+            [
+                a,
+                0.12 + 0.001 * t,
+                c,
+                0.11,
+                0.06 - 0.001 * t,
+                0.5 + 0.01 * t,
+            ]
+        })
+        .collect();
+    for (steps, turns) in [(360, 1.0), (3600, 2.0)] {
+        let sweep = BatchSweep {
+            turns: Some(turns),
+            ..turn(steps, ChangePoints::Stop)
+        };
+        for reduce in [Reduce::Samples, Reduce::Peak] {
+            let batch = |lanes: bool| {
+                Batch::new(
+                    &m,
+                    &start,
+                    &[1.0],
+                    &[0.0],
+                    Some(sweep.clone()),
+                    &outputs,
+                    &Options::DEFAULT,
+                )
+                .expect("a valid batch")
+                .positions_only()
+                .expect("positions only")
+                .reduced(reduce)
+                .in_lanes(lanes)
+            };
+            let (paired, alone) = (batch(true), batch(false));
+            assert!(paired.in_pairs() && !alone.in_pairs());
+            let (a, b) = (paired.run(&designs), alone.run(&designs));
+            assert_eq!(a.samples, b.samples, "{steps} steps");
+            let stopped = |r: &kinematics_core::runtime::BatchResults| {
+                r.early.iter().map(Option::is_some).collect::<Vec<_>>()
+            };
+            assert_eq!(stopped(&a), stopped(&b));
+            // A long crank stops where a + d > b + c (|BD| reaches b + c).
+            let long = designs
+                .chunks(6)
+                .filter(|p| p[0] + p[3] > p[1] + p[2])
+                .count();
+            assert!(long > 0);
+            assert_eq!(stopped(&a).iter().filter(|s| **s).count(), long);
+            for (d, (x, y)) in a
+                .values
+                .chunks(a.record)
+                .zip(b.values.chunks(b.record))
+                .enumerate()
+            {
+                for (i, (x, y)) in x.iter().zip(y).enumerate() {
+                    assert!(
+                        x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                        "{steps} steps, design {d}, value {i}: {x} in lanes, {y} alone"
+                    );
+                }
+            }
+            // A design's own sweep of poses: the same samples.
+            if reduce == Reduce::Samples {
+                let own = m.with_values(&designs[6..12]).expect("its values");
+                let mut th3 = Vec::new();
+                own.sweep("phi", &start)
+                    .expect("a sweep")
+                    .turns(turns)
+                    .steps(steps)
+                    .for_each_pose(|_, q, _| th3.push(q[1]));
+                assert_eq!(th3.len(), a.samples[1]);
+                for (x, y) in th3.iter().zip(a.output(&paired, 1, 0)) {
+                    assert!((x - y).abs() <= 1e-12, "{x} {y}");
+                }
+            }
+        }
+    }
+}

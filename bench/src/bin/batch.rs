@@ -21,8 +21,9 @@
 //! Then positions only: the same designs, each posed over the turn by
 //! the stepper's `pose` and `positions` (the point's position copied
 //! into the design's array), against the batch of positions only
-//! ([`Batch::positions_only`]) keeping the point's position, checked
-//! equal first and timed the same way.
+//! ([`Batch::positions_only`]) keeping the point's position, design by
+//! design ([`Batch::in_lanes`] off) and in pairs in vector lanes (on),
+//! checked equal first and timed the same way.
 // A measuring harness: a failed step should stop it.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::cast_precision_loss)]
 
@@ -164,8 +165,9 @@ fn turn_keeping(study: &Study, omega: f64, output: Output) -> Batch<'_> {
 }
 
 /// One run of one side on 200 designs of the four-bar, for instruction
-/// counts under callgrind (`count-step`, `count-batch`; the difference
-/// with `count-none`, the set-up alone, is the run's).
+/// counts under callgrind (`count-step`, `count-batch`, and for positions
+/// only `count-pose`, `count-poses-alone`, `count-poses-lanes`; the
+/// difference with `count-none`, the set-up alone, is the run's).
 fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
     let study = four_bar(200);
     let dim = study.model.point_dimension();
@@ -175,6 +177,14 @@ fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
         "count-step" => by_stepper(&study, omega, &mut reference),
         "count-batch" => {
             black_box(pool.install(|| batch.run(&study.designs)));
+        }
+        "count-pose" => by_poses(&study, &mut reference),
+        "count-poses-alone" | "count-poses-lanes" => {
+            let poses = turn_keeping(&study, 1.0, Output::Position(study.point))
+                .positions_only()
+                .unwrap()
+                .in_lanes(which == "count-poses-lanes");
+            black_box(pool.install(|| poses.run(&study.designs)));
         }
         _ => {}
     }
@@ -275,32 +285,65 @@ fn by_poses(s: &Study, out: &mut [f64]) {
 }
 
 /// Positions only: the stepper's poses against the batch of positions
-/// only, checked equal on the designs that turn, then timed.
+/// only, design by design and in pairs in vector lanes, checked equal on
+/// the designs that turn, then timed in interleaved rounds (the three in
+/// turn).
 fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
     let dim = study.model.point_dimension();
-    let batch = turn_keeping(study, 1.0, Output::Position(study.point))
-        .positions_only()
-        .unwrap();
+    let batch = |lanes: bool| {
+        turn_keeping(study, 1.0, Output::Position(study.point))
+            .positions_only()
+            .unwrap()
+            .in_lanes(lanes)
+    };
+    let (alone, paired) = (batch(false), batch(true));
     let mut reference = vec![f64::NAN; study.count * STEPS * dim];
     by_poses(study, &mut reference);
-    let results = pool.install(|| batch.run(&study.designs));
-    let compared = compare(&batch, &results, &reference, STEPS * dim);
-    let [(p, p0, p1), (b, b0, b1), (r, r0, r1)] = interleaved(
-        rounds,
-        (study.count * STEPS) as f64,
-        || {
-            by_poses(study, &mut reference);
-            black_box(&reference);
-        },
-        || {
-            black_box(pool.install(|| batch.run(black_box(&study.designs))));
-        },
-    );
+    let mut compared = 0;
+    for b in [&alone, &paired] {
+        let results = pool.install(|| b.run(&study.designs));
+        compared = compare(b, &results, &reference, STEPS * dim);
+    }
+    let positions = (study.count * STEPS) as f64;
+    let (mut t, mut ratio) = ([vec![], vec![], vec![]], [vec![], vec![]]);
+    for _ in 0..rounds {
+        let t0 = process_cpu_ns();
+        by_poses(study, &mut reference);
+        black_box(&reference);
+        let t1 = process_cpu_ns();
+        black_box(pool.install(|| alone.run(black_box(&study.designs))));
+        let t2 = process_cpu_ns();
+        black_box(pool.install(|| paired.run(black_box(&study.designs))));
+        let t3 = process_cpu_ns();
+        for (v, dt) in t.iter_mut().zip([t1 - t0, t2 - t1, t3 - t2]) {
+            v.push(dt / positions);
+        }
+        ratio[0].push((t2 - t1) / (t1 - t0));
+        ratio[1].push((t3 - t2) / (t1 - t0));
+    }
+    let [p, a, l] = t.map(|mut v| kinematics_bench::spread(&mut v));
+    let [ra, rl] = ratio.map(|mut v| kinematics_bench::spread(&mut v));
     println!(
-        "{}, positions only ({compared} turn fully, equal to 1e-12): pose {p:.1} ns \
-         ({p0:.1}–{p1:.1}), batch {b:.1} ns ({b0:.1}–{b1:.1}) per position; batch / pose \
-         {r:.3} ({r0:.3}–{r1:.3})",
-        study.name
+        "{}, positions only ({compared} turn fully, equal to 1e-12, lanes: {}): pose {:.1} ns \
+         ({:.1}–{:.1}), batch {:.1} ns ({:.1}–{:.1}), in lanes {:.1} ns ({:.1}–{:.1}) per \
+         position; batch / pose {:.3} ({:.3}–{:.3}), in lanes / pose {:.3} ({:.3}–{:.3})",
+        study.name,
+        paired.in_pairs(),
+        p.0,
+        p.1,
+        p.2,
+        a.0,
+        a.1,
+        a.2,
+        l.0,
+        l.1,
+        l.2,
+        ra.0,
+        ra.1,
+        ra.2,
+        rl.0,
+        rl.1,
+        rl.2
     );
 }
 

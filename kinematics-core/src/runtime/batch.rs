@@ -17,6 +17,8 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
 
+mod lanes;
+
 use super::drive::Sink;
 use super::stepper::FlatAt;
 use super::{Flat, Model, Motion, Stepper};
@@ -183,6 +185,9 @@ pub struct Batch<'m> {
     record: usize,
     /// Positions only ([`Batch::positions_only`]).
     poses: bool,
+    /// Designs in pairs in vector lanes where they can be
+    /// ([`Batch::in_lanes`]).
+    lanes: bool,
 }
 
 /// The results of a batch: the designs' records one after the other
@@ -302,6 +307,7 @@ impl<'m> Batch<'m> {
             reduce: Reduce::Samples,
             record: 0,
             poses: false,
+            lanes: true,
         };
         batch.lay_out();
         Ok(batch)
@@ -348,6 +354,22 @@ impl<'m> Batch<'m> {
         }
         self.poses = true;
         Ok(self)
+    }
+
+    /// The batch with its designs of positions only taken in pairs, each
+    /// pair's poses by the pose's machine code in vector lanes (two f64
+    /// per instruction), or not (`on` false: each design alone). On by
+    /// default. It applies to a swept batch of positions only
+    /// ([`Batch::positions_only`]) of a model with parameters whose every
+    /// closed form is in the fused code; the results are each design's
+    /// sweep's either way (to the round-off of the carried cosines and
+    /// sines, which the lanes refresh as a stepper does). A pair where a
+    /// design leaves the common path (a limit position ahead, say) is
+    /// swept alone, design by design, from its start.
+    #[must_use]
+    pub fn in_lanes(mut self, on: bool) -> Self {
+        self.lanes = on;
+        self
     }
 
     /// The batch keeping `reduce` of each output over a design's samples
@@ -432,6 +454,17 @@ impl<'m> Batch<'m> {
         use rayon::prelude::*;
         let width = self.model.params.len().max(1);
         let record = self.record.max(1);
+        if self.in_pairs() {
+            let pairs: Vec<Vec<(usize, Option<Early>)>> = values
+                .par_chunks_mut(2 * record)
+                .zip(designs.par_chunks(2 * width))
+                .map_init(
+                    || (self.model.clone(), self.model.clone()),
+                    |(a, b), (out, d)| self.two(a, b, d, out),
+                )
+                .collect();
+            return pairs.into_iter().flatten().collect();
+        }
         values
             .par_chunks_mut(record)
             .zip(designs.par_chunks(width))
@@ -443,12 +476,39 @@ impl<'m> Batch<'m> {
     fn run_into(&self, designs: &[f64], values: &mut [f64]) -> Vec<(usize, Option<Early>)> {
         let width = self.model.params.len().max(1);
         let record = self.record.max(1);
+        if self.in_pairs() {
+            let (mut a, mut b) = (self.model.clone(), self.model.clone());
+            return values
+                .chunks_mut(2 * record)
+                .zip(designs.chunks(2 * width))
+                .flat_map(|(out, d)| self.two(&mut a, &mut b, d, out))
+                .collect();
+        }
         let mut m = self.model.clone();
         values
             .chunks_mut(record)
             .zip(designs.chunks(width))
             .map(|(out, d)| self.design(&mut m, d, out))
             .collect()
+    }
+
+    /// Two designs (`d`: two rows of values, `out` their records), as a
+    /// pair in lanes; one design (the last of an odd count) alone.
+    fn two(
+        &self,
+        a: &mut Model,
+        b: &mut Model,
+        d: &[f64],
+        out: &mut [f64],
+    ) -> Vec<(usize, Option<Early>)> {
+        let width = self.model.params.len().max(1);
+        let record = self.record.max(1);
+        if d.len() < 2 * width || out.len() < 2 * record {
+            return vec![self.design(a, d, out)];
+        }
+        let (d0, d1) = d.split_at(width);
+        let (o0, o1) = out.split_at_mut(record);
+        self.pair([a, b], [d0, d1], [o0, o1]).into()
     }
 
     /// Runs one design with `model`'s values set to `values`, writing its

@@ -52,14 +52,14 @@ pub struct Stepper<'m> {
     options: Options,
     work: Work,
     motion: Motion,
-    q: Vec<f64>,
+    pub(super) q: Vec<f64>,
     /// The assembly modes followed (NaN: from the next start).
-    modes: Vec<f64>,
+    pub(super) modes: Vec<f64>,
     /// Whether the last step or pose assembled: then the work holds the
     /// cosines and sines of `q`, as the assembly left them.
     assembled: bool,
     /// The fused step's buffer and factors, where the model has one.
-    fused: Option<FusedRun<'m>>,
+    pub(super) fused: Option<FusedRun<'m>>,
     /// Whether the last step was fused and its motion is still in the
     /// buffer only (written into `motion` when asked for).
     pending: bool,
@@ -75,7 +75,7 @@ pub struct Stepper<'m> {
 /// the unknowns, as a generated stepper does), whether the buffer holds a
 /// scaling that every pose shares, and whether it holds the points'
 /// positions at the stepper's pose.
-struct FusedRun<'m> {
+pub(super) struct FusedRun<'m> {
     plan: &'m super::fused::Plan,
     /// The step and pose functions of the plan's code.
     step: StepFn<'m>,
@@ -84,10 +84,10 @@ struct FusedRun<'m> {
     /// points' outputs) and the outputs alone, once a forward simulation
     /// asked for them ([`Stepper::with_motion`]).
     dynamics: Option<(StepFn<'m>, StepFn<'m>)>,
-    f: Vec<f64>,
-    steps: u32,
-    scaled: bool,
-    positions: bool,
+    pub(super) f: Vec<f64>,
+    pub(super) steps: u32,
+    pub(super) scaled: bool,
+    pub(super) positions: bool,
     /// Whether the buffer holds the equations of motion at the last
     /// step's motion.
     motion: bool,

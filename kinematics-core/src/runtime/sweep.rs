@@ -325,6 +325,11 @@ impl SweepBuilder<'_> {
         }
     }
 
+    /// The sweep's values of its driver.
+    pub(super) fn grid(&self) -> Result<Grid, Error> {
+        self.parts().0
+    }
+
     /// The sweep's grid and the drive of its driver.
     fn parts(&self) -> (Result<Grid, Error>, SweepDrive) {
         let kind = self.m.coordinates[self.driver].kind;

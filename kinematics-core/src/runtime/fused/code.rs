@@ -4,7 +4,7 @@
 use kinematics_jit::{Function, Fused};
 
 use super::helper::Context;
-use super::{DYNAMICS, OUTPUTS, POSE, PRELUDE, Plan, PoseFn, STEP, StepFn};
+use super::{DYNAMICS, LEFT, OUTPUTS, POSE, PRELUDE, Plan, PoseFn, STEP, StepFn};
 
 impl Plan {
     /// The compiled functions, compiled at the first call.
@@ -50,6 +50,51 @@ impl Plan {
             })
             .as_ref()?;
         Some((code.function(DYNAMICS)?, code.function(OUTPUTS)?))
+    }
+
+    /// The pose on two designs per call (`kinematics_jit::Fused::new_in_lanes`):
+    /// its buffer and ports hold both designs' values interleaved (value
+    /// i of design l at 2i + l); status 0 where both took the common
+    /// path, else the first check failed or the status that one left it.
+    /// Compiled at the first call; `None` where some block's closed form
+    /// is not in the machine code.
+    pub(in crate::runtime) fn lanes_pose(&self) -> Option<PoseFn<'_>> {
+        self.lanes
+            .get_or_init(|| {
+                let s = &self.source;
+                let (ops, preset) = &s.functions[POSE];
+                let function = [Function { ops, preset }];
+                Fused::new_in_lanes(&s.graph, self.np, s.coords, self.layout, &function, LEFT).ok()
+            })
+            .as_ref()?
+            .function(0)
+    }
+
+    /// Driver j at `x` in both designs of a buffer in lanes: its cosine
+    /// and sine computed afresh and carried, as the helper computes them
+    /// where a stepper refreshes its carried values (so that the pose in
+    /// lanes rotates them by zero, to the same numbers).
+    pub(in crate::runtime) fn carry_driver_in_lanes(&self, f: &mut [f64], j: usize, x: f64) {
+        let (s, c) = crate::math::table::sin_cos(x);
+        let (carry, trig) = (self.carry + 3 * j, self.layout.trig + 2 * j);
+        for (at, v) in [
+            (carry, c),
+            (carry + 1, s),
+            (carry + 2, x),
+            (trig, c),
+            (trig + 1, s),
+        ] {
+            if let Some(both) = f.get_mut(2 * at..2 * at + 2) {
+                both.fill(v);
+            }
+        }
+    }
+
+    /// Whether `status` of [`Plan::lanes_pose`] says that a design left
+    /// the common path there (where its scalar pose calls the helper),
+    /// rather than that a check failed.
+    pub(in crate::runtime) fn left_lanes(status: i64) -> bool {
+        status == LEFT
     }
 
     /// Where the roots of the equations of motion lie in the buffer after

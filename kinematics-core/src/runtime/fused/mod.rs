@@ -73,6 +73,9 @@ const SINGULAR: i64 = 3;
 const WRONG_BRANCH: i64 = 4;
 const NOT_FINITE: i64 = 5;
 const INCONSISTENT: i64 = 6;
+/// The pose in lanes left the common path in a design (the scalar pose
+/// would call the helper there).
+const LEFT: i64 = 7;
 
 /// The fused functions: the invariants and offsets of the parameters,
 /// the step, the pose.
@@ -123,6 +126,10 @@ pub(super) struct Plan {
     /// compiler formed none this code can evaluate: a load that reads the
     /// time).
     dynamics: OnceLock<Option<Fused>>,
+    /// [`POSE`] on two designs per call, compiled when a batch of
+    /// positions only first needs it (`None` where a block's closed form
+    /// goes through the helper: no form in lanes).
+    lanes: OnceLock<Option<Fused>>,
     /// Where the equations of motion's roots lie, and how many there are.
     motion: (usize, usize),
     /// What they are compiled from.
@@ -596,6 +603,7 @@ impl Plan {
         Some(Plan {
             code: OnceLock::new(),
             dynamics: OnceLock::new(),
+            lanes: OnceLock::new(),
             motion: (motion, motion_roots.len()),
             source: Source {
                 graph: h.graph,
