@@ -570,12 +570,7 @@ impl<'m> Batch<'m> {
     /// [`Batch::design`] of positions only: the sweep's poses, or the one
     /// pose at the start.
     fn poses_of(&self, model: &Model, keep: &mut Keep<'_>) -> (usize, Option<Early>) {
-        let put = |keep: &mut Keep<'_>, q: &[f64], r: &[f64]| {
-            keep.put_from(|s| match s.from {
-                From::Positions => (r, s.at),
-                _ => (q, s.at),
-            });
-        };
+        let put = |keep: &mut Keep<'_>, q: &[f64], r: &[f64]| keep.put_pose(q, r);
         let Some(s) = &self.sweep else {
             let mut stepper = match model.stepper(&self.options) {
                 Ok(stepper) => stepper,
@@ -657,6 +652,15 @@ impl Keep<'_> {
                 From::Positions => return (&[], 0),
             };
             (buffer, base + s.at)
+        });
+    }
+
+    /// Keeps a pose `q` and its points' positions `r` as the next row.
+    #[inline(always)]
+    fn put_pose(&mut self, q: &[f64], r: &[f64]) {
+        self.put_from(|s| match s.from {
+            From::Positions => (r, s.at),
+            _ => (q, s.at),
         });
     }
 

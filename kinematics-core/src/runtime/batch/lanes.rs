@@ -20,7 +20,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::{Batch, Early, From, Keep};
+use super::{Batch, Early, Keep};
 use crate::runtime::{Model, Stepper};
 
 /// Value i of lane `l` (0 or 1) of an interleaved array, for each i.
@@ -133,13 +133,6 @@ impl Batch<'_> {
         let mut r = vec![0.0; m.points.len() * m.point_dim];
         let (positions, count) = plan.positions_at();
         let mut q = self.start.clone();
-        // A design's sample: its pose and its points' positions.
-        let put = |keep: &mut Keep<'_>, q: &[f64], r: &[f64]| {
-            keep.put_from(|s| match s.from {
-                From::Positions => (r, s.at),
-                _ => (q, s.at),
-            });
-        };
         // The first pose, each design's own (which sets its modes).
         q[j] = grid.at(0);
         for (stepper, keep) in steppers.iter_mut().zip(keeps.iter_mut()) {
@@ -148,7 +141,7 @@ impl Batch<'_> {
                 return None;
             }
             stepper.positions(&mut r).ok()?;
-            put(keep, &stepper.q, &r);
+            keep.put_pose(&stepper.q, &r);
         }
         let len = plan.layout().len;
         let modes = steppers[0].modes.len();
@@ -193,7 +186,7 @@ impl Batch<'_> {
                         if let Some(both) = f.get(at..at + 2 * count) {
                             lane(both, l, &mut r);
                         }
-                        put(keep, &one, &r);
+                        keep.put_pose(&one, &r);
                     }
                     continue;
                 }
@@ -220,7 +213,7 @@ impl Batch<'_> {
                     return None;
                 }
                 stepper.positions(&mut r).ok()?;
-                put(keep, &stepper.q, &r);
+                keep.put_pose(&stepper.q, &r);
             }
             joined = false;
         }
