@@ -20,7 +20,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::{Batch, Early, Keep};
+use super::{Batch, Early, From, Keep, keep};
 use crate::runtime::{Model, Stepper};
 
 /// Value i of lane `l` (0 or 1) of an interleaved array, for each i.
@@ -47,6 +47,33 @@ fn fused(stepper: &Stepper<'_>) -> bool {
         .fused
         .as_ref()
         .is_some_and(|run| run.positions && run.scaled)
+}
+
+impl Keep<'_> {
+    /// Keeps lane `l`'s pose and points' positions as the next row, read
+    /// from the interleaved pose `q` and positions `r` (each slot's few
+    /// values gathered, the rest not copied).
+    #[inline(always)]
+    fn put_lane(&mut self, q: &[f64], r: &[f64], l: usize) {
+        let row = self.row;
+        if row >= self.rows {
+            return;
+        }
+        for s in self.slots {
+            let from = if matches!(s.from, From::Positions) {
+                r
+            } else {
+                q
+            };
+            let mut v = [0.0; 3];
+            let width = s.width.min(3);
+            for (i, x) in v.iter_mut().enumerate().take(width) {
+                *x = from.get(2 * (s.at + i) + l).copied().unwrap_or(f64::NAN);
+            }
+            keep(self.out, s, row, self.reduce, &v[..width], 0);
+        }
+        self.row = row + 1;
+    }
 }
 
 impl Batch<'_> {
@@ -181,12 +208,8 @@ impl Batch<'_> {
                         if let Some(run) = stepper.fused.as_mut() {
                             run.steps = run.steps.wrapping_add(1);
                         }
-                        lane(&q2, l, &mut one);
                         let at = 2 * positions;
-                        if let Some(both) = f.get(at..at + 2 * count) {
-                            lane(both, l, &mut r);
-                        }
-                        keep.put_pose(&one, &r);
+                        keep.put_lane(&q2, f.get(at..at + 2 * count).unwrap_or(&[]), l);
                     }
                     continue;
                 }
