@@ -394,6 +394,11 @@ pub(crate) fn constant(b: &FunctionBuilder<'_>, v: Value) -> Option<f64> {
         cranelift_codegen::ir::InstructionData::UnaryIeee64 { imm, .. } => {
             Some(f64::from_bits(imm.bits()))
         }
+        // A constant in both lanes of a vector.
+        cranelift_codegen::ir::InstructionData::Unary {
+            opcode: cranelift_codegen::ir::Opcode::Splat,
+            arg,
+        } => constant(b, arg),
         _ => None,
     }
 }

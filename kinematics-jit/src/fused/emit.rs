@@ -132,27 +132,54 @@ pub(super) struct Guard<'o> {
 
 /// A value an instruction defines: a number or a flag.
 #[derive(Clone, Copy)]
-enum Defined {
+pub(super) enum Defined {
     Number(cranelift_codegen::ir::Value),
     Flag(cranelift_codegen::ir::Value),
 }
 
-/// Emits a guarded computation: its instructions in order (the graph's
-/// roots lowered first, together), the branch on its flag, the fast
-/// path's writes, the other path's writes and the helper's call, and the
-/// join, past which the kept offsets hold the join's parameters (and the
-/// layout's leaves among them are seeded into `lower`).
-pub(super) fn guarded(
+/// A guarded computation's value `v`, a number.
+pub(super) fn number_of(
+    values: &[Defined],
+    v: Val,
+) -> Result<cranelift_codegen::ir::Value, JitError> {
+    match values.get(v.0 as usize) {
+        Some(Defined::Number(x)) => Ok(*x),
+        Some(Defined::Flag(_)) => Err(bad_guard("reads a flag as a number")),
+        None => Err(bad_guard("reads a value not defined before")),
+    }
+}
+
+/// A guarded computation's value `v`, a flag.
+pub(super) fn flag_of(
+    values: &[Defined],
+    v: Val,
+) -> Result<cranelift_codegen::ir::Value, JitError> {
+    match values.get(v.0 as usize) {
+        Some(Defined::Flag(x)) => Ok(*x),
+        Some(Defined::Number(_)) => Err(bad_guard("reads a number as a flag")),
+        None => Err(bad_guard("reads a flag not defined before")),
+    }
+}
+
+fn bad_guard(what: &str) -> JitError {
+    JitError::Codegen(format!("a guarded computation {what}"))
+}
+
+/// The values of a guarded computation's instructions, in order (the
+/// graph's roots lowered first, together; `load` reads the buffer). In
+/// lanes (`lanes`), numbers are vectors of two f64 and flags are lane
+/// masks, each lane computed as the scalar code computes it.
+pub(super) fn evaluate(
     b: &mut FunctionBuilder<'_>,
     (lower, sources, imports): (&mut Lower<'_>, &Sources, &Imports),
-    (graph, layout): (&Graph, &Layout),
-    call: HelperCall,
-    memory: &mut Memory<'_>,
-    guard: &Guard<'_>,
-) -> Result<(), JitError> {
-    let bad = |what: &str| JitError::Codegen(format!("a guarded computation {what}"));
-    let roots: Vec<_> = guard
-        .code
+    load: &mut dyn FnMut(
+        &mut FunctionBuilder<'_>,
+        usize,
+    ) -> Result<cranelift_codegen::ir::Value, JitError>,
+    code: &[Inst],
+    lanes: bool,
+) -> Result<Vec<Defined>, JitError> {
+    let roots: Vec<_> = code
         .iter()
         .filter_map(|i| match i {
             Inst::Root(id) => Some(*id),
@@ -160,27 +187,14 @@ pub(super) fn guarded(
         })
         .collect();
     lower.emit(b, sources, imports, &roots)?;
-    let mut values: Vec<Defined> = Vec::with_capacity(guard.code.len());
-    let get = |values: &[Defined], v: Val| -> Result<cranelift_codegen::ir::Value, JitError> {
-        match values.get(v.0 as usize) {
-            Some(Defined::Number(x)) => Ok(*x),
-            Some(Defined::Flag(_)) => Err(bad("reads a flag as a number")),
-            None => Err(bad("reads a value not defined before")),
-        }
-    };
-    let flag = |values: &[Defined], v: Val| -> Result<cranelift_codegen::ir::Value, JitError> {
-        match values.get(v.0 as usize) {
-            Some(Defined::Flag(x)) => Ok(*x),
-            Some(Defined::Number(_)) => Err(bad("reads a number as a flag")),
-            None => Err(bad("reads a flag not defined before")),
-        }
-    };
-    for inst in guard.code {
+    let mut values: Vec<Defined> = Vec::with_capacity(code.len());
+    let get = number_of;
+    for inst in code {
         let number = |x| Ok::<_, JitError>(Defined::Number(x));
         let defined = match inst {
             Inst::Root(id) => number(lower.value(b, sources, imports, *id)?),
-            Inst::Load(at) => number(memory.load(b, *at)?),
-            Inst::Const(x) => number(b.ins().f64const(*x)),
+            Inst::Load(at) => number(load(b, *at)?),
+            Inst::Const(x) => number(konst(b, lanes, *x)),
             Inst::Add(x, y) => {
                 let (x, y) = constant_last(b, get(&values, *x)?, get(&values, *y)?);
                 number(b.ins().fadd(x, y))
@@ -199,11 +213,11 @@ pub(super) fn guarded(
             }
             Inst::Neg(x) => {
                 let x = get(&values, *x)?;
-                number(b.neg(x))
+                number(negated(b, lanes, x))
             }
             Inst::Abs(x) => {
                 let x = get(&values, *x)?;
-                number(b.abs(x))
+                number(if lanes { b.ins().fabs(x) } else { b.abs(x) })
             }
             Inst::Sqrt(x) => {
                 let x = get(&values, *x)?;
@@ -214,7 +228,7 @@ pub(super) fn guarded(
                     .iter()
                     .map(|&(x, y)| Ok((get(&values, x)?, get(&values, y)?)))
                     .collect::<Result<Vec<_>, JitError>>()?;
-                number(sum_of_products(b, &pairs))
+                number(sum_of_products(b, lanes, &pairs))
             }
             Inst::Compare(how, x, y) => {
                 let (x, y) = (get(&values, *x)?, get(&values, *y)?);
@@ -229,17 +243,49 @@ pub(super) fn guarded(
                 Ok(Defined::Flag(b.ins().fcmp(cc, x, y)))
             }
             Inst::And(x, y) => {
-                let (x, y) = (flag(&values, *x)?, flag(&values, *y)?);
+                let (x, y) = (flag_of(&values, *x)?, flag_of(&values, *y)?);
                 Ok(Defined::Flag(b.ins().band(x, y)))
             }
             Inst::Select(c, x, y) => {
-                let c = flag(&values, *c)?;
+                let c = flag_of(&values, *c)?;
                 let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                number(b.ins().select(c, x, y))
+                if lanes {
+                    // The mask's lanes as the vector's: all ones or zeros.
+                    let c = b.ins().bitcast(types::F64X2, MemFlags::new(), c);
+                    number(b.ins().bitselect(c, x, y))
+                } else {
+                    number(b.ins().select(c, x, y))
+                }
             }
         }?;
         values.push(defined);
     }
+    Ok(values)
+}
+
+/// Emits a guarded computation: its instructions in order (the graph's
+/// roots lowered first, together), the branch on its flag, the fast
+/// path's writes, the other path's writes and the helper's call, and the
+/// join, past which the kept offsets hold the join's parameters (and the
+/// layout's leaves among them are seeded into `lower`).
+pub(super) fn guarded(
+    b: &mut FunctionBuilder<'_>,
+    (lower, sources, imports): (&mut Lower<'_>, &Sources, &Imports),
+    (graph, layout): (&Graph, &Layout),
+    call: HelperCall,
+    memory: &mut Memory<'_>,
+    guard: &Guard<'_>,
+) -> Result<(), JitError> {
+    let bad = |what: &str| JitError::Codegen(format!("a guarded computation {what}"));
+    let values = evaluate(
+        b,
+        (lower, sources, imports),
+        &mut |b, at| memory.load(b, at),
+        guard.code,
+        false,
+    )?;
+    let get = |values: &[Defined], v: Val| number_of(values, v);
+    let flag = |values: &[Defined], v: Val| flag_of(values, v);
     let ok = flag(&values, guard.ok)?;
     // What goes on past the join from the fast path: the value it wrote
     // last at each kept offset.
@@ -319,11 +365,39 @@ pub(super) fn seed_at(
     }
 }
 
+/// The constant x: an f64, or in both lanes of a vector (`lanes`).
+pub(super) fn konst(
+    b: &mut FunctionBuilder<'_>,
+    lanes: bool,
+    x: f64,
+) -> cranelift_codegen::ir::Value {
+    let c = b.ins().f64const(x);
+    if lanes {
+        b.ins().splat(types::F64X2, c)
+    } else {
+        c
+    }
+}
+
+/// −x (an f64, or both lanes of a vector).
+fn negated(
+    b: &mut FunctionBuilder<'_>,
+    lanes: bool,
+    x: cranelift_codegen::ir::Value,
+) -> cranelift_codegen::ir::Value {
+    if lanes {
+        b.ins().fneg(x)
+    } else {
+        b.neg(x)
+    }
+}
+
 /// Σ xᵢ yᵢ over the pairs, the terms with a factor that is the constant
 /// ±0 left out (0 when every term is), a factor that is the constant 1
-/// not multiplied by.
+/// not multiplied by (in lanes: vectors, the same in each lane).
 pub(super) fn sum_of_products(
     b: &mut FunctionBuilder<'_>,
+    lanes: bool,
     pairs: &[(cranelift_codegen::ir::Value, cranelift_codegen::ir::Value)],
 ) -> cranelift_codegen::ir::Value {
     let mut sum = None;
@@ -345,27 +419,57 @@ pub(super) fn sum_of_products(
             Some(s) => b.ins().fadd(s, term),
         });
     }
-    sum.unwrap_or_else(|| b.ins().f64const(0.0))
+    sum.unwrap_or_else(|| konst(b, lanes, 0.0))
 }
 
 /// c₀ − x·(c₁ − x·(c₂ − …)) for the constants `c`, innermost first
 /// evaluated (as a series with alternating signs is written).
-pub(super) fn alternating(
+fn alternating(
     b: &mut FunctionBuilder<'_>,
+    lanes: bool,
     x: cranelift_codegen::ir::Value,
     c: &[f64],
 ) -> cranelift_codegen::ir::Value {
     // k − x·t as (−x)·t + k, the same number: the constant is the
     // addition's second operand, which the instruction reads from memory.
     let mut rest = c.iter().rev();
-    let mut t = b.ins().f64const(rest.next().copied().unwrap_or(0.0));
-    let nx = b.neg(x);
+    let mut t = konst(b, lanes, rest.next().copied().unwrap_or(0.0));
+    let nx = negated(b, lanes, x);
     for &k in rest {
         let m = b.ins().fmul(nx, t);
-        let k = b.ins().f64const(k);
+        let k = konst(b, lanes, k);
         t = b.ins().fadd(m, k);
     }
     t
+}
+
+/// cos x and sin x from the carried c₀ = cos x₀ and s₀ = sin x₀, d =
+/// x − x₀ (|d| within the series' step): with sin d = d − d·d²·(s₀ −
+/// d²·(s₁ − …)) and 1 − cos d = d²·(v₀ − d²·(v₁ − …)), cos x = c₀ − (c₀
+/// vers + s₀ sin) and sin x = s₀ − (s₀ vers − c₀ sin).
+pub(super) fn rotated(
+    b: &mut FunctionBuilder<'_>,
+    lanes: bool,
+    d: cranelift_codegen::ir::Value,
+    (c0, s0): (cranelift_codegen::ir::Value, cranelift_codegen::ir::Value),
+    series: &super::Series,
+) -> (cranelift_codegen::ir::Value, cranelift_codegen::ir::Value) {
+    let d2 = b.ins().fmul(d, d);
+    let inner = alternating(b, lanes, d2, &series.sin);
+    let dd2 = b.ins().fmul(d, d2);
+    let t = b.ins().fmul(dd2, inner);
+    let sin = b.ins().fsub(d, t);
+    let inner = alternating(b, lanes, d2, &series.vers);
+    let vers = b.ins().fmul(d2, inner);
+    let a = b.ins().fmul(c0, vers);
+    let bb = b.ins().fmul(s0, sin);
+    let a = b.ins().fadd(a, bb);
+    let c = b.ins().fsub(c0, a);
+    let a = b.ins().fmul(s0, vers);
+    let bb = b.ins().fmul(c0, sin);
+    let a = b.ins().fsub(a, bb);
+    let sn = b.ins().fsub(s0, a);
+    (c, sn)
 }
 
 /// Calls the helper with `argument`, then goes on at `join` when it
@@ -391,12 +495,14 @@ pub(super) fn call_helper(
 /// sum, taken pairwise so that its dependency chain is as short as it can
 /// be, is NaN or infinite when one is, and its product with 0 is then NaN
 /// (0 for a finite sum). Finite values whose sum overflows (beyond
-/// 1.8e308) set the flag too: the caller's general path then decides.
+/// 1.8e308) set the flag too: the caller's general path then decides. In
+/// lanes (vectors), the flag is set when a lane is not finite.
 pub(super) fn not_finite(
     b: &mut FunctionBuilder<'_>,
+    lanes: bool,
     values: &[cranelift_codegen::ir::Value],
 ) -> Option<cranelift_codegen::ir::Value> {
-    let zero = b.ins().f64const(0.0);
+    let zero = konst(b, lanes, 0.0);
     // A constant is finite (or the check would fail at every call).
     let varying: Vec<_> = values
         .iter()
@@ -416,5 +522,6 @@ pub(super) fn not_finite(
     }
     let sum = level.pop()?;
     let test = b.ins().fmul(sum, zero);
-    Some(b.ins().fcmp(FloatCC::Unordered, test, test))
+    let nan = b.ins().fcmp(FloatCC::Unordered, test, test);
+    Some(if lanes { b.ins().vany_true(nan) } else { nan })
 }

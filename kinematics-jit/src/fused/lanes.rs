@@ -15,19 +15,14 @@
 //! operation for operation (the same IEEE operations in the same order).
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
-use cranelift_codegen::ir::{
-    types, AbiParam, Block, BlockArg, InstBuilder, InstructionData, MemFlags, Opcode, UserFuncName,
-    Value,
-};
-use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
-use cranelift_module::{Linkage, Module};
+use cranelift_codegen::ir::{types, Block, BlockArg, InstBuilder, MemFlags, Value};
+use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::Graph;
 
-use super::callable::entry;
-use super::emit::{port_slot, seed_at};
-use super::{Compare, Function, Fused, Inst, Layout, Op, Port, Series, Val, PORTS};
-use crate::lower::{constant, Imports, Lower, Sources};
-use crate::{declare_imports, new_module, vex_encoded, JitError};
+use super::emit::{evaluate, flag_of, konst, not_finite, number_of, port_slot, rotated, seed_at};
+use super::{Function, Fused, Inst, Layout, Op, Port, Series, Val, PORTS};
+use crate::lower::{Imports, Lower, Sources};
+use crate::JitError;
 
 /// Vectors are read and written unaligned (the buffer of f64 is aligned
 /// to 8 bytes), never trapping (every offset is checked).
@@ -37,13 +32,22 @@ fn vector_flags() -> MemFlags {
 
 /// The buffer in lanes: value i of both designs at byte 16 i, with the
 /// values the code holds in registers (as the scalar `Memory`).
-struct Lanes<'w> {
+pub(super) struct Lanes<'w> {
     fp: Value,
     within: &'w dyn Fn(usize) -> Result<i32, JitError>,
     known: std::collections::HashMap<usize, Value>,
 }
 
-impl Lanes<'_> {
+impl<'w> Lanes<'w> {
+    /// The buffer at `fp`, every offset checked by `within`.
+    pub(super) fn new(fp: Value, within: &'w dyn Fn(usize) -> Result<i32, JitError>) -> Self {
+        Self {
+            fp,
+            within,
+            known: std::collections::HashMap::new(),
+        }
+    }
+
     fn load(&mut self, b: &mut FunctionBuilder<'_>, at: usize) -> Result<Value, JitError> {
         if let Some(&v) = self.known.get(&at) {
             return Ok(v);
@@ -65,89 +69,7 @@ impl Lanes<'_> {
 
 /// x in both lanes.
 fn splat(b: &mut FunctionBuilder<'_>, x: f64) -> Value {
-    let c = b.ins().f64const(x);
-    b.ins().splat(types::F64X2, c)
-}
-
-/// The constant both lanes of `v` hold, where `v` is a splatted constant.
-fn lane_constant(b: &FunctionBuilder<'_>, v: Value) -> Option<f64> {
-    let dfg = &b.func.dfg;
-    let cranelift_codegen::ir::ValueDef::Result(inst, 0) = dfg.value_def(v) else {
-        return None;
-    };
-    match dfg.insts[inst] {
-        InstructionData::Unary {
-            opcode: Opcode::Splat,
-            arg,
-        } => constant(b, arg),
-        _ => None,
-    }
-}
-
-/// A flag (an `i8`) set when a lane of one of `values` is not finite, as
-/// the scalar check (a pairwise sum, times 0, is NaN); `None` for none.
-fn not_finite(b: &mut FunctionBuilder<'_>, values: &[Value]) -> Option<Value> {
-    let varying: Vec<_> = values
-        .iter()
-        .copied()
-        .filter(|&v| lane_constant(b, v).is_none_or(f64::is_nan))
-        .collect();
-    let mut level = varying;
-    while level.len() > 1 {
-        level = level
-            .chunks(2)
-            .map(|p| match p {
-                [x, y] => b.ins().fadd(*x, *y),
-                [x] => *x,
-                _ => unreachable_zero(b),
-            })
-            .collect();
-    }
-    let sum = level.pop()?;
-    let zero = splat(b, 0.0);
-    let test = b.ins().fmul(sum, zero);
-    let nan = b.ins().fcmp(FloatCC::Unordered, test, test);
-    Some(b.ins().vany_true(nan))
-}
-
-/// Zero in both lanes (a chunk of two values has one or two).
-fn unreachable_zero(b: &mut FunctionBuilder<'_>) -> Value {
-    splat(b, 0.0)
-}
-
-/// Σ xᵢ yᵢ as the scalar code forms it: terms with a constant ±0 factor
-/// left out, a factor 1 not multiplied by.
-fn sum_of_products(b: &mut FunctionBuilder<'_>, pairs: &[(Value, Value)]) -> Value {
-    let mut sum = None;
-    for &(x, y) in pairs {
-        let (cx, cy) = (lane_constant(b, x), lane_constant(b, y));
-        if cx == Some(0.0) || cy == Some(0.0) {
-            continue;
-        }
-        let term = match (cx, cy) {
-            (Some(1.0), _) => y,
-            (_, Some(1.0)) => x,
-            _ => b.ins().fmul(x, y),
-        };
-        sum = Some(match sum {
-            None => term,
-            Some(s) => b.ins().fadd(s, term),
-        });
-    }
-    sum.unwrap_or_else(|| splat(b, 0.0))
-}
-
-/// c₀ − x·(c₁ − x·(c₂ − …)) in both lanes, as the scalar code forms it.
-fn alternating(b: &mut FunctionBuilder<'_>, x: Value, c: &[f64]) -> Value {
-    let mut rest = c.iter().rev();
-    let mut t = splat(b, rest.next().copied().unwrap_or(0.0));
-    let nx = b.ins().fneg(x);
-    for &k in rest {
-        let m = b.ins().fmul(nx, t);
-        let k = splat(b, k);
-        t = b.ins().fadd(m, k);
-    }
-    t
+    konst(b, true, x)
 }
 
 /// Goes on in a new block when `failed` is 0, else returns `status`.
@@ -185,135 +107,24 @@ impl Fused {
         functions: &[Function<'_>],
         left: i64,
     ) -> Result<Self, JitError> {
-        let mut module = new_module(&[])?;
-        let codegen = |e: &dyn core::fmt::Display| JitError::Codegen(e.to_string());
-        let imports = declare_imports(&mut module)?;
-        let pointer = module.target_config().pointer_type();
-        let mut sig = module.make_signature();
-        for _ in 0..3 {
-            sig.params.push(AbiParam::new(pointer));
-        }
-        sig.returns.push(AbiParam::new(types::I64));
-        let mut ctx = module.make_context();
-        let mut fcx = FunctionBuilderContext::new();
-        let mut ids = Vec::with_capacity(functions.len());
-        let mut needs = Vec::with_capacity(functions.len());
-        let within = |at: usize| {
-            if at < layout.len {
-                i32::try_from(at * 16).map_err(|_| JitError::Codegen("buffer too long".into()))
-            } else {
-                Err(JitError::Codegen(format!(
-                    "offset {at} past the buffer of {}",
-                    layout.len
-                )))
-            }
-        };
-        for (k, function) in functions.iter().enumerate() {
-            let mut need = [0; 2 * PORTS];
-            let id = module
-                .declare_function(&format!("lanes_{k}"), Linkage::Local, &sig)
-                .map_err(|e| codegen(&e))?;
-            ctx.func.signature = sig.clone();
-            ctx.func.name = UserFuncName::user(0, id.as_u32());
-            {
-                let mut b = FunctionBuilder::new(&mut ctx.func, &mut fcx);
-                let start = b.create_block();
-                b.append_block_params_for_function_params(start);
-                let exit = b.create_block();
-                b.append_block_param(exit, types::I64);
-                b.switch_to_block(start);
-                let args = b.block_params(start).to_vec();
-                let (fp, pp) = (args[0], args[2]);
-                let imports = Imports {
-                    refs: imports
-                        .iter()
-                        .map(|(name, fid)| (*name, module.declare_func_in_func(*fid, b.func)))
-                        .collect(),
-                };
-                let sources = Sources {
-                    ptr: [fp; 5],
-                    base: [layout.params, layout.q, layout.qd, layout.qdd, layout.trig],
-                    params,
-                    coords,
-                    time: None,
-                };
-                for (base, n) in [
-                    (layout.params, params),
-                    (layout.q, coords),
-                    (layout.qd, coords),
-                    (layout.qdd, coords),
-                    (layout.trig, 2 * coords),
-                ] {
-                    if n > 0 {
-                        within(base + n - 1)?;
-                    }
-                }
-                for &(_, at) in function.preset {
-                    within(layout.params + at)?;
-                }
-                let mut lower = Lower::new(graph).with_preset(function.preset).in_lanes();
-                let mut memory = Lanes {
-                    fp,
-                    within: &within,
-                    known: std::collections::HashMap::new(),
-                };
-                let mut cx = Emit {
-                    lower: &mut lower,
-                    sources: &sources,
-                    imports: &imports,
-                    graph,
-                    layout: &layout,
-                    coords,
-                    exit,
-                    left,
-                };
-                for op in function.ops {
-                    cx.op(&mut b, &mut memory, op, pp, &mut need)?;
-                }
-                let ok = b.ins().iconst(types::I64, 0);
-                b.ins().jump(exit, &[BlockArg::Value(ok)]);
-                b.switch_to_block(exit);
-                let status = b.block_params(exit)[0];
-                b.ins().return_(&[status]);
-                b.seal_all_blocks();
-                b.finalize();
-            }
-            module
-                .define_function(id, &mut ctx)
-                .map_err(|e| JitError::Codegen(format!("{e:?}")))?;
-            module.clear_context(&mut ctx);
-            ids.push(id);
-            needs.push(need);
-        }
-        module.finalize_definitions().map_err(|e| codegen(&e))?;
-        let entries = ids
-            .into_iter()
-            .map(|id| entry(module.get_finalized_function(id)))
-            .collect();
-        Ok(Fused {
-            vex: vex_encoded(&module),
-            module: core::mem::ManuallyDrop::new(module),
-            entries,
-            needs,
-            len: 2 * layout.len,
-        })
+        Self::compile(graph, (params, coords), layout, functions, Some(left))
     }
 }
 
 /// What the ops of one function in lanes are emitted with.
-struct Emit<'a, 'g> {
-    lower: &'a mut Lower<'g>,
-    sources: &'a Sources,
-    imports: &'a Imports,
-    graph: &'a Graph,
-    layout: &'a Layout,
-    coords: usize,
-    exit: Block,
-    left: i64,
+pub(super) struct Emit<'a, 'g> {
+    pub(super) lower: &'a mut Lower<'g>,
+    pub(super) sources: &'a Sources,
+    pub(super) imports: &'a Imports,
+    pub(super) graph: &'a Graph,
+    pub(super) layout: &'a Layout,
+    pub(super) coords: usize,
+    pub(super) exit: Block,
+    pub(super) left: i64,
 }
 
 impl Emit<'_, '_> {
-    fn op(
+    pub(super) fn op(
         &mut self,
         b: &mut FunctionBuilder<'_>,
         memory: &mut Lanes<'_>,
@@ -336,7 +147,7 @@ impl Emit<'_, '_> {
                     memory.store(b, at, v)?;
                     values.push(v);
                 }
-                if let (Some(status), Some(failed)) = (*finite, not_finite(b, &values)) {
+                if let (Some(status), Some(failed)) = (*finite, not_finite(b, true, &values)) {
                     bail(b, self.exit, failed, status);
                 }
             }
@@ -401,7 +212,7 @@ impl Emit<'_, '_> {
                     memory.store(b, to + i, v)?;
                     values.push(v);
                 }
-                if let (Some(status), Some(failed)) = (*finite, not_finite(b, &values)) {
+                if let (Some(status), Some(failed)) = (*finite, not_finite(b, true, &values)) {
                     bail(b, self.exit, failed, status);
                 }
             }
@@ -421,7 +232,7 @@ impl Emit<'_, '_> {
                 for i in 0..*len {
                     values.push(memory.load(b, from + i)?);
                 }
-                if let Some(failed) = not_finite(b, &values) {
+                if let Some(failed) = not_finite(b, true, &values) {
                     bail(b, self.exit, failed, *status);
                 }
             }
@@ -457,21 +268,7 @@ impl Emit<'_, '_> {
         let limit = splat(b, series.step);
         let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
         unless_all(b, self.exit, near, self.left);
-        let d2 = b.ins().fmul(d, d);
-        let inner = alternating(b, d2, &series.sin);
-        let dd2 = b.ins().fmul(d, d2);
-        let t = b.ins().fmul(dd2, inner);
-        let sin = b.ins().fsub(d, t);
-        let inner = alternating(b, d2, &series.vers);
-        let vers = b.ins().fmul(d2, inner);
-        let a = b.ins().fmul(c0, vers);
-        let bb = b.ins().fmul(s0, sin);
-        let a = b.ins().fadd(a, bb);
-        let c = b.ins().fsub(c0, a);
-        let a = b.ins().fmul(s0, vers);
-        let bb = b.ins().fmul(c0, sin);
-        let a = b.ins().fsub(a, bb);
-        let sn = b.ins().fsub(s0, a);
+        let (c, sn) = rotated(b, true, d, (c0, s0), series);
         for (v, at) in [
             (c, to),
             (sn, to + 1),
@@ -499,82 +296,15 @@ impl Emit<'_, '_> {
         keep: &[usize],
     ) -> Result<(), JitError> {
         let bad = |what: &str| JitError::Codegen(format!("a guarded computation {what}"));
-        let roots: Vec<_> = code
-            .iter()
-            .filter_map(|i| match i {
-                Inst::Root(id) => Some(*id),
-                _ => None,
-            })
-            .collect();
-        self.lower.emit(b, self.sources, self.imports, &roots)?;
-        // Numbers are F64X2, flags are lane masks (I64X2).
-        let mut values: Vec<(Value, bool)> = Vec::with_capacity(code.len());
-        let get = |values: &[(Value, bool)], v: Val| match values.get(v.0 as usize) {
-            Some(&(x, false)) => Ok(x),
-            Some(_) => Err(bad("reads a flag as a number")),
-            None => Err(bad("reads a value not defined before")),
-        };
-        let flag = |values: &[(Value, bool)], v: Val| match values.get(v.0 as usize) {
-            Some(&(x, true)) => Ok(x),
-            Some(_) => Err(bad("reads a number as a flag")),
-            None => Err(bad("reads a flag not defined before")),
-        };
-        for inst in code {
-            let defined = match inst {
-                Inst::Root(id) => (self.lower.value(b, self.sources, self.imports, *id)?, false),
-                Inst::Load(at) => (memory.load(b, *at)?, false),
-                Inst::Const(x) => (splat(b, *x), false),
-                Inst::Add(x, y) => {
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    (b.ins().fadd(x, y), false)
-                }
-                Inst::Sub(x, y) => {
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    (b.ins().fsub(x, y), false)
-                }
-                Inst::Mul(x, y) => {
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    (b.ins().fmul(x, y), false)
-                }
-                Inst::Div(x, y) => {
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    (b.ins().fdiv(x, y), false)
-                }
-                Inst::Neg(x) => (b.ins().fneg(get(&values, *x)?), false),
-                Inst::Abs(x) => (b.ins().fabs(get(&values, *x)?), false),
-                Inst::Sqrt(x) => (b.ins().sqrt(get(&values, *x)?), false),
-                Inst::Dot(pairs) => {
-                    let pairs = pairs
-                        .iter()
-                        .map(|&(x, y)| Ok((get(&values, x)?, get(&values, y)?)))
-                        .collect::<Result<Vec<_>, JitError>>()?;
-                    (sum_of_products(b, &pairs), false)
-                }
-                Inst::Compare(how, x, y) => {
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    let cc = match how {
-                        Compare::Less => FloatCC::LessThan,
-                        Compare::LessOrEqual => FloatCC::LessThanOrEqual,
-                        Compare::Greater => FloatCC::GreaterThan,
-                        Compare::GreaterOrEqual => FloatCC::GreaterThanOrEqual,
-                        Compare::Equal => FloatCC::Equal,
-                        Compare::NotEqual => FloatCC::NotEqual,
-                    };
-                    (b.ins().fcmp(cc, x, y), true)
-                }
-                Inst::And(x, y) => {
-                    let (x, y) = (flag(&values, *x)?, flag(&values, *y)?);
-                    (b.ins().band(x, y), true)
-                }
-                Inst::Select(c, x, y) => {
-                    let c = flag(&values, *c)?;
-                    let (x, y) = (get(&values, *x)?, get(&values, *y)?);
-                    let c = b.ins().bitcast(types::F64X2, MemFlags::new(), c);
-                    (b.ins().bitselect(c, x, y), false)
-                }
-            };
-            values.push(defined);
-        }
+        let values = evaluate(
+            b,
+            (&mut *self.lower, self.sources, self.imports),
+            &mut |b, at| memory.load(b, at),
+            code,
+            true,
+        )?;
+        let get = number_of;
+        let flag = flag_of;
         let ok = flag(&values, ok)?;
         unless_all(b, self.exit, ok, self.left);
         for &(to, v) in fast {

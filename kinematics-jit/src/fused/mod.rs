@@ -36,9 +36,7 @@ mod ops;
 
 pub use callable::Callable;
 use callable::{entry, trampoline, Entry};
-use emit::{
-    alternating, call_helper, guarded, not_finite, offset, port_slot, seed_at, Guard, Memory,
-};
+use emit::{call_helper, guarded, not_finite, offset, port_slot, rotated, seed_at, Guard, Memory};
 pub use ops::{
     Compare, Helper, Inst, Layout, Op, Port, Series, SmallBlock, SolveBlock, SolveRow, Val,
     HELPER_PANICKED, PORTS,
@@ -90,6 +88,20 @@ impl Fused {
         layout: Layout,
         functions: &[Function<'_>],
     ) -> Result<Self, JitError> {
+        Self::compile(graph, (params, coords), layout, functions, None)
+    }
+
+    /// [`Fused::new`], or [`Fused::new_in_lanes`] with the status `lanes`
+    /// where a design leaves the common path.
+    fn compile(
+        graph: &Graph,
+        (params, coords): (usize, usize),
+        layout: Layout,
+        functions: &[Function<'_>],
+        lanes: Option<i64>,
+    ) -> Result<Self, JitError> {
+        // Bytes per value of the buffer: one f64, or one for each design.
+        let width = if lanes.is_some() { 16 } else { 8 };
         const HELPER: &str = "kinematics_fused_helper";
         let mut module = new_module(&[(HELPER, trampoline as *const u8)])?;
         let codegen = |e: &dyn fmt::Display| JitError::Codegen(e.to_string());
@@ -122,7 +134,8 @@ impl Fused {
             ctx.func.name = UserFuncName::user(0, id.as_u32());
             let within = |at: usize| {
                 if at < layout.len {
-                    i32::try_from(at * 8).map_err(|_| JitError::Codegen("buffer too long".into()))
+                    i32::try_from(at * width)
+                        .map_err(|_| JitError::Codegen("buffer too long".into()))
                 } else {
                     Err(JitError::Codegen(format!(
                         "offset {at} past the buffer of {}",
@@ -170,413 +183,417 @@ impl Fused {
                     within(layout.params + at)?;
                 }
                 let mut lower = Lower::new(graph).with_preset(preset);
-                let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
-                    let next = b.create_block();
-                    b.ins()
-                        .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
-                    b.switch_to_block(next);
-                };
-                // The buffer, with the values the code holds in registers.
-                let mut memory = Memory::new(fp, &within);
-                // The values of consecutive imports with the same status,
-                // checked together after the last of them (one branch).
-                let mut imported = Vec::new();
-                for (k, op) in ops.iter().enumerate() {
-                    match op {
-                        Op::Store { roots, at, finite } => {
-                            if roots.len() != at.len() {
-                                return Err(JitError::Codegen(
-                                    "a store's roots and offsets differ in number".into(),
-                                ));
-                            }
-                            lower.emit(&mut b, &sources, &imports, roots)?;
-                            let mut values = Vec::with_capacity(roots.len());
-                            for (&root, &at) in roots.iter().zip(at) {
-                                let v = lower.value(&mut b, &sources, &imports, root)?;
-                                memory.store(&mut b, at, v)?;
-                                values.push(v);
-                            }
-                            if let Some(status) = *finite {
-                                if let Some(failed) = not_finite(&mut b, &values) {
-                                    let status = b.ins().iconst(types::I64, status);
-                                    bail(&mut b, failed, status);
+                if let Some(left) = lanes {
+                    let mut lower = lower.in_lanes();
+                    let mut cx = lanes::Emit {
+                        lower: &mut lower,
+                        sources: &sources,
+                        imports: &imports,
+                        graph,
+                        layout: &layout,
+                        coords,
+                        exit,
+                        left,
+                    };
+                    let mut memory = lanes::Lanes::new(fp, &within);
+                    for op in ops {
+                        cx.op(&mut b, &mut memory, op, pp, &mut need)?;
+                    }
+                } else {
+                    let bail = |b: &mut FunctionBuilder<'_>, failed, status| {
+                        let next = b.create_block();
+                        b.ins()
+                            .brif(failed, exit, &[BlockArg::Value(status)], next, &[]);
+                        b.switch_to_block(next);
+                    };
+                    // The buffer, with the values the code holds in registers.
+                    let mut memory = Memory::new(fp, &within);
+                    // The values of consecutive imports with the same status,
+                    // checked together after the last of them (one branch).
+                    let mut imported = Vec::new();
+                    for (k, op) in ops.iter().enumerate() {
+                        match op {
+                            Op::Store { roots, at, finite } => {
+                                if roots.len() != at.len() {
+                                    return Err(JitError::Codegen(
+                                        "a store's roots and offsets differ in number".into(),
+                                    ));
+                                }
+                                lower.emit(&mut b, &sources, &imports, roots)?;
+                                let mut values = Vec::with_capacity(roots.len());
+                                for (&root, &at) in roots.iter().zip(at) {
+                                    let v = lower.value(&mut b, &sources, &imports, root)?;
+                                    memory.store(&mut b, at, v)?;
+                                    values.push(v);
+                                }
+                                if let Some(status) = *finite {
+                                    if let Some(failed) = not_finite(&mut b, false, &values) {
+                                        let status = b.ins().iconst(types::I64, status);
+                                        bail(&mut b, failed, status);
+                                    }
                                 }
                             }
-                        }
-                        Op::Call(arg) => {
-                            let arg = b
-                                .ins()
-                                .iconst(types::I64, i64::from_ne_bytes(arg.to_ne_bytes()));
-                            let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
-                            let status = b.inst_results(inst)[0];
-                            let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
-                            bail(&mut b, failed, status);
-                            memory.forget();
-                        }
-                        Op::MaxScaled { roots, scales, at } => {
-                            lower.emit(&mut b, &sources, &imports, roots)?;
-                            // max |vᵢ sᵢ|, NaN when one is: the absolute
-                            // values compared as their bit patterns, which
-                            // order the non-negative numbers as their values
-                            // do and put a NaN (its sign bit cleared) above
-                            // them all. An integer maximum is a conditional
-                            // move, where a float comparison would be a
-                            // branch, mispredicted as often as a residual
-                            // at rounding level is 0 or not.
-                            let mut m = b.ins().iconst(types::I64, 0);
-                            for (i, &root) in roots.iter().enumerate() {
-                                let v = lower.value(&mut b, &sources, &imports, root)?;
-                                let s = memory.load(&mut b, scales + i)?;
-                                let p = b.ins().fmul(v, s);
-                                let r = b.abs(p);
-                                let bits = b.ins().bitcast(types::I64, MemFlags::new(), r);
-                                m = b.ins().umax(m, bits);
+                            Op::Call(arg) => {
+                                let arg = b
+                                    .ins()
+                                    .iconst(types::I64, i64::from_ne_bytes(arg.to_ne_bytes()));
+                                let inst = b.ins().call(helper_ref, &[fp, cp, arg]);
+                                let status = b.inst_results(inst)[0];
+                                let failed = b.ins().icmp_imm(IntCC::NotEqual, status, 0);
+                                bail(&mut b, failed, status);
+                                memory.forget();
                             }
-                            let m = b.ins().bitcast(types::F64, MemFlags::new(), m);
-                            memory.store(&mut b, *at, m)?;
-                        }
-                        Op::Solve {
-                            rhs,
-                            blocks,
-                            to,
-                            finite,
-                        } => {
-                            lower.emit(&mut b, &sources, &imports, rhs)?;
-                            let mut x: std::collections::HashMap<
-                                usize,
-                                cranelift_codegen::ir::Value,
-                            > = std::collections::HashMap::new();
-                            let mut solved = Vec::new();
-                            for block in blocks {
-                                let mut ys = Vec::with_capacity(block.rows.len());
-                                for row in &block.rows {
-                                    let root = *rhs.get(row.rhs).ok_or_else(|| {
-                                        JitError::Codegen("a solve's row past its roots".into())
-                                    })?;
-                                    let mut t = lower.value(&mut b, &sources, &imports, root)?;
-                                    let mut sum = None;
-                                    for &(e, c) in &row.known {
-                                        let xc = *x.get(&c).ok_or_else(|| {
-                                            JitError::Codegen(
-                                                "a solve reads an unknown not solved".into(),
-                                            )
+                            Op::MaxScaled { roots, scales, at } => {
+                                lower.emit(&mut b, &sources, &imports, roots)?;
+                                // max |vᵢ sᵢ|, NaN when one is: the absolute
+                                // values compared as their bit patterns, which
+                                // order the non-negative numbers as their values
+                                // do and put a NaN (its sign bit cleared) above
+                                // them all. An integer maximum is a conditional
+                                // move, where a float comparison would be a
+                                // branch, mispredicted as often as a residual
+                                // at rounding level is 0 or not.
+                                let mut m = b.ins().iconst(types::I64, 0);
+                                for (i, &root) in roots.iter().enumerate() {
+                                    let v = lower.value(&mut b, &sources, &imports, root)?;
+                                    let s = memory.load(&mut b, scales + i)?;
+                                    let p = b.ins().fmul(v, s);
+                                    let r = b.abs(p);
+                                    let bits = b.ins().bitcast(types::I64, MemFlags::new(), r);
+                                    m = b.ins().umax(m, bits);
+                                }
+                                let m = b.ins().bitcast(types::F64, MemFlags::new(), m);
+                                memory.store(&mut b, *at, m)?;
+                            }
+                            Op::Solve {
+                                rhs,
+                                blocks,
+                                to,
+                                finite,
+                            } => {
+                                lower.emit(&mut b, &sources, &imports, rhs)?;
+                                let mut x: std::collections::HashMap<
+                                    usize,
+                                    cranelift_codegen::ir::Value,
+                                > = std::collections::HashMap::new();
+                                let mut solved = Vec::new();
+                                for block in blocks {
+                                    let mut ys = Vec::with_capacity(block.rows.len());
+                                    for row in &block.rows {
+                                        let root = *rhs.get(row.rhs).ok_or_else(|| {
+                                            JitError::Codegen("a solve's row past its roots".into())
                                         })?;
-                                        let entry = memory.load(&mut b, e)?;
-                                        let p = b.ins().fmul(entry, xc);
-                                        sum = Some(match sum {
-                                            None => p,
-                                            Some(s) => b.ins().fadd(s, p),
-                                        });
+                                        let mut t =
+                                            lower.value(&mut b, &sources, &imports, root)?;
+                                        let mut sum = None;
+                                        for &(e, c) in &row.known {
+                                            let xc = *x.get(&c).ok_or_else(|| {
+                                                JitError::Codegen(
+                                                    "a solve reads an unknown not solved".into(),
+                                                )
+                                            })?;
+                                            let entry = memory.load(&mut b, e)?;
+                                            let p = b.ins().fmul(entry, xc);
+                                            sum = Some(match sum {
+                                                None => p,
+                                                Some(s) => b.ins().fadd(s, p),
+                                            });
+                                        }
+                                        if let Some(sum) = sum {
+                                            t = b.ins().fsub(t, sum);
+                                        }
+                                        let scale = memory.load(&mut b, row.scale)?;
+                                        ys.push(b.ins().fmul(t, scale));
                                     }
-                                    if let Some(sum) = sum {
-                                        t = b.ins().fsub(t, sum);
+                                    let n = ys.len();
+                                    for (i, &(c, scale)) in block.cols.iter().enumerate() {
+                                        let mut acc = None;
+                                        for (j, &y) in ys.iter().enumerate() {
+                                            let at = block.inverse + i * n + j;
+                                            let m = memory.load(&mut b, at)?;
+                                            let p = b.ins().fmul(m, y);
+                                            acc = Some(match acc {
+                                                None => p,
+                                                Some(a) => b.ins().fadd(a, p),
+                                            });
+                                        }
+                                        let mut v = match acc {
+                                            Some(v) => v,
+                                            None => b.ins().f64const(0.0),
+                                        };
+                                        if let Some(scale) = scale {
+                                            let s = memory.load(&mut b, scale)?;
+                                            v = b.ins().fmul(v, s);
+                                        }
+                                        memory.store(&mut b, to + c, v)?;
+                                        x.insert(c, v);
+                                        solved.push(v);
                                     }
-                                    let scale = memory.load(&mut b, row.scale)?;
-                                    ys.push(b.ins().fmul(t, scale));
                                 }
-                                let n = ys.len();
-                                for (i, &(c, scale)) in block.cols.iter().enumerate() {
-                                    let mut acc = None;
-                                    for (j, &y) in ys.iter().enumerate() {
-                                        let at = block.inverse + i * n + j;
-                                        let m = memory.load(&mut b, at)?;
-                                        let p = b.ins().fmul(m, y);
-                                        acc = Some(match acc {
-                                            None => p,
-                                            Some(a) => b.ins().fadd(a, p),
-                                        });
+                                if let Some(status) = *finite {
+                                    if let Some(failed) = not_finite(&mut b, false, &solved) {
+                                        let status = b.ins().iconst(types::I64, status);
+                                        bail(&mut b, failed, status);
                                     }
-                                    let mut v = match acc {
-                                        Some(v) => v,
-                                        None => b.ins().f64const(0.0),
-                                    };
-                                    if let Some(scale) = scale {
-                                        let s = memory.load(&mut b, scale)?;
-                                        v = b.ins().fmul(v, s);
-                                    }
-                                    memory.store(&mut b, to + c, v)?;
-                                    x.insert(c, v);
-                                    solved.push(v);
                                 }
                             }
-                            if let Some(status) = *finite {
-                                if let Some(failed) = not_finite(&mut b, &solved) {
-                                    let status = b.ins().iconst(types::I64, status);
-                                    bail(&mut b, failed, status);
+                            Op::CarriedTrig {
+                                value,
+                                carried,
+                                to,
+                                fresh,
+                                series: rotation,
+                            } => {
+                                let x = memory.load(&mut b, *value)?;
+                                let c0 = memory.load(&mut b, *carried)?;
+                                let s0 = memory.load(&mut b, carried + 1)?;
+                                let x0 = memory.load(&mut b, carried + 2)?;
+                                let d = b.ins().fsub(x, x0);
+                                let ad = b.abs(d);
+                                let limit = b.ins().f64const(rotation.step);
+                                let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
+                                let (series, computed, join) =
+                                    (b.create_block(), b.create_block(), b.create_block());
+                                b.ins().brif(near, series, &[], computed, &[]);
+                                b.switch_to_block(series);
+                                let (c, sn) = rotated(&mut b, false, d, (c0, s0), rotation);
+                                for (v, at) in [
+                                    (c, *to),
+                                    (sn, to + 1),
+                                    (c, *carried),
+                                    (sn, carried + 1),
+                                    (x, carried + 2),
+                                ] {
+                                    memory.write(&mut b, at, v)?;
+                                }
+                                // The cosine and sine go on in registers (from
+                                // the helper, as it wrote them).
+                                let cos = b.append_block_param(join, types::F64);
+                                let sin = b.append_block_param(join, types::F64);
+                                b.ins()
+                                    .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
+                                b.switch_to_block(computed);
+                                let helped = b.create_block();
+                                call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, helped);
+                                memory.forget();
+                                let c = memory.load(&mut b, *to)?;
+                                let sn = memory.load(&mut b, to + 1)?;
+                                b.ins()
+                                    .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
+                                b.switch_to_block(join);
+                                // Past the join: the cosine and sine as either
+                                // path left them, the rest read afresh.
+                                memory.forget();
+                                memory.holds(*to, cos);
+                                memory.holds(to + 1, sin);
+                                for (at, v) in [(*value, x), (*to, cos), (to + 1, sin)] {
+                                    seed_at(&mut lower, graph, &layout, coords, at, v);
                                 }
                             }
-                        }
-                        Op::CarriedTrig {
-                            value,
-                            carried,
-                            to,
-                            fresh,
-                            series: rotation,
-                        } => {
-                            let x = memory.load(&mut b, *value)?;
-                            let c0 = memory.load(&mut b, *carried)?;
-                            let s0 = memory.load(&mut b, carried + 1)?;
-                            let x0 = memory.load(&mut b, carried + 2)?;
-                            let d = b.ins().fsub(x, x0);
-                            let ad = b.abs(d);
-                            let limit = b.ins().f64const(rotation.step);
-                            let near = b.ins().fcmp(FloatCC::LessThanOrEqual, ad, limit);
-                            let (series, computed, join) =
-                                (b.create_block(), b.create_block(), b.create_block());
-                            b.ins().brif(near, series, &[], computed, &[]);
-                            b.switch_to_block(series);
-                            let d2 = b.ins().fmul(d, d);
-                            // sin Δ = Δ − Δ·Δ²·(s₀ − Δ²·(s₁ − …)).
-                            let inner = alternating(&mut b, d2, &rotation.sin);
-                            let dd2 = b.ins().fmul(d, d2);
-                            let t = b.ins().fmul(dd2, inner);
-                            let sin = b.ins().fsub(d, t);
-                            // 1 − cos Δ = Δ²·(v₀ − Δ²·(v₁ − …)).
-                            let inner = alternating(&mut b, d2, &rotation.vers);
-                            let vers = b.ins().fmul(d2, inner);
-                            // cos x = c₀ − (c₀ vers + s₀ sin), sin x = s₀ − (s₀ vers − c₀ sin).
-                            let a = b.ins().fmul(c0, vers);
-                            let bb = b.ins().fmul(s0, sin);
-                            let a = b.ins().fadd(a, bb);
-                            let c = b.ins().fsub(c0, a);
-                            let a = b.ins().fmul(s0, vers);
-                            let bb = b.ins().fmul(c0, sin);
-                            let a = b.ins().fsub(a, bb);
-                            let sn = b.ins().fsub(s0, a);
-                            for (v, at) in [
-                                (c, *to),
-                                (sn, to + 1),
-                                (c, *carried),
-                                (sn, carried + 1),
-                                (x, carried + 2),
-                            ] {
-                                memory.write(&mut b, at, v)?;
-                            }
-                            // The cosine and sine go on in registers (from
-                            // the helper, as it wrote them).
-                            let cos = b.append_block_param(join, types::F64);
-                            let sin = b.append_block_param(join, types::F64);
-                            b.ins()
-                                .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
-                            b.switch_to_block(computed);
-                            let helped = b.create_block();
-                            call_helper(&mut b, (fp, cp, helper_ref, exit), *fresh, helped);
-                            memory.forget();
-                            let c = memory.load(&mut b, *to)?;
-                            let sn = memory.load(&mut b, to + 1)?;
-                            b.ins()
-                                .jump(join, &[BlockArg::Value(c), BlockArg::Value(sn)]);
-                            b.switch_to_block(join);
-                            // Past the join: the cosine and sine as either
-                            // path left them, the rest read afresh.
-                            memory.forget();
-                            memory.holds(*to, cos);
-                            memory.holds(to + 1, sin);
-                            for (at, v) in [(*value, x), (*to, cos), (to + 1, sin)] {
-                                seed_at(&mut lower, graph, &layout, coords, at, v);
-                            }
-                        }
-                        Op::Guarded {
-                            code,
-                            ok,
-                            fast,
-                            slow,
-                            helper,
-                            keep,
-                        } => {
-                            let guard = Guard {
+                            Op::Guarded {
                                 code,
-                                ok: *ok,
+                                ok,
                                 fast,
                                 slow,
-                                helper: *helper,
+                                helper,
                                 keep,
-                            };
-                            guarded(
-                                &mut b,
-                                (&mut lower, &sources, &imports),
-                                (graph, &layout),
-                                (fp, cp, helper_ref, exit),
-                                &mut memory,
-                                &guard,
-                            )?;
-                        }
-                        Op::AtMost { at, bound, status } => {
-                            let x = memory.load(&mut b, *at)?;
-                            let y = memory.load(&mut b, *bound)?;
-                            let within_bound = b.ins().fcmp(FloatCC::LessThanOrEqual, x, y);
-                            let failed = b.ins().icmp_imm(IntCC::Equal, within_bound, 0);
-                            let status = b.ins().iconst(types::I64, *status);
-                            bail(&mut b, failed, status);
-                        }
-                        Op::FactorSmall {
-                            blocks,
-                            threshold,
-                            branch,
-                            odd,
-                            conditioning,
-                            sign,
-                            singular,
-                            wrong_branch,
-                        } => {
-                            let thr = memory.load(&mut b, *threshold)?;
-                            let zero_i = b.ins().iconst(types::I8, 0);
-                            let inf = b.ins().f64const(f64::INFINITY);
-                            let one = b.ins().f64const(1.0);
-                            let zero = b.ins().f64const(0.0);
-                            let mut least = if blocks.is_empty() { one } else { inf };
-                            let mut product = b.ins().f64const(if *odd { -1.0 } else { 1.0 });
-                            // Every block's regularity, tested once after them all
-                            // (one branch for the op).
-                            let mut regular_all = b.ins().icmp_imm(IntCC::Equal, zero_i, 0);
-                            for block in blocks {
-                                let mut a = Vec::with_capacity(block.entries.len());
-                                for &(root, row, col) in &block.entries {
-                                    let v = lower.value(&mut b, &sources, &imports, root)?;
-                                    let r = memory.load(&mut b, row)?;
-                                    let mut x = b.ins().fmul(v, r);
-                                    if let Some(col) = col {
-                                        let c = memory.load(&mut b, col)?;
-                                        x = b.ins().fmul(x, c);
-                                    }
-                                    a.push(x);
-                                }
-                                // The determinant's sign: ±1 (it is finite and
-                                // nonzero once the block is regular).
-                                let signum = |b: &mut FunctionBuilder<'_>, d| {
-                                    let negative = b.ins().fcmp(FloatCC::LessThan, d, zero);
-                                    let minus = b.ins().f64const(-1.0);
-                                    b.ins().select(negative, minus, one)
+                            } => {
+                                let guard = Guard {
+                                    code,
+                                    ok: *ok,
+                                    fast,
+                                    slow,
+                                    helper: *helper,
+                                    keep,
                                 };
-                                let (c, s) = match a.as_slice() {
-                                    [a00] => {
-                                        let p0 = b.abs(*a00);
-                                        let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
-                                        let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
-                                        let regular = b.ins().band(above, finite);
-                                        regular_all = b.ins().band(regular_all, regular);
-                                        let inv = b.ins().fdiv(one, *a00);
-                                        memory.store(&mut b, block.inverse, inv)?;
-                                        (p0, signum(&mut b, *a00))
-                                    }
-                                    [a00, a01, a10, a11] => {
-                                        let (x00, x10) = (b.abs(*a00), b.abs(*a10));
-                                        // The larger (a `maxsd`, no branch).
-                                        let greater = b.ins().fcmp(FloatCC::LessThan, x00, x10);
-                                        let p0 = b.ins().select(greater, x10, x00);
-                                        let m0 = b.ins().fmul(*a00, *a11);
-                                        let m1 = b.ins().fmul(*a01, *a10);
-                                        let det = b.ins().fsub(m0, m1);
-                                        let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
-                                        regular_all = b.ins().band(regular_all, first);
-                                        let ad = b.abs(det);
-                                        let tp = b.ins().fmul(thr, p0);
-                                        let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
-                                        let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
-                                        let regular = b.ins().band(above, finite);
-                                        regular_all = b.ins().band(regular_all, regular);
-                                        let inv = b.ins().fdiv(one, det);
-                                        let n01 = b.neg(*a01);
-                                        let n10 = b.neg(*a10);
-                                        let i00 = b.ins().fmul(*a11, inv);
-                                        let i01 = b.ins().fmul(n01, inv);
-                                        let i10 = b.ins().fmul(n10, inv);
-                                        let i11 = b.ins().fmul(*a00, inv);
-                                        for (k, v) in [i00, i01, i10, i11].into_iter().enumerate() {
-                                            memory.store(&mut b, block.inverse + k, v)?;
-                                        }
-                                        // 1/‖A⁻¹‖_∞: the larger row sum (the
-                                        // first where they tie or one is NaN).
-                                        let row = |b: &mut FunctionBuilder<'_>, x: _, y: _| {
-                                            let (x, y) = (b.abs(x), b.abs(y));
-                                            let s = b.ins().fadd(zero, x);
-                                            b.ins().fadd(s, y)
-                                        };
-                                        let s0 = row(&mut b, i00, i01);
-                                        let s1 = row(&mut b, i10, i11);
-                                        let second = b.ins().fcmp(FloatCC::LessThan, s0, s1);
-                                        let worst = b.ins().select(second, s1, s0);
-                                        let c = b.ins().fdiv(one, worst);
-                                        let ac = b.abs(c);
-                                        let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
-                                        let c = b.ins().select(finite, c, zero);
-                                        let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
-                                        regular_all = b.ins().band(regular_all, above);
-                                        (c, signum(&mut b, det))
-                                    }
-                                    _ => {
-                                        return Err(JitError::Codegen(
-                                            "a small block has one or four entries".into(),
-                                        ))
-                                    }
-                                };
-                                let smaller = b.ins().fcmp(FloatCC::LessThan, c, least);
-                                least = b.ins().select(smaller, c, least);
-                                product = b.ins().fmul(product, s);
+                                guarded(
+                                    &mut b,
+                                    (&mut lower, &sources, &imports),
+                                    (graph, &layout),
+                                    (fp, cp, helper_ref, exit),
+                                    &mut memory,
+                                    &guard,
+                                )?;
                             }
-                            let failed = b.ins().icmp_imm(IntCC::Equal, regular_all, 0);
-                            let singular = b.ins().iconst(types::I64, *singular);
-                            bail(&mut b, failed, singular);
-                            let wanted = memory.load(&mut b, *branch)?;
-                            let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
-                            let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
-                            let failed = b.ins().band(asked, other);
-                            let status = b.ins().iconst(types::I64, *wrong_branch);
-                            bail(&mut b, failed, status);
-                            memory.store(&mut b, *conditioning, least)?;
-                            memory.store(&mut b, *sign, product)?;
-                        }
-                        Op::Import {
-                            from,
-                            to,
-                            len,
-                            finite,
-                        } => {
-                            if *len > 0 {
-                                let slot = port_slot(*from, &mut need, *len)?;
-                                let base = b.ins().load(pointer, flags, pp, slot);
-                                for i in 0..*len {
-                                    let v = b.ins().load(types::F64, flags, base, offset(i)?);
-                                    memory.store(&mut b, to + i, v)?;
-                                    if finite.is_some() {
-                                        imported.push(v);
-                                    }
-                                }
-                            }
-                            let checked_with_next = matches!(
-                                ops.get(k + 1),
-                                Some(Op::Import { finite: next, .. }) if next == finite
-                            );
-                            if let (Some(status), false) = (*finite, checked_with_next) {
-                                if let Some(failed) = not_finite(&mut b, &imported) {
-                                    let status = b.ins().iconst(types::I64, status);
-                                    bail(&mut b, failed, status);
-                                }
-                                imported.clear();
-                            }
-                        }
-                        Op::Export { to, from, len } => {
-                            if *len == 0 {
-                                continue;
-                            }
-                            let slot = port_slot(Port::Output(*to), &mut need, *len)?;
-                            let base = b.ins().load(pointer, flags, pp, slot);
-                            for i in 0..*len {
-                                let v = memory.load(&mut b, from + i)?;
-                                b.ins().store(flags, v, base, offset(i)?);
-                            }
-                        }
-                        Op::Finite { from, len, status } => {
-                            if *len == 0 {
-                                continue;
-                            }
-                            let mut values = Vec::with_capacity(*len);
-                            for i in 0..*len {
-                                values.push(memory.load(&mut b, from + i)?);
-                            }
-                            if let Some(failed) = not_finite(&mut b, &values) {
+                            Op::AtMost { at, bound, status } => {
+                                let x = memory.load(&mut b, *at)?;
+                                let y = memory.load(&mut b, *bound)?;
+                                let within_bound = b.ins().fcmp(FloatCC::LessThanOrEqual, x, y);
+                                let failed = b.ins().icmp_imm(IntCC::Equal, within_bound, 0);
                                 let status = b.ins().iconst(types::I64, *status);
                                 bail(&mut b, failed, status);
+                            }
+                            Op::FactorSmall {
+                                blocks,
+                                threshold,
+                                branch,
+                                odd,
+                                conditioning,
+                                sign,
+                                singular,
+                                wrong_branch,
+                            } => {
+                                let thr = memory.load(&mut b, *threshold)?;
+                                let zero_i = b.ins().iconst(types::I8, 0);
+                                let inf = b.ins().f64const(f64::INFINITY);
+                                let one = b.ins().f64const(1.0);
+                                let zero = b.ins().f64const(0.0);
+                                let mut least = if blocks.is_empty() { one } else { inf };
+                                let mut product = b.ins().f64const(if *odd { -1.0 } else { 1.0 });
+                                // Every block's regularity, tested once after them all
+                                // (one branch for the op).
+                                let mut regular_all = b.ins().icmp_imm(IntCC::Equal, zero_i, 0);
+                                for block in blocks {
+                                    let mut a = Vec::with_capacity(block.entries.len());
+                                    for &(root, row, col) in &block.entries {
+                                        let v = lower.value(&mut b, &sources, &imports, root)?;
+                                        let r = memory.load(&mut b, row)?;
+                                        let mut x = b.ins().fmul(v, r);
+                                        if let Some(col) = col {
+                                            let c = memory.load(&mut b, col)?;
+                                            x = b.ins().fmul(x, c);
+                                        }
+                                        a.push(x);
+                                    }
+                                    // The determinant's sign: ±1 (it is finite and
+                                    // nonzero once the block is regular).
+                                    let signum = |b: &mut FunctionBuilder<'_>, d| {
+                                        let negative = b.ins().fcmp(FloatCC::LessThan, d, zero);
+                                        let minus = b.ins().f64const(-1.0);
+                                        b.ins().select(negative, minus, one)
+                                    };
+                                    let (c, s) = match a.as_slice() {
+                                        [a00] => {
+                                            let p0 = b.abs(*a00);
+                                            let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
+                                            let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
+                                            let regular = b.ins().band(above, finite);
+                                            regular_all = b.ins().band(regular_all, regular);
+                                            let inv = b.ins().fdiv(one, *a00);
+                                            memory.store(&mut b, block.inverse, inv)?;
+                                            (p0, signum(&mut b, *a00))
+                                        }
+                                        [a00, a01, a10, a11] => {
+                                            let (x00, x10) = (b.abs(*a00), b.abs(*a10));
+                                            // The larger (a `maxsd`, no branch).
+                                            let greater = b.ins().fcmp(FloatCC::LessThan, x00, x10);
+                                            let p0 = b.ins().select(greater, x10, x00);
+                                            let m0 = b.ins().fmul(*a00, *a11);
+                                            let m1 = b.ins().fmul(*a01, *a10);
+                                            let det = b.ins().fsub(m0, m1);
+                                            let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
+                                            regular_all = b.ins().band(regular_all, first);
+                                            let ad = b.abs(det);
+                                            let tp = b.ins().fmul(thr, p0);
+                                            let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
+                                            let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
+                                            let regular = b.ins().band(above, finite);
+                                            regular_all = b.ins().band(regular_all, regular);
+                                            let inv = b.ins().fdiv(one, det);
+                                            let n01 = b.neg(*a01);
+                                            let n10 = b.neg(*a10);
+                                            let i00 = b.ins().fmul(*a11, inv);
+                                            let i01 = b.ins().fmul(n01, inv);
+                                            let i10 = b.ins().fmul(n10, inv);
+                                            let i11 = b.ins().fmul(*a00, inv);
+                                            for (k, v) in
+                                                [i00, i01, i10, i11].into_iter().enumerate()
+                                            {
+                                                memory.store(&mut b, block.inverse + k, v)?;
+                                            }
+                                            // 1/‖A⁻¹‖_∞: the larger row sum (the
+                                            // first where they tie or one is NaN).
+                                            let row = |b: &mut FunctionBuilder<'_>, x: _, y: _| {
+                                                let (x, y) = (b.abs(x), b.abs(y));
+                                                let s = b.ins().fadd(zero, x);
+                                                b.ins().fadd(s, y)
+                                            };
+                                            let s0 = row(&mut b, i00, i01);
+                                            let s1 = row(&mut b, i10, i11);
+                                            let second = b.ins().fcmp(FloatCC::LessThan, s0, s1);
+                                            let worst = b.ins().select(second, s1, s0);
+                                            let c = b.ins().fdiv(one, worst);
+                                            let ac = b.abs(c);
+                                            let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
+                                            let c = b.ins().select(finite, c, zero);
+                                            let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
+                                            regular_all = b.ins().band(regular_all, above);
+                                            (c, signum(&mut b, det))
+                                        }
+                                        _ => {
+                                            return Err(JitError::Codegen(
+                                                "a small block has one or four entries".into(),
+                                            ))
+                                        }
+                                    };
+                                    let smaller = b.ins().fcmp(FloatCC::LessThan, c, least);
+                                    least = b.ins().select(smaller, c, least);
+                                    product = b.ins().fmul(product, s);
+                                }
+                                let failed = b.ins().icmp_imm(IntCC::Equal, regular_all, 0);
+                                let singular = b.ins().iconst(types::I64, *singular);
+                                bail(&mut b, failed, singular);
+                                let wanted = memory.load(&mut b, *branch)?;
+                                let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
+                                let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
+                                let failed = b.ins().band(asked, other);
+                                let status = b.ins().iconst(types::I64, *wrong_branch);
+                                bail(&mut b, failed, status);
+                                memory.store(&mut b, *conditioning, least)?;
+                                memory.store(&mut b, *sign, product)?;
+                            }
+                            Op::Import {
+                                from,
+                                to,
+                                len,
+                                finite,
+                            } => {
+                                if *len > 0 {
+                                    let slot = port_slot(*from, &mut need, *len)?;
+                                    let base = b.ins().load(pointer, flags, pp, slot);
+                                    for i in 0..*len {
+                                        let v = b.ins().load(types::F64, flags, base, offset(i)?);
+                                        memory.store(&mut b, to + i, v)?;
+                                        if finite.is_some() {
+                                            imported.push(v);
+                                        }
+                                    }
+                                }
+                                let checked_with_next = matches!(
+                                    ops.get(k + 1),
+                                    Some(Op::Import { finite: next, .. }) if next == finite
+                                );
+                                if let (Some(status), false) = (*finite, checked_with_next) {
+                                    if let Some(failed) = not_finite(&mut b, false, &imported) {
+                                        let status = b.ins().iconst(types::I64, status);
+                                        bail(&mut b, failed, status);
+                                    }
+                                    imported.clear();
+                                }
+                            }
+                            Op::Export { to, from, len } => {
+                                if *len == 0 {
+                                    continue;
+                                }
+                                let slot = port_slot(Port::Output(*to), &mut need, *len)?;
+                                let base = b.ins().load(pointer, flags, pp, slot);
+                                for i in 0..*len {
+                                    let v = memory.load(&mut b, from + i)?;
+                                    b.ins().store(flags, v, base, offset(i)?);
+                                }
+                            }
+                            Op::Finite { from, len, status } => {
+                                if *len == 0 {
+                                    continue;
+                                }
+                                let mut values = Vec::with_capacity(*len);
+                                for i in 0..*len {
+                                    values.push(memory.load(&mut b, from + i)?);
+                                }
+                                if let Some(failed) = not_finite(&mut b, false, &values) {
+                                    let status = b.ins().iconst(types::I64, *status);
+                                    bail(&mut b, failed, status);
+                                }
                             }
                         }
                     }
@@ -606,7 +623,7 @@ impl Fused {
             module: ManuallyDrop::new(module),
             entries,
             needs,
-            len: layout.len,
+            len: layout.len * width / 8,
         })
     }
 
