@@ -42,6 +42,18 @@ pub(crate) use errors::{error, raise};
 /// branch one of "any", "positive", "negative".
 type OptionsTuple = (f64, usize, f64, String, bool);
 
+/// A sweep's settings as Python hands them over: from, to and turns (or
+/// None), steps, rate, acceleration, and the rule at change points.
+type SweepSpec = (
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    usize,
+    f64,
+    f64,
+    String,
+);
+
 fn options(py: Python<'_>, o: Option<&OptionsTuple>) -> PyResult<Options> {
     // `None`: the defaults, with nothing to read.
     let Some(o) = o else {
@@ -503,29 +515,11 @@ impl Model {
         py: Python<'_>,
         driver: &str,
         start: Vec<f64>,
-        spec: (
-            Option<f64>,
-            Option<f64>,
-            Option<f64>,
-            usize,
-            f64,
-            f64,
-            String,
-        ),
+        spec: SweepSpec,
         opts: Option<OptionsTuple>,
     ) -> PyResult<Sweep> {
         let o = options(py, opts.as_ref())?;
-        let change = change_points(&spec.6)?;
-        let builder = self
-            .grid(py, driver, &start, (spec.0, spec.1, spec.2, spec.3), &o)?
-            .rate(spec.4)
-            .acceleration(spec.5)
-            .change_points(change);
-        let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
-        py.detach(|| {
-            let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
-            columns.end(end);
-        });
+        let (columns, _) = self.swept(py, driver, &start, &spec, &o)?;
         Sweep::new(py, columns, self.model.clone())
     }
 
@@ -584,15 +578,7 @@ impl Model {
         kind: &str,
         driver: &str,
         start: Vec<f64>,
-        spec: (
-            Option<f64>,
-            Option<f64>,
-            Option<f64>,
-            usize,
-            f64,
-            f64,
-            String,
-        ),
+        spec: SweepSpec,
         opts: Option<OptionsTuple>,
         repeats: usize,
     ) -> PyResult<(usize, Option<String>)> {
@@ -602,22 +588,10 @@ impl Model {
         let kind_of = |stop: Option<&Stop>| stop.map(|s| sweep::stop_kind(&s.reason).to_owned());
         match kind {
             "sweep" => {
-                let change = change_points(&spec.6)?;
                 for _ in 0..repeats {
-                    let builder = self
-                        .grid(py, driver, &start, grid, &o)?
-                        .rate(spec.4)
-                        .acceleration(spec.5)
-                        .change_points(change);
-                    let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
-                    let end = py.detach(|| {
-                        let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
-                        let stop = end.stop.clone();
-                        columns.end(end);
-                        stop
-                    });
+                    let (columns, stop) = self.swept(py, driver, &start, &spec, &o)?;
                     std::hint::black_box(&columns);
-                    last = (columns.rows(), kind_of(end.as_ref()));
+                    last = (columns.rows(), kind_of(stop.as_ref()));
                 }
             }
             "poses" => {
@@ -832,6 +806,32 @@ impl Model {
             (None, Some(n)) => builder.turns(n),
             (None, None) => builder,
         })
+    }
+
+    /// The sweep `spec` of `driver` from `start` run into its columns
+    /// (with the interpreter released), and its stop.
+    fn swept(
+        &self,
+        py: Python<'_>,
+        driver: &str,
+        start: &[f64],
+        spec: &SweepSpec,
+        o: &Options,
+    ) -> PyResult<(Columns, Option<Stop>)> {
+        let change = change_points(&spec.6)?;
+        let builder = self
+            .grid(py, driver, start, (spec.0, spec.1, spec.2, spec.3), o)?
+            .rate(spec.4)
+            .acceleration(spec.5)
+            .change_points(change);
+        let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
+        let stop = py.detach(|| {
+            let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
+            let stop = end.stop.clone();
+            columns.end(end);
+            stop
+        });
+        Ok((columns, stop))
     }
 
     /// The columns of a sweep of `driver` over `steps` steps (one row

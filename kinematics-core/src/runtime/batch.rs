@@ -544,24 +544,12 @@ impl<'m> Batch<'m> {
                 Err(e) => (0, Some(Early::Failed(e))),
             };
         };
-        let name = model.coordinates[s.driver].name;
-        let builder = match model.sweep(name, &self.start) {
-            Ok(b) => b,
+        let builder = match self.sweep_of(model, s) {
+            Ok(b) => b
+                .rate(self.rates[s.driver])
+                .acceleration(self.accelerations[s.driver])
+                .change_points(s.change_points),
             Err(e) => return (0, Some(Early::Failed(e))),
-        };
-        let mut builder = builder
-            .steps(s.steps)
-            .rate(self.rates[s.driver])
-            .acceleration(self.accelerations[s.driver])
-            .options(&self.options)
-            .change_points(s.change_points);
-        if let Some(f) = s.from {
-            builder = builder.from(f);
-        }
-        builder = match (s.to, s.turns) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
         };
         let end = builder.drive(&mut keep);
         (keep.row, end.stop.map(Early::Stopped))
@@ -586,21 +574,36 @@ impl<'m> Batch<'m> {
                 Err(e) => (0, Some(Early::Failed(e))),
             };
         };
-        let name = model.coordinates[s.driver].name;
-        let mut builder = match model.sweep(name, &self.start) {
-            Ok(b) => b.steps(s.steps).options(&self.options),
+        let builder = match self.sweep_of(model, s) {
+            Ok(b) => b,
             Err(e) => return (0, Some(Early::Failed(e))),
-        };
-        if let Some(f) = s.from {
-            builder = builder.from(f);
-        }
-        builder = match (s.to, s.turns) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
         };
         let end = builder.for_each_pose(|_, q, r| put(keep, q, r));
         (keep.row, end.stop.map(Early::Stopped))
+    }
+
+    /// The sweep `s` of `model` from the batch's start, with its grid and
+    /// options (the rates and the rule at change points left to the
+    /// caller).
+    fn sweep_of<'a>(
+        &self,
+        model: &'a Model,
+        s: &BatchSweep,
+    ) -> Result<super::SweepBuilder<'a>, Error> {
+        let name = model.coordinates[s.driver].name;
+        let builder = model
+            .sweep(name, &self.start)?
+            .steps(s.steps)
+            .options(&self.options);
+        let builder = match s.from {
+            Some(f) => builder.from(f),
+            None => builder,
+        };
+        Ok(match (s.to, s.turns) {
+            (Some(t), _) => builder.to(t),
+            (None, Some(n)) => builder.turns(n),
+            (None, None) => builder,
+        })
     }
 }
 

@@ -131,17 +131,7 @@ impl Batch<'_> {
         let plan = m.fused.as_deref()?;
         let code = plan.lanes_pose()?;
         // The grid of each design's sweep (the same start and settings).
-        let name = m.coordinates[s.driver].name;
-        let mut builder = m.sweep(name, &self.start).ok()?.steps(s.steps);
-        if let Some(f) = s.from {
-            builder = builder.from(f);
-        }
-        builder = match (s.to, s.turns) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
-        };
-        let grid = builder.grid().ok()?;
+        let grid = self.sweep_of(m, s).ok()?.grid().ok()?;
         let (n, j) = (m.coordinates.len(), s.driver);
         let mut steppers = [
             models[0].stepper(&self.options).ok()?,
