@@ -471,9 +471,9 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
         Output::Position(4),
     ];
     // Crank-rockers, and every ninth a long crank: it assembles at φ = 0,
-    // and stops where |BD| = b + c if a + d exceeds it. Its unknowns turn
-    // by more than 1/32 rad in some steps, which the scalar pose takes
-    // through the library's closed form: its pair is swept alone.
+    // and stops where |BD| = b + c if a + d exceeds it (its pair is then
+    // swept alone, design by design); its unknowns turn by more than
+    // 1/32 rad in some steps, which each design's stepper takes.
     let designs: Vec<f64> = (0..37)
         .flat_map(|k| {
             let t = f64::from(k);

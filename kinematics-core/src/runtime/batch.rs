@@ -359,13 +359,11 @@ impl<'m> Batch<'m> {
     /// The batch with its designs of positions only taken in pairs, each
     /// pair's poses by the pose's machine code in vector lanes (two f64
     /// per instruction), or not (`on` false: each design alone). On by
-    /// default. It applies to a swept batch of positions only
-    /// ([`Batch::positions_only`]) of a model with parameters whose every
-    /// closed form is in the fused code; the results are each design's
-    /// sweep's either way (to the round-off of the carried cosines and
-    /// sines, which the lanes refresh as a stepper does). A pair where a
-    /// design leaves the common path (a limit position ahead, say) is
-    /// swept alone, design by design, from its start.
+    /// default, where it applies ([`Batch::in_pairs`]). The results are
+    /// each design's sweep's either way, bit for bit: a pose where a
+    /// design leaves the common path is taken by each design's stepper,
+    /// and a pair in which a design fails a check (a limit position
+    /// ahead, say) is swept alone, design by design, from its start.
     #[must_use]
     pub fn in_lanes(mut self, on: bool) -> Self {
         self.lanes = on;

@@ -3,19 +3,20 @@
 //! lanes (both designs' buffers interleaved), its samples those of each
 //! design's sweep of poses.
 //!
-//! Each design keeps its own stepper, which takes the first pose and the
+//! Each design keeps its own stepper, which takes the first pose, the
 //! poses at which the unknowns' carried cosines and sines are refreshed
-//! (every 64), as its sweep would, and those where a design leaves the
-//! common path (an unknown turning fast); between them the pair steps in
-//! lanes (the driver's carried cosine and sine refreshed every 16 as the
-//! helper refreshes them), each lane
-//! the scalar pose's computation for its design, operation for operation,
+//! (every 64), as its sweep would, and the poses where a design leaves
+//! the common path (an unknown turning by more than 1/32 rad in a step,
+//! which the scalar pose hands to the library's closed form); between
+//! them the pair poses in lanes (the drivers' carried cosines and sines
+//! refreshed every 16 poses as the helper refreshes them), each lane the
+//! scalar pose's computation for its design, operation for operation,
 //! from the previous pose (the guesses matter to a closed form only for
-//! the turn of its angles, which both carry). Where a design leaves the
-//! common path (a limit position ahead, a pose off the closed forms'
-//! guards, a value not finite), both designs of the pair are swept alone
-//! from their start, as the batch sweeps any design: so every design's
-//! samples, stop and record are its sweep's.
+//! the turn of its angles, which both carry). Where a design fails a
+//! check (no pose ahead: a limit position; a value not finite), both
+//! designs of the pair are swept alone from their start, as the batch
+//! sweeps any design: so every design's samples, stop and record are its
+//! sweep's, bit for bit.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -49,6 +50,9 @@ fn fused(stepper: &Stepper<'_>) -> bool {
         .is_some_and(|run| run.positions && run.scaled)
 }
 
+/// How each design of a pair ended: its samples, and why it ended early.
+type PairEnds = [(usize, Option<Early>); 2];
+
 impl Keep<'_> {
     /// Keeps lane `l`'s pose and points' positions as the next row, read
     /// from the interleaved pose `q` and positions `r` (each slot's few
@@ -78,16 +82,26 @@ impl Keep<'_> {
 
 impl Batch<'_> {
     /// Whether this batch runs its designs in pairs in vector lanes
-    /// ([`Batch::in_lanes`]): positions only, swept, lanes not turned off,
-    /// and a model with parameters whose pose has a form in lanes (its
-    /// closed forms in its fused code). Compiles that form at the first
-    /// call for the model.
+    /// ([`Batch::in_lanes`]): positions only, swept in steps of at most
+    /// 1/16 (the largest the carried cosine and sine of the driver are
+    /// rotated by), lanes not turned off, and a model with parameters, a
+    /// scaling that every pose shares, and a pose with a form in lanes
+    /// (every block's closed form in its fused code, of at most 16
+    /// blocks). Compiles that form at the first call for the model.
     #[must_use]
     pub fn in_pairs(&self) -> bool {
+        let Some(s) = self.sweep.as_ref() else {
+            return false;
+        };
+        let step_within = self
+            .sweep_of(self.model, s)
+            .and_then(|b| b.grid())
+            .is_ok_and(|g| g.count < 2 || (g.at(1) - g.at(0)).abs() <= crate::closed::CARRIED_STEP);
         self.poses
             && self.lanes
-            && self.sweep.is_some()
+            && step_within
             && !self.model.params.is_empty()
+            && self.model.fixed_scaling
             && self
                 .model
                 .fused
@@ -107,7 +121,7 @@ impl Batch<'_> {
         let [m0, m1] = models;
         let [o0, o1] = outs;
         let set = m0.set_values(values[0]).is_ok() && m1.set_values(values[1]).is_ok();
-        if set && let Some(ends) = self.lanes_pair([m0, m1], [&mut *o0, &mut *o1]) {
+        if set && let Some((ends, _)) = self.lanes_pair([m0, m1], [&mut *o0, &mut *o1]) {
             return ends;
         }
         // Alone, each from its start; what the pair wrote is cleared.
@@ -119,15 +133,19 @@ impl Batch<'_> {
         ]
     }
 
-    /// The pair's sweeps in lanes; `None` where a design left the common
-    /// path (the records then partly written).
+    /// The pair's sweeps in lanes, with the number of poses taken by each
+    /// design's stepper where a design left the common path; `None` where
+    /// a design failed a check (the records then partly written).
     fn lanes_pair(
         &self,
         models: [&Model; 2],
         outs: [&mut [f64]; 2],
-    ) -> Option<[(usize, Option<Early>); 2]> {
+    ) -> Option<(PairEnds, usize)> {
         let m = models[0];
         let s = self.sweep.as_ref()?;
+        // A start the sweep would refuse (its values are checked before
+        // the first value of the driver is set).
+        m.check_pose(&self.start).ok()?;
         let plan = m.fused.as_deref()?;
         let code = plan.lanes_pose()?;
         // The grid of each design's sweep (the same start and settings).
@@ -167,6 +185,7 @@ impl Batch<'_> {
         let mut start = vec![0.0; 2 * n];
         let mut one = vec![0.0; n];
         let mut joined = false;
+        let mut alone = 0;
         for k in 1..grid.count {
             let at = grid.at(k);
             let due = steppers[0]
@@ -188,7 +207,13 @@ impl Batch<'_> {
                 start[2 * j] = at;
                 start[2 * j + 1] = at;
                 if due % 16 == 0 {
-                    plan.carry_driver_in_lanes(&mut f, j, at);
+                    // Every driver's, as a stepper's refresh has the
+                    // helper compute each afresh: the swept one's at its
+                    // new value, the others' at theirs.
+                    for d in 0..m.drivers {
+                        let x = if d == j { at } else { self.start[d] };
+                        plan.carry_driver_in_lanes(&mut f, d, x);
+                    }
                 }
                 let status = plan.pose(&code, &mut f, &start, &mut modes2, &mut q2);
                 if status == 0 {
@@ -206,6 +231,7 @@ impl Batch<'_> {
                 if !crate::runtime::fused::Plan::left_lanes(status) {
                     return None;
                 }
+                alone += 1;
             }
             // Each design's stepper takes the pose: the refresh, or a
             // design off the common path (a fast turn of an unknown, which
@@ -230,6 +256,86 @@ impl Batch<'_> {
             }
             joined = false;
         }
-        Some([(keeps[0].row, None), (keeps[1].row, None)])
+        Some(([(keeps[0].row, None), (keeps[1].row, None)], alone))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Options;
+    use crate::runtime::{BatchSweep, Output};
+    use crate::sweep::ChangePoints;
+
+    const FOUR_BAR: &str = "
+    pub struct FourBar {
+        params { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
+        loops { B + polar(b, th3) == C; }
+    }";
+
+    /// Pairs of crank-rockers run to their end in lanes; the longer the
+    /// crank, the faster the rocker swings near its extremes, and a pair
+    /// of the longest takes some poses by each design's stepper (more
+    /// than 1/32 rad a step) and goes on in lanes, to the same numbers as
+    /// design by design.
+    #[test]
+    fn pairs_finish_in_lanes_with_poses_off_the_common_path() {
+        let m = Model::compile(FOUR_BAR)
+            .expect("compiles")
+            .with_values(&[0.04, 0.12, 0.10, 0.11])
+            .expect("values");
+        let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+        let sweep = BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: 360,
+            change_points: ChangePoints::Stop,
+        };
+        let batch = |lanes: bool| {
+            Batch::new(
+                &m,
+                &start,
+                &[1.0],
+                &[0.0],
+                Some(sweep.clone()),
+                &[Output::Position(1)],
+                &Options::DEFAULT,
+            )
+            .expect("a batch")
+            .positions_only()
+            .expect("positions only")
+            .in_lanes(lanes)
+        };
+        let paired = batch(true);
+        assert!(paired.in_pairs());
+        let mut most = 0;
+        for crank in [0.03, 0.05, 0.07, 0.085, 0.088] {
+            let (mut m0, mut m1) = (m.clone(), m.clone());
+            m0.set_values(&[crank, 0.12, 0.10, 0.11]).expect("values");
+            m1.set_values(&[crank - 0.001, 0.12, 0.10, 0.11])
+                .expect("values");
+            let record = paired.record();
+            let mut out = vec![f64::NAN; 2 * record];
+            let (o0, o1) = out.split_at_mut(record);
+            let (ends, alone) = paired
+                .lanes_pair([&m0, &m1], [o0, o1])
+                .unwrap_or_else(|| panic!("crank {crank}: the pair finishes in lanes"));
+            assert_eq!(ends.map(|e| e.0), [360, 360]);
+            most = most.max(alone);
+            // Design by design, the same numbers.
+            let designs = [crank, 0.12, 0.10, 0.11, crank - 0.001, 0.12, 0.10, 0.11];
+            let each = batch(false).run(&designs);
+            assert!(
+                out.iter()
+                    .zip(&each.values)
+                    .all(|(x, y)| x.to_bits() == y.to_bits())
+            );
+        }
+        assert!(most > 0, "no pose left the common path");
     }
 }
