@@ -136,11 +136,7 @@ impl Batch<'_> {
     /// The pair's sweeps in lanes, with the number of poses taken by each
     /// design's stepper where a design left the common path; `None` where
     /// a design failed a check (the records then partly written).
-    fn lanes_pair(
-        &self,
-        models: [&Model; 2],
-        outs: [&mut [f64]; 2],
-    ) -> Option<(PairEnds, usize)> {
+    fn lanes_pair(&self, models: [&Model; 2], outs: [&mut [f64]; 2]) -> Option<(PairEnds, usize)> {
         let m = models[0];
         let s = self.sweep.as_ref()?;
         // A start the sweep would refuse (its values are checked before
