@@ -85,6 +85,11 @@ fn ops(g: &mut Graph) -> Vec<Op> {
         Inst::Compare(Compare::Less, Val(9), Val(0)),
         Inst::And(Val(6), Val(10)),
         Inst::Select(Val(11), Val(9), Val(5)),
+        // A choice that differs between the lanes while the guard holds
+        // in both: p₀ where p₀ < 3, else p₁ (written at 14).
+        Inst::Const(3.0),
+        Inst::Compare(Compare::Less, Val(0), Val(13)),
+        Inst::Select(Val(14), Val(0), Val(1)),
     ];
     vec![
         Op::Import {
@@ -103,7 +108,7 @@ fn ops(g: &mut Graph) -> Vec<Op> {
         Op::Guarded {
             code,
             ok: Val(11),
-            fast: vec![(3, Val(12)), (13, Val(9))],
+            fast: vec![(3, Val(12)), (13, Val(9)), (14, Val(15))],
             slow: vec![],
             helper: 21,
             keep: vec![3],
@@ -210,6 +215,10 @@ fn the_common_path_in_lanes_is_each_designs_bit_for_bit() {
         let q = [[x(0.0) + 0.05, 0.4], [x(1.0) - 0.03, 0.1]];
         assert_eq!(pair.run(f, q), (0, 0, 0), "round {k}");
     }
+    // The choice at 14 differs between the lanes: p₀ of lane 0 below 3,
+    // of lane 1 above (checked against each design alone by `run`).
+    let f = [buffer([2.5, 0.5], 0.2, 10.0), buffer([3.5, 0.7], 1.2, 10.0)];
+    assert_eq!(pair.run(f, [[0.25, 0.4], [1.22, 0.1]]), (0, 0, 0));
 }
 
 #[test]
