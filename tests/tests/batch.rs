@@ -497,7 +497,7 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
             turns: Some(turns),
             ..turn(steps, ChangePoints::Stop)
         };
-        for reduce in [Reduce::Samples, Reduce::Peak] {
+        for reduce in [Reduce::Samples, Reduce::Peak, Reduce::Max, Reduce::Min] {
             let batch = |lanes: bool| {
                 Batch::new(
                     &m,
