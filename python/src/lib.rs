@@ -11,11 +11,11 @@
 
 use kinematics_core::closed::Mode;
 use kinematics_core::runtime::{
-    Batch, BatchSweep, CompileError, Model as Runtime, Motion, Reduce, Sample, SweepBuilder,
+    Batch, BatchSweep, CompileError, Model as Runtime, Motion, Reduce, Sample,
 };
 use kinematics_core::sweep::{ChangePoints, Stop, StopReason, Table};
 use kinematics_core::view::{PointRole, Projection};
-use kinematics_core::{Branch, Convergence, Error, Options};
+use kinematics_core::Error;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -28,6 +28,8 @@ mod errors;
 mod forces;
 mod forward;
 mod merit;
+mod runs;
+mod settings;
 mod sweep;
 mod synthesis;
 
@@ -36,66 +38,7 @@ use sweep::{change_points, stop_dict, Sweep};
 
 use convert::{array, motion_tuple, shaped};
 pub(crate) use errors::{error, raise};
-
-/// The options of a call, from the tuple the Python layer passes:
-/// (tolerance, max_iterations, singularity_threshold, branch, absolute),
-/// branch one of "any", "positive", "negative".
-type OptionsTuple = (f64, usize, f64, String, bool);
-
-/// A sweep's settings as Python hands them over: from, to and turns (or
-/// None), steps, rate, acceleration, and the rule at change points.
-type SweepSpec = (
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    usize,
-    f64,
-    f64,
-    String,
-);
-
-fn options(py: Python<'_>, o: Option<&OptionsTuple>) -> PyResult<Options> {
-    // `None`: the defaults, with nothing to read.
-    let Some(o) = o else {
-        return Ok(Options::DEFAULT);
-    };
-    let branch = match o.3.as_str() {
-        "any" => Branch::Any,
-        "positive" => Branch::Positive,
-        "negative" => Branch::Negative,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "branch must be \"any\", \"positive\" or \"negative\", not {other:?}"
-            )))
-        }
-    };
-    let opts = Options {
-        tolerance: o.0,
-        max_iterations: o.1,
-        singularity_threshold: o.2,
-        branch,
-        convergence: if o.4 {
-            Convergence::Absolute
-        } else {
-            Convergence::Relative
-        },
-    };
-    opts.validate().map_err(|e| error(py, &e))?;
-    Ok(opts)
-}
-
-/// The default options as the tuple [`options`] reads.
-#[pyfunction]
-fn default_options() -> OptionsTuple {
-    let o = Options::DEFAULT;
-    (
-        o.tolerance,
-        o.max_iterations,
-        o.singularity_threshold,
-        "any".to_owned(),
-        false,
-    )
-}
+use settings::{default_options, options, OptionsTuple, SweepSpec};
 
 /// What `__reduce__` gives pickle: the function that rebuilds a model,
 /// and its arguments (the text and the parameter values).
@@ -537,15 +480,7 @@ impl Model {
         opts: Option<OptionsTuple>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(py, opts.as_ref())?;
-        let builder = self.grid(py, driver, &start, spec, &o)?;
-        let (mut at, mut qs, mut points) = self.pose_columns(spec.1.is_some(), spec.3);
-        let end = py.detach(|| {
-            builder.for_each_pose(|value, q, r| {
-                at.push(value);
-                qs.extend_from_slice(q);
-                points.extend_from_slice(r);
-            })
-        });
+        let ((at, qs, points), end) = self.posed(py, driver, &start, spec, &o)?;
         let (nc, np, dim) = (
             self.model.coordinates().len(),
             self.model.point_names().len(),
@@ -596,15 +531,7 @@ impl Model {
             }
             "poses" => {
                 for _ in 0..repeats {
-                    let builder = self.grid(py, driver, &start, grid, &o)?;
-                    let (mut at, mut qs, mut points) = self.pose_columns(spec.1.is_some(), spec.3);
-                    let end = py.detach(|| {
-                        builder.for_each_pose(|value, q, r| {
-                            at.push(value);
-                            qs.extend_from_slice(q);
-                            points.extend_from_slice(r);
-                        })
-                    });
+                    let ((at, qs, points), end) = self.posed(py, driver, &start, grid, &o)?;
                     std::hint::black_box((&at, &qs, &points));
                     last = (at.len(), kind_of(end.stop.as_ref()));
                 }
@@ -777,92 +704,6 @@ impl Model {
 
     fn __repr__(&self) -> String {
         format!("<compiled mechanism {}>", self.model.name())
-    }
-}
-
-impl Model {
-    /// The sweep of `driver` from `start` over the grid `(from, to,
-    /// turns, steps)`, as `sweep` and `poses` read it.
-    fn grid<'a>(
-        &'a self,
-        py: Python<'_>,
-        driver: &str,
-        start: &[f64],
-        spec: (Option<f64>, Option<f64>, Option<f64>, usize),
-        o: &Options,
-    ) -> PyResult<SweepBuilder<'a>> {
-        let builder = self
-            .model
-            .sweep(driver, start)
-            .map_err(|e| error(py, &e))?
-            .steps(spec.3)
-            .options(o);
-        let builder = match spec.0 {
-            Some(f) => builder.from(f),
-            None => builder,
-        };
-        Ok(match (spec.1, spec.2) {
-            (Some(t), _) => builder.to(t),
-            (None, Some(n)) => builder.turns(n),
-            (None, None) => builder,
-        })
-    }
-
-    /// The sweep `spec` of `driver` from `start` run into its columns
-    /// (with the interpreter released), and its stop.
-    fn swept(
-        &self,
-        py: Python<'_>,
-        driver: &str,
-        start: &[f64],
-        spec: &SweepSpec,
-        o: &Options,
-    ) -> PyResult<(Columns, Option<Stop>)> {
-        let change = change_points(&spec.6)?;
-        let builder = self
-            .grid(py, driver, start, (spec.0, spec.1, spec.2, spec.3), o)?
-            .rate(spec.4)
-            .acceleration(spec.5)
-            .change_points(change);
-        let mut columns = self.columns(driver, spec.1.is_some(), spec.3);
-        let stop = py.detach(|| {
-            let end = builder.for_each_flat(|at, sample| columns.push(at, sample));
-            let stop = end.stop.clone();
-            columns.end(end);
-            stop
-        });
-        Ok((columns, stop))
-    }
-
-    /// The columns of a sweep of `driver` over `steps` steps (one row
-    /// more with an end value: its first sample).
-    fn columns(&self, driver: &str, to: bool, steps: usize) -> Columns {
-        // `grid` checked that the driver is one of the model's.
-        let (name, kind) = self
-            .model
-            .coordinates()
-            .iter()
-            .find(|c| c.name == driver)
-            .map_or(("", kinematics_core::Kind::Angle), |c| (c.name, c.kind));
-        Columns::new(&self.model, name, kind, steps.max(1) + usize::from(to))
-    }
-
-    /// The three vectors a sweep of poses fills: the driver's values,
-    /// the coordinates and the points' positions.
-    fn pose_columns(&self, to: bool, steps: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-        let rows = steps.max(1) + usize::from(to);
-        let m = &self.model;
-        (
-            Vec::with_capacity(rows),
-            Vec::with_capacity(rows * m.coordinates().len()),
-            Vec::with_capacity(rows * m.point_names().len() * self.dim()),
-        )
-    }
-
-    fn dim(&self) -> usize {
-        // The model knows its point dimension; an empty sweep's layout
-        // gives it without a pose.
-        self.model.point_dimension()
     }
 }
 
