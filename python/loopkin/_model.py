@@ -587,8 +587,11 @@ class Mechanism(_Forces, _Forward, _Batch, metaclass=MechanismType):
         turns = self._range(driver, to, turn, turns)
         if rpm is not None:
             rate = rpm * 2.0 * math.pi / 60.0
-        rate = self._quantity(driver, rate, 1)
-        acceleration = self._quantity(driver, acceleration, 2)
+        # (A float needs no reading: the common case, checked first.)
+        if type(rate) is not float:
+            rate = float(self._quantity(driver, rate, 1))
+        if type(acceleration) is not float:
+            acceleration = float(self._quantity(driver, acceleration, 2))
         if from_ is not None:
             from_ = self._quantity(driver, from_, 0)
         if to is not None:
@@ -597,21 +600,20 @@ class Mechanism(_Forces, _Forward, _Batch, metaclass=MechanismType):
         # The samples follow the motion: a sweep backwards (turns < 0, or
         # to below from_) with a positive rate would give the velocities
         # of the opposite motion.
-        rate = float(rate)
-        first = from_ if from_ is not None else float(q.array[self._where[driver]])
-        backwards = (turns is not None and turns < 0) or (to is not None and to < first)
-        if backwards and rate > 0:
-            raise ValueError(
-                f"the sweep runs {driver} backwards, from {first:g} "
-                f"{'by ' + format(turns, 'g') + ' turns' if turns is not None else 'to ' + format(to, 'g')}, "
-                f"but its rate {float(rate):g} is positive: give a negative rate (rate={-float(rate):g}) "
-                f"for the motion the samples follow"
-            )
+        if rate > 0 and ((turns is not None and turns < 0) or to is not None):
+            first = from_ if from_ is not None else float(q.array[self._where[driver]])
+            if turns is not None or (to is not None and to < first):
+                raise ValueError(
+                    f"the sweep runs {driver} backwards, from {first:g} "
+                    f"{'by ' + format(turns, 'g') + ' turns' if turns is not None else 'to ' + format(to, 'g')}, "
+                    f"but its rate {rate:g} is positive: give a negative rate (rate={-rate:g}) "
+                    f"for the motion the samples follow"
+                )
         native = self._m.sweep(
             driver,
             q.array.tolist(),
-            (from_, to, turns, int(steps), float(rate), float(acceleration), change_points),
-            _opts(options),
+            (from_, to, turns, int(steps), rate, acceleration, change_points),
+            None if options is None else options._tuple(),
         )
         return Sweep(type(self), self, native)
 
@@ -686,8 +688,10 @@ class Mechanism(_Forces, _Forward, _Batch, metaclass=MechanismType):
         if to is not None:
             to = self._quantity(driver, to, 0)
         q = self.pose(start)
-        d = self._m.poses(driver, q.array.tolist(), (from_, to, turns, int(steps)), _opts(options))
-        return Poses(type(self), d)
+        parts = self._m.poses(
+            driver, q.array.tolist(), (from_, to, turns, int(steps)), None if options is None else options._tuple()
+        )
+        return Poses(type(self), parts)
 
 
 # The result classes, imported once the classes they name are defined

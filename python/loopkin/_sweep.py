@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import os
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Type, Union
 
 import numpy as np
@@ -216,25 +217,73 @@ class Sweep:
         self._cls = cls
         self.design = design
         self._native = native
-        # The native arrays are read-only already: they hold the data the
-        # figures and tables read back.
-        (at, q, qd, qdd, points, frames, conditioning, det_sign, residual), s, changes = native.parts()
-        names = cls._coords
-        self.variable: str = native.variable
-        self.at: np.ndarray = at
-        self.q = _Columns(names, q)
-        self.qd = _Columns(names, qd)
-        self.qdd = _Columns(names, qdd)
-        self._points = points
-        self._frames = frames
-        self.conditioning: np.ndarray = conditioning
-        self.det_sign: np.ndarray = det_sign
-        self.residual: np.ndarray = residual
-        self.stop: Optional[Stop] = None if s is None else Stop(s)
-        self.change_points: List[float] = changes
+
+    # Each column is made an array when first read (the native arrays are
+    # read-only already: they hold the data the figures and tables read
+    # back), then kept as an attribute.
+
+    @cached_property
+    def variable(self) -> str:
+        """The swept variable's name (the driver's, or ``t``)."""
+        return self._native.variable
+
+    @cached_property
+    def at(self) -> np.ndarray:
+        """The swept variable's value at each sample."""
+        return self._native.column(0)
+
+    @cached_property
+    def q(self) -> "_Columns":
+        """The coordinates' values, by name: ``sw.q["th3"]``."""
+        return _Columns(self._cls._coords, self._native.column(1))
+
+    @cached_property
+    def qd(self) -> "_Columns":
+        """The coordinates' rates, by name."""
+        return _Columns(self._cls._coords, self._native.column(2))
+
+    @cached_property
+    def qdd(self) -> "_Columns":
+        """The coordinates' accelerations, by name."""
+        return _Columns(self._cls._coords, self._native.column(3))
+
+    @cached_property
+    def _points(self) -> np.ndarray:
+        return self._native.column(4)
+
+    @cached_property
+    def conditioning(self) -> np.ndarray:
+        """The conditioning of the unknowns' Jacobian at each sample:
+        1/‖Φ̃_u⁻¹‖∞ of the scaled Jacobian, 0 at a singular pose."""
+        return self._native.column(5)
+
+    @cached_property
+    def det_sign(self) -> np.ndarray:
+        """The sign of det Φ_u at each sample (the assembly branch)."""
+        return self._native.column(6)
+
+    @cached_property
+    def residual(self) -> np.ndarray:
+        """The loop-closure residual max |Φ_i| / S_i at each sample."""
+        return self._native.column(7)
+
+    @cached_property
+    def _frames(self) -> np.ndarray:
+        return self._native.column(8)
+
+    @cached_property
+    def stop(self) -> Optional[Stop]:
+        """``None`` where the sweep ran to its end, else why it stopped."""
+        s = self._native.stop()
+        return None if s is None else Stop(s)
+
+    @cached_property
+    def change_points(self) -> List[float]:
+        """The change points passed (the driver's value at each)."""
+        return self._native.change_points
 
     def __len__(self) -> int:
-        return len(self.at)
+        return len(self._native)
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.q[name]
@@ -575,13 +624,30 @@ class Poses:
     samples × dim, with no velocity or acceleration), ``stop`` the
     :class:`Stop` that ended it before the end of its range, or ``None``."""
 
-    def __init__(self, cls: Type["Mechanism"], d: Mapping[str, Any]) -> None:
+    def __init__(
+        self,
+        cls: Type["Mechanism"],
+        parts: Tuple[np.ndarray, np.ndarray, np.ndarray, Optional[Mapping[str, Any]]],
+    ) -> None:
         self._cls = cls
-        # Read-only arrays from the native module.
-        self.at: np.ndarray = d["at"]
-        self.q = _Columns(cls._coords, d["q"])
-        self.points: np.ndarray = d["points"]
-        self.stop: Optional[Stop] = None if d["stop"] is None else Stop(d["stop"])
+        # Read-only arrays from the native module: the driver's values, the
+        # poses (samples × coordinates), the points (samples × points ×
+        # dim); then the stop.
+        self.at: np.ndarray = parts[0]
+        self._q = parts[1]
+        self.points: np.ndarray = parts[2]
+        self._stop = parts[3]
+
+    @cached_property
+    def q(self) -> _Columns:
+        """The coordinates' values, by name: ``poses.q["th3"]``."""
+        return _Columns(self._cls._coords, self._q)
+
+    @cached_property
+    def stop(self) -> Optional[Stop]:
+        """``None`` where the poses ran to the end of their range, else why
+        they stopped."""
+        return None if self._stop is None else Stop(self._stop)
 
     def __len__(self) -> int:
         return len(self.at)

@@ -468,9 +468,10 @@ impl Model {
 
     /// Positions only along a sweep of the driver `driver` from `start`
     /// (`SweepBuilder::for_each_pose`): the grid of `spec` (from, to,
-    /// turns, steps, as `sweep`'s). A dict of "at" (n), "q" (n ×
-    /// coordinates), "points" (n × points × dim) and "stop" (as `Sweep.stop`
-    /// gives it, or None).
+    /// turns, steps, as `sweep`'s). A tuple of read-only arrays "at" (n),
+    /// "q" (n × coordinates), "points" (n × points × dim), then the stop
+    /// (as `Sweep.stop` gives it, or None).
+    #[allow(clippy::type_complexity)]
     fn poses<'py>(
         &self,
         py: Python<'py>,
@@ -478,7 +479,12 @@ impl Model {
         start: Vec<f64>,
         spec: (Option<f64>, Option<f64>, Option<f64>, usize),
         opts: Option<OptionsTuple>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        Option<Bound<'py, PyDict>>,
+    )> {
         let o = options(py, opts.as_ref())?;
         let ((at, qs, points), end) = self.posed(py, driver, &start, spec, &o)?;
         let (nc, np, dim) = (
@@ -487,16 +493,13 @@ impl Model {
             self.dim(),
         );
         let n = at.len();
-        let d = PyDict::new(py);
         // Read-only: the result's own data.
-        d.set_item("at", convert::frozen(array(py, at)))?;
-        d.set_item("q", sweep::frozen_any(shaped(py, qs, vec![n, nc])?)?)?;
-        d.set_item(
-            "points",
+        Ok((
+            convert::frozen(array(py, at)).into_any(),
+            sweep::frozen_any(shaped(py, qs, vec![n, nc])?)?,
             sweep::frozen_any(shaped(py, points, vec![n, np, dim])?)?,
-        )?;
-        d.set_item("stop", stop_dict(py, end.stop.as_ref())?)?;
-        Ok(d)
+            stop_dict(py, end.stop.as_ref())?,
+        ))
     }
 
     /// The native work of `sweep` (`kind` "sweep") or of `poses` ("poses")

@@ -2,6 +2,10 @@
 //! columns handed over without a copy, the stop as a dict, and the views
 //! the Python layer builds its `Sweep` from.
 
+use std::sync::Mutex;
+
+use pyo3::sync::PyOnceLock;
+
 use super::*;
 
 /// A sweep's stop as a dict: "kind" ("limit_position", "change_point",
@@ -63,18 +67,24 @@ pub(crate) fn change_points(s: &str) -> PyResult<ChangePoints> {
     }
 }
 
-/// The samples of a sweep of a run-time model, and how it ended: the
-/// columns handed to numpy without a copy (`arrays`), and what else the
+/// The samples of a sweep of a run-time model, and how it ended: each
+/// data column handed to numpy without a copy when it is first asked for
+/// (`arrays`; until then its values wait in `pending`), and what else the
 /// sweep knows (`columns`, whose data columns were moved out).
 #[pyclass(frozen, module = "loopkin._native")]
 pub(crate) struct Sweep {
     pub(crate) columns: Columns,
-    /// The arrays of the data columns in the order of [`DATA`], then the
-    /// frames'.
-    pub(crate) arrays: Vec<Py<PyAny>>,
+    /// The values of each column not yet made an array, in the order of
+    /// [`DATA`], then the frames'.
+    pending: [Mutex<Option<Vec<f64>>>; COLUMNS],
+    /// The arrays made, in the same order.
+    arrays: [PyOnceLock<Py<PyAny>>; COLUMNS],
     pub(crate) rows: usize,
     pub(crate) model: std::sync::Arc<Runtime>,
 }
+
+/// The number of columns of a sweep: [`DATA`]'s and the frames'.
+const COLUMNS: usize = DATA.len() + 1;
 
 /// The names of the data columns, in the order of `Columns::take_data`.
 const DATA: [&str; 8] = [
@@ -89,40 +99,60 @@ const DATA: [&str; 8] = [
 ];
 
 impl Sweep {
-    /// The sweep of `model` whose samples are `columns`: its data columns
-    /// moved into numpy arrays (no copy), shaped as [`Sweep::columns`]
-    /// gives them.
+    /// The sweep of `model` whose samples are `columns`, their data
+    /// columns moved out, to be handed to numpy as they are asked for
+    /// ([`Sweep::array`]).
     pub(crate) fn new(
-        py: Python<'_>,
+        _py: Python<'_>,
         mut columns: Columns,
         model: std::sync::Arc<Runtime>,
     ) -> PyResult<Self> {
         let n = columns.rows();
-        let nc = model.coordinates().len();
-        let np = model.point_names().len();
-        let nf = model.frame_names().len();
-        let dim = model.point_dimension();
         let frames: Vec<f64> = columns
             .frames
             .iter()
             .flat_map(convert::frame_values)
             .collect();
-        let mut arrays = Vec::with_capacity(DATA.len() + 1);
-        for (key, v) in DATA.into_iter().zip(columns.take_data()) {
-            let a = match key {
-                "q" | "qd" | "qdd" => shaped(py, v, vec![n, nc])?,
-                "points" => shaped(py, v, vec![n, np, 3, dim])?,
-                _ => array(py, v).into_any(),
-            };
-            // Read-only: they hold the sweep's data, which `full` reads.
-            arrays.push(frozen_any(a)?.unbind());
-        }
-        arrays.push(frozen_any(shaped(py, frames, vec![n, nf, 24])?)?.unbind());
+        let [a, b, c, d, e, f, g, h] = columns.take_data().map(Some);
         Ok(Self {
             columns,
-            arrays,
+            pending: [a, b, c, d, e, f, g, h, Some(frames)].map(Mutex::new),
+            arrays: std::array::from_fn(|_| PyOnceLock::new()),
             rows: n,
             model,
+        })
+    }
+
+    /// Column `i` (of [`DATA`], then the frames) as a read-only array, made
+    /// at the first call from its values (no copy), the same array at
+    /// every call after: "q", "qd", "qdd" n × coordinates, "points" n ×
+    /// points × 3 × dim, the frames n × frames × 24, the others n.
+    fn array<'a>(&'a self, py: Python<'_>, i: usize) -> PyResult<&'a Py<PyAny>> {
+        let (Some(cell), Some(pending)) = (self.arrays.get(i), self.pending.get(i)) else {
+            return Err(PyValueError::new_err(format!(
+                "a sweep has {COLUMNS} columns, not column {i}"
+            )));
+        };
+        cell.get_or_try_init(py, || {
+            let values = pending
+                .lock()
+                .map_err(|_| PyValueError::new_err("a column of the sweep was lost"))?
+                .take()
+                .ok_or_else(|| PyValueError::new_err("a column of the sweep was lost"))?;
+            let n = self.rows;
+            let m = &self.model;
+            let a = match i {
+                1..=3 => shaped(py, values, vec![n, m.coordinates().len()])?,
+                4 => shaped(
+                    py,
+                    values,
+                    vec![n, m.point_names().len(), 3, m.point_dimension()],
+                )?,
+                8 => shaped(py, values, vec![n, m.frame_names().len(), 24])?,
+                _ => array(py, values).into_any(),
+            };
+            // Read-only: they hold the sweep's data, which `full` reads.
+            Ok(frozen_any(a)?.unbind())
         })
     }
 
@@ -162,8 +192,9 @@ impl Sweep {
     /// deviations read.
     fn full(&self, py: Python<'_>) -> PyResult<Columns> {
         let mut held = Vec::with_capacity(DATA.len());
-        for a in &self.arrays[..DATA.len()] {
-            held.push(a.bind(py).cast::<numpy::PyArrayDyn<f64>>()?.readonly());
+        for i in 0..DATA.len() {
+            let a = self.array(py, i)?.bind(py);
+            held.push(a.cast::<numpy::PyArrayDyn<f64>>()?.readonly());
         }
         let mut data: [&[f64]; 8] = [&[]; 8];
         for (slot, a) in data.iter_mut().zip(&held) {
@@ -192,37 +223,18 @@ impl Sweep {
     /// read-only by the Python class that wraps them).
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (key, a) in DATA.iter().chain(&["frames"]).zip(&self.arrays) {
-            d.set_item(key, a.bind(py))?;
+        for (i, key) in DATA.iter().chain(&["frames"]).enumerate() {
+            d.set_item(key, self.array(py, i)?.bind(py))?;
         }
         Ok(d)
     }
 
-    /// What the Python `Sweep` is made of, in one call: the arrays of
-    /// [`Sweep::columns`] in the order "at", "q", "qd", "qdd", "points",
-    /// "frames", "conditioning", "det_sign", "residual", then the stop
-    /// ([`Sweep::stop`]) and the change points.
-    #[allow(clippy::type_complexity)]
-    fn parts<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Vec<Bound<'py, PyAny>>, Option<Bound<'py, PyDict>>, Vec<f64>)> {
-        // DATA's order with the frames moved after the points.
-        let order = [0, 1, 2, 3, 4, 8, 5, 6, 7];
-        let arrays = order
-            .iter()
-            .map(|&i| {
-                self.arrays
-                    .get(i)
-                    .map(|a| a.bind(py).clone())
-                    .ok_or_else(|| PyValueError::new_err("a column of the sweep is missing"))
-            })
-            .collect::<PyResult<Vec<_>>>()?;
-        Ok((
-            arrays,
-            stop_dict(py, self.columns.stop.as_ref())?,
-            self.columns.change_points.clone(),
-        ))
+    /// Column `i` of the sweep as an array, made when first asked for and
+    /// the same array after: 0 "at", 1 "q", 2 "qd", 3 "qdd", 4 "points",
+    /// 5 "conditioning", 6 "det_sign", 7 "residual", 8 "frames" (shaped as
+    /// [`Sweep::columns`] gives them).
+    fn column<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyAny>> {
+        Ok(self.array(py, i)?.bind(py).clone())
     }
 
     /// `None` when the sweep ran to its end; else a dict with "kind"

@@ -459,6 +459,40 @@ def test_a_sweep_backwards_needs_a_negative_rate(four_bar):
     assert close(sw.qd["th3"][1:-1], -10.0 * slope[1:-1], 1e-4, scale=10.0)
 
 
+def test_a_sweep_forwards_and_from_a_given_value(four_bar):
+    """The check of a sweep's direction reads the start's value of the
+    driver only where it matters, and reads it right: forwards to an end
+    above the start runs; from a given value, an end below it with a
+    positive rate is backwards, and with a negative rate runs."""
+    start = four_bar.assemble(phi=0.5, th3=0.9, th4=1.7)
+    sw = four_bar.sweep("phi", start=start, to=1.0, steps=10, rate=10.0)
+    assert len(sw) == 11 and sw.stop is None and close(sw.at[-1], 1.0, 1e-15)
+    with pytest.raises(ValueError, match="runs phi backwards, from 1 to 0.7"):
+        four_bar.sweep("phi", start=start, from_=1.0, to=0.7, steps=10, rate=10.0)
+    sw = four_bar.sweep("phi", start=start, from_=1.0, to=0.7, steps=10, rate=-10.0)
+    assert len(sw) == 11 and close(sw.at[0], 1.0, 1e-15) and close(sw.qd["phi"], -10.0, 1e-15)
+
+
+def test_a_sweeps_columns_are_made_when_read(four_bar):
+    """A sweep hands each column to numpy at its first reading, and the
+    same array after; the tables and figures read every column, whether
+    read before or not."""
+    start = four_bar.assemble(phi=0.3, th3=1.0, th4=1.6)
+    sw = four_bar.sweep("phi", start=start, turn=True, steps=12, rate=2.0)
+    # Before any column is read: the CSV has every sample.
+    text = sw.to_csv()
+    assert len(text.strip().splitlines()) == 1 + 12
+    native = sw._native
+    assert native.column(1) is native.column(1)
+    assert sw.at is sw.at and sw.q._table is native.column(1)
+    with pytest.raises(ValueError, match="9 columns, not column 9"):
+        native.column(9)
+    again = four_bar.sweep("phi", start=start, turn=True, steps=12, rate=2.0)
+    assert np.array_equal(again.qd["th3"], sw.qd["th3"])
+    assert again.to_csv() == text and len(again) == 12
+    assert sw.variable == "phi" and sw.change_points == [] and sw.stop is None
+
+
 def test_results_are_read_only(four_bar):
     """The arrays a result hands out hold its data (which its tables and
     figures read back): none can be written."""
