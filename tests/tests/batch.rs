@@ -559,3 +559,87 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
         }
     }
 }
+
+/// A five-bar, two drivers: a batch of positions only in lanes sweeps
+/// either driver with the other held, and every design's record is that
+/// of the same batch design by design, bit for bit (each driver's carried
+/// cosine and sine refreshed in lanes as its stepper refreshes them).
+#[test]
+fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
+    let text = "struct FiveBar {
+        params   { a, b, c, d, e }
+        drivers  { phi1, phi2 }
+        unknowns { th3, th4 }
+        points   { B = polar(a, phi1); P = B + polar(b, th3); }
+        loops    { polar(a, phi1) + polar(b, th3) == vec2(d, 0.0) + polar(c, phi2) + polar(e, th4); }
+    }";
+    let mut m = Model::compile(text).expect("it compiles");
+    m.set_values(&[0.03, 0.10, 0.03, 0.10, 0.10])
+        .expect("five values");
+    let start = m.assemble(&[1.5, 1.6, 0.6, 2.5]).expect("assembles");
+    // |BD| stays within (0.04, 0.16), inside (|b − e|, b + e): every
+    // design turns either crank whole.
+    let designs: Vec<f64> = (0..11)
+        .flat_map(|k| {
+            let t = f64::from(k);
+            [
+                0.03 + 0.0005 * t,
+                0.10 + 0.001 * t,
+                0.03,
+                0.10,
+                0.10 - 0.0005 * t,
+            ]
+        })
+        .collect();
+    for driver in [0, 1] {
+        let sweep = BatchSweep {
+            driver,
+            ..turn(720, ChangePoints::Stop)
+        };
+        let batch = |lanes: bool| {
+            Batch::new(
+                &m,
+                &start,
+                &[1.0, 0.0],
+                &[0.0, 0.0],
+                Some(sweep.clone()),
+                &[Output::Coordinate(2), Output::Position(1)],
+                &Options::DEFAULT,
+            )
+            .expect("a valid batch")
+            .positions_only()
+            .expect("positions only")
+            .in_lanes(lanes)
+        };
+        let (paired, alone) = (batch(true), batch(false));
+        assert!(paired.in_pairs(), "driver {driver}");
+        let (a, b) = (paired.run(&designs), alone.run(&designs));
+        assert!(
+            a.samples.iter().all(|&n| n == 720),
+            "driver {driver}: {:?}",
+            a.samples
+        );
+        assert_eq!(a.samples, b.samples);
+        assert!(a.early.iter().all(Option::is_none));
+        for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
+            assert!(
+                x.to_bits() == y.to_bits(),
+                "driver {driver}, value {i}: {x} in lanes, {y} alone"
+            );
+        }
+        // The held driver stays at its start, the swept one turns.
+        let held = 1 - driver;
+        let own = m.with_values(&designs[5..10]).expect("its values");
+        let mut poses = Vec::new();
+        own.sweep(own.coordinates()[driver].name, &start)
+            .expect("a sweep")
+            .turns(1.0)
+            .steps(720)
+            .for_each_pose(|_, q, _| poses.push((q[held], q[2])));
+        assert_eq!(poses.len(), 720);
+        for ((h, th3), y) in poses.iter().zip(a.output(&paired, 1, 0)) {
+            assert!(h.to_bits() == start[held].to_bits());
+            assert!((th3 - y).abs() <= 1e-12, "{th3} {y}");
+        }
+    }
+}
