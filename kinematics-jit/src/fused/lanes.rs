@@ -6,10 +6,12 @@
 //! Only the common path has a form in lanes: where either design would
 //! leave it (a guard fails, a driver moved beyond the carried series'
 //! step), the function returns the status `left` and the caller runs the
-//! two designs alone. So no op calls the helper: [`Op::Call`],
-//! [`Op::Solve`] and [`Op::FactorSmall`] have no form in lanes (an error
-//! when compiling). The checks of the others hold in both lanes: a value
-//! not finite, or a bound exceeded, in either is the op's status.
+//! two designs alone. So no op calls the helper: [`Op::Call`] has no form
+//! in lanes (an error when compiling). The checks of the others hold in
+//! both lanes: a value not finite, a bound exceeded, a singular block or
+//! the other branch, in either is the op's status. The small blocks'
+//! factorisation and the block solve are written once for both forms
+//! (`blocks.rs`).
 //!
 //! Each lane computes what the scalar function computes for its design,
 //! operation for operation (the same IEEE operations in the same order).
@@ -19,6 +21,7 @@ use cranelift_codegen::ir::{types, Block, BlockArg, InstBuilder, MemFlags, Value
 use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::Graph;
 
+use super::blocks;
 use super::emit::{evaluate, flag_of, konst, not_finite, number_of, port_slot, rotated, seed_at};
 use super::{Function, Fused, Inst, Layout, Op, Port, Series, Val, PORTS};
 use crate::lower::{Imports, Lower, Sources};
@@ -48,7 +51,11 @@ impl<'w> Lanes<'w> {
         }
     }
 
-    fn load(&mut self, b: &mut FunctionBuilder<'_>, at: usize) -> Result<Value, JitError> {
+    pub(super) fn load(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        at: usize,
+    ) -> Result<Value, JitError> {
         if let Some(&v) = self.known.get(&at) {
             return Ok(v);
         }
@@ -59,7 +66,12 @@ impl<'w> Lanes<'w> {
         Ok(v)
     }
 
-    fn store(&mut self, b: &mut FunctionBuilder<'_>, at: usize, v: Value) -> Result<(), JitError> {
+    pub(super) fn store(
+        &mut self,
+        b: &mut FunctionBuilder<'_>,
+        at: usize,
+        v: Value,
+    ) -> Result<(), JitError> {
         b.ins()
             .store(vector_flags(), v, self.fp, (self.within)(at)?);
         self.known.insert(at, v);
@@ -98,7 +110,7 @@ impl Fused {
     ///
     /// # Errors
     /// As [`Fused::new`]; [`JitError::Codegen`] also for an op with no
-    /// form in lanes ([`Op::Call`], [`Op::Solve`], [`Op::FactorSmall`]).
+    /// form in lanes ([`Op::Call`]).
     pub fn new_in_lanes(
         graph: &Graph,
         params: usize,
@@ -236,15 +248,55 @@ impl Emit<'_, '_> {
                     bail(b, self.exit, failed, *status);
                 }
             }
-            Op::Call(_) | Op::Solve { .. } | Op::FactorSmall { .. } => {
-                return Err(JitError::Codegen(format!(
-                    "{} has no form in lanes",
-                    match op {
-                        Op::Call(_) => "a call of the helper",
-                        Op::Solve { .. } => "a block solve",
-                        _ => "a factorisation of small blocks",
-                    }
-                )));
+            Op::Solve {
+                rhs,
+                blocks,
+                to,
+                finite,
+            } => {
+                let exit = self.exit;
+                blocks::solve(
+                    b,
+                    true,
+                    (&mut *self.lower, self.sources, self.imports),
+                    memory,
+                    (rhs, blocks, *to, *finite),
+                    &mut |b, failed, status| bail(b, exit, failed, status),
+                )?;
+            }
+            Op::FactorSmall {
+                blocks,
+                threshold,
+                branch,
+                odd,
+                conditioning,
+                sign,
+                singular,
+                wrong_branch,
+            } => {
+                let at = blocks::Factoring {
+                    threshold: *threshold,
+                    branch: *branch,
+                    odd: *odd,
+                    conditioning: *conditioning,
+                    sign: *sign,
+                    singular: *singular,
+                    wrong_branch: *wrong_branch,
+                };
+                let exit = self.exit;
+                blocks::factor_small(
+                    b,
+                    true,
+                    (&mut *self.lower, self.sources, self.imports),
+                    memory,
+                    (blocks, &at),
+                    &mut |b, failed, status| bail(b, exit, failed, status),
+                )?;
+            }
+            Op::Call(_) => {
+                return Err(JitError::Codegen(
+                    "a call of the helper has no form in lanes".into(),
+                ));
             }
         }
         Ok(())

@@ -29,6 +29,7 @@ use kinematics_compiler::ir::{Graph, Id};
 use crate::lower::{Imports, Lower, SignBits, Sources};
 use crate::{clear_upper, declare_imports, new_module, vex_encoded, JitError};
 
+mod blocks;
 mod callable;
 mod emit;
 mod lanes;
@@ -270,73 +271,17 @@ impl Fused {
                                 blocks,
                                 to,
                                 finite,
-                            } => {
-                                lower.emit(&mut b, &sources, &imports, rhs)?;
-                                let mut x: std::collections::HashMap<
-                                    usize,
-                                    cranelift_codegen::ir::Value,
-                                > = std::collections::HashMap::new();
-                                let mut solved = Vec::new();
-                                for block in blocks {
-                                    let mut ys = Vec::with_capacity(block.rows.len());
-                                    for row in &block.rows {
-                                        let root = *rhs.get(row.rhs).ok_or_else(|| {
-                                            JitError::Codegen("a solve's row past its roots".into())
-                                        })?;
-                                        let mut t =
-                                            lower.value(&mut b, &sources, &imports, root)?;
-                                        let mut sum = None;
-                                        for &(e, c) in &row.known {
-                                            let xc = *x.get(&c).ok_or_else(|| {
-                                                JitError::Codegen(
-                                                    "a solve reads an unknown not solved".into(),
-                                                )
-                                            })?;
-                                            let entry = memory.load(&mut b, e)?;
-                                            let p = b.ins().fmul(entry, xc);
-                                            sum = Some(match sum {
-                                                None => p,
-                                                Some(s) => b.ins().fadd(s, p),
-                                            });
-                                        }
-                                        if let Some(sum) = sum {
-                                            t = b.ins().fsub(t, sum);
-                                        }
-                                        let scale = memory.load(&mut b, row.scale)?;
-                                        ys.push(b.ins().fmul(t, scale));
-                                    }
-                                    let n = ys.len();
-                                    for (i, &(c, scale)) in block.cols.iter().enumerate() {
-                                        let mut acc = None;
-                                        for (j, &y) in ys.iter().enumerate() {
-                                            let at = block.inverse + i * n + j;
-                                            let m = memory.load(&mut b, at)?;
-                                            let p = b.ins().fmul(m, y);
-                                            acc = Some(match acc {
-                                                None => p,
-                                                Some(a) => b.ins().fadd(a, p),
-                                            });
-                                        }
-                                        let mut v = match acc {
-                                            Some(v) => v,
-                                            None => b.ins().f64const(0.0),
-                                        };
-                                        if let Some(scale) = scale {
-                                            let s = memory.load(&mut b, scale)?;
-                                            v = b.ins().fmul(v, s);
-                                        }
-                                        memory.store(&mut b, to + c, v)?;
-                                        x.insert(c, v);
-                                        solved.push(v);
-                                    }
-                                }
-                                if let Some(status) = *finite {
-                                    if let Some(failed) = not_finite(&mut b, false, &solved) {
-                                        let status = b.ins().iconst(types::I64, status);
-                                        bail(&mut b, failed, status);
-                                    }
-                                }
-                            }
+                            } => blocks::solve(
+                                &mut b,
+                                false,
+                                (&mut lower, &sources, &imports),
+                                &mut memory,
+                                (rhs, blocks, *to, *finite),
+                                &mut |b, failed, status| {
+                                    let status = b.ins().iconst(types::I64, status);
+                                    bail(b, failed, status);
+                                },
+                            )?,
                             Op::CarriedTrig {
                                 value,
                                 carried,
@@ -433,114 +378,26 @@ impl Fused {
                                 singular,
                                 wrong_branch,
                             } => {
-                                let thr = memory.load(&mut b, *threshold)?;
-                                let zero_i = b.ins().iconst(types::I8, 0);
-                                let inf = b.ins().f64const(f64::INFINITY);
-                                let one = b.ins().f64const(1.0);
-                                let zero = b.ins().f64const(0.0);
-                                let mut least = if blocks.is_empty() { one } else { inf };
-                                let mut product = b.ins().f64const(if *odd { -1.0 } else { 1.0 });
-                                // Every block's regularity, tested once after them all
-                                // (one branch for the op).
-                                let mut regular_all = b.ins().icmp_imm(IntCC::Equal, zero_i, 0);
-                                for block in blocks {
-                                    let mut a = Vec::with_capacity(block.entries.len());
-                                    for &(root, row, col) in &block.entries {
-                                        let v = lower.value(&mut b, &sources, &imports, root)?;
-                                        let r = memory.load(&mut b, row)?;
-                                        let mut x = b.ins().fmul(v, r);
-                                        if let Some(col) = col {
-                                            let c = memory.load(&mut b, col)?;
-                                            x = b.ins().fmul(x, c);
-                                        }
-                                        a.push(x);
-                                    }
-                                    // The determinant's sign: ±1 (it is finite and
-                                    // nonzero once the block is regular).
-                                    let signum = |b: &mut FunctionBuilder<'_>, d| {
-                                        let negative = b.ins().fcmp(FloatCC::LessThan, d, zero);
-                                        let minus = b.ins().f64const(-1.0);
-                                        b.ins().select(negative, minus, one)
-                                    };
-                                    let (c, s) = match a.as_slice() {
-                                        [a00] => {
-                                            let p0 = b.abs(*a00);
-                                            let above = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
-                                            let finite = b.ins().fcmp(FloatCC::LessThan, p0, inf);
-                                            let regular = b.ins().band(above, finite);
-                                            regular_all = b.ins().band(regular_all, regular);
-                                            let inv = b.ins().fdiv(one, *a00);
-                                            memory.store(&mut b, block.inverse, inv)?;
-                                            (p0, signum(&mut b, *a00))
-                                        }
-                                        [a00, a01, a10, a11] => {
-                                            let (x00, x10) = (b.abs(*a00), b.abs(*a10));
-                                            // The larger (a `maxsd`, no branch).
-                                            let greater = b.ins().fcmp(FloatCC::LessThan, x00, x10);
-                                            let p0 = b.ins().select(greater, x10, x00);
-                                            let m0 = b.ins().fmul(*a00, *a11);
-                                            let m1 = b.ins().fmul(*a01, *a10);
-                                            let det = b.ins().fsub(m0, m1);
-                                            let first = b.ins().fcmp(FloatCC::GreaterThan, p0, thr);
-                                            regular_all = b.ins().band(regular_all, first);
-                                            let ad = b.abs(det);
-                                            let tp = b.ins().fmul(thr, p0);
-                                            let above = b.ins().fcmp(FloatCC::GreaterThan, ad, tp);
-                                            let finite = b.ins().fcmp(FloatCC::LessThan, ad, inf);
-                                            let regular = b.ins().band(above, finite);
-                                            regular_all = b.ins().band(regular_all, regular);
-                                            let inv = b.ins().fdiv(one, det);
-                                            let n01 = b.neg(*a01);
-                                            let n10 = b.neg(*a10);
-                                            let i00 = b.ins().fmul(*a11, inv);
-                                            let i01 = b.ins().fmul(n01, inv);
-                                            let i10 = b.ins().fmul(n10, inv);
-                                            let i11 = b.ins().fmul(*a00, inv);
-                                            for (k, v) in
-                                                [i00, i01, i10, i11].into_iter().enumerate()
-                                            {
-                                                memory.store(&mut b, block.inverse + k, v)?;
-                                            }
-                                            // 1/‖A⁻¹‖_∞: the larger row sum (the
-                                            // first where they tie or one is NaN).
-                                            let row = |b: &mut FunctionBuilder<'_>, x: _, y: _| {
-                                                let (x, y) = (b.abs(x), b.abs(y));
-                                                let s = b.ins().fadd(zero, x);
-                                                b.ins().fadd(s, y)
-                                            };
-                                            let s0 = row(&mut b, i00, i01);
-                                            let s1 = row(&mut b, i10, i11);
-                                            let second = b.ins().fcmp(FloatCC::LessThan, s0, s1);
-                                            let worst = b.ins().select(second, s1, s0);
-                                            let c = b.ins().fdiv(one, worst);
-                                            let ac = b.abs(c);
-                                            let finite = b.ins().fcmp(FloatCC::LessThan, ac, inf);
-                                            let c = b.ins().select(finite, c, zero);
-                                            let above = b.ins().fcmp(FloatCC::GreaterThan, c, thr);
-                                            regular_all = b.ins().band(regular_all, above);
-                                            (c, signum(&mut b, det))
-                                        }
-                                        _ => {
-                                            return Err(JitError::Codegen(
-                                                "a small block has one or four entries".into(),
-                                            ))
-                                        }
-                                    };
-                                    let smaller = b.ins().fcmp(FloatCC::LessThan, c, least);
-                                    least = b.ins().select(smaller, c, least);
-                                    product = b.ins().fmul(product, s);
-                                }
-                                let failed = b.ins().icmp_imm(IntCC::Equal, regular_all, 0);
-                                let singular = b.ins().iconst(types::I64, *singular);
-                                bail(&mut b, failed, singular);
-                                let wanted = memory.load(&mut b, *branch)?;
-                                let asked = b.ins().fcmp(FloatCC::NotEqual, wanted, zero);
-                                let other = b.ins().fcmp(FloatCC::NotEqual, product, wanted);
-                                let failed = b.ins().band(asked, other);
-                                let status = b.ins().iconst(types::I64, *wrong_branch);
-                                bail(&mut b, failed, status);
-                                memory.store(&mut b, *conditioning, least)?;
-                                memory.store(&mut b, *sign, product)?;
+                                let at = blocks::Factoring {
+                                    threshold: *threshold,
+                                    branch: *branch,
+                                    odd: *odd,
+                                    conditioning: *conditioning,
+                                    sign: *sign,
+                                    singular: *singular,
+                                    wrong_branch: *wrong_branch,
+                                };
+                                blocks::factor_small(
+                                    &mut b,
+                                    false,
+                                    (&mut lower, &sources, &imports),
+                                    &mut memory,
+                                    (blocks, &at),
+                                    &mut |b, failed, status| {
+                                        let status = b.ins().iconst(types::I64, status);
+                                        bail(b, failed, status);
+                                    },
+                                )?;
                             }
                             Op::Import {
                                 from,

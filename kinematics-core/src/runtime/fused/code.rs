@@ -70,6 +70,26 @@ impl Plan {
             .function(0)
     }
 
+    /// The step on two designs per call, as [`Plan::lanes_pose`] the pose:
+    /// the buffer and the ports (start, rates, accelerations; modes, pose)
+    /// interleaved, status 0 where both designs took the common path, each
+    /// lane then the scalar step's computation for its design. Compiled at
+    /// the first call; `None` where some part of the step calls the
+    /// helper unconditionally. (No batch steps in lanes yet: the tests
+    /// check it against the scalar step.)
+    #[cfg(test)]
+    pub(in crate::runtime) fn lanes_step(&self) -> Option<StepFn<'_>> {
+        self.lanes_step
+            .get_or_init(|| {
+                let s = &self.source;
+                let (ops, preset) = &s.functions[STEP];
+                let function = [Function { ops, preset }];
+                Fused::new_in_lanes(&s.graph, self.np, s.coords, self.layout, &function, LEFT).ok()
+            })
+            .as_ref()?
+            .function(0)
+    }
+
     /// Driver j at `x` in both designs of a buffer in lanes: its cosine
     /// and sine computed afresh and carried, as the helper computes them
     /// where a stepper refreshes its carried values (so that the pose in

@@ -130,6 +130,10 @@ pub(super) struct Plan {
     /// positions only first needs it (`None` where a block's closed form
     /// goes through the helper: no form in lanes).
     lanes: OnceLock<Option<Fused>>,
+    /// [`STEP`] on two designs per call, compiled when first asked for
+    /// (so far by the tests only: no batch steps in lanes yet).
+    #[cfg(test)]
+    lanes_step: OnceLock<Option<Fused>>,
     /// Where the equations of motion's roots lie, and how many there are.
     motion: (usize, usize),
     /// What they are compiled from.
@@ -604,6 +608,8 @@ impl Plan {
             code: OnceLock::new(),
             dynamics: OnceLock::new(),
             lanes: OnceLock::new(),
+            #[cfg(test)]
+            lanes_step: OnceLock::new(),
             motion: (motion, motion_roots.len()),
             source: Source {
                 graph: h.graph,
