@@ -643,3 +643,168 @@ fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
         }
     }
 }
+
+/// A batch of full steps (rates and accelerations) of the four-bar runs
+/// its designs in pairs in vector lanes; every design's samples, stop and
+/// values are those of the same batch design by design, bit for bit:
+/// designs that turn, designs that stop at a limit position (the pair's
+/// sweeps then part, the stopping one bisecting alone), an odd count,
+/// sweeps long enough for many refreshes of the carried values, every
+/// reduction, and every kind of output.
+#[test]
+fn a_batch_of_steps_in_lanes_is_each_designs_sweep() {
+    let m = four_bar();
+    let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+    let outputs = [
+        Output::Coordinate(1),
+        Output::Rate(2),
+        Output::Acceleration(1),
+        Output::Position(4),
+        Output::Velocity(4),
+        Output::PointAcceleration(4),
+        Output::Conditioning,
+    ];
+    let designs: Vec<f64> = (0..37)
+        .flat_map(|k| {
+            let t = f64::from(k);
+            let (a, c) = if k % 9 == 4 {
+                (0.15, 0.13)
+            } else {
+                (0.03 + 0.0004 * t, 0.10)
+            };
+            [
+                a,
+                0.12 + 0.001 * t,
+                c,
+                0.11,
+                0.06 - 0.001 * t,
+                0.5 + 0.01 * t,
+            ]
+        })
+        .collect();
+    for (steps, turns) in [(360, 1.0), (3600, 2.0)] {
+        let sweep = BatchSweep {
+            turns: Some(turns),
+            ..turn(steps, ChangePoints::Stop)
+        };
+        for reduce in [Reduce::Samples, Reduce::Peak, Reduce::Max, Reduce::Min] {
+            let batch = |lanes: bool| {
+                Batch::new(
+                    &m,
+                    &start,
+                    &[12.0],
+                    &[-4.0],
+                    Some(sweep.clone()),
+                    &outputs,
+                    &Options::DEFAULT,
+                )
+                .expect("a valid batch")
+                .reduced(reduce)
+                .in_lanes(lanes)
+            };
+            let (paired, alone) = (batch(true), batch(false));
+            assert!(paired.in_pairs() && !alone.in_pairs());
+            let (a, b) = (paired.run(&designs), alone.run(&designs));
+            assert_eq!(a.samples, b.samples, "{steps} steps");
+            assert_eq!(a.early, b.early, "{steps} steps");
+            let long = designs
+                .chunks(6)
+                .filter(|p| p[0] + p[3] > p[1] + p[2])
+                .count();
+            assert!(long > 0);
+            assert_eq!(a.early.iter().filter(|e| e.is_some()).count(), long);
+            for (d, (x, y)) in a
+                .values
+                .chunks(a.record)
+                .zip(b.values.chunks(b.record))
+                .enumerate()
+            {
+                for (i, (x, y)) in x.iter().zip(y).enumerate() {
+                    assert!(
+                        x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                        "{steps} steps, {reduce:?}, design {d}, value {i}: {x} in lanes, {y} alone"
+                    );
+                }
+            }
+            // A design's own sweep: the same samples.
+            if reduce == Reduce::Samples {
+                let own = m.with_values(&designs[6..12]).expect("its values");
+                let mut rates = Vec::new();
+                own.sweep("phi", &start)
+                    .expect("a sweep")
+                    .turns(turns)
+                    .steps(steps)
+                    .rate(12.0)
+                    .acceleration(-4.0)
+                    .for_each(|_, s| rates.push(s.qd[2]));
+                assert_eq!(rates.len(), a.samples[1]);
+                for (x, y) in rates.iter().zip(a.output(&paired, 1, 1)) {
+                    assert!(x.to_bits() == y.to_bits(), "{x} {y}");
+                }
+            }
+        }
+    }
+}
+
+/// Designs at and near a parallelogram (change points at φ = 0 and π)
+/// in a batch of steps in lanes: passed on the smooth branch, on the
+/// other, or stopped at, each design's record is the batch's design by
+/// design, bit for bit.
+#[test]
+fn a_batch_of_steps_in_lanes_through_change_points_is_each_designs_sweep() {
+    let m = four_bar();
+    let start = m.assemble(&[0.3, 1.2, 1.6]).expect("assembles");
+    // a = c and b = d: a parallelogram; then ever further from one.
+    let designs: Vec<f64> = (0..9)
+        .flat_map(|k| {
+            let t = f64::from(k);
+            [0.05, 0.11, 0.05 + 0.002 * t, 0.11, 0.06, 0.5]
+        })
+        .collect();
+    for change_points in [
+        ChangePoints::Stop,
+        ChangePoints::Smooth,
+        ChangePoints::Switch,
+    ] {
+        let sweep = BatchSweep {
+            turns: Some(1.0),
+            ..turn(720, change_points)
+        };
+        let batch = |lanes: bool| {
+            Batch::new(
+                &m,
+                &start,
+                &[5.0],
+                &[0.0],
+                Some(sweep.clone()),
+                &[
+                    Output::Coordinate(2),
+                    Output::Rate(1),
+                    Output::PointAcceleration(4),
+                ],
+                &Options::DEFAULT,
+            )
+            .expect("a valid batch")
+            .in_lanes(lanes)
+        };
+        let (paired, alone) = (batch(true), batch(false));
+        assert!(paired.in_pairs());
+        let (a, b) = (paired.run(&designs), alone.run(&designs));
+        assert_eq!(a.samples, b.samples, "{change_points:?}");
+        assert_eq!(a.early, b.early, "{change_points:?}");
+        for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
+            assert!(
+                x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                "{change_points:?}, value {i}: {x} in lanes, {y} alone"
+            );
+        }
+        if change_points == ChangePoints::Stop {
+            assert!(
+                a.early[0].is_some(),
+                "the parallelogram stops at its change point"
+            );
+        } else {
+            assert_eq!(a.samples[0], 720, "{change_points:?}: passed");
+        }
+    }
+}

@@ -14,8 +14,9 @@
 //! limits or change points). The batch ([`Batch::run`] on a one-thread
 //! pool) does the same work through the sweep driver, which also
 //! predicts, tests for limits and change points and keeps the samples'
-//! count and stops. Interleaved rounds, process CPU time; the median
-//! ratio and the range of the rounds are printed. The results of the two
+//! count and stops: design by design ([`Batch::in_lanes`] off) and in
+//! pairs in vector lanes (on). Interleaved rounds, process CPU time; the
+//! median ratios and the ranges of the rounds are printed. The results
 //! are first checked equal (to 1e-12 of the largest value).
 //!
 //! Then positions only: the same designs, each posed over the turn by
@@ -165,7 +166,8 @@ fn turn_keeping(study: &Study, omega: f64, output: Output) -> Batch<'_> {
 }
 
 /// One run of one side on 200 designs of the four-bar, for instruction
-/// counts under callgrind (`count-step`, `count-batch`, and for positions
+/// counts under callgrind (`count-step`, `count-batch-alone`,
+/// `count-batch-lanes`, and for positions
 /// only `count-pose`, `count-poses-alone`, `count-poses-lanes`; the
 /// difference with `count-none`, the set-up alone, is the run's).
 fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
@@ -175,7 +177,8 @@ fn count(which: &str, pool: &rayon::ThreadPool, omega: f64) {
     let batch = turns(&study, omega);
     match which {
         "count-step" => by_stepper(&study, omega, &mut reference),
-        "count-batch" => {
+        "count-batch-alone" | "count-batch-lanes" => {
+            let batch = batch.in_lanes(which == "count-batch-lanes");
             black_box(pool.install(|| batch.run(&study.designs)));
         }
         "count-pose" => by_poses(&study, &mut reference),
@@ -228,32 +231,93 @@ fn main() {
     }
     let rounds: usize = arg.and_then(|v| v.parse().ok()).unwrap_or(21);
     for study in [four_bar(2000), strider(500)] {
-        let dim = study.model.point_dimension();
-        let batch = turns(&study, omega);
-        // The two agree before any timing, on the designs that turn.
-        let mut reference = vec![f64::NAN; study.count * STEPS * dim];
-        by_stepper(&study, omega, &mut reference);
-        let results = pool.install(|| batch.run(&study.designs));
-        let compared = compare(&batch, &results, &reference, STEPS * dim);
-        let [(rs, s0, s1), (rb, b0, b1), (rr, r0, r1)] = interleaved(
-            rounds,
-            (study.count * STEPS) as f64,
-            || {
-                by_stepper(&study, omega, &mut reference);
-                black_box(&reference);
-            },
-            || {
-                black_box(pool.install(|| batch.run(black_box(&study.designs))));
-            },
-        );
-        println!(
-            "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12): \
-             step_flat {rs:.1} ns ({s0:.1}–{s1:.1}), batch {rb:.1} ns ({b0:.1}–{b1:.1}) per \
-             position; batch / step_flat {rr:.3} ({r0:.3}–{r1:.3}) over {rounds} rounds",
-            study.name, study.count,
-        );
+        steps_study(&study, &pool, omega, rounds);
         poses_study(&study, &pool, rounds);
     }
+}
+
+/// Full steps: the stepper's `step_flat` against the batch, design by
+/// design and in pairs in vector lanes, checked equal on the designs that
+/// turn, then timed in interleaved rounds (the three in turn).
+fn steps_study(study: &Study, pool: &rayon::ThreadPool, omega: f64, rounds: usize) {
+    let dim = study.model.point_dimension();
+    let (alone, paired) = (turns(study, omega).in_lanes(false), turns(study, omega));
+    let mut reference = vec![f64::NAN; study.count * STEPS * dim];
+    by_stepper(study, omega, &mut reference);
+    let mut compared = 0;
+    for b in [&alone, &paired] {
+        let results = pool.install(|| b.run(&study.designs));
+        compared = compare(b, &results, &reference, STEPS * dim);
+    }
+    let [p, a, l, ra, rl] = three_rounds(
+        rounds,
+        (study.count * STEPS) as f64,
+        [
+            &mut || {
+                by_stepper(study, omega, &mut reference);
+                black_box(&reference);
+            },
+            &mut || {
+                black_box(pool.install(|| alone.run(black_box(&study.designs))));
+            },
+            &mut || {
+                black_box(pool.install(|| paired.run(black_box(&study.designs))));
+            },
+        ],
+    );
+    println!(
+        "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12, lanes: {}): \
+         step_flat {:.1} ns ({:.1}–{:.1}), batch {:.1} ns ({:.1}–{:.1}), in lanes {:.1} ns \
+         ({:.1}–{:.1}) per position; batch / step_flat {:.3} ({:.3}–{:.3}), in lanes / \
+         step_flat {:.3} ({:.3}–{:.3}) over {rounds} rounds",
+        study.name,
+        study.count,
+        paired.in_pairs(),
+        p.0,
+        p.1,
+        p.2,
+        a.0,
+        a.1,
+        a.2,
+        l.0,
+        l.1,
+        l.2,
+        ra.0,
+        ra.1,
+        ra.2,
+        rl.0,
+        rl.1,
+        rl.2
+    );
+}
+
+/// `rounds` rounds of the three `runs` in turn (process CPU time, ns per
+/// position over `positions`): the median and range of each, then of the
+/// second's and the third's ratio to the first.
+fn three_rounds(
+    rounds: usize,
+    positions: f64,
+    runs: [&mut dyn FnMut(); 3],
+) -> [(f64, f64, f64); 5] {
+    let (mut t, mut ratio) = ([vec![], vec![], vec![]], [vec![], vec![]]);
+    let [first, second, third] = runs;
+    for _ in 0..rounds {
+        let t0 = process_cpu_ns();
+        first();
+        let t1 = process_cpu_ns();
+        second();
+        let t2 = process_cpu_ns();
+        third();
+        let t3 = process_cpu_ns();
+        for (v, dt) in t.iter_mut().zip([t1 - t0, t2 - t1, t3 - t2]) {
+            v.push(dt / positions);
+        }
+        ratio[0].push((t2 - t1) / (t1 - t0));
+        ratio[1].push((t3 - t2) / (t1 - t0));
+    }
+    let [p, a, l] = t.map(|mut v| kinematics_bench::spread(&mut v));
+    let [ra, rl] = ratio.map(|mut v| kinematics_bench::spread(&mut v));
+    [p, a, l, ra, rl]
 }
 
 /// The reference of positions only: each design posed by the stepper,
@@ -304,25 +368,22 @@ fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
         let results = pool.install(|| b.run(&study.designs));
         compared = compare(b, &results, &reference, STEPS * dim);
     }
-    let positions = (study.count * STEPS) as f64;
-    let (mut t, mut ratio) = ([vec![], vec![], vec![]], [vec![], vec![]]);
-    for _ in 0..rounds {
-        let t0 = process_cpu_ns();
-        by_poses(study, &mut reference);
-        black_box(&reference);
-        let t1 = process_cpu_ns();
-        black_box(pool.install(|| alone.run(black_box(&study.designs))));
-        let t2 = process_cpu_ns();
-        black_box(pool.install(|| paired.run(black_box(&study.designs))));
-        let t3 = process_cpu_ns();
-        for (v, dt) in t.iter_mut().zip([t1 - t0, t2 - t1, t3 - t2]) {
-            v.push(dt / positions);
-        }
-        ratio[0].push((t2 - t1) / (t1 - t0));
-        ratio[1].push((t3 - t2) / (t1 - t0));
-    }
-    let [p, a, l] = t.map(|mut v| kinematics_bench::spread(&mut v));
-    let [ra, rl] = ratio.map(|mut v| kinematics_bench::spread(&mut v));
+    let [p, a, l, ra, rl] = three_rounds(
+        rounds,
+        (study.count * STEPS) as f64,
+        [
+            &mut || {
+                by_poses(study, &mut reference);
+                black_box(&reference);
+            },
+            &mut || {
+                black_box(pool.install(|| alone.run(black_box(&study.designs))));
+            },
+            &mut || {
+                black_box(pool.install(|| paired.run(black_box(&study.designs))));
+            },
+        ],
+    );
     println!(
         "{}, positions only ({compared} turn fully, equal to 1e-12, lanes: {}): pose {:.1} ns \
          ({:.1}–{:.1}), batch {:.1} ns ({:.1}–{:.1}), in lanes {:.1} ns ({:.1}–{:.1}) per \
@@ -345,30 +406,6 @@ fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
         rl.1,
         rl.2
     );
-}
-
-/// `rounds` interleaved rounds of `reference` then `batch` (process CPU
-/// time, ns per position over `positions`): the median and range of
-/// each, and of their ratio batch / reference.
-fn interleaved(
-    rounds: usize,
-    positions: f64,
-    mut reference: impl FnMut(),
-    mut batch: impl FnMut(),
-) -> [(f64, f64, f64); 3] {
-    let (mut a, mut b, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..rounds {
-        let t0 = process_cpu_ns();
-        reference();
-        let t1 = process_cpu_ns();
-        batch();
-        let t2 = process_cpu_ns();
-        let (x, y) = ((t1 - t0) / positions, (t2 - t1) / positions);
-        a.push(x);
-        b.push(y);
-        ratios.push(y / x);
-    }
-    [&mut a, &mut b, &mut ratios].map(|v| kinematics_bench::spread(v))
 }
 
 /// Checks the batch's one output against `reference` (`per` values a

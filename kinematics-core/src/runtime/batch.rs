@@ -18,6 +18,7 @@ use alloc::vec::Vec;
 use core::fmt;
 
 mod lanes;
+mod steps;
 
 use super::drive::Sink;
 use super::stepper::FlatAt;
@@ -356,14 +357,18 @@ impl<'m> Batch<'m> {
         Ok(self)
     }
 
-    /// The batch with its designs of positions only taken in pairs, each
-    /// pair's poses by the pose's machine code in vector lanes (two f64
-    /// per instruction), or not (`on` false: each design alone). On by
-    /// default, where it applies ([`Batch::in_pairs`]). The results are
-    /// each design's sweep's either way, bit for bit: a pose where a
-    /// design leaves the common path is taken by each design's stepper,
-    /// and a pair in which a design fails a check (a limit position
-    /// ahead, say) is swept alone, design by design, from its start.
+    /// The batch with its designs taken in pairs, each pair's poses, or
+    /// steps with rates and accelerations, by the machine code in vector
+    /// lanes (two f64 per instruction), or not (`on` false: each design
+    /// alone). On by default, where it applies ([`Batch::in_pairs`]). The
+    /// results are each design's sweep's either way, bit for bit: a pose
+    /// or step where a design leaves the common path is taken by each
+    /// design's stepper; a pair of poses in which a design fails a check
+    /// (a limit position ahead, say) is swept alone, design by design,
+    /// from its start; a pair of steps goes on alone, each design's sweep
+    /// from the sample where either leaves its common path (a change of
+    /// branch ahead, a limit), and is swept alone from its start where a
+    /// check fails in lanes.
     #[must_use]
     pub fn in_lanes(mut self, on: bool) -> Self {
         self.lanes = on;

@@ -68,6 +68,16 @@ impl<'m> Engine for Stepped<'m> {
     }
 
     #[inline(always)]
+    fn copy_pose(to: &mut Vec<f64>, from: &Vec<f64>) {
+        // A few values, copied by hand (no call of `memcpy`).
+        if to.len() == from.len() {
+            crate::math::copy_small(to, from);
+        } else {
+            to.clone_from(from);
+        }
+    }
+
+    #[inline(always)]
     fn get(pose: &Vec<f64>, j: usize) -> f64 {
         pose.get(j).copied().unwrap_or(f64::NAN)
     }
@@ -159,9 +169,9 @@ impl<'m> Solved<Stepped<'m>> for Held {
             (Held::Current { .. }, Some(state)) => state.pose_rates(),
             (Held::Kept { motion, .. }, _) => (&motion.q[..], &motion.qd[..]),
         };
-        q.copy_from_slice(from_q);
+        crate::math::copy_small(q, from_q);
         if let Some(qd) = qd {
-            qd.copy_from_slice(from_qd);
+            crate::math::copy_small(qd, from_qd);
         }
         true
     }
@@ -241,7 +251,7 @@ impl<'m> Solved<Stepped<'m>> for PoseOnly {
         let Some(state) = state else {
             return false;
         };
-        q.copy_from_slice(state.pose_now());
+        crate::math::copy_small(q, state.pose_now());
         true
     }
 
@@ -284,10 +294,22 @@ pub(super) fn drive_each<'m, D: Drive<Stepped<'m>>>(
         Ok(it) => it,
         Err(end) => return end,
     };
+    let stop = rest(&mut it, &mut sink);
+    SweepEnd {
+        stop,
+        change_points: it.change_points().to_vec(),
+    }
+}
+
+/// A sweep of `drive_each` to its end from where `it` is: the common
+/// path's samples straight to the sink, then one item of the slow path (a
+/// change point, a stop, the end), and again; the stop, if it stopped.
+pub(super) fn rest<'m, D: Drive<Stepped<'m>>>(
+    it: &mut SweepIter<'_, Stepped<'m>, D, Held>,
+    sink: &mut impl Sink,
+) -> Option<Stop> {
     let mut stop = None;
     loop {
-        // The common path's samples straight to the sink, then one item
-        // of the slow path (a change point, a stop, the end).
         it.each_common(|s, stepper| match s {
             Held::Current { at, .. } => sink.stepped(at, stepper),
             Held::Kept { at, motion } => sink.motion(at, &motion),
@@ -305,10 +327,7 @@ pub(super) fn drive_each<'m, D: Drive<Stepped<'m>>>(
             Err(s) => stop = Some(s),
         }
     }
-    SweepEnd {
-        stop,
-        change_points: it.change_points().to_vec(),
-    }
+    stop
 }
 
 /// The sweep of positions of `m` over `grid`: each pose assembled by the
@@ -357,7 +376,7 @@ pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
 
 /// The driver over `engine`, once the inputs are checked; or how the
 /// sweep ended before its first sample.
-fn start<'e, 'm, D: Drive<Stepped<'m>>, S: Solved<Stepped<'m>>>(
+pub(super) fn start<'e, 'm, D: Drive<Stepped<'m>>, S: Solved<Stepped<'m>>>(
     engine: &'e Stepped<'m>,
     setup: &Setup<'_>,
     grid: Result<Grid, Error>,

@@ -13,6 +13,8 @@ use crate::math::copy_small;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
 
+mod motion;
+
 /// Steps of one run-time model with its arrays kept: made by
 /// [`Model::stepper`], which checks the options and the parameters once
 /// (the model is borrowed, so they cannot change while it steps). Each
@@ -654,12 +656,11 @@ impl Stepper<'_> {
         if status != 0 {
             return false;
         }
-        run.positions = motion.is_none();
-        run.motion = motion.is_some() && equations && run.dynamics.is_some();
-        self.stale = run.motion;
-        // The cosines and sines are in the buffer, not in the work: the
-        // positions of a step are evaluated afresh when asked for.
-        self.assembled = false;
+        let (positions, motion) = (
+            motion.is_none(),
+            motion.is_some() && equations && run.dynamics.is_some(),
+        );
+        self.fused_done(positions, motion);
         true
     }
 
@@ -672,93 +673,6 @@ impl Stepper<'_> {
             run.positions = false;
             run.motion = false;
         }
-    }
-
-    /// Gives this stepper the model's step with the equations of motion
-    /// after it ([`Stepper::advance_motion`]; [`Stepper::fused_motion`]
-    /// reads them), compiling that code at the first call for the model;
-    /// `false` where the model has no fused step or no such code. Its
-    /// other steps are as before.
-    pub(super) fn with_motion(&mut self) -> bool {
-        let Some(run) = self.fused.as_mut() else {
-            return false;
-        };
-        run.dynamics = run.plan.dynamics_function();
-        run.dynamics.is_some()
-    }
-
-    /// [`Stepper::advance`] through the step with the equations of motion
-    /// ([`Stepper::with_motion`]; the plain step without it): the motion
-    /// of the coordinates and the equations' roots
-    /// ([`Stepper::fused_motion`]), the points' outputs left until
-    /// [`Stepper::complete`] (an evaluation of the forward dynamics reads
-    /// none of them).
-    #[inline]
-    pub(super) fn advance_motion(
-        &mut self,
-        start: &[f64],
-        rates: &[f64],
-        accelerations: &[f64],
-    ) -> Result<(), Error> {
-        self.advance_with(start, rates, accelerations, true)
-    }
-
-    /// Evaluates the points' outputs that [`Stepper::advance_motion`] left
-    /// out, so that [`Stepper::motion_now`] holds the whole motion: from
-    /// the buffer that step left; where an output is not finite, the
-    /// step again by the general path, which says why.
-    ///
-    /// # Errors
-    /// The general path's, where it was taken.
-    #[inline]
-    pub(super) fn complete(&mut self) -> Result<(), Error> {
-        if self.stale {
-            self.evaluate_outputs()
-        } else {
-            Ok(())
-        }
-    }
-
-    /// [`Stepper::complete`] where the outputs are left out.
-    #[cold]
-    #[inline(never)]
-    fn evaluate_outputs(&mut self) -> Result<(), Error> {
-        self.stale = false;
-        let Some(run) = self.fused.as_mut() else {
-            return Ok(());
-        };
-        let status = match &run.dynamics {
-            Some((_, outputs)) => {
-                run.plan
-                    .step(outputs, &mut run.f, [&[], &[], &[]], &mut [], &mut [])
-            }
-            None => -1,
-        };
-        if status == 0 {
-            // The motion, whether written already or not, from the buffer
-            // again.
-            self.pending = true;
-            return Ok(());
-        }
-        let flat = run.flat();
-        let nd = self.m.drivers();
-        let (q, rates, accelerations) = (
-            flat.q.to_vec(),
-            flat.qd[..nd].to_vec(),
-            flat.qdd[..nd].to_vec(),
-        );
-        self.forget();
-        self.general_step(&q, &rates, &accelerations)
-    }
-
-    /// The roots of the equations of motion
-    /// ([`kinematics_compiler::motion::EquationsOfMotion::roots`]) at the
-    /// last step's motion, where that step was fused with them.
-    #[inline]
-    pub(super) fn fused_motion(&self) -> Option<&[f64]> {
-        let run = self.fused.as_ref().filter(|r| r.motion)?;
-        let (at, len) = run.plan.motion_at();
-        run.f.get(at..at + len)
     }
 
     /// Assembles `start` (already checked) into the stepper's pose, in its

@@ -315,7 +315,7 @@ impl SweepBuilder<'_> {
 
     /// The sweep's setup: its variable, first value, start, options and
     /// rule at change points.
-    fn setup(&self) -> Setup<'_> {
+    pub(super) fn setup(&self) -> Setup<'_> {
         Setup {
             variable: self.m.coordinates[self.driver].name,
             first: self.first(),
@@ -331,7 +331,7 @@ impl SweepBuilder<'_> {
     }
 
     /// The sweep's grid and the drive of its driver.
-    fn parts(&self) -> (Result<Grid, Error>, SweepDrive) {
+    pub(super) fn parts(&self) -> (Result<Grid, Error>, SweepDrive) {
         let kind = self.m.coordinates[self.driver].kind;
         let grid = grid(self.first(), self.end, self.steps, kind);
         let drive = SweepDrive {

@@ -46,6 +46,11 @@ pub trait Engine {
     fn lend(slot: &mut Self::Pose) -> Self::Pose;
     /// Gives the storage of `pose` back to `slot` ([`Engine::lend`]).
     fn give_back(slot: &mut Self::Pose, pose: Self::Pose);
+    /// `to` = `from` (poses of one engine: the same length).
+    #[inline(always)]
+    fn copy_pose(to: &mut Self::Pose, from: &Self::Pose) {
+        to.clone_from(from);
+    }
     /// Coordinate `j` of `pose` (NaN past the last).
     fn get(pose: &Self::Pose, j: usize) -> f64;
     /// Sets coordinate `j` of `pose` (nothing past the last).

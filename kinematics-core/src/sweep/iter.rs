@@ -359,20 +359,41 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         // The guess a local of the step (kept in registers where a pose
         // is a few values), its storage lent by `self.guess`.
         let mut guess = M::lend(&mut self.guess);
-        self.predict(at, &mut guess);
-        self.drive
-            .drive(at, &mut guess, &mut self.rates, &mut self.accels);
+        self.prepare(at, &mut guess);
         let Some(state) = self.state.as_mut() else {
             M::give_back(&mut self.guess, guess);
             return None;
         };
         let step = S::step(self.m, &guess, &self.rates, &self.accels, state);
         M::give_back(&mut self.guess, guess);
+        self.conclude(k, at, step, place)
+    }
+
+    /// The guess of the sample at `at` (predicted from the last ones) and
+    /// the drivers' values, rates and accelerations there (the drive's).
+    #[inline(always)]
+    fn prepare(&mut self, at: f64, guess: &mut M::Pose) {
+        self.predict(at, guess);
+        self.drive
+            .drive(at, guess, &mut self.rates, &mut self.accels);
+    }
+
+    /// Takes the outcome `step` of grid sample `k`, of value `at`: a
+    /// sample of the common path recorded as the newest, its angles
+    /// wrapped, and handed to `place`; otherwise left to the slow path.
+    #[inline(always)]
+    fn conclude<R>(
+        &mut self,
+        k: usize,
+        at: f64,
+        step: Result<S::Step, Error>,
+        place: impl FnOnce(S) -> R,
+    ) -> Option<R> {
         match step {
             // The common case, handed out at once: det Φ_u keeps its sign,
             // the conditioning was not falling so fast that it could reach
             // zero before this sample, and nothing is held back (`gate`).
-            Ok(step) if self.gate * S::step_det_sign(&step) > 0.0 => {
+            Ok(step) if self.passes(S::step_det_sign(&step)) => {
                 self.k += 1;
                 let mut s = S::sample(at, step);
                 self.push_head(&s);
@@ -394,6 +415,15 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         }
     }
 
+    /// Whether a step whose det Φ_u has the sign `det_sign` is a sample of
+    /// the common path, handed out at once: it keeps the newest sample's
+    /// sign, that sample's conditioning was not falling fast, and nothing
+    /// is held back.
+    #[inline(always)]
+    pub(crate) fn passes(&self, det_sign: f64) -> bool {
+        self.gate * det_sign > 0.0
+    }
+
     /// Pushes onto `out` the samples of the common path, solved one after
     /// the other, until the first that is not (a change point, a failure,
     /// the end), which is left to [`Iterator::next`]: the collected sweep's
@@ -411,6 +441,54 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
 }
 
 impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
+    /// The next sample's grid index and value where it is solved on the
+    /// common path (`None` where the slow path takes it: items wait, or
+    /// the sweep is done or at its last value).
+    #[cfg(feature = "runtime")]
+    #[inline(always)]
+    pub(crate) fn next_common(&self) -> Option<(usize, f64)> {
+        (self.k < self.open).then(|| (self.k, self.grid.inner(self.k)))
+    }
+
+    /// The inputs of the step of the sample at `at` on the common path:
+    /// the guess predicted from the last samples, with the drivers'
+    /// values, rates and accelerations set by the drive. The step itself
+    /// is taken elsewhere ([`Self::conclude_common`] takes its outcome,
+    /// [`Self::step_prepared`] takes it here).
+    #[cfg(feature = "runtime")]
+    #[inline(always)]
+    pub(crate) fn step_inputs(&mut self, at: f64) -> [&M::Pose; 3] {
+        let mut guess = M::lend(&mut self.guess);
+        self.prepare(at, &mut guess);
+        M::give_back(&mut self.guess, guess);
+        [&self.guess, &self.rates, &self.accels]
+    }
+
+    /// Takes the outcome of the step of sample `k` at `at` taken from
+    /// [`Self::step_inputs`] elsewhere (the state holding it), as the
+    /// sweep takes its own: the sample where it is on the common path,
+    /// else `None` and the slow path has it ([`Iterator::next`]).
+    #[cfg(feature = "runtime")]
+    #[inline(always)]
+    pub(crate) fn conclude_common(
+        &mut self,
+        k: usize,
+        at: f64,
+        step: Result<S::Step, Error>,
+    ) -> Option<S> {
+        self.conclude(k, at, step, |s| s)
+    }
+
+    /// Takes the step of sample `k` at `at` from [`Self::step_inputs`]
+    /// with the sweep's state, then [`Self::conclude_common`].
+    #[cfg(feature = "runtime")]
+    #[inline(always)]
+    pub(crate) fn step_prepared(&mut self, k: usize, at: f64) -> Option<S> {
+        let state = self.state.as_mut()?;
+        let step = S::step(self.m, &self.guess, &self.rates, &self.accels, state);
+        self.conclude(k, at, step, |s| s)
+    }
+
     /// Hands `f` the samples of the common path with the state that
     /// solved them, one after the other, until the first that is not (a
     /// change point, a failure, the end), which is left to
@@ -499,7 +577,7 @@ fn predict<M: Engine, S: Solved<M>>(
         }
         return;
     }
-    guess.clone_from(&h.q);
+    M::copy_pose(guess, &h.q);
     if !m.newton_guess() {
         return;
     }

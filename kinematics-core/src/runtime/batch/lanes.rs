@@ -82,12 +82,13 @@ impl Keep<'_> {
 
 impl Batch<'_> {
     /// Whether this batch runs its designs in pairs in vector lanes
-    /// ([`Batch::in_lanes`]): positions only, swept in steps of at most
-    /// 1/16 (the largest the carried cosine and sine of the driver are
-    /// rotated by), lanes not turned off, and a model with parameters, a
-    /// scaling that every pose shares, and a pose with a form in lanes
-    /// (every block's closed form in its fused code, of at most 16
-    /// blocks). Compiles that form at the first call for the model.
+    /// ([`Batch::in_lanes`]): swept in steps of at most 1/16 (the largest
+    /// the carried cosine and sine of the driver are rotated by), lanes
+    /// not turned off, and a model with parameters, a scaling that every
+    /// pose shares, and a pose (positions only) or step with a form in
+    /// lanes (every block's closed form in its fused code, a pose of at
+    /// most 16 blocks, no Newton block). Compiles that form at the first
+    /// call for the model.
     #[must_use]
     pub fn in_pairs(&self) -> bool {
         let Some(s) = self.sweep.as_ref() else {
@@ -97,8 +98,10 @@ impl Batch<'_> {
             .sweep_of(self.model, s)
             .and_then(|b| b.grid())
             .is_ok_and(|g| g.count < 2 || (g.at(1) - g.at(0)).abs() <= crate::closed::CARRIED_STEP);
-        self.poses
-            && self.lanes
+        if !self.poses {
+            return self.steps_in_pairs(step_within);
+        }
+        self.lanes
             && step_within
             && !self.model.params.is_empty()
             && self.model.fixed_scaling
@@ -121,8 +124,17 @@ impl Batch<'_> {
         let [m0, m1] = models;
         let [o0, o1] = outs;
         let set = m0.set_values(values[0]).is_ok() && m1.set_values(values[1]).is_ok();
-        if set && let Some((ends, _)) = self.lanes_pair([m0, m1], [&mut *o0, &mut *o1]) {
-            return ends;
+        if set {
+            let ends = if self.poses {
+                self.lanes_pair([m0, m1], [&mut *o0, &mut *o1])
+                    .map(|(ends, _)| ends)
+            } else {
+                self.steps_pair([m0, m1], [&mut *o0, &mut *o1])
+                    .map(|(ends, _)| ends)
+            };
+            if let Some(ends) = ends {
+                return ends;
+            }
         }
         // Alone, each from its start; what the pair wrote is cleared.
         o0.fill(f64::NAN);

@@ -75,9 +75,7 @@ impl Plan {
     /// interleaved, status 0 where both designs took the common path, each
     /// lane then the scalar step's computation for its design. Compiled at
     /// the first call; `None` where some part of the step calls the
-    /// helper unconditionally. (No batch steps in lanes yet: the tests
-    /// check it against the scalar step.)
-    #[cfg(test)]
+    /// helper unconditionally.
     pub(in crate::runtime) fn lanes_step(&self) -> Option<StepFn<'_>> {
         self.lanes_step
             .get_or_init(|| {
@@ -95,6 +93,19 @@ impl Plan {
     /// where a stepper refreshes its carried values (so that the pose in
     /// lanes rotates them by zero, to the same numbers).
     pub(in crate::runtime) fn carry_driver_in_lanes(&self, f: &mut [f64], j: usize, x: f64) {
+        for l in 0..2 {
+            self.carry_driver_in_lane(f, j, x, l);
+        }
+    }
+
+    /// [`Plan::carry_driver_in_lanes`] in lane `l` alone.
+    pub(in crate::runtime) fn carry_driver_in_lane(
+        &self,
+        f: &mut [f64],
+        j: usize,
+        x: f64,
+        l: usize,
+    ) {
         let (s, c) = crate::math::table::sin_cos(x);
         let (carry, trig) = (self.carry + 3 * j, self.layout.trig + 2 * j);
         for (at, v) in [
@@ -104,8 +115,8 @@ impl Plan {
             (trig, c),
             (trig + 1, s),
         ] {
-            if let Some(both) = f.get_mut(2 * at..2 * at + 2) {
-                both.fill(v);
+            if let Some(slot) = f.get_mut(2 * at + l) {
+                *slot = v;
             }
         }
     }

@@ -130,9 +130,8 @@ pub(super) struct Plan {
     /// positions only first needs it (`None` where a block's closed form
     /// goes through the helper: no form in lanes).
     lanes: OnceLock<Option<Fused>>,
-    /// [`STEP`] on two designs per call, compiled when first asked for
-    /// (so far by the tests only: no batch steps in lanes yet).
-    #[cfg(test)]
+    /// [`STEP`] on two designs per call, compiled when a batch of steps
+    /// first needs it (`None` as for [`Plan::lanes_pose`]).
     lanes_step: OnceLock<Option<Fused>>,
     /// Where the equations of motion's roots lie, and how many there are.
     motion: (usize, usize),
@@ -608,7 +607,6 @@ impl Plan {
             code: OnceLock::new(),
             dynamics: OnceLock::new(),
             lanes: OnceLock::new(),
-            #[cfg(test)]
             lanes_step: OnceLock::new(),
             motion: (motion, motion_roots.len()),
             source: Source {

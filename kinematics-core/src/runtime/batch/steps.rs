@@ -1,0 +1,440 @@
+//! A batch of full steps (positions, velocities and accelerations), two
+//! designs per instruction: the designs taken in pairs, each design's
+//! sweep the one sweep driver's ([`SweepIter`]), the pair's steps on the
+//! common path taken by the step's machine code in vector lanes.
+//!
+//! Each design's iterator predicts its next pose and sets its drivers
+//! ([`SweepIter::step_inputs`]); the step in lanes solves both (the
+//! buffer interleaved, value i of design l at 2i + l); each iterator then
+//! takes its design's outcome ([`SweepIter::conclude_common`]) as it takes
+//! its own steps. So each design's samples, stop and record are its
+//! sweep's, bit for bit: each lane computes what the scalar step computes
+//! for its design, operation for operation.
+//!
+//! While the pair steps in lanes, the interleaved buffer is the designs'
+//! state; each stepper gets back, per sample, only what its sweep and the
+//! record read (the pose and rates, the judged values, the outputs kept),
+//! and the whole buffer where it goes on alone. A design steps alone at a
+//! sample where the step leaves the common path in either lane (a fast
+//! turn of an unknown, which the scalar step hands to the library's
+//! closed form) or refreshes the unknowns' carried cosines and sines
+//! (every 64 steps), and goes on alone from a sample off its sweep's
+//! common path (a change of branch ahead, a limit) to its end. Where a
+//! check fails in lanes (a value not finite, a singular block, the other
+//! branch), both designs are swept alone from their start.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::{Batch, Early, From, Keep, keep};
+use crate::runtime::drive::{Held, Sink, Stepped, rest, start};
+use crate::runtime::fused::Plan;
+use crate::runtime::stepper::FlatAt;
+use crate::runtime::{Model, Stepper};
+use crate::sweep::{Engine, Stop, SweepDrive, SweepIter};
+
+/// A design's sweep as a batch of steps drives it.
+type Iter<'e, 'm> = SweepIter<'e, Stepped<'m>, SweepDrive, Held>;
+
+/// How each design of a pair ended: its samples, and why it ended early;
+/// and the samples the pair took in lanes.
+type PairEnds = ([(usize, Option<Early>); 2], usize);
+
+/// Value i of lane `l` of the interleaved `v`, for each i, into `out`.
+fn lane(v: &[f64], l: usize, out: &mut [f64]) {
+    for (o, pair) in out.iter_mut().zip(v.chunks_exact(2)) {
+        *o = pair.get(l).copied().unwrap_or(f64::NAN);
+    }
+}
+
+/// `a` and `b` interleaved into `out` (a's values at even entries).
+fn interleave(a: &[f64], b: &[f64], out: &mut [f64]) {
+    for (pair, (x, y)) in out.chunks_exact_mut(2).zip(a.iter().zip(b)) {
+        pair[0] = *x;
+        pair[1] = *y;
+    }
+}
+
+/// The steppers of both designs' sweeps.
+fn steppers<'a, 'm>(its: &'a mut [Iter<'_, 'm>; 2]) -> Option<[&'a mut Stepper<'m>; 2]> {
+    let [a, b] = its;
+    Some([a.state_mut()?, b.state_mut()?])
+}
+
+/// Hands the sample `s` of a design's sweep to its record.
+#[inline(always)]
+fn put(s: Held, stepper: Option<&mut Stepper<'_>>, mut keep: &mut Keep<'_>) {
+    match (s, stepper) {
+        (Held::Current { at, .. }, Some(stepper)) => keep.stepped(at, stepper),
+        (Held::Kept { at, motion }, _) => keep.motion(at, &motion),
+        (Held::Current { .. }, None) => {}
+    }
+}
+
+/// The items of a design's sweep off its common path, handed to its
+/// record until its next sample is on it again (or it ended); its stop.
+fn until_common(it: &mut Iter<'_, '_>, keep: &mut Keep<'_>, stop: &mut Option<Stop>) {
+    while it.next_common().is_none() {
+        match it.next() {
+            None => return,
+            Some(Ok(s)) => put(s, it.state_mut(), keep),
+            Some(Err(s)) => *stop = Some(s),
+        }
+    }
+}
+
+/// The interleaved state of a pair stepping in lanes: the buffer, the
+/// modes and the poses, and the steps' inputs.
+struct Joined {
+    f: Vec<f64>,
+    modes: Vec<f64>,
+    q: Vec<f64>,
+    start: Vec<f64>,
+    rates: Vec<f64>,
+    accelerations: Vec<f64>,
+    /// Whether `f`, `modes` and `q` hold the steppers' state (else each
+    /// stepper holds its own).
+    held: bool,
+}
+
+impl Joined {
+    /// The steppers' state interleaved, where it is not already.
+    fn join(&mut self, steppers: [&Stepper<'_>; 2]) -> Option<()> {
+        if !self.held {
+            let [a, b] = steppers;
+            interleave(&a.fused.as_ref()?.f, &b.fused.as_ref()?.f, &mut self.f);
+            interleave(&a.modes, &b.modes, &mut self.modes);
+            interleave(&a.q, &b.q, &mut self.q);
+            self.held = true;
+        }
+        Some(())
+    }
+
+    /// Each stepper given back its whole state, where the pair holds it.
+    fn part(&mut self, steppers: [&mut Stepper<'_>; 2]) {
+        if !self.held {
+            return;
+        }
+        for (l, s) in steppers.into_iter().enumerate() {
+            if let Some(run) = s.fused.as_mut() {
+                lane(&self.f, l, &mut run.f);
+            }
+            lane(&self.modes, l, &mut s.modes);
+            lane(&self.q, l, &mut s.q);
+        }
+        self.held = false;
+    }
+}
+
+impl Batch<'_> {
+    /// Whether this batch's steps (with rates and accelerations) run in
+    /// pairs in vector lanes: as [`Batch::in_pairs`] for them.
+    pub(super) fn steps_in_pairs(&self, step_within: bool) -> bool {
+        !self.poses
+            && self.lanes
+            && step_within
+            && !self.model.params.is_empty()
+            && self.model.fixed_scaling
+            && self
+                .model
+                .fused
+                .as_deref()
+                .is_some_and(|plan| plan.lanes_step().is_some())
+    }
+
+    /// The pair's sweeps of full steps, in lanes where both designs are on
+    /// their common path; `None` where either failed a check in lanes or
+    /// could not start (the records then partly written).
+    pub(super) fn steps_pair(
+        &self,
+        models: [&Model; 2],
+        outs: [&mut [f64]; 2],
+    ) -> Option<PairEnds> {
+        let m = models[0];
+        let s = self.sweep.as_ref()?;
+        let plan = m.fused.as_deref()?;
+        let code = plan.lanes_step()?;
+        let builder = |model| {
+            self.sweep_of(model, s).ok().map(|b| {
+                b.rate(self.rates[s.driver])
+                    .acceleration(self.accelerations[s.driver])
+                    .change_points(s.change_points)
+            })
+        };
+        let builders = [builder(models[0])?, builder(models[1])?];
+        let engines = [Stepped::new(models[0]), Stepped::new(models[1])];
+        let setups = [builders[0].setup(), builders[1].setup()];
+        let [(g0, d0), (g1, d1)] = [builders[0].parts(), builders[1].parts()];
+        let mut its: [Iter<'_, '_>; 2] = [
+            start::<SweepDrive, Held>(&engines[0], &setups[0], g0, d0).ok()?,
+            start::<SweepDrive, Held>(&engines[1], &setups[1], g1, d1).ok()?,
+        ];
+        let [out0, out1] = outs;
+        let mut keeps = [out0, out1].map(|out| Keep {
+            model: m,
+            slots: &self.slots,
+            out,
+            row: 0,
+            rows: self.samples,
+            reduce: self.reduce,
+            scratch: Vec::new(),
+        });
+        let mut stops = [None, None];
+        // Each design's first sample (its modes, its carried values), and
+        // any others off the common path.
+        for ((it, keep), stop) in its.iter_mut().zip(&mut keeps).zip(&mut stops) {
+            until_common(it, keep, stop);
+        }
+        // What each sample of a step in lanes gives back to the steppers:
+        // what their sweeps read (the outputs kept are read in lanes).
+        let (flat, copies) = Self::layout_of(its[0].state_mut()?, engines[0].newton_guess())?;
+        let (n, nd) = (m.coordinates.len(), m.drivers);
+        let [conditioning, sign, _] = plan.results_at();
+        let len = plan.layout().len;
+        let mut in_lanes = 0;
+        let mut joined = Joined {
+            f: vec![0.0; 2 * len],
+            modes: vec![0.0; 2 * its[0].state_mut()?.modes.len()],
+            q: vec![0.0; 2 * n],
+            start: vec![0.0; 2 * n],
+            rates: vec![0.0; 2 * nd],
+            accelerations: vec![0.0; 2 * nd],
+            held: false,
+        };
+        while let (Some((k, at)), Some((k1, at1))) = (its[0].next_common(), its[1].next_common()) {
+            if k != k1 || at.to_bits() != at1.to_bits() {
+                break;
+            }
+            // The steps each stepper has taken (the same while the pair
+            // steps together), which time the refreshes.
+            let [a, b] = &mut its;
+            let steps = match (a.state_mut(), b.state_mut()) {
+                (Some(a), Some(b)) => match (a.fused.as_ref(), b.fused.as_ref()) {
+                    (Some(a), Some(b)) if a.steps == b.steps => a.steps,
+                    _ => break,
+                },
+                _ => break,
+            };
+            let due = steps.wrapping_add(1);
+            for (l, it) in its.iter_mut().enumerate() {
+                let [guess, rates, accelerations] = it.step_inputs(at);
+                for (i, x) in guess.iter().enumerate() {
+                    joined.start[2 * i + l] = *x;
+                }
+                for i in 0..nd {
+                    joined.rates[2 * i + l] = rates.get(i).copied().unwrap_or(f64::NAN);
+                    joined.accelerations[2 * i + l] =
+                        accelerations.get(i).copied().unwrap_or(f64::NAN);
+                }
+            }
+            // The unknowns' carried values are refreshed by the helper
+            // (every 64 steps): each design alone then.
+            if due % 64 != 0 {
+                joined.join(steppers(&mut its)?.map(|s| &*s))?;
+                if due % 16 == 0 {
+                    // Every driver's, as a stepper's refresh has the
+                    // helper compute each afresh at its value.
+                    for d in 0..nd {
+                        for l in 0..2 {
+                            let x = joined.start[2 * d + l];
+                            plan.carry_driver_in_lane(&mut joined.f, d, x, l);
+                        }
+                    }
+                }
+                let status = plan.step(
+                    &code,
+                    &mut joined.f,
+                    [&joined.start, &joined.rates, &joined.accelerations],
+                    &mut joined.modes,
+                    &mut joined.q,
+                );
+                if status == 0 {
+                    let read = |i: usize| joined.f.get(i).copied().unwrap_or(f64::NAN);
+                    let (c, s) = (2 * conditioning, 2 * sign);
+                    let judged = [(read(c), read(s)), (read(c + 1), read(s + 1))];
+                    let common = its[0].passes(judged[0].1) && its[1].passes(judged[1].1);
+                    if !common {
+                        // A sample off the common path: each design takes
+                        // it with its whole state, then goes on alone.
+                        joined.part(steppers(&mut its)?);
+                    }
+                    for (l, (it, keep)) in its.iter_mut().zip(&mut keeps).enumerate() {
+                        let stepper = it.state_mut()?;
+                        if common && let Some(run) = stepper.fused.as_mut() {
+                            for &o in &copies {
+                                if let (Some(x), Some(v)) =
+                                    (run.f.get_mut(o), joined.f.get(2 * o + l))
+                                {
+                                    *x = *v;
+                                }
+                            }
+                        }
+                        stepper.stepped_in_lanes();
+                        match it.conclude_common(k, at, Ok(judged[l])) {
+                            Some(Held::Current { .. }) if common => {
+                                keep.put_fused_lane(&joined.f, &flat, l);
+                            }
+                            Some(sample) => put(sample, it.state_mut(), keep),
+                            None => {}
+                        }
+                    }
+                    in_lanes += 1;
+                    if common {
+                        continue;
+                    }
+                    break;
+                }
+                if !Plan::left_lanes(status) {
+                    return None;
+                }
+            }
+            joined.part(steppers(&mut its)?);
+            // Each design's own step of this sample.
+            let mut off = false;
+            for (it, keep) in its.iter_mut().zip(&mut keeps) {
+                match it.step_prepared(k, at) {
+                    Some(sample) => put(sample, it.state_mut(), keep),
+                    None => off = true,
+                }
+            }
+            if off {
+                break;
+            }
+        }
+        joined.part(steppers(&mut its)?);
+        // Each design to its end alone.
+        let mut ends = [(0, None), (0, None)];
+        for (((it, keep), stop), end) in its.iter_mut().zip(&mut keeps).zip(stops).zip(&mut ends) {
+            let mut sink = &mut *keep;
+            let last = rest(it, &mut sink);
+            *end = (keep.row, stop.or(last).map(Early::Stopped));
+        }
+        Some((ends, in_lanes))
+    }
+
+    /// Where a fused step of `stepper` leaves its results (read from its
+    /// last step; `None` where that step was not fused), and the offsets
+    /// of the buffer a design's sweep reads of a sample: the pose, and its
+    /// rates where the predictor reads them (Newton blocks).
+    fn layout_of(stepper: &Stepper<'_>, newton: bool) -> Option<(FlatAt, Vec<usize>)> {
+        let (_, at) = stepper.fused_results()?;
+        let end = if newton { at.qdd } else { at.qd };
+        Some((*at, (at.q..end).collect()))
+    }
+}
+
+impl Keep<'_> {
+    /// Keeps lane `l`'s sample of the interleaved buffer `f` of a step in
+    /// lanes, laid out as `at` says, as the next row: each slot's few
+    /// values gathered (as [`Keep::put_fused`] reads them alone).
+    #[inline(always)]
+    fn put_fused_lane(&mut self, f: &[f64], at: &FlatAt, l: usize) {
+        let row = self.row;
+        if row >= self.rows {
+            return;
+        }
+        for s in self.slots {
+            let base = match s.from {
+                From::Q => at.q,
+                From::Qd => at.qd,
+                From::Qdd => at.qdd,
+                From::Outputs => at.out,
+                From::Conditioning => at.conditioning,
+                From::Positions => continue,
+            };
+            let mut v = [0.0; 3];
+            let width = s.width.min(3);
+            for (i, x) in v.iter_mut().enumerate().take(width) {
+                *x = f
+                    .get(2 * (base + s.at + i) + l)
+                    .copied()
+                    .unwrap_or(f64::NAN);
+            }
+            keep(self.out, s, row, self.reduce, &v[..width], 0);
+        }
+        self.row = row + 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Options;
+    use crate::runtime::{BatchSweep, Output};
+    use crate::sweep::ChangePoints;
+
+    const FOUR_BAR: &str = "
+    pub struct FourBar {
+        params { a, b, c, d }
+        drivers  { phi }
+        unknowns { th3, th4 }
+        points { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
+        loops { B + polar(b, th3) == C; }
+    }";
+
+    /// Pairs of crank-rockers step in lanes through two turns (the
+    /// carried values refreshed many times, the unknowns' by each design
+    /// alone), the longer cranks' fast-swinging rockers taking some steps
+    /// alone; every record bit for bit the batch's design by design.
+    #[test]
+    fn pairs_step_in_lanes_to_the_numbers_of_each_design_alone() {
+        let m = Model::compile(FOUR_BAR)
+            .expect("compiles")
+            .with_values(&[0.04, 0.12, 0.10, 0.11])
+            .expect("values");
+        let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+        let sweep = BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(2.0),
+            steps: 720,
+            change_points: ChangePoints::Stop,
+        };
+        let batch = |lanes: bool| {
+            Batch::new(
+                &m,
+                &start,
+                &[10.0],
+                &[3.0],
+                Some(sweep.clone()),
+                &[
+                    Output::Rate(2),
+                    Output::Acceleration(1),
+                    Output::PointAcceleration(1),
+                    Output::Conditioning,
+                ],
+                &Options::DEFAULT,
+            )
+            .expect("a batch")
+            .in_lanes(lanes)
+        };
+        let paired = batch(true);
+        assert!(paired.in_pairs() && !batch(false).in_pairs());
+        for crank in [0.03, 0.05, 0.07, 0.085, 0.088] {
+            let (mut m0, mut m1) = (m.clone(), m.clone());
+            m0.set_values(&[crank, 0.12, 0.10, 0.11]).expect("values");
+            m1.set_values(&[crank - 0.001, 0.12, 0.10, 0.11])
+                .expect("values");
+            let record = paired.record();
+            let mut out = vec![f64::NAN; 2 * record];
+            let (o0, o1) = out.split_at_mut(record);
+            let (ends, in_lanes) = paired
+                .steps_pair([&m0, &m1], [o0, o1])
+                .unwrap_or_else(|| panic!("crank {crank}: the pair runs"));
+            assert_eq!(ends.clone().map(|e| e.0), [720, 720]);
+            assert!(ends.iter().all(|e| e.1.is_none()));
+            // Most samples in lanes; each 64th step and the fast swings
+            // alone.
+            assert!(in_lanes > 600, "crank {crank}: {in_lanes} samples in lanes");
+            let designs = [crank, 0.12, 0.10, 0.11, crank - 0.001, 0.12, 0.10, 0.11];
+            let each = batch(false).run(&designs);
+            for (i, (x, y)) in out.iter().zip(&each.values).enumerate() {
+                assert!(
+                    x.to_bits() == y.to_bits(),
+                    "crank {crank}, value {i}: {x} in lanes, {y} alone"
+                );
+            }
+        }
+    }
+}
