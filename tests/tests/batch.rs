@@ -7,7 +7,7 @@
 // Test code: a failed check should stop the test.
 #![allow(clippy::expect_used, clippy::panic, clippy::cast_precision_loss)]
 
-use kinematics_core::runtime::{Batch, BatchSweep, Early, Model, Output, Reduce};
+use kinematics_core::runtime::{Batch, BatchResults, BatchSweep, Early, Model, Output, Reduce};
 use kinematics_core::sweep::ChangePoints;
 use kinematics_core::{Error, Options};
 
@@ -455,26 +455,31 @@ fn a_batch_of_positions_only_is_each_designs_poses_and_its_closed_form() {
     }
 }
 
-/// A batch of positions only of the four-bar runs its designs in pairs in
-/// vector lanes; every design's samples, stop and values are those of
-/// the same batch design by design, bit for bit (and of its own sweep of
-/// poses): designs that turn, designs that stop at a limit position, an
-/// odd count, and a sweep long enough for the carried cosines and sines
-/// to be refreshed many times.
-#[test]
-fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
-    let m = four_bar();
-    let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
-    let outputs = [
-        Output::Coordinate(1),
-        Output::Coordinate(2),
-        Output::Position(4),
-    ];
-    // Crank-rockers, and every ninth a long crank: it assembles at φ = 0,
-    // and stops where |BD| = b + c if a + d exceeds it (its pair is then
-    // swept alone, design by design); its unknowns turn by more than
-    // 1/32 rad in some steps, which each design's stepper takes.
-    let designs: Vec<f64> = (0..37)
+/// Every value of two batches' records the same, bit for bit (NaN for
+/// NaN), the first `a` in lanes, the second `b` design by design.
+fn same_records(a: &BatchResults, b: &BatchResults, what: &str) {
+    for (d, (x, y)) in a
+        .values
+        .chunks(a.record)
+        .zip(b.values.chunks(b.record))
+        .enumerate()
+    {
+        for (i, (x, y)) in x.iter().zip(y).enumerate() {
+            assert!(
+                x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                "{what}, design {d}, value {i}: {x} in lanes, {y} alone"
+            );
+        }
+    }
+}
+
+/// 37 four-bar designs: crank-rockers, and every ninth a long crank: it
+/// assembles at φ = 0, and stops where |BD| = b + c if a + d exceeds it
+/// (its pair is then swept alone, design by design); its unknowns turn
+/// by more than 1/32 rad in some steps, which each design's stepper
+/// takes.
+fn cranks_and_long_cranks() -> Vec<f64> {
+    (0..37)
         .flat_map(|k| {
             let t = f64::from(k);
             let (a, c) = if k % 9 == 4 {
@@ -491,7 +496,25 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
                 0.5 + 0.01 * t,
             ]
         })
-        .collect();
+        .collect()
+}
+
+/// A batch of positions only of the four-bar runs its designs in pairs in
+/// vector lanes; every design's samples, stop and values are those of
+/// the same batch design by design, bit for bit (and of its own sweep of
+/// poses): designs that turn, designs that stop at a limit position, an
+/// odd count, and a sweep long enough for the carried cosines and sines
+/// to be refreshed many times.
+#[test]
+fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
+    let m = four_bar();
+    let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+    let outputs = [
+        Output::Coordinate(1),
+        Output::Coordinate(2),
+        Output::Position(4),
+    ];
+    let designs = cranks_and_long_cranks();
     for (steps, turns) in [(360, 1.0), (3600, 2.0)] {
         let sweep = BatchSweep {
             turns: Some(turns),
@@ -529,19 +552,7 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
                 .count();
             assert!(long > 0);
             assert_eq!(stopped(&a).iter().filter(|s| **s).count(), long);
-            for (d, (x, y)) in a
-                .values
-                .chunks(a.record)
-                .zip(b.values.chunks(b.record))
-                .enumerate()
-            {
-                for (i, (x, y)) in x.iter().zip(y).enumerate() {
-                    assert!(
-                        x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
-                        "{steps} steps, design {d}, value {i}: {x} in lanes, {y} alone"
-                    );
-                }
-            }
+            same_records(&a, &b, &format!("{steps} steps"));
             // A design's own sweep of poses: the same samples.
             if reduce == Reduce::Samples {
                 let own = m.with_values(&designs[6..12]).expect("its values");
@@ -664,24 +675,7 @@ fn a_batch_of_steps_in_lanes_is_each_designs_sweep() {
         Output::PointAcceleration(4),
         Output::Conditioning,
     ];
-    let designs: Vec<f64> = (0..37)
-        .flat_map(|k| {
-            let t = f64::from(k);
-            let (a, c) = if k % 9 == 4 {
-                (0.15, 0.13)
-            } else {
-                (0.03 + 0.0004 * t, 0.10)
-            };
-            [
-                a,
-                0.12 + 0.001 * t,
-                c,
-                0.11,
-                0.06 - 0.001 * t,
-                0.5 + 0.01 * t,
-            ]
-        })
-        .collect();
+    let designs = cranks_and_long_cranks();
     for (steps, turns) in [(360, 1.0), (3600, 2.0)] {
         let sweep = BatchSweep {
             turns: Some(turns),
@@ -713,19 +707,7 @@ fn a_batch_of_steps_in_lanes_is_each_designs_sweep() {
                 .count();
             assert!(long > 0);
             assert_eq!(a.early.iter().filter(|e| e.is_some()).count(), long);
-            for (d, (x, y)) in a
-                .values
-                .chunks(a.record)
-                .zip(b.values.chunks(b.record))
-                .enumerate()
-            {
-                for (i, (x, y)) in x.iter().zip(y).enumerate() {
-                    assert!(
-                        x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
-                        "{steps} steps, {reduce:?}, design {d}, value {i}: {x} in lanes, {y} alone"
-                    );
-                }
-            }
+            same_records(&a, &b, &format!("{steps} steps, {reduce:?}"));
             // A design's own sweep: the same samples.
             if reduce == Reduce::Samples {
                 let own = m.with_values(&designs[6..12]).expect("its values");

@@ -240,22 +240,48 @@ fn main() {
 /// design and in pairs in vector lanes, checked equal on the designs that
 /// turn, then timed in interleaved rounds (the three in turn).
 fn steps_study(study: &Study, pool: &rayon::ThreadPool, omega: f64, rounds: usize) {
-    let dim = study.model.point_dimension();
     let (alone, paired) = (turns(study, omega).in_lanes(false), turns(study, omega));
-    let mut reference = vec![f64::NAN; study.count * STEPS * dim];
-    by_stepper(study, omega, &mut reference);
+    let what = format!(
+        "{}: {} designs × {STEPS} positions",
+        study.name, study.count
+    );
+    three_ways(
+        study,
+        (pool, rounds),
+        &mut |s, out| by_stepper(s, omega, out),
+        [&alone, &paired],
+        (&what, ["step_flat", "batch", "in lanes"]),
+    );
+}
+
+/// `reference` (each design by the stepper, the point's values kept)
+/// against the batch design by design and in pairs in lanes (`batches`):
+/// checked equal on the designs that turn, then timed in interleaved
+/// rounds (the three in turn) and printed as `what`, its variants named
+/// `names`.
+fn three_ways(
+    study: &Study,
+    (pool, rounds): (&rayon::ThreadPool, usize),
+    reference: &mut dyn FnMut(&Study, &mut [f64]),
+    batches: [&Batch<'_>; 2],
+    (what, names): (&str, [&str; 3]),
+) {
+    let dim = study.model.point_dimension();
+    let mut kept = vec![f64::NAN; study.count * STEPS * dim];
+    reference(study, &mut kept);
     let mut compared = 0;
-    for b in [&alone, &paired] {
+    for b in batches {
         let results = pool.install(|| b.run(&study.designs));
-        compared = compare(b, &results, &reference, STEPS * dim);
+        compared = compare(b, &results, &kept, STEPS * dim);
     }
-    let [p, a, l, ra, rl] = three_rounds(
+    let [alone, paired] = batches;
+    let t = three_rounds(
         rounds,
         (study.count * STEPS) as f64,
         [
             &mut || {
-                by_stepper(study, omega, &mut reference);
-                black_box(&reference);
+                reference(study, &mut kept);
+                black_box(&kept);
             },
             &mut || {
                 black_box(pool.install(|| alone.run(black_box(&study.designs))));
@@ -265,29 +291,23 @@ fn steps_study(study: &Study, pool: &rayon::ThreadPool, omega: f64, rounds: usiz
             },
         ],
     );
+    let what = format!(
+        "{what} ({compared} turn fully, equal to 1e-12, lanes: {})",
+        paired.in_pairs()
+    );
+    print_study(&what, names, t, rounds);
+}
+
+/// Prints a study's three timings and two ratios ([`three_rounds`]),
+/// `names` the three variants.
+fn print_study(what: &str, names: [&str; 3], t: [(f64, f64, f64); 5], rounds: usize) {
+    let [p, a, l, ra, rl] = t;
+    let [n0, n1, n2] = names;
     println!(
-        "{}: {} designs × {STEPS} positions ({compared} turn fully, equal to 1e-12, lanes: {}): \
-         step_flat {:.1} ns ({:.1}–{:.1}), batch {:.1} ns ({:.1}–{:.1}), in lanes {:.1} ns \
-         ({:.1}–{:.1}) per position; batch / step_flat {:.3} ({:.3}–{:.3}), in lanes / \
-         step_flat {:.3} ({:.3}–{:.3}) over {rounds} rounds",
-        study.name,
-        study.count,
-        paired.in_pairs(),
-        p.0,
-        p.1,
-        p.2,
-        a.0,
-        a.1,
-        a.2,
-        l.0,
-        l.1,
-        l.2,
-        ra.0,
-        ra.1,
-        ra.2,
-        rl.0,
-        rl.1,
-        rl.2
+        "{what}: {n0} {:.1} ns ({:.1}–{:.1}), {n1} {:.1} ns ({:.1}–{:.1}), {n2} {:.1} ns \
+         ({:.1}–{:.1}) per position; {n1} / {n0} {:.3} ({:.3}–{:.3}), {n2} / {n0} {:.3} \
+         ({:.3}–{:.3}) over {rounds} rounds",
+        p.0, p.1, p.2, a.0, a.1, a.2, l.0, l.1, l.2, ra.0, ra.1, ra.2, rl.0, rl.1, rl.2
     );
 }
 
@@ -353,7 +373,6 @@ fn by_poses(s: &Study, out: &mut [f64]) {
 /// the designs that turn, then timed in interleaved rounds (the three in
 /// turn).
 fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
-    let dim = study.model.point_dimension();
     let batch = |lanes: bool| {
         turn_keeping(study, 1.0, Output::Position(study.point))
             .positions_only()
@@ -361,50 +380,13 @@ fn poses_study(study: &Study, pool: &rayon::ThreadPool, rounds: usize) {
             .in_lanes(lanes)
     };
     let (alone, paired) = (batch(false), batch(true));
-    let mut reference = vec![f64::NAN; study.count * STEPS * dim];
-    by_poses(study, &mut reference);
-    let mut compared = 0;
-    for b in [&alone, &paired] {
-        let results = pool.install(|| b.run(&study.designs));
-        compared = compare(b, &results, &reference, STEPS * dim);
-    }
-    let [p, a, l, ra, rl] = three_rounds(
-        rounds,
-        (study.count * STEPS) as f64,
-        [
-            &mut || {
-                by_poses(study, &mut reference);
-                black_box(&reference);
-            },
-            &mut || {
-                black_box(pool.install(|| alone.run(black_box(&study.designs))));
-            },
-            &mut || {
-                black_box(pool.install(|| paired.run(black_box(&study.designs))));
-            },
-        ],
-    );
-    println!(
-        "{}, positions only ({compared} turn fully, equal to 1e-12, lanes: {}): pose {:.1} ns \
-         ({:.1}–{:.1}), batch {:.1} ns ({:.1}–{:.1}), in lanes {:.1} ns ({:.1}–{:.1}) per \
-         position; batch / pose {:.3} ({:.3}–{:.3}), in lanes / pose {:.3} ({:.3}–{:.3})",
-        study.name,
-        paired.in_pairs(),
-        p.0,
-        p.1,
-        p.2,
-        a.0,
-        a.1,
-        a.2,
-        l.0,
-        l.1,
-        l.2,
-        ra.0,
-        ra.1,
-        ra.2,
-        rl.0,
-        rl.1,
-        rl.2
+    let what = format!("{}, positions only", study.name);
+    three_ways(
+        study,
+        (pool, rounds),
+        &mut by_poses,
+        [&alone, &paired],
+        (&what, ["pose", "batch", "in lanes"]),
     );
 }
 

@@ -135,6 +135,23 @@ struct Slot {
     dest: usize,
 }
 
+impl Slot {
+    /// Where the slot's first value lies in a fused step's buffer laid
+    /// out as `at` says (`None` for the points' positions of a pose).
+    #[inline(always)]
+    fn in_buffer(&self, at: &FlatAt) -> Option<usize> {
+        let base = match self.from {
+            From::Q => at.q,
+            From::Qd => at.qd,
+            From::Qdd => at.qdd,
+            From::Outputs => at.out,
+            From::Conditioning => at.conditioning,
+            From::Positions => return None,
+        };
+        Some(base + self.at)
+    }
+}
+
 /// A batch of designs of one model: the pose each design starts from, the
 /// rates and accelerations of its drivers, the sweep it runs (or one step
 /// at the start), the outputs kept and the options. Made once, run on any
@@ -525,15 +542,7 @@ impl<'m> Batch<'m> {
             return (0, Some(Early::Failed(e)));
         }
         let model = &*model;
-        let mut keep = Keep {
-            model,
-            slots: &self.slots,
-            out,
-            row: 0,
-            rows: self.samples,
-            reduce: self.reduce,
-            scratch: Vec::new(),
-        };
+        let mut keep = self.keep(model, out);
         if self.poses {
             return self.poses_of(model, &mut keep);
         }
@@ -610,6 +619,21 @@ impl<'m> Batch<'m> {
     }
 }
 
+impl Batch<'_> {
+    /// What keeps a design's samples of `model` in its record `out`.
+    fn keep<'a>(&'a self, model: &'a Model, out: &'a mut [f64]) -> Keep<'a> {
+        Keep {
+            model,
+            slots: &self.slots,
+            out,
+            row: 0,
+            rows: self.samples,
+            reduce: self.reduce,
+            scratch: Vec::new(),
+        }
+    }
+}
+
 /// Copies each sample's outputs into a design's record.
 struct Keep<'a> {
     /// The model whose layout of the outputs the slots read.
@@ -647,17 +671,10 @@ impl Keep<'_> {
     /// lies, without the slices of a [`Flat`].
     #[inline(always)]
     fn put_fused(&mut self, buffer: &[f64], at: &FlatAt) {
-        self.put_from(|s| {
-            let base = match s.from {
-                From::Q => at.q,
-                From::Qd => at.qd,
-                From::Qdd => at.qdd,
-                From::Outputs => at.out,
-                From::Conditioning => at.conditioning,
-                // As in `put`: none in a step.
-                From::Positions => return (&[], 0),
-            };
-            (buffer, base + s.at)
+        self.put_from(|s| match s.in_buffer(at) {
+            Some(i) => (buffer, i),
+            // As in `put`: none in a step.
+            None => (&[], 0),
         });
     }
 

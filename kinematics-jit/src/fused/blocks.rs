@@ -185,6 +185,36 @@ pub(super) struct Factoring {
     pub(super) wrong_branch: i64,
 }
 
+impl Factoring {
+    /// The blocks of an [`Op::FactorSmall`](super::Op::FactorSmall) and
+    /// the rest of its fields (`None` for another op).
+    pub(super) fn of(op: &super::Op) -> Option<(&[SmallBlock], Self)> {
+        let super::Op::FactorSmall {
+            blocks,
+            threshold,
+            branch,
+            odd,
+            conditioning,
+            sign,
+            singular,
+            wrong_branch,
+        } = op
+        else {
+            return None;
+        };
+        let at = Self {
+            threshold: *threshold,
+            branch: *branch,
+            odd: *odd,
+            conditioning: *conditioning,
+            sign: *sign,
+            singular: *singular,
+            wrong_branch: *wrong_branch,
+        };
+        Some((blocks, at))
+    }
+}
+
 /// [`Op::FactorSmall`](super::Op::FactorSmall): each block's entries
 /// scaled by their row's and column's factors; a 1 × 1 block a regular
 /// where threshold < |a| < ∞, its conditioning |a| and its inverse 1/a;

@@ -264,25 +264,9 @@ impl Emit<'_, '_> {
                     &mut |b, failed, status| bail(b, exit, failed, status),
                 )?;
             }
-            Op::FactorSmall {
-                blocks,
-                threshold,
-                branch,
-                odd,
-                conditioning,
-                sign,
-                singular,
-                wrong_branch,
-            } => {
-                let at = blocks::Factoring {
-                    threshold: *threshold,
-                    branch: *branch,
-                    odd: *odd,
-                    conditioning: *conditioning,
-                    sign: *sign,
-                    singular: *singular,
-                    wrong_branch: *wrong_branch,
-                };
+            Op::FactorSmall { .. } => {
+                let (blocks, at) = blocks::Factoring::of(op)
+                    .ok_or_else(|| JitError::Codegen("a factorisation's fields".into()))?;
                 let exit = self.exit;
                 blocks::factor_small(
                     b,

@@ -368,25 +368,10 @@ impl Fused {
                                 let status = b.ins().iconst(types::I64, *status);
                                 bail(&mut b, failed, status);
                             }
-                            Op::FactorSmall {
-                                blocks,
-                                threshold,
-                                branch,
-                                odd,
-                                conditioning,
-                                sign,
-                                singular,
-                                wrong_branch,
-                            } => {
-                                let at = blocks::Factoring {
-                                    threshold: *threshold,
-                                    branch: *branch,
-                                    odd: *odd,
-                                    conditioning: *conditioning,
-                                    sign: *sign,
-                                    singular: *singular,
-                                    wrong_branch: *wrong_branch,
-                                };
+                            Op::FactorSmall { .. } => {
+                                let (blocks, at) = blocks::Factoring::of(op).ok_or_else(|| {
+                                    JitError::Codegen("a factorisation's fields".into())
+                                })?;
                                 blocks::factor_small(
                                     &mut b,
                                     false,

@@ -19,7 +19,6 @@
 //! sweep's, bit for bit.
 
 use alloc::vec;
-use alloc::vec::Vec;
 
 use super::{Batch, Early, From, Keep, keep};
 use crate::runtime::{Model, Stepper};
@@ -164,15 +163,7 @@ impl Batch<'_> {
             models[1].stepper(&self.options).ok()?,
         ];
         let [out0, out1] = outs;
-        let mut keeps = [out0, out1].map(|out| Keep {
-            model: m,
-            slots: &self.slots,
-            out,
-            row: 0,
-            rows: self.samples,
-            reduce: self.reduce,
-            scratch: Vec::new(),
-        });
+        let mut keeps = [out0, out1].map(|out| self.keep(m, out));
         let mut r = vec![0.0; m.points.len() * m.point_dim];
         let (positions, count) = plan.positions_at();
         let mut q = self.start.clone();

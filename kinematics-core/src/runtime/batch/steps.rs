@@ -26,7 +26,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::{Batch, Early, From, Keep, keep};
+use super::{Batch, Early, Keep, keep};
 use crate::runtime::drive::{Held, Sink, Stepped, rest, start};
 use crate::runtime::fused::Plan;
 use crate::runtime::stepper::FlatAt;
@@ -170,15 +170,7 @@ impl Batch<'_> {
             start::<SweepDrive, Held>(&engines[1], &setups[1], g1, d1).ok()?,
         ];
         let [out0, out1] = outs;
-        let mut keeps = [out0, out1].map(|out| Keep {
-            model: m,
-            slots: &self.slots,
-            out,
-            row: 0,
-            rows: self.samples,
-            reduce: self.reduce,
-            scratch: Vec::new(),
-        });
+        let mut keeps = [out0, out1].map(|out| self.keep(m, out));
         let mut stops = [None, None];
         // Each design's first sample (its modes, its carried values), and
         // any others off the common path.
@@ -334,21 +326,13 @@ impl Keep<'_> {
             return;
         }
         for s in self.slots {
-            let base = match s.from {
-                From::Q => at.q,
-                From::Qd => at.qd,
-                From::Qdd => at.qdd,
-                From::Outputs => at.out,
-                From::Conditioning => at.conditioning,
-                From::Positions => continue,
+            let Some(first) = s.in_buffer(at) else {
+                continue;
             };
             let mut v = [0.0; 3];
             let width = s.width.min(3);
             for (i, x) in v.iter_mut().enumerate().take(width) {
-                *x = f
-                    .get(2 * (base + s.at + i) + l)
-                    .copied()
-                    .unwrap_or(f64::NAN);
+                *x = f.get(2 * (first + i) + l).copied().unwrap_or(f64::NAN);
             }
             keep(self.out, s, row, self.reduce, &v[..width], 0);
         }
