@@ -571,10 +571,11 @@ fn a_batch_of_poses_in_lanes_is_each_designs_sweep() {
     }
 }
 
-/// A five-bar, two drivers: a batch of positions only in lanes sweeps
-/// either driver with the other held, and every design's record is that
-/// of the same batch design by design, bit for bit (each driver's carried
-/// cosine and sine refreshed in lanes as its stepper refreshes them).
+/// A five-bar, two drivers: a batch of steps and one of positions only in
+/// lanes sweep either driver with the other held, and every design's
+/// record is that of the same batch design by design, bit for bit (each
+/// driver's carried cosine and sine refreshed in lanes as its stepper
+/// refreshes them).
 #[test]
 fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
     let text = "struct FiveBar {
@@ -607,6 +608,37 @@ fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
             driver,
             ..turn(720, ChangePoints::Stop)
         };
+        // And the batch of steps, the held driver at rest.
+        let steps = |lanes: bool| {
+            Batch::new(
+                &m,
+                &start,
+                &[
+                    if driver == 0 { 6.0 } else { 0.0 },
+                    if driver == 1 { -4.0 } else { 0.0 },
+                ],
+                &[0.0, 0.0],
+                Some(sweep.clone()),
+                &[
+                    Output::Rate(3),
+                    Output::PointAcceleration(1),
+                    Output::Conditioning,
+                ],
+                &Options::DEFAULT,
+            )
+            .expect("a valid batch")
+            .in_lanes(lanes)
+        };
+        let (paired, alone) = (steps(true), steps(false));
+        assert!(paired.in_pairs(), "driver {driver}");
+        let (a, b) = (paired.run(&designs), alone.run(&designs));
+        assert!(
+            a.samples.iter().all(|&n| n == 720),
+            "driver {driver}: {:?}",
+            a.samples
+        );
+        assert_eq!((&a.samples, &a.early), (&b.samples, &b.early));
+        same_records(&a, &b, &format!("steps of driver {driver}"));
         let batch = |lanes: bool| {
             Batch::new(
                 &m,

@@ -206,12 +206,10 @@ impl Batch<'_> {
                 start[2 * j] = at;
                 start[2 * j + 1] = at;
                 if due % 16 == 0 {
-                    // Every driver's, as a stepper's refresh has the
-                    // helper compute each afresh: the swept one's at its
-                    // new value, the others' at theirs.
-                    for d in 0..m.drivers {
-                        let x = if d == j { at } else { self.start[d] };
-                        plan.carry_driver_in_lanes(&mut f, d, x);
+                    // The drivers' carried values, as a stepper's refresh
+                    // and the helper leave them.
+                    for l in 0..2 {
+                        plan.refresh_drivers_in_lane(&mut f, &start, l);
                     }
                 }
                 let status = plan.pose(&code, &mut f, &start, &mut modes2, &mut q2);

@@ -21,14 +21,16 @@
 //! (every 64 steps), and goes on alone from a sample off its sweep's
 //! common path (a change of branch ahead, a limit) to its end. Where a
 //! check fails in lanes (a value not finite, a singular block, the other
-//! branch), both designs are swept alone from their start.
+//! branch), both take that step alone too, from what the code in lanes
+//! left: the values it carried to the step, which the step alone rotates
+//! by zero (the same numbers), as a design's stepper takes a step from
+//! what its own code left where a check failed.
 
 use alloc::vec;
 use alloc::vec::Vec;
 
 use super::{Batch, Early, Keep, keep};
 use crate::runtime::drive::{Held, Sink, Stepped, rest, start};
-use crate::runtime::fused::Plan;
 use crate::runtime::stepper::FlatAt;
 use crate::runtime::{Model, Stepper};
 use crate::sweep::{Engine, Stop, SweepDrive, SweepIter};
@@ -143,8 +145,10 @@ impl Batch<'_> {
     }
 
     /// The pair's sweeps of full steps, in lanes where both designs are on
-    /// their common path; `None` where either failed a check in lanes or
-    /// could not start (the records then partly written).
+    /// their common path, with the number of samples taken in lanes;
+    /// `None` where the pair cannot step in lanes (a sweep that does not
+    /// start, a model without the step in lanes; the records then perhaps
+    /// partly written, and each design is swept alone).
     pub(super) fn steps_pair(
         &self,
         models: [&Model; 2],
@@ -210,27 +214,26 @@ impl Batch<'_> {
             let due = steps.wrapping_add(1);
             for (l, it) in its.iter_mut().enumerate() {
                 let [guess, rates, accelerations] = it.step_inputs(at);
-                for (i, x) in guess.iter().enumerate() {
-                    joined.start[2 * i + l] = *x;
-                }
-                for i in 0..nd {
-                    joined.rates[2 * i + l] = rates.get(i).copied().unwrap_or(f64::NAN);
-                    joined.accelerations[2 * i + l] =
-                        accelerations.get(i).copied().unwrap_or(f64::NAN);
-                }
+                let into = |to: &mut [f64], from: &[f64]| {
+                    for (pair, x) in to.chunks_exact_mut(2).zip(from) {
+                        if let Some(slot) = pair.get_mut(l) {
+                            *slot = *x;
+                        }
+                    }
+                };
+                into(&mut joined.start, guess);
+                into(&mut joined.rates, rates);
+                into(&mut joined.accelerations, accelerations);
             }
             // The unknowns' carried values are refreshed by the helper
             // (every 64 steps): each design alone then.
             if due % 64 != 0 {
                 joined.join(steppers(&mut its)?.map(|s| &*s))?;
                 if due % 16 == 0 {
-                    // Every driver's, as a stepper's refresh has the
-                    // helper compute each afresh at its value.
-                    for d in 0..nd {
-                        for l in 0..2 {
-                            let x = joined.start[2 * d + l];
-                            plan.carry_driver_in_lane(&mut joined.f, d, x, l);
-                        }
+                    // The drivers' carried values, as a stepper's refresh
+                    // and the helper leave them.
+                    for l in 0..2 {
+                        plan.refresh_drivers_in_lane(&mut joined.f, &joined.start, l);
                     }
                 }
                 let status = plan.step(
@@ -276,9 +279,10 @@ impl Batch<'_> {
                     }
                     break;
                 }
-                if !Plan::left_lanes(status) {
-                    return None;
-                }
+                // Left the common path, or a check failed in a lane: each
+                // design takes the step alone, from what the code in
+                // lanes left (the values it carried rotated by zero, the
+                // same numbers), as its stepper takes it from its own.
             }
             joined.part(steppers(&mut its)?);
             // Each design's own step of this sample.
@@ -304,14 +308,14 @@ impl Batch<'_> {
         Some((ends, in_lanes))
     }
 
-    /// Where a fused step of `stepper` leaves its results (read from its
-    /// last step; `None` where that step was not fused), and the offsets
+    /// Where a fused step of `stepper` leaves its results (`None` for a
+    /// stepper without fused code), and the offsets
     /// of the buffer a design's sweep reads of a sample: the pose, and its
     /// rates where the predictor reads them (Newton blocks).
     fn layout_of(stepper: &Stepper<'_>, newton: bool) -> Option<(FlatAt, Vec<usize>)> {
-        let (_, at) = stepper.fused_results()?;
+        let at = stepper.fused_layout()?;
         let end = if newton { at.qdd } else { at.qd };
-        Some((*at, (at.q..end).collect()))
+        Some((at, (at.q..end).collect()))
     }
 }
 
@@ -329,12 +333,19 @@ impl Keep<'_> {
             let Some(first) = s.in_buffer(at) else {
                 continue;
             };
-            let mut v = [0.0; 3];
-            let width = s.width.min(3);
-            for (i, x) in v.iter_mut().enumerate().take(width) {
-                *x = f.get(2 * (first + i) + l).copied().unwrap_or(f64::NAN);
+            let read = |i: usize| f.get(2 * (first + i) + l).copied().unwrap_or(f64::NAN);
+            if s.width <= 3 {
+                // A coordinate, the conditioning, a point's vector.
+                let mut v = [0.0; 3];
+                for (i, x) in v.iter_mut().enumerate().take(s.width) {
+                    *x = read(i);
+                }
+                keep(self.out, s, row, self.reduce, &v[..s.width], 0);
+            } else {
+                self.scratch.clear();
+                self.scratch.extend((0..s.width).map(read));
+                keep(self.out, s, row, self.reduce, &self.scratch, 0);
             }
-            keep(self.out, s, row, self.reduce, &v[..width], 0);
         }
         self.row = row + 1;
     }

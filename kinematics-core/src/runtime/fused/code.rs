@@ -88,35 +88,38 @@ impl Plan {
             .function(0)
     }
 
-    /// Driver j at `x` in both designs of a buffer in lanes: its cosine
-    /// and sine computed afresh and carried, as the helper computes them
-    /// where a stepper refreshes its carried values (so that the pose in
-    /// lanes rotates them by zero, to the same numbers).
-    pub(in crate::runtime) fn carry_driver_in_lanes(&self, f: &mut [f64], j: usize, x: f64) {
-        for l in 0..2 {
-            self.carry_driver_in_lane(f, j, x, l);
-        }
-    }
-
-    /// [`Plan::carry_driver_in_lanes`] in lane `l` alone.
-    pub(in crate::runtime) fn carry_driver_in_lane(
+    /// The drivers' carried values of lane `l` of a buffer in lanes
+    /// refreshed, as a stepper's refresh and the helper leave them for a
+    /// step or pose from the interleaved inputs `start`: each driver's
+    /// carried value forgotten (NaN), then each carried driver's cosine
+    /// and sine computed afresh at its value and carried (so that the
+    /// code in lanes rotates them by zero, to the same numbers).
+    pub(in crate::runtime) fn refresh_drivers_in_lane(
         &self,
         f: &mut [f64],
-        j: usize,
-        x: f64,
+        start: &[f64],
         l: usize,
     ) {
-        let (s, c) = crate::math::table::sin_cos(x);
-        let (carry, trig) = (self.carry + 3 * j, self.layout.trig + 2 * j);
-        for (at, v) in [
-            (carry, c),
-            (carry + 1, s),
-            (carry + 2, x),
-            (trig, c),
-            (trig + 1, s),
-        ] {
+        let mut put = |at: usize, v: f64| {
             if let Some(slot) = f.get_mut(2 * at + l) {
                 *slot = v;
+            }
+        };
+        for j in 0..self.nd {
+            put(self.carry + 3 * j + 2, f64::NAN);
+        }
+        for &j in &self.driver_trig {
+            let x = start.get(2 * j + l).copied().unwrap_or(f64::NAN);
+            let (s, c) = crate::math::table::sin_cos(x);
+            let (carry, trig) = (self.carry + 3 * j, self.layout.trig + 2 * j);
+            for (at, v) in [
+                (carry, c),
+                (carry + 1, s),
+                (carry + 2, x),
+                (trig, c),
+                (trig + 1, s),
+            ] {
+                put(at, v);
             }
         }
     }

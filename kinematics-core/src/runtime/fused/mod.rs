@@ -141,6 +141,8 @@ pub(super) struct Plan {
     offsets: (usize, usize),
     layout: Layout,
     nd: usize,
+    /// The drivers whose cosine and sine the step and the pose carry.
+    driver_trig: Vec<usize>,
     nu: usize,
     np: usize,
     carry: usize,
@@ -344,6 +346,7 @@ impl Plan {
         // The assembly, shared by both functions: the drivers' cosines
         // and sines, each block from its coefficients, the residual.
         let mut assembly: Vec<Op> = driver_trig
+            .clone()
             .iter()
             .map(|&j| Op::CarriedTrig {
                 value: q + j,
@@ -623,6 +626,7 @@ impl Plan {
             offsets: (offsets, h.offsets.len()),
             layout,
             nd,
+            driver_trig,
             nu,
             np,
             carry,

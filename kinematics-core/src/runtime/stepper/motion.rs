@@ -110,6 +110,12 @@ impl Stepper<'_> {
         self.assembled = false;
     }
 
+    /// Where a fused step leaves its results in the buffer (`None`
+    /// without fused code).
+    pub(in crate::runtime) fn fused_layout(&self) -> Option<super::FlatAt> {
+        self.fused.as_ref().map(|run| run.io.flat)
+    }
+
     /// Records a step that the batch took for this stepper in vector
     /// lanes, as the fused step would have taken it: the step counted,
     /// its results in the buffer (as much of it as the batch copied back:
