@@ -384,8 +384,8 @@ impl<'m> Batch<'m> {
     /// (a limit position ahead, say) is swept alone, design by design,
     /// from its start; a pair of steps goes on alone, each design's sweep
     /// from the sample where either leaves its common path (a change of
-    /// branch ahead, a limit), and is swept alone from its start where a
-    /// check fails in lanes.
+    /// branch ahead, a limit), and takes a step alone where a check fails
+    /// in lanes.
     #[must_use]
     pub fn in_lanes(mut self, on: bool) -> Self {
         self.lanes = on;
