@@ -11,7 +11,10 @@
 //! those of [`Model::sweep`] with its values. A batch of positions only
 //! ([`Batch::positions_only`]) assembles each sample as
 //! [`SweepBuilder::for_each_pose`](super::SweepBuilder::for_each_pose)
-//! does, with no velocity or acceleration analysis.
+//! does, with no velocity or acceleration analysis. Where the model's
+//! machine code has its form in lanes, the designs go in pairs, two per
+//! instruction ([`Batch::in_lanes`]), each design's record still its own
+//! sweep's, bit for bit.
 
 use alloc::vec;
 use alloc::vec::Vec;
