@@ -18,43 +18,9 @@ use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::Id;
 
 use super::emit::{konst, not_finite, Memory};
-use super::lanes::Lanes;
 use super::{SmallBlock, SolveBlock};
 use crate::lower::{Imports, Lower, SignBits, Sources};
 use crate::JitError;
-
-/// The buffer as the ops read and write it, on one design ([`Memory`]) or
-/// on two interleaved ([`Lanes`]).
-pub(super) trait Buffer {
-    /// The value at `at` (a vector of both designs' in lanes).
-    ///
-    /// # Errors
-    /// An offset past the buffer.
-    fn load(&mut self, b: &mut FunctionBuilder<'_>, at: usize) -> Result<Value, JitError>;
-    /// Writes `v` at `at`, where the code goes on.
-    ///
-    /// # Errors
-    /// An offset past the buffer.
-    fn store(&mut self, b: &mut FunctionBuilder<'_>, at: usize, v: Value) -> Result<(), JitError>;
-}
-
-impl Buffer for Memory<'_> {
-    fn load(&mut self, b: &mut FunctionBuilder<'_>, at: usize) -> Result<Value, JitError> {
-        Memory::load(self, b, at)
-    }
-    fn store(&mut self, b: &mut FunctionBuilder<'_>, at: usize, v: Value) -> Result<(), JitError> {
-        Memory::store(self, b, at, v)
-    }
-}
-
-impl Buffer for Lanes<'_> {
-    fn load(&mut self, b: &mut FunctionBuilder<'_>, at: usize) -> Result<Value, JitError> {
-        Lanes::load(self, b, at)
-    }
-    fn store(&mut self, b: &mut FunctionBuilder<'_>, at: usize, v: Value) -> Result<(), JitError> {
-        Lanes::store(self, b, at, v)
-    }
-}
 
 /// What a failed check emits: `fail(b, failed, status)` returns `status`
 /// where the scalar flag `failed` is set, and goes on in a new block
@@ -111,7 +77,7 @@ pub(super) fn solve(
     b: &mut FunctionBuilder<'_>,
     lanes: bool,
     (lower, sources, imports): Lowering<'_, '_>,
-    memory: &mut dyn Buffer,
+    memory: &mut Memory<'_>,
     (rhs, blocks, to, finite): (&[Id], &[SolveBlock], usize, Option<i64>),
     fail: Fail<'_>,
 ) -> Result<(), JitError> {
@@ -233,7 +199,7 @@ pub(super) fn factor_small(
     b: &mut FunctionBuilder<'_>,
     lanes: bool,
     (lower, sources, imports): Lowering<'_, '_>,
-    memory: &mut dyn Buffer,
+    memory: &mut Memory<'_>,
     (blocks, at): (&[SmallBlock], &Factoring),
     fail: Fail<'_>,
 ) -> Result<(), JitError> {

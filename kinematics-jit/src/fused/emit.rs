@@ -18,10 +18,18 @@ use crate::JitError;
 /// code stored or loaded in a block that dominates the rest is known;
 /// everything is forgotten where the helper may have run (a call, the
 /// join after a closed form's fall-back), since it can rewrite any value.
+///
+/// In lanes ([`Memory::in_lanes`]) value i holds both designs' values, a
+/// vector of two f64 at byte 16 i, read and written unaligned (the buffer
+/// of f64 is aligned to 8 bytes), never trapping (every offset is
+/// checked).
 pub(super) struct Memory<'w> {
     fp: cranelift_codegen::ir::Value,
     within: &'w dyn Fn(usize) -> Result<i32, JitError>,
     known: std::collections::HashMap<usize, cranelift_codegen::ir::Value>,
+    /// F64, or F64X2 in lanes.
+    ty: types::Type,
+    flags: MemFlags,
 }
 
 impl<'w> Memory<'w> {
@@ -34,6 +42,21 @@ impl<'w> Memory<'w> {
             fp,
             within,
             known: std::collections::HashMap::new(),
+            ty: types::F64,
+            flags: MemFlags::trusted(),
+        }
+    }
+
+    /// The buffer in lanes at `fp`, every offset (in values of both
+    /// designs) checked by `within`.
+    pub(super) fn in_lanes(
+        fp: cranelift_codegen::ir::Value,
+        within: &'w dyn Fn(usize) -> Result<i32, JitError>,
+    ) -> Self {
+        Self {
+            ty: types::F64X2,
+            flags: vector_flags(),
+            ..Self::new(fp, within)
         }
     }
 
@@ -48,7 +71,7 @@ impl<'w> Memory<'w> {
         }
         let v = b
             .ins()
-            .load(types::F64, MemFlags::trusted(), self.fp, (self.within)(at)?);
+            .load(self.ty, self.flags, self.fp, (self.within)(at)?);
         self.known.insert(at, v);
         Ok(v)
     }
@@ -73,8 +96,7 @@ impl<'w> Memory<'w> {
         at: usize,
         v: cranelift_codegen::ir::Value,
     ) -> Result<(), JitError> {
-        b.ins()
-            .store(MemFlags::trusted(), v, self.fp, (self.within)(at)?);
+        b.ins().store(self.flags, v, self.fp, (self.within)(at)?);
         self.known.remove(&at);
         Ok(())
     }
@@ -89,6 +111,12 @@ impl<'w> Memory<'w> {
     pub(super) fn forget(&mut self) {
         self.known.clear();
     }
+}
+
+/// Vectors are read and written unaligned (the buffer of f64 is aligned
+/// to 8 bytes), never trapping (every offset is checked).
+pub(super) fn vector_flags() -> MemFlags {
+    MemFlags::new().with_notrap()
 }
 
 /// The slot of `port` in the table of pointers (its byte offset), with

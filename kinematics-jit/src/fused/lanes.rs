@@ -22,62 +22,13 @@ use cranelift_frontend::FunctionBuilder;
 use kinematics_compiler::ir::Graph;
 
 use super::blocks;
-use super::emit::{evaluate, flag_of, konst, not_finite, number_of, port_slot, rotated, seed_at};
+use super::emit::{
+    evaluate, flag_of, konst, not_finite, number_of, port_slot, rotated, seed_at, vector_flags,
+    Memory,
+};
 use super::{Function, Fused, Inst, Layout, Op, Port, Series, Val, PORTS};
 use crate::lower::{Imports, Lower, Sources};
 use crate::JitError;
-
-/// Vectors are read and written unaligned (the buffer of f64 is aligned
-/// to 8 bytes), never trapping (every offset is checked).
-fn vector_flags() -> MemFlags {
-    MemFlags::new().with_notrap()
-}
-
-/// The buffer in lanes: value i of both designs at byte 16 i, with the
-/// values the code holds in registers (as the scalar `Memory`).
-pub(super) struct Lanes<'w> {
-    fp: Value,
-    within: &'w dyn Fn(usize) -> Result<i32, JitError>,
-    known: std::collections::HashMap<usize, Value>,
-}
-
-impl<'w> Lanes<'w> {
-    /// The buffer at `fp`, every offset checked by `within`.
-    pub(super) fn new(fp: Value, within: &'w dyn Fn(usize) -> Result<i32, JitError>) -> Self {
-        Self {
-            fp,
-            within,
-            known: std::collections::HashMap::new(),
-        }
-    }
-
-    pub(super) fn load(
-        &mut self,
-        b: &mut FunctionBuilder<'_>,
-        at: usize,
-    ) -> Result<Value, JitError> {
-        if let Some(&v) = self.known.get(&at) {
-            return Ok(v);
-        }
-        let v = b
-            .ins()
-            .load(types::F64X2, vector_flags(), self.fp, (self.within)(at)?);
-        self.known.insert(at, v);
-        Ok(v)
-    }
-
-    pub(super) fn store(
-        &mut self,
-        b: &mut FunctionBuilder<'_>,
-        at: usize,
-        v: Value,
-    ) -> Result<(), JitError> {
-        b.ins()
-            .store(vector_flags(), v, self.fp, (self.within)(at)?);
-        self.known.insert(at, v);
-        Ok(())
-    }
-}
 
 /// x in both lanes.
 fn splat(b: &mut FunctionBuilder<'_>, x: f64) -> Value {
@@ -139,7 +90,7 @@ impl Emit<'_, '_> {
     pub(super) fn op(
         &mut self,
         b: &mut FunctionBuilder<'_>,
-        memory: &mut Lanes<'_>,
+        memory: &mut Memory<'_>,
         op: &Op,
         pp: Value,
         need: &mut [usize; 2 * PORTS],
@@ -291,7 +242,7 @@ impl Emit<'_, '_> {
     fn carried_trig(
         &mut self,
         b: &mut FunctionBuilder<'_>,
-        memory: &mut Lanes<'_>,
+        memory: &mut Memory<'_>,
         (value, carried, to): (usize, usize, usize),
         series: &Series,
     ) -> Result<(), JitError> {
@@ -325,7 +276,7 @@ impl Emit<'_, '_> {
     fn guarded(
         &mut self,
         b: &mut FunctionBuilder<'_>,
-        memory: &mut Lanes<'_>,
+        memory: &mut Memory<'_>,
         code: &[Inst],
         ok: Val,
         fast: &[(usize, Val)],

@@ -196,7 +196,7 @@ impl Fused {
                         exit,
                         left,
                     };
-                    let mut memory = lanes::Lanes::new(fp, &within);
+                    let mut memory = Memory::in_lanes(fp, &within);
                     for op in ops {
                         cx.op(&mut b, &mut memory, op, pp, &mut need)?;
                     }

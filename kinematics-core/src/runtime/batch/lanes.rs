@@ -25,7 +25,7 @@ use crate::runtime::{Model, Stepper};
 
 /// Value i of lane `l` (0 or 1) of an interleaved array, for each i.
 #[inline]
-fn lane(v: &[f64], l: usize, out: &mut [f64]) {
+pub(super) fn lane(v: &[f64], l: usize, out: &mut [f64]) {
     let second = l == 1;
     for (o, pair) in out.iter_mut().zip(v.chunks_exact(2)) {
         *o = if second { pair[1] } else { pair[0] };
@@ -33,7 +33,7 @@ fn lane(v: &[f64], l: usize, out: &mut [f64]) {
 }
 
 /// The two arrays interleaved into `out` (a's values at even entries).
-fn interleave(a: &[f64], b: &[f64], out: &mut [f64]) {
+pub(super) fn interleave(a: &[f64], b: &[f64], out: &mut [f64]) {
     for (pair, (x, y)) in out.chunks_exact_mut(2).zip(a.iter().zip(b)) {
         pair[0] = *x;
         pair[1] = *y;
@@ -97,18 +97,17 @@ impl Batch<'_> {
             .sweep_of(self.model, s)
             .and_then(|b| b.grid())
             .is_ok_and(|g| g.count < 2 || (g.at(1) - g.at(0)).abs() <= crate::closed::CARRIED_STEP);
-        if !self.poses {
-            return self.steps_in_pairs(step_within);
-        }
         self.lanes
             && step_within
             && !self.model.params.is_empty()
             && self.model.fixed_scaling
-            && self
-                .model
-                .fused
-                .as_deref()
-                .is_some_and(|plan| plan.lanes_pose().is_some())
+            && self.model.fused.as_deref().is_some_and(|plan| {
+                if self.poses {
+                    plan.lanes_pose().is_some()
+                } else {
+                    plan.lanes_step().is_some()
+                }
+            })
     }
 
     /// Designs `values[0]` and `values[1]` with the models `models`, their

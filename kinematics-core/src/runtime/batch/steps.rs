@@ -29,6 +29,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use super::lanes::{interleave, lane};
 use super::{Batch, Early, Keep, keep};
 use crate::runtime::drive::{Held, Sink, Stepped, rest, start};
 use crate::runtime::stepper::FlatAt;
@@ -41,21 +42,6 @@ type Iter<'e, 'm> = SweepIter<'e, Stepped<'m>, SweepDrive, Held>;
 /// How each design of a pair ended: its samples, and why it ended early;
 /// and the samples the pair took in lanes.
 type PairEnds = ([(usize, Option<Early>); 2], usize);
-
-/// Value i of lane `l` of the interleaved `v`, for each i, into `out`.
-fn lane(v: &[f64], l: usize, out: &mut [f64]) {
-    for (o, pair) in out.iter_mut().zip(v.chunks_exact(2)) {
-        *o = pair.get(l).copied().unwrap_or(f64::NAN);
-    }
-}
-
-/// `a` and `b` interleaved into `out` (a's values at even entries).
-fn interleave(a: &[f64], b: &[f64], out: &mut [f64]) {
-    for (pair, (x, y)) in out.chunks_exact_mut(2).zip(a.iter().zip(b)) {
-        pair[0] = *x;
-        pair[1] = *y;
-    }
-}
 
 /// The steppers of both designs' sweeps.
 fn steppers<'a, 'm>(its: &'a mut [Iter<'_, 'm>; 2]) -> Option<[&'a mut Stepper<'m>; 2]> {
@@ -129,21 +115,6 @@ impl Joined {
 }
 
 impl Batch<'_> {
-    /// Whether this batch's steps (with rates and accelerations) run in
-    /// pairs in vector lanes: as [`Batch::in_pairs`] for them.
-    pub(super) fn steps_in_pairs(&self, step_within: bool) -> bool {
-        !self.poses
-            && self.lanes
-            && step_within
-            && !self.model.params.is_empty()
-            && self.model.fixed_scaling
-            && self
-                .model
-                .fused
-                .as_deref()
-                .is_some_and(|plan| plan.lanes_step().is_some())
-    }
-
     /// The pair's sweeps of full steps, in lanes where both designs are on
     /// their common path, with the number of samples taken in lanes;
     /// `None` where the pair cannot step in lanes (a sweep that does not
