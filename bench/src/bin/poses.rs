@@ -13,7 +13,11 @@
 //! With `count four-bar` (or `count Strider`) it runs ten turns of that
 //! mechanism's loop of poses only, untimed, for an instruction count
 //! (`valgrind --tool=callgrind`): `Stepper::pose`'s inclusive count over
-//! 36 000 is the instructions of a pose.
+//! 36 000 is the instructions of a pose. With `count-sweep four-bar` it
+//! runs ten sweeps of a turn through `for_each_pose` (the sweep's
+//! instructions a pose: `for_each_pose`'s inclusive count, less the
+//! first stepper's compilation, over 36 000), with `count-fixed
+//! four-bar` 10 000 sweeps of one step (a sweep's fixed cost).
 
 // A benchmark program: a failed set-up should stop it.
 #![allow(clippy::expect_used, missing_docs)]
@@ -46,6 +50,33 @@ fn count_poses(m: &kinematics_core::runtime::Model, o: &Options) {
     }
 }
 
+/// Ten sweeps of a turn of poses (`count-sweep`), or 10 000 sweeps of
+/// one step (`count-fixed`), untimed, for an instruction count.
+fn count_sweeps(m: &kinematics_core::runtime::Model, fixed: bool) {
+    let mut guess = vec![0.0; m.coordinates().len()];
+    guess[0] = 0.3;
+    let start = m
+        .assemble_all(&guess)
+        .find_map(|(_, p)| p.ok())
+        .expect("an assembly");
+    let (sweeps, steps, to) = if fixed {
+        (10_000, 1, Some(start[0] + 0.01))
+    } else {
+        (10, STEPS, None)
+    };
+    for _ in 0..sweeps {
+        let sweep = m.sweep(m.coordinates()[0].name, &start).expect("a sweep");
+        let sweep = match to {
+            Some(to) => sweep.to(to),
+            None => sweep.turns(1.0),
+        };
+        let end = sweep.steps(steps).for_each_pose(|at, q, r| {
+            black_box((at, q, r));
+        });
+        black_box(end);
+    }
+}
+
 fn main() {
     use std::f64::consts::{FRAC_PI_4, PI};
     let four_bar =
@@ -61,6 +92,15 @@ fn main() {
         if count {
             if args.get(2).is_some_and(|a| a == name) {
                 count_poses(m, &o);
+            }
+            continue;
+        }
+        if let Some(which) = args
+            .get(1)
+            .filter(|a| ["count-sweep", "count-fixed"].contains(&a.as_str()))
+        {
+            if args.get(2).is_some_and(|a| a == name) {
+                count_sweeps(m, which == "count-fixed");
             }
             continue;
         }

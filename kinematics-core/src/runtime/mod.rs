@@ -227,6 +227,8 @@ pub struct Model {
     sections: Option<Arc<sections::SectionCode>>,
     /// The Kutzbach–Gruebler count of a `joints` section of counts.
     mobility: Option<kinematics_compiler::Mobility>,
+    /// Work arrays kept for the next stepper or call.
+    spare: solve::Spare,
 }
 
 impl fmt::Debug for Model {
@@ -347,6 +349,7 @@ impl Model {
             fused,
             sections,
             mobility: c.mobility(),
+            spare: solve::Spare::default(),
         })
     }
 
@@ -534,7 +537,7 @@ impl Model {
         let mut w = self.work();
         self.scaling(q, &mut w, &Options::DEFAULT);
         self.newton_eval(q, &mut w);
-        Ok(w.phi)
+        Ok(w.phi.clone())
     }
 
     /// Assembles at the drivers of `guess` from its unknowns, with the

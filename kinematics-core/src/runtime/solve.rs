@@ -10,13 +10,17 @@ use kinematics_jit::{Inputs, Program};
 use nalgebra::{Matrix3, Vector3};
 
 use super::{Model, Motion, PointState, Vector};
+
+mod spare;
 use crate::error::{Error, Input};
 use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
 use crate::solve::dense::{conditioning, lu, lu_above, lu_apply};
 use crate::solve::{Failure, Judge, Space, System, describe_by, fast_then_damped, iterate};
+pub(super) use spare::{Pooled, Spare};
 
 /// The arrays of a solve and an analysis, sized for one model.
+#[derive(Default)]
 pub(super) struct Work {
     /// The parameters, then the characteristic length L.
     pub(super) params: Vec<f64>,
@@ -134,7 +138,12 @@ impl Work {
 }
 
 impl Model {
-    pub(super) fn work(&self) -> Work {
+    pub(super) fn work(&self) -> Pooled<'_> {
+        self.spare.lend(&self.values, || self.fresh_work())
+    }
+
+    /// A [`Work`] allocated afresh for this model.
+    fn fresh_work(&self) -> Work {
         let nu = self.unknowns();
         let widest = self.blocks.iter().map(|(_, c)| c.len()).max().unwrap_or(0);
         Work {

@@ -52,7 +52,7 @@ mod motion;
 pub struct Stepper<'m> {
     m: &'m Model,
     options: Options,
-    work: Work,
+    work: super::solve::Pooled<'m>,
     motion: Motion,
     pub(super) q: Vec<f64>,
     /// The assembly modes followed (NaN: from the next start).

@@ -1,0 +1,191 @@
+//! Spare work arrays: a model keeps the [`Work`]s its steppers and
+//! one-off calls gave back, and lends them again reset in place, so that
+//! a short sweep or a single assembly does not allocate and free a few
+//! dozen small arrays each time.
+
+use alloc::vec::Vec;
+
+use super::Work;
+
+impl Work {
+    /// Every array as the model makes it afresh (`Model::work`), the
+    /// parameters `values` (of the same model: the lengths are the
+    /// same).
+    fn reset(&mut self, values: &[f64]) {
+        if self.params.len() == values.len() {
+            self.params.copy_from_slice(values);
+        } else {
+            self.params.clear();
+            self.params.extend_from_slice(values);
+        }
+        for v in [
+            &mut self.phi,
+            &mut self.jac,
+            &mut self.newton,
+            &mut self.zeros,
+            &mut self.lu,
+            &mut self.sub,
+            &mut self.col,
+            &mut self.unit,
+            &mut self.sums,
+            &mut self.rhs,
+            &mut self.out,
+            &mut self.trig,
+            &mut self.guess,
+            &mut self.coef,
+        ] {
+            v.fill(0.0);
+        }
+        self.rows.fill(1.0);
+        self.weights.fill(1.0);
+        self.perm.fill(0);
+        self.sub_perm.fill(0);
+        let p = &mut self.space;
+        for v in [
+            &mut p.u,
+            &mut p.phi,
+            &mut p.row,
+            &mut p.weights,
+            &mut p.start,
+            &mut p.step,
+            &mut p.origin,
+        ] {
+            v.fill(0.0);
+        }
+        self.closing = false;
+        self.scaling_kept = false;
+    }
+}
+
+/// A few [`Work`]s of a model kept for its next steppers and one-off
+/// calls: a `Work` is a few dozen small arrays, whose allocation and
+/// release cost more than a short sweep's steps; one taken from here is
+/// reset in place ([`Model::work`]). A clone of the model starts with
+/// none.
+#[derive(Default)]
+pub(in crate::runtime) struct Spare(std::sync::Mutex<Vec<Work>>);
+
+impl Spare {
+    /// A spare [`Work`] reset for the parameters `values`, or else
+    /// `fresh()`; given back when the loan is dropped.
+    pub(in crate::runtime) fn lend(
+        &self,
+        values: &[f64],
+        fresh: impl FnOnce() -> Work,
+    ) -> Pooled<'_> {
+        let spare = self.0.lock().ok().and_then(|mut pool| pool.pop());
+        let work = match spare {
+            Some(mut w) => {
+                w.reset(values);
+                w
+            }
+            None => fresh(),
+        };
+        Pooled { work, spare: self }
+    }
+}
+
+impl Clone for Spare {
+    fn clone(&self) -> Self {
+        Spare::default()
+    }
+}
+
+/// How many spare [`Work`]s a model keeps.
+const SPARE: usize = 4;
+
+/// A [`Work`] lent by [`Model::work`], given back to the model's spares
+/// when dropped.
+pub(in crate::runtime) struct Pooled<'m> {
+    work: Work,
+    spare: &'m Spare,
+}
+
+impl core::ops::Deref for Pooled<'_> {
+    type Target = Work;
+    #[inline(always)]
+    fn deref(&self) -> &Work {
+        &self.work
+    }
+}
+
+impl core::ops::DerefMut for Pooled<'_> {
+    #[inline(always)]
+    fn deref_mut(&mut self) -> &mut Work {
+        &mut self.work
+    }
+}
+
+impl Drop for Pooled<'_> {
+    fn drop(&mut self) {
+        if let Ok(mut pool) = self.spare.0.lock()
+            && pool.len() < SPARE
+        {
+            // (An empty `Work` left behind: no allocation.)
+            pool.push(core::mem::take(&mut self.work));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::format;
+    use alloc::vec;
+
+    use crate::Options;
+    use crate::runtime::Model;
+
+    /// Every array of a `Work` as text, to compare two.
+    fn arrays(w: &super::Work) -> alloc::string::String {
+        let p = &w.space;
+        format!(
+            "{:?}",
+            (
+                (&w.params, &w.phi, &w.jac, &w.newton, &w.rows, &w.weights),
+                (&w.zeros, &w.lu, &w.perm, w.closing, &w.sub, &w.sub_perm),
+                (&w.col, &w.unit, &w.sums, &w.rhs, &w.out, &w.trig),
+                (&w.guess, &w.coef, w.scaling_kept),
+                (
+                    &p.u, &p.phi, &p.row, &p.weights, &p.start, &p.step, &p.origin
+                ),
+            )
+        )
+    }
+
+    /// A model with a block solved by Newton–Raphson (a slider in the
+    /// guide x = h + k y², driven through a rod) steps, which writes its
+    /// work's arrays; the work it gave back, lent again, is as a fresh
+    /// one, for its new parameter values too.
+    #[test]
+    fn a_spare_work_is_lent_as_a_fresh_one() {
+        let text = "struct Curved {
+            params   { a, b, h, k }
+            drivers  { phi }
+            unknowns { th, y }
+            points   { C = vec2(h + k * y * y, y); }
+            loops    { polar(a, phi) + polar(b, th) == vec2(h + k * y * y, y); }
+        }";
+        let mut m = Model::compile(text)
+            .expect("compiles")
+            .with_values(&[0.1, 0.3, 0.15, 0.5])
+            .expect("values");
+        {
+            let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
+            let mut q = vec![0.0, 1.2, 0.28];
+            for k in 0..12 {
+                q[0] = f64::from(k) * 0.1;
+                let s = stepper.step(&q, &[1.0], &[0.0]).expect("a step");
+                q.copy_from_slice(&s.q);
+            }
+            let mut positions = vec![0.0; 2];
+            stepper.positions(&mut positions).expect("positions");
+        }
+        m.set_values(&[0.1, 0.3, 0.16, 0.5]).expect("values");
+        let (lent, fresh) = (m.work(), m.fresh_work());
+        assert!(arrays(&fresh).contains("0.16"));
+        assert_eq!(arrays(&lent), arrays(&fresh));
+        // The stepper gave its work back, and the loan did too.
+        drop(lent);
+        assert_eq!(m.spare.0.lock().map(|p| p.len()).ok(), Some(1));
+    }
+}
