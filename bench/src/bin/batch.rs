@@ -225,6 +225,10 @@ fn main() {
         .build()
         .unwrap();
     let omega = 600.0 / 60.0 * TAU;
+    if arg.as_deref() == Some("compile") {
+        compile_times(omega);
+        return;
+    }
     if let Some(which) = arg.as_deref().filter(|a| a.starts_with("count")) {
         count(which, &pool, omega);
         return;
@@ -236,11 +240,46 @@ fn main() {
     }
 }
 
+/// The machine code in lanes compiled for a model's first batch of
+/// steps, and of positions only: thread CPU time of the first
+/// [`Batch::in_pairs`] of a model compiled afresh, the median of nine.
+fn compile_times(omega: f64) {
+    for (name, study) in [
+        ("four-bar", four_bar as fn(usize) -> Study),
+        ("Strider", strider),
+    ] {
+        let mut times = [Vec::new(), Vec::new()];
+        for _ in 0..9 {
+            for (poses, t) in times.iter_mut().enumerate() {
+                let s = study(2);
+                let batch = turns(&s, omega);
+                let batch = if poses == 1 {
+                    turn_keeping(&s, 1.0, Output::Position(s.point))
+                        .positions_only()
+                        .unwrap()
+                } else {
+                    batch
+                };
+                let t0 = kinematics_bench::thread_cpu_ns();
+                assert!(batch.in_pairs());
+                t.push((kinematics_bench::thread_cpu_ns() - t0) * 1e-6);
+            }
+        }
+        for (what, mut t) in ["steps", "poses"].into_iter().zip(times) {
+            let (m, lo, hi) = kinematics_bench::spread(&mut t);
+            println!("{name:9} {what}: the code in lanes compiled in {m:.2} ms ({lo:.2}–{hi:.2})");
+        }
+    }
+}
+
 /// Full steps: the stepper's `step_flat` against the batch, design by
 /// design and in pairs in vector lanes, checked equal on the designs that
 /// turn, then timed in interleaved rounds (the three in turn).
 fn steps_study(study: &Study, pool: &rayon::ThreadPool, omega: f64, rounds: usize) {
-    let (alone, paired) = (turns(study, omega).in_lanes(false), turns(study, omega));
+    let (alone, paired) = (
+        turns(study, omega).in_lanes(false),
+        turns(study, omega).in_lanes(true),
+    );
     let what = format!(
         "{}: {} designs × {STEPS} positions",
         study.name, study.count

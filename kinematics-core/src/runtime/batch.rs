@@ -206,9 +206,10 @@ pub struct Batch<'m> {
     record: usize,
     /// Positions only ([`Batch::positions_only`]).
     poses: bool,
-    /// Designs in pairs in vector lanes where they can be
-    /// ([`Batch::in_lanes`]).
-    lanes: bool,
+    /// Designs in pairs in vector lanes: where they can be, if asked;
+    /// never; or `None`, where they can be and the batch is large
+    /// enough to pay for the code's compilation ([`Batch::in_lanes`]).
+    lanes: Option<bool>,
 }
 
 /// The results of a batch: the designs' records one after the other
@@ -328,7 +329,7 @@ impl<'m> Batch<'m> {
             reduce: Reduce::Samples,
             record: 0,
             poses: false,
-            lanes: true,
+            lanes: None,
         };
         batch.lay_out();
         Ok(batch)
@@ -379,19 +380,25 @@ impl<'m> Batch<'m> {
 
     /// The batch with its designs taken in pairs, each pair's poses, or
     /// steps with rates and accelerations, by the machine code in vector
-    /// lanes (two f64 per instruction), or not (`on` false: each design
-    /// alone). On by default, where it applies ([`Batch::in_pairs`]). The
-    /// results are each design's sweep's either way, bit for bit: a pose
-    /// or step where a design leaves the common path is taken by each
-    /// design's stepper; a pair of poses in which a design fails a check
-    /// (a limit position ahead, say) is swept alone, design by design,
-    /// from its start; a pair of steps goes on alone, each design's sweep
-    /// from the sample where either leaves its common path (a change of
-    /// branch ahead, a limit), and takes a step alone where a check fails
-    /// in lanes.
+    /// lanes (two f64 per instruction), where it applies
+    /// ([`Batch::in_pairs`]), or not (`on` false: each design alone).
+    /// The results are each design's sweep's either way, bit for bit: a
+    /// pose or step where a design leaves the common path is taken by
+    /// each design's stepper; a pair of poses in which a design fails a
+    /// check (a limit position ahead, say) is swept alone, design by
+    /// design, from its start; a pair of steps goes on alone, each
+    /// design's sweep from the sample where either leaves its common
+    /// path (a change of branch ahead, a limit), and takes a step alone
+    /// where a check fails in lanes.
+    ///
+    /// Unless this is called, a batch takes its designs in pairs where it
+    /// applies and either the model's code in lanes is compiled already
+    /// or the batch is large enough to pay for compiling it: at least
+    /// [`Batch::LANES_FROM_STEPS`] positions (designs × samples) of
+    /// steps, or [`Batch::LANES_FROM_POSES`] of positions only.
     #[must_use]
     pub fn in_lanes(mut self, on: bool) -> Self {
-        self.lanes = on;
+        self.lanes = Some(on);
         self
     }
 
@@ -477,7 +484,7 @@ impl<'m> Batch<'m> {
         use rayon::prelude::*;
         let width = self.model.params.len().max(1);
         let record = self.record.max(1);
-        if self.in_pairs() {
+        if self.pairs_for(designs.len() / width) {
             let pairs: Vec<Vec<(usize, Option<Early>)>> = values
                 .par_chunks_mut(2 * record)
                 .zip(designs.par_chunks(2 * width))
@@ -499,7 +506,7 @@ impl<'m> Batch<'m> {
     fn run_into(&self, designs: &[f64], values: &mut [f64]) -> Vec<(usize, Option<Early>)> {
         let width = self.model.params.len().max(1);
         let record = self.record.max(1);
-        if self.in_pairs() {
+        if self.pairs_for(designs.len() / width) {
             let (mut a, mut b) = (self.model.clone(), self.model.clone());
             return values
                 .chunks_mut(2 * record)

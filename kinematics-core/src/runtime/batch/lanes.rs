@@ -80,7 +80,18 @@ impl Keep<'_> {
 }
 
 impl Batch<'_> {
-    /// Whether this batch runs its designs in pairs in vector lanes
+    /// The positions (designs × samples) of steps from which a batch
+    /// compiles its model's step in lanes ([`Batch::in_lanes`]): about
+    /// where the time saved pays for the compilation (2.4 ms for the
+    /// four-bar and 11 ms for the Strider leg, saving 14 and 41 ns a
+    /// position, on the machine of the library's benchmarks).
+    pub const LANES_FROM_STEPS: usize = 200_000;
+
+    /// [`Batch::LANES_FROM_STEPS`] for a batch of positions only (1.3 and
+    /// 5.2 ms, saving 24 and 72 ns a position).
+    pub const LANES_FROM_POSES: usize = 60_000;
+
+    /// Whether this batch can run its designs in pairs in vector lanes
     /// ([`Batch::in_lanes`]): swept in steps of at most 1/16 (the largest
     /// the carried cosine and sine of the driver are rotated by), lanes
     /// not turned off, and a model with parameters, a scaling that every
@@ -90,17 +101,8 @@ impl Batch<'_> {
     /// call for the model.
     #[must_use]
     pub fn in_pairs(&self) -> bool {
-        let Some(s) = self.sweep.as_ref() else {
-            return false;
-        };
-        let step_within = self
-            .sweep_of(self.model, s)
-            .and_then(|b| b.grid())
-            .is_ok_and(|g| g.count < 2 || (g.at(1) - g.at(0)).abs() <= crate::closed::CARRIED_STEP);
-        self.lanes
-            && step_within
-            && !self.model.params.is_empty()
-            && self.model.fixed_scaling
+        self.lanes != Some(false)
+            && self.pairable()
             && self.model.fused.as_deref().is_some_and(|plan| {
                 if self.poses {
                     plan.lanes_pose().is_some()
@@ -108,6 +110,40 @@ impl Batch<'_> {
                     plan.lanes_step().is_some()
                 }
             })
+    }
+
+    /// Whether a run of `count` designs goes in pairs: where it can
+    /// ([`Batch::in_pairs`]), asked to, or else with the code in lanes
+    /// compiled already or a batch large enough to pay for compiling it.
+    pub(super) fn pairs_for(&self, count: usize) -> bool {
+        let large = count.saturating_mul(self.samples)
+            >= if self.poses {
+                Self::LANES_FROM_POSES
+            } else {
+                Self::LANES_FROM_STEPS
+            };
+        let compiled = self
+            .model
+            .fused
+            .as_deref()
+            .is_some_and(|plan| plan.lanes_compiled(self.poses));
+        match self.lanes {
+            Some(false) => false,
+            Some(true) => self.in_pairs(),
+            None => self.pairable() && (large || compiled) && self.in_pairs(),
+        }
+    }
+
+    /// The conditions of [`Batch::in_pairs`] but the code in lanes.
+    fn pairable(&self) -> bool {
+        let Some(s) = self.sweep.as_ref() else {
+            return false;
+        };
+        let step_within = self
+            .sweep_of(self.model, s)
+            .and_then(|b| b.grid())
+            .is_ok_and(|g| g.count < 2 || (g.at(1) - g.at(0)).abs() <= crate::closed::CARRIED_STEP);
+        step_within && !self.model.params.is_empty() && self.model.fixed_scaling
     }
 
     /// Designs `values[0]` and `values[1]` with the models `models`, their
@@ -333,5 +369,66 @@ mod tests {
             );
         }
         assert!(most > 0, "no pose left the common path");
+    }
+
+    /// A batch that is not told compiles its code in lanes only for
+    /// enough positions, and then uses it for any size; told, it uses it
+    /// or not whatever the size.
+    #[test]
+    fn a_small_batch_does_not_compile_the_code_in_lanes() {
+        let model = || {
+            Model::compile(FOUR_BAR)
+                .expect("compiles")
+                .with_values(&[0.04, 0.12, 0.10, 0.11])
+                .expect("values")
+        };
+        let start = model().assemble(&[0.0, 0.5, 1.5]).expect("assembles");
+        let sweep = BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: 360,
+            change_points: ChangePoints::Stop,
+        };
+        fn batch<'m>(m: &'m Model, start: &[f64], sweep: &BatchSweep, poses: bool) -> Batch<'m> {
+            let b = Batch::new(
+                m,
+                start,
+                &[1.0],
+                &[0.0],
+                Some(sweep.clone()),
+                &[Output::Position(1)],
+                &Options::DEFAULT,
+            )
+            .expect("a batch");
+            if poses {
+                b.positions_only().expect("positions only")
+            } else {
+                b
+            }
+        }
+        for (poses, from) in [
+            (false, Batch::LANES_FROM_STEPS),
+            (true, Batch::LANES_FROM_POSES),
+        ] {
+            // Models of their own: each compiles its code in lanes once.
+            let (m, n) = (model(), model());
+            let compiled = |m: &Model| {
+                m.fused
+                    .as_deref()
+                    .is_some_and(|plan| plan.lanes_compiled(poses))
+            };
+            let (few, many) = (from / 361 - 1, from / 361 + 2);
+            let b = batch(&m, &start, &sweep, poses);
+            assert!(!b.pairs_for(few) && !compiled(&m), "poses {poses}");
+            assert!(!b.clone().in_lanes(false).pairs_for(many) && !compiled(&m));
+            assert!(b.pairs_for(many) && compiled(&m));
+            assert!(b.pairs_for(few) && b.pairs_for(1));
+            assert!(!b.clone().in_lanes(false).pairs_for(many));
+            // Told to, a small batch compiles it.
+            let c = batch(&n, &start, &sweep, poses).in_lanes(true);
+            assert!(c.pairs_for(few) && compiled(&n));
+        }
     }
 }

@@ -124,6 +124,13 @@ impl Plan {
         }
     }
 
+    /// Whether the code in lanes of the pose (`poses`) or of the step is
+    /// compiled already ([`Plan::lanes_pose`], [`Plan::lanes_step`]).
+    pub(in crate::runtime) fn lanes_compiled(&self, poses: bool) -> bool {
+        let code = if poses { &self.lanes } else { &self.lanes_step };
+        code.get().is_some_and(Option::is_some)
+    }
+
     /// Whether `status` of [`Plan::lanes_pose`] says that a design left
     /// the common path there (where its scalar pose calls the helper),
     /// rather than that a check failed.
