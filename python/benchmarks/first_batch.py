@@ -10,9 +10,10 @@ an earlier round is reused), takes a batch of two designs at four
 positions a turn (which compiles the plain step and pose, and no code in
 vector lanes: its steps are too long for them), then times the batch of
 the given size: wall and process CPU time, the medians over the rounds
-(seven by default). A batch compiles its code in vector lanes only where
-it is large enough to pay for it (`Batch::LANES_FROM_STEPS`,
-`Batch::LANES_FROM_POSES`); before, every batch in pairs compiled it,
+(seven by default). A batch compiles its code in vector lanes only once
+the model's batches have run enough positions to pay for it
+(`Batch::LANES_FROM_STEPS`, `Batch::LANES_FROM_POSES`); before, every
+batch in pairs compiled it,
 about 2.4 ms for the four-bar's step and 1.3 ms for its pose.
 """
 

@@ -80,11 +80,13 @@ impl Keep<'_> {
 }
 
 impl Batch<'_> {
-    /// The positions (designs × samples) of steps from which a batch
-    /// compiles its model's step in lanes ([`Batch::in_lanes`]): about
-    /// where the time saved pays for the compilation (2.4 ms for the
-    /// four-bar and 11 ms for the Strider leg, saving 14 and 41 ns a
-    /// position, on the machine of the library's benchmarks).
+    /// The positions (designs × samples) of steps from which a model's
+    /// batches compile its step in lanes ([`Batch::in_lanes`]), counted
+    /// over the batches that could have paired (a loop of small batches
+    /// compiles it too): about where the time saved pays for the
+    /// compilation (2.4 ms for the four-bar and 11 ms for the Strider
+    /// leg, saving 14 and 41 ns a position, on the machine of the
+    /// library's benchmarks).
     pub const LANES_FROM_STEPS: usize = 200_000;
 
     /// [`Batch::LANES_FROM_STEPS`] for a batch of positions only (1.3 and
@@ -98,7 +100,8 @@ impl Batch<'_> {
     /// pose shares, and a pose (positions only) or step with a form in
     /// lanes (every block's closed form in its fused code, a pose of at
     /// most 16 blocks, no Newton block). Compiles that form at the first
-    /// call for the model.
+    /// call for the model: every later batch of the model (and of its
+    /// clones) then runs in pairs whatever its size, unless told not to.
     #[must_use]
     pub fn in_pairs(&self) -> bool {
         self.lanes != Some(false)
@@ -114,23 +117,29 @@ impl Batch<'_> {
 
     /// Whether a run of `count` designs goes in pairs: where it can
     /// ([`Batch::in_pairs`]), asked to, or else with the code in lanes
-    /// compiled already or a batch large enough to pay for compiling it.
+    /// compiled already or enough positions, this batch's and those of
+    /// the model's earlier batches that could have paired, to pay for
+    /// compiling it.
     pub(super) fn pairs_for(&self, count: usize) -> bool {
-        let large = count.saturating_mul(self.samples)
-            >= if self.poses {
-                Self::LANES_FROM_POSES
-            } else {
-                Self::LANES_FROM_STEPS
-            };
-        let compiled = self
-            .model
-            .fused
-            .as_deref()
-            .is_some_and(|plan| plan.lanes_compiled(self.poses));
+        let Some(plan) = self.model.fused.as_deref() else {
+            return false;
+        };
         match self.lanes {
             Some(false) => false,
             Some(true) => self.in_pairs(),
-            None => self.pairable() && (large || compiled) && self.in_pairs(),
+            None if plan.lanes_compiled(self.poses) => self.in_pairs(),
+            None => {
+                if !self.pairable() {
+                    return false;
+                }
+                let from = if self.poses {
+                    Self::LANES_FROM_POSES
+                } else {
+                    Self::LANES_FROM_STEPS
+                };
+                plan.batched(self.poses, count.saturating_mul(self.samples)) >= from
+                    && self.in_pairs()
+            }
         }
     }
 
@@ -371,9 +380,10 @@ mod tests {
         assert!(most > 0, "no pose left the common path");
     }
 
-    /// A batch that is not told compiles its code in lanes only for
-    /// enough positions, and then uses it for any size; told, it uses it
-    /// or not whatever the size.
+    /// A batch that is not told compiles its code in lanes only once the
+    /// model's batches that could pair have run enough positions (one
+    /// large batch, or many small ones), and then uses it for any size;
+    /// told, it uses it or not whatever the size.
     #[test]
     fn a_small_batch_does_not_compile_the_code_in_lanes() {
         let model = || {
@@ -413,22 +423,33 @@ mod tests {
             (true, Batch::LANES_FROM_POSES),
         ] {
             // Models of their own: each compiles its code in lanes once.
-            let (m, n) = (model(), model());
+            let [m, n, o] = [model(), model(), model()];
             let compiled = |m: &Model| {
                 m.fused
                     .as_deref()
                     .is_some_and(|plan| plan.lanes_compiled(poses))
             };
-            let (few, many) = (from / 361 - 1, from / 361 + 2);
             let b = batch(&m, &start, &sweep, poses);
-            assert!(!b.pairs_for(few) && !compiled(&m), "poses {poses}");
-            assert!(!b.clone().in_lanes(false).pairs_for(many) && !compiled(&m));
-            assert!(b.pairs_for(many) && compiled(&m));
-            assert!(b.pairs_for(few) && b.pairs_for(1));
-            assert!(!b.clone().in_lanes(false).pairs_for(many));
+            let samples = b.rows();
+            // The designs whose positions pay for the compilation.
+            let enough = from.div_ceil(samples);
+            assert!(!b.pairs_for(enough / 2) && !compiled(&m), "poses {poses}");
+            let designs = [0.04, 0.12, 0.10, 0.11].repeat(4);
+            assert!(b.run(&designs).samples.iter().all(|&k| k == samples));
+            assert!(!compiled(&m));
+            assert!(!b.clone().in_lanes(false).pairs_for(enough) && !compiled(&m));
+            // The rest of the positions: the small batches have paid.
+            assert!(b.pairs_for(enough - enough / 2 - 4) && compiled(&m));
+            assert!(b.pairs_for(1));
+            assert!(!b.clone().in_lanes(false).pairs_for(enough));
+            // One batch large enough pays alone.
+            let c = batch(&n, &start, &sweep, poses);
+            assert!(!c.pairs_for(enough - 1) && !compiled(&n));
+            let d = batch(&o, &start, &sweep, poses);
+            assert!(d.pairs_for(enough) && compiled(&o));
             // Told to, a small batch compiles it.
-            let c = batch(&n, &start, &sweep, poses).in_lanes(true);
-            assert!(c.pairs_for(few) && compiled(&n));
+            let e = batch(&n, &start, &sweep, poses).in_lanes(true);
+            assert!(e.pairs_for(1) && compiled(&n));
         }
     }
 }

@@ -131,6 +131,15 @@ impl Plan {
         code.get().is_some_and(Option::is_some)
     }
 
+    /// Counts `positions` more of poses (`poses`) or of steps run by a
+    /// batch that could pair its designs in lanes: the total so far, this
+    /// batch's included, over the model and its clones.
+    pub(in crate::runtime) fn batched(&self, poses: bool, positions: usize) -> usize {
+        let counter = &self.batched[usize::from(poses)];
+        let before = counter.fetch_add(positions, core::sync::atomic::Ordering::Relaxed);
+        before.saturating_add(positions)
+    }
+
     /// Whether `status` of [`Plan::lanes_pose`] says that a design left
     /// the common path there (where its scalar pose calls the helper),
     /// rather than that a check failed.

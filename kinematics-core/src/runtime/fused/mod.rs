@@ -133,6 +133,9 @@ pub(super) struct Plan {
     /// [`STEP`] on two designs per call, compiled when a batch of steps
     /// first needs it (`None` as for [`Plan::lanes_pose`]).
     lanes_step: OnceLock<Option<Fused>>,
+    /// The positions of steps and of poses that batches which could pair
+    /// ran without these ([`Plan::batched`]).
+    batched: [core::sync::atomic::AtomicUsize; 2],
     /// Where the equations of motion's roots lie, and how many there are.
     motion: (usize, usize),
     /// What they are compiled from.
@@ -611,6 +614,7 @@ impl Plan {
             dynamics: OnceLock::new(),
             lanes: OnceLock::new(),
             lanes_step: OnceLock::new(),
+            batched: Default::default(),
             motion: (motion, motion_roots.len()),
             source: Source {
                 graph: h.graph,

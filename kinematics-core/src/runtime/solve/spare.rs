@@ -8,16 +8,23 @@ use alloc::vec::Vec;
 use super::Work;
 
 impl Work {
-    /// Every array as the model makes it afresh (`Model::work`), the
-    /// parameters `values` (of the same model: the lengths are the
-    /// same).
-    fn reset(&mut self, values: &[f64]) {
-        if self.params.len() == values.len() {
-            self.params.copy_from_slice(values);
-        } else {
-            self.params.clear();
-            self.params.extend_from_slice(values);
+    /// Every array as the model makes it afresh (`Model::fresh_work`),
+    /// the parameters `values`; `false`, and nothing reset, where the
+    /// work is not whole (an array of the wrong length: the parameters'
+    /// count differs, or a solve was left midway, its arrays taken).
+    fn reset(&mut self, values: &[f64]) -> bool {
+        let nu = self.phi.len();
+        let p = &self.space;
+        let whole = self.params.len() == values.len()
+            && [
+                &p.u, &p.phi, &p.row, &p.weights, &p.start, &p.step, &p.origin,
+            ]
+            .iter()
+            .all(|v| v.len() == nu);
+        if !whole {
+            return false;
         }
+        self.params.copy_from_slice(values);
         for v in [
             &mut self.phi,
             &mut self.jac,
@@ -54,13 +61,14 @@ impl Work {
         }
         self.closing = false;
         self.scaling_kept = false;
+        true
     }
 }
 
 /// A few [`Work`]s of a model kept for its next steppers and one-off
 /// calls: a `Work` is a few dozen small arrays, whose allocation and
 /// release cost more than a short sweep's steps; one taken from here is
-/// reset in place ([`Model::work`]). A clone of the model starts with
+/// reset in place (`Model::work`). A clone of the model starts with
 /// none.
 #[derive(Default)]
 pub(in crate::runtime) struct Spare(std::sync::Mutex<Vec<Work>>);
@@ -73,15 +81,20 @@ impl Spare {
         values: &[f64],
         fresh: impl FnOnce() -> Work,
     ) -> Pooled<'_> {
-        let spare = self.0.lock().ok().and_then(|mut pool| pool.pop());
-        let work = match spare {
-            Some(mut w) => {
-                w.reset(values);
-                w
-            }
-            None => fresh(),
-        };
+        let spare = self
+            .pool()
+            .pop()
+            .and_then(|mut w| w.reset(values).then_some(w));
+        let work = spare.unwrap_or_else(fresh);
         Pooled { work, spare: self }
+    }
+
+    /// The spares (a lock no holder can poison: nothing under it
+    /// panics).
+    fn pool(&self) -> std::sync::MutexGuard<'_, Vec<Work>> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 }
 
@@ -94,8 +107,8 @@ impl Clone for Spare {
 /// How many spare [`Work`]s a model keeps.
 const SPARE: usize = 4;
 
-/// A [`Work`] lent by [`Model::work`], given back to the model's spares
-/// when dropped.
+/// A [`Work`] lent by `Model::work`, given back to the model's spares
+/// when dropped (not where a panic drops it).
 pub(in crate::runtime) struct Pooled<'m> {
     work: Work,
     spare: &'m Spare,
@@ -118,9 +131,13 @@ impl core::ops::DerefMut for Pooled<'_> {
 
 impl Drop for Pooled<'_> {
     fn drop(&mut self) {
-        if let Ok(mut pool) = self.spare.0.lock()
-            && pool.len() < SPARE
-        {
+        // A work dropped by a panic may be left midway through a solve:
+        // not given back.
+        if std::thread::panicking() {
+            return;
+        }
+        let mut pool = self.spare.pool();
+        if pool.len() < SPARE {
             // (An empty `Work` left behind: no allocation.)
             pool.push(core::mem::take(&mut self.work));
         }
@@ -169,6 +186,7 @@ mod tests {
             .expect("compiles")
             .with_values(&[0.1, 0.3, 0.15, 0.5])
             .expect("values");
+        let spares = |m: &Model| m.spare.pool().len();
         {
             let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
             let mut q = vec![0.0, 1.2, 0.28];
@@ -180,12 +198,21 @@ mod tests {
             let mut positions = vec![0.0; 2];
             stepper.positions(&mut positions).expect("positions");
         }
+        // The stepper gave its work back; lent again, it is taken.
+        assert_eq!(spares(&m), 1);
         m.set_values(&[0.1, 0.3, 0.16, 0.5]).expect("values");
         let (lent, fresh) = (m.work(), m.fresh_work());
+        assert_eq!(spares(&m), 0);
         assert!(arrays(&fresh).contains("0.16"));
         assert_eq!(arrays(&lent), arrays(&fresh));
-        // The stepper gave its work back, and the loan did too.
         drop(lent);
-        assert_eq!(m.spare.0.lock().map(|p| p.len()).ok(), Some(1));
+        assert_eq!(spares(&m), 1);
+        // A work left midway through a solve (its arrays taken) is not
+        // lent again: a fresh one is made.
+        let mut broken = m.work();
+        drop(core::mem::take(&mut broken.space));
+        drop(broken);
+        let again = m.work();
+        assert_eq!(arrays(&again), arrays(&m.fresh_work()));
     }
 }
