@@ -29,14 +29,18 @@ use kinematics_core::Options;
 
 const STEPS: usize = 3600;
 
-/// Ten turns of poses and positions, untimed (for callgrind).
-fn count_poses(m: &kinematics_core::runtime::Model, o: &Options) {
+/// The first assembly of `m` found from the crank at 0.3 rad.
+fn start_of(m: &kinematics_core::runtime::Model) -> Vec<f64> {
     let mut guess = vec![0.0; m.coordinates().len()];
     guess[0] = 0.3;
-    let start = m
-        .assemble_all(&guess)
+    m.assemble_all(&guess)
         .find_map(|(_, p)| p.ok())
-        .expect("an assembly");
+        .expect("an assembly")
+}
+
+/// Ten turns of poses and positions, untimed (for callgrind).
+fn count_poses(m: &kinematics_core::runtime::Model, o: &Options) {
+    let start = start_of(m);
     let mut positions = vec![0.0; m.point_names().len() * m.point_dimension()];
     let mut stepper = m.stepper(o).expect("a stepper");
     let mut q = start;
@@ -53,12 +57,7 @@ fn count_poses(m: &kinematics_core::runtime::Model, o: &Options) {
 /// Ten sweeps of a turn of poses (`count-sweep`), or 10 000 sweeps of
 /// one step (`count-fixed`), untimed, for an instruction count.
 fn count_sweeps(m: &kinematics_core::runtime::Model, fixed: bool) {
-    let mut guess = vec![0.0; m.coordinates().len()];
-    guess[0] = 0.3;
-    let start = m
-        .assemble_all(&guess)
-        .find_map(|(_, p)| p.ok())
-        .expect("an assembly");
+    let start = start_of(m);
     let (sweeps, steps, to) = if fixed {
         (10_000, 1, Some(start[0] + 0.01))
     } else {
@@ -104,12 +103,7 @@ fn main() {
             }
             continue;
         }
-        let mut guess = vec![0.0; m.coordinates().len()];
-        guess[0] = 0.3;
-        let start = m
-            .assemble_all(&guess)
-            .find_map(|(_, p)| p.ok())
-            .expect("an assembly");
+        let start = start_of(m);
         let d = m.point_names().len() * m.point_dimension();
         let mut positions = vec![0.0; d];
         let h = TAU / STEPS as f64;

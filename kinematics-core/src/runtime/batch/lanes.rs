@@ -317,6 +317,26 @@ mod tests {
         loops { B + polar(b, th3) == C; }
     }";
 
+    /// The four-bar with a crank-rocker's values.
+    fn crank_rocker() -> Model {
+        Model::compile(FOUR_BAR)
+            .expect("compiles")
+            .with_values(&[0.04, 0.12, 0.10, 0.11])
+            .expect("values")
+    }
+
+    /// A turn of the crank in 360 steps, stopping at a change point.
+    fn turn() -> BatchSweep {
+        BatchSweep {
+            driver: 0,
+            from: None,
+            to: None,
+            turns: Some(1.0),
+            steps: 360,
+            change_points: ChangePoints::Stop,
+        }
+    }
+
     /// Pairs of crank-rockers run to their end in lanes; the longer the
     /// crank, the faster the rocker swings near its extremes, and a pair
     /// of the longest takes some poses by each design's stepper (more
@@ -324,19 +344,9 @@ mod tests {
     /// design by design.
     #[test]
     fn pairs_finish_in_lanes_with_poses_off_the_common_path() {
-        let m = Model::compile(FOUR_BAR)
-            .expect("compiles")
-            .with_values(&[0.04, 0.12, 0.10, 0.11])
-            .expect("values");
+        let m = crank_rocker();
         let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
-        let sweep = BatchSweep {
-            driver: 0,
-            from: None,
-            to: None,
-            turns: Some(1.0),
-            steps: 360,
-            change_points: ChangePoints::Stop,
-        };
+        let sweep = turn();
         let batch = |lanes: bool| {
             Batch::new(
                 &m,
@@ -386,21 +396,10 @@ mod tests {
     /// told, it uses it or not whatever the size.
     #[test]
     fn a_small_batch_does_not_compile_the_code_in_lanes() {
-        let model = || {
-            Model::compile(FOUR_BAR)
-                .expect("compiles")
-                .with_values(&[0.04, 0.12, 0.10, 0.11])
-                .expect("values")
-        };
-        let start = model().assemble(&[0.0, 0.5, 1.5]).expect("assembles");
-        let sweep = BatchSweep {
-            driver: 0,
-            from: None,
-            to: None,
-            turns: Some(1.0),
-            steps: 360,
-            change_points: ChangePoints::Stop,
-        };
+        let start = crank_rocker()
+            .assemble(&[0.0, 0.5, 1.5])
+            .expect("assembles");
+        let sweep = turn();
         fn batch<'m>(m: &'m Model, start: &[f64], sweep: &BatchSweep, poses: bool) -> Batch<'m> {
             let b = Batch::new(
                 m,
@@ -423,7 +422,7 @@ mod tests {
             (true, Batch::LANES_FROM_POSES),
         ] {
             // Models of their own: each compiles its code in lanes once.
-            let [m, n, o] = [model(), model(), model()];
+            let [m, n, o] = [crank_rocker(), crank_rocker(), crank_rocker()];
             let compiled = |m: &Model| {
                 m.fused
                     .as_deref()
