@@ -17,7 +17,7 @@ use crate::mechanism::FrameState;
 use crate::options::{Convergence, Options};
 use crate::solve::dense::{conditioning, lu, lu_above, lu_apply};
 use crate::solve::{Failure, Judge, Space, System, describe_by, fast_then_damped, iterate};
-pub(super) use spare::{Pooled, Spare};
+pub(super) use spare::{Arrays, Pooled, Spare};
 
 /// The arrays of a solve and an analysis, sized for one model.
 #[derive(Default)]
@@ -183,6 +183,14 @@ impl Model {
     /// A motion with the model's shape (every value 0), for a stepper to
     /// write its steps into.
     pub(super) fn shaped_motion(&self) -> Motion {
+        let mut m = Motion::default();
+        self.shape_motion(&mut m);
+        m
+    }
+
+    /// `m` given the model's shape, every value 0 (the frames at the
+    /// origin, unrotated), in the storage it has.
+    pub(super) fn shape_motion(&self, m: &mut Motion) {
         let n = self.coordinates.len();
         let d = self.point_dim;
         let zero = FrameState {
@@ -193,16 +201,15 @@ impl Model {
             angular_velocity: Vector3::zeros(),
             angular_acceleration: Vector3::zeros(),
         };
-        Motion {
-            q: vec![0.0; n],
-            qd: vec![0.0; n],
-            qdd: vec![0.0; n],
-            points: vec![PointState::zeros(d); self.points.len()],
-            frames: vec![zero; self.frames.len()],
-            conditioning: 0.0,
-            det_sign: 0.0,
-            residual: 0.0,
+        for v in [&mut m.q, &mut m.qd, &mut m.qdd] {
+            v.clear();
+            v.resize(n, 0.0);
         }
+        m.points.clear();
+        m.points.resize(self.points.len(), PointState::zeros(d));
+        m.frames.clear();
+        m.frames.resize(self.frames.len(), zero);
+        (m.conditioning, m.det_sign, m.residual) = (0.0, 0.0, 0.0);
     }
 
     /// Evaluates a stage, whose lengths the model guarantees; `trig`

@@ -5,7 +5,7 @@
 use alloc::vec::Vec;
 
 use super::fused::{PoseFn, StepFn};
-use super::solve::Work;
+use super::solve::{Arrays, Work};
 use super::{Flat, Model, Motion};
 use crate::closed::Mode;
 use crate::error::Error;
@@ -13,6 +13,7 @@ use crate::math::copy_small;
 use crate::options::{Branch, Options};
 use crate::solve::{CLOSED, POLISH};
 
+mod arrays;
 mod motion;
 
 /// Steps of one run-time model with its arrays kept: made by
@@ -174,9 +175,12 @@ impl Model {
         self.validate()?;
         let mut work = self.work();
         work.closing = true;
+        let mut kept = self.spare.arrays();
+        let buffer = core::mem::take(&mut kept.f);
         let fused = self.fused.as_deref().and_then(|plan| {
             let (step, pose) = plan.functions()?;
-            let mut f = plan.buffer(&work.params);
+            let mut f = buffer;
+            plan.buffer_into(&mut f, &work.params);
             if !plan.prepare(&mut f) {
                 return None;
             }
@@ -235,13 +239,24 @@ impl Model {
                 io,
             })
         });
+        let Arrays {
+            mut motion,
+            mut q,
+            mut modes,
+            ..
+        } = kept;
+        self.shape_motion(&mut motion);
+        q.clear();
+        q.resize(self.coordinates.len(), 0.0);
+        modes.clear();
+        modes.resize(self.mode_count(), f64::NAN);
         Ok(Stepper {
             m: self,
             options: *options,
             work,
-            motion: self.shaped_motion(),
-            q: vec![0.0; self.coordinates.len()],
-            modes: vec![f64::NAN; self.mode_count()],
+            motion,
+            q,
+            modes,
             assembled: false,
             fused,
             pending: false,

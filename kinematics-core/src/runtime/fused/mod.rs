@@ -684,9 +684,11 @@ impl Plan {
 
     /// A buffer for the code, its parameters `params` (with the
     /// characteristic length last), every carried value NaN (nothing
-    /// carried yet).
-    pub(super) fn buffer(&self, params: &[f64]) -> Vec<f64> {
-        let mut f = vec![0.0; self.layout.len];
+    /// carried yet), every other value 0; written into `f`, in the
+    /// storage it has.
+    pub(super) fn buffer_into(&self, f: &mut Vec<f64>, params: &[f64]) {
+        f.clear();
+        f.resize(self.layout.len, 0.0);
         if let Some(p) = f.get_mut(self.layout.params..self.layout.params + self.np) {
             for (d, s) in p.iter_mut().zip(params) {
                 *d = *s;
@@ -695,7 +697,6 @@ impl Plan {
         if let Some(c) = f.get_mut(self.carry..self.carry + 3 * (self.nd + self.nu)) {
             c.fill(f64::NAN);
         }
-        f
     }
 
     /// Computes, in a buffer of [`Plan::buffer`], what depends on the

@@ -1,11 +1,23 @@
 //! Spare work arrays: a model keeps the [`Work`]s its steppers and
-//! one-off calls gave back, and lends them again reset in place, so that
-//! a short sweep or a single assembly does not allocate and free a few
-//! dozen small arrays each time.
+//! one-off calls gave back, and the other arrays of its steppers, and
+//! lends them again reset in place, so that a short sweep or a single
+//! assembly does not allocate and free a few dozen small arrays each
+//! time.
 
 use alloc::vec::Vec;
 
 use super::Work;
+use crate::runtime::Motion;
+
+/// A stepper's arrays besides its [`Work`]: its motion, pose, modes and
+/// fused buffer (empty without fused code), as it gives them back.
+#[derive(Default)]
+pub(in crate::runtime) struct Arrays {
+    pub(in crate::runtime) motion: Motion,
+    pub(in crate::runtime) q: Vec<f64>,
+    pub(in crate::runtime) modes: Vec<f64>,
+    pub(in crate::runtime) f: Vec<f64>,
+}
 
 impl Work {
     /// Every array as the model makes it afresh (`Model::fresh_work`),
@@ -71,7 +83,10 @@ impl Work {
 /// reset in place (`Model::work`). A clone of the model starts with
 /// none.
 #[derive(Default)]
-pub(in crate::runtime) struct Spare(std::sync::Mutex<Vec<Work>>);
+pub(in crate::runtime) struct Spare {
+    works: std::sync::Mutex<Vec<Work>>,
+    arrays: std::sync::Mutex<Vec<Arrays>>,
+}
 
 impl Spare {
     /// A spare [`Work`] reset for the parameters `values`, or else
@@ -81,21 +96,42 @@ impl Spare {
         values: &[f64],
         fresh: impl FnOnce() -> Work,
     ) -> Pooled<'_> {
-        let spare = self
-            .pool()
+        let spare = lock(&self.works)
             .pop()
             .and_then(|mut w| w.reset(values).then_some(w));
         let work = spare.unwrap_or_else(fresh);
         Pooled { work, spare: self }
     }
 
-    /// The spares (a lock no holder can poison: nothing under it
-    /// panics).
-    fn pool(&self) -> std::sync::MutexGuard<'_, Vec<Work>> {
-        self.0
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    /// A stepper's spare arrays, as given back (the stepper reshapes
+    /// them), or empty ones.
+    pub(in crate::runtime) fn arrays(&self) -> Arrays {
+        lock(&self.arrays).pop().unwrap_or_default()
     }
+
+    /// How many steppers' arrays are kept.
+    #[cfg(test)]
+    pub(in crate::runtime) fn spare_arrays(&self) -> usize {
+        lock(&self.arrays).len()
+    }
+
+    /// Keeps a stepper's arrays for the next (not where a panic drops
+    /// the stepper).
+    pub(in crate::runtime) fn give_back(&self, arrays: Arrays) {
+        if std::thread::panicking() {
+            return;
+        }
+        let mut pool = lock(&self.arrays);
+        if pool.len() < SPARE {
+            pool.push(arrays);
+        }
+    }
+}
+
+/// The spares behind `m` (a lock no holder can poison: nothing under it
+/// panics).
+fn lock<T>(m: &std::sync::Mutex<Vec<T>>) -> std::sync::MutexGuard<'_, Vec<T>> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 impl Clone for Spare {
@@ -136,7 +172,7 @@ impl Drop for Pooled<'_> {
         if std::thread::panicking() {
             return;
         }
-        let mut pool = self.spare.pool();
+        let mut pool = lock(&self.spare.works);
         if pool.len() < SPARE {
             // (An empty `Work` left behind: no allocation.)
             pool.push(core::mem::take(&mut self.work));
@@ -186,7 +222,7 @@ mod tests {
             .expect("compiles")
             .with_values(&[0.1, 0.3, 0.15, 0.5])
             .expect("values");
-        let spares = |m: &Model| m.spare.pool().len();
+        let spares = |m: &Model| super::lock(&m.spare.works).len();
         {
             let mut stepper = m.stepper(&Options::DEFAULT).expect("a stepper");
             let mut q = vec![0.0, 1.2, 0.28];
