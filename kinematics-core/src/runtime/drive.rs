@@ -54,7 +54,11 @@ impl<'m> Engine for Stepped<'m> {
     }
 
     fn zero_pose(&self) -> Vec<f64> {
-        vec![0.0; self.m.coordinates.len()]
+        self.m.spare.pose(self.m.coordinates.len())
+    }
+
+    fn recycle(&self, poses: [&mut Vec<f64>; 11]) {
+        self.m.spare.give_poses(poses.map(core::mem::take));
     }
 
     #[inline(always)]

@@ -39,6 +39,12 @@ pub trait Engine {
     fn newton_guess(&self) -> bool;
     /// A pose of the right shape, every value 0.
     fn zero_pose(&self) -> Self::Pose;
+    /// Takes back the storage of `poses` (the engine's own, which a sweep
+    /// is done with) for its next [`Engine::zero_pose`]s; nothing where a
+    /// pose is a few numbers on the stack.
+    fn recycle(&self, poses: [&mut Self::Pose; 11]) {
+        let _ = poses;
+    }
     /// A pose to write a guess into, lent by `slot` (the sweep's storage
     /// for it): a fresh value where a pose is a few numbers on the stack,
     /// `slot`'s own storage where it is on the heap (then no allocation).

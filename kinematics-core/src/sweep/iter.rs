@@ -31,12 +31,13 @@ pub(super) struct Head<C> {
 }
 
 impl<C: Clone> Head<C> {
-    /// An entry holding no sample, its poses shaped as `zero`.
-    fn empty(zero: &C) -> Self {
+    /// An entry holding no sample, its poses `q` and `qd` (to be written
+    /// over).
+    fn empty(q: C, qd: C) -> Self {
         Self {
             at: f64::NAN,
-            q: zero.clone(),
-            qd: zero.clone(),
+            q,
+            qd,
             conditioning: f64::NAN,
             det_sign: f64::NAN,
         }
@@ -110,6 +111,26 @@ pub struct SweepIter<'m, M: Engine, D, S = Sample<M>> {
     open: usize,
 }
 
+impl<M: Engine, D, S> Drop for SweepIter<'_, M, D, S> {
+    /// Gives the poses' storage back to the engine, for its next sweep.
+    fn drop(&mut self) {
+        let [a, b, c, d] = &mut self.history;
+        self.m.recycle([
+            &mut self.rates,
+            &mut self.accels,
+            &mut self.guess,
+            &mut a.q,
+            &mut a.qd,
+            &mut b.q,
+            &mut b.qd,
+            &mut c.q,
+            &mut c.qd,
+            &mut d.q,
+            &mut d.qd,
+        ]);
+    }
+}
+
 impl<M: Engine, D: fmt::Debug, S> fmt::Debug for SweepIter<'_, M, D, S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("SweepIter")
@@ -139,7 +160,6 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
         } else {
             0.0
         };
-        let zero = m.zero_pose();
         let mut it = Self {
             m,
             drive,
@@ -151,15 +171,15 @@ impl<'m, M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'m, M, D, S> {
             variable,
             state: None,
             k: 0,
-            rates: zero.clone(),
-            accels: zero.clone(),
-            guess: zero.clone(),
-            history: core::array::from_fn(|_| Head::empty(&zero)),
+            rates: m.zero_pose(),
+            accels: m.zero_pose(),
+            guess: m.zero_pose(),
+            history: core::array::from_fn(|_| Head::empty(m.zero_pose(), m.zero_pose())),
             newest: 0,
             falling: false,
             gate: 0.0,
             held: None,
-            out: VecDeque::with_capacity(2),
+            out: VecDeque::new(),
             passed: Vec::new(),
             done: false,
             open: 0,

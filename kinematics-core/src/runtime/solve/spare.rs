@@ -86,6 +86,9 @@ impl Work {
 pub(in crate::runtime) struct Spare {
     works: std::sync::Mutex<Vec<Work>>,
     arrays: std::sync::Mutex<Vec<Arrays>>,
+    /// The storage of a sweep's poses, which the run-time engine lends
+    /// (`Engine::zero_pose`) and takes back (`Engine::recycle`).
+    poses: std::sync::Mutex<Vec<Vec<f64>>>,
 }
 
 impl Spare {
@@ -107,6 +110,28 @@ impl Spare {
     /// them), or empty ones.
     pub(in crate::runtime) fn arrays(&self) -> Arrays {
         lock(&self.arrays).pop().unwrap_or_default()
+    }
+
+    /// A pose of `n` zeros, in spare storage where there is some.
+    pub(in crate::runtime) fn pose(&self, n: usize) -> Vec<f64> {
+        let mut v = lock(&self.poses).pop().unwrap_or_default();
+        v.clear();
+        v.resize(n, 0.0);
+        v
+    }
+
+    /// Keeps a sweep's poses' storage for the next (not where a panic
+    /// drops the sweep).
+    pub(in crate::runtime) fn give_poses<const N: usize>(&self, poses: [Vec<f64>; N]) {
+        if std::thread::panicking() {
+            return;
+        }
+        let mut pool = lock(&self.poses);
+        for v in poses {
+            if pool.len() < POSES {
+                pool.push(v);
+            }
+        }
     }
 
     /// How many steppers' arrays are kept.
@@ -140,8 +165,11 @@ impl Clone for Spare {
     }
 }
 
-/// How many spare [`Work`]s a model keeps.
+/// How many spare [`Work`]s, and steppers' arrays, a model keeps.
 const SPARE: usize = 4;
+
+/// How many poses' storage a model keeps: four sweeps' (each uses 11).
+const POSES: usize = 44;
 
 /// A [`Work`] lent by `Model::work`, given back to the model's spares
 /// when dropped (not where a panic drops it).
@@ -250,5 +278,58 @@ mod tests {
         drop(broken);
         let again = m.work();
         assert_eq!(arrays(&again), arrays(&m.fresh_work()));
+    }
+
+    /// A sweep gives its poses' storage back when dropped, and the next
+    /// sweep of the model, which takes it, gives the numbers of a sweep
+    /// of a clone (which has no spares), bit for bit.
+    #[test]
+    fn a_sweep_gives_back_its_poses() {
+        let text = "struct FourBar {
+            params   { a, b, c, d }
+            drivers  { phi }
+            unknowns { th3, th4 }
+            points   { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
+            loops    { B + polar(b, th3) == C; }
+        }";
+        let m = Model::compile(text)
+            .expect("compiles")
+            .with_values(&[0.04, 0.12, 0.10, 0.11])
+            .expect("values");
+        let start = m.assemble(&[0.3, 0.5, 1.5]).expect("assembles");
+        let poses = |m: &Model| {
+            let mut bits = vec![];
+            let end = m
+                .sweep("phi", &start)
+                .expect("a sweep")
+                .turns(1.0)
+                .steps(36)
+                .for_each_pose(|at, q, r| {
+                    bits.extend([at].iter().chain(q).chain(r).map(|x| x.to_bits()));
+                });
+            assert!(end.stop.is_none());
+            bits
+        };
+        // With rates and accelerations too.
+        let motion = |m: &Model| {
+            let s = m
+                .sweep("phi", &start)
+                .expect("a sweep")
+                .turns(1.0)
+                .steps(36)
+                .rate(10.0)
+                .acceleration(-3.0)
+                .run();
+            assert!(s.stop.is_none());
+            format!("{:?}", s.samples)
+        };
+        let fresh = m.clone();
+        let (first, moving) = (poses(&m), motion(&m));
+        let kept = super::lock(&m.spare.poses).len();
+        assert_eq!(kept, 11);
+        assert_eq!(poses(&m), first);
+        assert_eq!(motion(&m), moving);
+        assert_eq!((poses(&fresh), motion(&fresh)), (first, moving));
+        assert_eq!(super::lock(&m.spare.poses).len(), kept);
     }
 }
