@@ -57,8 +57,10 @@ impl<'m> Engine for Stepped<'m> {
         self.m.spare.pose(self.m.coordinates.len())
     }
 
-    fn recycle(&self, poses: [&mut Vec<f64>; 11]) {
-        self.m.spare.give_poses(poses.map(core::mem::take));
+    fn recycle(&self, poses: &mut [&mut Vec<f64>]) {
+        self.m
+            .spare
+            .give_poses(poses.iter_mut().map(|p| core::mem::take(&mut **p)));
     }
 
     #[inline(always)]

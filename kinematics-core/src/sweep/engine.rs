@@ -42,7 +42,7 @@ pub trait Engine {
     /// Takes back the storage of `poses` (the engine's own, which a sweep
     /// is done with) for its next [`Engine::zero_pose`]s; nothing where a
     /// pose is a few numbers on the stack.
-    fn recycle(&self, poses: [&mut Self::Pose; 11]) {
+    fn recycle(&self, poses: &mut [&mut Self::Pose]) {
         let _ = poses;
     }
     /// A pose to write a guess into, lent by `slot` (the sweep's storage

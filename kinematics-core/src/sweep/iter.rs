@@ -115,7 +115,7 @@ impl<M: Engine, D, S> Drop for SweepIter<'_, M, D, S> {
     /// Gives the poses' storage back to the engine, for its next sweep.
     fn drop(&mut self) {
         let [a, b, c, d] = &mut self.history;
-        self.m.recycle([
+        self.m.recycle(&mut [
             &mut self.rates,
             &mut self.accels,
             &mut self.guess,

@@ -122,7 +122,7 @@ impl Spare {
 
     /// Keeps a sweep's poses' storage for the next (not where a panic
     /// drops the sweep).
-    pub(in crate::runtime) fn give_poses<const N: usize>(&self, poses: [Vec<f64>; N]) {
+    pub(in crate::runtime) fn give_poses(&self, poses: impl Iterator<Item = Vec<f64>>) {
         if std::thread::panicking() {
             return;
         }
