@@ -81,6 +81,8 @@ mod stepper;
 mod sweep;
 #[cfg(feature = "synthesis")]
 mod synthesis;
+#[cfg(test)]
+mod test_models;
 mod vector;
 
 pub use batch::{Batch, BatchResults, BatchSweep, Early, Output, Reduce};

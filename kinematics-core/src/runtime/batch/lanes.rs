@@ -308,22 +308,7 @@ mod tests {
     use crate::runtime::{BatchSweep, Output};
     use crate::sweep::ChangePoints;
 
-    const FOUR_BAR: &str = "
-    pub struct FourBar {
-        params { a, b, c, d }
-        drivers  { phi }
-        unknowns { th3, th4 }
-        points { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
-        loops { B + polar(b, th3) == C; }
-    }";
-
-    /// The four-bar with a crank-rocker's values.
-    fn crank_rocker() -> Model {
-        Model::compile(FOUR_BAR)
-            .expect("compiles")
-            .with_values(&[0.04, 0.12, 0.10, 0.11])
-            .expect("values")
-    }
+    use crate::runtime::test_models::crank_rocker;
 
     /// A turn of the crank in 360 steps, stopping at a change point.
     fn turn() -> BatchSweep {

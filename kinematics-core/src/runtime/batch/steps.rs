@@ -329,14 +329,7 @@ mod tests {
     use crate::runtime::{BatchSweep, Output};
     use crate::sweep::ChangePoints;
 
-    const FOUR_BAR: &str = "
-    pub struct FourBar {
-        params { a, b, c, d }
-        drivers  { phi }
-        unknowns { th3, th4 }
-        points { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
-        loops { B + polar(b, th3) == C; }
-    }";
+    use crate::runtime::test_models::crank_rocker;
 
     /// Pairs of crank-rockers step in lanes through two turns (the
     /// carried values refreshed many times, the unknowns' by each design
@@ -344,10 +337,7 @@ mod tests {
     /// alone; every record bit for bit the batch's design by design.
     #[test]
     fn pairs_step_in_lanes_to_the_numbers_of_each_design_alone() {
-        let m = Model::compile(FOUR_BAR)
-            .expect("compiles")
-            .with_values(&[0.04, 0.12, 0.10, 0.11])
-            .expect("values");
+        let m = crank_rocker();
         let start = m.assemble(&[0.0, 0.5, 1.5]).expect("assembles");
         let sweep = BatchSweep {
             driver: 0,

@@ -285,17 +285,7 @@ mod tests {
     /// of a clone (which has no spares), bit for bit.
     #[test]
     fn a_sweep_gives_back_its_poses() {
-        let text = "struct FourBar {
-            params   { a, b, c, d }
-            drivers  { phi }
-            unknowns { th3, th4 }
-            points   { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
-            loops    { B + polar(b, th3) == C; }
-        }";
-        let m = Model::compile(text)
-            .expect("compiles")
-            .with_values(&[0.04, 0.12, 0.10, 0.11])
-            .expect("values");
+        let m = crate::runtime::test_models::crank_rocker();
         let start = m.assemble(&[0.3, 0.5, 1.5]).expect("assembles");
         let poses = |m: &Model| {
             let mut bits = vec![];

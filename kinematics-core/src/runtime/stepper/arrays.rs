@@ -28,7 +28,7 @@ mod tests {
     use alloc::vec::Vec;
 
     use crate::Options;
-    use crate::runtime::{Model, Stepper};
+    use crate::runtime::Stepper;
 
     /// Every value a stepper starts from, as bits (NaN compared too).
     fn state(s: &Stepper<'_>) -> Vec<u64> {
@@ -47,17 +47,7 @@ mod tests {
     /// parameter values too.
     #[test]
     fn a_stepper_from_spare_arrays_is_a_fresh_one() {
-        let text = "struct FourBar {
-            params   { a, b, c, d }
-            drivers  { phi }
-            unknowns { th3, th4 }
-            points   { B = polar(a, phi); C = vec2(d, 0.0) + polar(c, th4); }
-            loops    { B + polar(b, th3) == C; }
-        }";
-        let mut m = Model::compile(text)
-            .expect("compiles")
-            .with_values(&[0.04, 0.12, 0.10, 0.11])
-            .expect("values");
+        let mut m = crate::runtime::test_models::crank_rocker();
         let given = {
             let mut s = m.stepper(&Options::DEFAULT).expect("a stepper");
             assert!(s.is_fused());
