@@ -473,6 +473,30 @@ fn same_records(a: &BatchResults, b: &BatchResults, what: &str) {
     }
 }
 
+/// The batch `batch(lanes)` of `designs` in pairs in lanes and design by
+/// design: every design turns fully (`samples` each) either way, and the
+/// records are the same bit for bit; the results in lanes, and that
+/// batch.
+fn turn_in_pairs<'m>(
+    batch: impl Fn(bool) -> Batch<'m>,
+    designs: &[f64],
+    samples: usize,
+    what: &str,
+) -> (BatchResults, Batch<'m>) {
+    let (paired, alone) = (batch(true), batch(false));
+    assert!(paired.in_pairs(), "{what}");
+    let (a, b) = (paired.run(designs), alone.run(designs));
+    assert!(
+        a.samples.iter().all(|&n| n == samples),
+        "{what}: {:?}",
+        a.samples
+    );
+    assert!(a.early.iter().all(Option::is_none), "{what}: {:?}", a.early);
+    assert_eq!((&a.samples, &a.early), (&b.samples, &b.early), "{what}");
+    same_records(&a, &b, what);
+    (a, paired)
+}
+
 /// 37 four-bar designs: crank-rockers, and every ninth a long crank: it
 /// assembles at φ = 0, and stops where |BD| = b + c if a + d exceeds it
 /// (its pair is then swept alone, design by design); its unknowns turn
@@ -629,16 +653,7 @@ fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
             .expect("a valid batch")
             .in_lanes(lanes)
         };
-        let (paired, alone) = (steps(true), steps(false));
-        assert!(paired.in_pairs(), "driver {driver}");
-        let (a, b) = (paired.run(&designs), alone.run(&designs));
-        assert!(
-            a.samples.iter().all(|&n| n == 720),
-            "driver {driver}: {:?}",
-            a.samples
-        );
-        assert_eq!((&a.samples, &a.early), (&b.samples, &b.early));
-        same_records(&a, &b, &format!("steps of driver {driver}"));
+        turn_in_pairs(steps, &designs, 720, &format!("steps of driver {driver}"));
         let batch = |lanes: bool| {
             Batch::new(
                 &m,
@@ -654,22 +669,7 @@ fn a_batch_of_poses_in_lanes_of_two_drivers_is_each_designs_sweep() {
             .expect("positions only")
             .in_lanes(lanes)
         };
-        let (paired, alone) = (batch(true), batch(false));
-        assert!(paired.in_pairs(), "driver {driver}");
-        let (a, b) = (paired.run(&designs), alone.run(&designs));
-        assert!(
-            a.samples.iter().all(|&n| n == 720),
-            "driver {driver}: {:?}",
-            a.samples
-        );
-        assert_eq!(a.samples, b.samples);
-        assert!(a.early.iter().all(Option::is_none));
-        for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
-            assert!(
-                x.to_bits() == y.to_bits(),
-                "driver {driver}, value {i}: {x} in lanes, {y} alone"
-            );
-        }
+        let (a, paired) = turn_in_pairs(batch, &designs, 720, &format!("poses of driver {driver}"));
         // The held driver stays at its start, the swept one turns.
         let held = 1 - driver;
         let own = m.with_values(&designs[5..10]).expect("its values");
