@@ -104,15 +104,7 @@ impl Batch<'_> {
     /// clones) then runs in pairs whatever its size, unless told not to.
     #[must_use]
     pub fn in_pairs(&self) -> bool {
-        self.lanes != Some(false)
-            && self.pairable()
-            && self.model.fused.as_deref().is_some_and(|plan| {
-                if self.poses {
-                    plan.lanes_pose().is_some()
-                } else {
-                    plan.lanes_step().is_some()
-                }
-            })
+        self.lanes != Some(false) && self.pairable() && self.lanes_form()
     }
 
     /// Whether a run of `count` designs goes in pairs: where it can
@@ -127,7 +119,6 @@ impl Batch<'_> {
         match self.lanes {
             Some(false) => false,
             Some(true) => self.in_pairs(),
-            None if plan.lanes_compiled(self.poses) => self.in_pairs(),
             None => {
                 if !self.pairable() {
                     return false;
@@ -137,10 +128,23 @@ impl Batch<'_> {
                 } else {
                     Self::LANES_FROM_STEPS
                 };
-                plan.batched(self.poses, count.saturating_mul(self.samples)) >= from
-                    && self.in_pairs()
+                let paid = plan.lanes_compiled(self.poses)
+                    || plan.batched(self.poses, count.saturating_mul(self.samples)) >= from;
+                paid && self.lanes_form()
             }
         }
+    }
+
+    /// Whether the model's pose (positions only) or step has a form in
+    /// lanes, compiled at the first call.
+    fn lanes_form(&self) -> bool {
+        self.model.fused.as_deref().is_some_and(|plan| {
+            if self.poses {
+                plan.lanes_pose().is_some()
+            } else {
+                plan.lanes_step().is_some()
+            }
+        })
     }
 
     /// The conditions of [`Batch::in_pairs`] but the code in lanes.
