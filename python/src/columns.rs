@@ -88,6 +88,24 @@ impl Columns {
         self.residual.push(m.residual);
     }
 
+    /// Appends a sample from a motion already solved (a forward
+    /// simulation's samples), in the layout of [`Columns::push`].
+    pub(crate) fn push_motion(&mut self, at: f64, m: &Motion) {
+        self.at.push(at);
+        self.q[0].extend_from_slice(&m.q);
+        self.q[1].extend_from_slice(&m.qd);
+        self.q[2].extend_from_slice(&m.qdd);
+        for p in &m.points {
+            for v in [&p.position, &p.velocity, &p.acceleration] {
+                self.points.extend_from_slice(v);
+            }
+        }
+        self.frames.extend_from_slice(&m.frames);
+        self.conditioning.push(m.conditioning);
+        self.det_sign.push(m.det_sign);
+        self.residual.push(m.residual);
+    }
+
     /// The data columns moved out, leaving them empty (the names, the
     /// frames, the stop and the change points stay): `at`, q, q', q'',
     /// the points, the conditioning, the sign and the residual, for numpy

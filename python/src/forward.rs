@@ -93,17 +93,12 @@ pub(crate) fn forward<'py>(
         });
     }
     let run = py.detach(|| builder.run()).map_err(|e| error(py, &e))?;
-    // The samples as a sweep's columns: each stepped again from its own
-    // assembled pose, which reproduces it.
+    // The samples as a sweep's columns, from the motions the run solved.
     let nd = m.drivers();
     let n = run.sweep.samples.len();
     let mut columns = Columns::new(m, "t", kinematics_core::Kind::Length, n);
-    let mut stepper = m.stepper(&o).map_err(|e| error(py, &e))?;
     for s in &run.sweep.samples {
-        let flat = stepper
-            .step_flat(&s.motion.q, &s.motion.qd[..nd], &s.motion.qdd[..nd])
-            .map_err(|e| error(py, &e))?;
-        columns.push(s.at, &flat);
+        columns.push_motion(s.at, &s.motion);
     }
     columns.end(SweepEnd {
         stop: run.sweep.stop.clone(),

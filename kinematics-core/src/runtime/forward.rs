@@ -7,8 +7,8 @@ use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::sweep::collect;
-use super::{Model, Motion, Stepper, Sweep, SweepEnd};
+use super::sweep::{Sample, sweep_of};
+use super::{Model, Stepper, Sweep, SweepEnd};
 use crate::dynamics::Dynamics;
 use crate::dynamics::evaluate::WithUnit;
 use crate::dynamics::forward::equations::Equations;
@@ -256,17 +256,11 @@ impl<'a, P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> ForwardOf<'a, P> {
             (&d0, &r0),
             &settings,
         )?;
-        let stop = outcome.stop;
-        let samples = analysis.samples;
-        let sweep = collect(m, ("t", Kind::Length), |emit| {
-            for (t, motion) in &samples {
-                emit(*t, motion);
-            }
-            SweepEnd {
-                stop,
-                change_points: Vec::new(),
-            }
-        });
+        let end = SweepEnd {
+            stop: outcome.stop,
+            change_points: Vec::new(),
+        };
+        let sweep = sweep_of(m, ("t", Kind::Length), analysis.samples, end);
         Ok(TrajectoryOf {
             sweep,
             parameters,
@@ -364,7 +358,7 @@ struct RunTime<'m, P> {
     modes: Vec<f64>,
     /// Whether the stepper holds a motion.
     current: bool,
-    samples: Vec<(f64, Motion)>,
+    samples: Vec<Sample>,
 }
 
 impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_, P> {
@@ -447,8 +441,8 @@ impl<P: FnMut(f64, &mut [f64], &mut [f64], &mut [f64])> Analysis for RunTime<'_,
     fn record(&mut self, t: f64) {
         // (After the sample's energies, which completed the motion.)
         if self.current && self.whole().is_ok() {
-            let m = self.stepper.motion_now().clone();
-            self.samples.push((t, m));
+            let motion = self.stepper.motion_now().clone();
+            self.samples.push(Sample { at: t, motion });
         }
     }
 

@@ -543,6 +543,17 @@ pub(super) fn collect(
             motion: motion.clone(),
         });
     });
+    sweep_of(m, (variable, kind), samples, end)
+}
+
+/// The sweep of `m` in `variable` made of `samples`, owned already (no
+/// motion copied), ended by `end`.
+pub(super) fn sweep_of(
+    m: &Model,
+    (variable, kind): (Name, Kind),
+    samples: Vec<Sample>,
+    end: SweepEnd,
+) -> Sweep {
     Sweep {
         variable,
         kind,

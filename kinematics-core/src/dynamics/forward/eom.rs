@@ -278,6 +278,16 @@ impl<A: Analysis> System for Eom<'_, A> {
         2 * self.free.len()
     }
 
+    /// The drivers' positions and rates, and the sensitivities where
+    /// asked; the works are quadratures.
+    fn inputs(&self) -> usize {
+        if self.parameters > 0 {
+            self.len()
+        } else {
+            2 * self.free.len()
+        }
+    }
+
     #[inline]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         if self.lean {

@@ -37,6 +37,12 @@ pub(crate) trait System {
     fn controlled(&self) -> usize {
         self.len()
     }
+    /// The number of leading components f reads: the rest are
+    /// quadratures f never reads, whose stages are formed only at the
+    /// end of a step.
+    fn inputs(&self) -> usize {
+        self.len()
+    }
     /// Writes f(t, y) into `dy`.
     ///
     /// # Errors
@@ -284,8 +290,9 @@ impl Dopri {
                 self.h = h * 0.25;
                 continue;
             }
-            // The error estimate, in `stage`.
-            for (e, k) in self.stage.iter_mut().zip(&self.k) {
+            // The error estimate of the controlled components, in `stage`.
+            let c = controlled.min(self.n);
+            for (e, k) in self.stage[..c].iter_mut().zip(&self.k[..c]) {
                 *e = h * combine(&E, k);
             }
             let err = self.norm(&self.stage, &self.y, &self.y_new, controlled);
@@ -320,21 +327,44 @@ impl Dopri {
     /// The stages k₂ … k₇ of a step of size h from (t, y), and y₁ in
     /// `y_new`.
     fn stages<S: System>(&mut self, system: &mut S, h: f64) -> Result<(), Error> {
-        for s in 1..7 {
-            let a = &A[s];
-            for ((x, y), k) in self.stage.iter_mut().zip(&self.y).zip(&self.k) {
-                let mut sum = 0.0;
-                for j in 0..s {
-                    sum += a[j] * k[j];
-                }
-                *x = y + h * sum;
-            }
-            system.rhs(self.t + C[s] * h, &self.stage, &mut self.f)?;
-            self.spread(s);
-            self.evaluations += 1;
-        }
+        // Stages 2 to 6 in the components f reads; the last, at y₁, in all
+        // of them.
+        let inputs = system.inputs();
+        self.form_stage::<1, S>(system, h, inputs)?;
+        self.form_stage::<2, S>(system, h, inputs)?;
+        self.form_stage::<3, S>(system, h, inputs)?;
+        self.form_stage::<4, S>(system, h, inputs)?;
+        self.form_stage::<5, S>(system, h, inputs)?;
+        self.form_stage::<6, S>(system, h, self.n)?;
         // Stage 7 is at y₁ (the weights of order 5 are A's last row).
         math::copy_small(&mut self.y_new, &self.stage);
+        Ok(())
+    }
+
+    /// Stage `K` (0-based) of a step of size h: its state y + h Σ_{j<K}
+    /// a_Kj k_j in the first `formed` components, f there, spread over
+    /// the components' stages.
+    #[inline(always)]
+    fn form_stage<const K: usize, S: System>(
+        &mut self,
+        system: &mut S,
+        h: f64,
+        formed: usize,
+    ) -> Result<(), Error> {
+        let (a, n) = (&A[K], formed.min(self.n));
+        let components = self.stage[..n].iter_mut().zip(&self.y[..n]);
+        for ((x, y), k) in components.zip(&self.k[..n]) {
+            let mut sum = 0.0;
+            for j in 0..K {
+                sum += a[j] * k[j];
+            }
+            *x = y + h * sum;
+        }
+        system.rhs(self.t + C[K] * h, &self.stage, &mut self.f)?;
+        for (k, f) in self.k.iter_mut().zip(&self.f) {
+            k[K] = *f;
+        }
+        self.evaluations += 1;
         Ok(())
     }
 
