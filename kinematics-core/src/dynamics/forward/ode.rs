@@ -556,6 +556,56 @@ mod tests {
         assert!((3.0..5.5).contains(&ratio), "{ratio}");
     }
 
+    /// x' = −x with its integral as a quadrature, y = (x, ∫x), f reading
+    /// x only; `inputs` says so or not.
+    struct Decay {
+        says: bool,
+    }
+
+    impl System for Decay {
+        fn len(&self) -> usize {
+            2
+        }
+        fn controlled(&self) -> usize {
+            1
+        }
+        fn inputs(&self) -> usize {
+            if self.says { 1 } else { 2 }
+        }
+        fn rhs(&mut self, _: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+            dy[0] = -y[0];
+            dy[1] = y[0];
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_quadrature_is_formed_at_the_end_of_a_step_only_and_integrated_the_same() {
+        let run = |says| {
+            let tolerances = Tolerances {
+                relative: 1e-10,
+                absolute: vec![1e-10],
+            };
+            let mut s = Decay { says };
+            let mut d = Dopri::new(&mut s, 0.0, &[1.0, 0.0], tolerances, 0.25).unwrap();
+            let mut path = Vec::new();
+            while d.t < 3.0 {
+                assert_eq!(d.step(&mut s, 3.0), Stepped::Accepted);
+                let mut mid = [0.0; 2];
+                d.interpolate(0.5 * (d.t_old + d.t), &mut mid);
+                path.push((d.t, d.y.clone(), mid));
+            }
+            path
+        };
+        let (lean, full) = (run(true), run(false));
+        // Bit for bit the same steps, ends and dense output.
+        assert_eq!(lean, full);
+        let (t, y, _) = lean.last().unwrap();
+        assert_eq!(*t, 3.0);
+        // ∫₀³ e^(−t) dt = 1 − e^(−3).
+        assert!((y[1] - (1.0 - (-3.0f64).exp())).abs() < 1e-9, "{y:?}");
+    }
+
     /// y' = 1 refused past t = 1: the integrator closes in on it.
     struct Wall;
 
