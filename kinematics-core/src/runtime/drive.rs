@@ -316,9 +316,12 @@ pub(super) fn rest<'m, D: Drive<Stepped<'m>>>(
 ) -> Option<Stop> {
     let mut stop = None;
     loop {
-        it.each_common(|s, stepper| match s {
-            Held::Current { at, .. } => sink.stepped(at, stepper),
-            Held::Kept { at, motion } => sink.motion(at, &motion),
+        it.each_common(|s, stepper| {
+            match s {
+                Held::Current { at, .. } => sink.stepped(at, stepper),
+                Held::Kept { at, motion } => sink.motion(at, &motion),
+            }
+            true
         });
         let Some(item) = it.next() else {
             break;
@@ -353,22 +356,50 @@ pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
     };
     let mut positions = vec![0.0; m.points.len() * m.point_dim];
     let mut stop = None;
-    while let Some(item) = it.next() {
+    // Sample `at`'s pose and positions to `f`: the positions read where
+    // the fused code left them, else evaluated; `false` where they could
+    // not be (the stop set).
+    let mut emit = |at: f64, stepper: &mut Stepper<'m>, stop: &mut Option<Stop>| {
+        if let Some(fused) = stepper.fused_positions() {
+            f(at, stepper.pose_now(), fused);
+            return true;
+        }
+        match stepper.positions(&mut positions) {
+            Ok(()) => {
+                f(at, stepper.pose_now(), &positions);
+                true
+            }
+            Err(e) => {
+                *stop = Some(Stop {
+                    variable: setup.variable,
+                    at,
+                    reason: StopReason::from_error(e),
+                });
+                false
+            }
+        }
+    };
+    'sweep: loop {
+        // The common path's samples straight to `f`, then one item of
+        // the slow path (a change point, a stop, the end), and again.
+        let mut going = true;
+        it.each_common(|PoseOnly { at }, stepper| {
+            going = emit(at, stepper, &mut stop);
+            going
+        });
+        if !going {
+            break;
+        }
+        let Some(item) = it.next() else {
+            break;
+        };
         match item {
             Ok(PoseOnly { at }) => {
                 let Some(stepper) = it.state_mut() else {
-                    break;
+                    break 'sweep;
                 };
-                match stepper.positions(&mut positions) {
-                    Ok(()) => f(at, stepper.pose_now(), &positions),
-                    Err(e) => {
-                        stop = Some(Stop {
-                            variable: setup.variable,
-                            at,
-                            reason: StopReason::from_error(e),
-                        });
-                        break;
-                    }
+                if !emit(at, stepper, &mut stop) {
+                    break;
                 }
             }
             Err(s) => stop = Some(s),

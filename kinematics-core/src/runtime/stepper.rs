@@ -571,6 +571,7 @@ impl Stepper<'_> {
     }
 
     /// The pose of the last [`Stepper::pose`] or step, drivers first.
+    #[inline]
     pub(super) fn pose_now(&self) -> &[f64] {
         if let (true, Some(run)) = (self.pending, self.fused.as_ref()) {
             return run.flat().q;
@@ -598,6 +599,22 @@ impl Stepper<'_> {
             return Ok(());
         }
         m.positions_into(&self.q, &mut self.work, !self.assembled, out)
+    }
+
+    /// The positions of every point at the last pose, as
+    /// [`Stepper::positions`] writes them, where the fused code left them
+    /// in its buffer (read in place); `None` otherwise.
+    #[inline]
+    pub(super) fn fused_positions(&self) -> Option<&[f64]> {
+        match (self.fused.as_ref(), self.m.fused.as_deref()) {
+            (Some(run), Some(plan)) if run.positions => {
+                let (at, len) = plan.positions_at();
+                (len == self.m.points.len() * self.m.point_dim)
+                    .then(|| run.f.get(at..at + len))
+                    .flatten()
+            }
+            _ => None,
+        }
     }
 
     /// The step through the model's fused code: `true` when it took the

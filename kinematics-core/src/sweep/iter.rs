@@ -512,19 +512,21 @@ impl<M: Engine, D: Drive<M>, S: Solved<M>> SweepIter<'_, M, D, S> {
     /// Hands `f` the samples of the common path with the state that
     /// solved them, one after the other, until the first that is not (a
     /// change point, a failure, the end), which is left to
-    /// [`Iterator::next`]: a streamed sweep's loop without an item made
-    /// per sample.
+    /// [`Iterator::next`], or until `f` returns `false`: a streamed
+    /// sweep's loop without an item made per sample.
     #[cfg(feature = "runtime")]
     #[inline(always)]
-    pub(crate) fn each_common(&mut self, mut f: impl FnMut(S, &mut M::State)) {
+    pub(crate) fn each_common(&mut self, mut f: impl FnMut(S, &mut M::State) -> bool) {
         while self.k < self.open {
             let k = self.k;
             let at = self.grid.inner(k);
             let Some(s) = self.advance_to(k, at, |s| s) else {
                 return;
             };
-            if let Some(state) = self.state.as_mut() {
-                f(s, state);
+            if let Some(state) = self.state.as_mut()
+                && !f(s, state)
+            {
+                return;
             }
         }
     }
