@@ -248,6 +248,7 @@ impl<'m> Solved<Stepped<'m>> for PoseOnly {
         self.at
     }
 
+    #[inline(always)]
     fn record(
         &self,
         state: Option<&Stepper<'m>>,
@@ -356,38 +357,27 @@ pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
     };
     let mut positions = vec![0.0; m.points.len() * m.point_dim];
     let mut stop = None;
-    // Sample `at`'s pose and positions to `f`: the positions read where
-    // the fused code left them, else evaluated; `false` where they could
-    // not be (the stop set).
-    let mut emit = |at: f64, stepper: &mut Stepper<'m>, stop: &mut Option<Stop>| {
-        if let Some(fused) = stepper.fused_positions() {
-            f(at, stepper.pose_now(), fused);
-            return true;
-        }
-        match stepper.positions(&mut positions) {
-            Ok(()) => {
-                f(at, stepper.pose_now(), &positions);
-                true
-            }
-            Err(e) => {
-                *stop = Some(Stop {
-                    variable: setup.variable,
-                    at,
-                    reason: StopReason::from_error(e),
-                });
-                false
-            }
-        }
+    let variable = setup.variable;
+    let stopped = |at: f64, e: Error| Stop {
+        variable,
+        at,
+        reason: StopReason::from_error(e),
     };
-    'sweep: loop {
+    loop {
         // The common path's samples straight to `f`, then one item of
         // the slow path (a change point, a stop, the end), and again.
-        let mut going = true;
+        let mut failed = None;
         it.each_common(|PoseOnly { at }, stepper| {
-            going = emit(at, stepper, &mut stop);
-            going
+            match emit_pose(at, stepper, &mut positions, &mut f) {
+                Ok(()) => true,
+                Err(e) => {
+                    failed = Some(stopped(at, e));
+                    false
+                }
+            }
         });
-        if !going {
+        if failed.is_some() {
+            stop = failed;
             break;
         }
         let Some(item) = it.next() else {
@@ -396,9 +386,10 @@ pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
         match item {
             Ok(PoseOnly { at }) => {
                 let Some(stepper) = it.state_mut() else {
-                    break 'sweep;
+                    break;
                 };
-                if !emit(at, stepper, &mut stop) {
+                if let Err(e) = emit_pose(at, stepper, &mut positions, &mut f) {
+                    stop = Some(stopped(at, e));
                     break;
                 }
             }
@@ -409,6 +400,24 @@ pub(super) fn drive_poses<'m, D: Drive<Stepped<'m>>>(
         stop,
         change_points: it.change_points().to_vec(),
     }
+}
+
+/// Sample `at`'s pose and positions to `f`: the positions read where the
+/// fused code left them, else evaluated into `positions`.
+#[inline(always)]
+fn emit_pose(
+    at: f64,
+    stepper: &mut Stepper<'_>,
+    positions: &mut [f64],
+    f: &mut impl FnMut(f64, &[f64], &[f64]),
+) -> Result<(), Error> {
+    if let Some(fused) = stepper.fused_positions() {
+        f(at, stepper.pose_now(), fused);
+        return Ok(());
+    }
+    stepper.positions(positions)?;
+    f(at, stepper.pose_now(), positions);
+    Ok(())
 }
 
 /// The driver over `engine`, once the inputs are checked; or how the
