@@ -159,9 +159,12 @@ pub(crate) struct Dopri {
     /// f at the last stage, before it is spread over `k`.
     f: Vec<f64>,
     y_new: Vec<f64>,
-    /// The dense output's terms Δ, B, the fourth and the fifth, by
-    /// component.
-    dense: Vec<[f64; 4]>,
+    /// The last accepted step's first stage, by component (its last is
+    /// the next step's first, in `k`), and its size: with `k`'s other
+    /// stages, what the dense output is made of, formed only where it
+    /// is asked for (a sample or an event falls in one step of many).
+    first: Vec<f64>,
+    h_last: f64,
     h: f64,
     /// The last accepted step's error norm, at least 1e-4, raised to the
     /// PI controller's 0.04.
@@ -202,7 +205,8 @@ impl Dopri {
             stage: zeros(),
             f: zeros(),
             y_new: zeros(),
-            dense: vec![[0.0; 4]; n],
+            first: zeros(),
+            h_last: 0.0,
             h: 0.0,
             previous_factor: math::exp(0.04 * math::ln(1e-4)),
             tolerances,
@@ -368,22 +372,16 @@ impl Dopri {
         Ok(())
     }
 
-    /// Makes the step of size h the last accepted one: the dense output's
-    /// terms, then (t, y) moved to its end (`end` exactly, for the last
-    /// step to the end).
+    /// Makes the step of size h the last accepted one: its first stage
+    /// kept for the dense output, then (t, y) moved to its end (`end`
+    /// exactly, for the last step to the end).
     fn accept(&mut self, h: f64, end: Option<f64>) {
-        let columns = self
-            .dense
-            .iter_mut()
-            .zip(self.y_new.iter().zip(&self.y))
-            .zip(&mut self.k);
-        for ((terms, (y1, y0)), k) in columns {
-            let delta = y1 - y0;
-            let b = h * k[0] - delta;
-            *terms = [delta, b, delta - h * k[6] - b, h * combine(&D, k)];
+        for (first, k) in self.first.iter_mut().zip(&mut self.k) {
+            *first = k[0];
             // The last stage is f at the new point: the next step's first.
             k[0] = k[6];
         }
+        self.h_last = h;
         self.t_old = self.t;
         math::copy_small(&mut self.y_old, &self.y);
         self.t = end.unwrap_or(self.t + h);
@@ -410,12 +408,29 @@ impl Dopri {
         } else {
             1.0
         };
-        let rest = 1.0 - theta;
-        for ((o, y0), terms) in out.iter_mut().zip(&self.y_old).zip(&self.dense) {
-            let [delta, b, c, d] = *terms;
+        let (rest, h) = (1.0 - theta, self.h_last);
+        let components = self.y_old.iter().zip(&self.y).zip(&self.first);
+        for (o, (((y0, y1), first), k)) in out.iter_mut().zip(components.zip(&self.k)) {
+            // The terms Δ, B, the fourth and the fifth of the step (its
+            // first stage apart from `k`, whose entry 0 is the next's).
+            let delta = y1 - y0;
+            let b = h * first - delta;
+            let c = delta - h * k[6] - b;
+            let d = h * combine_from(&D, *first, k);
             *o = y0 + theta * (delta + rest * (b + theta * (c + rest * d)));
         }
     }
+}
+
+/// [`combine`] with `first` in place of stage 0.
+#[inline(always)]
+fn combine_from(weights: &[f64; 7], first: f64, k: &[f64; 7]) -> f64 {
+    let mut sum = 0.0;
+    sum += weights[0] * first;
+    for (w, v) in weights.iter().zip(k).skip(1) {
+        sum += w * v;
+    }
+    sum
 }
 
 /// Σ_s w_s k_s over the seven stages, in the order of s.
