@@ -400,7 +400,9 @@ impl Dopri {
     }
 
     /// The dense output at time t within the last accepted step, written
-    /// into `out`.
+    /// into `out`: valid until the next [`Dopri::step`], whose stages
+    /// overwrite those the terms are formed from (a run interpolates
+    /// between its steps only, and not after a step that failed).
     pub(crate) fn interpolate(&self, t: f64, out: &mut [f64]) {
         let span = self.t - self.t_old;
         let theta = if span > 0.0 {
