@@ -591,11 +591,8 @@ impl Stepper<'_> {
         let m = self.m;
         let d = m.point_dim;
         m.length("point positions", m.points.len() * d, out.len())?;
-        if let (Some(run), Some(plan)) = (self.fused.as_ref(), m.fused.as_deref())
-            && run.positions
-        {
-            let (at, len) = plan.positions_at();
-            copy_small(out, &run.f[at..at + len]);
+        if let Some(fused) = self.fused_positions() {
+            copy_small(out, fused);
             return Ok(());
         }
         m.positions_into(&self.q, &mut self.work, !self.assembled, out)
